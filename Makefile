@@ -1,0 +1,109 @@
+# hairtier — `make` builds build/hairgen, build/hairview and build/libhairtier.a;
+# `make test` runs every test; `make demo` renders the default scenes to out/;
+# `make asan` runs the tests under AddressSanitizer + UBSan; `make bench`.
+# Missing Debian packages are installed first (apt-get, as root).
+
+CC      ?= cc
+BUILD   ?= build
+OPT     ?= -O2 -g
+SAN     ?=
+WERROR  ?= -Werror
+
+DEB_PACKAGES := libosmesa6-dev glslang-dev glslang-tools libcjson-dev libpng-dev \
+                libcmocka-dev pkg-config
+
+CPPFLAGS += -Iruntime -Ishadergen -Ifallback -I/usr/include/cjson -I/usr/include/libpng16
+CFLAGS   += -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra $(WERROR) $(OPT) $(SAN) -MMD -MP
+LDFLAGS  += $(SAN)
+# glslang's static libraries are C++; its pkg-config file is read lazily,
+# after the packages are installed.
+GLSLANG_LIBS = $(shell pkg-config --libs glslang) -lglslang-default-resource-limits -lstdc++
+LDLIBS   = $(GLSLANG_LIBS) -lOSMesa -lcjson -lpng16 -lpthread -lm
+
+RUNTIME_SRC := $(wildcard runtime/*.c fallback/*.c)
+GEN_SRC     := $(filter-out shadergen/hairgen.c,$(wildcard shadergen/*.c))
+TEST_SRC    := $(wildcard tests/test_*.c)
+TEST_SUPPORT_SRC := $(wildcard tests/support_*.c)
+EXAMPLE_SRC := $(wildcard examples/*.c)
+
+obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
+
+LIB       := $(BUILD)/libhairtier.a
+GENLIB    := $(BUILD)/libhairgen.a
+HAIRGEN   := $(BUILD)/hairgen
+PROGRAMS  := $(patsubst examples/%.c,$(BUILD)/%,$(EXAMPLE_SRC))
+TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
+DEPS_STAMP := $(BUILD)/.deps-installed
+
+.PHONY: all deps test asan bench demo clean
+.DEFAULT_GOAL := all
+
+all: $(LIB) $(HAIRGEN) $(PROGRAMS)
+
+deps: $(DEPS_STAMP)
+$(DEPS_STAMP):
+	@missing=""; for p in $(DEB_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "make: installing Debian packages:$$missing"; \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null || exit 1; \
+	fi
+	@mkdir -p $(dir $@) && touch $@
+
+$(BUILD)/obj/%.o: %.c | $(DEPS_STAMP)
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+
+$(LIB): $(call obj,$(RUNTIME_SRC))
+	@rm -f $@
+	ar rcs $@ $^
+
+$(GENLIB): $(call obj,$(GEN_SRC))
+	@rm -f $@
+	ar rcs $@ $^
+
+$(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
+	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+$(BUILD)/%: $(BUILD)/obj/examples/%.o $(GENLIB) $(LIB)
+	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(GENLIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcmocka -o $@
+
+# Every test binary runs from the repository root; tests whose name holds
+# "render" run again on softpipe, Mesa's second driver.
+test: all $(TESTS)
+	@pass=0; fail=0; failed=""; \
+	for t in $(TESTS); do \
+	  for driver in llvmpipe softpipe; do \
+	    case "$$t" in *render*) ;; *) [ $$driver = softpipe ] && continue;; esac; \
+	    echo "== $$t ($$driver)"; \
+	    if GALLIUM_DRIVER=$$driver HAIRTIER_BUILD=$(BUILD) $$t; then pass=$$((pass+1)); \
+	    else fail=$$((fail+1)); failed="$$failed $$t($$driver)"; fi; \
+	  done; \
+	done; \
+	echo; [ -z "$$failed" ] || echo "failed:$$failed"; \
+	echo "test binaries: $$pass passed, $$fail failed"; \
+	[ $$fail -eq 0 ]
+
+asan:
+	$(MAKE) BUILD=build-asan OPT="-O1 -g -fno-omit-frame-pointer" \
+	  SAN="-fsanitize=address,undefined -fno-sanitize-recover=undefined" test
+
+bench: all
+	@for b in $(filter $(BUILD)/bench_%,$(PROGRAMS)); do echo "== $$b"; $$b || exit 1; done
+
+demo: all
+	@mkdir -p out
+	$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json -o out/bundle
+	$(BUILD)/hairview --bundle out/bundle --scene scenes/furball.json -o out/furball.png
+	$(BUILD)/hairview --bundle out/bundle --scene scenes/patches.json -o out/patches.png
+	@echo "demo: wrote out/bundle, out/furball.png, out/patches.png"
+
+clean:
+	rm -rf build build-asan out
+
+-include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)

@@ -1,0 +1,246 @@
+/* hairtier.h — draw anisotropic hair from a hairgen bundle on any GL context,
+   with the best shader tier the device can run.
+
+   The one public header of libhairtier.a. A bundle is a directory written
+   offline by `hairgen` (manifest.json, the shaders of every tier, the
+   fixed-function combiner program and its textures); this library probes
+   the GL context it is handed, picks a tier, logs why it skipped the
+   others, and draws hair in Scheuermann's four passes over a mesh whose
+   strands are sorted inside to outside once, at load time.
+
+   Usage:
+       1. Make a GL context current (any GL 1.3+ compatibility context).
+       2. Build the hair mesh once:
+              ht_mesh mesh;
+              ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 10000 }, &mesh);
+              ht_mesh_sort_inside_out(&mesh);
+       3. Create a renderer from the bundle:
+              ht_renderer *r;
+              if (ht_renderer_create(&(ht_renderer_desc){
+                      .getproc = my_getproc, .bundle_dir = "out/bundle",
+                      .log = my_log }, &r) != HT_OK) { ... }
+              ht_renderer_set_mesh(r, &mesh);
+       4. Every frame:
+              ht_renderer_draw(r, &(ht_frame_desc){ .camera = cam,
+                      .lights = lights, .light_count = 1 });
+       5. ht_renderer_destroy(r); ht_mesh_free(&mesh);
+
+   Environment: HAIRTIER_TIER=full|vertex|fixed forces a tier like
+   ht_renderer_desc.tier does (the desc wins when both are set).
+
+   Errors: functions return ht_result; the log callback (or the message
+   buffer a function takes) says what failed and where. Nothing here exits. */
+#ifndef HAIRTIER_H
+#define HAIRTIER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum ht_result {
+    HT_OK = 0,
+    HT_ERR_INVALID_ARGUMENT,
+    HT_ERR_IO,            /* a file could not be read or written */
+    HT_ERR_PARSE,         /* malformed or out-of-range input */
+    HT_ERR_UNSUPPORTED,   /* the device cannot run what was asked */
+    HT_ERR_COMPILE,       /* a shader failed to compile, link or validate */
+    HT_ERR_GL,            /* GL reported an error */
+    HT_ERR_NO_TIER,       /* no tier of the bundle runs here */
+    HT_ERR_OUT_OF_MEMORY,
+} ht_result;
+
+const char *ht_result_string(ht_result r);
+
+typedef enum ht_tier {
+    HT_TIER_AUTO = 0,  /* best the device runs */
+    HT_TIER_FULL,      /* per-pixel GLSL */
+    HT_TIER_VERTEX,    /* per-vertex GLSL lighting, fixed-function fragment */
+    HT_TIER_FIXED,     /* GL 1.3 texture combiners + lookup textures */
+    HT_TIER_COUNT
+} ht_tier;
+
+const char *ht_tier_name(ht_tier t);          /* "auto", "full", ... */
+ht_tier ht_tier_from_name(const char *name);  /* HT_TIER_COUNT when unknown */
+
+/* ---- scene description (also read from scenes/*.json by hairgen) ---- */
+
+#define HT_MAX_LIGHTS 4
+
+typedef enum ht_light_type { HT_LIGHT_DIRECTIONAL = 0, HT_LIGHT_POINT = 1 } ht_light_type;
+
+typedef struct ht_light {
+    ht_light_type type;
+    float vector[3]; /* directional: towards the light; point: position */
+    float color[3];  /* [0,4] each */
+} ht_light;
+
+typedef struct ht_camera {
+    float eye[3], target[3], up[3];
+    float fov_y;      /* degrees, (0,180) */
+    float z_near;     /* 0 → 0.05 */
+    float z_far;      /* 0 → 100 */
+} ht_camera;
+
+typedef struct ht_furball_desc {
+    int hairs;          /* 0 → 2000 */
+    int joints;         /* 0 → 16; quads per hair = joints - 1 */
+    float length;       /* 0 → 0.08, segment length */
+    float gravity[3];   /* added to the direction at every joint */
+    float inertia[3];   /* added too: the ball's motion bending hair back */
+    float width;        /* 0 → 0.01, ribbon width */
+    uint32_t seed;
+} ht_furball_desc;
+
+typedef struct ht_patches_desc {
+    float head_radius;  /* 0 → 1 */
+    int layers;         /* 0 → 3, shells of strips around the head */
+    int strips;         /* 0 → 64, strips per layer */
+    int segments;       /* 0 → 12, quads along a strip */
+    uint32_t seed;
+} ht_patches_desc;
+
+typedef enum ht_geometry_kind { HT_GEOMETRY_FURBALL = 0, HT_GEOMETRY_PATCHES = 1 } ht_geometry_kind;
+
+typedef struct ht_scene {
+    int width, height;          /* pixels */
+    ht_camera camera;
+    ht_light lights[HT_MAX_LIGHTS];
+    int light_count;            /* 1..4 */
+    float background[3];
+    ht_geometry_kind geometry;
+    ht_furball_desc furball;
+    ht_patches_desc patches;
+} ht_scene;
+
+/* ---- hair meshes ---- */
+
+/* One vertex of a hair ribbon: what every tier reads. */
+typedef struct ht_vertex {
+    float position[3];
+    float normal[3];    /* ribbon normal, unit */
+    float tangent[3];   /* root to tip, unit */
+    float uv[2];        /* u across the ribbon, v root (0) to tip (1) */
+    float ao;           /* ambient occlusion, [0,1] */
+} ht_vertex;
+
+/* A connected component (one hair, one strip): a run of the index buffer. */
+typedef struct ht_component {
+    uint32_t first_index;
+    uint32_t index_count;
+    float sort_key;      /* distance of its centroid from ht_mesh.center */
+} ht_component;
+
+typedef struct ht_mesh {
+    ht_vertex *vertices;
+    uint32_t vertex_count;
+    uint32_t *indices;           /* triangles */
+    uint32_t index_count;
+    ht_component *components;
+    uint32_t component_count;
+    float center[3];             /* what "inside" means for the sort */
+} ht_mesh;
+
+ht_result ht_mesh_build_furball(const ht_furball_desc *desc, ht_mesh *out);
+/* hair strips around a head; `head` (may be NULL) receives the head sphere,
+   an opaque mesh drawn before the hair. */
+ht_result ht_mesh_build_patches(const ht_patches_desc *desc, ht_mesh *out, ht_mesh *head);
+/* Reorders components (and the index buffer) by ascending sort_key; ties
+   keep build order. Done once at load time. */
+void ht_mesh_sort_inside_out(ht_mesh *mesh);
+void ht_mesh_free(ht_mesh *mesh);
+
+/* ---- device capabilities ---- */
+
+typedef void *(*ht_getproc_fn)(const char *name);
+typedef void (*ht_log_fn)(void *user, const char *line);
+
+typedef struct ht_caps {
+    int gl_major, gl_minor;
+    int glsl_major, glsl_minor;   /* 0.0 when there are no shaders */
+    int texture_units;
+    char renderer[128];
+    char version[128];
+    bool has_shaders;             /* entry points loaded and GL >= 2.0 */
+    bool has_vbo;
+    bool has_combine;             /* GL 1.3 or ARB_texture_env_combine */
+    bool has_crossbar;            /* GL 1.4 or ARB_texture_env_crossbar */
+    bool has_3d_textures;         /* GL 1.2 */
+} ht_caps;
+
+/* Probes the current context. `extensions` lists what the device offers. */
+ht_result ht_caps_probe(ht_getproc_fn getproc, ht_caps *out);
+bool ht_caps_has_extension(ht_getproc_fn getproc, const char *name);
+
+/* ---- the renderer ---- */
+
+/* One record of what a pass set and drew: tests compare traces across tiers. */
+typedef enum ht_pass {
+    HT_PASS_PRIME_Z = 0,
+    HT_PASS_OPAQUE,
+    HT_PASS_BACK,
+    HT_PASS_FRONT,
+    HT_PASS_COUNT
+} ht_pass;
+
+typedef struct ht_trace_entry {
+    ht_pass pass;
+    int sub_pass;              /* 0 unless a tier splits a pass */
+    bool cull;                 /* culling enabled */
+    unsigned cull_face;        /* GL_FRONT / GL_BACK */
+    unsigned depth_func;       /* GL_LESS / GL_EQUAL */
+    bool depth_write;
+    bool color_write;
+    bool blend;
+    bool alpha_test;
+    unsigned alpha_func;       /* GL_GEQUAL / GL_LESS */
+    float alpha_ref;
+    uint32_t first_index, index_count;
+    unsigned gl_error;         /* glGetError() after the draw */
+} ht_trace_entry;
+
+#define HT_TRACE_MAX 64
+
+typedef struct ht_trace {
+    ht_trace_entry entries[HT_TRACE_MAX];
+    int count;
+} ht_trace;
+
+typedef struct ht_renderer_desc {
+    ht_getproc_fn getproc;   /* required */
+    const char *bundle_dir;  /* required: a directory written by hairgen */
+    ht_tier tier;            /* HT_TIER_AUTO → best supported (or HAIRTIER_TIER) */
+    bool strict;             /* false: a forced tier that fails drops to the next */
+    ht_log_fn log;           /* NULL → stderr */
+    void *log_user;
+    bool record_trace;       /* false */
+    float flat_color[3];     /* used only when flat is set */
+    bool flat;               /* false; true → geometry floor: same passes, flat colour, no textures */
+} ht_renderer_desc;
+
+typedef struct ht_renderer ht_renderer;
+
+typedef struct ht_frame_desc {
+    ht_camera camera;
+    float aspect;                 /* 0 → viewport width / height */
+    const ht_light *lights;
+    int light_count;
+    const ht_mesh *opaque;        /* NULL, or drawn lit before the hair (the head) */
+} ht_frame_desc;
+
+ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out);
+ht_tier ht_renderer_tier(const ht_renderer *r);
+/* Why this tier: "best supported", "forced by HAIRTIER_TIER", ... */
+const char *ht_renderer_reason(const ht_renderer *r);
+ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh);
+ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *frame);
+const ht_trace *ht_renderer_trace(const ht_renderer *r);
+void ht_renderer_destroy(ht_renderer *r);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,26 @@
+/* image.h — 8-bit images and PNG files (libpng), shared by hairgen (textures,
+   LUTs), the runtime (loading a bundle) and hairview (writing frames). */
+#ifndef HT_IMAGE_H
+#define HT_IMAGE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "hairtier.h"
+
+typedef struct ht_image {
+    int width, height;
+    int channels;       /* 1 gray, 2 gray+alpha, 3 rgb, 4 rgba */
+    uint8_t *pixels;    /* rows top to bottom, tightly packed */
+} ht_image;
+
+ht_result ht_image_alloc(ht_image *img, int width, int height, int channels);
+void ht_image_free(ht_image *img);
+/* Reads any PNG libpng reads; expands palette and low bit depths, strips 16
+   bit to 8. A missing, truncated or corrupt file is HT_ERR_IO with a line
+   naming the file in err. */
+ht_result ht_image_read_png(const char *path, ht_image *out, char *err, size_t err_size);
+/* Writes to a temporary name beside path and renames it into place. */
+ht_result ht_image_write_png(const char *path, const ht_image *img, char *err, size_t err_size);
+
+#endif

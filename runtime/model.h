@@ -1,0 +1,97 @@
+/* model.h — the hair shading model in C: the oracle every tier is compared to.
+
+   The shading of docs/DESIGN.md ("The shading model"), evaluated per pixel:
+
+       s      = shift_tex - 0.5
+       t1     = normalize(T + (primary.shift   + s) * N)
+       t2     = normalize(T + (secondary.shift + s) * N)
+       H      = normalize(L + V)
+       S(t,e) = smoothstep(-1, 0, dot(t,H)) * sin(t,H)^e
+       diff   = saturate(mix(wrap, 1, dot(N,L))) * diffuse.color
+       spec   = primary.color * S(t1, e1) + secondary.color * sparkle * S(t2, e2)
+       rgb    = sum over lights of (diff + spec) * base * light.color * ao
+
+   Kajiya-Kay: diff = sin(T,L) * diffuse.color, spec = primary.color * S(T, e1).
+
+   Two precisions from one source (model.c is compiled twice over `real`):
+   the _d functions are the truth, the _f ones mirror what a GPU does in
+   32-bit float. Every undefined point has a finite documented answer, listed
+   in model.c and docs/DESIGN.md; no function here returns NaN or Inf for
+   finite inputs. */
+#ifndef HT_MODEL_H
+#define HT_MODEL_H
+
+#include <stdbool.h>
+
+typedef enum ht_model_kind {
+    HT_MODEL_SCHEUERMANN = 0, /* two shifted highlights, wrapped diffuse */
+    HT_MODEL_KAJIYA_KAY = 1,  /* one unshifted highlight, sin(T,L) diffuse */
+} ht_model_kind;
+
+typedef struct ht_lobe {
+    double color[3]; /* [0,1] each */
+    double exponent; /* [0,10000]; 0 means sin^0 = 1 everywhere */
+    double shift;    /* along N, any finite value; [-100,100] from files */
+} ht_lobe;
+
+/* The material constants the shading needs (textures excluded). */
+typedef struct ht_shading {
+    ht_model_kind model;
+    double diffuse_color[3];
+    double wrap;          /* [0,1] */
+    ht_lobe primary;
+    ht_lobe secondary;    /* ignored by Kajiya-Kay */
+} ht_shading;
+
+/* What one shaded point sees. Vectors need not be unit length. */
+typedef struct ht_surface {
+    double T[3];       /* tangent, root to tip */
+    double N[3];       /* normal */
+    double V[3];       /* towards the viewer */
+    double base[3];    /* base(uv).rgb; 1 when the material has no base */
+    double shift_tex;  /* shift(uv) in [0,1]; 0.5 when not modelled */
+    double sparkle;    /* sparkle(uv) in [0,1]; 1 when not modelled */
+    double ao;         /* [0,1] */
+} ht_surface;
+
+typedef struct ht_light_ray {
+    double L[3];       /* towards the light, any length */
+    double color[3];
+} ht_light_ray;
+
+/* Below this squared length a vector has no direction (see model.c). */
+#define HT_MODEL_MIN_LENGTH2 1e-12
+
+/* rgb = the model's colour, before any framebuffer clamp. Always finite,
+   within [0, sum of light.color * (diffuse + primary + secondary colour)]. */
+void ht_model_shade_d(const ht_shading *m, const ht_surface *s,
+                      const ht_light_ray *lights, int light_count, double rgb[3]);
+/* The same computed in 32-bit float throughout (inputs rounded to float). */
+void ht_model_shade_f(const ht_shading *m, const ht_surface *s,
+                      const ht_light_ray *lights, int light_count, double rgb[3]);
+
+/* S(t,e) for t and h of any length; 0 when either has no direction. */
+double ht_model_highlight_d(const double t[3], const double h[3], double exponent);
+float ht_model_highlight_f(const float t[3], const float h[3], float exponent);
+
+/* S as a function of c = dot(t,H) of unit vectors (what a LUT indexes). */
+double ht_model_highlight_of_cos_d(double c, double exponent);
+
+/* saturate(mix(wrap, 1, n_dot_l)) */
+double ht_model_wrap_diffuse_d(double n_dot_l, double wrap);
+
+/* The shading as a function of three dot products of unit vectors, for one
+   white light with base = ao = sparkle = 1 and no shift texture (Heidrich-
+   Seidel: what a lookup texture indexed by dot products can hold):
+     Scheuermann: a = N.L, b = t1.H, c = t2.H
+       diffuse.color * wrap_diffuse(a) + primary.color * S(b) + secondary.color * S(c)
+     Kajiya-Kay:  a = T.L, b = T.H, c unused
+       diffuse.color * sqrt(1 - a^2) + primary.color * S(b)
+   The fixed tier bakes its LUT from this. */
+void ht_model_dot_terms_d(const ht_shading *m, double a, double b, double c,
+                          double rgb[3]);
+
+/* The largest value any channel of ht_model_dot_terms_d can take. */
+double ht_model_dot_terms_max(const ht_shading *m);
+
+#endif

@@ -1,0 +1,36 @@
+/* shader_interface.h — the contract between the GLSL the generator emits and
+   the runtime that binds it. Change both sides together. */
+#ifndef HT_SHADER_INTERFACE_H
+#define HT_SHADER_INTERFACE_H
+
+/* Desktop GLSL (1.10 / 1.20) reads the fixed-function vertex arrays, so every
+   tier draws from the same buffers and ftransform() keeps depth invariant:
+     gl_Vertex          position (world space: the model matrix is identity)
+     gl_Normal          ribbon normal
+     gl_MultiTexCoord0  uv
+     gl_MultiTexCoord1  tangent (xyz)
+     gl_MultiTexCoord2  ao (x)
+   ESSL 1.00 has no built-in attributes; its variants use these instead. */
+#define HT_ES_ATTR_POSITION "a_position"
+#define HT_ES_ATTR_NORMAL   "a_normal"
+#define HT_ES_ATTR_TANGENT  "a_tangent"
+#define HT_ES_ATTR_UV       "a_uv"
+#define HT_ES_ATTR_AO       "a_ao"
+#define HT_ES_U_MVP         "u_mvp"        /* mat4, ES only */
+
+/* Uniforms, world space. Arrays sized by the planned light count. */
+#define HT_U_EYE            "u_eye"          /* vec3 */
+#define HT_U_LIGHT_VECTOR   "u_light_vector" /* vec4[n]: w=0 direction towards the light, w=1 position */
+#define HT_U_LIGHT_COLOR    "u_light_color"  /* vec3[n] */
+
+/* Samplers: names the manifest lists with their unit. */
+#define HT_U_ALBEDO         "u_albedo"       /* rgb = base, a = alpha */
+#define HT_U_DETAIL         "u_detail"       /* r = shift, g = sparkle */
+
+/* Alpha testing: desktop tiers use fixed-function glAlphaFunc (it applies to
+   shader output in compatibility contexts); ES has none, so its fragment
+   shaders discard against these. */
+#define HT_ES_U_ALPHA_REF   "u_alpha_ref"    /* float */
+#define HT_ES_U_ALPHA_PASS_OPAQUE "u_alpha_pass_opaque" /* float: 1 keeps a >= ref, 0 keeps a < ref */
+
+#endif

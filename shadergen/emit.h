@@ -1,0 +1,77 @@
+/* emit.h — what each tier's emitter produces: text files (shaders, the
+   combiner program), images (lookup textures), requirements and the
+   features it models or drops. bundle.c writes these out unchanged. */
+#ifndef HT_EMIT_H
+#define HT_EMIT_H
+
+#include "hairgen.h"
+
+typedef enum ht_stage {
+    HT_STAGE_NONE = 0,   /* not GLSL (the combiner program) */
+    HT_STAGE_VERTEX,
+    HT_STAGE_FRAGMENT,
+} ht_stage;
+
+typedef struct ht_out_text {
+    char file[48];       /* "full.vert", "full-es.frag", "fixed.json" */
+    char role[24];       /* manifest key: "vertex", "fragment", "prime_vertex",
+                            "prime_fragment", "es_vertex", "es_fragment", "program" */
+    char *text;          /* malloc'd, NUL-terminated */
+    ht_stage stage;
+    int glsl_version;    /* 110, 120, 100 (ES) */
+    bool es;
+} ht_out_text;
+
+typedef struct ht_out_image {
+    char name[24];       /* manifest key: "fixed-lut" */
+    char file[48];       /* "fixed-lut.png" */
+    ht_image image;      /* a 3D texture is stored as depth slices stacked vertically */
+    int depth;           /* 1 for 2D */
+    char contents[96];
+} ht_out_image;
+
+#define HT_OUT_MAX_TEXTS 8
+#define HT_OUT_MAX_IMAGES 2
+#define HT_OUT_MAX_LIST 16
+
+typedef struct ht_tier_output {
+    ht_tier tier;
+    struct {
+        char gl[8];                        /* "2.1" */
+        char glsl[8];                      /* "1.20", "" for none */
+        char extensions[4][40];
+        int extension_count;
+        int texture_units;
+    } requires;
+    ht_out_text texts[HT_OUT_MAX_TEXTS];
+    int text_count;
+    ht_out_image images[HT_OUT_MAX_IMAGES];
+    int image_count;
+    ht_plan_texture samplers[HT_MAX_UNITS]; /* plan textures this tier binds, with units */
+    int sampler_count;
+    char features[HT_OUT_MAX_LIST][64];
+    int feature_count;
+    char dropped[HT_OUT_MAX_LIST][160];
+    int dropped_count;
+} ht_tier_output;
+
+void ht_tier_output_free(ht_tier_output *out);
+
+/* Each returns HT_OK or HT_ERR_COMPILE with glslang's log in err. Every GLSL
+   text is validated with ht_glsl_validate before it is returned. */
+ht_result ht_emit_full(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
+ht_result ht_emit_vertex(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
+ht_result ht_emit_fixed(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
+
+/* glslang's C API, in process: preprocess + parse at exactly this version
+   and profile (es → ESSL). log receives glslang's info log on failure. */
+ht_result ht_glsl_validate(const char *source, ht_stage stage, int version, bool es,
+                           char *log, size_t log_size);
+
+/* The textures the GLSL tiers sample, packed as the plan says:
+   "albedo" = base.rgb + alpha.a, "detail" = shift.r + sparkle.g. An image
+   whose plan texture is absent is left zeroed (pixels NULL). */
+ht_result ht_textures_pack(const ht_material *m, const ht_plan *plan,
+                           ht_image *albedo, ht_image *detail, char *err, size_t err_size);
+
+#endif
