@@ -66,7 +66,7 @@ typedef enum ht_tier {
 const char *ht_tier_name(ht_tier t);          /* "auto", "full", ... */
 ht_tier ht_tier_from_name(const char *name);  /* HT_TIER_COUNT when unknown */
 
-/* ---- scene description (also read from scenes/*.json by hairgen) ---- */
+/* ---- scene description (also read from scene JSON files by hairgen) ---- */
 
 #define HT_MAX_LIGHTS 4
 
