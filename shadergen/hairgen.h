@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "hairtier.h"
 #include "model.h"
@@ -88,5 +89,14 @@ typedef struct ht_plan {
 } ht_plan;
 
 void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out);
+
+/* ---- bundle (shadergen/bundle.c) ---- */
+
+/* Generates every tier for (material, scene) and writes DIR atomically (a
+   temporary sibling renamed into place; an existing DIR is replaced only
+   after the new one is complete). scene_path may be NULL (ht_scene_default).
+   summary, when not NULL, receives the human-readable table. */
+ht_result ht_bundle_generate(const char *material_path, const char *scene_path,
+                             const char *out_dir, FILE *summary, char *err, size_t err_size);
 
 #endif
