@@ -1,0 +1,286 @@
+/* bundle.c — hairgen's output: every tier of one (material, scene) written
+   as a directory (docs/bundle.md), atomically: files go into a temporary
+   sibling directory which is renamed into place only once complete, so a
+   failure leaves no DIR and an existing DIR is either the old or the new one. */
+#define _GNU_SOURCE /* renameat2(RENAME_EXCHANGE): swap a finished bundle in */
+#include <cJSON.h>
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "emit.h"
+#include "hairgen.h"
+
+#define BUNDLE_FORMAT "hairtier-bundle/1"
+
+static ht_result fail(char *err, size_t err_size, ht_result r, const char *fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, err_size, fmt, ap);
+    va_end(ap);
+    return r;
+}
+
+/* FNV-1a 64 over every input file's bytes: the key a build cache can use. */
+typedef struct input_hash { uint64_t value; } input_hash;
+
+static void hash_bytes(input_hash *h, const void *data, size_t size) {
+    const unsigned char *p = data;
+    for (size_t i = 0; i < size; i++) {
+        h->value ^= p[i];
+        h->value *= 0x100000001b3ull;
+    }
+}
+
+static ht_result hash_file(input_hash *h, const char *path, char *err, size_t err_size) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return fail(err, err_size, HT_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
+    unsigned char buf[65536];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, f)) > 0) hash_bytes(h, buf, n);
+    bool bad = ferror(f);
+    fclose(f);
+    if (bad) return fail(err, err_size, HT_ERR_IO, "%s: read error", path);
+    hash_bytes(h, "", 1); /* separates files */
+    return HT_OK;
+}
+
+static ht_result write_file(const char *dir, const char *name, const char *text,
+                            char *err, size_t err_size) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "wb");
+    if (!f) return fail(err, err_size, HT_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
+    size_t len = strlen(text);
+    bool ok = fwrite(text, 1, len, f) == len;
+    ok = (fclose(f) == 0) && ok;
+    if (!ok) return fail(err, err_size, HT_ERR_IO, "%s: write failed", path);
+    return HT_OK;
+}
+
+/* The temporary directory holds only regular files this module wrote. */
+static void remove_tree(const char *dir) {
+    DIR *d = opendir(dir);
+    if (d) {
+        struct dirent *e;
+        char path[4096];
+        while ((e = readdir(d)) != NULL) {
+            if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
+            snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+            unlink(path);
+        }
+        closedir(d);
+    }
+    rmdir(dir);
+}
+
+static cJSON *string_array(const char (*items)[160], int count) {
+    cJSON *a = cJSON_CreateArray();
+    for (int i = 0; i < count; i++) cJSON_AddItemToArray(a, cJSON_CreateString(items[i]));
+    return a;
+}
+
+static cJSON *texture_entry(const char *file, const ht_image *img, int depth, const char *contents) {
+    cJSON *t = cJSON_CreateObject();
+    cJSON_AddStringToObject(t, "file", file);
+    cJSON_AddNumberToObject(t, "width", img->width);
+    cJSON_AddNumberToObject(t, "height", img->height / depth);
+    cJSON_AddNumberToObject(t, "depth", depth);
+    cJSON_AddStringToObject(t, "contents", contents);
+    return t;
+}
+
+static cJSON *tier_entry(const ht_tier_output *t) {
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "name", ht_tier_name(t->tier));
+    cJSON *req = cJSON_AddObjectToObject(o, "requires");
+    cJSON_AddStringToObject(req, "gl", t->requires.gl);
+    if (t->requires.glsl[0]) cJSON_AddStringToObject(req, "glsl", t->requires.glsl);
+    else cJSON_AddNullToObject(req, "glsl");
+    cJSON *ext = cJSON_AddArrayToObject(req, "extensions");
+    for (int i = 0; i < t->requires.extension_count; i++)
+        cJSON_AddItemToArray(ext, cJSON_CreateString(t->requires.extensions[i]));
+    cJSON_AddNumberToObject(req, "texture_units", t->requires.texture_units);
+
+    cJSON *files = cJSON_AddObjectToObject(o, "files");
+    for (int i = 0; i < t->text_count; i++)
+        cJSON_AddStringToObject(files, t->texts[i].role, t->texts[i].file);
+    if (t->image_count > 0) {
+        cJSON *tex = cJSON_AddObjectToObject(o, "textures");
+        for (int i = 0; i < t->image_count; i++)
+            cJSON_AddItemToObject(tex, t->images[i].name,
+                                  texture_entry(t->images[i].file, &t->images[i].image,
+                                                t->images[i].depth, t->images[i].contents));
+    }
+    cJSON *samplers = cJSON_AddArrayToObject(o, "samplers");
+    for (int i = 0; i < t->sampler_count; i++) {
+        cJSON *s = cJSON_CreateObject();
+        cJSON_AddStringToObject(s, "uniform", t->samplers[i].sampler);
+        cJSON_AddStringToObject(s, "texture", t->samplers[i].name);
+        cJSON_AddNumberToObject(s, "unit", t->samplers[i].unit);
+        cJSON_AddItemToArray(samplers, s);
+    }
+    cJSON *features = cJSON_AddArrayToObject(o, "features");
+    for (int i = 0; i < t->feature_count; i++)
+        cJSON_AddItemToArray(features, cJSON_CreateString(t->features[i]));
+    cJSON_AddItemToObject(o, "dropped", string_array(t->dropped, t->dropped_count));
+    return o;
+}
+
+static const char *light_type_name(ht_light_type t) {
+    return t == HT_LIGHT_POINT ? "point" : "directional";
+}
+
+static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t hash,
+                           const ht_image *albedo, const ht_image *detail,
+                           const ht_tier_output *tiers, int tier_count) {
+    cJSON *root = cJSON_CreateObject();
+    char hash_text[32];
+    snprintf(hash_text, sizeof hash_text, "fnv1a64:%016llx", (unsigned long long)hash);
+    cJSON_AddStringToObject(root, "format", BUNDLE_FORMAT);
+    cJSON_AddStringToObject(root, "input_hash", hash_text);
+    cJSON_AddStringToObject(root, "material", m->name);
+    cJSON_AddStringToObject(root, "model",
+                            plan->shading.model == HT_MODEL_KAJIYA_KAY ? "kajiya-kay" : "scheuermann");
+    cJSON *lights = cJSON_AddArrayToObject(root, "lights");
+    for (int i = 0; i < plan->light_count; i++)
+        cJSON_AddItemToArray(lights, cJSON_CreateString(light_type_name(plan->light_types[i])));
+    cJSON_AddNumberToObject(root, "opaque_cutoff", plan->opaque_cutoff);
+    cJSON *textures = cJSON_AddObjectToObject(root, "textures");
+    for (int i = 0; i < plan->texture_count; i++) {
+        const ht_plan_texture *pt = &plan->textures[i];
+        const ht_image *img = strcmp(pt->name, "albedo") == 0 ? albedo : detail;
+        char file[32];
+        snprintf(file, sizeof file, "%s.png", pt->name);
+        cJSON_AddItemToObject(textures, pt->name, texture_entry(file, img, 1, pt->contents));
+    }
+    cJSON_AddItemToObject(root, "notes", string_array(plan->notes, plan->note_count));
+    cJSON *tier_list = cJSON_AddArrayToObject(root, "tiers");
+    for (int i = 0; i < tier_count; i++) cJSON_AddItemToArray(tier_list, tier_entry(&tiers[i]));
+    char *text = cJSON_Print(root);
+    cJSON_Delete(root);
+    return text;
+}
+
+static void print_summary(FILE *out, const ht_material *m, const ht_plan *plan,
+                          const ht_tier_output *tiers, int tier_count, const char *dir) {
+    fprintf(out, "hairgen: %s -> %s\n", m->name, dir);
+    fprintf(out, "%-7s %-34s %-5s %s\n", "tier", "needs", "units", "features");
+    for (int i = 0; i < tier_count; i++) {
+        const ht_tier_output *t = &tiers[i];
+        char needs[128];
+        int n = snprintf(needs, sizeof needs, "GL %s", t->requires.gl);
+        if (t->requires.glsl[0]) n += snprintf(needs + n, sizeof needs - n, ", GLSL %s", t->requires.glsl);
+        for (int e = 0; e < t->requires.extension_count && n < (int)sizeof needs; e++)
+            n += snprintf(needs + n, sizeof needs - n, ", %s", t->requires.extensions[e] + 3);
+        char features[512] = "";
+        int f = 0;
+        for (int k = 0; k < t->feature_count && f < (int)sizeof features; k++)
+            f += snprintf(features + f, sizeof features - f, "%s%s", k ? ", " : "", t->features[k]);
+        fprintf(out, "%-7s %-34s %-5d %s\n", ht_tier_name(t->tier), needs, t->requires.texture_units, features);
+        for (int k = 0; k < t->dropped_count; k++) fprintf(out, "%-7s   dropped: %s\n", "", t->dropped[k]);
+    }
+    for (int i = 0; i < plan->note_count; i++) fprintf(out, "note: %s\n", plan->notes[i]);
+}
+
+/* Moves the finished temporary directory to `dir`, replacing what was there. */
+static ht_result publish(const char *tmp, const char *dir, char *err, size_t err_size) {
+    if (rename(tmp, dir) == 0) return HT_OK;
+    if (errno != EEXIST && errno != ENOTEMPTY)
+        return fail(err, err_size, HT_ERR_IO, "%s: cannot create: %s", dir, strerror(errno));
+    struct stat st;
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
+        return fail(err, err_size, HT_ERR_IO, "%s: exists and is not a directory", dir);
+    if (renameat2(AT_FDCWD, tmp, AT_FDCWD, dir, RENAME_EXCHANGE) != 0)
+        return fail(err, err_size, HT_ERR_IO, "%s: cannot replace: %s", dir, strerror(errno));
+    remove_tree(tmp); /* now holds the old bundle */
+    return HT_OK;
+}
+
+static ht_result write_bundle(const char *tmp, const ht_plan *plan, const ht_material *m,
+                              uint64_t hash, const ht_image *albedo, const ht_image *detail,
+                              const ht_tier_output *tiers, int tier_count, char *err, size_t err_size) {
+    char path[4096];
+    ht_result r = HT_OK;
+    const ht_image *packed[2] = { albedo, detail };
+    const char *packed_names[2] = { "albedo.png", "detail.png" };
+    for (int i = 0; i < 2 && r == HT_OK; i++) {
+        if (!packed[i]->pixels) continue;
+        snprintf(path, sizeof path, "%s/%s", tmp, packed_names[i]);
+        r = ht_image_write_png(path, packed[i], err, err_size);
+    }
+    for (int t = 0; t < tier_count && r == HT_OK; t++) {
+        for (int i = 0; i < tiers[t].text_count && r == HT_OK; i++)
+            r = write_file(tmp, tiers[t].texts[i].file, tiers[t].texts[i].text, err, err_size);
+        for (int i = 0; i < tiers[t].image_count && r == HT_OK; i++) {
+            snprintf(path, sizeof path, "%s/%s", tmp, tiers[t].images[i].file);
+            r = ht_image_write_png(path, &tiers[t].images[i].image, err, err_size);
+        }
+    }
+    if (r != HT_OK) return r;
+    char *manifest = manifest_text(plan, m, hash, albedo, detail, tiers, tier_count);
+    if (!manifest) return fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", tmp);
+    r = write_file(tmp, "manifest.json", manifest, err, err_size);
+    cJSON_free(manifest);
+    return r;
+}
+
+ht_result ht_bundle_generate(const char *material_path, const char *scene_path,
+                             const char *out_dir, FILE *summary, char *err, size_t err_size) {
+    ht_material material;
+    ht_scene scene;
+    ht_result r = ht_material_load(material_path, &material, err, err_size);
+    if (r != HT_OK) return r;
+    if (scene_path) {
+        r = ht_scene_load(scene_path, &scene, err, err_size);
+        if (r != HT_OK) return r;
+    } else {
+        ht_scene_default(&scene);
+    }
+
+    input_hash hash = { 0xcbf29ce484222325ull };
+    r = hash_file(&hash, material_path, err, err_size);
+    if (r == HT_OK && scene_path) r = hash_file(&hash, scene_path, err, err_size);
+    for (int i = 0; i < HT_TEX_COUNT && r == HT_OK; i++)
+        if (material.textures[i].origin == HT_TEXTURE_FILE)
+            r = hash_file(&hash, material.textures[i].path, err, err_size);
+    if (r != HT_OK) return r;
+
+    ht_plan plan;
+    ht_plan_make(&material, &scene, &plan);
+
+    ht_tier_output tiers[3];
+    memset(tiers, 0, sizeof tiers);
+    ht_image albedo = { 0 }, detail = { 0 };
+    ht_result (*const emitters[3])(const ht_plan *, ht_tier_output *, char *, size_t) = {
+        ht_emit_full, ht_emit_vertex, ht_emit_fixed
+    };
+    for (int i = 0; i < 3 && r == HT_OK; i++) r = emitters[i](&plan, &tiers[i], err, err_size);
+    if (r == HT_OK) r = ht_textures_pack(&material, &plan, &albedo, &detail, err, err_size);
+
+    char tmp[4096] = "";
+    if (r == HT_OK) {
+        snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", out_dir);
+        if (!mkdtemp(tmp)) {
+            r = fail(err, err_size, HT_ERR_IO, "%s: cannot create a temporary directory beside it: %s",
+                     out_dir, strerror(errno));
+            tmp[0] = '\0';
+        }
+    }
+    if (r == HT_OK)
+        r = write_bundle(tmp, &plan, &material, hash.value, &albedo, &detail, tiers, 3, err, err_size);
+    if (r == HT_OK) r = publish(tmp, out_dir, err, err_size);
+    else if (tmp[0]) remove_tree(tmp);
+    if (r == HT_OK && summary) print_summary(summary, &material, &plan, tiers, 3, out_dir);
+
+    for (int i = 0; i < 3; i++) ht_tier_output_free(&tiers[i]);
+    ht_image_free(&albedo);
+    ht_image_free(&detail);
+    return r;
+}
