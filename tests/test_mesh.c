@@ -1,0 +1,752 @@
+/* test_mesh.c — hair meshes: the fur ball and the patches around a head are
+   what their descs say (counts, widths, frames, uv, ao, no NaN), the
+   degenerate gravity cases stay finite, bad descs are refused, allocation
+   failure frees everything, and the inside-out sort is a stable reordering
+   of whole components that keeps every triangle. */
+#include <limits.h>
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+#include "hairtier.h"
+#include "rng.h"
+
+#define UNIT_TOL 1e-4
+#define PERP_TOL 1e-4
+
+static double dot3(const float a[3], const float b[3]) {
+    return (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2];
+}
+static double len3(const float a[3]) { return sqrt(dot3(a, a)); }
+static double dist3(const float a[3], const float b[3]) {
+    float d[3] = { a[0] - b[0], a[1] - b[1], a[2] - b[2] };
+    return len3(d);
+}
+
+static int vertex_is_finite(const ht_vertex *v) {
+    const float *f = (const float *)v;
+    for (size_t i = 0; i < sizeof *v / sizeof(float); i++)
+        if (!isfinite(f[i])) return 0;
+    return 1;
+}
+
+/* Every property every mesh must have, whatever built it. */
+static void assert_mesh_well_formed(const ht_mesh *m) {
+    assert_non_null(m->vertices);
+    assert_non_null(m->indices);
+    assert_non_null(m->components);
+    assert_int_equal(m->index_count % 3, 0);
+    for (uint32_t i = 0; i < m->vertex_count; i++) {
+        const ht_vertex *v = &m->vertices[i];
+        assert_true(vertex_is_finite(v));
+        assert_true(fabs(len3(v->normal) - 1) < UNIT_TOL);
+        assert_true(fabs(len3(v->tangent) - 1) < UNIT_TOL);
+        assert_true(fabs(dot3(v->normal, v->tangent)) < PERP_TOL);
+        assert_true(v->uv[0] >= 0 && v->uv[0] <= 1);
+        assert_true(v->uv[1] >= 0 && v->uv[1] <= 1);
+        assert_true(v->ao >= 0 && v->ao <= 1);
+    }
+    for (uint32_t i = 0; i < m->index_count; i++) assert_true(m->indices[i] < m->vertex_count);
+
+    /* Component runs tile the index buffer: each index in exactly one run. */
+    unsigned char *seen = calloc(m->index_count ? m->index_count : 1, 1);
+    assert_non_null(seen);
+    for (uint32_t c = 0; c < m->component_count; c++) {
+        const ht_component *cp = &m->components[c];
+        assert_true(isfinite(cp->sort_key));
+        assert_true(cp->index_count > 0 && cp->index_count % 3 == 0);
+        assert_true((uint64_t)cp->first_index + cp->index_count <= m->index_count);
+        for (uint32_t i = 0; i < cp->index_count; i++) {
+            assert_int_equal(seen[cp->first_index + i], 0);
+            seen[cp->first_index + i] = 1;
+        }
+    }
+    for (uint32_t i = 0; i < m->index_count; i++) assert_int_equal(seen[i], 1);
+    free(seen);
+}
+
+static void assert_ao_varies(const ht_mesh *m) {
+    float lo = m->vertices[0].ao, hi = lo;
+    for (uint32_t i = 0; i < m->vertex_count; i++) {
+        lo = fminf(lo, m->vertices[i].ao);
+        hi = fmaxf(hi, m->vertices[i].ao);
+    }
+    assert_true(hi - lo > 0.1f);
+}
+
+/* The builders lay out each component as rows of two vertices (one per
+   side of the ribbon), root row first: pairs (2k, 2k+1). Checks, along every
+   component, that the tangent points to the next row, v rises root to tip
+   and the ribbon is `width(v)` wide when width is given. */
+static void assert_ribbons_run_root_to_tip(const ht_mesh *m, uint32_t rows) {
+    for (uint32_t c = 0; c < m->component_count; c++) {
+        const ht_vertex *v = &m->vertices[c * rows * 2];
+        assert_true(v[0].uv[1] == 0.0f && v[2 * rows - 1].uv[1] == 1.0f);
+        for (uint32_t r = 0; r + 1 < rows; r++) {
+            float mid[3], next[3], step[3];
+            for (int k = 0; k < 3; k++) {
+                mid[k] = 0.5f * (v[2 * r].position[k] + v[2 * r + 1].position[k]);
+                next[k] = 0.5f * (v[2 * r + 2].position[k] + v[2 * r + 3].position[k]);
+                step[k] = next[k] - mid[k];
+            }
+            assert_true(dot3(v[2 * r].tangent, step) > 0);
+            assert_true(dot3(v[2 * r + 2].tangent, step) > 0);
+            assert_true(v[2 * r + 2].uv[1] > v[2 * r].uv[1]);
+        }
+    }
+}
+
+/* Independent of the library: the distance from the mesh centre to the mean
+   of the distinct vertices a component's triangles use. */
+static double component_centroid_distance(const ht_mesh *m, const ht_component *cp) {
+    unsigned char *used = calloc(m->vertex_count, 1);
+    assert_non_null(used);
+    double sum[3] = { 0, 0, 0 };
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < cp->index_count; i++) {
+        uint32_t vi = m->indices[cp->first_index + i];
+        if (used[vi]) continue;
+        used[vi] = 1;
+        count++;
+        for (int k = 0; k < 3; k++) sum[k] += m->vertices[vi].position[k];
+    }
+    free(used);
+    double d[3];
+    for (int k = 0; k < 3; k++) d[k] = sum[k] / count - m->center[k];
+    return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
+typedef struct tri { uint32_t v[3]; } tri;
+
+static int compare_tris(const void *pa, const void *pb) {
+    const tri *a = pa, *b = pb;
+    for (int k = 0; k < 3; k++)
+        if (a->v[k] != b->v[k]) return a->v[k] < b->v[k] ? -1 : 1;
+    return 0;
+}
+
+/* Triangles as a sorted list: equal lists mean the same multiset, windings
+   included. */
+static tri *sorted_triangles(const ht_mesh *m) {
+    uint32_t n = m->index_count / 3;
+    tri *t = malloc(sizeof *t * (n ? n : 1));
+    assert_non_null(t);
+    for (uint32_t i = 0; i < n; i++) memcpy(t[i].v, m->indices + 3 * i, sizeof t[i].v);
+    qsort(t, n, sizeof *t, compare_tris);
+    return t;
+}
+
+static void assert_sort_is_a_stable_reordering(ht_mesh *m) {
+    tri *before = sorted_triangles(m);
+    uint32_t n = m->component_count;
+    ht_component *old = malloc(sizeof *old * n);
+    uint32_t *old_indices = malloc(sizeof *old_indices * m->index_count);
+    assert_non_null(old);
+    assert_non_null(old_indices);
+    memcpy(old, m->components, sizeof *old * n);
+    memcpy(old_indices, m->indices, sizeof *old_indices * m->index_count);
+
+    ht_mesh_sort_inside_out(m);
+    assert_mesh_well_formed(m);
+
+    /* Reference: a stable insertion order of build positions by key. */
+    uint32_t *order = malloc(sizeof *order * n);
+    assert_non_null(order);
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t j = i;
+        while (j > 0 && old[order[j - 1]].sort_key > old[i].sort_key) {
+            order[j] = order[j - 1];
+            j--;
+        }
+        order[j] = i;
+    }
+    uint32_t cursor = 0;
+    for (uint32_t c = 0; c < n; c++) {
+        const ht_component *now = &m->components[c], *was = &old[order[c]];
+        if (c > 0) assert_true(m->components[c - 1].sort_key <= now->sort_key);
+        assert_true(now->sort_key == was->sort_key);
+        assert_int_equal(now->first_index, cursor);
+        assert_int_equal(now->index_count, was->index_count);
+        assert_memory_equal(m->indices + now->first_index, old_indices + was->first_index,
+                            sizeof(uint32_t) * was->index_count);
+        cursor += now->index_count;
+    }
+
+    tri *after = sorted_triangles(m);
+    assert_memory_equal(before, after, sizeof(tri) * (m->index_count / 3));
+    free(before);
+    free(after);
+    free(order);
+    free(old);
+    free(old_indices);
+}
+
+/* ---- fur ball ---- */
+
+static void test_furball_counts_follow_desc(void **state) {
+    (void)state;
+    ht_mesh m;
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 37, .joints = 5 }, &m), HT_OK);
+    assert_int_equal(m.component_count, 37);
+    assert_int_equal(m.vertex_count, 37 * 5 * 2);
+    assert_int_equal(m.index_count, 37 * 4 * 6);
+    assert_mesh_well_formed(&m);
+    ht_mesh_free(&m);
+
+    /* Zero means the documented defaults: 2000 hairs of 16 joints. */
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ 0 }, &m), HT_OK);
+    assert_int_equal(m.component_count, 2000);
+    assert_int_equal(m.vertex_count, 2000 * 16 * 2);
+    assert_int_equal(m.index_count, 2000 * 15 * 6);
+    ht_mesh_free(&m);
+
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 1, .joints = 2 }, &m), HT_OK);
+    assert_int_equal(m.index_count, 6);
+    assert_mesh_well_formed(&m);
+    ht_mesh_free(&m);
+}
+
+static void test_furball_frames_are_unit_perpendicular_and_finite(void **state) {
+    (void)state;
+    const ht_furball_desc descs[] = {
+        { .hairs = 300, .seed = 1 },
+        { .hairs = 300, .gravity = { 0, -0.3f, 0 }, .seed = 2 },
+        { .hairs = 300, .gravity = { 0, -0.3f, 0 }, .inertia = { 0.2f, 0, 0.4f }, .seed = 3 },
+        /* inertia along the widening axis of many hairs: tangents swing
+           towards it */
+        { .hairs = 300, .joints = 40, .gravity = { 0, -0.05f, 0 }, .inertia = { 5, 0, 0 }, .seed = 4 },
+        { .hairs = 300, .gravity = { 0, -1000, 0 }, .inertia = { 1000, 0, -1000 }, .seed = 5 },
+    };
+    for (size_t i = 0; i < sizeof descs / sizeof descs[0]; i++) {
+        ht_mesh m;
+        assert_int_equal(ht_mesh_build_furball(&descs[i], &m), HT_OK);
+        assert_mesh_well_formed(&m);
+        assert_ao_varies(&m);
+        assert_ribbons_run_root_to_tip(&m, (uint32_t)(descs[i].joints ? descs[i].joints : 16));
+        ht_mesh_free(&m);
+    }
+}
+
+static void test_furball_hairs_grow_from_origin_with_segment_length(void **state) {
+    (void)state;
+    ht_mesh m;
+    const float length = 0.05f;
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 50, .joints = 6, .length = length,
+                                                                .gravity = { 0, -0.2f, 0 } }, &m),
+                     HT_OK);
+    assert_true(m.center[0] == 0 && m.center[1] == 0 && m.center[2] == 0);
+    for (uint32_t h = 0; h < m.component_count; h++) {
+        const ht_vertex *v = &m.vertices[h * 12];
+        for (int k = 0; k < 3; k++) assert_true(fabsf(v[0].position[k] + v[1].position[k]) < 1e-6f);
+        for (int j = 0; j + 1 < 6; j++) {
+            float a[3], b[3];
+            for (int k = 0; k < 3; k++) {
+                a[k] = 0.5f * (v[2 * j].position[k] + v[2 * j + 1].position[k]);
+                b[k] = 0.5f * (v[2 * j + 2].position[k] + v[2 * j + 3].position[k]);
+            }
+            assert_true(fabs(dist3(a, b) - length) < 1e-5);
+        }
+    }
+    ht_mesh_free(&m);
+}
+
+static void test_furball_ribbon_tapers_from_width_to_a_quarter(void **state) {
+    (void)state;
+    ht_mesh m;
+    const float width = 0.02f;
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 20, .joints = 9, .width = width,
+                                                                .gravity = { 0.1f, -0.2f, 0 } }, &m),
+                     HT_OK);
+    for (uint32_t h = 0; h < m.component_count; h++) {
+        const ht_vertex *v = &m.vertices[h * 18];
+        assert_true(fabs(dist3(v[0].position, v[1].position) - width) < 1e-6);
+        assert_true(fabs(dist3(v[16].position, v[17].position) - width / 4) < 1e-6);
+        for (int j = 0; j + 1 < 9; j++)
+            assert_true(dist3(v[2 * j + 2].position, v[2 * j + 3].position) <
+                        dist3(v[2 * j].position, v[2 * j + 1].position));
+    }
+    ht_mesh_free(&m);
+}
+
+static void test_furball_hairs_have_own_streak_column_and_brighten_to_tip(void **state) {
+    (void)state;
+    ht_mesh m;
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 200, .joints = 8 }, &m), HT_OK);
+    int distinct = 0;
+    for (uint32_t h = 0; h < m.component_count; h++) {
+        const ht_vertex *v = &m.vertices[h * 16];
+        for (int i = 1; i < 16; i++) assert_true(v[i].uv[0] == v[0].uv[0]);
+        assert_true(v[0].uv[0] < 1.0f);
+        if (h > 0 && v[0].uv[0] != m.vertices[(h - 1) * 16].uv[0]) distinct++;
+        /* Without gravity the hair is straight: ao rises joint by joint. */
+        for (int j = 0; j + 1 < 8; j++) assert_true(v[2 * j + 2].ao > v[2 * j].ao);
+    }
+    assert_true(distinct > 190);
+    ht_mesh_free(&m);
+}
+
+/* The hair's first direction does not depend on gravity (the generator
+   draws the same numbers), so reading it from a gravity-free build lets the
+   test aim gravity exactly along, against and half against it. */
+static void test_furball_gravity_zero_or_parallel_stays_finite(void **state) {
+    (void)state;
+    ht_mesh m;
+    const ht_furball_desc base = { .hairs = 1, .joints = 8, .length = 0.1f, .seed = 99 };
+    assert_int_equal(ht_mesh_build_furball(&base, &m), HT_OK);
+    assert_mesh_well_formed(&m);
+    float d0[3];
+    for (int k = 0; k < 3; k++)
+        d0[k] = (m.vertices[2].position[k] + m.vertices[3].position[k]) * 0.5f / base.length;
+    ht_mesh_free(&m);
+    assert_true(fabs(len3(d0) - 1) < 1e-5);
+
+    const float scales[] = { 0.5f, 3.0f, -0.5f, -1.0f, -2.0f };
+    for (size_t i = 0; i < sizeof scales / sizeof scales[0]; i++) {
+        ht_furball_desc d = base;
+        for (int k = 0; k < 3; k++) d.gravity[k] = scales[i] * d0[k];
+        assert_int_equal(ht_mesh_build_furball(&d, &m), HT_OK);
+        assert_mesh_well_formed(&m);
+        /* The ribbon still has its full width at the root. */
+        assert_true(fabs(dist3(m.vertices[0].position, m.vertices[1].position) - 0.01) < 1e-6);
+        ht_mesh_free(&m);
+    }
+}
+
+static void test_furball_same_seed_same_bytes_other_seed_differs(void **state) {
+    (void)state;
+    ht_mesh a, b, c;
+    ht_furball_desc d = { .hairs = 500, .gravity = { 0, -0.1f, 0 }, .inertia = { 0.05f, 0, 0 }, .seed = 7 };
+    assert_int_equal(ht_mesh_build_furball(&d, &a), HT_OK);
+    assert_int_equal(ht_mesh_build_furball(&d, &b), HT_OK);
+    d.seed = 8;
+    assert_int_equal(ht_mesh_build_furball(&d, &c), HT_OK);
+    assert_int_equal(a.vertex_count, b.vertex_count);
+    assert_memory_equal(a.vertices, b.vertices, sizeof(ht_vertex) * a.vertex_count);
+    assert_memory_equal(a.indices, b.indices, sizeof(uint32_t) * a.index_count);
+    assert_memory_equal(a.components, b.components, sizeof(ht_component) * a.component_count);
+    assert_int_equal(a.vertex_count, c.vertex_count);
+    assert_memory_not_equal(a.vertices, c.vertices, sizeof(ht_vertex) * a.vertex_count);
+    ht_mesh_free(&a);
+    ht_mesh_free(&b);
+    ht_mesh_free(&c);
+}
+
+/* ---- patches ---- */
+
+static void test_patches_counts_follow_desc(void **state) {
+    (void)state;
+    ht_mesh m;
+    assert_int_equal(ht_mesh_build_patches(&(ht_patches_desc){ .layers = 2, .strips = 9, .segments = 4 },
+                                           &m, NULL),
+                     HT_OK);
+    assert_int_equal(m.component_count, 2 * 9);
+    assert_int_equal(m.vertex_count, 2 * 9 * 5 * 2);
+    assert_int_equal(m.index_count, 2 * 9 * 4 * 6);
+    assert_mesh_well_formed(&m);
+    ht_mesh_free(&m);
+
+    assert_int_equal(ht_mesh_build_patches(&(ht_patches_desc){ 0 }, &m, NULL), HT_OK);
+    assert_int_equal(m.component_count, 3 * 64);
+    assert_int_equal(m.vertex_count, 3 * 64 * 13 * 2);
+    assert_int_equal(m.index_count, 3 * 64 * 12 * 6);
+    ht_mesh_free(&m);
+}
+
+static void test_patches_frames_point_away_from_head(void **state) {
+    (void)state;
+    const ht_patches_desc descs[] = {
+        { .seed = 1 },
+        { .head_radius = 0.25f, .layers = 1, .strips = 1, .segments = 1, .seed = 2 },
+        { .head_radius = 3, .layers = 5, .strips = 7, .segments = 30, .seed = 3 },
+        { .layers = 1, .strips = 2000, .segments = 2, .seed = 4 },
+    };
+    for (size_t i = 0; i < sizeof descs / sizeof descs[0]; i++) {
+        ht_mesh m;
+        assert_int_equal(ht_mesh_build_patches(&descs[i], &m, NULL), HT_OK);
+        assert_mesh_well_formed(&m);
+        assert_ao_varies(&m);
+        const uint32_t rows = (uint32_t)(descs[i].segments ? descs[i].segments : 12) + 1;
+        assert_ribbons_run_root_to_tip(&m, rows);
+        const double radius = descs[i].head_radius ? descs[i].head_radius : 1.0;
+        for (uint32_t v = 0; v < m.vertex_count; v++) {
+            const ht_vertex *vx = &m.vertices[v];
+            assert_true(dot3(vx->normal, vx->position) > 0);
+            assert_true(len3(vx->position) > radius); /* outside the head */
+            assert_true(vx->uv[0] == (float)(v & 1)); /* u: 0 on one side, 1 on the other */
+        }
+        ht_mesh_free(&m);
+    }
+}
+
+static void test_patches_inner_layers_and_roots_are_darker(void **state) {
+    (void)state;
+    ht_mesh m;
+    const int layers = 4, strips = 32, segments = 10, rows = segments + 1;
+    assert_int_equal(ht_mesh_build_patches(&(ht_patches_desc){ .layers = layers, .strips = strips,
+                                                                .segments = segments }, &m, NULL),
+                     HT_OK);
+    double layer_ao[4] = { 0 }, root_ao = 0, tip_ao = 0;
+    for (int l = 0; l < layers; l++)
+        for (int s = 0; s < strips; s++) {
+            const ht_vertex *v = &m.vertices[(uint32_t)(l * strips + s) * rows * 2];
+            for (int i = 0; i < rows * 2; i++) layer_ao[l] += v[i].ao;
+            root_ao += v[0].ao;
+            tip_ao += v[rows * 2 - 1].ao;
+        }
+    for (int l = 0; l + 1 < layers; l++) assert_true(layer_ao[l] < layer_ao[l + 1]);
+    assert_true(root_ao < tip_ao);
+    ht_mesh_free(&m);
+}
+
+static void test_patches_neighbouring_strips_overlap(void **state) {
+    (void)state;
+    ht_mesh m;
+    const int strips = 24, segments = 8, rows = segments + 1;
+    assert_int_equal(ht_mesh_build_patches(&(ht_patches_desc){ .layers = 1, .strips = strips,
+                                                                .segments = segments }, &m, NULL),
+                     HT_OK);
+    const int row = rows / 2;
+    for (int s = 0; s < strips; s++) {
+        const ht_vertex *a = &m.vertices[(uint32_t)(s * rows + row) * 2];
+        float ca[3], nearest = INFINITY, nearest_width = 0;
+        for (int k = 0; k < 3; k++) ca[k] = 0.5f * (a[0].position[k] + a[1].position[k]);
+        for (int o = 0; o < strips; o++) {
+            if (o == s) continue;
+            const ht_vertex *b = &m.vertices[(uint32_t)(o * rows + row) * 2];
+            float cb[3];
+            for (int k = 0; k < 3; k++) cb[k] = 0.5f * (b[0].position[k] + b[1].position[k]);
+            if (dist3(ca, cb) < nearest) {
+                nearest = (float)dist3(ca, cb);
+                nearest_width = (float)dist3(b[0].position, b[1].position);
+            }
+        }
+        const double half_widths = 0.5 * (dist3(a[0].position, a[1].position) + nearest_width);
+        assert_true(nearest < half_widths);
+    }
+    ht_mesh_free(&m);
+}
+
+static void test_patches_fill_head_sphere(void **state) {
+    (void)state;
+    ht_mesh m, head;
+    const float radius = 0.7f;
+    assert_int_equal(ht_mesh_build_patches(&(ht_patches_desc){ .head_radius = radius }, &m, &head), HT_OK);
+    assert_true(head.vertex_count > 100);
+    assert_int_equal(head.component_count, 1);
+    assert_int_equal(head.components[0].first_index, 0);
+    assert_int_equal(head.components[0].index_count, head.index_count);
+    assert_mesh_well_formed(&head);
+    for (uint32_t i = 0; i < head.vertex_count; i++) {
+        const ht_vertex *v = &head.vertices[i];
+        assert_true(fabs(len3(v->position) - radius) < 1e-5);
+        assert_true(dot3(v->normal, v->position) > radius * 0.9999);
+        assert_true(v->ao == 1.0f);
+    }
+    /* Outward winding and no zero-area triangle. */
+    for (uint32_t t = 0; t < head.index_count; t += 3) {
+        const float *a = head.vertices[head.indices[t]].position;
+        const float *b = head.vertices[head.indices[t + 1]].position;
+        const float *c = head.vertices[head.indices[t + 2]].position;
+        float e1[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] }, e2[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
+        float n[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0] };
+        assert_true(len3(n) > 1e-8);
+        assert_true(dot3(n, a) > 0);
+    }
+    ht_mesh_free(&m);
+    ht_mesh_free(&head);
+}
+
+static void test_patches_same_seed_same_bytes_other_seed_differs(void **state) {
+    (void)state;
+    ht_mesh a, b, c;
+    assert_int_equal(ht_mesh_build_patches(&(ht_patches_desc){ .seed = 5 }, &a, NULL), HT_OK);
+    assert_int_equal(ht_mesh_build_patches(&(ht_patches_desc){ .seed = 5 }, &b, NULL), HT_OK);
+    assert_int_equal(ht_mesh_build_patches(&(ht_patches_desc){ .seed = 6 }, &c, NULL), HT_OK);
+    assert_memory_equal(a.vertices, b.vertices, sizeof(ht_vertex) * a.vertex_count);
+    assert_memory_equal(a.indices, b.indices, sizeof(uint32_t) * a.index_count);
+    assert_memory_equal(a.components, b.components, sizeof(ht_component) * a.component_count);
+    assert_memory_not_equal(a.vertices, c.vertices, sizeof(ht_vertex) * a.vertex_count);
+    ht_mesh_free(&a);
+    ht_mesh_free(&b);
+    ht_mesh_free(&c);
+}
+
+/* ---- sort ---- */
+
+static void test_sort_keys_are_centroid_distances(void **state) {
+    (void)state;
+    ht_mesh m;
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 64, .gravity = { 0, -0.2f, 0 } }, &m),
+                     HT_OK);
+    for (uint32_t c = 0; c < m.component_count; c++)
+        assert_true(fabs(m.components[c].sort_key - component_centroid_distance(&m, &m.components[c])) < 1e-5);
+    ht_mesh_free(&m);
+    assert_int_equal(ht_mesh_build_patches(&(ht_patches_desc){ .strips = 16 }, &m, NULL), HT_OK);
+    for (uint32_t c = 0; c < m.component_count; c++)
+        assert_true(fabs(m.components[c].sort_key - component_centroid_distance(&m, &m.components[c])) < 1e-5);
+    ht_mesh_free(&m);
+}
+
+static void test_sort_orders_components_inside_out_keeping_triangles(void **state) {
+    (void)state;
+    ht_mesh m;
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 3000, .joints = 6,
+                                                                .gravity = { 0, -0.4f, 0 } }, &m),
+                     HT_OK);
+    assert_sort_is_a_stable_reordering(&m);
+    ht_mesh_free(&m);
+
+    assert_int_equal(ht_mesh_build_patches(&(ht_patches_desc){ .layers = 4 }, &m, NULL), HT_OK);
+    assert_sort_is_a_stable_reordering(&m);
+    /* Layers are shells: after the sort the outermost layer comes last. */
+    assert_true(m.components[0].sort_key < m.components[m.component_count - 1].sort_key);
+    ht_mesh_free(&m);
+}
+
+/* A hand-made mesh of one-triangle components whose keys take three values:
+   equal keys must come out in build order. */
+static void test_sort_is_stable_for_ties(void **state) {
+    (void)state;
+    enum { N = 600 };
+    ht_mesh m = { 0 };
+    m.vertices = calloc(3, sizeof *m.vertices);
+    assert_non_null(m.vertices);
+    for (int i = 0; i < 3; i++) {
+        m.vertices[i].position[i] = 1;
+        m.vertices[i].normal[2] = 1;
+        m.vertices[i].tangent[1] = 1;
+    }
+    m.indices = malloc(sizeof *m.indices * 3 * N);
+    m.components = malloc(sizeof *m.components * N);
+    assert_non_null(m.indices);
+    assert_non_null(m.components);
+    m.vertex_count = 3;
+    m.index_count = 3 * N;
+    m.component_count = N;
+    ht_rng rng = ht_rng_seed(3);
+    for (uint32_t c = 0; c < N; c++) {
+        /* Each triangle differs by rotation of its three indices. */
+        for (int k = 0; k < 3; k++) m.indices[3 * c + k] = (c + (uint32_t)k) % 3;
+        m.components[c] = (ht_component){ 3 * c, 3, (float)(ht_rng_next(&rng) % 3) };
+    }
+    assert_sort_is_a_stable_reordering(&m);
+    ht_mesh_free(&m);
+}
+
+static void test_sort_leaves_meshes_it_cannot_sort_alone(void **state) {
+    (void)state;
+    ht_mesh empty = { 0 };
+    ht_mesh_sort_inside_out(&empty);
+    ht_mesh_sort_inside_out(NULL);
+    assert_null(empty.indices);
+
+    /* Components that do not tile the index buffer: untouched. */
+    ht_mesh m;
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 10, .joints = 3 }, &m), HT_OK);
+    m.components[3].index_count += 3;
+    m.components[0].sort_key = 1e9f;
+    ht_mesh copy = m;
+    uint32_t *indices = malloc(sizeof *indices * m.index_count);
+    assert_non_null(indices);
+    memcpy(indices, m.indices, sizeof *indices * m.index_count);
+    ht_mesh_sort_inside_out(&m);
+    assert_ptr_equal(m.indices, copy.indices);
+    assert_memory_equal(m.indices, indices, sizeof *indices * m.index_count);
+    assert_true(m.components[0].sort_key == 1e9f);
+    free(indices);
+    ht_mesh_free(&m);
+}
+
+/* ---- bad input and failure ---- */
+
+static void assert_mesh_zeroed(const ht_mesh *m) {
+    ht_mesh zero;
+    memset(&zero, 0, sizeof zero);
+    assert_memory_equal(m, &zero, sizeof zero);
+}
+
+static void test_furball_rejects_invalid_desc(void **state) {
+    (void)state;
+    const ht_furball_desc bad[] = {
+        { .hairs = -1 },
+        { .joints = 1 },
+        { .joints = -16 },
+        { .joints = INT_MAX },
+        { .hairs = INT_MAX },          /* more indices than uint32 holds */
+        { .hairs = 40000000, .joints = 64 },
+        { .length = -0.1f },
+        { .length = NAN },
+        { .length = INFINITY },
+        { .length = 1e30f },
+        { .length = 1e-30f },
+        { .width = -1 },
+        { .width = NAN },
+        { .width = 1e-9f },
+        { .gravity = { 0, NAN, 0 } },
+        { .gravity = { 0, -INFINITY, 0 } },
+        { .inertia = { 1e20f, 0, 0 } },
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        ht_mesh m;
+        memset(&m, 0xab, sizeof m);
+        assert_int_equal(ht_mesh_build_furball(&bad[i], &m), HT_ERR_INVALID_ARGUMENT);
+        assert_mesh_zeroed(&m);
+        ht_mesh_free(&m);
+    }
+    ht_mesh m;
+    assert_int_equal(ht_mesh_build_furball(NULL, &m), HT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ 0 }, NULL), HT_ERR_INVALID_ARGUMENT);
+}
+
+static void test_patches_rejects_invalid_desc(void **state) {
+    (void)state;
+    const ht_patches_desc bad[] = {
+        { .head_radius = -1 },
+        { .head_radius = NAN },
+        { .head_radius = INFINITY },
+        { .head_radius = 1e30f },
+        { .head_radius = 1e-20f },
+        { .layers = -1 },
+        { .layers = 100000 },
+        { .strips = -3 },
+        { .strips = INT_MAX },
+        { .segments = -12 },
+        { .segments = INT_MAX },
+        { .layers = 256, .strips = 1 << 20, .segments = 4096 }, /* overflows uint32 */
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        ht_mesh m, head;
+        memset(&m, 0xab, sizeof m);
+        memset(&head, 0xab, sizeof head);
+        assert_int_equal(ht_mesh_build_patches(&bad[i], &m, &head), HT_ERR_INVALID_ARGUMENT);
+        assert_mesh_zeroed(&m);
+        assert_mesh_zeroed(&head);
+    }
+    ht_mesh m;
+    assert_int_equal(ht_mesh_build_patches(NULL, &m, NULL), HT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(ht_mesh_build_patches(&(ht_patches_desc){ 0 }, NULL, NULL), HT_ERR_INVALID_ARGUMENT);
+}
+
+static void test_free_of_zeroed_mesh_is_a_no_op(void **state) {
+    (void)state;
+    ht_mesh m = { 0 };
+    ht_mesh_free(&m);
+    ht_mesh_free(&m);
+    ht_mesh_free(NULL);
+    assert_mesh_zeroed(&m);
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 3 }, &m), HT_OK);
+    ht_mesh_free(&m);
+    assert_mesh_zeroed(&m);
+    ht_mesh_free(&m);
+}
+
+/* In a child process whose address space is capped just above what it
+   already uses, a mesh of a few hundred megabytes cannot be allocated: the
+   builders must say so and leave nothing behind, the sort must leave the
+   mesh as it was. AddressSanitizer reserves terabytes and aborts instead of
+   returning NULL, so it skips this test. */
+#if defined(__SANITIZE_ADDRESS__)
+#define HT_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define HT_UNDER_ASAN 1
+#endif
+#endif
+
+#ifndef HT_UNDER_ASAN
+static long address_space_bytes(void) {
+    FILE *f = fopen("/proc/self/statm", "r");
+    long pages = -1;
+    if (!f) return -1;
+    if (fscanf(f, "%ld", &pages) != 1) pages = -1;
+    fclose(f);
+    return pages < 0 ? -1 : pages * sysconf(_SC_PAGESIZE);
+}
+
+static int out_of_memory_child(void) {
+    ht_mesh small;
+    if (ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 20000, .joints = 4 }, &small) != HT_OK) return 10;
+    long used = address_space_bytes();
+    if (used < 0) return 11;
+    struct rlimit limit = { (rlim_t)used + (16 << 20), (rlim_t)used + (16 << 20) };
+    if (setrlimit(RLIMIT_AS, &limit) != 0) return 12;
+
+    ht_mesh m, head;
+    memset(&m, 0xab, sizeof m);
+    if (ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 400000 }, &m) != HT_ERR_OUT_OF_MEMORY) return 1;
+    if (m.vertices || m.indices || m.components || m.vertex_count) return 2;
+    memset(&head, 0xab, sizeof head);
+    if (ht_mesh_build_patches(&(ht_patches_desc){ .layers = 64, .strips = 4096, .segments = 16 }, &m, &head) !=
+        HT_ERR_OUT_OF_MEMORY)
+        return 3;
+    if (m.vertices || head.vertices || head.indices || m.index_count) return 4;
+
+    /* The sort needs a copy of the index buffer (~2.9 MB) and the limit is
+       filled first, so the sort cannot allocate and must not change a thing. */
+    void *filler[64];
+    int fills = 0;
+    for (size_t size = 8 << 20; size >= 4096 && fills < 64; )
+        if ((filler[fills] = malloc(size))) { memset(filler[fills], 1, size); fills++; }
+        else size /= 2;
+    small.components[0].sort_key = 1e9f;
+    uint32_t first = small.indices[0];
+    ht_mesh_sort_inside_out(&small);
+    if (small.components[0].sort_key != 1e9f || small.indices[0] != first) return 5;
+    for (int i = 0; i < fills; i++) free(filler[i]);
+    ht_mesh_free(&small);
+    return 0;
+}
+#endif
+
+static void test_allocation_failure_frees_everything(void **state) {
+    (void)state;
+#ifdef HT_UNDER_ASAN
+    skip();
+#else
+    fflush(NULL);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) _exit(out_of_memory_child());
+    int status = 0;
+    assert_int_equal(waitpid(pid, &status, 0), pid);
+    assert_true(WIFEXITED(status));
+    assert_int_equal(WEXITSTATUS(status), 0);
+#endif
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_furball_counts_follow_desc),
+        cmocka_unit_test(test_furball_frames_are_unit_perpendicular_and_finite),
+        cmocka_unit_test(test_furball_hairs_grow_from_origin_with_segment_length),
+        cmocka_unit_test(test_furball_ribbon_tapers_from_width_to_a_quarter),
+        cmocka_unit_test(test_furball_hairs_have_own_streak_column_and_brighten_to_tip),
+        cmocka_unit_test(test_furball_gravity_zero_or_parallel_stays_finite),
+        cmocka_unit_test(test_furball_same_seed_same_bytes_other_seed_differs),
+        cmocka_unit_test(test_patches_counts_follow_desc),
+        cmocka_unit_test(test_patches_frames_point_away_from_head),
+        cmocka_unit_test(test_patches_inner_layers_and_roots_are_darker),
+        cmocka_unit_test(test_patches_neighbouring_strips_overlap),
+        cmocka_unit_test(test_patches_fill_head_sphere),
+        cmocka_unit_test(test_patches_same_seed_same_bytes_other_seed_differs),
+        cmocka_unit_test(test_sort_keys_are_centroid_distances),
+        cmocka_unit_test(test_sort_orders_components_inside_out_keeping_triangles),
+        cmocka_unit_test(test_sort_is_stable_for_ties),
+        cmocka_unit_test(test_sort_leaves_meshes_it_cannot_sort_alone),
+        cmocka_unit_test(test_furball_rejects_invalid_desc),
+        cmocka_unit_test(test_patches_rejects_invalid_desc),
+        cmocka_unit_test(test_free_of_zeroed_mesh_is_a_no_op),
+        cmocka_unit_test(test_allocation_failure_frees_everything),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
