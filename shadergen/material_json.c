@@ -1,0 +1,250 @@
+/* material_json.c — reads "hairtier-material/1" files into ht_material.
+   Every rule (required fields, defaults, ranges) is listed in
+   docs/materials.md; keep the two in step. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hairgen.h"
+#include "json_check.h"
+
+#define MATERIAL_FORMAT "hairtier-material/1"
+
+static const char *const slot_names[HT_TEX_COUNT + 1] = { "base", "alpha", "shift", "sparkle", NULL };
+
+/* The one generator each slot accepts: a slot's texture means one thing
+   (colour, coverage, jitter, mask), so a generator made for another slot
+   would be a silent mistake. */
+static const char *const slot_generators[HT_TEX_COUNT] = {
+    "stretched-noise", "strand-alpha", "noise", "sparkle",
+};
+
+const char *ht_texture_slot_name(ht_texture_slot s) {
+    return (s >= 0 && s < HT_TEX_COUNT) ? slot_names[s] : "unknown";
+}
+
+static const ht_jrange COLOR_RANGE = { 0, 1, false, false };
+
+static ht_result parse_name(const ht_jctx *c, const cJSON *root, char name[64]) {
+    ht_result r = ht_json_string(c, root, "", "name", NULL, name, 64);
+    if (r != HT_OK) return r;
+    for (const char *p = name; *p; p++) {
+        char ch = *p;
+        bool ok = (ch >= 'A' && ch <= 'Z') || (ch >= 'a' && ch <= 'z') ||
+                  (ch >= '0' && ch <= '9') || ch == '_' || ch == '-';
+        /* The name becomes file and symbol names downstream. */
+        if (!ok)
+            return ht_json_fail(c, "name", "character %ld is '%c'; names use only A-Z a-z 0-9 _ -",
+                                (long)(p - name) + 1, ch >= 0x20 && ch < 0x7f ? ch : '?');
+    }
+    return HT_OK;
+}
+
+/* A lobe object: "color" and "exponent" required, "shift" optional. */
+static ht_result parse_lobe(const ht_jctx *c, const cJSON *root, const char *key,
+                            bool shift_allowed, const char *model_name, ht_lobe *out) {
+    static const char *const keys[] = { "color", "exponent", "shift", NULL };
+    const cJSON *obj;
+    ht_result r = ht_json_object(c, root, "", key, true, &obj);
+    if (r == HT_OK) r = ht_json_keys(c, obj, key, keys);
+    if (r == HT_OK) r = ht_json_vec(c, obj, key, "color", NULL, 3, COLOR_RANGE, out->color);
+    if (r == HT_OK) r = ht_json_number(c, obj, key, "exponent", NULL, HT_JRANGE(0, 10000), &out->exponent);
+    if (r == HT_OK && !shift_allowed) {
+        char why[128];
+        snprintf(why, sizeof why, "model \"%s\" has one unshifted highlight; remove \"shift\"", model_name);
+        r = ht_json_forbid(c, obj, key, "shift", why);
+    }
+    if (r == HT_OK) r = ht_json_number(c, obj, key, "shift", &(double){ 0 }, HT_JRANGE(-100, 100), &out->shift);
+    return r;
+}
+
+static ht_result parse_diffuse(const ht_jctx *c, const cJSON *root, bool wrap_allowed,
+                               ht_shading *out) {
+    static const char *const keys[] = { "color", "wrap", NULL };
+    const cJSON *obj;
+    ht_result r = ht_json_object(c, root, "", "diffuse", true, &obj);
+    if (r == HT_OK) r = ht_json_keys(c, obj, "diffuse", keys);
+    if (r == HT_OK) r = ht_json_vec(c, obj, "diffuse", "color", NULL, 3, COLOR_RANGE, out->diffuse_color);
+    if (r == HT_OK && !wrap_allowed)
+        r = ht_json_forbid(c, obj, "diffuse", "wrap",
+                           "model \"kajiya-kay\" uses sin(T,L) diffuse, which has no wrap; remove \"wrap\"");
+    if (r == HT_OK) r = ht_json_number(c, obj, "diffuse", "wrap", &(double){ 0.25 }, HT_JRANGE(0, 1), &out->wrap);
+    return r;
+}
+
+/* dir of `file_name` + rel, unless rel is absolute or there is no dir. */
+static ht_result resolve_path(const ht_jctx *c, const char *field, const char *file_name,
+                              const char *rel, char out[1024]) {
+    size_t dir_len = 0;
+    if (rel[0] != '/' && file_name) {
+        const char *slash = strrchr(file_name, '/');
+        if (slash) dir_len = (size_t)(slash - file_name) + 1;
+    }
+    int n = snprintf(out, 1024, "%.*s%s", (int)dir_len, file_name ? file_name : "", rel);
+    if (n < 0 || n >= 1024) return ht_json_fail(c, field, "path longer than 1023 bytes once resolved");
+    return HT_OK;
+}
+
+static ht_result parse_texture(const ht_jctx *c, const cJSON *obj, const char *path,
+                               ht_texture_slot slot, const char *file_name,
+                               ht_texture_source *out) {
+    static const char *const keys[] = { "procedural", "file", "size", "seed", NULL };
+    ht_result r = ht_json_keys(c, obj, path, keys);
+    if (r != HT_OK) return r;
+    bool procedural = cJSON_HasObjectItem(obj, "procedural");
+    bool file = cJSON_HasObjectItem(obj, "file");
+    if (procedural && file)
+        return ht_json_fail(c, path, "has both \"procedural\" and \"file\"; give one");
+    if (!procedural && !file)
+        return ht_json_fail(c, path, "needs \"procedural\": \"%s\" or \"file\": \"PATH\"",
+                            slot_generators[slot]);
+    memset(out, 0, sizeof *out);
+    if (file) {
+        r = ht_json_forbid(c, obj, path, "size", "only procedural textures take a size; a file has its own");
+        if (r == HT_OK) r = ht_json_forbid(c, obj, path, "seed", "only procedural textures take a seed");
+        char rel[1024], field[HT_JSON_PATH_MAX];
+        if (r == HT_OK) r = ht_json_string(c, obj, path, "file", NULL, rel, sizeof rel);
+        ht_json_path_key(field, path, "file");
+        if (r == HT_OK) r = resolve_path(c, field, file_name, rel, out->path);
+        out->origin = HT_TEXTURE_FILE;
+        return r;
+    }
+    const char *const generator[] = { slot_generators[slot], NULL };
+    int which;
+    char field[HT_JSON_PATH_MAX];
+    ht_json_path_key(field, path, "procedural");
+    const cJSON *g = cJSON_GetObjectItemCaseSensitive(obj, "procedural");
+    if (cJSON_IsString(g) && strcmp(g->valuestring, generator[0]) != 0) {
+        for (int s = 0; s < HT_TEX_COUNT; s++)
+            if (strcmp(g->valuestring, slot_generators[s]) == 0)
+                return ht_json_fail(c, field, "\"%s\" makes %s textures; the %s slot takes \"%s\"",
+                                    slot_generators[s], slot_names[s], slot_names[slot], generator[0]);
+    }
+    r = ht_json_enum(c, obj, path, "procedural", -1, generator, &which);
+    if (r != HT_OK) return r;
+    int64_t size, seed;
+    r = ht_json_int(c, obj, path, "size", &(int64_t){ 256 }, 16, 2048, &size);
+    if (r != HT_OK) return r;
+    if (size & (size - 1)) {
+        ht_json_path_key(field, path, "size");
+        return ht_json_fail(c, field, "must be a power of two (16, 32, ..., 2048), got %lld", (long long)size);
+    }
+    r = ht_json_int(c, obj, path, "seed", &(int64_t){ 1 }, 0, UINT32_MAX, &seed);
+    if (r != HT_OK) return r;
+    out->origin = HT_TEXTURE_PROCEDURAL;
+    snprintf(out->procedural, sizeof out->procedural, "%s", generator[0]);
+    out->size = (int)size;
+    out->seed = (uint32_t)seed;
+    return HT_OK;
+}
+
+static ht_result parse_textures(const ht_jctx *c, const cJSON *root, bool kajiya_kay,
+                                const char *file_name, ht_material *m) {
+    const cJSON *obj;
+    ht_result r = ht_json_object(c, root, "", "textures", false, &obj);
+    if (r != HT_OK || !obj) return r;
+    r = ht_json_keys(c, obj, "textures", slot_names);
+    if (r != HT_OK) return r;
+    if (kajiya_kay) {
+        r = ht_json_forbid(c, obj, "textures", "shift",
+                           "model \"kajiya-kay\" has one unshifted highlight; remove the shift texture");
+        if (r == HT_OK)
+            r = ht_json_forbid(c, obj, "textures", "sparkle",
+                               "model \"kajiya-kay\" has no secondary highlight to sparkle; remove the sparkle texture");
+        if (r != HT_OK) return r;
+    }
+    for (int s = 0; s < HT_TEX_COUNT; s++) {
+        const cJSON *t;
+        r = ht_json_object(c, obj, "textures", slot_names[s], false, &t);
+        if (r != HT_OK) return r;
+        if (!t) continue;
+        char path[HT_JSON_PATH_MAX];
+        ht_json_path_key(path, "textures", slot_names[s]);
+        r = parse_texture(c, t, path, (ht_texture_slot)s, file_name, &m->textures[s]);
+        if (r != HT_OK) return r;
+    }
+    return HT_OK;
+}
+
+static ht_result parse_alpha(const ht_jctx *c, const cJSON *root, ht_material *m) {
+    static const char *const keys[] = { "opaque_cutoff", NULL };
+    const cJSON *obj;
+    m->opaque_cutoff = 0.98;
+    ht_result r = ht_json_object(c, root, "", "alpha", false, &obj);
+    if (r != HT_OK || !obj) return r;
+    r = ht_json_keys(c, obj, "alpha", keys);
+    if (r == HT_OK)
+        r = ht_json_number(c, obj, "alpha", "opaque_cutoff", &(double){ 0.98 },
+                           HT_JRANGE_LO_OPEN(0, 1), &m->opaque_cutoff);
+    return r;
+}
+
+static ht_result parse_material(const ht_jctx *c, const cJSON *root, const char *file_name,
+                                ht_material *m) {
+    static const char *const keys[] = {
+        "format", "name", "model", "diffuse", "primary", "secondary", "textures", "alpha", NULL,
+    };
+    static const char *const models[] = { "scheuermann", "kajiya-kay", NULL };
+    /* The format first: a scene file handed over by mistake should say so,
+       not complain about its keys. */
+    ht_result r = ht_json_format(c, root, MATERIAL_FORMAT, "material file");
+    if (r == HT_OK) r = ht_json_keys(c, root, "", keys);
+    if (r == HT_OK) r = parse_name(c, root, m->name);
+    int model = 0;
+    if (r == HT_OK) r = ht_json_enum(c, root, "", "model", -1, models, &model);
+    if (r != HT_OK) return r;
+    bool kk = model == 1;
+    m->shading.model = kk ? HT_MODEL_KAJIYA_KAY : HT_MODEL_SCHEUERMANN;
+    r = parse_diffuse(c, root, !kk, &m->shading);
+    if (r == HT_OK) r = parse_lobe(c, root, "primary", !kk, models[model], &m->shading.primary);
+    if (r == HT_OK) {
+        if (kk)
+            r = ht_json_forbid(c, root, "", "secondary",
+                               "model \"kajiya-kay\" has one highlight; remove \"secondary\" or use \"scheuermann\"");
+        else
+            r = parse_lobe(c, root, "secondary", true, models[model], &m->shading.secondary);
+    }
+    if (r == HT_OK) r = parse_textures(c, root, kk, file_name, m);
+    if (r == HT_OK) r = parse_alpha(c, root, m);
+    return r;
+}
+
+ht_result ht_material_parse(const char *json_text, const char *file_name,
+                            ht_material *out, char *err, size_t err_size) {
+    ht_jctx c = { file_name ? file_name : "<input>", err, err_size };
+    if (!json_text || !out) {
+        if (err && err_size) snprintf(err, err_size, "%s: (call): no text or no output", c.file);
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    cJSON *root;
+    ht_result r = ht_json_parse_root(&c, json_text, &root);
+    if (r != HT_OK) return r;
+    /* Built aside so a failed parse leaves *out untouched. */
+    ht_material *m = calloc(1, sizeof *m);
+    if (!m) {
+        cJSON_Delete(root);
+        if (err && err_size) snprintf(err, err_size, "%s: out of memory", c.file);
+        return HT_ERR_OUT_OF_MEMORY;
+    }
+    r = parse_material(&c, root, file_name, m);
+    cJSON_Delete(root);
+    if (r == HT_OK) {
+        *out = *m;
+        if (err && err_size) err[0] = '\0';
+    }
+    free(m);
+    return r;
+}
+
+ht_result ht_material_load(const char *path, ht_material *out, char *err, size_t err_size) {
+    if (!path || !out) {
+        if (err && err_size) snprintf(err, err_size, "(null): (call): no path or no output");
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    char *text;
+    ht_result r = ht_json_read_file(path, &text, err, err_size);
+    if (r != HT_OK) return r;
+    r = ht_material_parse(text, path, out, err, err_size);
+    free(text);
+    return r;
+}
