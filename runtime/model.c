@@ -7,7 +7,9 @@
      normalizes to the zero vector: a zero tangent (degenerate interpolation,
      or T = -k N exactly), H when L = -V, N, L or V of zero length.
    - S(t,e) = 0 when t or H has no direction: no highlight without a strand
-     direction or a half vector. A zero N gives N.L = 0, so diff = wrap.
+     direction or a half vector. A zero T stays zero after the shift (t1 =
+     t2 = 0, not N), so a zero tangent shades diffuse only. A zero N gives
+     N.L = 0, so diff = wrap, and leaves T unshifted.
    - sin(t,x) = |t x x|, better conditioned than sqrt(1 - dot^2) near
      parallel vectors, clamped to [0,1]; dot(t,x) clamped to [-1,1].
    - sin^e with e = 0 is 1, also at sin = 0 (pow(0,0) := 1), so S = the
@@ -127,8 +129,13 @@ real FN(ht_model_highlight)(const real t[3], const real h[3], real e) {
     return FN(highlight_unit)(tn, hn, e);
 }
 
-/* t = normalize(T + amount * N) */
+/* t = normalize(T + amount * N). A strand without a direction has none
+   after the shift either: T + amount * N alone would turn a zero T into N. */
 static void FN(shifted_tangent)(const real T[3], const real N[3], real amount, real out[3]) {
+    if (!FN(has_direction)(T)) {
+        out[0] = out[1] = out[2] = 0;
+        return;
+    }
     real v[3];
     for (int i = 0; i < 3; i++) v[i] = T[i] + amount * N[i];
     FN(normalize_or_zero)(v, out);

@@ -1,0 +1,94 @@
+/* pack.c — the material's textures packed into the two RGBA images the GLSL
+   tiers sample (docs/bundle.md):
+     albedo = base.r base.g base.b alpha   (base 255 and alpha 255 when absent)
+     detail = shift sparkle 0 255          (shift 128 and sparkle 255 when absent)
+   An image exists iff the plan models one of its sources.
+
+   Two sources of different sizes pack at the larger width and the larger
+   height, the smaller one resampled nearest-neighbour at texel centres. When
+   the sizes agree that is a texel-exact copy, which the LUT and texel tests
+   rely on; filtering would change texels even then. */
+#include "emit.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+
+static void set_err(char *err, size_t err_size, const char *fmt, ...) {
+    if (!err || err_size == 0) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, err_size, fmt, ap);
+    va_end(ap);
+}
+
+/* The texel of src nearest to the centre of texel (x, y) of a w x h image. */
+static const uint8_t *nearest(const ht_image *src, int x, int y, int w, int h) {
+    int sx = (int)(((int64_t)2 * x + 1) * src->width / (2 * (int64_t)w));
+    int sy = (int)(((int64_t)2 * y + 1) * src->height / (2 * (int64_t)h));
+    return src->pixels + ((size_t)sy * src->width + sx) * src->channels;
+}
+
+/* Packs up to two sources into RGBA. a fills channels [0, a_channels) from
+   a's channels, b fills channel b_at; missing sources leave `fill`. */
+static ht_result pack_two(const ht_image *a, int a_channels, const ht_image *b, int b_at,
+                          const uint8_t fill[4], ht_image *out) {
+    int w = 0, h = 0;
+    if (a->pixels) { w = a->width; h = a->height; }
+    if (b->pixels) {
+        if (b->width > w) w = b->width;
+        if (b->height > h) h = b->height;
+    }
+    ht_result r = ht_image_alloc(out, w, h, 4);
+    if (r != HT_OK) return r;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            uint8_t *px = out->pixels + 4 * ((size_t)y * w + x);
+            for (int c = 0; c < 4; c++) px[c] = fill[c];
+            if (a->pixels) {
+                const uint8_t *s = nearest(a, x, y, w, h);
+                for (int c = 0; c < a_channels; c++) px[c] = s[c];
+            }
+            if (b->pixels) px[b_at] = nearest(b, x, y, w, h)[0];
+        }
+    return HT_OK;
+}
+
+/* Makes the slot's texture when the plan models it; leaves img zeroed otherwise. */
+static ht_result make_if(bool modelled, const ht_material *m, ht_texture_slot slot,
+                         ht_image *img, char *err, size_t err_size) {
+    if (!modelled) return HT_OK;
+    return ht_texture_make(&m->textures[slot], slot, img, err, err_size);
+}
+
+ht_result ht_textures_pack(const ht_material *m, const ht_plan *plan,
+                           ht_image *albedo, ht_image *detail, char *err, size_t err_size) {
+    if (!m || !plan || !albedo || !detail) {
+        set_err(err, err_size, "ht_textures_pack: material, plan and both images are required");
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    *albedo = (ht_image){ 0 };
+    *detail = (ht_image){ 0 };
+    ht_image base = { 0 }, alpha = { 0 }, shift = { 0 }, sparkle = { 0 };
+    ht_result r = make_if(plan->base, m, HT_TEX_BASE, &base, err, err_size);
+    if (r == HT_OK) r = make_if(plan->alpha, m, HT_TEX_ALPHA, &alpha, err, err_size);
+    if (r == HT_OK) r = make_if(plan->shift, m, HT_TEX_SHIFT, &shift, err, err_size);
+    if (r == HT_OK) r = make_if(plan->sparkle, m, HT_TEX_SPARKLE, &sparkle, err, err_size);
+    if (r != HT_OK) goto done;
+
+    if (plan->base || plan->alpha)
+        r = pack_two(&base, 3, &alpha, 3, (const uint8_t[4]){ 255, 255, 255, 255 }, albedo);
+    if (r == HT_OK && (plan->shift || plan->sparkle))
+        r = pack_two(&shift, 1, &sparkle, 1, (const uint8_t[4]){ 128, 255, 0, 255 }, detail);
+    if (r != HT_OK) set_err(err, err_size, "packing textures: out of memory");
+
+done:
+    ht_image_free(&base);
+    ht_image_free(&alpha);
+    ht_image_free(&shift);
+    ht_image_free(&sparkle);
+    if (r != HT_OK) {
+        ht_image_free(albedo);
+        ht_image_free(detail);
+    }
+    return r;
+}
