@@ -158,6 +158,8 @@ void ht_mesh_free(ht_mesh *mesh);
 typedef void *(*ht_getproc_fn)(const char *name);
 typedef void (*ht_log_fn)(void *user, const char *line);
 
+#define HT_CAPS_EXTENSIONS_SIZE 16384
+
 typedef struct ht_caps {
     int gl_major, gl_minor;
     int glsl_major, glsl_minor;   /* 0.0 when there are no shaders */
@@ -169,11 +171,35 @@ typedef struct ht_caps {
     bool has_combine;             /* GL 1.3 or ARB_texture_env_combine */
     bool has_crossbar;            /* GL 1.4 or ARB_texture_env_crossbar */
     bool has_3d_textures;         /* GL 1.2 */
+    bool has_multitexture;        /* GL 1.3 or ARB_multitexture, entry points loaded */
+    bool has_vertex_shaders;      /* GLSL vertex stage (has_shaders, unless a profile hides it) */
+    bool has_fragment_shaders;    /* GLSL fragment stage */
+    char extensions[HT_CAPS_EXTENSIONS_SIZE]; /* space-separated; truncated at a name boundary */
 } ht_caps;
+
+/* A device profile caps what the runtime may use, so tests (and cautious
+   apps) stand in for low-end hardware on a capable driver. Zero fields cap
+   nothing. Pair it with Mesa's MESA_GL_VERSION_OVERRIDE=1.3 and
+   MESA_EXTENSION_OVERRIDE="-GL_ARB_texture_env_combine ..." (set before the
+   context is created) to make the driver itself refuse what the profile
+   hides. Lowering the GL version also drops what that version brought
+   (shaders below 2.0, VBOs below 1.5, combine/multitexture below 1.3 unless
+   the extension remains, 3D textures below 1.2). */
+typedef struct ht_device_profile {
+    int gl_major, gl_minor;       /* 0.0 → no cap */
+    int glsl_major, glsl_minor;   /* 0.0 → no cap; GLSL 1.10 is {1, 10} */
+    int texture_units;            /* 0 → no cap */
+    const char *hide_extensions;  /* NULL → none; space-separated names the runtime must not use */
+    bool no_fragment_shaders;     /* false; true models a vertex-shader-only device */
+    bool no_shaders;              /* false */
+    bool no_vbo;                  /* false */
+} ht_device_profile;
 
 /* Probes the current context. `extensions` lists what the device offers. */
 ht_result ht_caps_probe(ht_getproc_fn getproc, ht_caps *out);
 bool ht_caps_has_extension(ht_getproc_fn getproc, const char *name);
+/* Lowers caps to what the profile allows (NULL or all-zero: unchanged). */
+void ht_caps_apply_profile(ht_caps *caps, const ht_device_profile *profile);
 
 /* ---- the renderer ---- */
 
@@ -217,8 +243,9 @@ typedef struct ht_renderer_desc {
     ht_log_fn log;           /* NULL → stderr */
     void *log_user;
     bool record_trace;       /* false */
-    float flat_color[3];     /* used only when flat is set */
+    float flat_color[3];     /* used only when flat is set; {0,0,0} → 0.5 grey */
     bool flat;               /* false; true → geometry floor: same passes, flat colour, no textures */
+    ht_device_profile profile; /* zero → use everything the context offers */
 } ht_renderer_desc;
 
 typedef struct ht_renderer ht_renderer;
@@ -238,6 +265,8 @@ const char *ht_renderer_reason(const ht_renderer *r);
 ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh);
 ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *frame);
 const ht_trace *ht_renderer_trace(const ht_renderer *r);
+/* What the renderer saw of the device, after the desc's profile. */
+const ht_caps *ht_renderer_caps(const ht_renderer *r);
 void ht_renderer_destroy(ht_renderer *r);
 
 #ifdef __cplusplus

@@ -1,0 +1,391 @@
+/* bundle.c — reads DIR/manifest.json (docs/bundle.md) with cJSON. Only the
+   documented fields are read; anything else is ignored so newer generators
+   can add information. */
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cJSON.h>
+
+#include "bundle.h"
+#include "select.h"
+
+#define BUNDLE_FORMAT "hairtier-bundle/1"
+
+typedef struct parse_ctx {
+    const char *file;
+    char *err;
+    size_t err_size;
+} parse_ctx;
+
+__attribute__((format(printf, 3, 4)))
+static ht_result fail(const parse_ctx *c, const char *field, const char *fmt, ...) {
+    if (!c->err || c->err_size == 0) return HT_ERR_PARSE;
+    int n = snprintf(c->err, c->err_size, "%s: %s: ", c->file, field);
+    if (n >= 0 && (size_t)n < c->err_size) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(c->err + n, c->err_size - (size_t)n, fmt, ap);
+        va_end(ap);
+    }
+    return HT_ERR_PARSE;
+}
+
+static void path_key(char *out, size_t size, const char *parent, const char *key) {
+    snprintf(out, size, "%s%s%s", parent, parent[0] ? "." : "", key);
+}
+
+/* A string field copied into out; absent is an error unless optional. */
+static ht_result get_string(const parse_ctx *c, const cJSON *obj, const char *parent, const char *key,
+                            bool optional, char *out, size_t out_size) {
+    char field[160];
+    path_key(field, sizeof field, parent, key);
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!v || cJSON_IsNull(v)) {
+        if (optional) { out[0] = '\0'; return HT_OK; }
+        return fail(c, field, "missing");
+    }
+    if (!cJSON_IsString(v)) return fail(c, field, "expected a string");
+    if (strlen(v->valuestring) >= out_size)
+        return fail(c, field, "longer than %zu characters", out_size - 1);
+    memcpy(out, v->valuestring, strlen(v->valuestring) + 1);
+    return HT_OK;
+}
+
+static ht_result get_int(const parse_ctx *c, const cJSON *obj, const char *parent, const char *key,
+                         int def, int lo, int hi, int *out) {
+    char field[160];
+    path_key(field, sizeof field, parent, key);
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!v) {
+        if (def < lo) return fail(c, field, "missing");
+        *out = def;
+        return HT_OK;
+    }
+    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble) || v->valuedouble != floor(v->valuedouble))
+        return fail(c, field, "expected an integer");
+    if (v->valuedouble < lo || v->valuedouble > hi)
+        return fail(c, field, "%g outside [%d, %d]", v->valuedouble, lo, hi);
+    *out = (int)v->valuedouble;
+    return HT_OK;
+}
+
+/* A file name must stay inside the bundle directory. */
+static ht_result check_file_name(const parse_ctx *c, const char *field, const char *name) {
+    if (!name[0]) return fail(c, field, "empty file name");
+    if (strchr(name, '/') || strchr(name, '\\') || strcmp(name, ".") == 0 || strcmp(name, "..") == 0)
+        return fail(c, field, "\"%s\" is not a plain file name inside the bundle", name);
+    return HT_OK;
+}
+
+static ht_result parse_textures(const parse_ctx *c, const cJSON *obj, const char *parent,
+                                ht_bundle_texture *out, int *count) {
+    *count = 0;
+    if (!obj || cJSON_IsNull(obj)) return HT_OK;
+    if (!cJSON_IsObject(obj)) return fail(c, parent, "expected an object");
+    const cJSON *t;
+    cJSON_ArrayForEach(t, obj) {
+        char field[160];
+        path_key(field, sizeof field, parent, t->string);
+        if (*count >= HT_BUNDLE_MAX_TEXTURES) return fail(c, field, "more than %d textures", HT_BUNDLE_MAX_TEXTURES);
+        if (!cJSON_IsObject(t)) return fail(c, field, "expected an object");
+        ht_bundle_texture *tex = &out[*count];
+        if (strlen(t->string) >= sizeof tex->name) return fail(c, field, "texture name too long");
+        snprintf(tex->name, sizeof tex->name, "%s", t->string);
+        ht_result r;
+        char file_field[200];
+        path_key(file_field, sizeof file_field, field, "file");
+        if ((r = get_string(c, t, field, "file", false, tex->file, sizeof tex->file)) != HT_OK ||
+            (r = check_file_name(c, file_field, tex->file)) != HT_OK ||
+            (r = get_int(c, t, field, "width", 0, 1, 16384, &tex->width)) != HT_OK ||
+            (r = get_int(c, t, field, "height", 0, 1, 16384, &tex->height)) != HT_OK ||
+            (r = get_int(c, t, field, "depth", 1, 1, 4096, &tex->depth)) != HT_OK)
+            return r;
+        (*count)++;
+    }
+    return HT_OK;
+}
+
+static ht_result parse_version_field(const parse_ctx *c, const cJSON *req, const char *parent,
+                                     const char *key, bool glsl, bool optional, int *major, int *minor) {
+    char text[16], field[160];
+    path_key(field, sizeof field, parent, key);
+    ht_result r = get_string(c, req, parent, key, optional, text, sizeof text);
+    if (r != HT_OK) return r;
+    *major = *minor = 0;
+    if (!text[0]) {
+        if (optional) return HT_OK;
+        return fail(c, field, "empty version");
+    }
+    if (!ht_parse_version(text, glsl, major, minor) || text[0] < '0' || text[0] > '9' || !strchr(text, '.'))
+        return fail(c, field, "\"%s\" is not a version like \"%s\"", text, glsl ? "1.20" : "2.1");
+    return HT_OK;
+}
+
+static ht_result parse_tier(const parse_ctx *c, const cJSON *t, int index, ht_bundle_tier *out) {
+    char base[64], field[160];
+    snprintf(base, sizeof base, "tiers[%d]", index);
+    memset(out, 0, sizeof *out);
+    if (!cJSON_IsObject(t)) return fail(c, base, "expected an object");
+    ht_result r = get_string(c, t, base, "name", false, out->name, sizeof out->name);
+    if (r != HT_OK) return r;
+    out->tier = ht_tier_from_name(out->name);
+    if (out->tier == HT_TIER_AUTO) {
+        path_key(field, sizeof field, base, "name");
+        return fail(c, field, "\"auto\" is not a tier");
+    }
+
+    char req_path[96];
+    path_key(req_path, sizeof req_path, base, "requires");
+    const cJSON *req = cJSON_GetObjectItemCaseSensitive(t, "requires");
+    if (!cJSON_IsObject(req)) return fail(c, req_path, req ? "expected an object" : "missing");
+    if ((r = parse_version_field(c, req, req_path, "gl", false, false, &out->gl_major, &out->gl_minor)) != HT_OK ||
+        (r = parse_version_field(c, req, req_path, "glsl", true, true, &out->glsl_major, &out->glsl_minor)) != HT_OK ||
+        (r = get_int(c, req, req_path, "texture_units", 0, 0, 64, &out->texture_units)) != HT_OK)
+        return r;
+    const cJSON *ext = cJSON_GetObjectItemCaseSensitive(req, "extensions");
+    path_key(field, sizeof field, req_path, "extensions");
+    if (ext && !cJSON_IsNull(ext)) {
+        if (!cJSON_IsArray(ext)) return fail(c, field, "expected an array of strings");
+        const cJSON *e;
+        cJSON_ArrayForEach(e, ext) {
+            char ef[200];
+            snprintf(ef, sizeof ef, "%s[%d]", field, out->extension_count);
+            if (out->extension_count >= HT_BUNDLE_MAX_EXTENSIONS)
+                return fail(c, ef, "more than %d extensions", HT_BUNDLE_MAX_EXTENSIONS);
+            if (!cJSON_IsString(e) || !e->valuestring[0] || strchr(e->valuestring, ' ') ||
+                strlen(e->valuestring) >= sizeof out->extensions[0])
+                return fail(c, ef, "expected an extension name like \"GL_ARB_multitexture\"");
+            snprintf(out->extensions[out->extension_count++], sizeof out->extensions[0], "%s", e->valuestring);
+        }
+    }
+
+    char files_path[96];
+    path_key(files_path, sizeof files_path, base, "files");
+    const cJSON *files = cJSON_GetObjectItemCaseSensitive(t, "files");
+    if (!cJSON_IsObject(files)) return fail(c, files_path, files ? "expected an object" : "missing");
+    const cJSON *f;
+    cJSON_ArrayForEach(f, files) {
+        path_key(field, sizeof field, files_path, f->string);
+        if (out->file_count >= HT_BUNDLE_MAX_FILES) return fail(c, field, "more than %d files", HT_BUNDLE_MAX_FILES);
+        ht_bundle_file *bf = &out->files[out->file_count];
+        if (strlen(f->string) >= sizeof bf->role) return fail(c, field, "role name too long");
+        snprintf(bf->role, sizeof bf->role, "%s", f->string);
+        if ((r = get_string(c, files, files_path, f->string, false, bf->file, sizeof bf->file)) != HT_OK ||
+            (r = check_file_name(c, field, bf->file)) != HT_OK)
+            return r;
+        out->file_count++;
+    }
+
+    char tex_path[96];
+    path_key(tex_path, sizeof tex_path, base, "textures");
+    if ((r = parse_textures(c, cJSON_GetObjectItemCaseSensitive(t, "textures"), tex_path,
+                            out->textures, &out->texture_count)) != HT_OK)
+        return r;
+
+    char smp_path[96];
+    path_key(smp_path, sizeof smp_path, base, "samplers");
+    const cJSON *samplers = cJSON_GetObjectItemCaseSensitive(t, "samplers");
+    if (samplers && !cJSON_IsNull(samplers)) {
+        if (!cJSON_IsArray(samplers)) return fail(c, smp_path, "expected an array");
+        const cJSON *s;
+        cJSON_ArrayForEach(s, samplers) {
+            snprintf(field, sizeof field, "%s[%d]", smp_path, out->sampler_count);
+            if (out->sampler_count >= HT_BUNDLE_MAX_SAMPLERS)
+                return fail(c, field, "more than %d samplers", HT_BUNDLE_MAX_SAMPLERS);
+            if (!cJSON_IsObject(s)) return fail(c, field, "expected an object");
+            ht_bundle_sampler *bs = &out->samplers[out->sampler_count];
+            if ((r = get_string(c, s, field, "uniform", false, bs->uniform, sizeof bs->uniform)) != HT_OK ||
+                (r = get_string(c, s, field, "texture", false, bs->texture, sizeof bs->texture)) != HT_OK ||
+                (r = get_int(c, s, field, "unit", -1, 0, 31, &bs->unit)) != HT_OK)
+                return r;
+            for (int k = 0; k < out->sampler_count; k++)
+                if (out->samplers[k].unit == bs->unit) {
+                    char uf[200];
+                    path_key(uf, sizeof uf, field, "unit");
+                    return fail(c, uf, "unit %d already used by %s", bs->unit, out->samplers[k].uniform);
+                }
+            out->sampler_count++;
+        }
+    }
+    return HT_OK;
+}
+
+ht_result ht_bundle_parse(const char *json_text, const char *dir, const char *file_name,
+                          ht_bundle *out, char *err, size_t err_size) {
+    parse_ctx c = { .file = file_name ? file_name : "manifest.json", .err = err, .err_size = err_size };
+    if (!json_text || !out) return fail(&c, "manifest", "no input");
+    memset(out, 0, sizeof *out);
+    snprintf(out->dir, sizeof out->dir, "%s", dir ? dir : ".");
+
+    cJSON *root = cJSON_Parse(json_text);
+    if (!root) {
+        const char *at = cJSON_GetErrorPtr();
+        size_t offset = at && at >= json_text ? (size_t)(at - json_text) : 0;
+        return fail(&c, "manifest", "not valid JSON (near byte %zu)", offset);
+    }
+    ht_result r = HT_OK;
+    char format[32];
+    if (!cJSON_IsObject(root)) { r = fail(&c, "manifest", "expected a JSON object"); goto done; }
+    if ((r = get_string(&c, root, "", "format", false, format, sizeof format)) != HT_OK) goto done;
+    if (strcmp(format, BUNDLE_FORMAT) != 0) {
+        r = fail(&c, "format", "\"%s\" is not \"%s\"", format, BUNDLE_FORMAT);
+        goto done;
+    }
+    if ((r = get_string(&c, root, "", "material", true, out->material, sizeof out->material)) != HT_OK ||
+        (r = get_string(&c, root, "", "model", true, out->model, sizeof out->model)) != HT_OK)
+        goto done;
+
+    const cJSON *cutoff = cJSON_GetObjectItemCaseSensitive(root, "opaque_cutoff");
+    if (!cutoff) { r = fail(&c, "opaque_cutoff", "missing"); goto done; }
+    if (!cJSON_IsNumber(cutoff) || !isfinite(cutoff->valuedouble) ||
+        cutoff->valuedouble <= 0 || cutoff->valuedouble > 1) {
+        r = fail(&c, "opaque_cutoff", "expected a number in (0, 1]");
+        goto done;
+    }
+    out->opaque_cutoff = (float)cutoff->valuedouble;
+
+    const cJSON *lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
+    if (!cJSON_IsArray(lights)) { r = fail(&c, "lights", lights ? "expected an array" : "missing"); goto done; }
+    const cJSON *l;
+    cJSON_ArrayForEach(l, lights) {
+        char field[32];
+        snprintf(field, sizeof field, "lights[%d]", out->light_count);
+        if (out->light_count >= HT_MAX_LIGHTS) { r = fail(&c, field, "more than %d lights", HT_MAX_LIGHTS); goto done; }
+        if (cJSON_IsString(l) && strcmp(l->valuestring, "directional") == 0)
+            out->lights[out->light_count++] = HT_LIGHT_DIRECTIONAL;
+        else if (cJSON_IsString(l) && strcmp(l->valuestring, "point") == 0)
+            out->lights[out->light_count++] = HT_LIGHT_POINT;
+        else { r = fail(&c, field, "expected \"directional\" or \"point\""); goto done; }
+    }
+    if (out->light_count == 0) { r = fail(&c, "lights", "empty"); goto done; }
+
+    if ((r = parse_textures(&c, cJSON_GetObjectItemCaseSensitive(root, "textures"), "textures",
+                            out->textures, &out->texture_count)) != HT_OK)
+        goto done;
+
+    const cJSON *tiers = cJSON_GetObjectItemCaseSensitive(root, "tiers");
+    if (!cJSON_IsArray(tiers)) { r = fail(&c, "tiers", tiers ? "expected an array" : "missing"); goto done; }
+    const cJSON *t;
+    cJSON_ArrayForEach(t, tiers) {
+        if (out->tier_count >= HT_BUNDLE_MAX_TIERS) {
+            r = fail(&c, "tiers", "more than %d tiers", HT_BUNDLE_MAX_TIERS);
+            goto done;
+        }
+        if ((r = parse_tier(&c, t, out->tier_count, &out->tiers[out->tier_count])) != HT_OK) goto done;
+        out->tier_count++;
+    }
+    if (out->tier_count == 0) { r = fail(&c, "tiers", "empty"); goto done; }
+
+    /* Samplers must name a texture the bundle lists. */
+    for (int i = 0; i < out->tier_count; i++) {
+        const ht_bundle_tier *bt = &out->tiers[i];
+        for (int s = 0; s < bt->sampler_count; s++)
+            if (!ht_bundle_find_texture(out, bt, bt->samplers[s].texture)) {
+                char field[96];
+                snprintf(field, sizeof field, "tiers[%d].samplers[%d].texture", i, s);
+                r = fail(&c, field, "\"%s\" is not listed in textures", bt->samplers[s].texture);
+                goto done;
+            }
+    }
+done:
+    cJSON_Delete(root);
+    return r;
+}
+
+static char *read_file(const char *path, char *err, size_t err_size) {
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        snprintf(err, err_size, "%s: cannot read: %s", path, strerror(errno));
+        return NULL;
+    }
+    char *text = NULL;
+    size_t size = 0, cap = 0;
+    for (;;) {
+        if (cap - size < 4096) {
+            size_t ncap = cap ? cap * 2 : 16384;
+            if (ncap > (64u << 20)) {
+                snprintf(err, err_size, "%s: larger than 64 MiB", path);
+                goto fail;
+            }
+            char *p = realloc(text, ncap + 1);
+            if (!p) { snprintf(err, err_size, "%s: out of memory", path); goto fail; }
+            text = p;
+            cap = ncap;
+        }
+        size_t n = fread(text + size, 1, cap - size, f);
+        size += n;
+        if (n == 0) break;
+    }
+    if (ferror(f)) { snprintf(err, err_size, "%s: read error", path); goto fail; }
+    fclose(f);
+    text[size] = '\0';
+    if (strlen(text) != size) {
+        snprintf(err, err_size, "%s: contains a NUL byte", path);
+        free(text);
+        return NULL;
+    }
+    return text;
+fail:
+    fclose(f);
+    free(text);
+    return NULL;
+}
+
+ht_result ht_bundle_load(const char *dir, ht_bundle *out, char *err, size_t err_size) {
+    if (!dir || !dir[0] || !out) {
+        snprintf(err, err_size, "bundle: bundle_dir: required");
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    char path[1200];
+    if ((size_t)snprintf(path, sizeof path, "%s/manifest.json", dir) >= sizeof path) {
+        snprintf(err, err_size, "%.200s...: bundle directory path too long", dir);
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    char *text = read_file(path, err, err_size);
+    if (!text) return HT_ERR_IO;
+    ht_result r = ht_bundle_parse(text, dir, path, out, err, err_size);
+    free(text);
+    return r;
+}
+
+const ht_bundle_tier *ht_bundle_find_tier(const ht_bundle *b, ht_tier tier) {
+    for (int i = 0; b && i < b->tier_count; i++)
+        if (b->tiers[i].tier == tier) return &b->tiers[i];
+    return NULL;
+}
+
+const char *ht_bundle_tier_file(const ht_bundle_tier *t, const char *role) {
+    for (int i = 0; t && role && i < t->file_count; i++)
+        if (strcmp(t->files[i].role, role) == 0) return t->files[i].file;
+    return NULL;
+}
+
+const ht_bundle_texture *ht_bundle_find_texture(const ht_bundle *b, const ht_bundle_tier *t,
+                                                const char *name) {
+    for (int i = 0; t && name && i < t->texture_count; i++)
+        if (strcmp(t->textures[i].name, name) == 0) return &t->textures[i];
+    for (int i = 0; b && name && i < b->texture_count; i++)
+        if (strcmp(b->textures[i].name, name) == 0) return &b->textures[i];
+    return NULL;
+}
+
+bool ht_bundle_path(const ht_bundle *b, const char *file, char *out, size_t out_size) {
+    return (size_t)snprintf(out, out_size, "%s/%s", b->dir, file) < out_size;
+}
+
+char *ht_bundle_read_text(const ht_bundle *b, const char *file, char *err, size_t err_size) {
+    char path[1200];
+    if (!file) {
+        snprintf(err, err_size, "%s/manifest.json: files: role missing", b->dir);
+        return NULL;
+    }
+    if (!ht_bundle_path(b, file, path, sizeof path)) {
+        snprintf(err, err_size, "%s: path too long", file);
+        return NULL;
+    }
+    return read_file(path, err, err_size);
+}

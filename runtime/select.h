@@ -1,0 +1,69 @@
+/* select.h — tier selection as a pure function of (device caps, bundle,
+   request): no GL calls, no getenv, so tests drive it with synthetic caps.
+   Internal to libhairtier.
+
+   Usage:
+       ht_selection sel;
+       ht_result r = ht_select_tier(&(ht_select_desc){
+               .caps = &caps, .bundle = &bundle, .requested = desc->tier,
+               .env_tier = getenv("HAIRTIER_TIER"), .strict = desc->strict,
+               .have_backend = { [HT_TIER_FULL] = true, [HT_TIER_VERTEX] = true } },
+           &sel, err, sizeof err);
+       for (int i = 0; i < sel.skipped_count; i++) log(sel.skipped[i]);
+
+   Rules: tiers are walked best first as the bundle lists them; a tier runs
+   when the device meets its requirements (GL version, shader stages, GLSL
+   version, extensions, texture units), a backend for it is linked, and it
+   has not failed at runtime (`failed`, e.g. "compile failed: ..."). An
+   extension is met by the extension string or by the core GL version it
+   entered. desc.tier forces a tier, else HAIRTIER_TIER does; a forced tier
+   that cannot run drops to the next one that can, unless strict. */
+#ifndef HT_SELECT_H
+#define HT_SELECT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "bundle.h"
+#include "hairtier.h"
+
+#define HT_SELECT_REASON 320
+
+typedef struct ht_select_desc {
+    const ht_caps *caps;                        /* required */
+    const ht_bundle *bundle;                    /* required */
+    ht_tier requested;                          /* HT_TIER_AUTO → env_tier */
+    const char *env_tier;                       /* HAIRTIER_TIER's value, NULL when unset */
+    bool strict;                                /* a forced tier that cannot run is an error */
+    bool have_backend[HT_TIER_COUNT];           /* backends linked into this build */
+    const char *failed[HT_BUNDLE_MAX_TIERS];    /* per bundle tier: why it failed at runtime, or NULL */
+} ht_select_desc;
+
+typedef struct ht_selection {
+    int index;                                  /* into bundle->tiers; -1 when none */
+    ht_tier tier;                               /* HT_TIER_COUNT when none */
+    ht_tier forced;                             /* HT_TIER_AUTO when nothing forced */
+    char reason[HT_SELECT_REASON];              /* why this tier, one line */
+    char skipped[HT_BUNDLE_MAX_TIERS][HT_SELECT_REASON]; /* "full: needs GLSL 1.20, have 1.10" */
+    int skipped_count;
+} ht_selection;
+
+/* HT_OK with a tier; HT_ERR_NO_TIER when none runs; HT_ERR_UNSUPPORTED when
+   strict refuses a downgrade; HT_ERR_INVALID_ARGUMENT for a bad request. err
+   gets one line. out is filled in every case (skipped lines included). */
+ht_result ht_select_tier(const ht_select_desc *desc, ht_selection *out, char *err, size_t err_size);
+
+/* True when the device meets the tier's manifest requirements; otherwise
+   why = "needs ..." (without the tier name). */
+bool ht_select_check_requirements(const ht_caps *caps, const ht_bundle_tier *tier,
+                                  char *why, size_t why_size);
+
+/* Exact, whole-name match in a space-separated list. */
+bool ht_extension_list_has(const char *list, const char *name);
+/* In the extension list, or core since the context's GL version (and the
+   matching capability flag still set, so device profiles take effect). */
+bool ht_caps_satisfies_extension(const ht_caps *caps, const char *name);
+/* "M.m" from the first digit of s; glsl: "1.2" means minor 20. */
+bool ht_parse_version(const char *s, bool glsl, int *major, int *minor);
+
+#endif

@@ -1,0 +1,72 @@
+/* tier.h — the interface a tier backend implements: the renderer owns the
+   pass list, the depth/cull/blend/alpha-test state of every pass, the
+   matrices and the vertex arrays; a backend owns its programs, textures and
+   texture-environment state. Internal to libhairtier.
+
+   A frame, as renderer.c drives it:
+       begin_frame(state, frame)                 lights, eye, matrices
+       for pass in PRIME_Z, OPAQUE, BACK, FRONT:
+           renderer sets the pass's fixed state
+           for sub in 0 .. sub_passes(pass) - 1:
+               bind_pass(state, pass, sub)
+               draw(...) or, when draw is NULL / returns false, the
+               renderer's glDrawElements over the whole sorted index range
+       end_frame(state)                          unbind, restore defaults
+
+   Adding the fixed tier (fallback/fixed.c): define
+       const ht_tier_backend ht_tier_fixed_backend = { .tier = HT_TIER_FIXED, ... };
+   and declare it in fallback/fixed.h; renderer.c links it in when that
+   header exists (it checks with __has_include). Until then selection skips
+   the fixed tier with "fixed: no fixed backend in this build". */
+#ifndef HT_TIER_H
+#define HT_TIER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "bundle.h"
+#include "gl_api.h"
+#include "hairtier.h"
+
+/* What the renderer hands a backend at creation. All pointers outlive it. */
+typedef struct ht_tier_context {
+    const ht_gl *gl;               /* restricted to what caps allows */
+    const ht_caps *caps;           /* after the device profile */
+    const ht_bundle *bundle;
+    const ht_bundle_tier *tier;    /* this backend's manifest entry */
+    ht_log_fn log;                 /* never NULL */
+    void *log_user;
+} ht_tier_context;
+
+typedef struct ht_tier_frame {
+    float eye[3];
+    const ht_light *lights;
+    int light_count;               /* 0..HT_MAX_LIGHTS */
+    float view[16];                /* column-major, as loaded into GL_MODELVIEW */
+    float projection[16];          /* column-major, as loaded into GL_PROJECTION */
+} ht_tier_frame;
+
+typedef struct ht_tier_backend {
+    ht_tier tier;
+    /* Compiles/loads everything. A failure (HT_ERR_COMPILE, HT_ERR_IO, ...)
+       makes the renderer drop to the next tier with err as the reason, so err
+       is one line: "compile failed: full.frag: 0:12(3): error: ...". */
+    ht_result (*create)(const ht_tier_context *ctx, void **state, char *err, size_t err_size);
+    /* Optional: per-vertex data of its own (CPU-computed coordinates). */
+    ht_result (*set_mesh)(void *state, const ht_mesh *mesh);
+    void (*begin_frame)(void *state, const ht_tier_frame *frame);
+    /* Optional: NULL → 1. A tier with too few units may split a pass. */
+    int (*sub_passes)(void *state, ht_pass pass);
+    void (*bind_pass)(void *state, ht_pass pass, int sub_pass);
+    /* Optional: draws [first_index, first_index + index_count) itself and
+       returns true; NULL or false → the renderer draws with its arrays. */
+    bool (*draw)(void *state, ht_pass pass, int sub_pass, uint32_t first_index, uint32_t index_count);
+    void (*end_frame)(void *state);
+    void (*destroy)(void *state);
+} ht_tier_backend;
+
+extern const ht_tier_backend ht_tier_glsl_full_backend;
+extern const ht_tier_backend ht_tier_glsl_vertex_backend;
+
+#endif

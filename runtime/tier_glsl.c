@@ -1,0 +1,372 @@
+/* tier_glsl.c — the GLSL tier backends: `full` (vertex + fragment program,
+   per-pixel shading) and `vertex` (vertex program, fixed-function fragment:
+   unit 0 = albedo, GL_COMBINE MODULATE(texture, primary) with RGB_SCALE 2,
+   alpha MODULATE; docs/bundle.md). Both transform with ftransform(), so depth
+   matches the fixed-function head and every pass bit for bit. */
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "image.h"
+#include "shader_interface.h"
+#include "tier.h"
+
+typedef struct glsl_program {
+    GLuint id;
+    GLint u_eye, u_light_vector, u_light_color;
+} glsl_program;
+
+typedef struct glsl_texture {
+    GLuint id;
+    int unit;
+    bool albedo;      /* the vertex tier's fixed-function unit 0 */
+} glsl_texture;
+
+typedef struct glsl_state {
+    const ht_gl *gl;
+    ht_log_fn log;
+    void *log_user;
+    bool vertex_only;
+    int light_count;                         /* the manifest's: the size of the uniform arrays */
+    glsl_program main, prime;
+    bool has_prime;
+    glsl_texture textures[HT_BUNDLE_MAX_SAMPLERS + 1];
+    int texture_count;
+} glsl_state;
+
+__attribute__((format(printf, 2, 3)))
+static void logf_line(const glsl_state *s, const char *fmt, ...) {
+    char line[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    s->log(s->log_user, line);
+}
+
+/* The first non-empty line of a driver's info log. */
+static void first_line(const char *log, char *out, size_t size) {
+    while (*log == '\n' || *log == '\r' || *log == ' ') log++;
+    size_t n = strcspn(log, "\r\n");
+    if (n >= size) n = size - 1;
+    memcpy(out, log, n);
+    out[n] = '\0';
+    if (!out[0]) snprintf(out, size, "(no log)");
+}
+
+/* Logs every line of an info log, prefixed with the file it belongs to. */
+static void log_info(const glsl_state *s, const char *file, const char *log) {
+    while (*log) {
+        size_t n = strcspn(log, "\r\n");
+        if (n) logf_line(s, "hairtier: %s: %.*s", file, (int)n, log);
+        log += n;
+        while (*log == '\r' || *log == '\n') log++;
+    }
+}
+
+static GLuint compile(glsl_state *s, const ht_bundle *b, const char *file, GLenum stage,
+                      char *err, size_t err_size) {
+    const ht_gl *gl = s->gl;
+    char rerr[512];
+    char *text = ht_bundle_read_text(b, file, rerr, sizeof rerr);
+    if (!text) {
+        snprintf(err, err_size, "compile failed: %s", rerr);
+        return 0;
+    }
+    GLuint sh = gl->CreateShader(stage);
+    const GLchar *src = text;
+    gl->ShaderSource(sh, 1, &src, NULL);
+    gl->CompileShader(sh);
+    free(text);
+    GLint ok = GL_FALSE, len = 0;
+    gl->GetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+    if (ok == GL_TRUE && sh) return sh;
+    gl->GetShaderiv(sh, GL_INFO_LOG_LENGTH, &len);
+    char *log = calloc((size_t)(len > 0 ? len : 1) + 1, 1);
+    if (log && len > 0) gl->GetShaderInfoLog(sh, len, NULL, log);
+    char line[256];
+    first_line(log ? log : "", line, sizeof line);
+    log_info(s, file, log ? log : "");
+    snprintf(err, err_size, "compile failed: %s: %s", file, line);
+    free(log);
+    gl->DeleteShader(sh);
+    return 0;
+}
+
+static ht_result build_program(glsl_state *s, const ht_tier_context *ctx, const char *vert,
+                               const char *frag, glsl_program *out, char *err, size_t err_size) {
+    const ht_gl *gl = s->gl;
+    memset(out, 0, sizeof *out);
+    GLuint vs = compile(s, ctx->bundle, vert, GL_VERTEX_SHADER, err, err_size);
+    if (!vs) return HT_ERR_COMPILE;
+    GLuint fs = 0;
+    if (frag && !(fs = compile(s, ctx->bundle, frag, GL_FRAGMENT_SHADER, err, err_size))) {
+        gl->DeleteShader(vs);
+        return HT_ERR_COMPILE;
+    }
+    GLuint prog = gl->CreateProgram();
+    gl->AttachShader(prog, vs);
+    if (fs) gl->AttachShader(prog, fs);
+    gl->LinkProgram(prog);
+    gl->DeleteShader(vs); /* flagged; freed with the program */
+    if (fs) gl->DeleteShader(fs);
+    GLint ok = GL_FALSE, len = 0;
+    gl->GetProgramiv(prog, GL_LINK_STATUS, &ok);
+    if (ok != GL_TRUE) {
+        gl->GetProgramiv(prog, GL_INFO_LOG_LENGTH, &len);
+        char *log = calloc((size_t)(len > 0 ? len : 1) + 1, 1);
+        if (log && len > 0) gl->GetProgramInfoLog(prog, len, NULL, log);
+        char line[256], files[160];
+        snprintf(files, sizeof files, "%s%s%s", vert, frag ? "+" : "", frag ? frag : "");
+        first_line(log ? log : "", line, sizeof line);
+        log_info(s, files, log ? log : "");
+        snprintf(err, err_size, "link failed: %s: %s", files, line);
+        free(log);
+        gl->DeleteProgram(prog);
+        return HT_ERR_COMPILE;
+    }
+    out->id = prog;
+    out->u_eye = gl->GetUniformLocation(prog, HT_U_EYE);
+    out->u_light_vector = gl->GetUniformLocation(prog, HT_U_LIGHT_VECTOR);
+    out->u_light_color = gl->GetUniformLocation(prog, HT_U_LIGHT_COLOR);
+    /* Samplers are fixed for the program's life: bind them to units once. */
+    gl->UseProgram(prog);
+    for (int i = 0; i < ctx->tier->sampler_count; i++) {
+        GLint loc = gl->GetUniformLocation(prog, ctx->tier->samplers[i].uniform);
+        if (loc >= 0) gl->Uniform1i(loc, ctx->tier->samplers[i].unit);
+    }
+    gl->UseProgram(0);
+    return HT_OK;
+}
+
+static ht_result upload_texture(glsl_state *s, const ht_bundle *b, const ht_bundle_texture *t,
+                                GLuint *out, char *err, size_t err_size) {
+    const ht_gl *gl = s->gl;
+    char path[1200], ierr[512];
+    if (!ht_bundle_path(b, t->file, path, sizeof path)) {
+        snprintf(err, err_size, "%s: path too long", t->file);
+        return HT_ERR_IO;
+    }
+    if (t->depth != 1) {
+        snprintf(err, err_size, "%s/manifest.json: textures.%s.depth: %d, GLSL tiers sample 2D textures",
+                 b->dir, t->name, t->depth);
+        return HT_ERR_PARSE;
+    }
+    ht_image img = { 0 };
+    ht_result r = ht_image_read_png(path, &img, ierr, sizeof ierr);
+    if (r != HT_OK) {
+        snprintf(err, err_size, "%s", ierr);
+        return r;
+    }
+    if (img.width != t->width || img.height != t->height) {
+        snprintf(err, err_size, "%s: %dx%d, manifest says %dx%d", path, img.width, img.height, t->width, t->height);
+        ht_image_free(&img);
+        return HT_ERR_PARSE;
+    }
+    static const GLenum formats[5] = { 0, GL_LUMINANCE, GL_LUMINANCE_ALPHA, GL_RGB, GL_RGBA };
+    GLenum format = img.channels >= 1 && img.channels <= 4 ? formats[img.channels] : GL_RGBA;
+    gl->GenTextures(1, out);
+    gl->BindTexture(GL_TEXTURE_2D, *out);
+    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    /* PNG row 0 lands at t = 0: texel (x, y) is uv ((x+.5)/w, (y+.5)/h), as
+       the generator writes it. uv wraps (REPEAT); no mipmaps: the textures
+       are stretched along strands, where mip blending smears the alpha. */
+    gl->TexImage2D(GL_TEXTURE_2D, 0, (GLint)format, img.width, img.height, 0, format, GL_UNSIGNED_BYTE,
+                   img.pixels);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    gl->BindTexture(GL_TEXTURE_2D, 0);
+    ht_image_free(&img);
+    GLenum e = gl->GetError();
+    if (e != GL_NO_ERROR) {
+        snprintf(err, err_size, "%s: glTexImage2D: GL error 0x%04x", path, e);
+        return HT_ERR_GL;
+    }
+    return HT_OK;
+}
+
+static void destroy(void *state) {
+    glsl_state *s = state;
+    if (!s) return;
+    const ht_gl *gl = s->gl;
+    if (s->main.id) gl->DeleteProgram(s->main.id);
+    if (s->prime.id && s->prime.id != s->main.id) gl->DeleteProgram(s->prime.id);
+    for (int i = 0; i < s->texture_count; i++)
+        if (s->textures[i].id) gl->DeleteTextures(1, &s->textures[i].id);
+    free(s);
+}
+
+static ht_result create(const ht_tier_context *ctx, bool vertex_only, void **out, char *err, size_t err_size) {
+    *out = NULL;
+    if (!ctx->gl->has_shaders) {
+        snprintf(err, err_size, "no shader entry points");
+        return HT_ERR_UNSUPPORTED;
+    }
+    if (vertex_only && !ctx->gl->has_multitexture && ctx->tier->sampler_count > 1) {
+        snprintf(err, err_size, "no glActiveTexture");
+        return HT_ERR_UNSUPPORTED;
+    }
+    glsl_state *s = calloc(1, sizeof *s);
+    if (!s) return HT_ERR_OUT_OF_MEMORY;
+    s->gl = ctx->gl;
+    s->log = ctx->log;
+    s->log_user = ctx->log_user;
+    s->vertex_only = vertex_only;
+    s->light_count = ctx->bundle->light_count;
+    const ht_bundle_tier *t = ctx->tier;
+    const char *vert = ht_bundle_tier_file(t, "vertex");
+    const char *frag = vertex_only ? NULL : ht_bundle_tier_file(t, "fragment");
+    const char *pvert = ht_bundle_tier_file(t, "prime_vertex");
+    const char *pfrag = vertex_only ? NULL : ht_bundle_tier_file(t, "prime_fragment");
+    ht_result r;
+    if (!vert || (!vertex_only && !frag)) {
+        snprintf(err, err_size, "%s/manifest.json: tiers.%s.files: needs \"vertex\"%s", ctx->bundle->dir, t->name,
+                 vertex_only ? "" : " and \"fragment\"");
+        r = HT_ERR_PARSE;
+        goto fail;
+    }
+    if ((r = build_program(s, ctx, vert, frag, &s->main, err, err_size)) != HT_OK) goto fail;
+    /* Without a prime program the main one primes Z (colour writes are off). */
+    s->prime = s->main;
+    if (pvert && (vertex_only || pfrag)) {
+        if ((r = build_program(s, ctx, pvert, pfrag, &s->prime, err, err_size)) != HT_OK) goto fail;
+        s->has_prime = true;
+    }
+    for (int i = 0; i < t->sampler_count; i++) {
+        const ht_bundle_texture *bt = ht_bundle_find_texture(ctx->bundle, t, t->samplers[i].texture);
+        glsl_texture *gt = &s->textures[s->texture_count];
+        gt->unit = t->samplers[i].unit;
+        gt->albedo = strcmp(t->samplers[i].texture, "albedo") == 0;
+        if (vertex_only && !gt->albedo) continue; /* fixed-function fragment reads only albedo */
+        if (gt->unit >= ctx->caps->texture_units) {
+            snprintf(err, err_size, "%s/manifest.json: tiers.%s.samplers[%d].unit: %d, device has %d units",
+                     ctx->bundle->dir, t->name, i, gt->unit, ctx->caps->texture_units);
+            r = HT_ERR_UNSUPPORTED;
+            goto fail;
+        }
+        s->texture_count++;
+        if ((r = upload_texture(s, ctx->bundle, bt, &gt->id, err, err_size)) != HT_OK) goto fail;
+    }
+    if (vertex_only) {
+        /* The fragment stage is MODULATE(texture, primary) x 2: without an
+           albedo texture a white one keeps the lighting's scale. */
+        bool have_albedo = false;
+        for (int i = 0; i < s->texture_count; i++) have_albedo |= s->textures[i].albedo && s->textures[i].unit == 0;
+        if (!have_albedo) {
+            static const unsigned char white[4] = { 255, 255, 255, 255 };
+            glsl_texture *gt = &s->textures[s->texture_count++];
+            gt->unit = 0;
+            gt->albedo = true;
+            s->gl->GenTextures(1, &gt->id);
+            s->gl->BindTexture(GL_TEXTURE_2D, gt->id);
+            s->gl->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, 1, 1, 0, GL_RGBA, GL_UNSIGNED_BYTE, white);
+            s->gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            s->gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            s->gl->BindTexture(GL_TEXTURE_2D, 0);
+        }
+    }
+    *out = s;
+    return HT_OK;
+fail:
+    destroy(s);
+    return r;
+}
+
+static ht_result create_full(const ht_tier_context *ctx, void **out, char *err, size_t err_size) {
+    return create(ctx, false, out, err, err_size);
+}
+
+static ht_result create_vertex(const ht_tier_context *ctx, void **out, char *err, size_t err_size) {
+    return create(ctx, true, out, err, err_size);
+}
+
+static void set_uniforms(const glsl_state *s, const glsl_program *p, const ht_tier_frame *f) {
+    const ht_gl *gl = s->gl;
+    float vectors[HT_MAX_LIGHTS * 4] = { 0 }, colors[HT_MAX_LIGHTS * 3] = { 0 };
+    int n = s->light_count;
+    /* Lights beyond the frame's are black: the arrays keep the planned size. */
+    for (int i = 0; i < n && i < f->light_count; i++) {
+        const ht_light *l = &f->lights[i];
+        for (int k = 0; k < 3; k++) {
+            vectors[4 * i + k] = l->vector[k];
+            colors[3 * i + k] = l->color[k];
+        }
+        vectors[4 * i + 3] = l->type == HT_LIGHT_POINT ? 1.0f : 0.0f;
+    }
+    gl->UseProgram(p->id);
+    if (p->u_eye >= 0) gl->Uniform3fv(p->u_eye, 1, f->eye);
+    if (p->u_light_vector >= 0) gl->Uniform4fv(p->u_light_vector, n, vectors);
+    if (p->u_light_color >= 0) gl->Uniform3fv(p->u_light_color, n, colors);
+}
+
+static void begin_frame(void *state, const ht_tier_frame *f) {
+    glsl_state *s = state;
+    set_uniforms(s, &s->main, f);
+    if (s->has_prime) set_uniforms(s, &s->prime, f);
+    const ht_gl *gl = s->gl;
+    for (int i = 0; i < s->texture_count; i++) {
+        if (gl->ActiveTexture) gl->ActiveTexture(GL_TEXTURE0 + (GLenum)s->textures[i].unit);
+        gl->BindTexture(GL_TEXTURE_2D, s->textures[i].id);
+        if (s->vertex_only && s->textures[i].unit == 0) {
+            gl->Enable(GL_TEXTURE_2D);
+            gl->TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
+            gl->TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, GL_MODULATE);
+            gl->TexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_RGB, GL_TEXTURE);
+            gl->TexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_RGB, GL_SRC_COLOR);
+            gl->TexEnvi(GL_TEXTURE_ENV, GL_SOURCE1_RGB, GL_PRIMARY_COLOR);
+            gl->TexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_RGB, GL_SRC_COLOR);
+            gl->TexEnvf(GL_TEXTURE_ENV, GL_RGB_SCALE, 2.0f);
+            gl->TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, GL_MODULATE);
+            gl->TexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA, GL_TEXTURE);
+            gl->TexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_ALPHA, GL_SRC_ALPHA);
+            gl->TexEnvi(GL_TEXTURE_ENV, GL_SOURCE1_ALPHA, GL_PRIMARY_COLOR);
+            gl->TexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_ALPHA, GL_SRC_ALPHA);
+            gl->TexEnvf(GL_TEXTURE_ENV, GL_ALPHA_SCALE, 1.0f);
+        }
+    }
+    if (gl->ActiveTexture) gl->ActiveTexture(GL_TEXTURE0);
+}
+
+static void bind_pass(void *state, ht_pass pass, int sub_pass) {
+    (void)sub_pass;
+    glsl_state *s = state;
+    s->gl->UseProgram(pass == HT_PASS_PRIME_Z ? s->prime.id : s->main.id);
+}
+
+static void end_frame(void *state) {
+    glsl_state *s = state;
+    const ht_gl *gl = s->gl;
+    gl->UseProgram(0);
+    for (int i = s->texture_count - 1; i >= 0; i--) {
+        if (gl->ActiveTexture) gl->ActiveTexture(GL_TEXTURE0 + (GLenum)s->textures[i].unit);
+        gl->BindTexture(GL_TEXTURE_2D, 0);
+        if (s->vertex_only && s->textures[i].unit == 0) {
+            gl->TexEnvf(GL_TEXTURE_ENV, GL_RGB_SCALE, 1.0f);
+            gl->TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+            gl->Disable(GL_TEXTURE_2D);
+        }
+    }
+    if (gl->ActiveTexture) gl->ActiveTexture(GL_TEXTURE0);
+}
+
+const ht_tier_backend ht_tier_glsl_full_backend = {
+    .tier = HT_TIER_FULL,
+    .create = create_full,
+    .begin_frame = begin_frame,
+    .bind_pass = bind_pass,
+    .end_frame = end_frame,
+    .destroy = destroy,
+};
+
+const ht_tier_backend ht_tier_glsl_vertex_backend = {
+    .tier = HT_TIER_VERTEX,
+    .create = create_vertex,
+    .begin_frame = begin_frame,
+    .bind_pass = bind_pass,
+    .end_frame = end_frame,
+    .destroy = destroy,
+};
