@@ -1,0 +1,67 @@
+/* plan.c — decides what the tiers model: the scene's lights, the textures the
+   material has, and the texture units the GLSL tiers bind them to. */
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "hairgen.h"
+#include "shader_interface.h"
+
+#define DEFAULT_OPAQUE_CUTOFF 0.98
+
+static void note(ht_plan *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void note(ht_plan *p, const char *fmt, ...) {
+    if (p->note_count >= HT_MAX_NOTES) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(p->notes[p->note_count++], sizeof p->notes[0], fmt, ap);
+    va_end(ap);
+}
+
+static void add_texture(ht_plan *p, const char *name, const char *sampler, const char *contents) {
+    ht_plan_texture *t = &p->textures[p->texture_count];
+    snprintf(t->name, sizeof t->name, "%s", name);
+    snprintf(t->sampler, sizeof t->sampler, "%s", sampler);
+    snprintf(t->contents, sizeof t->contents, "%s", contents);
+    t->unit = p->texture_count++;
+}
+
+static bool has(const ht_material *m, ht_texture_slot s) {
+    return m->textures[s].origin != HT_TEXTURE_ABSENT;
+}
+
+void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out) {
+    memset(out, 0, sizeof *out);
+    out->shading = m->shading;
+    const bool kajiya_kay = m->shading.model == HT_MODEL_KAJIYA_KAY;
+
+    int lights = scene->light_count;
+    if (lights < 0) lights = 0;
+    if (lights > HT_MAX_LIGHTS) lights = HT_MAX_LIGHTS;
+    out->light_count = lights;
+    for (int i = 0; i < lights; i++) out->light_types[i] = scene->lights[i].type;
+
+    out->base = has(m, HT_TEX_BASE);
+    out->alpha = has(m, HT_TEX_ALPHA);
+    out->shift = !kajiya_kay && has(m, HT_TEX_SHIFT);
+    out->sparkle = !kajiya_kay && has(m, HT_TEX_SPARKLE);
+    out->secondary = !kajiya_kay;
+    out->ao = true; /* every mesh carries per-vertex ao */
+    /* The material parser enforces (0,1]; a hand-built material may leave 0. */
+    out->opaque_cutoff = m->opaque_cutoff > 0.0 && m->opaque_cutoff <= 1.0 ? m->opaque_cutoff
+                                                                            : DEFAULT_OPAQUE_CUTOFF;
+
+    if (out->base || out->alpha) add_texture(out, "albedo", HT_U_ALBEDO, "base.rgb alpha.a");
+    if (out->shift || out->sparkle) add_texture(out, "detail", HT_U_DETAIL, "shift.r sparkle.g");
+
+    if (!out->base) note(out, "base: not modelled: the material has no base texture (base = 1)");
+    if (!out->alpha) note(out, "alpha: not modelled: the material has no alpha texture (alpha = 1)");
+    if (kajiya_kay) {
+        note(out, "secondary: not modelled: kajiya-kay has a single highlight");
+        note(out, "shift: not modelled: kajiya-kay does not shift the tangent");
+        note(out, "sparkle: not modelled: kajiya-kay has no secondary highlight to mask");
+    } else {
+        if (!out->shift) note(out, "shift: not modelled: the material has no shift texture (no jitter)");
+        if (!out->sparkle) note(out, "sparkle: not modelled: the material has no sparkle texture (sparkle = 1)");
+    }
+}
