@@ -1,0 +1,152 @@
+/* combiner.h — the fixed tier's GL 1.3 texture-combiner program as data:
+   the struct the runtime applies, its JSON form ("fixed.json", format
+   "hairtier-combiner/1"), and a CPU emulator of GL_COMBINE semantics that
+   tests use to hold the whole tier against runtime/model.c.
+
+   The tier (Heidrich-Seidel): every term of the model that depends only on
+   dot products lives in one lookup texture, the LUT, indexed by
+       Scheuermann: a = N.L, b = t1.H, c = t2.H      (3D texture)
+       Kajiya-Kay:  a = T.L, b = T.H                 (2D texture)
+   holding rgb = ht_model_dot_terms_d(a, b, c) / lut_scale in 8 bits. The
+   coordinates are computed per vertex on the CPU (fixed_coords.h), because
+   t1.H and t2.H need two shifted tangents that one texture-matrix row cannot
+   produce. Typical program (shadergen/emit_fixed.c writes it):
+       unit 0: LUT,    rgb = MODULATE(TEXTURE, PRIMARY_COLOR)   primary = light0.color * ao
+       unit 1: albedo, rgb = MODULATE(TEXTURE, PREVIOUS) x RGB_SCALE lut_scale,
+                       alpha = REPLACE(TEXTURE)
+   The LUT scale is restored on the last stage, not on the LUT's own: every
+   stage clamps to [0,1], and clamping lighting above 1 before it is
+   multiplied by a dark base would cut highlights the model keeps.
+
+   LUT texel mapping ("centres": "endpoints"): along an axis of n texels,
+   texel x holds the function at d = 2x/(n-1) - 1, so the first and last
+   texel centres sit exactly on d = -1 and d = +1 and GL_CLAMP_TO_EDGE is
+   never needed inside [-1,1] (the half-texel mapping d = 2(x+0.5)/n - 1
+   would hold sin(T,L) at T = L as sqrt(2/n) instead of 0). With n a power
+   of two (GL 1.x) no texel centre sits on d = 0: a highlight's peak is read
+   as S(1/(n-1)) ~ exp(-e / (2 (n-1)^2)), 0.992 for e = 1000 at n = 256.
+   A 3D LUT is stored as depth slices stacked vertically in one image:
+   texel (x, y, z) is pixel (x, z * size[1] + y).
+
+   Usage:
+       ht_combiner_program p;
+       char err[256];
+       if (ht_combiner_parse(text, "fixed.json", &p, err, sizeof err) != HT_OK) { log(err); ... }
+       for each stage s: glActiveTexture(GL_TEXTURE0 + s.unit); bind s.texture;
+           glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
+           glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, s.combine_rgb); ...
+       every frame: ht_fixed_coords_compute(&p, ...) for unit 0's texcoords
+       and the primary colours.
+   GL 1.2 only promises GL_MAX_3D_TEXTURE_SIZE >= 16: check it against
+   lut_size before choosing this tier (the emitter's LUT axes reach 256).
+
+   Enum fields hold GL enum values (<GL/gl.h>); the JSON names them
+   ("GL_MODULATE"). Only what ARB_texture_env_combine offers is accepted:
+   sources TEXTURE, CONSTANT, PRIMARY_COLOR, PREVIOUS (no crossbar), no DOT3. */
+#ifndef HT_COMBINER_H
+#define HT_COMBINER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include <GL/gl.h>
+
+#include "hairtier.h"
+#include "image.h"
+#include "model.h"
+
+#define HT_COMBINER_FORMAT "hairtier-combiner/1"
+#define HT_COMBINER_MAX_STAGES 4
+#define HT_COMBINER_NAME_SIZE 24
+/* Largest LUT axis the parser accepts (the emitter stays at or below 256). */
+#define HT_COMBINER_MAX_LUT_SIZE 1024
+
+/* Where a stage's texture coordinates come from. */
+typedef enum ht_combiner_coords {
+    HT_COORDS_UV = 0,       /* "uv": the vertex uv */
+    HT_COORDS_CPU_DOTS,     /* "cpu-dots": LUT coordinates of the model's dot products */
+} ht_combiner_coords;
+
+typedef struct ht_combiner_stage {
+    int unit;                          /* == its index in stages[] */
+    char texture[HT_COMBINER_NAME_SIZE]; /* "fixed-lut" (the LUT) or a plan texture ("albedo") */
+    GLenum target;                     /* GL_TEXTURE_2D or GL_TEXTURE_3D */
+    GLenum filter;                     /* GL_LINEAR or GL_NEAREST, min and mag */
+    GLenum wrap;                       /* GL_CLAMP_TO_EDGE or GL_REPEAT, every axis */
+    ht_combiner_coords coords;
+    GLenum combine_rgb, combine_alpha; /* GL_REPLACE, GL_MODULATE, GL_ADD, GL_ADD_SIGNED,
+                                          GL_INTERPOLATE, GL_SUBTRACT */
+    GLenum source_rgb[3], operand_rgb[3];     /* unused arguments keep GL's defaults */
+    GLenum source_alpha[3], operand_alpha[3];
+    int rgb_scale, alpha_scale;        /* 1, 2 or 4 */
+    float constant[4];                 /* GL_TEXTURE_ENV_COLOR, [0,1] */
+} ht_combiner_stage;
+
+typedef struct ht_combiner_program {
+    ht_model_kind model;               /* which dot products index the LUT */
+    int light;                         /* the one light lit (0: the key light) */
+    bool ao;                           /* primary = light.color * ao, else light.color */
+    double shift[2];                   /* Scheuermann: t1, t2 = normalize(T + shift * N); 0 for Kajiya-Kay */
+    char lut_texture[HT_COMBINER_NAME_SIZE]; /* "fixed-lut" */
+    int lut_size[3];                   /* texels along a, b, c; c = 1 for a 2D LUT */
+    int lut_scale;                     /* 1, 2 or 4: LUT texel = dot_terms / lut_scale */
+    ht_combiner_stage stages[HT_COMBINER_MAX_STAGES];
+    int stage_count;
+} ht_combiner_program;
+
+/* A stage on `unit` holding GL's initial texture-environment state for
+   GL_COMBINE: MODULATE(TEXTURE, PREVIOUS) for rgb and alpha, sources
+   (TEXTURE, PREVIOUS, CONSTANT), operands (SRC_COLOR, SRC_COLOR, SRC_ALPHA)
+   and SRC_ALPHA for alpha, scales 1, constant 0; texture 2D, linear, repeat,
+   uv coordinates, no texture name. Arguments a function does not read must
+   keep these values (the JSON omits them). */
+void ht_combiner_stage_defaults(ht_combiner_stage *s, int unit);
+
+/* The LUT mapping above: d of texel x's centre, and the texture coordinate
+   of d (clamped to [-1,1]) on an axis of `size` texels. A size-1 axis holds
+   d = 0 and reads coordinate 0.5. */
+double ht_combiner_lut_centre(int x, int size);
+float ht_combiner_lut_coord(double d, int size);
+
+/* The names of the dot products along the LUT's axes ("N.L", "t1.H",
+   "t2.H"; "T.L", "T.H"); returns how many (3 or 2). */
+int ht_combiner_dot_names(ht_model_kind model, const char *names[3]);
+
+/* Checks the program the way ht_combiner_parse does; err names the field. */
+ht_result ht_combiner_validate(const ht_combiner_program *p, char *err, size_t err_size);
+
+/* The program as JSON text (malloc'd, free()); fails with a validation error
+   on an invalid program. Same program, byte-identical text. */
+ht_result ht_combiner_write(const ht_combiner_program *p, char **text, char *err, size_t err_size);
+
+/* Parses fixed.json. Errors are "FILE: FIELD: what is wrong", FIELD a JSON
+   path ("stages[1].source_rgb[0]"). */
+ht_result ht_combiner_parse(const char *json_text, const char *file_name,
+                            ht_combiner_program *out, char *err, size_t err_size);
+
+/* ---- CPU emulation of the program (GL_COMBINE semantics) ---- */
+
+/* A texture the program may bind, by the name its stages use. */
+typedef struct ht_combiner_texture {
+    const char *name;        /* "fixed-lut", "albedo" */
+    const ht_image *image;   /* 8-bit; a 3D texture has its slices stacked vertically */
+    int depth;               /* 1 for 2D */
+} ht_combiner_texture;
+
+/* What one fragment sees: interpolated vertex data. */
+typedef struct ht_combiner_fragment {
+    float lut_coord[3];      /* texcoord of "cpu-dots" stages */
+    float uv[2];             /* texcoord of "uv" stages */
+    float primary[4];        /* primary colour, clamped to [0,1] as GL does */
+} ht_combiner_fragment;
+
+/* Evaluates the program for one fragment as GL would: 8-bit texels (value /
+   255), GL_LINEAR / GL_NEAREST filtering with GL_CLAMP_TO_EDGE / GL_REPEAT
+   (trilinear for 3D, no mipmaps), each stage's function, then its scale,
+   then a clamp to [0,1]. Fails when a stage's texture is missing or its
+   size disagrees with the program. */
+ht_result ht_combiner_eval(const ht_combiner_program *p, const ht_combiner_texture *textures,
+                           int texture_count, const ht_combiner_fragment *frag, float rgba[4],
+                           char *err, size_t err_size);
+
+#endif

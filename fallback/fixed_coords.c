@@ -1,0 +1,93 @@
+/* fixed_coords.c — per-vertex LUT coordinates and primary colours of the
+   fixed tier (see fixed_coords.h), in double precision like the oracle. */
+#include "fixed_coords.h"
+
+#include <math.h>
+#include <stdio.h>
+
+static double dot3(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* model.c's rule: no direction below HT_MODEL_MIN_LENGTH2 (and for NaN). */
+static bool normalize_or_zero(const double v[3], double out[3]) {
+    double len2 = dot3(v, v);
+    if (!(len2 > HT_MODEL_MIN_LENGTH2) || !isfinite(len2)) {
+        out[0] = out[1] = out[2] = 0.0;
+        return false;
+    }
+    double inv = 1.0 / sqrt(len2);
+    for (int i = 0; i < 3; i++) out[i] = v[i] * inv;
+    return true;
+}
+
+static void to_double(const float in[3], double out[3]) {
+    for (int i = 0; i < 3; i++) out[i] = (double)in[i];
+}
+
+static double clamp_unit(double x) { return x > 1.0 ? 1.0 : (x < -1.0 ? -1.0 : x); }
+
+static double clamp01(double x) { return x > 0.0 ? (x < 1.0 ? x : 1.0) : 0.0; }
+
+/* d = t.H of the shifted tangent, or -1 (S = 0) without a direction. */
+static double shifted_dot(const double T[3], const double N[3], double shift, const double H[3],
+                          bool has_h) {
+    double v[3], t[3];
+    for (int i = 0; i < 3; i++) v[i] = T[i] + shift * N[i];
+    if (!has_h || !normalize_or_zero(v, t)) return -1.0;
+    return clamp_unit(dot3(t, H));
+}
+
+ht_result ht_fixed_coords_compute(const ht_combiner_program *p, const ht_vertex *vertices,
+                                  size_t count, const ht_light *lights, int light_count,
+                                  const float eye[3], float *lut_coords, float *colors,
+                                  char *err, size_t err_size) {
+    if (!p || (count > 0 && (!vertices || !lut_coords || !colors)) || !eye ||
+        (light_count > 0 && !lights)) {
+        snprintf(err, err_size, "fixed_coords: NULL argument");
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    const ht_light *light = p->light < light_count ? &lights[p->light] : NULL;
+    double eye_d[3], light_v[3] = { 0, 0, 0 }, color[3] = { 0, 0, 0 };
+    to_double(eye, eye_d);
+    if (light) {
+        to_double(light->vector, light_v);
+        to_double(light->color, color);
+    }
+    const bool kajiya_kay = p->model == HT_MODEL_KAJIYA_KAY;
+
+    for (size_t vi = 0; vi < count; vi++) {
+        const ht_vertex *v = &vertices[vi];
+        double pos[3], T[3], N[3], raw[3], L[3], V[3], H[3];
+        to_double(v->position, pos);
+        to_double(v->tangent, raw);
+        bool has_t = normalize_or_zero(raw, T);
+        to_double(v->normal, raw);
+        normalize_or_zero(raw, N);
+        for (int i = 0; i < 3; i++)
+            raw[i] = light && light->type == HT_LIGHT_POINT ? light_v[i] - pos[i] : light_v[i];
+        bool has_l = normalize_or_zero(raw, L);
+        for (int i = 0; i < 3; i++) raw[i] = eye_d[i] - pos[i];
+        normalize_or_zero(raw, V);
+        for (int i = 0; i < 3; i++) raw[i] = L[i] + V[i];
+        bool has_h = normalize_or_zero(raw, H);
+
+        double d[3];
+        if (kajiya_kay) {
+            d[0] = has_t && has_l ? clamp_unit(dot3(T, L)) : 1.0;
+            d[1] = has_t && has_h ? clamp_unit(dot3(T, H)) : -1.0;
+            d[2] = 0.0;
+        } else {
+            /* the model shifts the normalized T along the normalized N */
+            d[0] = clamp_unit(dot3(N, L));
+            d[1] = shifted_dot(T, N, p->shift[0], H, has_h);
+            d[2] = shifted_dot(T, N, p->shift[1], H, has_h);
+        }
+        for (int i = 0; i < 3; i++) lut_coords[3 * vi + i] = ht_combiner_lut_coord(d[i], p->lut_size[i]);
+
+        double ao = p->ao ? clamp01((double)v->ao) : 1.0;
+        for (int i = 0; i < 3; i++) colors[4 * vi + i] = (float)clamp01(color[i] * ao);
+        colors[4 * vi + 3] = 1.0f;
+    }
+    return HT_OK;
+}

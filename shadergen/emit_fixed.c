@@ -1,0 +1,277 @@
+/* emit_fixed.c — the fixed tier: a GL 1.3 texture-combiner program
+   (fixed.json, fallback/combiner.h) and the lookup texture it reads
+   (fixed-lut.png), baked from ht_model_dot_terms_d. No shader anywhere.
+
+   LUT axes (combiner.h): Scheuermann (N.L, t1.H, t2.H) as a 3D texture,
+   Kajiya-Kay (T.L, T.H) as a 2D one. Each axis is sized from what it holds:
+     - a highlight S(d) = smoothstep(-1,0,d) (1-d^2)^(e/2) is a lobe of width
+       ~1/sqrt(e) around d = 0; linear interpolation wants >= 4 texels per
+       lobe width, so n = next power of two of 8 sqrt(e), clamped to [16,256].
+       Above e ~ 1000 the clamp leaves the lobe under ~4 texels: it is
+       widened and its peak, read between the two texels nearest d = 0, drops
+       to S(1/255) (0.992 at e = 1000, 0.93 at e = 10000); the dropped list
+       says so with the number.
+     - wrapped diffuse is piecewise linear, exact under linear interpolation
+       but for its one kink: 32 texels (16 when the texel budget is short).
+     - Kajiya-Kay's sin(T,L) = sqrt(1 - a^2) has an infinite slope at a = +-1,
+       where interpolation error falls only as sqrt(texel): 256 texels, cheap
+       in a 2D texture.
+     - a highlight with 0 < e < 2 has the same infinite slope at d = +-1:
+       256 texels; below e ~ 0.5 the drop to 0 at d = +-1 still spans a
+       texel (a known approximation at grazing t, H).
+     - a term whose colour is 0 needs no resolution: 1 texel.
+   Budget: at most 2^20 texels (4 MiB even if the driver widens RGB8 to
+   RGBA8): the diffuse axis drops to 16 first, then the larger highlight
+   axis halves. dark-brown (e 80 / 24): 32 x 128 x 64 = 262144 texels.
+
+   Everything stored is dot_terms / scale in 8 bits, scale the smallest of
+   1, 2, 4 at or above ht_model_dot_terms_max: the LUT error is at most
+   0.5/255 x scale plus linear interpolation between texels. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "combiner.h"
+#include "emit.h"
+#include "strbuf.h"
+
+#define LUT_NAME "fixed-lut"
+#define MAX_TEXELS (1 << 20)
+#define MIN_AXIS 16
+#define MAX_AXIS 256
+#define DIFFUSE_AXIS 32
+#define KAJIYA_KAY_DIFFUSE_AXIS 256
+
+static bool is_black(const double c[3]) { return c[0] <= 0.0 && c[1] <= 0.0 && c[2] <= 0.0; }
+
+/* Texels a highlight of exponent e needs: next power of two of 8 sqrt(e).
+   For 0 < e < 2, sin^e = (1 - d^2)^(e/2) has an infinite slope at d = +-1
+   (like Kajiya-Kay's diffuse) and takes the largest axis. */
+static int highlight_texels(double e) {
+    if (e > 0.0 && e < 2.0) return MAX_AXIS;
+    double want = 8.0 * sqrt(e > 0.0 ? e : 0.0);
+    int n = 1;
+    while (n < want && n < (1 << 20)) n *= 2;
+    return n;
+}
+
+static int clamp_axis(int n) { return n < MIN_AXIS ? MIN_AXIS : (n > MAX_AXIS ? MAX_AXIS : n); }
+
+static long texels(const int size[3]) { return (long)size[0] * size[1] * size[2]; }
+
+/* What the LUT reads at d = 0 for a highlight on an axis of n texels:
+   the average of the two texels nearest 0 (n is even). */
+static double peak_read(double e, int n) {
+    double h = ht_combiner_lut_centre(n / 2, n);
+    return 0.5 * (ht_model_highlight_of_cos_d(h, e) + ht_model_highlight_of_cos_d(-h, e));
+}
+
+static void note_dropped(ht_tier_output *out, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void note_dropped(ht_tier_output *out, const char *fmt, ...) {
+    char line[sizeof out->dropped[0]];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    ht_output_add_dropped(out, line);
+}
+
+/* The shading the LUT holds: the plan's, without what the plan leaves out. */
+static ht_shading lut_shading(const ht_plan *plan) {
+    ht_shading s = plan->shading;
+    if (s.model == HT_MODEL_KAJIYA_KAY || !plan->secondary)
+        for (int i = 0; i < 3; i++) s.secondary.color[i] = 0.0;
+    return s;
+}
+
+static void choose_sizes(const ht_shading *s, const char *const axis_names[3],
+                         ht_tier_output *out, int size[3]) {
+    const bool kk = s->model == HT_MODEL_KAJIYA_KAY;
+    const ht_lobe *lobes[2] = { &s->primary, &s->secondary };
+    size[0] = is_black(s->diffuse_color) ? 1 : (kk ? KAJIYA_KAY_DIFFUSE_AXIS : DIFFUSE_AXIS);
+    for (int i = 0; i < 2; i++) {
+        const ht_lobe *l = lobes[i];
+        int *n = &size[1 + i];
+        if ((kk && i == 1) || is_black(l->color)) {
+            *n = 1;
+            continue;
+        }
+        int want = highlight_texels(l->exponent);
+        *n = clamp_axis(want);
+        if (want > *n)
+            note_dropped(out, "LUT axis %s: exponent %g wants %d texels, clamped to %d: lobe widened, "
+                         "peak read as %.3f", axis_names[1 + i], l->exponent, want, *n,
+                         peak_read(l->exponent, *n));
+    }
+    if (texels(size) > MAX_TEXELS && size[0] > MIN_AXIS) size[0] = MIN_AXIS;
+    while (texels(size) > MAX_TEXELS) {
+        int i = size[1] >= size[2] ? 1 : 2;
+        size[i] /= 2;
+        note_dropped(out, "LUT axis %s: halved to %d texels to keep the LUT within %d texels",
+                     axis_names[i], size[i], MAX_TEXELS);
+    }
+}
+
+static int choose_scale(const ht_shading *s, ht_tier_output *out) {
+    double most = ht_model_dot_terms_max(s);
+    if (most <= 1.0) return 1;
+    if (most <= 2.0) return 2;
+    if (most > 4.0)
+        note_dropped(out, "LUT: lighting up to %.2f clamps at 4 (GL_RGB_SCALE is at most 4)", most);
+    return 4;
+}
+
+static ht_result bake_lut(const ht_shading *s, const ht_combiner_program *p, ht_image *img) {
+    const int *n = p->lut_size;
+    ht_result r = ht_image_alloc(img, n[0], n[1] * n[2], 3);
+    if (r != HT_OK) return r;
+    for (int z = 0; z < n[2]; z++)
+        for (int y = 0; y < n[1]; y++)
+            for (int x = 0; x < n[0]; x++) {
+                double rgb[3];
+                ht_model_dot_terms_d(s, ht_combiner_lut_centre(x, n[0]), ht_combiner_lut_centre(y, n[1]),
+                                     ht_combiner_lut_centre(z, n[2]), rgb);
+                uint8_t *px = img->pixels + 3 * ((size_t)(z * n[1] + y) * n[0] + x);
+                for (int i = 0; i < 3; i++) {
+                    double v = rgb[i] / p->lut_scale;
+                    v = v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0;
+                    px[i] = (uint8_t)lround(v * 255.0);
+                }
+            }
+    return HT_OK;
+}
+
+/* Unit 0: LUT x primary colour; alpha = primary alpha (1). */
+static void lut_stage(const ht_combiner_program *p, ht_combiner_stage *s) {
+    ht_combiner_stage_defaults(s, 0);
+    snprintf(s->texture, sizeof s->texture, "%s", LUT_NAME);
+    s->target = p->lut_size[2] > 1 ? GL_TEXTURE_3D : GL_TEXTURE_2D;
+    s->wrap = GL_CLAMP_TO_EDGE;
+    s->coords = HT_COORDS_CPU_DOTS;
+    s->source_rgb[0] = GL_TEXTURE;
+    s->source_rgb[1] = GL_PRIMARY_COLOR;
+    s->combine_alpha = GL_REPLACE;
+    s->source_alpha[0] = GL_PRIMARY_COLOR;
+}
+
+/* Unit 1: albedo x previous; alpha = albedo alpha (255 when the material has
+   none, docs/bundle.md). */
+static void albedo_stage(ht_combiner_stage *s) {
+    ht_combiner_stage_defaults(s, 1);
+    snprintf(s->texture, sizeof s->texture, "albedo");
+    s->source_rgb[0] = GL_TEXTURE;
+    s->source_rgb[1] = GL_PREVIOUS;
+    s->combine_alpha = GL_REPLACE;
+    s->source_alpha[0] = GL_TEXTURE;
+}
+
+static void add_albedo_sampler(ht_tier_output *out, const ht_plan *plan) {
+    if (ht_output_add_sampler(out, plan, "albedo")) {
+        out->samplers[out->sampler_count - 1].unit = 1;
+        return;
+    }
+    ht_plan_texture *t = &out->samplers[out->sampler_count++];
+    memset(t, 0, sizeof *t);
+    snprintf(t->name, sizeof t->name, "albedo");
+    snprintf(t->contents, sizeof t->contents, "base.rgb alpha.a");
+    t->unit = 1;
+}
+
+static void list_dropped(const ht_plan *plan, ht_tier_output *out) {
+    if (plan->shift)
+        ht_output_add_dropped(out, "shift: jitter dropped, the LUT holds the constant shifts only "
+                                   "(shift texture read as 0.5)");
+    if (plan->sparkle)
+        ht_output_add_dropped(out, "sparkle: dropped, the secondary highlight is unmasked (sparkle = 1): "
+                                   "no texture unit left to read it");
+    if (plan->light_count > 1)
+        note_dropped(out, "lights 2..%d: dropped, only light 0 (the key light) is lit: one LUT "
+                          "lookup per pixel", plan->light_count);
+    ht_output_add_dropped(out, "light colour: clamped to 1 per channel (it is the primary colour)");
+    ht_output_add_dropped(out, "dot products: per vertex on the CPU, interpolated linearly across "
+                               "triangles (Heidrich-Seidel); tessellate where T bends");
+    ht_output_add_dropped(out, "LUT: 8-bit, texel error up to 0.5/255 x scale, linear interpolation "
+                               "between texels");
+}
+
+static void list_features(const ht_plan *plan, const ht_combiner_program *p, ht_tier_output *out) {
+    char line[64];
+    ht_output_add_feature(out, plan->shading.model == HT_MODEL_KAJIYA_KAY ? "kajiya-kay" : "scheuermann");
+    if (plan->light_count > 0) {
+        snprintf(line, sizeof line, "1 %s light",
+                 plan->light_types[0] == HT_LIGHT_POINT ? "point" : "directional");
+        ht_output_add_feature(out, line);
+    }
+    if (plan->base) ht_output_add_feature(out, "base");
+    if (plan->alpha) ht_output_add_feature(out, "alpha");
+    if (plan->ao) ht_output_add_feature(out, "ao");
+    snprintf(line, sizeof line, "lut %dx%dx%d rgb8 scale %d", p->lut_size[0], p->lut_size[1],
+             p->lut_size[2], p->lut_scale);
+    ht_output_add_feature(out, line);
+}
+
+ht_result ht_emit_fixed(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size) {
+    memset(out, 0, sizeof *out);
+    out->tier = HT_TIER_FIXED;
+    if (!plan) {
+        snprintf(err, err_size, "fixed: NULL plan");
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    const ht_shading shading = lut_shading(plan);
+    const char *axis_names[3];
+    ht_combiner_dot_names(shading.model, axis_names);
+
+    ht_combiner_program p;
+    memset(&p, 0, sizeof p);
+    p.model = shading.model;
+    p.light = 0;
+    p.ao = plan->ao;
+    if (shading.model == HT_MODEL_SCHEUERMANN) {
+        p.shift[0] = shading.primary.shift;
+        p.shift[1] = shading.secondary.shift;
+    }
+    snprintf(p.lut_texture, sizeof p.lut_texture, "%s", LUT_NAME);
+    list_dropped(plan, out);
+    choose_sizes(&shading, axis_names, out, p.lut_size);
+    p.lut_scale = choose_scale(&shading, out);
+
+    const bool albedo = plan->base || plan->alpha;
+    p.stage_count = albedo ? 2 : 1;
+    lut_stage(&p, &p.stages[0]);
+    if (albedo) albedo_stage(&p.stages[1]);
+    /* The scale is restored on the last stage: each stage clamps to [0,1],
+       and lighting above 1 must survive until a dark base scales it down. */
+    p.stages[p.stage_count - 1].rgb_scale = p.lut_scale;
+
+    snprintf(out->requires.gl, sizeof out->requires.gl, "1.2"); /* 3D textures, CLAMP_TO_EDGE */
+    if (p.stage_count > 1)
+        snprintf(out->requires.extensions[out->requires.extension_count++],
+                 sizeof out->requires.extensions[0], "GL_ARB_multitexture");
+    snprintf(out->requires.extensions[out->requires.extension_count++],
+             sizeof out->requires.extensions[0], "GL_ARB_texture_env_combine");
+    out->requires.texture_units = p.stage_count;
+    if (albedo) add_albedo_sampler(out, plan);
+    list_features(plan, &p, out);
+
+    char *text = NULL;
+    ht_result r = ht_combiner_write(&p, &text, err, err_size);
+    if (r == HT_OK)
+        r = ht_output_add_text(out, "fixed.json", "program", text, HT_STAGE_NONE, 0, false, err, err_size);
+    if (r == HT_OK) {
+        ht_out_image *img = &out->images[out->image_count];
+        snprintf(img->name, sizeof img->name, "%s", LUT_NAME);
+        snprintf(img->file, sizeof img->file, "%s.png", LUT_NAME);
+        img->depth = p.lut_size[2];
+        if (shading.model == HT_MODEL_KAJIYA_KAY)
+            snprintf(img->contents, sizeof img->contents, "rgb = dot_terms(T.L, T.H) / %d", p.lut_scale);
+        else
+            snprintf(img->contents, sizeof img->contents, "rgb = dot_terms(N.L, t1.H, t2.H) / %d, "
+                     "slices t2.H", p.lut_scale);
+        r = bake_lut(&shading, &p, &img->image);
+        if (r == HT_OK) out->image_count++;
+        else snprintf(err, err_size, "%s.png: out of memory", LUT_NAME);
+    }
+    if (r != HT_OK) ht_tier_output_free(out);
+    return r;
+}

@@ -1,0 +1,801 @@
+/* test_fixed.c — the fixed tier: the LUT holds the model's dot-product terms,
+   the combiner program round-trips through JSON and rejects bad fields by
+   name, the CPU emulator follows GL_COMBINE, and the whole tier (CPU
+   coordinates + LUT + combiners, emulated) tracks runtime/model.c. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "combiner.h"
+#include "emit.h"
+#include "fixed_coords.h"
+#include "hairgen.h"
+#include "rng.h"
+
+/* The whole tier against the oracle, per channel after the framebuffer's
+   [0,1] clamp. Measured with the seed below: max 0.0116, mean 0.00048 over
+   4800 points (200 materials / 40000 points of the same sampling: max 0.0130,
+   mean 0.00047). Where it comes from: 8-bit LUT texels, up to 0.5/255 x
+   scale (0.0078 at scale 4), plus linear interpolation between texels (the
+   wrapped diffuse's kink spans one texel: up to (1 - wrap) x 2/31 / 4 x
+   diffuse colour ~ 0.016; highlight curvature ~ e h^2 / 8 ~ 0.003 at e = 100),
+   scaled down by light colour x ao x base. The bound sits above the
+   measured max with headroom, below that sum. */
+#define TIER_MAX 0.02
+#define TIER_MEAN 0.002
+
+/* ---- helpers ---- */
+
+static void plan_for_material(const char *path, ht_plan *plan) {
+    ht_material m;
+    ht_scene scene;
+    char err[512] = "";
+    if (ht_material_load(path, &m, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    ht_scene_default(&scene);
+    ht_plan_make(&m, &scene, plan);
+}
+
+/* A plan by hand: one light, ao, base when `base` is set. */
+static ht_plan simple_plan(ht_model_kind model, bool base) {
+    ht_plan p;
+    memset(&p, 0, sizeof p);
+    p.shading.model = model;
+    for (int i = 0; i < 3; i++) {
+        p.shading.diffuse_color[i] = 0.3;
+        p.shading.primary.color[i] = 0.8;
+        p.shading.secondary.color[i] = model == HT_MODEL_SCHEUERMANN ? 0.4 : 0.0;
+    }
+    p.shading.wrap = 0.25;
+    p.shading.primary.exponent = 60;
+    p.shading.primary.shift = -0.1;
+    p.shading.secondary.exponent = 20;
+    p.shading.secondary.shift = 0.12;
+    p.light_count = 1;
+    p.light_types[0] = HT_LIGHT_DIRECTIONAL;
+    p.base = base;
+    p.secondary = model == HT_MODEL_SCHEUERMANN;
+    p.ao = true;
+    p.opaque_cutoff = 0.98;
+    if (base) {
+        p.texture_count = 1;
+        snprintf(p.textures[0].name, sizeof p.textures[0].name, "albedo");
+        snprintf(p.textures[0].sampler, sizeof p.textures[0].sampler, "u_albedo");
+        snprintf(p.textures[0].contents, sizeof p.textures[0].contents, "base.rgb alpha.a");
+    }
+    return p;
+}
+
+static void emit(const ht_plan *plan, ht_tier_output *out, ht_combiner_program *prog) {
+    char err[512] = "";
+    if (ht_emit_fixed(plan, out, err, sizeof err) != HT_OK) fail_msg("ht_emit_fixed: %s", err);
+    assert_int_equal(out->text_count, 1);
+    assert_int_equal(out->image_count, 1);
+    if (ht_combiner_parse(out->texts[0].text, "fixed.json", prog, err, sizeof err) != HT_OK)
+        fail_msg("parse of emitted program: %s", err);
+}
+
+static const ht_out_image *lut_of(const ht_tier_output *out) {
+    for (int i = 0; i < out->image_count; i++)
+        if (strcmp(out->images[i].name, "fixed-lut") == 0) return &out->images[i];
+    fail_msg("no fixed-lut image");
+    return NULL;
+}
+
+/* A random unit vector, uniform on the sphere. */
+static void random_unit(ht_rng *r, float v[3]) {
+    double z = ht_rng_range(r, -1.0, 1.0), phi = ht_rng_range(r, 0.0, 6.283185307179586);
+    double s = sqrt(1.0 - z * z);
+    v[0] = (float)(s * cos(phi));
+    v[1] = (float)(s * sin(phi));
+    v[2] = (float)z;
+}
+
+static void random_color(ht_rng *r, double c[3]) {
+    for (int i = 0; i < 3; i++) c[i] = ht_rng_unit(r);
+}
+
+/* ---- the LUT ---- */
+
+static void test_lut_mapping_puts_first_and_last_texel_centres_on_plus_minus_one(void **state) {
+    (void)state;
+    const int sizes[] = { 2, 16, 32, 128, 256 };
+    for (size_t k = 0; k < sizeof sizes / sizeof sizes[0]; k++) {
+        int n = sizes[k];
+        assert_true(fabs(ht_combiner_lut_centre(0, n) + 1.0) < 1e-15);
+        assert_true(fabs(ht_combiner_lut_centre(n - 1, n) - 1.0) < 1e-15);
+        /* GL samples texel x alone at texture coordinate (x + 0.5) / n */
+        for (int x = 0; x < n; x++)
+            assert_true(fabsf(ht_combiner_lut_coord(ht_combiner_lut_centre(x, n), n) -
+                              (float)((x + 0.5) / n)) < 1e-6f);
+    }
+    assert_true(ht_combiner_lut_coord(0.3, 1) == 0.5f);
+    /* outside [-1,1] (and NaN) clamps to the end texels */
+    assert_true(ht_combiner_lut_coord(7.0, 16) == ht_combiner_lut_coord(1.0, 16));
+    assert_true(ht_combiner_lut_coord(NAN, 16) == ht_combiner_lut_coord(-1.0, 16));
+}
+
+static void test_lut_texels_equal_dot_terms_at_texel_centres(void **state) {
+    (void)state;
+    const char *materials[] = { "materials/dark-brown.json", "materials/kajiya-kay.json",
+                                "materials/blond.json", "materials/high-contrast.json" };
+    for (size_t k = 0; k < sizeof materials / sizeof materials[0]; k++) {
+        ht_plan plan;
+        plan_for_material(materials[k], &plan);
+        ht_tier_output out;
+        ht_combiner_program p;
+        emit(&plan, &out, &p);
+        const ht_out_image *lut = lut_of(&out);
+        const int *n = p.lut_size;
+        assert_int_equal(lut->image.width, n[0]);
+        assert_int_equal(lut->image.height, n[1] * n[2]);
+        assert_int_equal(lut->depth, n[2]);
+        assert_int_equal(lut->image.channels, 3);
+        const double tol = 0.5 / 255.0 * p.lut_scale + 1e-9;
+        double worst = 0.0;
+        for (int z = 0; z < n[2]; z++)
+            for (int y = 0; y < n[1]; y++)
+                for (int x = 0; x < n[0]; x++) {
+                    double want[3];
+                    ht_model_dot_terms_d(&plan.shading, ht_combiner_lut_centre(x, n[0]),
+                                         ht_combiner_lut_centre(y, n[1]),
+                                         ht_combiner_lut_centre(z, n[2]), want);
+                    const uint8_t *px = lut->image.pixels + 3 * ((size_t)(z * n[1] + y) * n[0] + x);
+                    for (int i = 0; i < 3; i++) {
+                        double got = px[i] / 255.0 * p.lut_scale;
+                        double e = fabs(got - want[i]);
+                        if (e > worst) worst = e;
+                    }
+                }
+        if (worst > tol) fail_msg("%s: LUT off by %g > %g", materials[k], worst, tol);
+        /* the scale is the smallest of 1, 2, 4 that holds the brightest term */
+        double most = ht_model_dot_terms_max(&plan.shading);
+        assert_true(most <= p.lut_scale);
+        assert_true(p.lut_scale == 1 || most > p.lut_scale / 2);
+        long texels = (long)n[0] * n[1] * n[2];
+        assert_true(texels <= (1L << 20));
+        print_message("%-28s LUT %dx%dx%d = %ld texels, scale %d, worst texel error %.5f\n",
+                      materials[k], n[0], n[1], n[2], texels, p.lut_scale, worst);
+        ht_tier_output_free(&out);
+    }
+}
+
+static ht_combiner_program program_for_exponents(double e1, double e2) {
+    ht_plan plan = simple_plan(HT_MODEL_SCHEUERMANN, true);
+    plan.shading.primary.exponent = e1;
+    plan.shading.secondary.exponent = e2;
+    ht_tier_output out;
+    ht_combiner_program p;
+    emit(&plan, &out, &p);
+    ht_tier_output_free(&out);
+    return p;
+}
+
+static void test_highlight_axis_grows_with_exponent_and_resolves_the_lobe(void **state) {
+    (void)state;
+    const double exponents[] = { 0, 2, 10, 80, 300, 1000, 10000 };
+    int previous = 0;
+    for (size_t k = 0; k < sizeof exponents / sizeof exponents[0]; k++) {
+        double e = exponents[k];
+        ht_combiner_program p = program_for_exponents(e, 24);
+        int n = p.lut_size[1];
+        assert_true(n >= previous);
+        assert_true(n >= 16 && n <= 256);
+        previous = n;
+        /* at least 4 texels across a lobe width 1/sqrt(e), until the 256 cap */
+        double spacing = 2.0 / (n - 1);
+        if (n < 256) assert_true(spacing <= 0.25 / sqrt(e > 1 ? e : 1));
+    }
+    assert_int_equal(program_for_exponents(1000, 24).lut_size[1], 256);
+    /* 0 < e < 2: (1 - d^2)^(e/2) has an infinite slope at d = +-1 */
+    assert_int_equal(program_for_exponents(1, 24).lut_size[1], 256);
+    assert_true(program_for_exponents(4, 24).lut_size[1] < program_for_exponents(80, 24).lut_size[1]);
+    /* the secondary lobe's axis follows its own exponent */
+    assert_true(program_for_exponents(80, 4).lut_size[2] < program_for_exponents(80, 200).lut_size[2]);
+}
+
+static void test_dark_brown_and_narrow_highlight_sizes(void **state) {
+    (void)state;
+    ht_plan plan;
+    plan_for_material("materials/dark-brown.json", &plan);
+    ht_tier_output out;
+    ht_combiner_program p;
+    emit(&plan, &out, &p);
+    print_message("dark-brown LUT %dx%dx%d scale %d\n", p.lut_size[0], p.lut_size[1], p.lut_size[2],
+                  p.lut_scale);
+    /* 8 sqrt(80) = 71.6 -> 128, 8 sqrt(24) = 39.2 -> 64 */
+    assert_int_equal(p.lut_size[1], 128);
+    assert_int_equal(p.lut_size[2], 64);
+    ht_tier_output_free(&out);
+
+    ht_combiner_program big = program_for_exponents(10000, 10000);
+    long texels = (long)big.lut_size[0] * big.lut_size[1] * big.lut_size[2];
+    print_message("e=10000/10000 LUT %dx%dx%d (%ld texels)\n", big.lut_size[0], big.lut_size[1],
+                  big.lut_size[2], texels);
+    assert_true(texels <= (1L << 20));
+}
+
+static void test_clamped_axis_is_listed_as_dropped(void **state) {
+    (void)state;
+    ht_plan plan = simple_plan(HT_MODEL_SCHEUERMANN, true);
+    plan.shading.primary.exponent = 10000;
+    ht_tier_output out;
+    ht_combiner_program p;
+    emit(&plan, &out, &p);
+    bool listed = false;
+    for (int i = 0; i < out.dropped_count; i++) listed = listed || strstr(out.dropped[i], "t1.H") != NULL;
+    assert_true(listed);
+    ht_tier_output_free(&out);
+}
+
+/* Evaluates unit 0 alone at LUT coordinate d along the primary axis. */
+static double emulate_primary_axis(const ht_combiner_program *p, const ht_out_image *lut, double d) {
+    ht_combiner_texture tex = { "fixed-lut", &lut->image, lut->depth };
+    ht_combiner_fragment f = { .primary = { 1, 1, 1, 1 } };
+    f.lut_coord[0] = ht_combiner_lut_coord(0.0, p->lut_size[0]);
+    f.lut_coord[1] = ht_combiner_lut_coord(d, p->lut_size[1]);
+    f.lut_coord[2] = ht_combiner_lut_coord(0.0, p->lut_size[2]);
+    float rgba[4];
+    char err[256];
+    if (ht_combiner_eval(p, &tex, 1, &f, rgba, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    return rgba[0];
+}
+
+static void test_narrow_highlight_keeps_its_peak_at_zero(void **state) {
+    (void)state;
+    ht_plan plan = simple_plan(HT_MODEL_SCHEUERMANN, false);
+    for (int i = 0; i < 3; i++) {
+        plan.shading.diffuse_color[i] = 0.0;
+        plan.shading.secondary.color[i] = 0.0;
+        plan.shading.primary.color[i] = 1.0;
+    }
+    plan.shading.primary.exponent = 1000;
+    ht_tier_output out;
+    ht_combiner_program p;
+    emit(&plan, &out, &p);
+    assert_int_equal(p.lut_size[1], 256);
+    assert_int_equal(p.lut_scale, 1);
+    const ht_out_image *lut = lut_of(&out);
+    /* No texel centre sits on d = 0 on a power-of-two axis: the peak is read
+       between d = +-1/255, S(1/255) = 0.9923, plus 8-bit rounding. */
+    const double tol = 0.0100;
+    double peak = emulate_primary_axis(&p, lut, 0.0);
+    print_message("e=1000: peak read %.4f (model 1.0)\n", peak);
+    assert_true(fabs(peak - 1.0) <= tol);
+    /* the lobe keeps its width: one lobe width out, S = (1 - 1/e)^(e/2) */
+    double w = 1.0 / sqrt(1000.0);
+    for (int s = -1; s <= 1; s += 2) {
+        double got = emulate_primary_axis(&p, lut, s * w);
+        double want = ht_model_highlight_of_cos_d(s * w, 1000);
+        assert_true(fabs(got - want) <= 0.02);
+    }
+    ht_tier_output_free(&out);
+}
+
+/* ---- the program ---- */
+
+static void test_program_round_trips_through_json(void **state) {
+    (void)state;
+    ht_plan plans[3] = { simple_plan(HT_MODEL_SCHEUERMANN, true), simple_plan(HT_MODEL_KAJIYA_KAY, true),
+                         simple_plan(HT_MODEL_SCHEUERMANN, false) };
+    for (int k = 0; k < 3; k++) {
+        ht_tier_output out;
+        ht_combiner_program p, again;
+        emit(&plans[k], &out, &p);
+        char *text = NULL, err[256];
+        assert_int_equal(ht_combiner_write(&p, &text, err, sizeof err), HT_OK);
+        assert_string_equal(text, out.texts[0].text);
+        assert_int_equal(ht_combiner_parse(text, "fixed.json", &again, err, sizeof err), HT_OK);
+        assert_memory_equal(&p, &again, sizeof p);
+        free(text);
+        ht_tier_output_free(&out);
+    }
+
+    /* every function, source and operand the format names */
+    ht_combiner_program p;
+    memset(&p, 0, sizeof p);
+    p.model = HT_MODEL_SCHEUERMANN;
+    p.light = 2;
+    p.ao = false;
+    p.shift[0] = 0.1;
+    p.shift[1] = -1.0 / 3.0;
+    snprintf(p.lut_texture, sizeof p.lut_texture, "fixed-lut");
+    p.lut_size[0] = 16, p.lut_size[1] = 64, p.lut_size[2] = 32;
+    p.lut_scale = 4;
+    p.stage_count = 4;
+    for (int i = 0; i < 4; i++) ht_combiner_stage_defaults(&p.stages[i], i);
+    snprintf(p.stages[0].texture, sizeof p.stages[0].texture, "fixed-lut");
+    p.stages[0].target = GL_TEXTURE_3D;
+    p.stages[0].coords = HT_COORDS_CPU_DOTS;
+    p.stages[0].wrap = GL_CLAMP_TO_EDGE;
+    p.stages[0].filter = GL_NEAREST;
+    p.stages[0].combine_rgb = GL_INTERPOLATE;
+    p.stages[0].source_rgb[0] = GL_CONSTANT;
+    p.stages[0].source_rgb[1] = GL_PRIMARY_COLOR;
+    p.stages[0].source_rgb[2] = GL_TEXTURE;
+    p.stages[0].operand_rgb[0] = GL_ONE_MINUS_SRC_COLOR;
+    p.stages[0].operand_rgb[2] = GL_ONE_MINUS_SRC_ALPHA;
+    p.stages[0].combine_alpha = GL_SUBTRACT;
+    p.stages[0].operand_alpha[1] = GL_ONE_MINUS_SRC_ALPHA;
+    p.stages[0].constant[0] = 0.1f, p.stages[0].constant[3] = 1.0f / 3.0f;
+    p.stages[0].alpha_scale = 2;
+    const char *names[] = { "albedo", "detail", "albedo" };
+    const GLenum fns[] = { GL_ADD, GL_ADD_SIGNED, GL_REPLACE };
+    for (int i = 1; i < 4; i++) {
+        snprintf(p.stages[i].texture, sizeof p.stages[i].texture, "%s", names[i - 1]);
+        p.stages[i].combine_rgb = fns[i - 1];
+        p.stages[i].rgb_scale = 1 << (i - 1);
+    }
+    p.stages[3].source_rgb[1] = GL_PREVIOUS; /* REPLACE reads one argument; 1 keeps the default */
+    char *text = NULL, err[256] = "";
+    if (ht_combiner_write(&p, &text, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    ht_combiner_program again;
+    if (ht_combiner_parse(text, "x.json", &again, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    assert_memory_equal(&p, &again, sizeof p);
+    free(text);
+}
+
+typedef struct mutation {
+    const char *path;     /* where to change the emitted program: "lut.scale" */
+    const char *json;     /* the new value (JSON), NULL removes the field */
+    const char *field;    /* what the error must name */
+} mutation;
+
+/* Finds "a.b[2].c" in root; returns the parent and the last key / index. */
+static cJSON *parent_of(cJSON *root, const char *path, char *key, int *index) {
+    cJSON *node = root, *parent = NULL;
+    char buf[128];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *tok = strtok(buf, "."); tok; tok = strtok(NULL, ".")) {
+        char *br = strchr(tok, '[');
+        *index = -1;
+        if (br) {
+            *br = '\0';
+            *index = atoi(br + 1);
+        }
+        parent = node;
+        strcpy(key, tok);
+        node = cJSON_GetObjectItemCaseSensitive(node, tok);
+        if (*index >= 0) {
+            parent = node;
+            node = cJSON_GetArrayItem(node, *index);
+        }
+        assert_non_null(node);
+    }
+    return parent;
+}
+
+static void test_malformed_program_errors_name_the_field(void **state) {
+    (void)state;
+    ht_plan plan = simple_plan(HT_MODEL_SCHEUERMANN, true);
+    ht_tier_output out;
+    ht_combiner_program p;
+    emit(&plan, &out, &p);
+    const mutation cases[] = {
+        { "format", "\"hairtier-combiner/2\"", "fixed.json: format:" },
+        { "model", "\"marschner\"", "fixed.json: model:" },
+        { "primary_color", "\"light0.colour\"", "fixed.json: primary_color:" },
+        { "dots", "[\"T.L\", \"T.H\"]", "fixed.json: dots:" },
+        { "shifts[1]", "1e300", "fixed.json: shifts[1]:" },
+        { "lut.scale", NULL, "fixed.json: lut.scale: missing" },
+        { "lut.scale", "3", "fixed.json: lut.scale:" },
+        { "lut.size[1]", "100", "fixed.json: lut.size[1]:" },
+        { "lut.size[2]", "64.5", "fixed.json: lut.size[2]:" },
+        { "lut.centres", "\"half-texel\"", "fixed.json: lut.centres:" },
+        { "stages", "[]", "fixed.json: stages:" },
+        { "stages[0].unit", "1", "fixed.json: stages[0].unit:" },
+        { "stages[0].coords", "\"uv\"", "fixed.json: stages[0].coords:" },
+        { "stages[0].target", "\"2d\"", "fixed.json: stages[0].target:" },
+        { "stages[0].wrap", "\"GL_CLAMP\"", "fixed.json: stages[0].wrap:" },
+        { "stages[1].combine_rgb", "\"GL_DOT3_RGB\"", "fixed.json: stages[1].combine_rgb:" },
+        { "stages[1].source_rgb[0]", "\"GL_TEXTURE0\"", "fixed.json: stages[1].source_rgb[0]:" },
+        { "stages[1].operand_rgb", "[\"GL_SRC_COLOR\"]", "fixed.json: stages[1].operand_rgb:" },
+        { "stages[1].operand_alpha[0]", "\"GL_SRC_COLOR\"", "fixed.json: stages[1].operand_alpha[0]:" },
+        { "stages[1].rgb_scale", "3", "fixed.json: stages[1].rgb_scale:" },
+        { "stages[1].constant[2]", "-0.5", "fixed.json: stages[1].constant[2]:" },
+        { "stages[1].texture", NULL, "fixed.json: stages[1].texture: missing" },
+        { "stages[1].coords", "\"cpu-dots\"", "fixed.json: stages[1].coords:" },
+        { "stages[1].colour", "1", "fixed.json: stages[1].colour: unknown field" },
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        cJSON *root = cJSON_Parse(out.texts[0].text);
+        char key[64];
+        int index = -1;
+        const bool adding = cases[k].json && strstr(cases[k].path, "colour");
+        cJSON *parent;
+        if (adding) {
+            parent = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "stages"), 1);
+            strcpy(key, "colour");
+            index = -1;
+        } else {
+            parent = parent_of(root, cases[k].path, key, &index);
+        }
+        cJSON *value = cases[k].json ? cJSON_Parse(cases[k].json) : NULL;
+        if (adding) cJSON_AddItemToObject(parent, key, value);
+        else if (!value) cJSON_DeleteItemFromObjectCaseSensitive(parent, key);
+        else if (index >= 0) cJSON_ReplaceItemInArray(parent, index, value);
+        else cJSON_ReplaceItemInObjectCaseSensitive(parent, key, value);
+        char *text = cJSON_Print(root);
+        cJSON_Delete(root);
+        ht_combiner_program q;
+        char err[512] = "";
+        ht_result r = ht_combiner_parse(text, "fixed.json", &q, err, sizeof err);
+        cJSON_free(text);
+        if (r != HT_ERR_PARSE || strncmp(err, cases[k].field, strlen(cases[k].field)) != 0)
+            fail_msg("%s = %s: got %d \"%s\", want \"%s...\"", cases[k].path,
+                     cases[k].json ? cases[k].json : "(removed)", r, err, cases[k].field);
+    }
+    /* broken JSON names its line */
+    char err[256] = "";
+    ht_combiner_program q;
+    assert_int_equal(ht_combiner_parse("{\n\"format\": \n", "fixed.json", &q, err, sizeof err), HT_ERR_PARSE);
+    assert_non_null(strstr(err, "fixed.json: line"));
+    assert_int_equal(ht_combiner_parse("[1]", "fixed.json", &q, err, sizeof err), HT_ERR_PARSE);
+    ht_tier_output_free(&out);
+}
+
+static void test_write_refuses_an_invalid_program(void **state) {
+    (void)state;
+    ht_plan plan = simple_plan(HT_MODEL_SCHEUERMANN, true);
+    ht_tier_output out;
+    ht_combiner_program p;
+    emit(&plan, &out, &p);
+    char *text = NULL, err[256] = "";
+    ht_combiner_program bad = p;
+    bad.stages[1].source_rgb[2] = GL_TEXTURE; /* unused by MODULATE, must stay GL's default */
+    assert_int_equal(ht_combiner_write(&bad, &text, err, sizeof err), HT_ERR_PARSE);
+    assert_null(text);
+    assert_non_null(strstr(err, "stages[1].source_rgb[2]"));
+    bad = p;
+    bad.stages[0].combine_rgb = GL_DOT3_RGB;
+    assert_int_equal(ht_combiner_validate(&bad, err, sizeof err), HT_ERR_PARSE);
+    assert_non_null(strstr(err, "stages[0].combine_rgb"));
+    ht_tier_output_free(&out);
+}
+
+static void test_emitter_is_deterministic(void **state) {
+    (void)state;
+    ht_plan plan;
+    plan_for_material("materials/dark-brown.json", &plan);
+    ht_tier_output a, b;
+    ht_combiner_program pa, pb;
+    emit(&plan, &a, &pa);
+    emit(&plan, &b, &pb);
+    assert_string_equal(a.texts[0].text, b.texts[0].text);
+    const ht_image *ia = &lut_of(&a)->image, *ib = &lut_of(&b)->image;
+    assert_int_equal(ia->width, ib->width);
+    assert_int_equal(ia->height, ib->height);
+    assert_memory_equal(ia->pixels, ib->pixels, (size_t)ia->width * ia->height * ia->channels);
+    ht_tier_output_free(&a);
+    ht_tier_output_free(&b);
+}
+
+static void test_no_albedo_gives_a_single_stage_that_restores_the_scale(void **state) {
+    (void)state;
+    ht_plan plan = simple_plan(HT_MODEL_SCHEUERMANN, false);
+    ht_tier_output out;
+    ht_combiner_program p;
+    emit(&plan, &out, &p);
+    assert_int_equal(p.stage_count, 1);
+    assert_int_equal(out.requires.texture_units, 1);
+    assert_int_equal(out.sampler_count, 0);
+    assert_int_equal(p.stages[0].rgb_scale, p.lut_scale);
+    for (int i = 0; i < out.requires.extension_count; i++)
+        assert_string_not_equal(out.requires.extensions[i], "GL_ARB_multitexture");
+    ht_tier_output_free(&out);
+
+    plan = simple_plan(HT_MODEL_SCHEUERMANN, true);
+    emit(&plan, &out, &p);
+    assert_int_equal(p.stage_count, 2);
+    assert_int_equal(out.requires.texture_units, 2);
+    assert_string_equal(p.stages[1].texture, "albedo");
+    assert_int_equal(out.samplers[0].unit, 1);
+    assert_int_equal(p.stages[0].rgb_scale, 1);
+    assert_int_equal(p.stages[1].rgb_scale, p.lut_scale);
+    ht_tier_output_free(&out);
+}
+
+static void test_kajiya_kay_lut_is_two_dimensional(void **state) {
+    (void)state;
+    ht_plan plan = simple_plan(HT_MODEL_KAJIYA_KAY, true);
+    ht_tier_output out;
+    ht_combiner_program p;
+    emit(&plan, &out, &p);
+    assert_int_equal(p.lut_size[2], 1);
+    assert_int_equal(p.stages[0].target, GL_TEXTURE_2D);
+    assert_int_equal(lut_of(&out)->depth, 1);
+    ht_tier_output_free(&out);
+}
+
+static void test_program_contains_no_glsl(void **state) {
+    (void)state;
+    ht_plan plan;
+    plan_for_material("materials/dark-brown.json", &plan);
+    ht_tier_output out;
+    ht_combiner_program p;
+    emit(&plan, &out, &p);
+    assert_string_equal(out.requires.glsl, "");
+    assert_int_equal(out.tier, HT_TIER_FIXED);
+    for (int i = 0; i < out.text_count; i++) {
+        const ht_out_text *t = &out.texts[i];
+        assert_int_equal(t->stage, HT_STAGE_NONE);
+        assert_int_equal(t->glsl_version, 0);
+        const char *glsl_marks[] = { "#version", "void main", "gl_", "uniform", "sampler", "vec3" };
+        for (size_t k = 0; k < sizeof glsl_marks / sizeof glsl_marks[0]; k++)
+            assert_null(strstr(t->text, glsl_marks[k]));
+        assert_string_equal(t->role, "program");
+        assert_string_equal(t->file, "fixed.json");
+    }
+    /* the dropped features are listed with a reason */
+    const char *dropped[] = { "shift", "sparkle", "light colour" };
+    for (size_t k = 0; k < sizeof dropped / sizeof dropped[0]; k++) {
+        bool found = false;
+        for (int i = 0; i < out.dropped_count; i++)
+            found = found || strncmp(out.dropped[i], dropped[k], strlen(dropped[k])) == 0;
+        if (!found) fail_msg("dropped list lacks %s", dropped[k]);
+    }
+    ht_tier_output_free(&out);
+}
+
+/* ---- the emulator ---- */
+
+static void test_emulator_follows_gl_combine_semantics(void **state) {
+    (void)state;
+    /* a 2x1 RGBA texture: texel 0 = (200, 0, 40, 255), texel 1 = (0, 100, 255, 0) */
+    ht_image img;
+    assert_int_equal(ht_image_alloc(&img, 2, 1, 4), HT_OK);
+    const uint8_t px[8] = { 200, 0, 40, 255, 0, 100, 255, 0 };
+    memcpy(img.pixels, px, sizeof px);
+    ht_image lut;
+    assert_int_equal(ht_image_alloc(&lut, 1, 1, 3), HT_OK);
+    memset(lut.pixels, 255, 3);
+
+    ht_combiner_program p;
+    memset(&p, 0, sizeof p);
+    snprintf(p.lut_texture, sizeof p.lut_texture, "fixed-lut");
+    p.lut_size[0] = p.lut_size[1] = p.lut_size[2] = 1;
+    p.lut_scale = 1;
+    p.stage_count = 2;
+    ht_combiner_stage_defaults(&p.stages[0], 0);
+    snprintf(p.stages[0].texture, sizeof p.stages[0].texture, "fixed-lut");
+    p.stages[0].coords = HT_COORDS_CPU_DOTS;
+    p.stages[0].wrap = GL_CLAMP_TO_EDGE;
+    p.stages[0].source_rgb[1] = GL_PRIMARY_COLOR; /* white LUT x primary */
+    ht_combiner_stage_defaults(&p.stages[1], 1);
+    snprintf(p.stages[1].texture, sizeof p.stages[1].texture, "tex");
+    ht_combiner_texture textures[2] = { { "fixed-lut", &lut, 1 }, { "tex", &img, 1 } };
+    char err[256];
+    float out[4];
+    const float primary[4] = { 0.8f, 0.5f, 0.25f, 0.6f };
+    ht_combiner_fragment f = { .primary = { 0.8f, 0.5f, 0.25f, 0.6f } };
+    const float t0[4] = { 200 / 255.0f, 0, 40 / 255.0f, 1 }, t1[4] = { 0, 100 / 255.0f, 1, 0 };
+
+    /* MODULATE x 4 clamps after scaling: 0.8 * 200/255 * 4 > 1 */
+    p.stages[1].rgb_scale = 4;
+    p.stages[1].wrap = GL_CLAMP_TO_EDGE;
+    f.uv[0] = 0.0f; /* clamp to edge: texel 0 alone */
+    assert_int_equal(ht_combiner_eval(&p, textures, 2, &f, out, err, sizeof err), HT_OK);
+    assert_float_equal(out[0], 1.0f, 1e-6);
+    assert_float_equal(out[1], 0.0f, 1e-6);
+    assert_float_equal(out[2], fminf(1.0f, 4 * primary[2] * t0[2]), 1e-6);
+    assert_float_equal(out[3], primary[3] * t0[3], 1e-6);
+
+    /* GL_REPEAT at s = 0 blends the last and the first texel half and half */
+    p.stages[1].rgb_scale = 1;
+    p.stages[1].wrap = GL_REPEAT;
+    assert_int_equal(ht_combiner_eval(&p, textures, 2, &f, out, err, sizeof err), HT_OK);
+    for (int i = 0; i < 3; i++) assert_float_equal(out[i], primary[i] * 0.5f * (t0[i] + t1[i]), 1e-6);
+
+    /* SUBTRACT clamps below 0; ADD_SIGNED subtracts 0.5 */
+    p.stages[1].combine_rgb = GL_SUBTRACT;
+    f.uv[0] = 0.75f; /* texel 1 alone */
+    assert_int_equal(ht_combiner_eval(&p, textures, 2, &f, out, err, sizeof err), HT_OK);
+    for (int i = 0; i < 3; i++) assert_float_equal(out[i], fmaxf(0.0f, t1[i] - primary[i]), 1e-6);
+    p.stages[1].combine_rgb = GL_ADD_SIGNED;
+    assert_int_equal(ht_combiner_eval(&p, textures, 2, &f, out, err, sizeof err), HT_OK);
+    for (int i = 0; i < 3; i++)
+        assert_float_equal(out[i], fminf(1.0f, fmaxf(0.0f, t1[i] + primary[i] - 0.5f)), 1e-6);
+
+    /* INTERPOLATE(CONSTANT, PREVIOUS, TEXTURE alpha), alpha REPLACE(1 - texture alpha) */
+    p.stages[1].combine_rgb = GL_INTERPOLATE;
+    p.stages[1].source_rgb[0] = GL_CONSTANT;
+    p.stages[1].source_rgb[2] = GL_TEXTURE;
+    p.stages[1].operand_rgb[2] = GL_SRC_ALPHA;
+    p.stages[1].constant[0] = 0.25f;
+    p.stages[1].combine_alpha = GL_REPLACE;
+    p.stages[1].operand_alpha[0] = GL_ONE_MINUS_SRC_ALPHA;
+    p.stages[1].source_alpha[1] = GL_PREVIOUS;
+    f.uv[0] = 0.25f; /* texel 0 alone, alpha 1: all constant */
+    assert_int_equal(ht_combiner_eval(&p, textures, 2, &f, out, err, sizeof err), HT_OK);
+    assert_float_equal(out[0], 0.25f, 1e-6);
+    assert_float_equal(out[1], 0.0f, 1e-6);
+    assert_float_equal(out[3], 0.0f, 1e-6);
+
+    /* a missing or mis-sized texture is an error, not a guess */
+    assert_int_equal(ht_combiner_eval(&p, textures, 1, &f, out, err, sizeof err), HT_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err, "stages[1].texture"));
+    p.lut_size[0] = 2;
+    assert_int_equal(ht_combiner_eval(&p, textures, 2, &f, out, err, sizeof err), HT_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err, "LUT image"));
+    ht_image_free(&img);
+    ht_image_free(&lut);
+}
+
+/* ---- the whole tier against the oracle ---- */
+
+typedef struct tier_error { double sum, max; long count; } tier_error;
+
+/* One point: CPU coordinates -> emulated combiners, against ht_model_shade_d
+   with the tier's rules (shift texture 0.5, sparkle 1, light 0 only), both
+   clamped to [0,1] as the framebuffer would. */
+static double point_error(const ht_combiner_program *p, const ht_shading *shading,
+                          const ht_out_image *lut, const ht_vertex *v, const ht_light *light,
+                          const float eye[3], const uint8_t base[4]) {
+    float coord[3], color[4];
+    char err[256];
+    if (ht_fixed_coords_compute(p, v, 1, light, 1, eye, coord, color, err, sizeof err) != HT_OK)
+        fail_msg("%s", err);
+    for (int i = 0; i < 3; i++) assert_true(isfinite(coord[i]) && coord[i] >= 0.0f && coord[i] <= 1.0f);
+    ht_image albedo = { 1, 1, 4, (uint8_t *)base };
+    ht_combiner_texture tex[2] = { { "fixed-lut", &lut->image, lut->depth }, { "albedo", &albedo, 1 } };
+    ht_combiner_fragment f;
+    memcpy(f.lut_coord, coord, sizeof coord);
+    f.uv[0] = f.uv[1] = 0.5f;
+    memcpy(f.primary, color, sizeof color);
+    float got[4];
+    if (ht_combiner_eval(p, tex, 2, &f, got, err, sizeof err) != HT_OK) fail_msg("%s", err);
+
+    ht_surface s;
+    ht_light_ray ray;
+    for (int i = 0; i < 3; i++) {
+        s.T[i] = v->tangent[i];
+        s.N[i] = v->normal[i];
+        s.V[i] = (double)eye[i] - v->position[i];
+        s.base[i] = base[i] / 255.0;
+        ray.L[i] = light->type == HT_LIGHT_POINT ? (double)light->vector[i] - v->position[i] : light->vector[i];
+        ray.color[i] = light->color[i];
+    }
+    s.shift_tex = 0.5;
+    s.sparkle = 1.0;
+    s.ao = v->ao;
+    double want[3];
+    ht_model_shade_d(shading, &s, &ray, 1, want);
+    double worst = 0.0;
+    for (int i = 0; i < 3; i++) {
+        double w = fmin(1.0, fmax(0.0, want[i]));
+        double e = fabs(got[i] - w);
+        if (e > worst) worst = e;
+    }
+    assert_float_equal(got[3], base[3] / 255.0f, 1e-6);
+    return worst;
+}
+
+static void test_whole_tier_emulated_on_cpu_tracks_the_oracle(void **state) {
+    (void)state;
+    ht_rng rng = ht_rng_seed(20240611);
+    tier_error all = { 0, 0, 0 };
+    for (int mi = 0; mi < 24; mi++) {
+        const bool kk = mi % 4 == 3;
+        ht_plan plan = simple_plan(kk ? HT_MODEL_KAJIYA_KAY : HT_MODEL_SCHEUERMANN, true);
+        ht_shading *m = &plan.shading;
+        random_color(&rng, m->diffuse_color);
+        random_color(&rng, m->primary.color);
+        if (!kk) random_color(&rng, m->secondary.color);
+        m->wrap = ht_rng_unit(&rng);
+        m->primary.exponent = ht_rng_range(&rng, 0.0, 100.0);
+        m->secondary.exponent = ht_rng_range(&rng, 0.0, 100.0);
+        m->primary.shift = kk ? 0.0 : ht_rng_range(&rng, -0.3, 0.3);
+        m->secondary.shift = kk ? 0.0 : ht_rng_range(&rng, -0.3, 0.3);
+        plan.light_types[0] = mi % 3 == 1 ? HT_LIGHT_POINT : HT_LIGHT_DIRECTIONAL;
+        ht_tier_output out;
+        ht_combiner_program p;
+        emit(&plan, &out, &p);
+        const ht_out_image *lut = lut_of(&out);
+        for (int si = 0; si < 200; si++) {
+            ht_vertex v;
+            memset(&v, 0, sizeof v);
+            for (int i = 0; i < 3; i++) v.position[i] = (float)ht_rng_range(&rng, -1.0, 1.0);
+            random_unit(&rng, v.tangent);
+            random_unit(&rng, v.normal);
+            v.ao = (float)ht_rng_unit(&rng);
+            ht_light light = { .type = plan.light_types[0] };
+            if (light.type == HT_LIGHT_POINT) {
+                random_unit(&rng, light.vector);
+                for (int i = 0; i < 3; i++) light.vector[i] *= 3.0f;
+            } else {
+                random_unit(&rng, light.vector);
+            }
+            for (int i = 0; i < 3; i++) light.color[i] = (float)ht_rng_unit(&rng);
+            float eye[3];
+            random_unit(&rng, eye);
+            for (int i = 0; i < 3; i++) eye[i] *= 4.0f;
+            uint8_t base[4];
+            for (int i = 0; i < 4; i++) base[i] = (uint8_t)(ht_rng_next(&rng) & 0xFF);
+            double e = point_error(&p, m, lut, &v, &light, eye, base);
+            all.sum += e;
+            all.count++;
+            if (e > all.max) all.max = e;
+        }
+        ht_tier_output_free(&out);
+    }
+    double mean = all.sum / all.count;
+    print_message("fixed tier vs oracle over %ld points: mean %.5f, max %.5f\n", all.count, mean, all.max);
+    /* Measured (this seed, 4800 points): see TIER_MAX / TIER_MEAN. */
+    assert_true(all.max <= TIER_MAX);
+    assert_true(mean <= TIER_MEAN);
+}
+
+static void test_degenerate_vertices_give_the_models_answer(void **state) {
+    (void)state;
+    ht_plan plans[2] = { simple_plan(HT_MODEL_SCHEUERMANN, true), simple_plan(HT_MODEL_KAJIYA_KAY, true) };
+    const uint8_t base[4] = { 255, 200, 100, 255 };
+    for (int k = 0; k < 2; k++) {
+        ht_tier_output out;
+        ht_combiner_program p;
+        emit(&plans[k], &out, &p);
+        const ht_out_image *lut = lut_of(&out);
+        const float eye[3] = { 0, 0, 4 };
+        ht_light dir = { HT_LIGHT_DIRECTIONAL, { 0, 0, -1 }, { 1, 1, 1 } }; /* L = -V: H has no direction */
+        ht_vertex v = { { 0, 0, 0 }, { 0, 1, 0 }, { 1, 0, 0 }, { 0, 0 }, 1 };
+        assert_true(point_error(&p, &plans[k].shading, lut, &v, &dir, eye, base) <= TIER_MAX);
+        ht_vertex zero_t = { { 0, 0, 0 }, { 0, 1, 0 }, { 0, 0, 0 }, { 0, 0 }, 1 };
+        ht_light up = { HT_LIGHT_DIRECTIONAL, { 0, 1, 0 }, { 1, 1, 1 } };
+        assert_true(point_error(&p, &plans[k].shading, lut, &zero_t, &up, eye, base) <= TIER_MAX);
+        ht_vertex zero_n = { { 0, 0, 0 }, { 0, 0, 0 }, { 1, 0, 0 }, { 0, 0 }, 0.5f };
+        assert_true(point_error(&p, &plans[k].shading, lut, &zero_n, &up, eye, base) <= TIER_MAX);
+        ht_light at_vertex = { HT_LIGHT_POINT, { 0, 0, 0 }, { 1, 1, 1 } };
+        assert_true(point_error(&p, &plans[k].shading, lut, &v, &at_vertex, eye, base) <= TIER_MAX);
+        ht_vertex parallel = { { 0, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 0, 0 }, 1 }; /* T = L */
+        ht_light along = { HT_LIGHT_DIRECTIONAL, { 0, 0, 1 }, { 1, 1, 1 } };
+        assert_true(point_error(&p, &plans[k].shading, lut, &parallel, &along, eye, base) <= TIER_MAX);
+        ht_tier_output_free(&out);
+    }
+    /* no light: unlit, alpha 1 */
+    ht_combiner_program p;
+    ht_tier_output out;
+    ht_plan plan = simple_plan(HT_MODEL_SCHEUERMANN, true);
+    emit(&plan, &out, &p);
+    ht_vertex v = { { 0, 0, 0 }, { 0, 1, 0 }, { 1, 0, 0 }, { 0, 0 }, 1 };
+    float coord[3], color[4];
+    const float eye[3] = { 0, 0, 4 };
+    char err[128];
+    assert_int_equal(ht_fixed_coords_compute(&p, &v, 1, NULL, 0, eye, coord, color, err, sizeof err), HT_OK);
+    assert_true(color[0] == 0.0f && color[1] == 0.0f && color[2] == 0.0f && color[3] == 1.0f);
+    assert_int_equal(ht_fixed_coords_compute(&p, &v, 1, NULL, 0, eye, NULL, color, err, sizeof err),
+                     HT_ERR_INVALID_ARGUMENT);
+    /* a bright light clamps to 1 in the primary colour */
+    ht_light bright = { HT_LIGHT_DIRECTIONAL, { 0, 1, 0 }, { 4, 0.5f, 2 } };
+    assert_int_equal(ht_fixed_coords_compute(&p, &v, 1, &bright, 1, eye, coord, color, err, sizeof err), HT_OK);
+    assert_float_equal(color[0], 1.0f, 0);
+    assert_float_equal(color[1], 0.5f, 0);
+    ht_tier_output_free(&out);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_lut_mapping_puts_first_and_last_texel_centres_on_plus_minus_one),
+        cmocka_unit_test(test_lut_texels_equal_dot_terms_at_texel_centres),
+        cmocka_unit_test(test_highlight_axis_grows_with_exponent_and_resolves_the_lobe),
+        cmocka_unit_test(test_dark_brown_and_narrow_highlight_sizes),
+        cmocka_unit_test(test_clamped_axis_is_listed_as_dropped),
+        cmocka_unit_test(test_narrow_highlight_keeps_its_peak_at_zero),
+        cmocka_unit_test(test_program_round_trips_through_json),
+        cmocka_unit_test(test_malformed_program_errors_name_the_field),
+        cmocka_unit_test(test_write_refuses_an_invalid_program),
+        cmocka_unit_test(test_emitter_is_deterministic),
+        cmocka_unit_test(test_no_albedo_gives_a_single_stage_that_restores_the_scale),
+        cmocka_unit_test(test_kajiya_kay_lut_is_two_dimensional),
+        cmocka_unit_test(test_program_contains_no_glsl),
+        cmocka_unit_test(test_emulator_follows_gl_combine_semantics),
+        cmocka_unit_test(test_whole_tier_emulated_on_cpu_tracks_the_oracle),
+        cmocka_unit_test(test_degenerate_vertices_give_the_models_answer),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
