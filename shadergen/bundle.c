@@ -51,10 +51,17 @@ static ht_result hash_file(input_hash *h, const char *path, char *err, size_t er
     return HT_OK;
 }
 
+/* dir/name into path; false when it does not fit. */
+static bool join_path(char *path, size_t size, const char *dir, const char *name) {
+    int n = snprintf(path, size, "%s/%s", dir, name);
+    return n >= 0 && (size_t)n < size;
+}
+
 static ht_result write_file(const char *dir, const char *name, const char *text,
                             char *err, size_t err_size) {
     char path[4096];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
+    if (!join_path(path, sizeof path, dir, name))
+        return fail(err, err_size, HT_ERR_IO, "%s: path too long", dir);
     FILE *f = fopen(path, "wb");
     if (!f) return fail(err, err_size, HT_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
     size_t len = strlen(text);
@@ -72,8 +79,7 @@ static void remove_tree(const char *dir) {
         char path[4096];
         while ((e = readdir(d)) != NULL) {
             if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
-            snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-            unlink(path);
+            if (join_path(path, sizeof path, dir, e->d_name)) unlink(path);
         }
         closedir(d);
     }
@@ -212,15 +218,17 @@ static ht_result write_bundle(const char *tmp, const ht_plan *plan, const ht_mat
     const char *packed_names[2] = { "albedo.png", "detail.png" };
     for (int i = 0; i < 2 && r == HT_OK; i++) {
         if (!packed[i]->pixels) continue;
-        snprintf(path, sizeof path, "%s/%s", tmp, packed_names[i]);
-        r = ht_image_write_png(path, packed[i], err, err_size);
+        r = join_path(path, sizeof path, tmp, packed_names[i])
+                ? ht_image_write_png(path, packed[i], err, err_size)
+                : fail(err, err_size, HT_ERR_IO, "%s: path too long", tmp);
     }
     for (int t = 0; t < tier_count && r == HT_OK; t++) {
         for (int i = 0; i < tiers[t].text_count && r == HT_OK; i++)
             r = write_file(tmp, tiers[t].texts[i].file, tiers[t].texts[i].text, err, err_size);
         for (int i = 0; i < tiers[t].image_count && r == HT_OK; i++) {
-            snprintf(path, sizeof path, "%s/%s", tmp, tiers[t].images[i].file);
-            r = ht_image_write_png(path, &tiers[t].images[i].image, err, err_size);
+            r = join_path(path, sizeof path, tmp, tiers[t].images[i].file)
+                    ? ht_image_write_png(path, &tiers[t].images[i].image, err, err_size)
+                    : fail(err, err_size, HT_ERR_IO, "%s: path too long", tmp);
         }
     }
     if (r != HT_OK) return r;
@@ -266,8 +274,8 @@ ht_result ht_bundle_generate(const char *material_path, const char *scene_path,
 
     char tmp[4096] = "";
     if (r == HT_OK) {
-        snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", out_dir);
-        if (!mkdtemp(tmp)) {
+        int n = snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", out_dir);
+        if (n < 0 || (size_t)n >= sizeof tmp || !mkdtemp(tmp)) {
             r = fail(err, err_size, HT_ERR_IO, "%s: cannot create a temporary directory beside it: %s",
                      out_dir, strerror(errno));
             tmp[0] = '\0';
