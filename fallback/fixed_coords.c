@@ -78,10 +78,11 @@ ht_result ht_fixed_coords_compute(const ht_combiner_program *p, const ht_vertex 
             d[1] = has_t && has_h ? clamp_unit(dot3(T, H)) : -1.0;
             d[2] = 0.0;
         } else {
-            /* the model shifts the normalized T along the normalized N */
+            /* the model shifts the normalized T along the normalized N; a
+               zero T stays without direction after the shift (model.c) */
             d[0] = clamp_unit(dot3(N, L));
-            d[1] = shifted_dot(T, N, p->shift[0], H, has_h);
-            d[2] = shifted_dot(T, N, p->shift[1], H, has_h);
+            d[1] = shifted_dot(T, N, p->shift[0], H, has_t && has_h);
+            d[2] = shifted_dot(T, N, p->shift[1], H, has_t && has_h);
         }
         for (int i = 0; i < 3; i++) lut_coords[3 * vi + i] = ht_combiner_lut_coord(d[i], p->lut_size[i]);
 

@@ -106,6 +106,11 @@ ht_result ht_caps_probe(ht_getproc_fn getproc, ht_caps *out) {
         gl.GetIntegerv(GL_MAX_TEXTURE_UNITS, &units);
         out->texture_units = units > 1 ? units : 1;
     }
+    if (out->has_3d_textures) {
+        GLint size = 0;
+        gl.GetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &size);
+        out->max_3d_texture_size = size > 0 ? size : 0;
+    }
     if (out->has_shaders) {
         /* GL 2.0 guarantees GLSL 1.10; some drivers leave the string out. */
         const char *sl = (const char *)gl.GetString(GL_SHADING_LANGUAGE_VERSION);
@@ -137,6 +142,8 @@ void ht_caps_apply_profile(ht_caps *c, const ht_device_profile *p) {
         c->glsl_minor = p->glsl_minor;
     }
     if (p->texture_units > 0 && c->texture_units > p->texture_units) c->texture_units = p->texture_units;
+    if (p->max_3d_texture_size > 0 && c->max_3d_texture_size > p->max_3d_texture_size)
+        c->max_3d_texture_size = p->max_3d_texture_size;
     if (p->hide_extensions) {
         char kept[HT_CAPS_EXTENSIONS_SIZE];
         kept[0] = '\0';
@@ -177,4 +184,5 @@ void ht_caps_apply_profile(ht_caps *c, const ht_device_profile *p) {
     if (ht_extension_list_has(h, "GL_ARB_fragment_shader")) c->has_fragment_shaders = false;
     if (!c->has_shaders) c->glsl_major = c->glsl_minor = 0;
     if (!c->has_multitexture) c->texture_units = 1;
+    if (!c->has_3d_textures) c->max_3d_texture_size = 0;
 }

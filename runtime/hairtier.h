@@ -174,6 +174,7 @@ typedef struct ht_caps {
     bool has_multitexture;        /* GL 1.3 or ARB_multitexture, entry points loaded */
     bool has_vertex_shaders;      /* GLSL vertex stage (has_shaders, unless a profile hides it) */
     bool has_fragment_shaders;    /* GLSL fragment stage */
+    int max_3d_texture_size;      /* GL_MAX_3D_TEXTURE_SIZE; 0 without 3D textures */
     char extensions[HT_CAPS_EXTENSIONS_SIZE]; /* space-separated; truncated at a name boundary */
 } ht_caps;
 
@@ -189,6 +190,7 @@ typedef struct ht_device_profile {
     int gl_major, gl_minor;       /* 0.0 → no cap */
     int glsl_major, glsl_minor;   /* 0.0 → no cap; GLSL 1.10 is {1, 10} */
     int texture_units;            /* 0 → no cap */
+    int max_3d_texture_size;      /* 0 → no cap; GL 1.2 promises only 16 */
     const char *hide_extensions;  /* NULL → none; space-separated names the runtime must not use */
     bool no_fragment_shaders;     /* false; true models a vertex-shader-only device */
     bool no_shaders;              /* false */

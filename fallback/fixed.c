@@ -1,0 +1,397 @@
+/* fixed.c — the `fixed` tier's backend: a GL 1.3 texture-combiner program
+   (fixed.json, combiner.h) applied as data, over a lookup texture of the
+   model's dot products (Heidrich-Seidel). No shader object anywhere: only
+   glTexEnv, textures and client arrays.
+
+   Per frame: the LUT coordinates and primary colours are computed per
+   vertex on the CPU (fixed_coords.h) for the frame's lights and eye. Per
+   pass: every stage of the program is set up on its unit (bind_pass); the
+   prime-Z pass enables only the stages its alpha depends on (the albedo's
+   alpha; no LUT), since its colour writes are off. Per draw: stages read
+   their texture coordinates from the CPU arrays ("cpu-dots") or the vertex
+   uv ("uv"), the colour array is the primary colour; the renderer then
+   draws with its index buffer over its range, so passes, state and draw
+   ranges stay those of every other tier. end_frame puts GL's initial
+   texture-environment state back on every unit it touched. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "combiner.h"
+#include "fixed.h"
+#include "fixed_coords.h"
+#include "image.h"
+
+typedef struct fixed_state {
+    const ht_gl *gl;
+    const ht_caps *caps;
+    ht_combiner_program program;
+    GLuint textures[HT_COMBINER_MAX_STAGES];  /* per stage */
+    int prime_first;                          /* first stage the prime-Z pass enables */
+    ht_vertex *vertices;                      /* copy of the mesh's, for coords and uv */
+    uint32_t vertex_count;
+    float *coords;                            /* 3 per vertex: LUT texcoords */
+    float *colors;                            /* 4 per vertex: primary colour */
+    ht_log_fn log;
+    void *log_user;
+} fixed_state;
+
+/* ---- creation ---- */
+
+static int alpha_argument_count(GLenum fn) {
+    switch (fn) {
+    case GL_REPLACE: return 1;
+    case GL_INTERPOLATE: return 3;
+    default: return 2;
+    }
+}
+
+static bool alpha_reads(const ht_combiner_stage *s, GLenum source) {
+    for (int a = 0; a < alpha_argument_count(s->combine_alpha); a++)
+        if (s->source_alpha[a] == source) return true;
+    return false;
+}
+
+/* The prime-Z pass writes no colour: only the stages the final alpha
+   depends on are needed. They are a suffix of the program (a stage not
+   reading PREVIOUS alpha cuts off everything before it); its first stage
+   is dropped too when it merely forwards the primary alpha, which a
+   disabled unit does by itself. */
+static int prime_first_stage(const ht_combiner_program *p) {
+    int first = p->stage_count - 1;
+    while (first > 0 && alpha_reads(&p->stages[first], GL_PREVIOUS)) first--;
+    const ht_combiner_stage *s = &p->stages[first];
+    bool forwards_primary = s->combine_alpha == GL_REPLACE && s->operand_alpha[0] == GL_SRC_ALPHA &&
+                            s->alpha_scale == 1 &&
+                            (s->source_alpha[0] == GL_PRIMARY_COLOR || s->source_alpha[0] == GL_PREVIOUS);
+    return forwards_primary ? first + 1 : first;
+}
+
+static void destroy(void *state) {
+    fixed_state *s = state;
+    if (!s) return;
+    for (int i = 0; i < HT_COMBINER_MAX_STAGES; i++)
+        if (s->textures[i]) s->gl->DeleteTextures(1, &s->textures[i]);
+    free(s->vertices);
+    free(s->coords);
+    free(s->colors);
+    free(s);
+}
+
+static ht_result load_program(fixed_state *s, const ht_tier_context *ctx, char *path, size_t path_size,
+                              char *err, size_t err_size) {
+    const ht_bundle *b = ctx->bundle;
+    const char *file = ht_bundle_tier_file(ctx->tier, "program");
+    if (!file) {
+        snprintf(err, err_size, "%s/manifest.json: tiers.%s.files: needs \"program\"", b->dir, ctx->tier->name);
+        return HT_ERR_PARSE;
+    }
+    if (!ht_bundle_path(b, file, path, path_size)) {
+        snprintf(err, err_size, "%s: path too long", file);
+        return HT_ERR_IO;
+    }
+    char *text = ht_bundle_read_text(b, file, err, err_size);
+    if (!text) return HT_ERR_IO;
+    ht_result r = ht_combiner_parse(text, path, &s->program, err, err_size);
+    free(text);
+    return r;
+}
+
+/* What the device must offer for this program: refused with one line. */
+static ht_result check_device(const fixed_state *s, const ht_tier_context *ctx, const char *path,
+                              char *err, size_t err_size) {
+    const ht_combiner_program *p = &s->program;
+    const ht_caps *c = ctx->caps;
+    const ht_gl *gl = ctx->gl;
+    if (!c->has_combine) {
+        snprintf(err, err_size, "needs GL_ARB_texture_env_combine");
+        return HT_ERR_UNSUPPORTED;
+    }
+    if (p->stage_count > c->texture_units) {
+        snprintf(err, err_size, "%s: %d stages need %d texture units, have %d", path, p->stage_count,
+                 p->stage_count, c->texture_units);
+        return HT_ERR_UNSUPPORTED;
+    }
+    if (p->stage_count > 1 && (!gl->ActiveTexture || !gl->ClientActiveTexture)) {
+        snprintf(err, err_size, "needs GL_ARB_multitexture for %d stages", p->stage_count);
+        return HT_ERR_UNSUPPORTED;
+    }
+    const int *n = p->lut_size;
+    int largest = n[0] > n[1] ? n[0] : n[1];
+    if (n[2] > largest) largest = n[2];
+    for (int i = 0; i < p->stage_count; i++) {
+        if (p->stages[i].target != GL_TEXTURE_3D) continue;
+        if (!c->has_3d_textures || !gl->TexImage3D) {
+            snprintf(err, err_size, "LUT %dx%dx%d needs 3D textures (GL 1.2), have none", n[0], n[1], n[2]);
+            return HT_ERR_UNSUPPORTED;
+        }
+        if (largest > c->max_3d_texture_size) {
+            snprintf(err, err_size, "LUT %dx%dx%d needs GL_MAX_3D_TEXTURE_SIZE %d, have %d", n[0], n[1], n[2],
+                     largest, c->max_3d_texture_size);
+            return HT_ERR_UNSUPPORTED;
+        }
+    }
+    return HT_OK;
+}
+
+/* Reads a stage's texture and checks it against the manifest (and, for the
+   LUT, against the program): the image is width x (height * depth). */
+static ht_result read_stage_image(const fixed_state *s, const ht_tier_context *ctx, int stage,
+                                  ht_image *img, int *depth, char *path, size_t path_size,
+                                  char *err, size_t err_size) {
+    const ht_bundle *b = ctx->bundle;
+    const ht_combiner_stage *st = &s->program.stages[stage];
+    const ht_bundle_texture *t = ht_bundle_find_texture(b, ctx->tier, st->texture);
+    if (!t) {
+        snprintf(err, err_size, "%s/manifest.json: tiers.%s.textures: \"%s\" (stages[%d] of the program) is "
+                 "not listed", b->dir, ctx->tier->name, st->texture, stage);
+        return HT_ERR_PARSE;
+    }
+    if (!ht_bundle_path(b, t->file, path, path_size)) {
+        snprintf(err, err_size, "%s: path too long", t->file);
+        return HT_ERR_IO;
+    }
+    const bool is_lut = strcmp(st->texture, s->program.lut_texture) == 0;
+    const int *n = s->program.lut_size;
+    if (is_lut && (t->width != n[0] || t->height != n[1] || t->depth != n[2])) {
+        snprintf(err, err_size, "%s/manifest.json: textures.%s: %dx%dx%d, the program says %dx%dx%d", b->dir,
+                 t->name, t->width, t->height, t->depth, n[0], n[1], n[2]);
+        return HT_ERR_PARSE;
+    }
+    if ((st->target == GL_TEXTURE_2D) != (t->depth == 1)) {
+        snprintf(err, err_size, "%s/manifest.json: textures.%s.depth: %d, stages[%d] samples a %s texture", b->dir,
+                 t->name, t->depth, stage, st->target == GL_TEXTURE_2D ? "2D" : "3D");
+        return HT_ERR_PARSE;
+    }
+    ht_result r = ht_image_read_png(path, img, err, err_size);
+    if (r != HT_OK) return r;
+    if (img->width != t->width || img->height != t->height * t->depth) {
+        snprintf(err, err_size, "%s: %dx%d, manifest says %dx%d (%d slices of %d rows)", path, img->width,
+                 img->height, t->width, t->height * t->depth, t->depth, t->height);
+        ht_image_free(img);
+        return HT_ERR_PARSE;
+    }
+    *depth = t->depth;
+    return HT_OK;
+}
+
+static ht_result upload_stage(fixed_state *s, const ht_tier_context *ctx, int stage, char *err, size_t err_size) {
+    const ht_gl *gl = s->gl;
+    const ht_combiner_stage *st = &s->program.stages[stage];
+    char path[1200];
+    ht_image img = { 0 };
+    int depth = 1;
+    ht_result r = read_stage_image(s, ctx, stage, &img, &depth, path, sizeof path, err, err_size);
+    if (r != HT_OK) return r;
+    static const GLenum formats[5] = { 0, GL_LUMINANCE, GL_LUMINANCE_ALPHA, GL_RGB, GL_RGBA };
+    static const GLint sized[5] = { 0, GL_LUMINANCE8, GL_LUMINANCE8_ALPHA8, GL_RGB8, GL_RGBA8 };
+    int ch = img.channels >= 1 && img.channels <= 4 ? img.channels : 4;
+    while (gl->GetError() != GL_NO_ERROR) {}
+    gl->GenTextures(1, &s->textures[stage]);
+    gl->BindTexture(st->target, s->textures[stage]);
+    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    /* Slices stacked vertically are exactly glTexImage3D's layout: image z
+       starts at row z * height. */
+    if (st->target == GL_TEXTURE_3D)
+        gl->TexImage3D(GL_TEXTURE_3D, 0, sized[ch], img.width, img.height / depth, depth, 0, formats[ch],
+                       GL_UNSIGNED_BYTE, img.pixels);
+    else
+        gl->TexImage2D(GL_TEXTURE_2D, 0, sized[ch], img.width, img.height, 0, formats[ch], GL_UNSIGNED_BYTE,
+                       img.pixels);
+    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    /* No mipmaps: the LUT is indexed, not minified; albedo as the GLSL tiers. */
+    gl->TexParameteri(st->target, GL_TEXTURE_MIN_FILTER, (GLint)st->filter);
+    gl->TexParameteri(st->target, GL_TEXTURE_MAG_FILTER, (GLint)st->filter);
+    gl->TexParameteri(st->target, GL_TEXTURE_WRAP_S, (GLint)st->wrap);
+    gl->TexParameteri(st->target, GL_TEXTURE_WRAP_T, (GLint)st->wrap);
+    if (st->target == GL_TEXTURE_3D) gl->TexParameteri(st->target, GL_TEXTURE_WRAP_R, (GLint)st->wrap);
+    gl->BindTexture(st->target, 0);
+    ht_image_free(&img);
+    GLenum e = gl->GetError();
+    if (e != GL_NO_ERROR) {
+        snprintf(err, err_size, "%s: %s: GL error 0x%04x", path,
+                 st->target == GL_TEXTURE_3D ? "glTexImage3D" : "glTexImage2D", e);
+        return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
+    }
+    return HT_OK;
+}
+
+static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_t err_size) {
+    *out = NULL;
+    fixed_state *s = calloc(1, sizeof *s);
+    if (!s) return HT_ERR_OUT_OF_MEMORY;
+    s->gl = ctx->gl;
+    s->caps = ctx->caps;
+    s->log = ctx->log;
+    s->log_user = ctx->log_user;
+    char path[1200];
+    ht_result r = load_program(s, ctx, path, sizeof path, err, err_size);
+    if (r == HT_OK) r = check_device(s, ctx, path, err, err_size);
+    for (int i = 0; r == HT_OK && i < s->program.stage_count; i++) r = upload_stage(s, ctx, i, err, err_size);
+    if (r != HT_OK) {
+        destroy(s);
+        return r;
+    }
+    s->prime_first = prime_first_stage(&s->program);
+    const int *n = s->program.lut_size;
+    char line[256];
+    snprintf(line, sizeof line, "hairtier: fixed: %d combiner stages, LUT %dx%dx%d scale %d, prime Z uses "
+             "stages %d..%d", s->program.stage_count, n[0], n[1], n[2], s->program.lut_scale, s->prime_first,
+             s->program.stage_count - 1);
+    s->log(s->log_user, line);
+    *out = s;
+    return HT_OK;
+}
+
+/* ---- per mesh, per frame ---- */
+
+static ht_result set_mesh(void *state, const ht_mesh *mesh) {
+    fixed_state *s = state;
+    size_t n = mesh->vertex_count;
+    ht_vertex *v = malloc(n ? n * sizeof *v : 1);
+    float *coords = malloc(n ? n * 3 * sizeof *coords : 1);
+    float *colors = malloc(n ? n * 4 * sizeof *colors : 1);
+    if (!v || !coords || !colors) {
+        free(v);
+        free(coords);
+        free(colors);
+        return HT_ERR_OUT_OF_MEMORY;
+    }
+    if (n) memcpy(v, mesh->vertices, n * sizeof *v);
+    free(s->vertices);
+    free(s->coords);
+    free(s->colors);
+    s->vertices = v;
+    s->coords = coords;
+    s->colors = colors;
+    s->vertex_count = mesh->vertex_count;
+    /* Until the first frame: unlit, inside the LUT. */
+    for (size_t i = 0; i < 3 * n; i++) coords[i] = 0.5f;
+    for (size_t i = 0; i < 4 * n; i++) colors[i] = (i % 4 == 3) ? 1.0f : 0.0f;
+    return HT_OK;
+}
+
+static void begin_frame(void *state, const ht_tier_frame *f) {
+    fixed_state *s = state;
+    char err[256];
+    if (s->vertices &&
+        ht_fixed_coords_compute(&s->program, s->vertices, s->vertex_count, f->lights, f->light_count, f->eye,
+                                s->coords, s->colors, err, sizeof err) != HT_OK) {
+        char line[300];
+        snprintf(line, sizeof line, "hairtier: fixed: %s", err);
+        s->log(s->log_user, line);
+    }
+}
+
+static void active_unit(const fixed_state *s, int unit) {
+    if (s->gl->ActiveTexture) s->gl->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+}
+
+/* One stage's texture environment, exactly as the program states it. */
+static void apply_env(const ht_gl *gl, const ht_combiner_stage *st) {
+    static const GLenum src_rgb[3] = { GL_SOURCE0_RGB, GL_SOURCE1_RGB, GL_SOURCE2_RGB };
+    static const GLenum op_rgb[3] = { GL_OPERAND0_RGB, GL_OPERAND1_RGB, GL_OPERAND2_RGB };
+    static const GLenum src_alpha[3] = { GL_SOURCE0_ALPHA, GL_SOURCE1_ALPHA, GL_SOURCE2_ALPHA };
+    static const GLenum op_alpha[3] = { GL_OPERAND0_ALPHA, GL_OPERAND1_ALPHA, GL_OPERAND2_ALPHA };
+    gl->TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, (GLint)st->combine_rgb);
+    gl->TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, (GLint)st->combine_alpha);
+    for (int a = 0; a < 3; a++) {
+        gl->TexEnvi(GL_TEXTURE_ENV, src_rgb[a], (GLint)st->source_rgb[a]);
+        gl->TexEnvi(GL_TEXTURE_ENV, op_rgb[a], (GLint)st->operand_rgb[a]);
+        gl->TexEnvi(GL_TEXTURE_ENV, src_alpha[a], (GLint)st->source_alpha[a]);
+        gl->TexEnvi(GL_TEXTURE_ENV, op_alpha[a], (GLint)st->operand_alpha[a]);
+    }
+    gl->TexEnvf(GL_TEXTURE_ENV, GL_RGB_SCALE, (GLfloat)st->rgb_scale);
+    gl->TexEnvf(GL_TEXTURE_ENV, GL_ALPHA_SCALE, (GLfloat)st->alpha_scale);
+    gl->TexEnvfv(GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, st->constant);
+}
+
+static void disable_targets(const fixed_state *s) {
+    s->gl->Disable(GL_TEXTURE_2D);
+    if (s->caps->has_3d_textures) s->gl->Disable(GL_TEXTURE_3D);
+}
+
+static void bind_pass(void *state, ht_pass pass, int sub_pass) {
+    (void)sub_pass;
+    fixed_state *s = state;
+    const ht_gl *gl = s->gl;
+    const int first = pass == HT_PASS_PRIME_Z ? s->prime_first : 0;
+    for (int i = 0; i < s->program.stage_count; i++) {
+        const ht_combiner_stage *st = &s->program.stages[i];
+        active_unit(s, st->unit);
+        disable_targets(s);
+        if (i < first) continue;
+        gl->BindTexture(st->target, s->textures[i]);
+        gl->Enable(st->target);
+        gl->TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
+        apply_env(gl, st);
+    }
+    active_unit(s, 0);
+}
+
+/* Points each stage's texture coordinates and the colour array at the
+   CPU data, then lets the renderer draw its own index range. Client
+   pointers are taken with no array buffer bound (the renderer's VBO holds
+   only its own vertex and normal arrays). */
+static bool draw(void *state, ht_pass pass, int sub_pass, uint32_t first_index, uint32_t index_count) {
+    (void)pass;
+    (void)sub_pass;
+    (void)first_index;
+    (void)index_count;
+    fixed_state *s = state;
+    const ht_gl *gl = s->gl;
+    if (!s->vertices) return false;
+    GLint bound = 0;
+    if (gl->BindBuffer) {
+        gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
+        gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    }
+    const GLsizei stride = (GLsizei)sizeof(ht_vertex);
+    for (int i = 0; i < s->program.stage_count; i++) {
+        const ht_combiner_stage *st = &s->program.stages[i];
+        if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)st->unit);
+        gl->EnableClientState(GL_TEXTURE_COORD_ARRAY);
+        if (st->coords == HT_COORDS_CPU_DOTS)
+            gl->TexCoordPointer(3, GL_FLOAT, 0, s->coords);
+        else
+            gl->TexCoordPointer(2, GL_FLOAT, stride, (const char *)s->vertices + offsetof(ht_vertex, uv));
+    }
+    if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0);
+    gl->EnableClientState(GL_COLOR_ARRAY);
+    gl->ColorPointer(4, GL_FLOAT, 0, s->colors);
+    if (gl->BindBuffer) gl->BindBuffer(GL_ARRAY_BUFFER, (GLuint)bound);
+    return false;
+}
+
+static void end_frame(void *state) {
+    fixed_state *s = state;
+    const ht_gl *gl = s->gl;
+    ht_combiner_stage initial;
+    for (int i = s->program.stage_count - 1; i >= 0; i--) {
+        const ht_combiner_stage *st = &s->program.stages[i];
+        ht_combiner_stage_defaults(&initial, st->unit);
+        active_unit(s, st->unit);
+        apply_env(gl, &initial);
+        gl->TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+        gl->BindTexture(st->target, 0);
+        disable_targets(s);
+        if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)st->unit);
+        gl->DisableClientState(GL_TEXTURE_COORD_ARRAY);
+    }
+    active_unit(s, 0);
+    if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0);
+    gl->DisableClientState(GL_COLOR_ARRAY);
+    /* The colour array leaves the current colour undefined: back to GL's initial white. */
+    gl->Color4f(1, 1, 1, 1);
+}
+
+const ht_tier_backend ht_tier_fixed_backend = {
+    .tier = HT_TIER_FIXED,
+    .create = create,
+    .set_mesh = set_mesh,
+    .begin_frame = begin_frame,
+    .bind_pass = bind_pass,
+    .draw = draw,
+    .end_frame = end_frame,
+    .destroy = destroy,
+};

@@ -1,0 +1,1214 @@
+/* test_render_fixed — the `fixed` tier's backend (fallback/fixed.c) on
+   OSMesa, on whichever Mesa driver runs it (make test: llvmpipe and
+   softpipe).
+
+   - Selection: a GL 1.3 device profile, and Mesa's own
+     MESA_GL_VERSION_OVERRIDE=1.3 in a re-executed child, pick `fixed` and
+     draw a fur ball that is neither blank nor magenta, with the full tier's
+     pass list, state and draw ranges.
+   - Shading probe (the grid of flat cells of test_render_probe.c): every
+     covered pixel against (a) ht_combiner_eval fed with the same
+     per-vertex inputs interpolated to the pixel, within what GL's texture
+     filtering precision allows, and (b) the oracle ht_model_shade_d with
+     the tier's documented drops (shift texture 0.5, sparkle 1, key light
+     only), the tier's error budget, printed per channel.
+   - Devices without enough units, without combine, without 3D textures or
+     with too small a GL_MAX_3D_TEXTURE_SIZE are refused with the reason;
+     a corrupt fixed.json or a missing LUT skips the tier with one line
+     naming the file.
+   - No shader call at all, the prime-Z pass binds no LUT, no GL error after
+     any pass, and after a frame the texture environment is GL's initial
+     one: the next tier's frame is the same bytes as before. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <cJSON.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include "combiner.h"
+#include "fixed_coords.h"
+#include "hairgen.h"
+#include "hairtier.h"
+#include "image.h"
+#include "model.h"
+#include "rng.h"
+#include "support_osmesa.h"
+
+#define SIZE 129          /* odd: the centre pixel's ray is exactly the z axis */
+#define GRID 9
+#define EYE_Z 4.0
+#define FOV_Y 30.0
+#define TEXTURE_SIZE 16
+/* Fixed tier vs its CPU emulator, per channel in 1/255. llvmpipe filters
+   with 8-bit fixed-point weights (the emulator in float), then rounds per
+   stage: measured max 3, mean 0.2-0.4. softpipe filters in float: measured
+   max 1 (one pixel), mean 0.00. */
+#define EMULATOR_TOLERANCE 3
+/* Fixed tier vs the oracle with the tier's documented drops, per channel in
+   1/255, on cases within the LUT's resolution: an 8-bit LUT at scale 2
+   (0.5/255 x 2 x base), linear interpolation between LUT texels, and dot
+   products computed per vertex and interpolated across a cell. Measured:
+   max 4, mean <= 0.51 (llvmpipe and softpipe alike). */
+#define ORACLE_MAX 6
+#define ORACLE_MEAN 1.0
+
+static char work[64];
+static char bundle_dir[128];
+static ht_test_gl gl;
+static ht_mesh furball;
+
+/* ---- log capture ---- */
+
+static char log_text[16384];
+
+static void capture(void *user, const char *line) {
+    (void)user;
+    size_t used = strlen(log_text);
+    snprintf(log_text + used, sizeof log_text - used, "%s\n", line);
+}
+
+static bool logged(const char *what) { return strstr(log_text, what) != NULL; }
+
+/* One line per message: a line break inside one would start a line
+   without the renderer's prefix. */
+static bool every_line_is_the_renderers(void) {
+    for (const char *l = log_text; *l; l = strchr(l, '\n') + 1) {
+        if (strncmp(l, "hairtier: ", 10) != 0) return false;
+        if (!strchr(l, '\n')) break;
+    }
+    return true;
+}
+
+/* The whole log line that contains `what` (without its newline). */
+static bool logged_line(const char *what, char *line, size_t size) {
+    const char *at = strstr(log_text, what);
+    if (!at) return false;
+    const char *start = at;
+    while (start > log_text && start[-1] != '\n') start--;
+    size_t n = strcspn(start, "\n");
+    if (n >= size) n = size - 1;
+    memcpy(line, start, n);
+    line[n] = '\0';
+    return true;
+}
+
+/* ---- GL calls the tests watch ---- */
+
+typedef void (APIENTRYP draw_elements_fn)(GLenum, GLsizei, GLenum, const void *);
+typedef void (APIENTRYP use_program_fn)(GLuint);
+typedef GLuint (APIENTRYP create_fn)(void);
+typedef GLuint (APIENTRYP create_shader_fn)(GLenum);
+
+static draw_elements_fn real_draw_elements;
+static use_program_fn real_use_program;
+static create_fn real_create_program;
+static create_shader_fn real_create_shader;
+static PFNGLACTIVETEXTUREPROC active_texture;
+
+static int shader_calls;
+
+typedef struct draw_state {
+    bool color_write;
+    bool unit_2d[2], unit_3d[2];
+    GLint env_mode[2];
+    GLint program;
+} draw_state;
+
+#define MAX_DRAWS 16
+static draw_state draws[MAX_DRAWS];
+static int draw_count;
+
+static void *as_data(void (*f)(void)) {
+    void *p;
+    memcpy(&p, &f, sizeof p);
+    return p;
+}
+
+static void APIENTRY watch_draw_elements(GLenum mode, GLsizei count, GLenum type, const void *indices) {
+    if (draw_count < MAX_DRAWS) {
+        draw_state *d = &draws[draw_count++];
+        GLboolean mask[4];
+        glGetBooleanv(GL_COLOR_WRITEMASK, mask);
+        d->color_write = mask[0] || mask[1] || mask[2] || mask[3];
+        GLint active = GL_TEXTURE0;
+        glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
+        for (int u = 0; u < 2; u++) {
+            active_texture(GL_TEXTURE0 + (GLenum)u);
+            d->unit_2d[u] = glIsEnabled(GL_TEXTURE_2D);
+            d->unit_3d[u] = glIsEnabled(GL_TEXTURE_3D);
+            glGetTexEnviv(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, &d->env_mode[u]);
+        }
+        active_texture((GLenum)active);
+        glGetIntegerv(GL_CURRENT_PROGRAM, &d->program);
+    }
+    real_draw_elements(mode, count, type, indices);
+}
+
+static void APIENTRY watch_use_program(GLuint p) {
+    shader_calls++;
+    real_use_program(p);
+}
+
+static GLuint APIENTRY watch_create_program(void) {
+    shader_calls++;
+    return real_create_program();
+}
+
+static GLuint APIENTRY watch_create_shader(GLenum type) {
+    shader_calls++;
+    return real_create_shader(type);
+}
+
+/* ht_test_getproc, with a few entry points wrapped so the tests see them. */
+static void *watching_getproc(const char *name) {
+    void *real = ht_test_getproc(name);
+    if (!real) return NULL;
+    if (strcmp(name, "glDrawElements") == 0) {
+        memcpy(&real_draw_elements, &real, sizeof real);
+        return as_data((void (*)(void))watch_draw_elements);
+    }
+    if (strcmp(name, "glUseProgram") == 0) {
+        memcpy(&real_use_program, &real, sizeof real);
+        return as_data((void (*)(void))watch_use_program);
+    }
+    if (strcmp(name, "glCreateProgram") == 0) {
+        memcpy(&real_create_program, &real, sizeof real);
+        return as_data((void (*)(void))watch_create_program);
+    }
+    if (strcmp(name, "glCreateShader") == 0) {
+        memcpy(&real_create_shader, &real, sizeof real);
+        return as_data((void (*)(void))watch_create_shader);
+    }
+    return real;
+}
+
+/* ---- fixtures ---- */
+
+static const ht_furball_desc furball_desc = { .hairs = 400, .joints = 8, .length = 0.12f, .width = 0.03f,
+                                              .seed = 3 };
+
+static ht_result build_furball(ht_mesh *m) {
+    ht_result r = ht_mesh_build_furball(&furball_desc, m);
+    if (r == HT_OK) ht_mesh_sort_inside_out(m);
+    return r;
+}
+
+static int setup(void **state) {
+    (void)state;
+    unsetenv("HAIRTIER_TIER");
+    strcpy(work, "/tmp/hairtier-test-fixed-XXXXXX");
+    if (!mkdtemp(work)) return -1;
+    snprintf(bundle_dir, sizeof bundle_dir, "%s/bundle", work);
+    char err[1024];
+    if (ht_bundle_generate("materials/dark-brown.json", "scenes/furball.json", bundle_dir, NULL, err,
+                           sizeof err) != HT_OK) {
+        fprintf(stderr, "setup: %s\n", err);
+        return -1;
+    }
+    if (!ht_test_gl_create(&gl, SIZE, SIZE, NULL, err, sizeof err)) {
+        fprintf(stderr, "setup: %s\n", err);
+        return -1;
+    }
+    void *p = ht_test_getproc("glActiveTexture");
+    memcpy(&active_texture, &p, sizeof p);
+    return active_texture && build_furball(&furball) == HT_OK ? 0 : -1;
+}
+
+static int teardown(void **state) {
+    (void)state;
+    ht_mesh_free(&furball);
+    ht_test_gl_destroy(&gl);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", work);
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+static const ht_light furball_lights[2] = {
+    { HT_LIGHT_DIRECTIONAL, { 0.6f, 0.8f, 0.7f }, { 1, 0.97f, 0.92f } },
+    { HT_LIGHT_POINT, { -2, 0.5f, 2 }, { 0.4f, 0.4f, 0.5f } },
+};
+
+static const float background[3] = { 0.1f, 0.2f, 0.3f };
+
+static ht_frame_desc furball_frame(void) {
+    return (ht_frame_desc){ .camera = { .eye = { 0, 0.3f, 2.0f }, .target = { 0, 0, 0 }, .up = { 0, 1, 0 },
+                                        .fov_y = 45 },
+                            .lights = furball_lights, .light_count = 2 };
+}
+
+static ht_renderer *create(ht_renderer_desc desc, ht_result expect) {
+    log_text[0] = '\0';
+    if (!desc.getproc) desc.getproc = ht_test_getproc;
+    desc.log = capture;
+    desc.record_trace = true;
+    if (!desc.bundle_dir) desc.bundle_dir = bundle_dir;
+    ht_renderer *r = NULL;
+    ht_result res = ht_renderer_create(&desc, &r);
+    if (res != expect)
+        fail_msg("ht_renderer_create: %s, expected %s; log:\n%s", ht_result_string(res), ht_result_string(expect),
+                 log_text);
+    return r;
+}
+
+static void render(ht_renderer *r, const ht_frame_desc *f, ht_image *img) {
+    glViewport(0, 0, SIZE, SIZE);
+    glClearColor(background[0], background[1], background[2], 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    assert_int_equal(ht_renderer_draw(r, f), HT_OK);
+    assert_int_equal(glGetError(), GL_NO_ERROR);
+    assert_int_equal(ht_test_gl_read(&gl, img), HT_OK);
+}
+
+typedef struct pixel_stats { int changed, magenta; } pixel_stats;
+
+static pixel_stats stats(const ht_image *img) {
+    pixel_stats s = { 0, 0 };
+    int bg[3];
+    for (int k = 0; k < 3; k++) bg[k] = (int)(background[k] * 255.0f + 0.5f);
+    for (int i = 0; i < img->width * img->height; i++) {
+        const uint8_t *p = img->pixels + 4 * i;
+        if (abs(p[0] - bg[0]) > 2 || abs(p[1] - bg[1]) > 2 || abs(p[2] - bg[2]) > 2) s.changed++;
+        if (p[0] > 200 && p[1] < 60 && p[2] > 200) s.magenta++;
+    }
+    return s;
+}
+
+/* One line per trace entry: what the tiers must agree on. */
+static void format_trace(const ht_trace *t, char *out, size_t size) {
+    out[0] = '\0';
+    for (int i = 0; i < t->count; i++) {
+        const ht_trace_entry *e = &t->entries[i];
+        size_t used = strlen(out);
+        snprintf(out + used, size - used,
+                 "trace pass %d.%d cull %d/0x%04x depth 0x%04x/%d color %d blend %d alpha %d/0x%04x/%.6f "
+                 "range %u+%u error 0x%04x\n", (int)e->pass, e->sub_pass, e->cull, e->cull_face, e->depth_func,
+                 e->depth_write, e->color_write, e->blend, e->alpha_test, e->alpha_func, (double)e->alpha_ref,
+                 e->first_index, e->index_count, e->gl_error);
+    }
+}
+
+static void full_tier_trace(char *out, size_t size) {
+    ht_renderer *r = create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true }, HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(r, &furball), HT_OK);
+    ht_image img;
+    ht_frame_desc f = furball_frame();
+    render(r, &f, &img);
+    ht_image_free(&img);
+    format_trace(ht_renderer_trace(r), out, size);
+    ht_renderer_destroy(r);
+}
+
+/* A copy of the bundle under work, to break. */
+static void copy_bundle(const char *name, char *out, size_t size) {
+    snprintf(out, size, "%s/%s", work, name);
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "rm -rf %s && cp -r %s %s", out, bundle_dir, out);
+    assert_int_equal(system(cmd), 0);
+}
+
+static void write_file(const char *dir, const char *name, const char *text) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+static char *read_file(const char *dir, const char *name) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    static char text[1 << 16];
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    return text;
+}
+
+static ht_combiner_program bundle_program(const char *dir) {
+    ht_combiner_program p;
+    char err[512];
+    if (ht_combiner_parse(read_file(dir, "fixed.json"), "fixed.json", &p, err, sizeof err) != HT_OK)
+        fail_msg("%s", err);
+    return p;
+}
+
+static int largest_lut_axis(const ht_combiner_program *p) {
+    int n = p->lut_size[0];
+    for (int i = 1; i < 3; i++) n = p->lut_size[i] > n ? p->lut_size[i] : n;
+    return n;
+}
+
+/* ---- selection and the fur ball ---- */
+
+static void test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes(void **state) {
+    (void)state;
+    static char full_trace[4096], fixed_trace[4096];
+    full_tier_trace(full_trace, sizeof full_trace);
+    ht_image full_img;
+    ht_renderer *full = create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true }, HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(full, &furball), HT_OK);
+    ht_frame_desc f = furball_frame();
+    render(full, &f, &full_img);
+    ht_renderer_destroy(full);
+
+    /* With the mesh in VBOs (the extension survives GL 1.3 on Mesa) and in
+       client arrays. */
+    for (int no_vbo = 0; no_vbo < 2; no_vbo++) {
+        ht_renderer *r = create((ht_renderer_desc){ .profile = { .gl_major = 1, .gl_minor = 3,
+                                                                 .no_vbo = no_vbo } }, HT_OK);
+        assert_int_equal(ht_renderer_tier(r), HT_TIER_FIXED);
+        assert_true(logged("skipped full: needs GL 2.1, have 1.3"));
+        assert_true(logged("skipped vertex: needs GL 2.0, have 1.3"));
+        assert_true(logged("hairtier: tier fixed (best supported"));
+        if (no_vbo) assert_false(ht_renderer_caps(r)->has_vbo);
+        assert_int_equal(ht_renderer_set_mesh(r, &furball), HT_OK);
+        ht_image img;
+        render(r, &f, &img);
+        format_trace(ht_renderer_trace(r), fixed_trace, sizeof fixed_trace);
+        assert_int_equal(ht_renderer_trace(r)->count, HT_PASS_COUNT);
+        for (int i = 0; i < HT_PASS_COUNT; i++)
+            assert_int_equal(ht_renderer_trace(r)->entries[i].gl_error, GL_NO_ERROR);
+        assert_string_equal(fixed_trace, full_trace);
+
+        pixel_stats s = stats(&img), sf = stats(&full_img);
+        printf("fur ball (%s): fixed covers %d pixels, full %d\n", ht_renderer_caps(r)->has_vbo ? "VBOs" : "client arrays",
+               s.changed, sf.changed);
+        assert_int_equal(s.magenta, 0);
+        assert_true(s.changed > SIZE * SIZE / 20);
+        /* Same alpha, same passes: the same hair shows, shaded differently. */
+        assert_true(s.changed >= sf.changed * 9 / 10);
+        ht_image_free(&img);
+        ht_renderer_destroy(r);
+    }
+    ht_image_free(&full_img);
+}
+
+/* Child mode: argv = exe --child BUNDLE, with MESA_GL_VERSION_OVERRIDE=1.3. */
+static int child_main(const char *bundle) {
+    char err[256];
+    if (!ht_test_gl_create(&gl, SIZE, SIZE, NULL, err, sizeof err)) {
+        printf("child: %s\n", err);
+        return 1;
+    }
+    ht_mesh m;
+    if (build_furball(&m) != HT_OK) return 1;
+    printf("version=%s\n", (const char *)glGetString(GL_VERSION));
+    const GLubyte *sl = glGetString(GL_SHADING_LANGUAGE_VERSION);
+    printf("glsl=%s\n", sl ? (const char *)sl : "none");
+    while (glGetError() != GL_NO_ERROR) {}
+    log_text[0] = '\0';
+    ht_renderer *r = NULL;
+    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = ht_test_getproc, .bundle_dir = bundle,
+                                                            .log = capture, .record_trace = true }, &r);
+    fputs(log_text, stdout);
+    printf("result=%s tier=%s\n", ht_result_string(res), res == HT_OK ? ht_tier_name(ht_renderer_tier(r)) : "-");
+    if (res == HT_OK && ht_renderer_set_mesh(r, &m) == HT_OK) {
+        glViewport(0, 0, SIZE, SIZE);
+        glClearColor(background[0], background[1], background[2], 1);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        ht_frame_desc f = furball_frame();
+        printf("draw=%s\n", ht_result_string(ht_renderer_draw(r, &f)));
+        ht_image img;
+        if (ht_test_gl_read(&gl, &img) == HT_OK) {
+            pixel_stats s = stats(&img);
+            printf("changed=%d magenta=%d\n", s.changed, s.magenta);
+            ht_image_free(&img);
+        }
+        static char trace[4096];
+        format_trace(ht_renderer_trace(r), trace, sizeof trace);
+        fputs(trace, stdout);
+    }
+    ht_renderer_destroy(r);
+    ht_mesh_free(&m);
+    ht_test_gl_destroy(&gl);
+    return 0;
+}
+
+static void run_child(const char *version, char *out, size_t size) {
+    char exe[PATH_MAX];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    assert_true(n > 0);
+    exe[n] = '\0';
+    char cmd[PATH_MAX + 512];
+    snprintf(cmd, sizeof cmd, "MESA_GL_VERSION_OVERRIDE=%s '%s' --child '%s' 2>&1", version, exe, bundle_dir);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    size_t used = fread(out, 1, size - 1, p);
+    out[used] = '\0';
+    assert_int_equal(pclose(p), 0);
+}
+
+static void test_mesa_gl13_driver_runs_fixed_with_the_full_tiers_trace(void **state) {
+    (void)state;
+    static char out[16384], full_trace[4096];
+    full_tier_trace(full_trace, sizeof full_trace);
+    run_child("1.3", out, sizeof out);
+    if (!strstr(out, "version=1.3")) fail_msg("child did not get a GL 1.3 context:\n%s", out);
+    if (!strstr(out, "result=ok tier=fixed")) fail_msg("child did not pick fixed:\n%s", out);
+    assert_non_null(strstr(out, "skipped full: needs GL 2.1, have 1.3"));
+    assert_non_null(strstr(out, "skipped vertex: needs GL 2.0, have 1.3"));
+    assert_non_null(strstr(out, "draw=ok"));
+    const char *stats_line = strstr(out, "changed=");
+    assert_non_null(stats_line);
+    int changed = 0, magenta = -1;
+    assert_int_equal(sscanf(stats_line, "changed=%d magenta=%d", &changed, &magenta), 2);
+    assert_int_equal(magenta, 0);
+    assert_true(changed > SIZE * SIZE / 20);
+    const char *trace = strstr(out, "trace pass");
+    assert_non_null(trace);
+    assert_string_equal(trace, full_trace);
+}
+
+/* ---- the shading probe ---- */
+
+typedef struct cell {
+    double T[3], N[3];
+    double uv[2];
+    double ao;
+} cell;
+
+static cell cells[GRID * GRID];
+
+typedef struct probe_material {
+    const char *name;
+    const char *model;
+    double e1, s1, e2, s2;
+    bool textured;
+} probe_material;
+
+static void write_material(const probe_material *p, const char *path) {
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    bool kk = strcmp(p->model, "kajiya-kay") == 0;
+    fprintf(f, "{ \"format\": \"hairtier-material/1\", \"name\": \"%s\", \"model\": \"%s\",\n"
+               "  \"diffuse\": {\"color\": [0.35, 0.22, 0.12]%s},\n",
+            p->name, p->model, kk ? "" : ", \"wrap\": 0.25");
+    if (kk)
+        fprintf(f, "  \"primary\": {\"color\": [0.7, 0.65, 0.6], \"exponent\": %g}", p->e1);
+    else
+        fprintf(f, "  \"primary\": {\"color\": [0.7, 0.65, 0.6], \"exponent\": %g, \"shift\": %g},\n"
+                   "  \"secondary\": {\"color\": [0.4, 0.3, 0.2], \"exponent\": %g, \"shift\": %g}",
+                p->e1, p->s1, p->e2, p->s2);
+    if (p->textured)
+        fprintf(f, ",\n  \"textures\": {\n"
+                   "    \"base\": {\"procedural\": \"stretched-noise\", \"size\": %d, \"seed\": 5},\n"
+                   "    \"shift\": {\"procedural\": \"noise\", \"size\": %d, \"seed\": 6},\n"
+                   "    \"sparkle\": {\"procedural\": \"sparkle\", \"size\": %d, \"seed\": 7} }",
+                TEXTURE_SIZE, TEXTURE_SIZE, TEXTURE_SIZE);
+    fprintf(f, " }\n");
+    fclose(f);
+}
+
+static void write_scene(const char *path, const char *light_type) {
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fprintf(f, "{ \"format\": \"hairtier-scene/1\", \"resolution\": [%d, %d],\n"
+               "  \"camera\": {\"eye\": [0, 0, %g], \"target\": [0, 0, 0], \"fov_y\": %g},\n"
+               "  \"lights\": [{\"type\": \"%s\", \"%s\": [0, 0, 1]}],\n"
+               "  \"geometry\": {\"type\": \"furball\"} }\n",
+            SIZE, SIZE, EYE_Z, FOV_Y, light_type, strcmp(light_type, "point") == 0 ? "position" : "direction");
+    fclose(f);
+}
+
+static void make_bundle(const probe_material *p, const char *light_type, char *dir, size_t dir_size) {
+    char material[256], scene[256], err[2048];
+    snprintf(material, sizeof material, "%s/%s.json", work, p->name);
+    snprintf(scene, sizeof scene, "%s/scene-%s.json", work, light_type);
+    snprintf(dir, dir_size, "%s/probe-%s-%s", work, p->name, light_type);
+    write_material(p, material);
+    write_scene(scene, light_type);
+    if (ht_bundle_generate(material, scene, dir, NULL, err, sizeof err) != HT_OK)
+        fail_msg("hairgen %s: %s", p->name, err);
+}
+
+static void unit(double v[3]) {
+    double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (len > 0)
+        for (int i = 0; i < 3; i++) v[i] /= len;
+}
+
+static void set3(double v[3], double x, double y, double z) {
+    v[0] = x;
+    v[1] = y;
+    v[2] = z;
+}
+
+/* Random cells (T perpendicular to N as on ribbons, every third not), then
+   the model's special cases, as test_render_probe.c. */
+static void make_cells(const double light_dir[3]) {
+    ht_rng rng = ht_rng_seed(42);
+    double H[3] = { light_dir[0], light_dir[1], light_dir[2] + 1.0 };
+    unit(H);
+    for (int i = 0; i < GRID * GRID; i++) {
+        cell *c = &cells[i];
+        double a[3] = { ht_rng_range(&rng, -1, 1), ht_rng_range(&rng, -1, 1), ht_rng_range(&rng, -1, 1) };
+        double b[3] = { ht_rng_range(&rng, -1, 1), ht_rng_range(&rng, -1, 1), ht_rng_range(&rng, -1, 1) };
+        unit(a);
+        double along = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        if (i % 3 != 0)
+            for (int k = 0; k < 3; k++) b[k] -= along * a[k];
+        unit(b);
+        memcpy(c->T, a, sizeof a);
+        memcpy(c->N, b, sizeof b);
+        c->ao = ht_rng_range(&rng, 0.3, 1.0);
+        int texel = (int)(ht_rng_unit(&rng) * TEXTURE_SIZE * TEXTURE_SIZE);
+        c->uv[0] = (texel % TEXTURE_SIZE + 0.5) / TEXTURE_SIZE;
+        c->uv[1] = (texel / TEXTURE_SIZE + 0.5) / TEXTURE_SIZE;
+    }
+    memcpy(cells[0].T, H, sizeof H);                          /* T parallel to H */
+    set3(cells[0].N, H[1], -H[0], 0), unit(cells[0].N);
+    for (int k = 0; k < 3; k++) cells[1].T[k] = -H[k];        /* antiparallel */
+    memcpy(cells[1].N, cells[0].N, sizeof cells[0].N);
+    set3(cells[2].T, 0, 0, 0);                                /* zero tangent */
+    set3(cells[3].N, 0, 1, 0), set3(cells[3].T, 0, -1, 0);    /* T = -N */
+    set3(cells[4].T, 1, 0, 0), set3(cells[4].N, 0, 1, 0);     /* T perpendicular to H */
+    set3(cells[5].N, 0, 0, 0);                                /* zero normal */
+    int centre = (GRID / 2) * GRID + GRID / 2;                /* L = -V for a light along -z */
+    set3(cells[centre].T, 0, 1, 0), set3(cells[centre].N, 0, 0, 1);
+}
+
+static double half_extent(void) { return EYE_Z * tan(FOV_Y * M_PI / 360.0); }
+
+/* Cell i is vertices 4i..4i+3 at (-,-), (+,-), (-,+), (+,+); triangles
+   (0,1,3) and (0,3,2). */
+static void build_probe_mesh(ht_mesh *mesh) {
+    int n = GRID * GRID;
+    memset(mesh, 0, sizeof *mesh);
+    mesh->vertices = calloc((size_t)n * 4, sizeof *mesh->vertices);
+    mesh->indices = calloc((size_t)n * 6, sizeof *mesh->indices);
+    mesh->components = calloc((size_t)n, sizeof *mesh->components);
+    assert_non_null(mesh->vertices);
+    assert_non_null(mesh->indices);
+    assert_non_null(mesh->components);
+    mesh->vertex_count = (uint32_t)n * 4;
+    mesh->index_count = (uint32_t)n * 6;
+    mesh->component_count = (uint32_t)n;
+    double pitch = 2 * half_extent() / GRID, size = pitch * 0.8;
+    for (int i = 0; i < n; i++) {
+        double cx = -half_extent() + pitch * (i % GRID + 0.5), cy = -half_extent() + pitch * (i / GRID + 0.5);
+        for (int v = 0; v < 4; v++) {
+            ht_vertex *out = &mesh->vertices[i * 4 + v];
+            out->position[0] = (float)(cx + size * ((v & 1) ? 0.5 : -0.5));
+            out->position[1] = (float)(cy + size * ((v & 2) ? 0.5 : -0.5));
+            for (int k = 0; k < 3; k++) {
+                out->normal[k] = (float)cells[i].N[k];
+                out->tangent[k] = (float)cells[i].T[k];
+            }
+            out->uv[0] = (float)cells[i].uv[0];
+            out->uv[1] = (float)cells[i].uv[1];
+            out->ao = (float)cells[i].ao;
+        }
+        static const uint32_t quad[6] = { 0, 1, 3, 0, 3, 2 };
+        for (int k = 0; k < 6; k++) mesh->indices[i * 6 + k] = (uint32_t)i * 4 + quad[k];
+        mesh->components[i] = (ht_component){ (uint32_t)i * 6, 6, 0 };
+    }
+}
+
+/* Which cell a pixel's centre falls in, at least one pixel inside its edge;
+   world receives the point of the plane z = 0 it sees. */
+static int cell_at(double px, double py, double world[3]) {
+    double ndc_x = (px + 0.5) * 2.0 / SIZE - 1.0, ndc_y = (py + 0.5) * 2.0 / SIZE - 1.0;
+    world[0] = ndc_x * half_extent();
+    world[1] = ndc_y * half_extent();
+    world[2] = 0;
+    double pitch = 2 * half_extent() / GRID, margin = 2 * half_extent() / SIZE * 1.01;
+    int gx = (int)floor((world[0] + half_extent()) / pitch), gy = (int)floor((world[1] + half_extent()) / pitch);
+    if (gx < 0 || gy < 0 || gx >= GRID || gy >= GRID) return -1;
+    double lx = world[0] + half_extent() - pitch * (gx + 0.5), ly = world[1] + half_extent() - pitch * (gy + 0.5);
+    double inner = pitch * 0.4 - margin;
+    if (fabs(lx) > inner || fabs(ly) > inner) return -1;
+    return gy * GRID + gx;
+}
+
+/* Barycentric weights of P in the cell's triangle that holds it (the plane
+   faces the camera, so screen-space and world-space interpolation agree). */
+static void cell_weights(const ht_mesh *m, int ci, const double P[3], int idx[3], double w[3]) {
+    static const int tris[2][3] = { { 0, 1, 3 }, { 0, 3, 2 } };
+    for (int t = 0; t < 2; t++) {
+        const float *a = m->vertices[ci * 4 + tris[t][0]].position;
+        const float *b = m->vertices[ci * 4 + tris[t][1]].position;
+        const float *c = m->vertices[ci * 4 + tris[t][2]].position;
+        double det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+        double wb = ((P[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (P[1] - a[1])) / det;
+        double wc = ((b[0] - a[0]) * (P[1] - a[1]) - (P[0] - a[0]) * (b[1] - a[1])) / det;
+        double wa = 1.0 - wb - wc;
+        if (t == 1 || (wa >= -1e-9 && wb >= -1e-9 && wc >= -1e-9)) {
+            for (int k = 0; k < 3; k++) idx[k] = ci * 4 + tris[t][k];
+            w[0] = wa;
+            w[1] = wb;
+            w[2] = wc;
+            return;
+        }
+    }
+}
+
+typedef struct channel_error {
+    int max[3];
+    double sum[3];
+    int pixels;
+    int worst_cell;
+} channel_error;
+
+static void add_error(channel_error *e, int ci, const int expected[3], const uint8_t *got) {
+    for (int k = 0; k < 3; k++) {
+        int d = abs(expected[k] - got[k]);
+        if (d > e->max[k]) {
+            e->max[k] = d;
+            e->worst_cell = ci;
+        }
+        e->sum[k] += d;
+    }
+}
+
+static int max_of(const channel_error *e) {
+    int m = e->max[0];
+    for (int k = 1; k < 3; k++) m = e->max[k] > m ? e->max[k] : m;
+    return m;
+}
+
+static double mean_of(const channel_error *e, int k) { return e->pixels ? e->sum[k] / e->pixels : 0.0; }
+
+static void print_channel_error(const char *what, const channel_error *e) {
+    printf("  %-8s max %2d %2d %2d  mean %.2f %.2f %.2f /255", what, e->max[0], e->max[1],
+           e->max[2], mean_of(e, 0), mean_of(e, 1), mean_of(e, 2));
+    if (e->worst_cell >= 0) printf(" (worst cell %d)", e->worst_cell);
+    printf("\n");
+}
+
+typedef struct probe_case {
+    probe_material material;
+    ht_light light;
+    bool in_budget;      /* within the LUT's resolution: held to the oracle budget */
+} probe_case;
+
+typedef struct probe_result { channel_error emulator, oracle; } probe_result;
+
+static int to_byte(double v) { return (int)lround(fmin(1.0, fmax(0.0, v)) * 255.0); }
+
+/* Renders the probe with the bundle's fixed tier and compares every covered
+   pixel with the emulator and with the oracle. */
+static probe_result probe(const probe_case *pc) {
+    const probe_material *p = &pc->material;
+    const ht_light light = pc->light;
+    char dir[256], material_path[300], err[2048], path[400];
+    const char *type = light.type == HT_LIGHT_POINT ? "point" : "directional";
+    make_bundle(p, type, dir, sizeof dir);
+    snprintf(material_path, sizeof material_path, "%s/%s.json", work, p->name);
+    ht_material m;
+    assert_int_equal(ht_material_load(material_path, &m, err, sizeof err), HT_OK);
+    ht_combiner_program prog = bundle_program(dir);
+
+    ht_image lut = { 0 }, albedo = { 0 };
+    snprintf(path, sizeof path, "%s/fixed-lut.png", dir);
+    assert_int_equal(ht_image_read_png(path, &lut, err, sizeof err), HT_OK);
+    ht_combiner_texture textures[2] = { { "fixed-lut", &lut, prog.lut_size[2] }, { "albedo", &albedo, 1 } };
+    int texture_count = 1;
+    if (p->textured) {
+        snprintf(path, sizeof path, "%s/albedo.png", dir);
+        assert_int_equal(ht_image_read_png(path, &albedo, err, sizeof err), HT_OK);
+        texture_count = 2;
+    }
+
+    ht_mesh mesh;
+    build_probe_mesh(&mesh);
+    const float eye[3] = { 0, 0, (float)EYE_Z };
+    float *coords = calloc((size_t)mesh.vertex_count * 3, sizeof *coords);
+    float *colors = calloc((size_t)mesh.vertex_count * 4, sizeof *colors);
+    assert_non_null(coords);
+    assert_non_null(colors);
+    assert_int_equal(ht_fixed_coords_compute(&prog, mesh.vertices, mesh.vertex_count, &light, 1, eye, coords, colors,
+                                             err, sizeof err), HT_OK);
+
+    ht_renderer *r = create((ht_renderer_desc){ .bundle_dir = dir, .tier = HT_TIER_FIXED, .strict = true }, HT_OK);
+    assert_int_equal(ht_renderer_tier(r), HT_TIER_FIXED);
+    assert_int_equal(ht_renderer_set_mesh(r, &mesh), HT_OK);
+    ht_frame_desc frame = { .camera = { .eye = { eye[0], eye[1], eye[2] }, .target = { 0, 0, 0 },
+                                        .up = { 0, 1, 0 }, .fov_y = (float)FOV_Y },
+                            .lights = &light, .light_count = 1 };
+    glViewport(0, 0, SIZE, SIZE);
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    assert_int_equal(ht_renderer_draw(r, &frame), HT_OK);
+    assert_int_equal(glGetError(), GL_NO_ERROR);
+    ht_image img;
+    assert_int_equal(ht_test_gl_read(&gl, &img), HT_OK);
+
+    probe_result res;
+    memset(&res, 0, sizeof res);
+    res.emulator.worst_cell = res.oracle.worst_cell = -1;
+    for (int row = 0; row < SIZE; row++)
+        for (int x = 0; x < SIZE; x++) {
+            double P[3];
+            int ci = cell_at(x, SIZE - 1 - row, P);
+            if (ci < 0) continue;
+            const cell *c = &cells[ci];
+            const uint8_t *got = img.pixels + ((size_t)row * SIZE + x) * 4;
+
+            /* (a) the emulator, fed what GL interpolates to this pixel */
+            int idx[3];
+            double w[3];
+            cell_weights(&mesh, ci, P, idx, w);
+            ht_combiner_fragment frag = { .uv = { (float)c->uv[0], (float)c->uv[1] } };
+            for (int k = 0; k < 3; k++)
+                frag.lut_coord[k] = (float)(w[0] * coords[3 * idx[0] + k] + w[1] * coords[3 * idx[1] + k] +
+                                            w[2] * coords[3 * idx[2] + k]);
+            for (int k = 0; k < 4; k++)
+                frag.primary[k] = (float)(w[0] * colors[4 * idx[0] + k] + w[1] * colors[4 * idx[1] + k] +
+                                          w[2] * colors[4 * idx[2] + k]);
+            float rgba[4];
+            assert_int_equal(ht_combiner_eval(&prog, textures, texture_count, &frag, rgba, err, sizeof err), HT_OK);
+            int expected[3];
+            for (int k = 0; k < 3; k++) expected[k] = to_byte(rgba[k]);
+            add_error(&res.emulator, ci, expected, got);
+
+            /* (b) the oracle, with the tier's documented drops */
+            ht_surface s = { .base = { 1, 1, 1 }, .shift_tex = 0.5, .sparkle = 1, .ao = c->ao };
+            memcpy(s.T, c->T, sizeof s.T);
+            memcpy(s.N, c->N, sizeof s.N);
+            set3(s.V, -P[0], -P[1], EYE_Z - P[2]);
+            if (p->textured) {
+                int tx = (int)(c->uv[0] * albedo.width), ty = (int)(c->uv[1] * albedo.height);
+                const uint8_t *t = albedo.pixels + ((size_t)ty * albedo.width + tx) * albedo.channels;
+                for (int k = 0; k < 3; k++) s.base[k] = t[k] / 255.0;
+            }
+            ht_light_ray ray = { .L = { light.vector[0], light.vector[1], light.vector[2] },
+                                 .color = { light.color[0], light.color[1], light.color[2] } };
+            if (light.type == HT_LIGHT_POINT)
+                for (int k = 0; k < 3; k++) ray.L[k] -= P[k];
+            double rgb[3];
+            ht_model_shade_d(&m.shading, &s, &ray, 1, rgb);
+            for (int k = 0; k < 3; k++) expected[k] = to_byte(rgb[k]);
+            add_error(&res.oracle, ci, expected, got);
+            res.emulator.pixels++;
+            res.oracle.pixels++;
+        }
+    printf("fixed probe %-14s %-11s light (%5.2f %5.2f %5.2f), LUT %dx%dx%d scale %d: %d pixels\n", p->name, type,
+           (double)light.vector[0], (double)light.vector[1], (double)light.vector[2], prog.lut_size[0],
+           prog.lut_size[1], prog.lut_size[2], prog.lut_scale, res.emulator.pixels);
+    print_channel_error("emulator", &res.emulator);
+    print_channel_error("oracle", &res.oracle);
+    assert_true(res.emulator.pixels > GRID * GRID * 20); /* the cells were drawn and found */
+
+    free(coords);
+    free(colors);
+    ht_image_free(&img);
+    ht_image_free(&lut);
+    ht_image_free(&albedo);
+    ht_renderer_destroy(r);
+    ht_mesh_free(&mesh);
+    return res;
+}
+
+static ht_light directional(double x, double y, double z) {
+    double d[3] = { x, y, z };
+    unit(d);
+    return (ht_light){ HT_LIGHT_DIRECTIONAL, { (float)d[0], (float)d[1], (float)d[2] }, { 0.95f, 0.9f, 1.0f } };
+}
+
+static const double first_light[3] = { 0.3, 0.5, 0.8 };
+
+static void run_probes(const probe_case *cases, int n) {
+    channel_error all = { { 0, 0, 0 }, { 0, 0, 0 }, 0, -1 };
+    for (int i = 0; i < n; i++) {
+        probe_result res = probe(&cases[i]);
+        if (max_of(&res.emulator) > EMULATOR_TOLERANCE)
+            fail_msg("%s: fixed tier differs from its emulator by %d/255 (cell %d), tolerance %d",
+                     cases[i].material.name, max_of(&res.emulator), res.emulator.worst_cell, EMULATOR_TOLERANCE);
+        if (!cases[i].in_budget) continue;
+        for (int k = 0; k < 3; k++) {
+            all.max[k] = res.oracle.max[k] > all.max[k] ? res.oracle.max[k] : all.max[k];
+            all.sum[k] += res.oracle.sum[k];
+        }
+        all.pixels += res.oracle.pixels;
+        if (max_of(&res.oracle) > ORACLE_MAX)
+            fail_msg("%s: fixed tier differs from the oracle by %d/255 (cell %d), budget %d",
+                     cases[i].material.name, max_of(&res.oracle), res.oracle.worst_cell, ORACLE_MAX);
+    }
+    if (all.pixels) {
+        print_channel_error("budget", &all);
+        for (int k = 0; k < 3; k++)
+            if (mean_of(&all, k) > ORACLE_MEAN)
+                fail_msg("channel %d: mean error vs the oracle %.2f/255, budget %.2f", k, mean_of(&all, k),
+                         ORACLE_MEAN);
+    }
+}
+
+static const probe_material plain = { "plain", "scheuermann", 80, 1.0, 24, 0.0, false };
+
+static void test_fixed_probe_tracks_emulator_and_oracle_on_generic_cells(void **state) {
+    (void)state;
+    const probe_case cases[] = {
+        { plain, directional(first_light[0], first_light[1], first_light[2]), true },
+        { { "textured", "scheuermann", 80, -0.1, 24, 0.15, true },
+          directional(first_light[0], first_light[1], first_light[2]), true },
+        { plain, (ht_light){ HT_LIGHT_POINT, { 0.8f, 1.1f, 1.5f }, { 1.0f, 0.9f, 0.8f } }, true },
+        { { "kajiya-kay", "kajiya-kay", 60, 0, 0, 0, false },
+          directional(first_light[0], first_light[1], first_light[2]), true },
+    };
+    run_probes(cases, (int)(sizeof cases / sizeof cases[0]));
+}
+
+static void test_fixed_probe_tracks_emulator_at_the_models_extremes(void **state) {
+    (void)state;
+    /* Light behind the strand: L = -V at the centre pixel, where H has no
+       direction and turns by 180 degrees across the centre cell; per-vertex
+       H (Heidrich-Seidel) cannot follow that (measured: up to 229/255 in
+       that one cell), so only the emulator holds it. L = V, grazing;
+       exponents 0 and 10000 (the LUT axis clamps at 256: the lobe widens, a
+       documented drop, so only the emulator holds it); shifts of +-100. */
+    const probe_case cases[] = {
+        { plain, directional(0, 0, -1), false },
+        { plain, directional(0, 0, 1), true },
+        { plain, directional(1, 0, 0), true },
+        { { "exponent-0", "scheuermann", 0, 0.0, 0, 0.0, false },
+          directional(first_light[0], first_light[1], first_light[2]), true },
+        { { "exponent-10000", "scheuermann", 10000, 0.0, 10000, 0.0, false },
+          directional(first_light[0], first_light[1], first_light[2]), false },
+        { { "shift-100", "scheuermann", 80, 100.0, 24, -100.0, false },
+          directional(first_light[0], first_light[1], first_light[2]), true },
+    };
+    run_probes(cases, (int)(sizeof cases / sizeof cases[0]));
+}
+
+/* ---- devices that cannot run it ---- */
+
+static void expect_refused(ht_device_profile profile, const char *dir, const char *reason) {
+    char want[512], line[1024];
+    snprintf(want, sizeof want, "hairtier: skipped fixed: %s", reason);
+    /* GL 1.3 leaves fixed the only candidate: the renderer has no tier. */
+    profile.gl_major = 1;
+    profile.gl_minor = 3;
+    ht_renderer *r = create((ht_renderer_desc){ .profile = profile, .bundle_dir = dir }, HT_ERR_NO_TIER);
+    assert_null(r);
+    if (!logged_line("skipped fixed: ", line, sizeof line)) fail_msg("no fixed line in:\n%s", log_text);
+    assert_string_equal(line, want);
+    /* Forced and strict: the same reason is the error. */
+    r = create((ht_renderer_desc){ .profile = profile, .bundle_dir = dir, .tier = HT_TIER_FIXED, .strict = true },
+               HT_ERR_UNSUPPORTED);
+    assert_null(r);
+    snprintf(want, sizeof want, "fixed: %s (forced by desc.tier, strict)", reason);
+    assert_true(logged(want));
+}
+
+static void test_device_with_too_few_units_is_refused(void **state) {
+    (void)state;
+    expect_refused((ht_device_profile){ .texture_units = 1 }, bundle_dir, "needs 2 texture units, have 1");
+    /* A manifest that understates the units: the program itself is checked. */
+    char dir[256], reason[512];
+    copy_bundle("one-unit-manifest", dir, sizeof dir);
+    cJSON *root = cJSON_Parse(read_file(dir, "manifest.json"));
+    assert_non_null(root);
+    cJSON *tiers = cJSON_GetObjectItem(root, "tiers");
+    cJSON *t = NULL;
+    cJSON_ArrayForEach(t, tiers) {
+        if (strcmp(cJSON_GetObjectItem(t, "name")->valuestring, "fixed") == 0)
+            cJSON_ReplaceItemInObject(cJSON_GetObjectItem(t, "requires"), "texture_units", cJSON_CreateNumber(1));
+    }
+    char *text = cJSON_Print(root);
+    write_file(dir, "manifest.json", text);
+    free(text);
+    cJSON_Delete(root);
+    int stages = bundle_program(dir).stage_count;
+    assert_true(stages > 1);
+    snprintf(reason, sizeof reason, "%s/fixed.json: %d stages need %d texture units, have 1", dir, stages, stages);
+    expect_refused((ht_device_profile){ .texture_units = 1 }, dir, reason);
+}
+
+static void test_device_without_combine_is_refused(void **state) {
+    (void)state;
+    expect_refused((ht_device_profile){ .hide_extensions = "GL_ARB_texture_env_combine GL_EXT_texture_env_combine" },
+                   bundle_dir, "needs GL_ARB_texture_env_combine");
+}
+
+static void test_device_with_small_3d_textures_is_refused(void **state) {
+    (void)state;
+    ht_combiner_program p = bundle_program(bundle_dir);
+    int largest = largest_lut_axis(&p);
+    assert_true(p.lut_size[2] > 1); /* dark-brown's LUT is 3D */
+    char reason[256];
+    snprintf(reason, sizeof reason, "LUT %dx%dx%d needs GL_MAX_3D_TEXTURE_SIZE %d, have 16", p.lut_size[0],
+             p.lut_size[1], p.lut_size[2], largest);
+    expect_refused((ht_device_profile){ .max_3d_texture_size = 16 }, bundle_dir, reason);
+    snprintf(reason, sizeof reason, "LUT %dx%dx%d needs GL_MAX_3D_TEXTURE_SIZE %d, have %d", p.lut_size[0],
+             p.lut_size[1], p.lut_size[2], largest, largest / 2);
+    expect_refused((ht_device_profile){ .max_3d_texture_size = largest / 2 }, bundle_dir, reason);
+    /* Exactly the largest axis is enough. */
+    ht_renderer *r = create((ht_renderer_desc){ .profile = { .gl_major = 1, .gl_minor = 3,
+                                                             .max_3d_texture_size = largest } }, HT_OK);
+    assert_int_equal(ht_renderer_tier(r), HT_TIER_FIXED);
+    assert_int_equal(ht_renderer_caps(r)->max_3d_texture_size, largest);
+    ht_renderer_destroy(r);
+    /* No 3D textures at all. */
+    snprintf(reason, sizeof reason, "LUT %dx%dx%d needs 3D textures (GL 1.2), have none", p.lut_size[0],
+             p.lut_size[1], p.lut_size[2]);
+    expect_refused((ht_device_profile){ .hide_extensions = "GL_EXT_texture3D" }, bundle_dir, reason);
+}
+
+/* ---- broken bundles ---- */
+
+static void expect_skipped(const char *dir, const char *reason_start) {
+    ht_renderer *r = create((ht_renderer_desc){ .profile = { .gl_major = 1, .gl_minor = 3 }, .bundle_dir = dir },
+                            HT_ERR_NO_TIER);
+    assert_null(r);
+    char want[512], line[1024];
+    snprintf(want, sizeof want, "hairtier: skipped fixed: %s", reason_start);
+    if (!logged_line("skipped fixed: ", line, sizeof line)) fail_msg("no fixed line in:\n%s", log_text);
+    if (strncmp(line, want, strlen(want)) != 0) fail_msg("got  \"%s\"\nwant \"%s...\"", line, want);
+    assert_true(every_line_is_the_renderers());
+    /* A device that runs full is unaffected by a broken fixed tier. */
+    r = create((ht_renderer_desc){ .bundle_dir = dir }, HT_OK);
+    assert_int_equal(ht_renderer_tier(r), HT_TIER_FULL);
+    ht_renderer_destroy(r);
+}
+
+static void test_corrupt_program_skips_fixed_naming_the_file(void **state) {
+    (void)state;
+    char dir[256], want[512];
+    copy_bundle("corrupt-program", dir, sizeof dir);
+    write_file(dir, "fixed.json", "{\"format\": \"hairtier-combiner/1\", \"model\": ");
+    snprintf(want, sizeof want, "%s/fixed.json: line 1: malformed JSON", dir);
+    expect_skipped(dir, want);
+
+    /* A bad field is named by its path. */
+    copy_bundle("bad-scale", dir, sizeof dir);
+    cJSON *root = cJSON_Parse(read_file(dir, "fixed.json"));
+    assert_non_null(root);
+    cJSON *stage = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "stages"), 0);
+    cJSON_ReplaceItemInObject(stage, "rgb_scale", cJSON_CreateNumber(3));
+    char *out = cJSON_Print(root);
+    write_file(dir, "fixed.json", out);
+    free(out);
+    cJSON_Delete(root);
+    snprintf(want, sizeof want, "%s/fixed.json: stages[0].rgb_scale", dir);
+    expect_skipped(dir, want);
+
+    char path[512];
+    copy_bundle("missing-program", dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/fixed.json", dir);
+    assert_int_equal(unlink(path), 0);
+    snprintf(want, sizeof want, "%s/fixed.json: cannot read", dir);
+    expect_skipped(dir, want);
+}
+
+static void test_missing_or_wrong_lut_skips_fixed_naming_the_file(void **state) {
+    (void)state;
+    char dir[256], want[512], path[512], err[256];
+    copy_bundle("missing-lut", dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/fixed-lut.png", dir);
+    assert_int_equal(unlink(path), 0);
+    snprintf(want, sizeof want, "%s/fixed-lut.png: cannot open", dir);
+    expect_skipped(dir, want);
+
+    /* A LUT image that is not the size the manifest lists. */
+    copy_bundle("small-lut", dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/fixed-lut.png", dir);
+    ht_image small = { 0 };
+    assert_int_equal(ht_image_alloc(&small, 4, 4, 3), HT_OK);
+    assert_int_equal(ht_image_write_png(path, &small, err, sizeof err), HT_OK);
+    ht_image_free(&small);
+    snprintf(want, sizeof want, "%s/fixed-lut.png: 4x4, manifest says", dir);
+    expect_skipped(dir, want);
+
+    /* A truncated PNG. */
+    copy_bundle("truncated-lut", dir, sizeof dir);
+    write_file(dir, "fixed-lut.png", "\x89PNG\r\n\x1a\n");
+    snprintf(want, sizeof want, "%s/fixed-lut.png: ", dir);
+    expect_skipped(dir, want);
+}
+
+/* ---- GL state ---- */
+
+static void check_env_defaults(int units) {
+    static const struct { GLenum pname; GLint value; } defaults[] = {
+        { GL_TEXTURE_ENV_MODE, GL_MODULATE },
+        { GL_COMBINE_RGB, GL_MODULATE }, { GL_COMBINE_ALPHA, GL_MODULATE },
+        { GL_SOURCE0_RGB, GL_TEXTURE }, { GL_SOURCE1_RGB, GL_PREVIOUS }, { GL_SOURCE2_RGB, GL_CONSTANT },
+        { GL_SOURCE0_ALPHA, GL_TEXTURE }, { GL_SOURCE1_ALPHA, GL_PREVIOUS }, { GL_SOURCE2_ALPHA, GL_CONSTANT },
+        { GL_OPERAND0_RGB, GL_SRC_COLOR }, { GL_OPERAND1_RGB, GL_SRC_COLOR }, { GL_OPERAND2_RGB, GL_SRC_ALPHA },
+        { GL_OPERAND0_ALPHA, GL_SRC_ALPHA }, { GL_OPERAND1_ALPHA, GL_SRC_ALPHA },
+        { GL_OPERAND2_ALPHA, GL_SRC_ALPHA },
+    };
+    PFNGLCLIENTACTIVETEXTUREARBPROC client_active;
+    void *p = ht_test_getproc("glClientActiveTexture");
+    memcpy(&client_active, &p, sizeof p);
+    for (int u = 0; u < units; u++) {
+        active_texture(GL_TEXTURE0 + (GLenum)u);
+        client_active(GL_TEXTURE0 + (GLenum)u);
+        for (size_t i = 0; i < sizeof defaults / sizeof defaults[0]; i++) {
+            GLint v = 0;
+            glGetTexEnviv(GL_TEXTURE_ENV, defaults[i].pname, &v);
+            if (v != defaults[i].value)
+                fail_msg("unit %d: texture env 0x%04x is 0x%04x, default 0x%04x", u, defaults[i].pname, v,
+                         defaults[i].value);
+        }
+        GLfloat scale = 0, color[4] = { 1, 1, 1, 1 };
+        glGetTexEnvfv(GL_TEXTURE_ENV, GL_RGB_SCALE, &scale);
+        assert_float_equal(scale, 1.0f, 0.0f);
+        glGetTexEnvfv(GL_TEXTURE_ENV, GL_ALPHA_SCALE, &scale);
+        assert_float_equal(scale, 1.0f, 0.0f);
+        glGetTexEnvfv(GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, color);
+        for (int k = 0; k < 4; k++) assert_float_equal(color[k], 0.0f, 0.0f);
+        assert_false(glIsEnabled(GL_TEXTURE_2D));
+        assert_false(glIsEnabled(GL_TEXTURE_3D));
+        assert_false(glIsEnabled(GL_TEXTURE_COORD_ARRAY));
+        GLint bound = -1;
+        glGetIntegerv(GL_TEXTURE_BINDING_2D, &bound);
+        assert_int_equal(bound, 0);
+        glGetIntegerv(GL_TEXTURE_BINDING_3D, &bound);
+        assert_int_equal(bound, 0);
+    }
+    active_texture(GL_TEXTURE0);
+    client_active(GL_TEXTURE0);
+    GLint v = 0;
+    glGetIntegerv(GL_ACTIVE_TEXTURE, &v);
+    assert_int_equal(v, GL_TEXTURE0);
+    glGetIntegerv(GL_CLIENT_ACTIVE_TEXTURE, &v);
+    assert_int_equal(v, GL_TEXTURE0);
+    assert_false(glIsEnabled(GL_COLOR_ARRAY));
+    GLfloat current[4] = { 0, 0, 0, 0 };
+    glGetFloatv(GL_CURRENT_COLOR, current);
+    for (int k = 0; k < 4; k++) assert_float_equal(current[k], 1.0f, 0.0f);
+    assert_int_equal(glGetError(), GL_NO_ERROR);
+}
+
+static void test_frame_calls_no_shaders_and_primes_z_without_the_lut(void **state) {
+    (void)state;
+    shader_calls = 0;
+    draw_count = 0;
+    ht_renderer *r = create((ht_renderer_desc){ .getproc = watching_getproc, .tier = HT_TIER_FIXED, .strict = true },
+                            HT_OK);
+    assert_true(ht_renderer_caps(r)->has_shaders); /* shaders were there to misuse */
+    assert_int_equal(ht_renderer_set_mesh(r, &furball), HT_OK);
+    ht_image img;
+    ht_frame_desc f = furball_frame();
+    render(r, &f, &img);
+    ht_image_free(&img);
+    ht_renderer_destroy(r);
+    assert_int_equal(shader_calls, 0);
+    assert_int_equal(draw_count, HT_PASS_COUNT);
+    ht_combiner_program p = bundle_program(bundle_dir);
+    assert_int_equal(p.stage_count, 2);
+    for (int i = 0; i < draw_count; i++) {
+        const draw_state *d = &draws[i];
+        assert_int_equal(d->program, 0);
+        bool prime = i == HT_PASS_PRIME_Z;
+        assert_int_equal(d->color_write, !prime);
+        /* unit 0: the LUT, off while priming Z; unit 1: albedo, whose alpha primes */
+        assert_int_equal(d->unit_3d[0], !prime);
+        assert_false(d->unit_2d[0]);
+        assert_true(d->unit_2d[1]);
+        assert_int_equal(d->env_mode[1], GL_COMBINE);
+        if (!prime) assert_int_equal(d->env_mode[0], GL_COMBINE);
+    }
+}
+
+/* Z from the prime pass must be the same texels as the full tier's. */
+static void read_depth(float *out) {
+    glReadPixels(0, 0, SIZE, SIZE, GL_DEPTH_COMPONENT, GL_FLOAT, out);
+}
+
+static void test_frame_restores_texture_env_and_leaves_other_tiers_unchanged(void **state) {
+    (void)state;
+    ht_frame_desc f = furball_frame();
+    ht_renderer *full = create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true }, HT_OK);
+    ht_renderer *flat = create((ht_renderer_desc){ .flat = true }, HT_OK);
+    ht_renderer *fixed = create((ht_renderer_desc){ .tier = HT_TIER_FIXED, .strict = true }, HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(full, &furball), HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(flat, &furball), HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(fixed, &furball), HT_OK);
+    ht_image full_before, flat_before, fixed_img, full_after, flat_after;
+    static float depth_full[SIZE * SIZE], depth_fixed[SIZE * SIZE];
+    render(full, &f, &full_before);
+    read_depth(depth_full);
+    render(flat, &f, &flat_before);
+
+    render(fixed, &f, &fixed_img);
+    read_depth(depth_fixed);
+    const ht_trace *t = ht_renderer_trace(fixed);
+    assert_int_equal(t->count, HT_PASS_COUNT);
+    for (int i = 0; i < t->count; i++) assert_int_equal(t->entries[i].gl_error, GL_NO_ERROR);
+    check_env_defaults(ht_renderer_caps(fixed)->texture_units < 4 ? ht_renderer_caps(fixed)->texture_units : 4);
+
+    /* The tier after it draws the same bytes it drew before it. */
+    render(full, &f, &full_after);
+    render(flat, &f, &flat_after);
+    assert_memory_equal(full_before.pixels, full_after.pixels, (size_t)SIZE * SIZE * 4);
+    assert_memory_equal(flat_before.pixels, flat_after.pixels, (size_t)SIZE * SIZE * 4);
+
+    /* Alpha comes from the same albedo texels in both tiers: the depth the
+       prime and front passes leave agrees (a few texels at the cutoff may
+       filter differently). */
+    int differ = 0, hair = 0;
+    for (int i = 0; i < SIZE * SIZE; i++) {
+        hair += depth_full[i] < 1.0f;
+        differ += depth_full[i] != depth_fixed[i];
+    }
+    printf("depth: %d of %d hair pixels differ between full and fixed\n", differ, hair);
+    assert_true(hair > SIZE * SIZE / 20);
+    assert_true(differ <= hair / 100);
+
+    ht_image *imgs[5] = { &full_before, &flat_before, &fixed_img, &full_after, &flat_after };
+    for (int i = 0; i < 5; i++) ht_image_free(imgs[i]);
+    ht_renderer_destroy(full);
+    ht_renderer_destroy(flat);
+    ht_renderer_destroy(fixed);
+}
+
+static void test_mesh_changes_and_empty_frames_are_safe(void **state) {
+    (void)state;
+    ht_renderer *r = create((ht_renderer_desc){ .tier = HT_TIER_FIXED, .strict = true }, HT_OK);
+    ht_frame_desc f = furball_frame();
+    ht_image img;
+    render(r, &f, &img); /* no mesh yet */
+    ht_image_free(&img);
+    ht_mesh empty = { 0 };
+    assert_int_equal(ht_renderer_set_mesh(r, &empty), HT_OK);
+    render(r, &f, &img);
+    ht_image_free(&img);
+    assert_int_equal(ht_renderer_set_mesh(r, &furball), HT_OK);
+    f.light_count = 0; /* unlit: black hair, still drawn */
+    render(r, &f, &img);
+    pixel_stats s = stats(&img);
+    assert_true(s.changed > SIZE * SIZE / 20);
+    ht_image_free(&img);
+    for (int i = 0; i < ht_renderer_trace(r)->count; i++)
+        assert_int_equal(ht_renderer_trace(r)->entries[i].gl_error, GL_NO_ERROR);
+    check_env_defaults(2);
+    ht_renderer_destroy(r);
+}
+
+int main(int argc, char **argv) {
+    if (argc == 3 && strcmp(argv[1], "--child") == 0) return child_main(argv[2]);
+    double l[3] = { first_light[0], first_light[1], first_light[2] };
+    unit(l);
+    make_cells(l);
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes),
+        cmocka_unit_test(test_mesa_gl13_driver_runs_fixed_with_the_full_tiers_trace),
+        cmocka_unit_test(test_fixed_probe_tracks_emulator_and_oracle_on_generic_cells),
+        cmocka_unit_test(test_fixed_probe_tracks_emulator_at_the_models_extremes),
+        cmocka_unit_test(test_device_with_too_few_units_is_refused),
+        cmocka_unit_test(test_device_without_combine_is_refused),
+        cmocka_unit_test(test_device_with_small_3d_textures_is_refused),
+        cmocka_unit_test(test_corrupt_program_skips_fixed_naming_the_file),
+        cmocka_unit_test(test_missing_or_wrong_lut_skips_fixed_naming_the_file),
+        cmocka_unit_test(test_frame_calls_no_shaders_and_primes_z_without_the_lut),
+        cmocka_unit_test(test_frame_restores_texture_env_and_leaves_other_tiers_unchanged),
+        cmocka_unit_test(test_mesh_changes_and_empty_frames_are_safe),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
