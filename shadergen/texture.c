@@ -13,12 +13,17 @@
                             (a lattice cell every 2 texels), cells 32 times
                             longer along v (one cell at sizes up to 64)
      strand-alpha     1 ch  a comb of strands along v, one per size/8 columns
-                            (2..64 strands): opaque cores near the root, soft
-                            edges, tips fading to 0 at a random length
-     noise            1 ch  per-strand shift jitter in [0.2, 0.8] around 0.5,
-                            2 cells along v
-     sparkle          1 ch  0 but for sparse glints, 1 texel wide, elongated
-                            along v
+                            (2..64 strands): opaque cores (45..70% of the
+                            half width) near the root, soft edges, tips
+                            fading to 0 at a random length in [0.75, 1],
+                            the fade starting at 60..85% of that length
+     noise            1 ch  per-strand shift jitter in [0.38, 0.62] around
+                            0.5 (a tangent shift of at most ±0.12: strands
+                            break the highlight band up without scattering
+                            it), 2 cells along v
+     sparkle          1 ch  the secondary highlight's mask: 0 but for glints
+                            1 texel wide, elongated along v, on about a fifth
+                            of the texels at every size
    Procedural sizes are powers of two in 16..2048 (hairgen.h); a file may be
    any size at least 1 x 1, square or not: GL 2.0 and the GLSL tiers sample
    any size; what a tier needs beyond that is the packer's and emitters' call.
@@ -119,9 +124,9 @@ static void strand_alpha(ht_image *out, ht_rng *keys) {
         /* per strand, as 16.16 fractions: its length (of the image height),
            where its tip starts fading (of its length), its opaque core
            (of its half width) */
-        int64_t length = rng_int(&r, ONE * 45 / 100, ONE);
-        int64_t fade_from = length * rng_int(&r, ONE * 55 / 100, ONE * 80 / 100) / ONE;
-        int64_t core = rng_int(&r, ONE * 35 / 100, ONE * 60 / 100);
+        int64_t length = rng_int(&r, ONE * 75 / 100, ONE);
+        int64_t fade_from = length * rng_int(&r, ONE * 60 / 100, ONE * 85 / 100) / ONE;
+        int64_t core = rng_int(&r, ONE * 45 / 100, ONE * 70 / 100);
         const int64_t edge = ONE * 95 / 100;
         for (int c = 0; c < width; c++) {
             int x = k * width + c;
@@ -144,14 +149,16 @@ static void shift_noise(ht_image *out, ht_rng *keys) {
     for (int y = 0; y < size; y++)
         for (int x = 0; x < size; x++) {
             int64_t n = value_noise(key, x, y, size, at_least_one(size / 2), 2);
-            out->pixels[(size_t)y * size + x] = to_byte(ONE * 20 / 100 + n * 60 / 100);
+            out->pixels[(size_t)y * size + x] = to_byte(ONE * 38 / 100 + n * 24 / 100);
         }
 }
 
 static void sparkle(ht_image *out, ht_rng *keys) {
     int size = out->width;
-    int glints = at_least_one(size * size / 512);
     int shortest = size / 64 < 2 ? 2 : size / 64, longest = size / 16 < 3 ? 3 : size / 16;
+    /* A glint is shortest + longest + 1 texels long on average: this many
+       would cover a quarter of the image if none overlapped, at any size. */
+    int glints = at_least_one(size * size / (4 * (shortest + longest + 1)));
     ht_rng r = ht_rng_seed(ht_rng_next(keys));
     for (int g = 0; g < glints; g++) {
         int x = (int)rng_int(&r, 0, size - 1), y = (int)rng_int(&r, 0, size - 1);

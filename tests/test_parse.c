@@ -356,7 +356,8 @@ static void test_furball_scene_frames_a_ball_of_about_unit_radius(void **state) 
     assert_int_equal(s.geometry, HT_GEOMETRY_FURBALL);
     assert_true(s.light_count >= 1 && s.light_count <= 2);
     for (int i = 0; i < s.light_count; i++) assert_int_equal(s.lights[i].type, HT_LIGHT_DIRECTIONAL);
-    assert_true(s.furball.hairs >= 3000 && s.furball.hairs <= 5000);
+    /* dense enough to read as fur, few enough for llvmpipe to draw quickly */
+    assert_true(s.furball.hairs >= 3000 && s.furball.hairs <= 10000);
     assert_int_equal(s.furball.joints, 16);
     double reach = s.furball.joints * (double)s.furball.length;
     assert_true(reach > 0.8 && reach < 1.2);

@@ -1,0 +1,429 @@
+/* tier_sheet — the technical artist's contact sheet: one scene rendered with
+   every tier of a bundle side by side, each with its error against `full`.
+
+   build/tier_sheet --bundle DIR --scene SCENE.json [--frames N] -o SHEET.png
+
+   Panels, left to right: full, vertex, fixed. Top row: the tier's image
+   (forced tier, strict: no silent downgrade; a tier the device cannot run
+   is a grey panel with the reason). Bottom row: per-pixel max channel
+   difference from full's image through a ramp (black 0, red, yellow, white
+   at 64/255 and above); full's own heatmap is black. Labels use a built-in
+   3x5 bitmap font, drawn after the errors are measured.
+
+   Prints a table on stdout: tier, frame ms (median of N frames after one
+   warm-up, each ended by glFinish), mean and max error vs full in /255. The
+   mean is over the pixels hair or head covers in either image (pixels that
+   differ from the background), so an empty border does not dilute it.
+   Exit status 0 when the sheet is written (some tiers may not have run),
+   1 when no tier ran or on any other failure (one line on stderr, no
+   sheet), 2 on usage. */
+#include <ctype.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <GL/osmesa.h>
+
+#include "hairgen.h"
+#include "hairtier.h"
+#include "image.h"
+
+#define TIERS 3          /* full, vertex, fixed: the sheet's columns */
+#define GAP 4            /* pixels between panels */
+#define HEAT_FULL 64     /* difference (/255) the ramp reaches white at */
+#define FONT_SCALE 2
+#define MAX_FRAMES 1000
+
+static const ht_tier columns[TIERS] = { HT_TIER_FULL, HT_TIER_VERTEX, HT_TIER_FIXED };
+
+typedef struct options {
+    const char *bundle, *scene, *out;
+    int frames;
+} options;
+
+typedef struct panel {
+    bool ran;
+    char reason[512];      /* why it did not run, or the renderer's reason */
+    unsigned char *rgba;   /* width * height * 4, GL rows (bottom-up) */
+    double frame_ms;
+    double mean_err;
+    int max_err;
+    bool compared;
+} panel;
+
+/* ---- a 3x5 bitmap font: rows top to bottom, '#' lit ---- */
+
+typedef struct glyph {
+    char c;
+    const char *rows; /* 15 characters, 3 per row */
+} glyph;
+
+static const glyph font[] = {
+    { 'A', ".#.#.#####.##.#" }, { 'B', "##.#.###.#.###." }, { 'C', ".###..#..#...##" },
+    { 'D', "##.#.##.##.###." }, { 'E', "####..##.#..###" }, { 'F', "####..##.#..#.." },
+    { 'G', ".###..#.##.#.##" }, { 'H', "#.##.#####.##.#" }, { 'I', "###.#..#..#.###" },
+    { 'J', "..#..#..##.#.#." }, { 'K', "#.##.###.#.##.#" }, { 'L', "#..#..#..#..###" },
+    { 'M', "#.########.##.#" }, { 'N', "##.#.##.##.##.#" }, { 'O', ".#.#.##.##.#.#." },
+    { 'P', "##.#.###.#..#.." }, { 'Q', ".#.#.##.###..##" }, { 'R', "##.#.###.#.##.#" },
+    { 'S', ".###...#...###." }, { 'T', "###.#..#..#..#." }, { 'U', "#.##.##.##.####" },
+    { 'V', "#.##.##.##.#.#." }, { 'W', "#.##.########.#" }, { 'X', "#.##.#.#.#.##.#" },
+    { 'Y', "#.##.#.#..#..#." }, { 'Z', "###..#.#.#..###" }, { '0', "####.##.##.####" },
+    { '1', ".#.##..#..#.###" }, { '2', "##...#.#.#..###" }, { '3', "##...#.#...###." },
+    { '4', "#.##.####..#..#" }, { '5', "####..##...###." }, { '6', ".###..####.####" },
+    { '7', "###..#.#..#..#." }, { '8', "####.#####.####" }, { '9', "####.####..###." },
+    { '.', ".............#." }, { ',', "..........#.#.." }, { ':', "....#.....#...." },
+    { '-', "......###......" }, { '/', "..#..#.#.#..#.." }, { '(', "..#.#..#..#...#" },
+    { ')', "#...#..#..#.#.." }, { '=', "...###...###..." }, { '_', "............###" },
+    { '+', "....#.###.#...." }, { '%', "#.#..#.#.#..#.#" }, { '\'', ".#..#.........." },
+    { '"', "#.##.#........." }, { '>', "#...#...#.#.#.." }, { '<', "..#.#.#...#...#" },
+    { '?', "##...#.#.....#." },
+};
+
+static const char *glyph_rows(char c) {
+    c = (char)toupper((unsigned char)c);
+    for (size_t i = 0; i < sizeof font / sizeof font[0]; i++)
+        if (font[i].c == c) return font[i].rows;
+    return c == ' ' ? NULL : glyph_rows('?');
+}
+
+#define GLYPH_W (3 * FONT_SCALE)
+#define GLYPH_H (5 * FONT_SCALE)
+#define ADVANCE (GLYPH_W + FONT_SCALE)
+#define LINE (GLYPH_H + 2 * FONT_SCALE)
+
+static void fill_rect(ht_image *img, int x0, int y0, int w, int h, const unsigned char rgb[3]) {
+    for (int y = y0 < 0 ? 0 : y0; y < y0 + h && y < img->height; y++)
+        for (int x = x0 < 0 ? 0 : x0; x < x0 + w && x < img->width; x++)
+            memcpy(img->pixels + ((size_t)y * (size_t)img->width + (size_t)x) * 3, rgb, 3);
+}
+
+/* One line of text on a dark box, clipped to max_chars. */
+static void draw_text(ht_image *img, int x, int y, const char *text, int max_chars) {
+    static const unsigned char box[3] = { 0, 0, 0 }, ink[3] = { 235, 235, 235 };
+    int n = (int)strlen(text);
+    if (n > max_chars) n = max_chars;
+    if (n == 0) return;
+    fill_rect(img, x - FONT_SCALE, y - FONT_SCALE, n * ADVANCE + FONT_SCALE, LINE, box);
+    for (int i = 0; i < n; i++) {
+        const char *rows = glyph_rows(text[i]);
+        if (!rows) continue;
+        for (int k = 0; k < 15; k++)
+            if (rows[k] == '#')
+                fill_rect(img, x + i * ADVANCE + (k % 3) * FONT_SCALE, y + (k / 3) * FONT_SCALE, FONT_SCALE,
+                          FONT_SCALE, ink);
+    }
+}
+
+/* Word-wrapped text from (x, y), at most max_chars a line. */
+static void draw_wrapped(ht_image *img, int x, int y, const char *text, int max_chars, int max_lines) {
+    char line[256];
+    if (max_chars > (int)sizeof line - 1) max_chars = (int)sizeof line - 1;
+    for (int l = 0; l < max_lines && *text; l++) {
+        int n = (int)strlen(text);
+        if (n > max_chars) {
+            n = max_chars;
+            while (n > max_chars / 2 && text[n] != ' ') n--;
+        }
+        memcpy(line, text, (size_t)n);
+        line[n] = '\0';
+        draw_text(img, x, y + l * LINE, line, max_chars);
+        text += n;
+        while (*text == ' ') text++;
+    }
+}
+
+/* ---- rendering one tier ---- */
+
+static char last_log[512];
+
+static void log_line(void *user, const char *line) {
+    (void)user;
+    const char *prefix = "hairtier: ";
+    snprintf(last_log, sizeof last_log, "%s", strncmp(line, prefix, strlen(prefix)) == 0 ? line + strlen(prefix) : line);
+}
+
+static void *getproc(const char *name) {
+    OSMESAproc p = OSMesaGetProcAddress(name);
+    void *out;
+    memcpy(&out, &p, sizeof out);
+    return out;
+}
+
+static double now_ms(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
+}
+
+static int compare_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static void draw_frame(const ht_scene *s, ht_renderer *r, const ht_frame_desc *f, ht_result *res) {
+    glClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    ht_result fr = ht_renderer_draw(r, f);
+    if (fr != HT_OK && *res == HT_OK) *res = fr;
+    glFinish();
+}
+
+/* A fresh context per tier: no GL state leaks from one tier into the next. */
+static void render_tier(const options *o, const ht_scene *s, const ht_mesh *hair, const ht_mesh *head,
+                        ht_tier tier, panel *p) {
+    const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
+                            OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0 };
+    OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, NULL);
+    ht_renderer *r = NULL;
+    double *times = NULL;
+    p->rgba = malloc((size_t)s->width * (size_t)s->height * 4);
+    if (!ctx || !p->rgba || !OSMesaMakeCurrent(ctx, p->rgba, GL_UNSIGNED_BYTE, s->width, s->height)) {
+        snprintf(p->reason, sizeof p->reason, "cannot create a %dx%d OSMesa context", s->width, s->height);
+        goto done;
+    }
+    glViewport(0, 0, s->width, s->height);
+    last_log[0] = '\0';
+    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = getproc, .bundle_dir = o->bundle,
+                                                            .tier = tier, .strict = true, .log = log_line },
+                                       &r);
+    if (res == HT_OK) res = ht_renderer_set_mesh(r, hair);
+    if (res != HT_OK) {
+        snprintf(p->reason, sizeof p->reason, "%s", last_log[0] ? last_log : ht_result_string(res));
+        goto done;
+    }
+    ht_frame_desc frame = { .camera = s->camera, .lights = s->lights, .light_count = s->light_count,
+                            .aspect = (float)s->width / (float)s->height,
+                            .opaque = head->index_count ? head : NULL };
+    times = malloc(sizeof *times * (size_t)o->frames);
+    if (!times) {
+        snprintf(p->reason, sizeof p->reason, "out of memory");
+        goto done;
+    }
+    draw_frame(s, r, &frame, &res); /* warm-up: shader variants, texture uploads */
+    for (int i = 0; i < o->frames; i++) {
+        double t0 = now_ms();
+        draw_frame(s, r, &frame, &res);
+        times[i] = now_ms() - t0;
+    }
+    if (res != HT_OK) {
+        snprintf(p->reason, sizeof p->reason, "%s", last_log[0] ? last_log : ht_result_string(res));
+        goto done;
+    }
+    qsort(times, (size_t)o->frames, sizeof *times, compare_double);
+    p->frame_ms = o->frames % 2 ? times[o->frames / 2]
+                                : 0.5 * (times[o->frames / 2 - 1] + times[o->frames / 2]);
+    snprintf(p->reason, sizeof p->reason, "%s", ht_renderer_reason(r));
+    p->ran = true;
+done:
+    free(times);
+    ht_renderer_destroy(r);
+    if (ctx) OSMesaDestroyContext(ctx);
+}
+
+/* ---- comparing and composing ---- */
+
+static int max_channel_diff(const unsigned char *a, const unsigned char *b) {
+    int m = 0;
+    for (int c = 0; c < 3; c++) {
+        int d = abs((int)a[c] - (int)b[c]);
+        if (d > m) m = d;
+    }
+    return m;
+}
+
+/* Covered: anything but the cleared background (one step of rounding allowed). */
+static bool covered(const unsigned char *px, const unsigned char bg[3]) {
+    return max_channel_diff(px, bg) > 1;
+}
+
+static void compare(const ht_scene *s, const panel *full, panel *p) {
+    unsigned char bg[3];
+    for (int c = 0; c < 3; c++) bg[c] = (unsigned char)(s->background[c] * 255.0f + 0.5f);
+    size_t n = (size_t)s->width * (size_t)s->height, count = 0;
+    double sum = 0;
+    int max = 0;
+    for (size_t i = 0; i < n; i++) {
+        const unsigned char *a = full->rgba + 4 * i, *b = p->rgba + 4 * i;
+        int d = max_channel_diff(a, b);
+        if (d > max) max = d;
+        if (covered(a, bg) || covered(b, bg)) {
+            sum += d;
+            count++;
+        }
+    }
+    p->mean_err = count ? sum / (double)count : 0.0;
+    p->max_err = max;
+    p->compared = true;
+}
+
+static void heat(int d, unsigned char out[3]) {
+    int t = d >= HEAT_FULL ? 3 * 255 : d * 3 * 255 / HEAT_FULL; /* 0..765: red, then green, then blue rise */
+    for (int c = 0; c < 3; c++) {
+        int v = t - c * 255;
+        out[c] = (unsigned char)(v < 0 ? 0 : v > 255 ? 255 : v);
+    }
+}
+
+/* Copies a GL (bottom-up RGBA) image, or its heatmap against `ref`, into the sheet. */
+static void blit(ht_image *sheet, int x0, int y0, const ht_scene *s, const unsigned char *rgba,
+                 const unsigned char *ref) {
+    for (int y = 0; y < s->height; y++) {
+        const unsigned char *src = rgba + (size_t)(s->height - 1 - y) * (size_t)s->width * 4;
+        const unsigned char *rsrc = ref ? ref + (size_t)(s->height - 1 - y) * (size_t)s->width * 4 : NULL;
+        unsigned char *dst = sheet->pixels + ((size_t)(y0 + y) * (size_t)sheet->width + (size_t)x0) * 3;
+        for (int x = 0; x < s->width; x++) {
+            if (rsrc) heat(max_channel_diff(src + 4 * x, rsrc + 4 * x), dst + 3 * x);
+            else memcpy(dst + 3 * x, src + 4 * x, 3);
+        }
+    }
+}
+
+static void compose(ht_image *sheet, const ht_scene *s, const panel *panels) {
+    static const unsigned char grey[3] = { 90, 90, 90 }, gap[3] = { 40, 40, 40 };
+    fill_rect(sheet, 0, 0, sheet->width, sheet->height, gap);
+    const int chars = (s->width - 4 * FONT_SCALE) / ADVANCE;
+    const int lines = (s->height - 4 * FONT_SCALE) / LINE - 1;
+    const panel *full = &panels[0];
+    for (int t = 0; t < TIERS; t++) {
+        const panel *p = &panels[t];
+        const int x = t * (s->width + GAP), y = s->height + GAP, pad = 2 * FONT_SCALE;
+        char text[700];
+        if (p->ran) {
+            blit(sheet, x, 0, s, p->rgba, NULL);
+            snprintf(text, sizeof text, "%s  %.1f ms", ht_tier_name(columns[t]), p->frame_ms);
+            draw_text(sheet, x + pad, pad, text, chars);
+        } else {
+            fill_rect(sheet, x, 0, s->width, s->height, grey);
+            snprintf(text, sizeof text, "%s: not run", ht_tier_name(columns[t]));
+            draw_text(sheet, x + pad, pad, text, chars);
+            draw_wrapped(sheet, x + pad, pad + LINE, p->reason, chars, lines);
+        }
+        if (p->compared) {
+            blit(sheet, x, y, s, p->rgba, full->rgba);
+            snprintf(text, sizeof text, "vs full: mean %.2f  max %d /255", p->mean_err, p->max_err);
+        } else {
+            fill_rect(sheet, x, y, s->width, s->height, grey);
+            snprintf(text, sizeof text, "%s", p->ran ? "no full image to compare with" : "no image");
+        }
+        draw_text(sheet, x + pad, y + pad, text, chars);
+    }
+}
+
+static void print_table(const panel *panels) {
+    printf("panels left to right: full, vertex, fixed; top: image, bottom: error vs full "
+           "(black 0, white >= %d/255)\n", HEAT_FULL);
+    printf("%-7s %9s %9s %7s\n", "tier", "frame_ms", "mean_err", "max_err");
+    for (int t = 0; t < TIERS; t++) {
+        const panel *p = &panels[t];
+        const char *name = ht_tier_name(columns[t]);
+        if (!p->ran) printf("%-7s %9s %9s %7s  not run: %s\n", name, "-", "-", "-", p->reason);
+        else if (!p->compared) printf("%-7s %9.3f %9s %7s\n", name, p->frame_ms, "-", "-");
+        else printf("%-7s %9.3f %9.2f %7d\n", name, p->frame_ms, p->mean_err, p->max_err);
+    }
+}
+
+/* ---- command line ---- */
+
+static void print_help(FILE *f) {
+    fprintf(f,
+            "usage: tier_sheet --bundle DIR --scene SCENE.json [--frames N] -o SHEET.png\n"
+            "Renders SCENE with every tier of the bundle (forced, strict) side by side.\n"
+            "Panels left to right: full, vertex, fixed. Top row: the tier's image, or a grey\n"
+            "panel with the reason it cannot run here. Bottom row: per-pixel max channel\n"
+            "difference from full (black 0, then red, yellow, white at %d/255 and above).\n"
+            "Prints tier, frame ms (median of N frames, default 5, each ended by glFinish),\n"
+            "mean error (over pixels covered in either image) and max error, in /255.\n",
+            HEAT_FULL);
+}
+
+static int usage(const char *why) {
+    fprintf(stderr, "tier_sheet: %s\n", why);
+    print_help(stderr);
+    return 2;
+}
+
+static int parse_args(int argc, char **argv, options *o) {
+    *o = (options){ .frames = 5 };
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        bool has_value = i + 1 < argc;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            print_help(stdout);
+            return -1;
+        } else if (strcmp(a, "--bundle") == 0 && has_value) o->bundle = argv[++i];
+        else if (strcmp(a, "--scene") == 0 && has_value) o->scene = argv[++i];
+        else if (strcmp(a, "-o") == 0 && has_value) o->out = argv[++i];
+        else if (strcmp(a, "--frames") == 0 && has_value) {
+            char *end;
+            long n = strtol(argv[++i], &end, 10);
+            if (*end || n < 1 || n > MAX_FRAMES) return usage("--frames: expected an integer in 1..1000");
+            o->frames = (int)n;
+        } else {
+            char why[300];
+            snprintf(why, sizeof why, "%s: unknown option or missing value", a);
+            return usage(why);
+        }
+    }
+    if (!o->bundle) return usage("--bundle: required");
+    if (!o->scene) return usage("--scene: required");
+    if (!o->out) return usage("-o: required");
+    return 0;
+}
+
+int main(int argc, char **argv) {
+    options o;
+    int rc = parse_args(argc, argv, &o);
+    if (rc) return rc < 0 ? 0 : rc;
+
+    char err[1024];
+    ht_scene scene;
+    if (ht_scene_load(o.scene, &scene, err, sizeof err) != HT_OK) {
+        fprintf(stderr, "tier_sheet: %s\n", err);
+        return 1;
+    }
+    ht_mesh hair = { 0 }, head = { 0 };
+    ht_result r = scene.geometry == HT_GEOMETRY_PATCHES ? ht_mesh_build_patches(&scene.patches, &hair, &head)
+                                                        : ht_mesh_build_furball(&scene.furball, &hair);
+    if (r != HT_OK) {
+        fprintf(stderr, "tier_sheet: %s: geometry: cannot build the mesh: %s\n", o.scene, ht_result_string(r));
+        return 1;
+    }
+    ht_mesh_sort_inside_out(&hair);
+
+    panel panels[TIERS] = { 0 };
+    for (int t = 0; t < TIERS; t++) render_tier(&o, &scene, &hair, &head, columns[t], &panels[t]);
+    bool any = false;
+    for (int t = 0; t < TIERS; t++) any = any || panels[t].ran;
+    if (!any) {
+        /* A bad bundle fails every tier the same way: one line, no sheet. */
+        fprintf(stderr, "tier_sheet: no tier ran: %s\n", panels[0].reason);
+        for (int t = 0; t < TIERS; t++) free(panels[t].rgba);
+        ht_mesh_free(&hair);
+        ht_mesh_free(&head);
+        return 1;
+    }
+    if (panels[0].ran)
+        for (int t = 0; t < TIERS; t++)
+            if (panels[t].ran) compare(&scene, &panels[0], &panels[t]);
+
+    ht_image sheet = { 0 };
+    rc = 0;
+    if (ht_image_alloc(&sheet, TIERS * scene.width + (TIERS - 1) * GAP, 2 * scene.height + GAP, 3) != HT_OK) {
+        fprintf(stderr, "tier_sheet: %s: out of memory\n", o.out);
+        rc = 1;
+    } else {
+        compose(&sheet, &scene, panels);
+        if (ht_image_write_png(o.out, &sheet, err, sizeof err) != HT_OK) {
+            fprintf(stderr, "tier_sheet: %s\n", err);
+            rc = 1;
+        } else {
+            print_table(panels);
+        }
+    }
+    ht_image_free(&sheet);
+    for (int t = 0; t < TIERS; t++) free(panels[t].rgba);
+    ht_mesh_free(&hair);
+    ht_mesh_free(&head);
+    return rc;
+}
