@@ -139,6 +139,15 @@ static cJSON *tier_entry(const ht_tier_output *t) {
     return o;
 }
 
+/* Mean of one channel in [0,1]: what a tier that cannot sample the texture
+   uses in its place. */
+static double channel_mean(const ht_image *img, int channel) {
+    size_t n = (size_t)img->width * (size_t)img->height;
+    uint64_t sum = 0;
+    for (size_t i = 0; i < n; i++) sum += img->pixels[i * (size_t)img->channels + (size_t)channel];
+    return n ? (double)sum / (255.0 * (double)n) : 1.0;
+}
+
 static const char *light_type_name(ht_light_type t) {
     return t == HT_LIGHT_POINT ? "point" : "directional";
 }
@@ -269,8 +278,9 @@ ht_result ht_bundle_generate(const char *material_path, const char *scene_path,
     ht_result (*const emitters[3])(const ht_plan *, ht_tier_output *, char *, size_t) = {
         ht_emit_full, ht_emit_vertex, ht_emit_fixed
     };
+    r = ht_textures_pack(&material, &plan, &albedo, &detail, err, err_size);
+    if (r == HT_OK && plan.sparkle) plan.sparkle_mean = channel_mean(&detail, 1);
     for (int i = 0; i < 3 && r == HT_OK; i++) r = emitters[i](&plan, &tiers[i], err, err_size);
-    if (r == HT_OK) r = ht_textures_pack(&material, &plan, &albedo, &detail, err, err_size);
 
     char tmp[4096] = "";
     if (r == HT_OK) {

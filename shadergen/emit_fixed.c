@@ -79,7 +79,7 @@ static void note_dropped(ht_tier_output *out, const char *fmt, ...) {
 
 /* The shading the LUT holds: the plan's, without what the plan leaves out. */
 static ht_shading lut_shading(const ht_plan *plan) {
-    ht_shading s = plan->shading;
+    ht_shading s = ht_plan_unmasked_shading(plan);
     if (s.model == HT_MODEL_KAJIYA_KAY || !plan->secondary)
         for (int i = 0; i < 3; i++) s.secondary.color[i] = 0.0;
     return s;
@@ -183,8 +183,8 @@ static void list_dropped(const ht_plan *plan, ht_tier_output *out) {
         ht_output_add_dropped(out, "shift: jitter dropped, the LUT holds the constant shifts only "
                                    "(shift texture read as 0.5)");
     if (plan->sparkle)
-        ht_output_add_dropped(out, "sparkle: dropped, the secondary highlight is unmasked (sparkle = 1): "
-                                   "no texture unit left to read it");
+        note_dropped(out, "sparkle: approximated by its mean %.3f scaling the secondary highlight: "
+                          "no texture unit left to read the mask", plan->sparkle_mean);
     if (plan->light_count > 1)
         note_dropped(out, "lights 2..%d: dropped, only light 0 (the key light) is lit: one LUT "
                           "lookup per pixel", plan->light_count);

@@ -1,8 +1,8 @@
 /* emit_vertex.c — the vertex tier: the shading model per vertex in a GLSL
    1.10 vertex shader, interpolated and multiplied by the albedo texture in
    the fixed-function fragment stage (docs/bundle.md). GLSL 1.10 cannot
-   portably sample a texture per vertex, so the shift and sparkle textures
-   are dropped here. */
+   portably sample a texture per vertex, so shift jitter is dropped here and
+   the sparkle mask is replaced by its mean (ht_plan_unmasked_shading). */
 #include <stdio.h>
 #include <string.h>
 
@@ -73,9 +73,12 @@ ht_result ht_emit_vertex(const ht_plan *plan, ht_tier_output *out, char *err, si
     if (plan->shift)
         ht_output_add_dropped(out, "shift: GLSL 1.10 vertex texture fetch is optional, so no per-vertex jitter");
     if (plan->sparkle)
-        ht_output_add_dropped(out, "sparkle: GLSL 1.10 vertex texture fetch is optional, so no per-vertex mask");
+        ht_output_add_dropped(out, "sparkle: approximated by its mean scaling the secondary highlight: "
+                                   "GLSL 1.10 vertex texture fetch is optional, so no per-vertex mask");
 
-    ht_result r = ht_output_add_text(out, "vertex.vert", "vertex", lighting_vertex(plan),
+    ht_plan unmasked = *plan;
+    unmasked.shading = ht_plan_unmasked_shading(plan);
+    ht_result r = ht_output_add_text(out, "vertex.vert", "vertex", lighting_vertex(&unmasked),
                                      HT_STAGE_VERTEX, 110, false, err, err_size);
     if (r == HT_OK)
         r = ht_output_add_text(out, "vertex-prime.vert", "prime_vertex", prime_vertex(plan),

@@ -82,6 +82,10 @@ typedef struct ht_plan {
     ht_light_type light_types[HT_MAX_LIGHTS];
     bool base, alpha, shift, sparkle, secondary, ao;  /* modelled features */
     double opaque_cutoff;
+    /* Mean of the sparkle texture (1 until bundle.c measures it): the
+       tiers that cannot sample the mask scale the secondary highlight by it
+       instead of leaving it unmasked. */
+    double sparkle_mean;
     ht_plan_texture textures[HT_MAX_UNITS];  /* GLSL tiers' texture units */
     int texture_count;
     char notes[HT_MAX_NOTES][160];           /* what was dropped and why */
@@ -89,6 +93,9 @@ typedef struct ht_plan {
 } ht_plan;
 
 void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out);
+/* The shading a tier without the sparkle mask evaluates: the secondary
+   colour scaled by plan->sparkle_mean (unchanged when sparkle is absent). */
+ht_shading ht_plan_unmasked_shading(const ht_plan *plan);
 
 /* ---- bundle (shadergen/bundle.c) ---- */
 

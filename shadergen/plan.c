@@ -47,6 +47,7 @@ void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out) {
     out->sparkle = !kajiya_kay && has(m, HT_TEX_SPARKLE);
     out->secondary = !kajiya_kay;
     out->ao = true; /* every mesh carries per-vertex ao */
+    out->sparkle_mean = 1.0;
     /* The material parser enforces (0,1]; a hand-built material may leave 0. */
     out->opaque_cutoff = m->opaque_cutoff > 0.0 && m->opaque_cutoff <= 1.0 ? m->opaque_cutoff
                                                                             : DEFAULT_OPAQUE_CUTOFF;
@@ -64,4 +65,11 @@ void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out) {
         if (!out->shift) note(out, "shift: not modelled: the material has no shift texture (no jitter)");
         if (!out->sparkle) note(out, "sparkle: not modelled: the material has no sparkle texture (sparkle = 1)");
     }
+}
+
+ht_shading ht_plan_unmasked_shading(const ht_plan *plan) {
+    ht_shading s = plan->shading;
+    if (plan->sparkle)
+        for (int i = 0; i < 3; i++) s.secondary.color[i] *= plan->sparkle_mean;
+    return s;
 }

@@ -174,6 +174,30 @@ static void test_plan_is_deterministic(void **state) {
     assert_memory_equal(&a, &b, sizeof a);
 }
 
+static void test_unmasked_shading_scales_only_the_secondary_by_the_sparkle_mean(void **state) {
+    (void)state;
+    ht_material m = material(HT_MODEL_SCHEUERMANN, false, false, false, true);
+    for (int i = 0; i < 3; i++) {
+        m.shading.primary.color[i] = 0.8;
+        m.shading.secondary.color[i] = 0.5;
+    }
+    ht_scene s = scene(1, one_directional);
+    ht_plan p;
+    ht_plan_make(&m, &s, &p);
+    assert_true(p.sparkle_mean == 1.0); /* until the texture is measured */
+    p.sparkle_mean = 0.2;
+    ht_shading u = ht_plan_unmasked_shading(&p);
+    for (int i = 0; i < 3; i++) {
+        assert_float_equal(u.secondary.color[i], 0.1, 1e-12);
+        assert_float_equal(u.primary.color[i], 0.8, 1e-12);
+    }
+    m = material(HT_MODEL_SCHEUERMANN, false, false, false, false);
+    m.shading.secondary.color[0] = 0.5;
+    ht_plan_make(&m, &s, &p);
+    p.sparkle_mean = 0.2; /* ignored: no mask to stand in for */
+    assert_float_equal(ht_plan_unmasked_shading(&p).secondary.color[0], 0.5, 1e-12);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_plan_models_every_texture_the_material_has),
@@ -185,6 +209,7 @@ int main(void) {
         cmocka_unit_test(test_plan_keeps_light_count_within_the_arrays),
         cmocka_unit_test(test_plan_copies_shading_and_defaults_an_unset_cutoff),
         cmocka_unit_test(test_plan_is_deterministic),
+        cmocka_unit_test(test_unmasked_shading_scales_only_the_secondary_by_the_sparkle_mean),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -10,8 +10,8 @@
      covered pixel against (a) ht_combiner_eval fed with the same
      per-vertex inputs interpolated to the pixel, within what GL's texture
      filtering precision allows, and (b) the oracle ht_model_shade_d with
-     the tier's documented drops (shift texture 0.5, sparkle 1, key light
-     only), the tier's error budget, printed per channel.
+     the tier's documented drops (shift texture 0.5, sparkle replaced by
+     the sparkle texture's mean, key light only), the tier's error budget, printed per channel.
    - Devices without enough units, without combine, without 3D textures or
      with too small a GL_MAX_3D_TEXTURE_SIZE are refused with the reason;
      a corrupt fixed.json or a missing LUT skips the tier with one line
@@ -712,7 +712,15 @@ static probe_result probe(const probe_case *pc) {
     assert_int_equal(ht_material_load(material_path, &m, err, sizeof err), HT_OK);
     ht_combiner_program prog = bundle_program(dir);
 
-    ht_image lut = { 0 }, albedo = { 0 };
+    ht_image lut = { 0 }, albedo = { 0 }, detail = { 0 };
+    double sparkle_mean = 1.0; /* the tier's stand-in for the sparkle mask */
+    snprintf(path, sizeof path, "%s/detail.png", dir);
+    if (p->textured && ht_image_read_png(path, &detail, err, sizeof err) == HT_OK) {
+        double sum = 0;
+        for (int i = 0; i < detail.width * detail.height; i++) sum += detail.pixels[i * detail.channels + 1];
+        sparkle_mean = sum / (255.0 * detail.width * detail.height);
+        ht_image_free(&detail);
+    }
     snprintf(path, sizeof path, "%s/fixed-lut.png", dir);
     assert_int_equal(ht_image_read_png(path, &lut, err, sizeof err), HT_OK);
     ht_combiner_texture textures[2] = { { "fixed-lut", &lut, prog.lut_size[2] }, { "albedo", &albedo, 1 } };
@@ -776,7 +784,7 @@ static probe_result probe(const probe_case *pc) {
             add_error(&res.emulator, ci, expected, got);
 
             /* (b) the oracle, with the tier's documented drops */
-            ht_surface s = { .base = { 1, 1, 1 }, .shift_tex = 0.5, .sparkle = 1, .ao = c->ao };
+            ht_surface s = { .base = { 1, 1, 1 }, .shift_tex = 0.5, .sparkle = sparkle_mean, .ao = c->ao };
             memcpy(s.T, c->T, sizeof s.T);
             memcpy(s.N, c->N, sizeof s.N);
             set3(s.V, -P[0], -P[1], EYE_Z - P[2]);
