@@ -48,18 +48,29 @@ double ht_model_wrap_diffuse_d(double n_dot_l, double wrap) {
     return saturate_d(wrap + (1.0 - wrap) * n_dot_l);
 }
 
-void ht_model_dot_terms_d(const ht_shading *m, double a, double b, double c, double rgb[3]) {
-    for (int i = 0; i < 3; i++) {
-        if (m->model == HT_MODEL_KAJIYA_KAY) {
-            double ca = fmin(1.0, fmax(-1.0, a));
-            rgb[i] = m->diffuse_color[i] * sqrt(fmax(0.0, 1.0 - ca * ca))
-                   + m->primary.color[i] * ht_model_highlight_of_cos_d(b, m->primary.exponent);
-        } else {
-            rgb[i] = m->diffuse_color[i] * ht_model_wrap_diffuse_d(a, m->wrap)
-                   + m->primary.color[i] * ht_model_highlight_of_cos_d(b, m->primary.exponent)
-                   + m->secondary.color[i] * ht_model_highlight_of_cos_d(c, m->secondary.exponent);
+double ht_model_dot_factor_d(const ht_shading *m, int axis, double value) {
+    const bool kajiya_kay = m->model == HT_MODEL_KAJIYA_KAY;
+    switch (axis) {
+    case 0:
+        if (kajiya_kay) { /* sin(T,L) from T.L */
+            double c = fmin(1.0, fmax(-1.0, value));
+            return sqrt(fmax(0.0, 1.0 - c * c));
         }
+        return ht_model_wrap_diffuse_d(value, m->wrap);
+    case 1: return ht_model_highlight_of_cos_d(value, m->primary.exponent);
+    default: return kajiya_kay ? 0.0 : ht_model_highlight_of_cos_d(value, m->secondary.exponent);
     }
+}
+
+void ht_model_dot_combine_d(const ht_shading *m, const double f[3], double rgb[3]) {
+    for (int i = 0; i < 3; i++)
+        rgb[i] = m->diffuse_color[i] * f[0] + m->primary.color[i] * f[1] + m->secondary.color[i] * f[2];
+}
+
+void ht_model_dot_terms_d(const ht_shading *m, double a, double b, double c, double rgb[3]) {
+    const double factors[3] = { ht_model_dot_factor_d(m, 0, a), ht_model_dot_factor_d(m, 1, b),
+                                ht_model_dot_factor_d(m, 2, c) };
+    ht_model_dot_combine_d(m, factors, rgb);
 }
 
 double ht_model_dot_terms_max(const ht_shading *m) {

@@ -91,6 +91,14 @@ double ht_model_wrap_diffuse_d(double n_dot_l, double wrap);
 void ht_model_dot_terms_d(const ht_shading *m, double a, double b, double c,
                           double rgb[3]);
 
+/* ht_model_dot_terms_d is separable: each dot product feeds one scalar
+   factor, rgb[i] = diffuse.color[i] * f[0] + primary.color[i] * f[1]
+   + secondary.color[i] * f[2]. A LUT baker evaluates each axis once
+   (axis 0, 1, 2 = a, b, c) and combines; the result is bit-identical to
+   ht_model_dot_terms_d. */
+double ht_model_dot_factor_d(const ht_shading *m, int axis, double value);
+void ht_model_dot_combine_d(const ht_shading *m, const double factors[3], double rgb[3]);
+
 /* The largest value any channel of ht_model_dot_terms_d can take. */
 double ht_model_dot_terms_max(const ht_shading *m);
 

@@ -30,6 +30,7 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "combiner.h"
@@ -126,12 +127,24 @@ static ht_result bake_lut(const ht_shading *s, const ht_combiner_program *p, ht_
     const int *n = p->lut_size;
     ht_result r = ht_image_alloc(img, n[0], n[1] * n[2], 3);
     if (r != HT_OK) return r;
+    /* Each axis feeds one factor (ht_model_dot_factor_d): evaluate the
+       model n[0] + n[1] + n[2] times, not once per texel. */
+    double *factors[3];
+    for (int axis = 0; axis < 3; axis++) {
+        factors[axis] = malloc((size_t)n[axis] * sizeof(double));
+        for (int i = 0; factors[axis] && i < n[axis]; i++)
+            factors[axis][i] = ht_model_dot_factor_d(s, axis, ht_combiner_lut_centre(i, n[axis]));
+    }
+    if (!factors[0] || !factors[1] || !factors[2]) {
+        for (int axis = 0; axis < 3; axis++) free(factors[axis]);
+        ht_image_free(img);
+        return HT_ERR_OUT_OF_MEMORY;
+    }
     for (int z = 0; z < n[2]; z++)
         for (int y = 0; y < n[1]; y++)
             for (int x = 0; x < n[0]; x++) {
                 double rgb[3];
-                ht_model_dot_terms_d(s, ht_combiner_lut_centre(x, n[0]), ht_combiner_lut_centre(y, n[1]),
-                                     ht_combiner_lut_centre(z, n[2]), rgb);
+                ht_model_dot_combine_d(s, (const double[3]){ factors[0][x], factors[1][y], factors[2][z] }, rgb);
                 uint8_t *px = img->pixels + 3 * ((size_t)(z * n[1] + y) * n[0] + x);
                 for (int i = 0; i < 3; i++) {
                     double v = rgb[i] / p->lut_scale;
@@ -139,6 +152,7 @@ static ht_result bake_lut(const ht_shading *s, const ht_combiner_program *p, ht_
                     px[i] = (uint8_t)lround(v * 255.0);
                 }
             }
+    for (int axis = 0; axis < 3; axis++) free(factors[axis]);
     return HT_OK;
 }
 
