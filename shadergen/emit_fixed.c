@@ -199,8 +199,10 @@ static void list_dropped(const ht_plan *plan, ht_tier_output *out) {
     if (plan->sparkle)
         note_dropped(out, "sparkle: approximated by its mean %.3f scaling the secondary highlight: "
                           "no texture unit left to read the mask", plan->sparkle_mean);
-    if (plan->light_count > 1)
-        note_dropped(out, "lights 2..%d: dropped, only light 0 (the key light) is lit: one LUT "
+    if (plan->light_count == 2)
+        ht_output_add_dropped(out, "light 2: dropped, only light 1 (the key light) is lit: one LUT lookup per pixel");
+    else if (plan->light_count > 2)
+        note_dropped(out, "lights 2..%d: dropped, only light 1 (the key light) is lit: one LUT "
                           "lookup per pixel", plan->light_count);
     ht_output_add_dropped(out, "light colour: clamped to 1 per channel (it is the primary colour)");
     ht_output_add_dropped(out, "dot products: per vertex on the CPU, interpolated linearly across "
