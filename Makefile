@@ -99,10 +99,13 @@ bench: all
 
 demo: all
 	@mkdir -p out
-	$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json -o out/bundle
-	$(BUILD)/hairview --bundle out/bundle --scene scenes/furball.json -o out/furball.png
-	$(BUILD)/hairview --bundle out/bundle --scene scenes/patches.json -o out/patches.png
-	@echo "demo: wrote out/bundle, out/furball.png, out/patches.png"
+	@for scene in furball patches; do \
+	  echo "== $$scene: hairgen materials/dark-brown.json --scene scenes/$$scene.json -o out/$$scene-bundle"; \
+	  $(HAIRGEN) materials/dark-brown.json --scene scenes/$$scene.json -o out/$$scene-bundle || exit 1; \
+	  echo "== $$scene: hairview --bundle out/$$scene-bundle --scene scenes/$$scene.json -o out/$$scene.png"; \
+	  $(BUILD)/hairview --bundle out/$$scene-bundle --scene scenes/$$scene.json -o out/$$scene.png || exit 1; \
+	done
+	@echo "demo: wrote out/furball.png and out/patches.png (bundles in out/furball-bundle, out/patches-bundle)"
 
 clean:
 	rm -rf build build-asan out
