@@ -6,34 +6,20 @@
    (ht_renderer_desc.flat). Prints the median frame time of each and the
    ratio tier / floor; frames are taken round-robin. Run: make bench (GALLIUM_DRIVER=softpipe for the
    interpreter, a stand-in for a slow fragment unit). */
-#include <GL/gl.h>
-#include <GL/osmesa.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "hairgen.h"
 #include "hairtier.h"
+#include "offscreen.h"
+#include "timing.h"
 
 #define WIDTH 512
 #define HEIGHT 512
 #define FRAMES 9
 
-static void *getproc(const char *name) { return (void *)OSMesaGetProcAddress(name); }
-
 static void quiet(void *user, const char *line) { (void)user, (void)line; }
-
-static double now_ms(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
-
-static int by_value(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 typedef struct contender {
     const char *name;
@@ -43,7 +29,7 @@ typedef struct contender {
 
 static ht_renderer *create(const char *bundle, ht_tier tier, bool flat, const ht_mesh *mesh) {
     ht_renderer *r = NULL;
-    if (ht_renderer_create(&(ht_renderer_desc){ .getproc = getproc, .bundle_dir = bundle, .tier = tier,
+    if (ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = bundle, .tier = tier,
                                                 .strict = true, .flat = flat, .log = quiet }, &r) != HT_OK)
         return NULL;
     if (ht_renderer_set_mesh(r, mesh) != HT_OK) {
@@ -71,11 +57,6 @@ static bool time_round_robin(contender *c, int count, const ht_scene *scene) {
     return true;
 }
 
-static double median(double *samples) {
-    qsort(samples, FRAMES, sizeof samples[0], by_value);
-    return samples[FRAMES / 2];
-}
-
 int main(void) {
     char err[2048];
     char bundle[] = "/tmp/hairtier-bench-frame-XXXXXX";
@@ -89,15 +70,12 @@ int main(void) {
         return 1;
     }
 
-    const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
-                            OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0 };
-    OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, NULL);
-    void *buffer = malloc((size_t)WIDTH * HEIGHT * 4);
-    if (!ctx || !buffer || !OSMesaMakeCurrent(ctx, buffer, GL_UNSIGNED_BYTE, WIDTH, HEIGHT)) {
+    unsigned char *buffer = malloc((size_t)WIDTH * HEIGHT * 4);
+    OSMesaContext ctx = offscreen_create(buffer, WIDTH, HEIGHT);
+    if (!ctx) {
         fprintf(stderr, "bench_frame: cannot create a %dx%d OSMesa context\n", WIDTH, HEIGHT);
         return 1;
     }
-    glViewport(0, 0, WIDTH, HEIGHT);
 
     ht_furball_desc fur = scene.furball;
     fur.hairs = 10000;
@@ -121,14 +99,14 @@ int main(void) {
         fprintf(stderr, "bench_frame: the geometry floor or the full tier did not render\n");
         return 1;
     }
-    double floor_ms = median(c[0].samples);
+    double floor_ms = median(c[0].samples, FRAMES);
     printf("  %-14s %8.2f ms\n", c[0].name, floor_ms);
     for (int k = 1; k < 4; k++) {
         if (!c[k].renderer) {
             printf("  %-14s      n/a (does not run here)\n", c[k].name);
             continue;
         }
-        double ms = median(c[k].samples);
+        double ms = median(c[k].samples, FRAMES);
         printf("  %-14s %8.2f ms   %.2fx the floor\n", c[k].name, ms, ms / floor_ms);
     }
     for (int k = 0; k < 4; k++)

@@ -11,13 +11,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-
-#include <GL/osmesa.h>
 
 #include "hairgen.h"
 #include "hairtier.h"
 #include "image.h"
+#include "offscreen.h"
+#include "timing.h"
 
 typedef struct options {
     const char *bundle, *scene, *out;
@@ -34,19 +33,6 @@ static void log_line(void *user, const char *line) {
     /* Kept without the library's prefix: it becomes hairview's error line. */
     const char *prefix = "hairtier: ";
     snprintf(last_log, sizeof last_log, "%s", strncmp(line, prefix, strlen(prefix)) == 0 ? line + strlen(prefix) : line);
-}
-
-static void *getproc(const char *name) {
-    OSMESAproc p = OSMesaGetProcAddress(name);
-    void *out;
-    memcpy(&out, &p, sizeof out);
-    return out;
-}
-
-static double now_ms(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
 }
 
 static int usage(const char *why) {
@@ -115,17 +101,13 @@ static int run(const options *o, view *v) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
-    const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
-                            OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0 };
-    v->ctx = OSMesaCreateContextAttribs(attribs, NULL);
     v->buffer = malloc((size_t)scene.width * (size_t)scene.height * 4);
-    if (!v->ctx || !v->buffer ||
-        !OSMesaMakeCurrent(v->ctx, v->buffer, GL_UNSIGNED_BYTE, scene.width, scene.height)) {
+    v->ctx = offscreen_create(v->buffer, scene.width, scene.height);
+    if (!v->ctx) {
         fprintf(stderr, "hairview: %s: resolution: cannot create a %dx%d OSMesa context\n", o->scene,
                 scene.width, scene.height);
         return 1;
     }
-    glViewport(0, 0, scene.width, scene.height);
 
     ht_result r = scene.geometry == HT_GEOMETRY_PATCHES
                       ? ht_mesh_build_patches(&scene.patches, &v->hair, &v->head)
@@ -136,7 +118,7 @@ static int run(const options *o, view *v) {
     }
     ht_mesh_sort_inside_out(&v->hair);
 
-    r = ht_renderer_create(&(ht_renderer_desc){ .getproc = getproc, .bundle_dir = o->bundle, .tier = o->tier,
+    r = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->bundle, .tier = o->tier,
                                                 .strict = o->strict, .log = log_line, .flat = o->flat },
                            &v->renderer);
     if (r != HT_OK) {
@@ -166,9 +148,8 @@ static int run(const options *o, view *v) {
         fprintf(stderr, "hairview: %s: out of memory\n", o->out);
         return 1;
     }
-    /* GL rows are bottom-up; PNG rows top-down. */
     for (int y = 0; y < scene.height; y++) {
-        const unsigned char *src = v->buffer + (size_t)(scene.height - 1 - y) * (size_t)scene.width * 4;
+        const unsigned char *src = offscreen_row(v->buffer, scene.width, scene.height, y);
         unsigned char *dst = img.pixels + (size_t)y * (size_t)scene.width * 3;
         for (int x = 0; x < scene.width; x++) memcpy(dst + 3 * x, src + 4 * x, 3);
     }

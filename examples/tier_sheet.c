@@ -21,13 +21,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-
-#include <GL/osmesa.h>
 
 #include "hairgen.h"
 #include "hairtier.h"
 #include "image.h"
+#include "offscreen.h"
+#include "timing.h"
 
 #define TIERS 3          /* full, vertex, fixed: the sheet's columns */
 #define GAP 4            /* pixels between panels */
@@ -143,24 +142,6 @@ static void log_line(void *user, const char *line) {
     snprintf(last_log, sizeof last_log, "%s", strncmp(line, prefix, strlen(prefix)) == 0 ? line + strlen(prefix) : line);
 }
 
-static void *getproc(const char *name) {
-    OSMESAproc p = OSMesaGetProcAddress(name);
-    void *out;
-    memcpy(&out, &p, sizeof out);
-    return out;
-}
-
-static double now_ms(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
-
-static int compare_double(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 static void draw_frame(const ht_scene *s, ht_renderer *r, const ht_frame_desc *f, ht_result *res) {
     glClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -172,19 +153,16 @@ static void draw_frame(const ht_scene *s, ht_renderer *r, const ht_frame_desc *f
 /* A fresh context per tier: no GL state leaks from one tier into the next. */
 static void render_tier(const options *o, const ht_scene *s, const ht_mesh *hair, const ht_mesh *head,
                         ht_tier tier, panel *p) {
-    const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
-                            OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0 };
-    OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, NULL);
     ht_renderer *r = NULL;
     double *times = NULL;
     p->rgba = malloc((size_t)s->width * (size_t)s->height * 4);
-    if (!ctx || !p->rgba || !OSMesaMakeCurrent(ctx, p->rgba, GL_UNSIGNED_BYTE, s->width, s->height)) {
+    OSMesaContext ctx = offscreen_create(p->rgba, s->width, s->height);
+    if (!ctx) {
         snprintf(p->reason, sizeof p->reason, "cannot create a %dx%d OSMesa context", s->width, s->height);
         goto done;
     }
-    glViewport(0, 0, s->width, s->height);
     last_log[0] = '\0';
-    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = getproc, .bundle_dir = o->bundle,
+    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->bundle,
                                                             .tier = tier, .strict = true, .log = log_line },
                                        &r);
     if (res == HT_OK) res = ht_renderer_set_mesh(r, hair);
@@ -210,9 +188,7 @@ static void render_tier(const options *o, const ht_scene *s, const ht_mesh *hair
         snprintf(p->reason, sizeof p->reason, "%s", last_log[0] ? last_log : ht_result_string(res));
         goto done;
     }
-    qsort(times, (size_t)o->frames, sizeof *times, compare_double);
-    p->frame_ms = o->frames % 2 ? times[o->frames / 2]
-                                : 0.5 * (times[o->frames / 2 - 1] + times[o->frames / 2]);
+    p->frame_ms = median(times, o->frames);
     snprintf(p->reason, sizeof p->reason, "%s", ht_renderer_reason(r));
     p->ran = true;
 done:
@@ -269,8 +245,8 @@ static void heat(int d, unsigned char out[3]) {
 static void blit(ht_image *sheet, int x0, int y0, const ht_scene *s, const unsigned char *rgba,
                  const unsigned char *ref) {
     for (int y = 0; y < s->height; y++) {
-        const unsigned char *src = rgba + (size_t)(s->height - 1 - y) * (size_t)s->width * 4;
-        const unsigned char *rsrc = ref ? ref + (size_t)(s->height - 1 - y) * (size_t)s->width * 4 : NULL;
+        const unsigned char *src = offscreen_row(rgba, s->width, s->height, y);
+        const unsigned char *rsrc = ref ? offscreen_row(ref, s->width, s->height, y) : NULL;
         unsigned char *dst = sheet->pixels + ((size_t)(y0 + y) * (size_t)sheet->width + (size_t)x0) * 3;
         for (int x = 0; x < s->width; x++) {
             if (rsrc) heat(max_channel_diff(src + 4 * x, rsrc + 4 * x), dst + 3 * x);

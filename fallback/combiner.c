@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "errfmt.h"
+
 /* ---- names ---- */
 
 typedef struct gl_name { GLenum value; const char *name; } gl_name;
@@ -128,14 +130,10 @@ typedef struct ctx {
 static ht_result fail(const ctx *c, const char *field, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 static ht_result fail(const ctx *c, const char *field, const char *fmt, ...) {
-    if (c->err && c->err_size > 0) {
-        char what[256];
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(what, sizeof what, fmt, ap);
-        va_end(ap);
-        snprintf(c->err, c->err_size, "%s: %s: %s", c->file, field, what);
-    }
+    va_list ap;
+    va_start(ap, fmt);
+    ht_set_field_error_v(c->err, c->err_size, c->file, field, fmt, ap);
+    va_end(ap);
     return HT_ERR_PARSE;
 }
 

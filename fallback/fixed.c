@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "combiner.h"
+#include "errfmt.h"
 #include "fixed.h"
 #include "fixed_coords.h"
 #include "image.h"
@@ -234,11 +235,9 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
     }
     s->prime_first = prime_first_stage(&s->program);
     const int *n = s->program.lut_size;
-    char line[256];
-    snprintf(line, sizeof line, "hairtier: fixed: %d combiner stages, LUT %dx%dx%d scale %d, prime Z uses "
-             "stages %d..%d", s->program.stage_count, n[0], n[1], n[2], s->program.lut_scale, s->prime_first,
-             s->program.stage_count - 1);
-    s->log(s->log_user, line);
+    ht_log_linef(s->log, s->log_user, "hairtier: fixed: %d combiner stages, LUT %dx%dx%d scale %d, prime Z uses "
+                 "stages %d..%d", s->program.stage_count, n[0], n[1], n[2], s->program.lut_scale, s->prime_first,
+                 s->program.stage_count - 1);
     *out = s;
     return HT_OK;
 }
@@ -277,9 +276,7 @@ static void begin_frame(void *state, const ht_tier_frame *f) {
     if (s->vertices &&
         ht_fixed_coords_compute(&s->program, s->vertices, s->vertex_count, f->lights, f->light_count, f->eye,
                                 s->coords, s->colors, err, sizeof err) != HT_OK) {
-        char line[300];
-        snprintf(line, sizeof line, "hairtier: fixed: %s", err);
-        s->log(s->log_user, line);
+        ht_log_linef(s->log, s->log_user, "hairtier: fixed: %s", err);
     }
 }
 

@@ -11,6 +11,7 @@
 #include <cJSON.h>
 
 #include "bundle.h"
+#include "errfmt.h"
 #include "select.h"
 
 #define BUNDLE_FORMAT "hairtier-bundle/1"
@@ -23,14 +24,10 @@ typedef struct parse_ctx {
 
 __attribute__((format(printf, 3, 4)))
 static ht_result fail(const parse_ctx *c, const char *field, const char *fmt, ...) {
-    if (!c->err || c->err_size == 0) return HT_ERR_PARSE;
-    int n = snprintf(c->err, c->err_size, "%s: %s: ", c->file, field);
-    if (n >= 0 && (size_t)n < c->err_size) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(c->err + n, c->err_size - (size_t)n, fmt, ap);
-        va_end(ap);
-    }
+    va_list ap;
+    va_start(ap, fmt);
+    ht_set_field_error_v(c->err, c->err_size, c->file, field, fmt, ap);
+    va_end(ap);
     return HT_ERR_PARSE;
 }
 

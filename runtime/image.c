@@ -10,7 +10,6 @@
 #include <errno.h>
 #include <limits.h>
 #include <setjmp.h>
-#include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -20,13 +19,7 @@
 
 #include <png.h>
 
-static void set_err(char *err, size_t err_size, const char *fmt, ...) {
-    if (!err || err_size == 0) return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, err_size, fmt, ap);
-    va_end(ap);
-}
+#include "errfmt.h"
 
 /* Bytes of a width x height x channels image, 0 when it does not fit. */
 static size_t image_bytes(int width, int height, int channels) {
@@ -150,7 +143,7 @@ static int read_body(png_session *s, ht_image *out) {
 
 ht_result ht_image_read_png(const char *path, ht_image *out, char *err, size_t err_size) {
     if (!path || !out) {
-        set_err(err, err_size, "ht_image_read_png: path and out are required");
+        ht_set_error(err, err_size, "ht_image_read_png: path and out are required");
         return HT_ERR_INVALID_ARGUMENT;
     }
     *out = (ht_image){ 0 };
@@ -159,7 +152,7 @@ ht_result ht_image_read_png(const char *path, ht_image *out, char *err, size_t e
 
     s.file = fopen(path, "rb");
     if (!s.file) {
-        set_err(err, err_size, "%s: cannot open: %s", path, strerror(errno));
+        ht_set_error(err, err_size, "%s: cannot open: %s", path, strerror(errno));
         return HT_ERR_IO;
     }
     uint8_t signature[8];
@@ -191,7 +184,7 @@ done:
     free(s.rows);
     free(s.pixels);
     fclose(s.file);
-    if (result != HT_OK) set_err(err, err_size, "%s: %s", path, s.message);
+    if (result != HT_OK) ht_set_error(err, err_size, "%s: %s", path, s.message);
     return result;
 }
 
@@ -216,14 +209,14 @@ static int write_body(png_session *s, const ht_image *img) {
 
 ht_result ht_image_write_png(const char *path, const ht_image *img, char *err, size_t err_size) {
     if (!path || !img || !img->pixels || image_bytes(img->width, img->height, img->channels) == 0) {
-        set_err(err, err_size, "%s: not a valid image to write", path ? path : "(null)");
+        ht_set_error(err, err_size, "%s: not a valid image to write", path ? path : "(null)");
         return HT_ERR_INVALID_ARGUMENT;
     }
     static const char suffix[] = ".tmp-XXXXXX";
     size_t path_len = strlen(path);
     char *temp = malloc(path_len + sizeof suffix);
     if (!temp) {
-        set_err(err, err_size, "%s: out of memory", path);
+        ht_set_error(err, err_size, "%s: out of memory", path);
         return HT_ERR_OUT_OF_MEMORY;
     }
     memcpy(temp, path, path_len);
@@ -279,6 +272,6 @@ done:
     if (s.file) fclose(s.file);
     if (temp_exists) remove(temp);
     free(temp);
-    if (result != HT_OK) set_err(err, err_size, "%s: %s", path, s.message);
+    if (result != HT_OK) ht_set_error(err, err_size, "%s: %s", path, s.message);
     return result;
 }

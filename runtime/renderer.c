@@ -3,11 +3,11 @@
    pass list and its state live here, once, so every tier draws the same
    passes over the same index ranges; backends (tier.h) only shade. */
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "errfmt.h"
 #include "renderer_internal.h"
 
 #if defined(__has_include)
@@ -35,16 +35,6 @@ static const ht_tier_backend *backend_for(ht_tier t) {
 static void log_stderr(void *user, const char *line) {
     (void)user;
     fprintf(stderr, "%s\n", line);
-}
-
-__attribute__((format(printf, 2, 3)))
-static void logf_line(const ht_renderer *r, const char *fmt, ...) {
-    char line[1024];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(line, sizeof line, fmt, ap);
-    va_end(ap);
-    r->log(r->log_user, line);
 }
 
 /* Truncating copy (a reason longer than its slot is cut, not dropped). */
@@ -118,9 +108,10 @@ static ht_result create_backend(ht_renderer *r, const ht_renderer_desc *desc) {
     for (;;) {
         ht_selection sel;
         ht_result res = ht_select_tier(&sd, &sel, err, sizeof err);
-        for (int i = 0; i < sel.skipped_count; i++) logf_line(r, "hairtier: skipped %s", sel.skipped[i]);
+        for (int i = 0; i < sel.skipped_count; i++)
+            ht_log_linef(r->log, r->log_user, "hairtier: skipped %s", sel.skipped[i]);
         if (res != HT_OK) {
-            logf_line(r, "hairtier: %s", err);
+            ht_log_linef(r->log, r->log_user, "hairtier: %s", err);
             return res;
         }
         const ht_tier_backend *be = backend_for(sel.tier);
@@ -134,7 +125,7 @@ static ht_result create_backend(ht_renderer *r, const ht_renderer_desc *desc) {
             r->backend_state = state;
             r->tier = sel.tier;
             copy_text(r->reason, sizeof r->reason, sel.reason);
-            logf_line(r, "hairtier: tier %s (%s)", ht_tier_name(r->tier), r->reason);
+            ht_log_linef(r->log, r->log_user, "hairtier: tier %s (%s)", ht_tier_name(r->tier), r->reason);
             return HT_OK;
         }
         copy_text(failed_text[sel.index], sizeof failed_text[0], err);
@@ -167,24 +158,24 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
     char err[1024];
     ht_result res = ht_gl_load(&r->gl, desc->getproc, err, sizeof err);
     if (res != HT_OK) {
-        logf_line(r, "hairtier: %s", err);
+        ht_log_linef(r->log, r->log_user, "hairtier: %s", err);
         goto fail;
     }
     if ((res = ht_caps_probe(desc->getproc, &r->caps)) != HT_OK) {
-        logf_line(r, "hairtier: glGetString(GL_VERSION): no answer (is a GL context current?)");
+        ht_log_linef(r->log, r->log_user, "hairtier: glGetString(GL_VERSION): no answer (is a GL context current?)");
         goto fail;
     }
     ht_caps_apply_profile(&r->caps, &desc->profile);
     /* The runtime itself must not call what the profile hides. */
     ht_gl_restrict(&r->gl, r->caps.has_3d_textures, r->caps.has_multitexture, r->caps.has_vbo,
                    r->caps.has_shaders);
-    logf_line(r, "hairtier: device GL %d.%d, GLSL %d.%02d, %d texture units, %s%s", r->caps.gl_major,
-              r->caps.gl_minor, r->caps.glsl_major, r->caps.glsl_minor, r->caps.texture_units,
-              r->caps.renderer, r->caps.has_vbo ? "" : ", no VBOs");
+    ht_log_linef(r->log, r->log_user, "hairtier: device GL %d.%d, GLSL %d.%02d, %d texture units, %s%s",
+                 r->caps.gl_major, r->caps.gl_minor, r->caps.glsl_major, r->caps.glsl_minor, r->caps.texture_units,
+                 r->caps.renderer, r->caps.has_vbo ? "" : ", no VBOs");
 
     if (desc->bundle_dir && desc->bundle_dir[0]) {
         if ((res = ht_bundle_load(desc->bundle_dir, &r->bundle, err, sizeof err)) != HT_OK) {
-            logf_line(r, "hairtier: %s", err);
+            ht_log_linef(r->log, r->log_user, "hairtier: %s", err);
             goto fail;
         }
         r->have_bundle = true;
@@ -197,7 +188,7 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
             r->flat_color[i] = isfinite(c) ? fminf(fmaxf(c, 0.0f), 1.0f) : 0.5f;
         }
         snprintf(r->reason, sizeof r->reason, "flat: geometry floor, one colour, no textures or shaders");
-        logf_line(r, "hairtier: %s", r->reason);
+        ht_log_linef(r->log, r->log_user, "hairtier: %s", r->reason);
     } else if ((res = create_backend(r, desc)) != HT_OK) {
         goto fail;
     }
@@ -235,13 +226,14 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
     if (!r || !mesh) return HT_ERR_INVALID_ARGUMENT;
     if ((mesh->index_count && (!mesh->indices || !mesh->vertices)) || mesh->index_count % 3 ||
         mesh->index_count > (uint32_t)INT32_MAX) {
-        logf_line(r, "hairtier: ht_renderer_set_mesh: mesh: index buffer is not whole triangles");
+        ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: mesh: index buffer is not whole triangles");
         return HT_ERR_INVALID_ARGUMENT;
     }
     for (uint32_t i = 0; i < mesh->index_count; i++)
         if (mesh->indices[i] >= mesh->vertex_count) {
-            logf_line(r, "hairtier: ht_renderer_set_mesh: mesh: indices[%u] = %u, only %u vertices", i,
-                      mesh->indices[i], mesh->vertex_count);
+            ht_log_linef(r->log, r->log_user,
+                         "hairtier: ht_renderer_set_mesh: mesh: indices[%u] = %u, only %u vertices", i,
+                         mesh->indices[i], mesh->vertex_count);
             return HT_ERR_INVALID_ARGUMENT;
         }
     release_mesh(r);
@@ -259,7 +251,7 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
         r->gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
         GLenum e = r->gl.GetError();
         if (e != GL_NO_ERROR) {
-            logf_line(r, "hairtier: ht_renderer_set_mesh: glBufferData: GL error 0x%04x", e);
+            ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: glBufferData: GL error 0x%04x", e);
             release_mesh(r);
             return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
         }
@@ -451,8 +443,8 @@ ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
     const ht_gl *gl = &r->gl;
     const ht_camera *cam = &f->camera;
     if (f->light_count < 0 || f->light_count > HT_MAX_LIGHTS || (f->light_count > 0 && !f->lights)) {
-        logf_line(r, "hairtier: ht_frame_desc: light_count: %d, expected 0..%d with lights set",
-                  f->light_count, HT_MAX_LIGHTS);
+        ht_log_linef(r->log, r->log_user, "hairtier: ht_frame_desc: light_count: %d, expected 0..%d with lights set",
+                     f->light_count, HT_MAX_LIGHTS);
         return HT_ERR_INVALID_ARGUMENT;
     }
     float aspect = f->aspect;
@@ -466,12 +458,14 @@ ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
     ht_tier_frame tf = { .lights = f->lights, .light_count = f->light_count };
     memcpy(tf.eye, cam->eye, sizeof tf.eye);
     if (!ht_mat4_perspective(tf.projection, cam->fov_y, aspect, z_near, z_far)) {
-        logf_line(r, "hairtier: ht_frame_desc: camera: fov_y %g, aspect %g, z %g..%g is not a projection",
-                  (double)cam->fov_y, (double)aspect, (double)z_near, (double)z_far);
+        ht_log_linef(r->log, r->log_user,
+                     "hairtier: ht_frame_desc: camera: fov_y %g, aspect %g, z %g..%g is not a projection",
+                     (double)cam->fov_y, (double)aspect, (double)z_near, (double)z_far);
         return HT_ERR_INVALID_ARGUMENT;
     }
     if (!ht_mat4_look_at(tf.view, cam->eye, cam->target, cam->up)) {
-        logf_line(r, "hairtier: ht_frame_desc: camera: eye on target or up along the view direction");
+        ht_log_linef(r->log, r->log_user,
+                     "hairtier: ht_frame_desc: camera: eye on target or up along the view direction");
         return HT_ERR_INVALID_ARGUMENT;
     }
     while (gl->GetError() != GL_NO_ERROR) {}
@@ -509,8 +503,8 @@ ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
             if (!drawn) gl->DrawElements(GL_TRIANGLES, (GLsizei)r->index_count, GL_UNSIGNED_INT, indices);
             e.gl_error = gl->GetError();
             if (e.gl_error != GL_NO_ERROR) {
-                logf_line(r, "hairtier: pass %d.%d (%s): GL error 0x%04x", p, sub,
-                          r->backend ? ht_tier_name(r->tier) : "flat", e.gl_error);
+                ht_log_linef(r->log, r->log_user, "hairtier: pass %d.%d (%s): GL error 0x%04x", p, sub,
+                             r->backend ? ht_tier_name(r->tier) : "flat", e.gl_error);
                 result = HT_ERR_GL;
                 while (gl->GetError() != GL_NO_ERROR) {}
             }

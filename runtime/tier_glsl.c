@@ -3,11 +3,11 @@
    unit 0 = albedo, GL_COMBINE MODULATE(texture, primary) with RGB_SCALE 2,
    alpha MODULATE; docs/bundle.md). Both transform with ftransform(), so depth
    matches the fixed-function head and every pass bit for bit. */
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "errfmt.h"
 #include "image.h"
 #include "shader_interface.h"
 #include "tier.h"
@@ -35,16 +35,6 @@ typedef struct glsl_state {
     int texture_count;
 } glsl_state;
 
-__attribute__((format(printf, 2, 3)))
-static void logf_line(const glsl_state *s, const char *fmt, ...) {
-    char line[1024];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(line, sizeof line, fmt, ap);
-    va_end(ap);
-    s->log(s->log_user, line);
-}
-
 /* The first non-empty line of a driver's info log. */
 static void first_line(const char *log, char *out, size_t size) {
     while (*log == '\n' || *log == '\r' || *log == ' ') log++;
@@ -59,7 +49,7 @@ static void first_line(const char *log, char *out, size_t size) {
 static void log_info(const glsl_state *s, const char *file, const char *log) {
     while (*log) {
         size_t n = strcspn(log, "\r\n");
-        if (n) logf_line(s, "hairtier: %s: %.*s", file, (int)n, log);
+        if (n) ht_log_linef(s->log, s->log_user, "hairtier: %s: %.*s", file, (int)n, log);
         log += n;
         while (*log == '\r' || *log == '\n') log++;
     }

@@ -7,7 +7,6 @@
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,17 +14,10 @@
 #include <unistd.h>
 
 #include "emit.h"
+#include "errfmt.h"
 #include "hairgen.h"
 
 #define BUNDLE_FORMAT "hairtier-bundle/1"
-
-static ht_result fail(char *err, size_t err_size, ht_result r, const char *fmt, ...) {
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, err_size, fmt, ap);
-    va_end(ap);
-    return r;
-}
 
 /* FNV-1a 64 over every input file's bytes: the key a build cache can use. */
 typedef struct input_hash { uint64_t value; } input_hash;
@@ -40,13 +32,13 @@ static void hash_bytes(input_hash *h, const void *data, size_t size) {
 
 static ht_result hash_file(input_hash *h, const char *path, char *err, size_t err_size) {
     FILE *f = fopen(path, "rb");
-    if (!f) return fail(err, err_size, HT_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
+    if (!f) return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
     unsigned char buf[65536];
     size_t n;
     while ((n = fread(buf, 1, sizeof buf, f)) > 0) hash_bytes(h, buf, n);
     bool bad = ferror(f);
     fclose(f);
-    if (bad) return fail(err, err_size, HT_ERR_IO, "%s: read error", path);
+    if (bad) return ht_fail(err, err_size, HT_ERR_IO, "%s: read error", path);
     hash_bytes(h, "", 1); /* separates files */
     return HT_OK;
 }
@@ -61,13 +53,13 @@ static ht_result write_file(const char *dir, const char *name, const char *text,
                             char *err, size_t err_size) {
     char path[4096];
     if (!join_path(path, sizeof path, dir, name))
-        return fail(err, err_size, HT_ERR_IO, "%s: path too long", dir);
+        return ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", dir);
     FILE *f = fopen(path, "wb");
-    if (!f) return fail(err, err_size, HT_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
+    if (!f) return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
     size_t len = strlen(text);
     bool ok = fwrite(text, 1, len, f) == len;
     ok = (fclose(f) == 0) && ok;
-    if (!ok) return fail(err, err_size, HT_ERR_IO, "%s: write failed", path);
+    if (!ok) return ht_fail(err, err_size, HT_ERR_IO, "%s: write failed", path);
     return HT_OK;
 }
 
@@ -208,12 +200,12 @@ static void print_summary(FILE *out, const ht_material *m, const ht_plan *plan,
 static ht_result publish(const char *tmp, const char *dir, char *err, size_t err_size) {
     if (rename(tmp, dir) == 0) return HT_OK;
     if (errno != EEXIST && errno != ENOTEMPTY)
-        return fail(err, err_size, HT_ERR_IO, "%s: cannot create: %s", dir, strerror(errno));
+        return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot create: %s", dir, strerror(errno));
     struct stat st;
     if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
-        return fail(err, err_size, HT_ERR_IO, "%s: exists and is not a directory", dir);
+        return ht_fail(err, err_size, HT_ERR_IO, "%s: exists and is not a directory", dir);
     if (renameat2(AT_FDCWD, tmp, AT_FDCWD, dir, RENAME_EXCHANGE) != 0)
-        return fail(err, err_size, HT_ERR_IO, "%s: cannot replace: %s", dir, strerror(errno));
+        return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot replace: %s", dir, strerror(errno));
     remove_tree(tmp); /* now holds the old bundle */
     return HT_OK;
 }
@@ -229,7 +221,7 @@ static ht_result write_bundle(const char *tmp, const ht_plan *plan, const ht_mat
         if (!packed[i]->pixels) continue;
         r = join_path(path, sizeof path, tmp, packed_names[i])
                 ? ht_image_write_png(path, packed[i], err, err_size)
-                : fail(err, err_size, HT_ERR_IO, "%s: path too long", tmp);
+                : ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", tmp);
     }
     for (int t = 0; t < tier_count && r == HT_OK; t++) {
         for (int i = 0; i < tiers[t].text_count && r == HT_OK; i++)
@@ -237,12 +229,12 @@ static ht_result write_bundle(const char *tmp, const ht_plan *plan, const ht_mat
         for (int i = 0; i < tiers[t].image_count && r == HT_OK; i++) {
             r = join_path(path, sizeof path, tmp, tiers[t].images[i].file)
                     ? ht_image_write_png(path, &tiers[t].images[i].image, err, err_size)
-                    : fail(err, err_size, HT_ERR_IO, "%s: path too long", tmp);
+                    : ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", tmp);
         }
     }
     if (r != HT_OK) return r;
     char *manifest = manifest_text(plan, m, hash, albedo, detail, tiers, tier_count);
-    if (!manifest) return fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", tmp);
+    if (!manifest) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", tmp);
     r = write_file(tmp, "manifest.json", manifest, err, err_size);
     cJSON_free(manifest);
     return r;
@@ -286,7 +278,7 @@ ht_result ht_bundle_generate(const char *material_path, const char *scene_path,
     if (r == HT_OK) {
         int n = snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", out_dir);
         if (n < 0 || (size_t)n >= sizeof tmp || !mkdtemp(tmp)) {
-            r = fail(err, err_size, HT_ERR_IO, "%s: cannot create a temporary directory beside it: %s",
+            r = ht_fail(err, err_size, HT_ERR_IO, "%s: cannot create a temporary directory beside it: %s",
                      out_dir, strerror(errno));
             tmp[0] = '\0';
         }

@@ -10,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "errfmt.h"
+
 /* Bigger inputs are not hand-edited files; refusing them keeps a stray
    multi-gigabyte path from being read into memory. */
 #define MAX_FILE_BYTES (16u << 20)
@@ -27,13 +29,10 @@ static void one_line(char *s) {
 
 ht_result ht_json_fail(const ht_jctx *c, const char *field, const char *fmt, ...) {
     if (!c->err || c->err_size == 0) return HT_ERR_PARSE;
-    int n = snprintf(c->err, c->err_size, "%s: %s: ", c->file ? c->file : "<input>", field);
-    if (n >= 0 && (size_t)n < c->err_size) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(c->err + n, c->err_size - (size_t)n, fmt, ap);
-        va_end(ap);
-    }
+    va_list ap;
+    va_start(ap, fmt);
+    ht_set_field_error_v(c->err, c->err_size, c->file ? c->file : "<input>", field, fmt, ap);
+    va_end(ap);
     one_line(c->err);
     return HT_ERR_PARSE;
 }
@@ -210,6 +209,24 @@ ht_result ht_json_parse_root(const ht_jctx *c, const char *text, cJSON **root) {
     }
     *root = doc;
     return HT_OK;
+}
+
+ht_result ht_json_parse_entry(const ht_jctx *c, const char *text, const void *out, cJSON **root) {
+    *root = NULL;
+    if (!text || !out) {
+        ht_set_error(c->err, c->err_size, "%s: (call): no text or no output", c->file);
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    return ht_json_parse_root(c, text, root);
+}
+
+ht_result ht_json_load_entry(const char *path, const void *out, char **text, char *err, size_t err_size) {
+    *text = NULL;
+    if (!path || !out) {
+        ht_set_error(err, err_size, "(null): (call): no path or no output");
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    return ht_json_read_file(path, text, err, err_size);
 }
 
 ht_result ht_json_format(const ht_jctx *c, const cJSON *root, const char *format,

@@ -65,6 +65,14 @@ ht_result ht_json_read_file(const char *path, char **text, char *err, size_t err
    "FILE: line 3: malformed JSON at column 7 near ..." */
 ht_result ht_json_parse_root(const ht_jctx *c, const char *text, cJSON **root);
 
+/* How every FORMAT_parse(text, file_name, out, err, err_size) and
+   FORMAT_load(path, out, err, err_size) starts: a NULL text, path or out is
+   HT_ERR_INVALID_ARGUMENT with "FILE: (call): no text or no output" (FILE
+   is c->file) or "(null): (call): no path or no output"; then the root is
+   parsed (ht_json_parse_root) or the file read (ht_json_read_file). */
+ht_result ht_json_parse_entry(const ht_jctx *c, const char *text, const void *out, cJSON **root);
+ht_result ht_json_load_entry(const char *path, const void *out, char **text, char *err, size_t err_size);
+
 /* Checks that the root's "format" is exactly `format`. */
 ht_result ht_json_format(const ht_jctx *c, const cJSON *root, const char *format,
                          const char *what);

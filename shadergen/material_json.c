@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "errfmt.h"
 #include "hairgen.h"
 #include "json_check.h"
 
@@ -212,18 +213,14 @@ static ht_result parse_material(const ht_jctx *c, const cJSON *root, const char 
 ht_result ht_material_parse(const char *json_text, const char *file_name,
                             ht_material *out, char *err, size_t err_size) {
     ht_jctx c = { file_name ? file_name : "<input>", err, err_size };
-    if (!json_text || !out) {
-        if (err && err_size) snprintf(err, err_size, "%s: (call): no text or no output", c.file);
-        return HT_ERR_INVALID_ARGUMENT;
-    }
     cJSON *root;
-    ht_result r = ht_json_parse_root(&c, json_text, &root);
+    ht_result r = ht_json_parse_entry(&c, json_text, out, &root);
     if (r != HT_OK) return r;
     /* Built aside so a failed parse leaves *out untouched. */
     ht_material *m = calloc(1, sizeof *m);
     if (!m) {
         cJSON_Delete(root);
-        if (err && err_size) snprintf(err, err_size, "%s: out of memory", c.file);
+        ht_set_error(err, err_size, "%s: out of memory", c.file);
         return HT_ERR_OUT_OF_MEMORY;
     }
     r = parse_material(&c, root, file_name, m);
@@ -237,12 +234,8 @@ ht_result ht_material_parse(const char *json_text, const char *file_name,
 }
 
 ht_result ht_material_load(const char *path, ht_material *out, char *err, size_t err_size) {
-    if (!path || !out) {
-        if (err && err_size) snprintf(err, err_size, "(null): (call): no path or no output");
-        return HT_ERR_INVALID_ARGUMENT;
-    }
     char *text;
-    ht_result r = ht_json_read_file(path, &text, err, err_size);
+    ht_result r = ht_json_load_entry(path, out, &text, err, err_size);
     if (r != HT_OK) return r;
     r = ht_material_parse(text, path, out, err, err_size);
     free(text);

@@ -10,16 +10,9 @@
    rely on; filtering would change texels even then. */
 #include "emit.h"
 
-#include <stdarg.h>
 #include <stdio.h>
 
-static void set_err(char *err, size_t err_size, const char *fmt, ...) {
-    if (!err || err_size == 0) return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, err_size, fmt, ap);
-    va_end(ap);
-}
+#include "errfmt.h"
 
 /* The texel of src nearest to the centre of texel (x, y) of a w x h image. */
 static const uint8_t *nearest(const ht_image *src, int x, int y, int w, int h) {
@@ -63,7 +56,7 @@ static ht_result make_if(bool modelled, const ht_material *m, ht_texture_slot sl
 ht_result ht_textures_pack(const ht_material *m, const ht_plan *plan,
                            ht_image *albedo, ht_image *detail, char *err, size_t err_size) {
     if (!m || !plan || !albedo || !detail) {
-        set_err(err, err_size, "ht_textures_pack: material, plan and both images are required");
+        ht_set_error(err, err_size, "ht_textures_pack: material, plan and both images are required");
         return HT_ERR_INVALID_ARGUMENT;
     }
     *albedo = (ht_image){ 0 };
@@ -79,7 +72,7 @@ ht_result ht_textures_pack(const ht_material *m, const ht_plan *plan,
         r = pack_two(&base, 3, &alpha, 3, (const uint8_t[4]){ 255, 255, 255, 255 }, albedo);
     if (r == HT_OK && (plan->shift || plan->sparkle))
         r = pack_two(&shift, 1, &sparkle, 1, (const uint8_t[4]){ 128, 255, 0, 255 }, detail);
-    if (r != HT_OK) set_err(err, err_size, "packing textures: out of memory");
+    if (r != HT_OK) ht_set_error(err, err_size, "packing textures: out of memory");
 
 done:
     ht_image_free(&base);

@@ -2,7 +2,6 @@
    default scene. Every rule is listed in docs/materials.md; keep the two in
    step. Geometry defaults are written out (not left 0) so a parsed scene
    says exactly what will be built. */
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -228,12 +227,8 @@ static ht_result parse_scene(const ht_jctx *c, const cJSON *root, ht_scene *s) {
 ht_result ht_scene_parse(const char *json_text, const char *file_name,
                          ht_scene *out, char *err, size_t err_size) {
     ht_jctx c = { file_name ? file_name : "<input>", err, err_size };
-    if (!json_text || !out) {
-        if (err && err_size) snprintf(err, err_size, "%s: (call): no text or no output", c.file);
-        return HT_ERR_INVALID_ARGUMENT;
-    }
     cJSON *root;
-    ht_result r = ht_json_parse_root(&c, json_text, &root);
+    ht_result r = ht_json_parse_entry(&c, json_text, out, &root);
     if (r != HT_OK) return r;
     /* Built aside so a failed parse leaves *out untouched; the geometry not
        chosen keeps its defaults. */
@@ -251,12 +246,8 @@ ht_result ht_scene_parse(const char *json_text, const char *file_name,
 }
 
 ht_result ht_scene_load(const char *path, ht_scene *out, char *err, size_t err_size) {
-    if (!path || !out) {
-        if (err && err_size) snprintf(err, err_size, "(null): (call): no path or no output");
-        return HT_ERR_INVALID_ARGUMENT;
-    }
     char *text;
-    ht_result r = ht_json_read_file(path, &text, err, err_size);
+    ht_result r = ht_json_load_entry(path, out, &text, err, err_size);
     if (r != HT_OK) return r;
     r = ht_scene_parse(text, path, out, err, err_size);
     free(text);

@@ -33,21 +33,13 @@
    shift and sparkle take luminance. */
 #include "hairgen.h"
 
-#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "errfmt.h"
 #include "rng.h"
 
 #define ONE 65536 /* 1.0 in 16.16 fixed point */
-
-static void set_err(char *err, size_t err_size, const char *fmt, ...) {
-    if (!err || err_size == 0) return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, err_size, fmt, ap);
-    va_end(ap);
-}
 
 static const char *const slot_names[HT_TEX_COUNT] = { "base", "alpha", "shift", "sparkle" };
 
@@ -222,19 +214,19 @@ static ht_result make_procedural(const ht_texture_source *src, const char *slot_
     for (size_t i = 0; i < sizeof generators / sizeof generators[0]; i++)
         if (strcmp(src->procedural, generators[i].name) == 0) gen = &generators[i];
     if (!gen) {
-        set_err(err, err_size,
+        ht_set_error(err, err_size,
                 "texture %s: procedural \"%.32s\" is not one of stretched-noise, strand-alpha, "
                 "noise, sparkle", slot_name, src->procedural);
         return HT_ERR_PARSE;
     }
     if (src->size < 16 || src->size > 2048 || (src->size & (src->size - 1)) != 0) {
-        set_err(err, err_size, "texture %s: size %d is not a power of two in 16..2048",
+        ht_set_error(err, err_size, "texture %s: size %d is not a power of two in 16..2048",
                 slot_name, src->size);
         return HT_ERR_PARSE;
     }
     ht_result r = ht_image_alloc(native, src->size, src->size, gen->channels);
     if (r != HT_OK) {
-        set_err(err, err_size, "texture %s: out of memory", slot_name);
+        ht_set_error(err, err_size, "texture %s: out of memory", slot_name);
         return r;
     }
     /* Each generator draws its own stream: the same seed in two slots
@@ -247,7 +239,7 @@ static ht_result make_procedural(const ht_texture_source *src, const char *slot_
 ht_result ht_texture_make(const ht_texture_source *src, ht_texture_slot slot,
                           ht_image *out, char *err, size_t err_size) {
     if (!src || !out || slot < 0 || slot >= HT_TEX_COUNT) {
-        set_err(err, err_size, "ht_texture_make: src, out and a valid slot are required");
+        ht_set_error(err, err_size, "ht_texture_make: src, out and a valid slot are required");
         return HT_ERR_INVALID_ARGUMENT;
     }
     *out = (ht_image){ 0 };
@@ -262,13 +254,13 @@ ht_result ht_texture_make(const ht_texture_source *src, ht_texture_slot slot,
         r = ht_image_read_png(src->path, &native, err, err_size);
         break;
     default:
-        set_err(err, err_size, "texture %s: no texture to make (the slot is absent)", slot_name);
+        ht_set_error(err, err_size, "texture %s: no texture to make (the slot is absent)", slot_name);
         return HT_ERR_INVALID_ARGUMENT;
     }
     if (r != HT_OK) return r;
     r = reduce_to_slot(&native, slot, out);
     ht_image_free(&native);
     if (r != HT_OK)
-        set_err(err, err_size, "texture %s: out of memory", slot_name);
+        ht_set_error(err, err_size, "texture %s: out of memory", slot_name);
     return r;
 }

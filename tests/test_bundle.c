@@ -16,20 +16,18 @@
 #include <unistd.h>
 
 #include "hairgen.h"
+#include "support_scratch.h"
 
 static char work[64];
 
 static int make_work_dir(void **state) {
     (void)state;
-    strcpy(work, "/tmp/hairtier-test-bundle-XXXXXX");
-    return mkdtemp(work) ? 0 : -1;
+    return ht_test_scratch_create(work, sizeof work, "bundle") ? 0 : -1;
 }
 
 static int remove_work_dir(void **state) {
     (void)state;
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", work);
-    return system(cmd) == 0 ? 0 : -1;
+    return ht_test_scratch_remove(work);
 }
 
 static char *read_all(const char *path, size_t *size) {

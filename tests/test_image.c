@@ -19,40 +19,18 @@
 
 #include "image.h"
 #include "rng.h"
+#include "support_scratch.h"
 
 static char dir[64];
 
 static int make_dir(void **state) {
     (void)state;
-    snprintf(dir, sizeof dir, "/tmp/ht-test-image-XXXXXX");
-    return mkdtemp(dir) ? 0 : -1;
+    return ht_test_scratch_create(dir, sizeof dir, "image") ? 0 : -1;
 }
 
 static int remove_dir(void **state) {
     (void)state;
-    DIR *d = opendir(dir);
-    if (!d) return -1;
-    struct dirent *e;
-    char path[512];
-    while ((e = readdir(d))) {
-        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
-        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-        chmod(path, 0755);
-        if (remove(path) != 0) { /* a subdirectory of one level */
-            DIR *sub = opendir(path);
-            struct dirent *f;
-            char inner[768];
-            while (sub && (f = readdir(sub)))
-                if (strcmp(f->d_name, ".") && strcmp(f->d_name, "..")) {
-                    snprintf(inner, sizeof inner, "%s/%s", path, f->d_name);
-                    remove(inner);
-                }
-            if (sub) closedir(sub);
-            remove(path);
-        }
-    }
-    closedir(d);
-    return rmdir(dir);
+    return ht_test_scratch_remove(dir);
 }
 
 static const char *in_dir(char *buf, size_t size, const char *name) {

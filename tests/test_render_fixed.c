@@ -6,12 +6,13 @@
      MESA_GL_VERSION_OVERRIDE=1.3 in a re-executed child, pick `fixed` and
      draw a fur ball that is neither blank nor magenta, with the full tier's
      pass list, state and draw ranges.
-   - Shading probe (the grid of flat cells of test_render_probe.c): every
-     covered pixel against (a) ht_combiner_eval fed with the same
-     per-vertex inputs interpolated to the pixel, within what GL's texture
-     filtering precision allows, and (b) the oracle ht_model_shade_d with
-     the tier's documented drops (shift texture 0.5, sparkle replaced by
-     the sparkle texture's mean, key light only), the tier's error budget, printed per channel.
+   - Shading probe (support_probe.h's grid of flat cells, shared with
+     test_render_probe.c): every covered pixel against (a) ht_combiner_eval
+     fed with the same per-vertex inputs interpolated to the pixel, within
+     what GL's texture filtering precision allows, and (b) the oracle
+     ht_model_shade_d with the tier's documented drops (shift texture 0.5,
+     sparkle replaced by the sparkle texture's mean, key light only), the
+     tier's error budget, printed per channel.
    - Devices without enough units, without combine, without 3D textures or
      with too small a GL_MAX_3D_TEXTURE_SIZE are refused with the reason;
      a corrupt fixed.json or a missing LUT skips the tier with one line
@@ -26,8 +27,6 @@
 #include <cmocka.h>
 
 #include <cJSON.h>
-#include <limits.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -42,14 +41,14 @@
 #include "hairtier.h"
 #include "image.h"
 #include "model.h"
-#include "rng.h"
+#include "support_log.h"
 #include "support_osmesa.h"
+#include "support_probe.h"
+#include "support_render.h"
+#include "support_scratch.h"
 
-#define SIZE 129          /* odd: the centre pixel's ray is exactly the z axis */
-#define GRID 9
-#define EYE_Z 4.0
-#define FOV_Y 30.0
-#define TEXTURE_SIZE 16
+#define SIZE HT_PROBE_SIZE   /* the probe's view; the fur ball is drawn at the same size */
+#define GRID HT_PROBE_GRID
 /* Fixed tier vs its CPU emulator, per channel in 1/255. llvmpipe filters
    with 8-bit fixed-point weights (the emulator in float), then rounds per
    stage: measured max 3, mean 0.2-0.4. softpipe filters in float: measured
@@ -63,27 +62,14 @@
 #define ORACLE_MAX 6
 #define ORACLE_MEAN 1.0
 
-static char work[64];
-static char bundle_dir[128];
-static ht_test_gl gl;
-static ht_mesh furball;
+static ht_test_furball fx;
 
-/* ---- log capture ---- */
-
-static char log_text[16384];
-
-static void capture(void *user, const char *line) {
-    (void)user;
-    size_t used = strlen(log_text);
-    snprintf(log_text + used, sizeof log_text - used, "%s\n", line);
-}
-
-static bool logged(const char *what) { return strstr(log_text, what) != NULL; }
+/* ---- log lines ---- */
 
 /* One line per message: a line break inside one would start a line
    without the renderer's prefix. */
 static bool every_line_is_the_renderers(void) {
-    for (const char *l = log_text; *l; l = strchr(l, '\n') + 1) {
+    for (const char *l = ht_test_log_text; *l; l = strchr(l, '\n') + 1) {
         if (strncmp(l, "hairtier: ", 10) != 0) return false;
         if (!strchr(l, '\n')) break;
     }
@@ -92,10 +78,10 @@ static bool every_line_is_the_renderers(void) {
 
 /* The whole log line that contains `what` (without its newline). */
 static bool logged_line(const char *what, char *line, size_t size) {
-    const char *at = strstr(log_text, what);
+    const char *at = strstr(ht_test_log_text, what);
     if (!at) return false;
     const char *start = at;
-    while (start > log_text && start[-1] != '\n') start--;
+    while (start > ht_test_log_text && start[-1] != '\n') start--;
     size_t n = strcspn(start, "\n");
     if (n >= size) n = size - 1;
     memcpy(line, start, n);
@@ -195,94 +181,30 @@ static void *watching_getproc(const char *name) {
 
 /* ---- fixtures ---- */
 
-static const ht_furball_desc furball_desc = { .hairs = 400, .joints = 8, .length = 0.12f, .width = 0.03f,
-                                              .seed = 3 };
-
-static ht_result build_furball(ht_mesh *m) {
-    ht_result r = ht_mesh_build_furball(&furball_desc, m);
-    if (r == HT_OK) ht_mesh_sort_inside_out(m);
-    return r;
-}
-
 static int setup(void **state) {
     (void)state;
-    unsetenv("HAIRTIER_TIER");
-    strcpy(work, "/tmp/hairtier-test-fixed-XXXXXX");
-    if (!mkdtemp(work)) return -1;
-    snprintf(bundle_dir, sizeof bundle_dir, "%s/bundle", work);
-    char err[1024];
-    if (ht_bundle_generate("materials/dark-brown.json", "scenes/furball.json", bundle_dir, NULL, err,
-                           sizeof err) != HT_OK) {
-        fprintf(stderr, "setup: %s\n", err);
-        return -1;
-    }
-    if (!ht_test_gl_create(&gl, SIZE, SIZE, NULL, err, sizeof err)) {
-        fprintf(stderr, "setup: %s\n", err);
-        return -1;
-    }
+    if (!ht_test_furball_setup(&fx, "fixed", SIZE)) return -1;
     void *p = ht_test_getproc("glActiveTexture");
     memcpy(&active_texture, &p, sizeof p);
-    return active_texture && build_furball(&furball) == HT_OK ? 0 : -1;
+    return active_texture ? 0 : -1;
 }
 
 static int teardown(void **state) {
     (void)state;
-    ht_mesh_free(&furball);
-    ht_test_gl_destroy(&gl);
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", work);
-    return system(cmd) == 0 ? 0 : -1;
+    return ht_test_furball_teardown(&fx);
 }
 
-static const ht_light furball_lights[2] = {
-    { HT_LIGHT_DIRECTIONAL, { 0.6f, 0.8f, 0.7f }, { 1, 0.97f, 0.92f } },
-    { HT_LIGHT_POINT, { -2, 0.5f, 2 }, { 0.4f, 0.4f, 0.5f } },
-};
-
-static const float background[3] = { 0.1f, 0.2f, 0.3f };
-
-static ht_frame_desc furball_frame(void) {
-    return (ht_frame_desc){ .camera = { .eye = { 0, 0.3f, 2.0f }, .target = { 0, 0, 0 }, .up = { 0, 1, 0 },
-                                        .fov_y = 45 },
-                            .lights = furball_lights, .light_count = 2 };
-}
+static ht_frame_desc furball_frame(void) { return ht_test_furball_frame(2.0f); }
 
 static ht_renderer *create(ht_renderer_desc desc, ht_result expect) {
-    log_text[0] = '\0';
-    if (!desc.getproc) desc.getproc = ht_test_getproc;
-    desc.log = capture;
-    desc.record_trace = true;
-    if (!desc.bundle_dir) desc.bundle_dir = bundle_dir;
-    ht_renderer *r = NULL;
-    ht_result res = ht_renderer_create(&desc, &r);
-    if (res != expect)
-        fail_msg("ht_renderer_create: %s, expected %s; log:\n%s", ht_result_string(res), ht_result_string(expect),
-                 log_text);
-    return r;
+    return ht_test_renderer_create(desc, fx.bundle_dir, expect);
 }
 
 static void render(ht_renderer *r, const ht_frame_desc *f, ht_image *img) {
-    glViewport(0, 0, SIZE, SIZE);
-    glClearColor(background[0], background[1], background[2], 1);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    assert_int_equal(ht_renderer_draw(r, f), HT_OK);
-    assert_int_equal(glGetError(), GL_NO_ERROR);
-    assert_int_equal(ht_test_gl_read(&gl, img), HT_OK);
+    ht_test_draw(&fx.gl, r, f, ht_test_background, img);
 }
 
-typedef struct pixel_stats { int changed, magenta; } pixel_stats;
-
-static pixel_stats stats(const ht_image *img) {
-    pixel_stats s = { 0, 0 };
-    int bg[3];
-    for (int k = 0; k < 3; k++) bg[k] = (int)(background[k] * 255.0f + 0.5f);
-    for (int i = 0; i < img->width * img->height; i++) {
-        const uint8_t *p = img->pixels + 4 * i;
-        if (abs(p[0] - bg[0]) > 2 || abs(p[1] - bg[1]) > 2 || abs(p[2] - bg[2]) > 2) s.changed++;
-        if (p[0] > 200 && p[1] < 60 && p[2] > 200) s.magenta++;
-    }
-    return s;
-}
+static ht_test_pixel_stats stats(const ht_image *img) { return ht_test_pixel_stats_of(img, ht_test_background); }
 
 /* One line per trace entry: what the tiers must agree on. */
 static void format_trace(const ht_trace *t, char *out, size_t size) {
@@ -300,7 +222,7 @@ static void format_trace(const ht_trace *t, char *out, size_t size) {
 
 static void full_tier_trace(char *out, size_t size) {
     ht_renderer *r = create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true }, HT_OK);
-    assert_int_equal(ht_renderer_set_mesh(r, &furball), HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(r, &fx.mesh), HT_OK);
     ht_image img;
     ht_frame_desc f = furball_frame();
     render(r, &f, &img);
@@ -309,39 +231,10 @@ static void full_tier_trace(char *out, size_t size) {
     ht_renderer_destroy(r);
 }
 
-/* A copy of the bundle under work, to break. */
-static void copy_bundle(const char *name, char *out, size_t size) {
-    snprintf(out, size, "%s/%s", work, name);
-    char cmd[512];
-    snprintf(cmd, sizeof cmd, "rm -rf %s && cp -r %s %s", out, bundle_dir, out);
-    assert_int_equal(system(cmd), 0);
-}
-
-static void write_file(const char *dir, const char *name, const char *text) {
-    char path[512];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "wb");
-    assert_non_null(f);
-    fputs(text, f);
-    fclose(f);
-}
-
-static char *read_file(const char *dir, const char *name) {
-    char path[512];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "rb");
-    assert_non_null(f);
-    static char text[1 << 16];
-    size_t n = fread(text, 1, sizeof text - 1, f);
-    fclose(f);
-    text[n] = '\0';
-    return text;
-}
-
 static ht_combiner_program bundle_program(const char *dir) {
     ht_combiner_program p;
     char err[512];
-    if (ht_combiner_parse(read_file(dir, "fixed.json"), "fixed.json", &p, err, sizeof err) != HT_OK)
+    if (ht_combiner_parse(ht_test_read_file(dir, "fixed.json"), "fixed.json", &p, err, sizeof err) != HT_OK)
         fail_msg("%s", err);
     return p;
 }
@@ -360,7 +253,7 @@ static void test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes(void
     full_tier_trace(full_trace, sizeof full_trace);
     ht_image full_img;
     ht_renderer *full = create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true }, HT_OK);
-    assert_int_equal(ht_renderer_set_mesh(full, &furball), HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(full, &fx.mesh), HT_OK);
     ht_frame_desc f = furball_frame();
     render(full, &f, &full_img);
     ht_renderer_destroy(full);
@@ -371,11 +264,11 @@ static void test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes(void
         ht_renderer *r = create((ht_renderer_desc){ .profile = { .gl_major = 1, .gl_minor = 3,
                                                                  .no_vbo = no_vbo } }, HT_OK);
         assert_int_equal(ht_renderer_tier(r), HT_TIER_FIXED);
-        assert_true(logged("skipped full: needs GL 2.1, have 1.3"));
-        assert_true(logged("skipped vertex: needs GL 2.0, have 1.3"));
-        assert_true(logged("hairtier: tier fixed (best supported"));
+        assert_true(ht_test_logged("skipped full: needs GL 2.1, have 1.3"));
+        assert_true(ht_test_logged("skipped vertex: needs GL 2.0, have 1.3"));
+        assert_true(ht_test_logged("hairtier: tier fixed (best supported"));
         if (no_vbo) assert_false(ht_renderer_caps(r)->has_vbo);
-        assert_int_equal(ht_renderer_set_mesh(r, &furball), HT_OK);
+        assert_int_equal(ht_renderer_set_mesh(r, &fx.mesh), HT_OK);
         ht_image img;
         render(r, &f, &img);
         format_trace(ht_renderer_trace(r), fixed_trace, sizeof fixed_trace);
@@ -384,7 +277,7 @@ static void test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes(void
             assert_int_equal(ht_renderer_trace(r)->entries[i].gl_error, GL_NO_ERROR);
         assert_string_equal(fixed_trace, full_trace);
 
-        pixel_stats s = stats(&img), sf = stats(&full_img);
+        ht_test_pixel_stats s = stats(&img), sf = stats(&full_img);
         printf("fur ball (%s): fixed covers %d pixels, full %d\n", ht_renderer_caps(r)->has_vbo ? "VBOs" : "client arrays",
                s.changed, sf.changed);
         assert_int_equal(s.magenta, 0);
@@ -400,31 +293,31 @@ static void test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes(void
 /* Child mode: argv = exe --child BUNDLE, with MESA_GL_VERSION_OVERRIDE=1.3. */
 static int child_main(const char *bundle) {
     char err[256];
-    if (!ht_test_gl_create(&gl, SIZE, SIZE, NULL, err, sizeof err)) {
+    if (!ht_test_gl_create(&fx.gl, SIZE, SIZE, NULL, err, sizeof err)) {
         printf("child: %s\n", err);
         return 1;
     }
     ht_mesh m;
-    if (build_furball(&m) != HT_OK) return 1;
+    if (ht_test_furball_mesh(&m) != HT_OK) return 1;
     printf("version=%s\n", (const char *)glGetString(GL_VERSION));
     const GLubyte *sl = glGetString(GL_SHADING_LANGUAGE_VERSION);
     printf("glsl=%s\n", sl ? (const char *)sl : "none");
     while (glGetError() != GL_NO_ERROR) {}
-    log_text[0] = '\0';
+    ht_test_log_clear();
     ht_renderer *r = NULL;
     ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = ht_test_getproc, .bundle_dir = bundle,
-                                                            .log = capture, .record_trace = true }, &r);
-    fputs(log_text, stdout);
+                                                            .log = ht_test_log_capture, .record_trace = true }, &r);
+    fputs(ht_test_log_text, stdout);
     printf("result=%s tier=%s\n", ht_result_string(res), res == HT_OK ? ht_tier_name(ht_renderer_tier(r)) : "-");
     if (res == HT_OK && ht_renderer_set_mesh(r, &m) == HT_OK) {
         glViewport(0, 0, SIZE, SIZE);
-        glClearColor(background[0], background[1], background[2], 1);
+        glClearColor(ht_test_background[0], ht_test_background[1], ht_test_background[2], 1);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         ht_frame_desc f = furball_frame();
         printf("draw=%s\n", ht_result_string(ht_renderer_draw(r, &f)));
         ht_image img;
-        if (ht_test_gl_read(&gl, &img) == HT_OK) {
-            pixel_stats s = stats(&img);
+        if (ht_test_gl_read(&fx.gl, &img) == HT_OK) {
+            ht_test_pixel_stats s = stats(&img);
             printf("changed=%d magenta=%d\n", s.changed, s.magenta);
             ht_image_free(&img);
         }
@@ -434,29 +327,15 @@ static int child_main(const char *bundle) {
     }
     ht_renderer_destroy(r);
     ht_mesh_free(&m);
-    ht_test_gl_destroy(&gl);
+    ht_test_gl_destroy(&fx.gl);
     return 0;
-}
-
-static void run_child(const char *version, char *out, size_t size) {
-    char exe[PATH_MAX];
-    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    assert_true(n > 0);
-    exe[n] = '\0';
-    char cmd[PATH_MAX + 512];
-    snprintf(cmd, sizeof cmd, "MESA_GL_VERSION_OVERRIDE=%s '%s' --child '%s' 2>&1", version, exe, bundle_dir);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t used = fread(out, 1, size - 1, p);
-    out[used] = '\0';
-    assert_int_equal(pclose(p), 0);
 }
 
 static void test_mesa_gl13_driver_runs_fixed_with_the_full_tiers_trace(void **state) {
     (void)state;
     static char out[16384], full_trace[4096];
     full_tier_trace(full_trace, sizeof full_trace);
-    run_child("1.3", out, sizeof out);
+    ht_test_run_child("1.3", fx.bundle_dir, out, sizeof out);
     if (!strstr(out, "version=1.3")) fail_msg("child did not get a GL 1.3 context:\n%s", out);
     if (!strstr(out, "result=ok tier=fixed")) fail_msg("child did not pick fixed:\n%s", out);
     assert_non_null(strstr(out, "skipped full: needs GL 2.1, have 1.3"));
@@ -474,165 +353,6 @@ static void test_mesa_gl13_driver_runs_fixed_with_the_full_tiers_trace(void **st
 }
 
 /* ---- the shading probe ---- */
-
-typedef struct cell {
-    double T[3], N[3];
-    double uv[2];
-    double ao;
-} cell;
-
-static cell cells[GRID * GRID];
-
-typedef struct probe_material {
-    const char *name;
-    const char *model;
-    double e1, s1, e2, s2;
-    bool textured;
-} probe_material;
-
-static void write_material(const probe_material *p, const char *path) {
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    bool kk = strcmp(p->model, "kajiya-kay") == 0;
-    fprintf(f, "{ \"format\": \"hairtier-material/1\", \"name\": \"%s\", \"model\": \"%s\",\n"
-               "  \"diffuse\": {\"color\": [0.35, 0.22, 0.12]%s},\n",
-            p->name, p->model, kk ? "" : ", \"wrap\": 0.25");
-    if (kk)
-        fprintf(f, "  \"primary\": {\"color\": [0.7, 0.65, 0.6], \"exponent\": %g}", p->e1);
-    else
-        fprintf(f, "  \"primary\": {\"color\": [0.7, 0.65, 0.6], \"exponent\": %g, \"shift\": %g},\n"
-                   "  \"secondary\": {\"color\": [0.4, 0.3, 0.2], \"exponent\": %g, \"shift\": %g}",
-                p->e1, p->s1, p->e2, p->s2);
-    if (p->textured)
-        fprintf(f, ",\n  \"textures\": {\n"
-                   "    \"base\": {\"procedural\": \"stretched-noise\", \"size\": %d, \"seed\": 5},\n"
-                   "    \"shift\": {\"procedural\": \"noise\", \"size\": %d, \"seed\": 6},\n"
-                   "    \"sparkle\": {\"procedural\": \"sparkle\", \"size\": %d, \"seed\": 7} }",
-                TEXTURE_SIZE, TEXTURE_SIZE, TEXTURE_SIZE);
-    fprintf(f, " }\n");
-    fclose(f);
-}
-
-static void write_scene(const char *path, const char *light_type) {
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fprintf(f, "{ \"format\": \"hairtier-scene/1\", \"resolution\": [%d, %d],\n"
-               "  \"camera\": {\"eye\": [0, 0, %g], \"target\": [0, 0, 0], \"fov_y\": %g},\n"
-               "  \"lights\": [{\"type\": \"%s\", \"%s\": [0, 0, 1]}],\n"
-               "  \"geometry\": {\"type\": \"furball\"} }\n",
-            SIZE, SIZE, EYE_Z, FOV_Y, light_type, strcmp(light_type, "point") == 0 ? "position" : "direction");
-    fclose(f);
-}
-
-static void make_bundle(const probe_material *p, const char *light_type, char *dir, size_t dir_size) {
-    char material[256], scene[256], err[2048];
-    snprintf(material, sizeof material, "%s/%s.json", work, p->name);
-    snprintf(scene, sizeof scene, "%s/scene-%s.json", work, light_type);
-    snprintf(dir, dir_size, "%s/probe-%s-%s", work, p->name, light_type);
-    write_material(p, material);
-    write_scene(scene, light_type);
-    if (ht_bundle_generate(material, scene, dir, NULL, err, sizeof err) != HT_OK)
-        fail_msg("hairgen %s: %s", p->name, err);
-}
-
-static void unit(double v[3]) {
-    double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (len > 0)
-        for (int i = 0; i < 3; i++) v[i] /= len;
-}
-
-static void set3(double v[3], double x, double y, double z) {
-    v[0] = x;
-    v[1] = y;
-    v[2] = z;
-}
-
-/* Random cells (T perpendicular to N as on ribbons, every third not), then
-   the model's special cases, as test_render_probe.c. */
-static void make_cells(const double light_dir[3]) {
-    ht_rng rng = ht_rng_seed(42);
-    double H[3] = { light_dir[0], light_dir[1], light_dir[2] + 1.0 };
-    unit(H);
-    for (int i = 0; i < GRID * GRID; i++) {
-        cell *c = &cells[i];
-        double a[3] = { ht_rng_range(&rng, -1, 1), ht_rng_range(&rng, -1, 1), ht_rng_range(&rng, -1, 1) };
-        double b[3] = { ht_rng_range(&rng, -1, 1), ht_rng_range(&rng, -1, 1), ht_rng_range(&rng, -1, 1) };
-        unit(a);
-        double along = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-        if (i % 3 != 0)
-            for (int k = 0; k < 3; k++) b[k] -= along * a[k];
-        unit(b);
-        memcpy(c->T, a, sizeof a);
-        memcpy(c->N, b, sizeof b);
-        c->ao = ht_rng_range(&rng, 0.3, 1.0);
-        int texel = (int)(ht_rng_unit(&rng) * TEXTURE_SIZE * TEXTURE_SIZE);
-        c->uv[0] = (texel % TEXTURE_SIZE + 0.5) / TEXTURE_SIZE;
-        c->uv[1] = (texel / TEXTURE_SIZE + 0.5) / TEXTURE_SIZE;
-    }
-    memcpy(cells[0].T, H, sizeof H);                          /* T parallel to H */
-    set3(cells[0].N, H[1], -H[0], 0), unit(cells[0].N);
-    for (int k = 0; k < 3; k++) cells[1].T[k] = -H[k];        /* antiparallel */
-    memcpy(cells[1].N, cells[0].N, sizeof cells[0].N);
-    set3(cells[2].T, 0, 0, 0);                                /* zero tangent */
-    set3(cells[3].N, 0, 1, 0), set3(cells[3].T, 0, -1, 0);    /* T = -N */
-    set3(cells[4].T, 1, 0, 0), set3(cells[4].N, 0, 1, 0);     /* T perpendicular to H */
-    set3(cells[5].N, 0, 0, 0);                                /* zero normal */
-    int centre = (GRID / 2) * GRID + GRID / 2;                /* L = -V for a light along -z */
-    set3(cells[centre].T, 0, 1, 0), set3(cells[centre].N, 0, 0, 1);
-}
-
-static double half_extent(void) { return EYE_Z * tan(FOV_Y * M_PI / 360.0); }
-
-/* Cell i is vertices 4i..4i+3 at (-,-), (+,-), (-,+), (+,+); triangles
-   (0,1,3) and (0,3,2). */
-static void build_probe_mesh(ht_mesh *mesh) {
-    int n = GRID * GRID;
-    memset(mesh, 0, sizeof *mesh);
-    mesh->vertices = calloc((size_t)n * 4, sizeof *mesh->vertices);
-    mesh->indices = calloc((size_t)n * 6, sizeof *mesh->indices);
-    mesh->components = calloc((size_t)n, sizeof *mesh->components);
-    assert_non_null(mesh->vertices);
-    assert_non_null(mesh->indices);
-    assert_non_null(mesh->components);
-    mesh->vertex_count = (uint32_t)n * 4;
-    mesh->index_count = (uint32_t)n * 6;
-    mesh->component_count = (uint32_t)n;
-    double pitch = 2 * half_extent() / GRID, size = pitch * 0.8;
-    for (int i = 0; i < n; i++) {
-        double cx = -half_extent() + pitch * (i % GRID + 0.5), cy = -half_extent() + pitch * (i / GRID + 0.5);
-        for (int v = 0; v < 4; v++) {
-            ht_vertex *out = &mesh->vertices[i * 4 + v];
-            out->position[0] = (float)(cx + size * ((v & 1) ? 0.5 : -0.5));
-            out->position[1] = (float)(cy + size * ((v & 2) ? 0.5 : -0.5));
-            for (int k = 0; k < 3; k++) {
-                out->normal[k] = (float)cells[i].N[k];
-                out->tangent[k] = (float)cells[i].T[k];
-            }
-            out->uv[0] = (float)cells[i].uv[0];
-            out->uv[1] = (float)cells[i].uv[1];
-            out->ao = (float)cells[i].ao;
-        }
-        static const uint32_t quad[6] = { 0, 1, 3, 0, 3, 2 };
-        for (int k = 0; k < 6; k++) mesh->indices[i * 6 + k] = (uint32_t)i * 4 + quad[k];
-        mesh->components[i] = (ht_component){ (uint32_t)i * 6, 6, 0 };
-    }
-}
-
-/* Which cell a pixel's centre falls in, at least one pixel inside its edge;
-   world receives the point of the plane z = 0 it sees. */
-static int cell_at(double px, double py, double world[3]) {
-    double ndc_x = (px + 0.5) * 2.0 / SIZE - 1.0, ndc_y = (py + 0.5) * 2.0 / SIZE - 1.0;
-    world[0] = ndc_x * half_extent();
-    world[1] = ndc_y * half_extent();
-    world[2] = 0;
-    double pitch = 2 * half_extent() / GRID, margin = 2 * half_extent() / SIZE * 1.01;
-    int gx = (int)floor((world[0] + half_extent()) / pitch), gy = (int)floor((world[1] + half_extent()) / pitch);
-    if (gx < 0 || gy < 0 || gx >= GRID || gy >= GRID) return -1;
-    double lx = world[0] + half_extent() - pitch * (gx + 0.5), ly = world[1] + half_extent() - pitch * (gy + 0.5);
-    double inner = pitch * 0.4 - margin;
-    if (fabs(lx) > inner || fabs(ly) > inner) return -1;
-    return gy * GRID + gx;
-}
 
 /* Barycentric weights of P in the cell's triangle that holds it (the plane
    faces the camera, so screen-space and world-space interpolation agree). */
@@ -690,26 +410,21 @@ static void print_channel_error(const char *what, const channel_error *e) {
 }
 
 typedef struct probe_case {
-    probe_material material;
+    ht_probe_material material;
     ht_light light;
     bool in_budget;      /* within the LUT's resolution: held to the oracle budget */
 } probe_case;
 
 typedef struct probe_result { channel_error emulator, oracle; } probe_result;
 
-static int to_byte(double v) { return (int)lround(fmin(1.0, fmax(0.0, v)) * 255.0); }
-
 /* Renders the probe with the bundle's fixed tier and compares every covered
    pixel with the emulator and with the oracle. */
 static probe_result probe(const probe_case *pc) {
-    const probe_material *p = &pc->material;
+    const ht_probe_material *p = &pc->material;
     const ht_light light = pc->light;
-    char dir[256], material_path[300], err[2048], path[400];
-    const char *type = light.type == HT_LIGHT_POINT ? "point" : "directional";
-    make_bundle(p, type, dir, sizeof dir);
-    snprintf(material_path, sizeof material_path, "%s/%s.json", work, p->name);
+    char dir[256], err[2048], path[400];
     ht_material m;
-    assert_int_equal(ht_material_load(material_path, &m, err, sizeof err), HT_OK);
+    ht_probe_make_bundle(fx.work, p, &light, dir, sizeof dir, &m);
     ht_combiner_program prog = bundle_program(dir);
 
     ht_image lut = { 0 }, albedo = { 0 }, detail = { 0 };
@@ -732,8 +447,9 @@ static probe_result probe(const probe_case *pc) {
     }
 
     ht_mesh mesh;
-    build_probe_mesh(&mesh);
-    const float eye[3] = { 0, 0, (float)EYE_Z };
+    ht_probe_build_mesh(&mesh);
+    ht_frame_desc frame = ht_probe_frame(&light);
+    const float *eye = frame.camera.eye;
     float *coords = calloc((size_t)mesh.vertex_count * 3, sizeof *coords);
     float *colors = calloc((size_t)mesh.vertex_count * 4, sizeof *colors);
     assert_non_null(coords);
@@ -744,16 +460,8 @@ static probe_result probe(const probe_case *pc) {
     ht_renderer *r = create((ht_renderer_desc){ .bundle_dir = dir, .tier = HT_TIER_FIXED, .strict = true }, HT_OK);
     assert_int_equal(ht_renderer_tier(r), HT_TIER_FIXED);
     assert_int_equal(ht_renderer_set_mesh(r, &mesh), HT_OK);
-    ht_frame_desc frame = { .camera = { .eye = { eye[0], eye[1], eye[2] }, .target = { 0, 0, 0 },
-                                        .up = { 0, 1, 0 }, .fov_y = (float)FOV_Y },
-                            .lights = &light, .light_count = 1 };
-    glViewport(0, 0, SIZE, SIZE);
-    glClearColor(0, 0, 0, 1);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    assert_int_equal(ht_renderer_draw(r, &frame), HT_OK);
-    assert_int_equal(glGetError(), GL_NO_ERROR);
     ht_image img;
-    assert_int_equal(ht_test_gl_read(&gl, &img), HT_OK);
+    ht_test_draw(&fx.gl, r, &frame, (const float[3]){ 0, 0, 0 }, &img);
 
     probe_result res;
     memset(&res, 0, sizeof res);
@@ -761,9 +469,9 @@ static probe_result probe(const probe_case *pc) {
     for (int row = 0; row < SIZE; row++)
         for (int x = 0; x < SIZE; x++) {
             double P[3];
-            int ci = cell_at(x, SIZE - 1 - row, P);
+            int ci = ht_probe_cell_at(x, SIZE - 1 - row, P);
             if (ci < 0) continue;
-            const cell *c = &cells[ci];
+            const ht_probe_cell *c = &ht_probe_cells[ci];
             const uint8_t *got = img.pixels + ((size_t)row * SIZE + x) * 4;
 
             /* (a) the emulator, fed what GL interpolates to this pixel */
@@ -780,32 +488,20 @@ static probe_result probe(const probe_case *pc) {
             float rgba[4];
             assert_int_equal(ht_combiner_eval(&prog, textures, texture_count, &frag, rgba, err, sizeof err), HT_OK);
             int expected[3];
-            for (int k = 0; k < 3; k++) expected[k] = to_byte(rgba[k]);
+            for (int k = 0; k < 3; k++) expected[k] = ht_probe_to_byte(rgba[k]);
             add_error(&res.emulator, ci, expected, got);
 
             /* (b) the oracle, with the tier's documented drops */
-            ht_surface s = { .base = { 1, 1, 1 }, .shift_tex = 0.5, .sparkle = sparkle_mean, .ao = c->ao };
-            memcpy(s.T, c->T, sizeof s.T);
-            memcpy(s.N, c->N, sizeof s.N);
-            set3(s.V, -P[0], -P[1], EYE_Z - P[2]);
-            if (p->textured) {
-                int tx = (int)(c->uv[0] * albedo.width), ty = (int)(c->uv[1] * albedo.height);
-                const uint8_t *t = albedo.pixels + ((size_t)ty * albedo.width + tx) * albedo.channels;
-                for (int k = 0; k < 3; k++) s.base[k] = t[k] / 255.0;
-            }
-            ht_light_ray ray = { .L = { light.vector[0], light.vector[1], light.vector[2] },
-                                 .color = { light.color[0], light.color[1], light.color[2] } };
-            if (light.type == HT_LIGHT_POINT)
-                for (int k = 0; k < 3; k++) ray.L[k] -= P[k];
-            double rgb[3];
-            ht_model_shade_d(&m.shading, &s, &ray, 1, rgb);
-            for (int k = 0; k < 3; k++) expected[k] = to_byte(rgb[k]);
+            ht_surface s = ht_probe_surface(c, P);
+            s.sparkle = sparkle_mean;
+            if (p->textured) ht_probe_texel(&albedo, c->uv, 3, s.base);
+            ht_probe_oracle(&m.shading, &s, &light, P, expected);
             add_error(&res.oracle, ci, expected, got);
             res.emulator.pixels++;
             res.oracle.pixels++;
         }
-    printf("fixed probe %-14s %-11s light (%5.2f %5.2f %5.2f), LUT %dx%dx%d scale %d: %d pixels\n", p->name, type,
-           (double)light.vector[0], (double)light.vector[1], (double)light.vector[2], prog.lut_size[0],
+    printf("fixed probe %-14s %-11s light (%5.2f %5.2f %5.2f), LUT %dx%dx%d scale %d: %d pixels\n", p->name,
+           ht_probe_light_type(&light), (double)light.vector[0], (double)light.vector[1], (double)light.vector[2], prog.lut_size[0],
            prog.lut_size[1], prog.lut_size[2], prog.lut_scale, res.emulator.pixels);
     print_channel_error("emulator", &res.emulator);
     print_channel_error("oracle", &res.oracle);
@@ -821,13 +517,9 @@ static probe_result probe(const probe_case *pc) {
     return res;
 }
 
-static ht_light directional(double x, double y, double z) {
-    double d[3] = { x, y, z };
-    unit(d);
-    return (ht_light){ HT_LIGHT_DIRECTIONAL, { (float)d[0], (float)d[1], (float)d[2] }, { 0.95f, 0.9f, 1.0f } };
+static ht_light first_light(void) {
+    return ht_probe_directional(ht_probe_first_light[0], ht_probe_first_light[1], ht_probe_first_light[2]);
 }
-
-static const double first_light[3] = { 0.3, 0.5, 0.8 };
 
 static void run_probes(const probe_case *cases, int n) {
     channel_error all = { { 0, 0, 0 }, { 0, 0, 0 }, 0, -1 };
@@ -855,17 +547,15 @@ static void run_probes(const probe_case *cases, int n) {
     }
 }
 
-static const probe_material plain = { "plain", "scheuermann", 80, 1.0, 24, 0.0, false };
-
 static void test_fixed_probe_tracks_emulator_and_oracle_on_generic_cells(void **state) {
     (void)state;
     const probe_case cases[] = {
-        { plain, directional(first_light[0], first_light[1], first_light[2]), true },
+        { ht_probe_plain, first_light(), true },
         { { "textured", "scheuermann", 80, -0.1, 24, 0.15, true },
-          directional(first_light[0], first_light[1], first_light[2]), true },
-        { plain, (ht_light){ HT_LIGHT_POINT, { 0.8f, 1.1f, 1.5f }, { 1.0f, 0.9f, 0.8f } }, true },
+          first_light(), true },
+        { ht_probe_plain, (ht_light){ HT_LIGHT_POINT, { 0.8f, 1.1f, 1.5f }, { 1.0f, 0.9f, 0.8f } }, true },
         { { "kajiya-kay", "kajiya-kay", 60, 0, 0, 0, false },
-          directional(first_light[0], first_light[1], first_light[2]), true },
+          first_light(), true },
     };
     run_probes(cases, (int)(sizeof cases / sizeof cases[0]));
 }
@@ -879,15 +569,15 @@ static void test_fixed_probe_tracks_emulator_at_the_models_extremes(void **state
        exponents 0 and 10000 (the LUT axis clamps at 256: the lobe widens, a
        documented drop, so only the emulator holds it); shifts of +-100. */
     const probe_case cases[] = {
-        { plain, directional(0, 0, -1), false },
-        { plain, directional(0, 0, 1), true },
-        { plain, directional(1, 0, 0), true },
+        { ht_probe_plain, ht_probe_directional(0, 0, -1), false },
+        { ht_probe_plain, ht_probe_directional(0, 0, 1), true },
+        { ht_probe_plain, ht_probe_directional(1, 0, 0), true },
         { { "exponent-0", "scheuermann", 0, 0.0, 0, 0.0, false },
-          directional(first_light[0], first_light[1], first_light[2]), true },
+          first_light(), true },
         { { "exponent-10000", "scheuermann", 10000, 0.0, 10000, 0.0, false },
-          directional(first_light[0], first_light[1], first_light[2]), false },
+          first_light(), false },
         { { "shift-100", "scheuermann", 80, 100.0, 24, -100.0, false },
-          directional(first_light[0], first_light[1], first_light[2]), true },
+          first_light(), true },
     };
     run_probes(cases, (int)(sizeof cases / sizeof cases[0]));
 }
@@ -902,23 +592,23 @@ static void expect_refused(ht_device_profile profile, const char *dir, const cha
     profile.gl_minor = 3;
     ht_renderer *r = create((ht_renderer_desc){ .profile = profile, .bundle_dir = dir }, HT_ERR_NO_TIER);
     assert_null(r);
-    if (!logged_line("skipped fixed: ", line, sizeof line)) fail_msg("no fixed line in:\n%s", log_text);
+    if (!logged_line("skipped fixed: ", line, sizeof line)) fail_msg("no fixed line in:\n%s", ht_test_log_text);
     assert_string_equal(line, want);
     /* Forced and strict: the same reason is the error. */
     r = create((ht_renderer_desc){ .profile = profile, .bundle_dir = dir, .tier = HT_TIER_FIXED, .strict = true },
                HT_ERR_UNSUPPORTED);
     assert_null(r);
     snprintf(want, sizeof want, "fixed: %s (forced by desc.tier, strict)", reason);
-    assert_true(logged(want));
+    assert_true(ht_test_logged(want));
 }
 
 static void test_device_with_too_few_units_is_refused(void **state) {
     (void)state;
-    expect_refused((ht_device_profile){ .texture_units = 1 }, bundle_dir, "needs 2 texture units, have 1");
+    expect_refused((ht_device_profile){ .texture_units = 1 }, fx.bundle_dir, "needs 2 texture units, have 1");
     /* A manifest that understates the units: the program itself is checked. */
     char dir[256], reason[512];
-    copy_bundle("one-unit-manifest", dir, sizeof dir);
-    cJSON *root = cJSON_Parse(read_file(dir, "manifest.json"));
+    ht_test_furball_copy_bundle(&fx, "one-unit-manifest", dir, sizeof dir);
+    cJSON *root = cJSON_Parse(ht_test_read_file(dir, "manifest.json"));
     assert_non_null(root);
     cJSON *tiers = cJSON_GetObjectItem(root, "tiers");
     cJSON *t = NULL;
@@ -927,7 +617,7 @@ static void test_device_with_too_few_units_is_refused(void **state) {
             cJSON_ReplaceItemInObject(cJSON_GetObjectItem(t, "requires"), "texture_units", cJSON_CreateNumber(1));
     }
     char *text = cJSON_Print(root);
-    write_file(dir, "manifest.json", text);
+    ht_test_write_file(dir, "manifest.json", text);
     free(text);
     cJSON_Delete(root);
     int stages = bundle_program(dir).stage_count;
@@ -939,21 +629,21 @@ static void test_device_with_too_few_units_is_refused(void **state) {
 static void test_device_without_combine_is_refused(void **state) {
     (void)state;
     expect_refused((ht_device_profile){ .hide_extensions = "GL_ARB_texture_env_combine GL_EXT_texture_env_combine" },
-                   bundle_dir, "needs GL_ARB_texture_env_combine");
+                   fx.bundle_dir, "needs GL_ARB_texture_env_combine");
 }
 
 static void test_device_with_small_3d_textures_is_refused(void **state) {
     (void)state;
-    ht_combiner_program p = bundle_program(bundle_dir);
+    ht_combiner_program p = bundle_program(fx.bundle_dir);
     int largest = largest_lut_axis(&p);
     assert_true(p.lut_size[2] > 1); /* dark-brown's LUT is 3D */
     char reason[256];
     snprintf(reason, sizeof reason, "LUT %dx%dx%d needs GL_MAX_3D_TEXTURE_SIZE %d, have 16", p.lut_size[0],
              p.lut_size[1], p.lut_size[2], largest);
-    expect_refused((ht_device_profile){ .max_3d_texture_size = 16 }, bundle_dir, reason);
+    expect_refused((ht_device_profile){ .max_3d_texture_size = 16 }, fx.bundle_dir, reason);
     snprintf(reason, sizeof reason, "LUT %dx%dx%d needs GL_MAX_3D_TEXTURE_SIZE %d, have %d", p.lut_size[0],
              p.lut_size[1], p.lut_size[2], largest, largest / 2);
-    expect_refused((ht_device_profile){ .max_3d_texture_size = largest / 2 }, bundle_dir, reason);
+    expect_refused((ht_device_profile){ .max_3d_texture_size = largest / 2 }, fx.bundle_dir, reason);
     /* Exactly the largest axis is enough. */
     ht_renderer *r = create((ht_renderer_desc){ .profile = { .gl_major = 1, .gl_minor = 3,
                                                              .max_3d_texture_size = largest } }, HT_OK);
@@ -963,7 +653,7 @@ static void test_device_with_small_3d_textures_is_refused(void **state) {
     /* No 3D textures at all. */
     snprintf(reason, sizeof reason, "LUT %dx%dx%d needs 3D textures (GL 1.2), have none", p.lut_size[0],
              p.lut_size[1], p.lut_size[2]);
-    expect_refused((ht_device_profile){ .hide_extensions = "GL_EXT_texture3D" }, bundle_dir, reason);
+    expect_refused((ht_device_profile){ .hide_extensions = "GL_EXT_texture3D" }, fx.bundle_dir, reason);
 }
 
 /* ---- broken bundles ---- */
@@ -974,7 +664,7 @@ static void expect_skipped(const char *dir, const char *reason_start) {
     assert_null(r);
     char want[512], line[1024];
     snprintf(want, sizeof want, "hairtier: skipped fixed: %s", reason_start);
-    if (!logged_line("skipped fixed: ", line, sizeof line)) fail_msg("no fixed line in:\n%s", log_text);
+    if (!logged_line("skipped fixed: ", line, sizeof line)) fail_msg("no fixed line in:\n%s", ht_test_log_text);
     if (strncmp(line, want, strlen(want)) != 0) fail_msg("got  \"%s\"\nwant \"%s...\"", line, want);
     assert_true(every_line_is_the_renderers());
     /* A device that runs full is unaffected by a broken fixed tier. */
@@ -986,26 +676,26 @@ static void expect_skipped(const char *dir, const char *reason_start) {
 static void test_corrupt_program_skips_fixed_naming_the_file(void **state) {
     (void)state;
     char dir[256], want[512];
-    copy_bundle("corrupt-program", dir, sizeof dir);
-    write_file(dir, "fixed.json", "{\"format\": \"hairtier-combiner/1\", \"model\": ");
+    ht_test_furball_copy_bundle(&fx, "corrupt-program", dir, sizeof dir);
+    ht_test_write_file(dir, "fixed.json", "{\"format\": \"hairtier-combiner/1\", \"model\": ");
     snprintf(want, sizeof want, "%s/fixed.json: line 1: malformed JSON", dir);
     expect_skipped(dir, want);
 
     /* A bad field is named by its path. */
-    copy_bundle("bad-scale", dir, sizeof dir);
-    cJSON *root = cJSON_Parse(read_file(dir, "fixed.json"));
+    ht_test_furball_copy_bundle(&fx, "bad-scale", dir, sizeof dir);
+    cJSON *root = cJSON_Parse(ht_test_read_file(dir, "fixed.json"));
     assert_non_null(root);
     cJSON *stage = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "stages"), 0);
     cJSON_ReplaceItemInObject(stage, "rgb_scale", cJSON_CreateNumber(3));
     char *out = cJSON_Print(root);
-    write_file(dir, "fixed.json", out);
+    ht_test_write_file(dir, "fixed.json", out);
     free(out);
     cJSON_Delete(root);
     snprintf(want, sizeof want, "%s/fixed.json: stages[0].rgb_scale", dir);
     expect_skipped(dir, want);
 
     char path[512];
-    copy_bundle("missing-program", dir, sizeof dir);
+    ht_test_furball_copy_bundle(&fx, "missing-program", dir, sizeof dir);
     snprintf(path, sizeof path, "%s/fixed.json", dir);
     assert_int_equal(unlink(path), 0);
     snprintf(want, sizeof want, "%s/fixed.json: cannot read", dir);
@@ -1015,14 +705,14 @@ static void test_corrupt_program_skips_fixed_naming_the_file(void **state) {
 static void test_missing_or_wrong_lut_skips_fixed_naming_the_file(void **state) {
     (void)state;
     char dir[256], want[512], path[512], err[256];
-    copy_bundle("missing-lut", dir, sizeof dir);
+    ht_test_furball_copy_bundle(&fx, "missing-lut", dir, sizeof dir);
     snprintf(path, sizeof path, "%s/fixed-lut.png", dir);
     assert_int_equal(unlink(path), 0);
     snprintf(want, sizeof want, "%s/fixed-lut.png: cannot open", dir);
     expect_skipped(dir, want);
 
     /* A LUT image that is not the size the manifest lists. */
-    copy_bundle("small-lut", dir, sizeof dir);
+    ht_test_furball_copy_bundle(&fx, "small-lut", dir, sizeof dir);
     snprintf(path, sizeof path, "%s/fixed-lut.png", dir);
     ht_image small = { 0 };
     assert_int_equal(ht_image_alloc(&small, 4, 4, 3), HT_OK);
@@ -1032,8 +722,8 @@ static void test_missing_or_wrong_lut_skips_fixed_naming_the_file(void **state) 
     expect_skipped(dir, want);
 
     /* A truncated PNG. */
-    copy_bundle("truncated-lut", dir, sizeof dir);
-    write_file(dir, "fixed-lut.png", "\x89PNG\r\n\x1a\n");
+    ht_test_furball_copy_bundle(&fx, "truncated-lut", dir, sizeof dir);
+    ht_test_write_file(dir, "fixed-lut.png", "\x89PNG\r\n\x1a\n");
     snprintf(want, sizeof want, "%s/fixed-lut.png: ", dir);
     expect_skipped(dir, want);
 }
@@ -1100,7 +790,7 @@ static void test_frame_calls_no_shaders_and_primes_z_without_the_lut(void **stat
     ht_renderer *r = create((ht_renderer_desc){ .getproc = watching_getproc, .tier = HT_TIER_FIXED, .strict = true },
                             HT_OK);
     assert_true(ht_renderer_caps(r)->has_shaders); /* shaders were there to misuse */
-    assert_int_equal(ht_renderer_set_mesh(r, &furball), HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(r, &fx.mesh), HT_OK);
     ht_image img;
     ht_frame_desc f = furball_frame();
     render(r, &f, &img);
@@ -1108,7 +798,7 @@ static void test_frame_calls_no_shaders_and_primes_z_without_the_lut(void **stat
     ht_renderer_destroy(r);
     assert_int_equal(shader_calls, 0);
     assert_int_equal(draw_count, HT_PASS_COUNT);
-    ht_combiner_program p = bundle_program(bundle_dir);
+    ht_combiner_program p = bundle_program(fx.bundle_dir);
     assert_int_equal(p.stage_count, 2);
     for (int i = 0; i < draw_count; i++) {
         const draw_state *d = &draws[i];
@@ -1135,9 +825,9 @@ static void test_frame_restores_texture_env_and_leaves_other_tiers_unchanged(voi
     ht_renderer *full = create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true }, HT_OK);
     ht_renderer *flat = create((ht_renderer_desc){ .flat = true }, HT_OK);
     ht_renderer *fixed = create((ht_renderer_desc){ .tier = HT_TIER_FIXED, .strict = true }, HT_OK);
-    assert_int_equal(ht_renderer_set_mesh(full, &furball), HT_OK);
-    assert_int_equal(ht_renderer_set_mesh(flat, &furball), HT_OK);
-    assert_int_equal(ht_renderer_set_mesh(fixed, &furball), HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(full, &fx.mesh), HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(flat, &fx.mesh), HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(fixed, &fx.mesh), HT_OK);
     ht_image full_before, flat_before, fixed_img, full_after, flat_after;
     static float depth_full[SIZE * SIZE], depth_fixed[SIZE * SIZE];
     render(full, &f, &full_before);
@@ -1187,10 +877,10 @@ static void test_mesh_changes_and_empty_frames_are_safe(void **state) {
     assert_int_equal(ht_renderer_set_mesh(r, &empty), HT_OK);
     render(r, &f, &img);
     ht_image_free(&img);
-    assert_int_equal(ht_renderer_set_mesh(r, &furball), HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(r, &fx.mesh), HT_OK);
     f.light_count = 0; /* unlit: black hair, still drawn */
     render(r, &f, &img);
-    pixel_stats s = stats(&img);
+    ht_test_pixel_stats s = stats(&img);
     assert_true(s.changed > SIZE * SIZE / 20);
     ht_image_free(&img);
     for (int i = 0; i < ht_renderer_trace(r)->count; i++)
@@ -1201,9 +891,7 @@ static void test_mesh_changes_and_empty_frames_are_safe(void **state) {
 
 int main(int argc, char **argv) {
     if (argc == 3 && strcmp(argv[1], "--child") == 0) return child_main(argv[2]);
-    double l[3] = { first_light[0], first_light[1], first_light[2] };
-    unit(l);
-    make_cells(l);
+    ht_probe_make_cells();
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes),
         cmocka_unit_test(test_mesa_gl13_driver_runs_fixed_with_the_full_tiers_trace),

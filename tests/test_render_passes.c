@@ -12,7 +12,6 @@
 #include <cmocka.h>
 
 #include <cJSON.h>
-#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,114 +19,44 @@
 
 #include <GL/gl.h>
 
-#include "hairgen.h"
 #include "hairtier.h"
+#include "support_log.h"
 #include "support_osmesa.h"
+#include "support_render.h"
+#include "support_scratch.h"
 
 #define SIZE 96
 
-static char work[64];
-static char bundle_dir[128];
-static ht_test_gl gl;
-static ht_mesh mesh;
-
-/* ---- log capture ---- */
-
-static char log_text[16384];
-
-static void capture(void *user, const char *line) {
-    (void)user;
-    size_t used = strlen(log_text);
-    snprintf(log_text + used, sizeof log_text - used, "%s\n", line);
-}
-
-static bool logged(const char *what) { return strstr(log_text, what) != NULL; }
+static ht_test_furball fx;
 
 /* ---- fixtures ---- */
 
 static int setup(void **state) {
     (void)state;
-    unsetenv("HAIRTIER_TIER");
-    strcpy(work, "/tmp/hairtier-test-render-XXXXXX");
-    if (!mkdtemp(work)) return -1;
-    snprintf(bundle_dir, sizeof bundle_dir, "%s/bundle", work);
-    char err[1024];
-    if (ht_bundle_generate("materials/dark-brown.json", "scenes/furball.json", bundle_dir, NULL, err,
-                           sizeof err) != HT_OK) {
-        fprintf(stderr, "setup: %s\n", err);
-        return -1;
-    }
-    if (!ht_test_gl_create(&gl, SIZE, SIZE, NULL, err, sizeof err)) {
-        fprintf(stderr, "setup: %s\n", err);
-        return -1;
-    }
-    if (ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 400, .joints = 8, .length = 0.12f, .width = 0.03f,
-                                                  .seed = 3 }, &mesh) != HT_OK)
-        return -1;
-    ht_mesh_sort_inside_out(&mesh);
-    return 0;
+    return ht_test_furball_setup(&fx, "render", SIZE) ? 0 : -1;
 }
 
 static int teardown(void **state) {
     (void)state;
-    ht_mesh_free(&mesh);
-    ht_test_gl_destroy(&gl);
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", work);
-    return system(cmd) == 0 ? 0 : -1;
+    return ht_test_furball_teardown(&fx);
 }
 
-static const ht_light lights[2] = {
-    { HT_LIGHT_DIRECTIONAL, { 0.6f, 0.8f, 0.7f }, { 1, 0.97f, 0.92f } },
-    { HT_LIGHT_POINT, { -2, 0.5f, 2 }, { 0.4f, 0.4f, 0.5f } },
-};
+static ht_frame_desc frame(void) { return ht_test_furball_frame(2.4f); }
 
-static const float background[3] = { 0.1f, 0.2f, 0.3f };
-
-static ht_frame_desc frame(void) {
-    return (ht_frame_desc){ .camera = { .eye = { 0, 0.3f, 2.4f }, .target = { 0, 0, 0 }, .up = { 0, 1, 0 },
-                                        .fov_y = 45 },
-                            .lights = lights, .light_count = 2 };
-}
-
+/* A renderer on the fur ball, the fixture's bundle unless desc names one. */
 static ht_renderer *create(ht_renderer_desc desc, ht_result expect) {
-    log_text[0] = '\0';
-    desc.getproc = ht_test_getproc;
-    desc.log = capture;
-    desc.record_trace = true;
-    if (!desc.bundle_dir) desc.bundle_dir = bundle_dir;
-    ht_renderer *r = NULL;
-    ht_result res = ht_renderer_create(&desc, &r);
-    if (res != expect) fail_msg("ht_renderer_create: %s, expected %s; log:\n%s", ht_result_string(res),
-                                ht_result_string(expect), log_text);
-    if (res == HT_OK) assert_int_equal(ht_renderer_set_mesh(r, &mesh), HT_OK);
+    ht_renderer *r = ht_test_renderer_create(desc, fx.bundle_dir, expect);
+    if (r) assert_int_equal(ht_renderer_set_mesh(r, &fx.mesh), HT_OK);
     return r;
 }
 
 /* Clears, draws one frame, reads it back. */
 static void render(ht_renderer *r, ht_image *img) {
-    glViewport(0, 0, SIZE, SIZE);
-    glClearColor(background[0], background[1], background[2], 1);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     ht_frame_desc f = frame();
-    assert_int_equal(ht_renderer_draw(r, &f), HT_OK);
-    assert_int_equal(glGetError(), GL_NO_ERROR);
-    assert_int_equal(ht_test_gl_read(&gl, img), HT_OK);
+    ht_test_draw(&fx.gl, r, &f, ht_test_background, img);
 }
 
-typedef struct pixel_stats { int changed, magenta; } pixel_stats;
-
-static pixel_stats stats(const ht_image *img) {
-    pixel_stats s = { 0, 0 };
-    uint8_t bg[3];
-    for (int k = 0; k < 3; k++) bg[k] = (uint8_t)(background[k] * 255.0f + 0.5f);
-    for (int i = 0; i < img->width * img->height; i++) {
-        const uint8_t *p = img->pixels + 4 * i;
-        if (abs(p[0] - bg[0]) > 2 || abs(p[1] - bg[1]) > 2 || abs(p[2] - bg[2]) > 2) s.changed++;
-        if (p[0] > 200 && p[1] < 60 && p[2] > 200) s.magenta++;
-    }
-    return s;
-}
+static ht_test_pixel_stats stats(const ht_image *img) { return ht_test_pixel_stats_of(img, ht_test_background); }
 
 /* Scheuermann's passes as DESIGN.md lists them. */
 static void check_pass_state(const ht_trace_entry *e, float cutoff) {
@@ -172,7 +101,7 @@ static void check_trace(const ht_trace *t, float cutoff) {
         assert_int_equal(t->entries[i].pass, i);
         assert_int_equal(t->entries[i].sub_pass, 0);
         assert_int_equal(t->entries[i].first_index, 0);
-        assert_int_equal(t->entries[i].index_count, mesh.index_count);
+        assert_int_equal(t->entries[i].index_count, fx.mesh.index_count);
         check_pass_state(&t->entries[i], cutoff);
     }
 }
@@ -184,37 +113,13 @@ static bool same_pass_list(const ht_trace *a, const ht_trace *b) {
     return true;
 }
 
-/* Rewrites one number of the bundle's manifest (a copy under work). */
-static void copy_bundle(const char *name, char *out, size_t size) {
-    snprintf(out, size, "%s/%s", work, name);
-    char cmd[512];
-    snprintf(cmd, sizeof cmd, "rm -rf %s && cp -r %s %s", out, bundle_dir, out);
-    assert_int_equal(system(cmd), 0);
-}
-
-static void write_file(const char *dir, const char *name, const char *text) {
-    char path[512];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "wb");
-    assert_non_null(f);
-    fputs(text, f);
-    fclose(f);
-}
-
+/* Rewrites one number of a bundle's manifest (a copy under work). */
 static void set_manifest_cutoff(const char *dir, double cutoff) {
-    char path[512];
-    snprintf(path, sizeof path, "%s/manifest.json", dir);
-    FILE *f = fopen(path, "rb");
-    assert_non_null(f);
-    static char text[1 << 16];
-    size_t n = fread(text, 1, sizeof text - 1, f);
-    fclose(f);
-    text[n] = '\0';
-    cJSON *root = cJSON_Parse(text);
+    cJSON *root = cJSON_Parse(ht_test_read_file(dir, "manifest.json"));
     assert_non_null(root);
     cJSON_ReplaceItemInObject(root, "opaque_cutoff", cJSON_CreateNumber(cutoff));
     char *out = cJSON_Print(root);
-    write_file(dir, "manifest.json", out);
+    ht_test_write_file(dir, "manifest.json", out);
     free(out);
     cJSON_Delete(root);
 }
@@ -228,7 +133,7 @@ static void test_render_flat_mode_draws_the_four_passes_in_order(void **state) {
     render(r, &img);
     check_trace(ht_renderer_trace(r), 0.98f);
     /* Flat colour has alpha 1: every hair pixel comes from the depth-EQUAL pass. */
-    pixel_stats s = stats(&img);
+    ht_test_pixel_stats s = stats(&img);
     assert_true(s.changed > SIZE * SIZE / 20);
     ht_image_free(&img);
     ht_renderer_destroy(r);
@@ -248,7 +153,7 @@ static void test_render_glsl_tiers_share_the_flat_pass_list(void **state) {
         check_trace(ht_renderer_trace(r), 0.98f);
         if (!same_pass_list(ht_renderer_trace(flat), ht_renderer_trace(r)))
             fail_msg("%s tier's pass list differs from flat mode's", ht_tier_name(tiers[i]));
-        pixel_stats s = stats(&img);
+        ht_test_pixel_stats s = stats(&img);
         assert_true(s.changed > 0);
         assert_int_equal(s.magenta, 0);
         ht_image_free(&img);
@@ -263,19 +168,19 @@ static void test_render_depth_equal_pass_colours_opaque_texels(void **state) {
        draw (nearly) nothing, so what shows is the depth-EQUAL pass's work. A
        transform that is not bit-identical across passes leaves it blank. */
     char dir[256];
-    copy_bundle("low-cutoff", dir, sizeof dir);
+    ht_test_furball_copy_bundle(&fx, "low-cutoff", dir, sizeof dir);
     set_manifest_cutoff(dir, 0.004);
     ht_image flat_img, img;
     ht_renderer *flat = create((ht_renderer_desc){ .flat = true, .bundle_dir = dir }, HT_OK);
     render(flat, &flat_img);
-    pixel_stats coverage = stats(&flat_img);
+    ht_test_pixel_stats coverage = stats(&flat_img);
     ht_renderer_destroy(flat);
     const ht_tier tiers[2] = { HT_TIER_FULL, HT_TIER_VERTEX };
     for (int i = 0; i < 2; i++) {
         ht_renderer *r = create((ht_renderer_desc){ .tier = tiers[i], .strict = true, .bundle_dir = dir }, HT_OK);
         render(r, &img);
         check_trace(ht_renderer_trace(r), 0.004f);
-        pixel_stats s = stats(&img);
+        ht_test_pixel_stats s = stats(&img);
         if (s.changed < coverage.changed / 4 || s.changed < SIZE * SIZE / 20)
             fail_msg("%s: %d pixels shaded, flat coverage %d", ht_tier_name(tiers[i]), s.changed, coverage.changed);
         ht_image_free(&img);
@@ -287,15 +192,15 @@ static void test_render_depth_equal_pass_colours_opaque_texels(void **state) {
 static void test_render_broken_full_shader_drops_to_vertex(void **state) {
     (void)state;
     char dir[256];
-    copy_bundle("broken-frag", dir, sizeof dir);
-    write_file(dir, "full.frag", "#version 120\nvoid main() { gl_FragColor = vec4(1.0, 0.0, 1.0, 1.0) }\n");
+    ht_test_furball_copy_bundle(&fx, "broken-frag", dir, sizeof dir);
+    ht_test_write_file(dir, "full.frag", "#version 120\nvoid main() { gl_FragColor = vec4(1.0, 0.0, 1.0, 1.0) }\n");
     ht_renderer *r = create((ht_renderer_desc){ .bundle_dir = dir }, HT_OK);
     assert_int_equal(ht_renderer_tier(r), HT_TIER_VERTEX);
-    assert_true(logged("skipped full: compile failed: full.frag: "));
+    assert_true(ht_test_logged("skipped full: compile failed: full.frag: "));
     assert_non_null(strstr(ht_renderer_reason(r), "full: compile failed"));
     ht_image img;
     render(r, &img);
-    pixel_stats s = stats(&img);
+    ht_test_pixel_stats s = stats(&img);
     assert_true(s.changed > 0);
     assert_int_equal(s.magenta, 0);
     ht_image_free(&img);
@@ -304,18 +209,18 @@ static void test_render_broken_full_shader_drops_to_vertex(void **state) {
     /* Forced and strict, the same failure is an error. */
     r = create((ht_renderer_desc){ .bundle_dir = dir, .tier = HT_TIER_FULL, .strict = true }, HT_ERR_UNSUPPORTED);
     assert_null(r);
-    assert_true(logged("full: compile failed"));
+    assert_true(ht_test_logged("full: compile failed"));
 }
 
 static void test_render_missing_shader_file_drops_to_vertex(void **state) {
     (void)state;
     char dir[256], path[512];
-    copy_bundle("missing-frag", dir, sizeof dir);
+    ht_test_furball_copy_bundle(&fx, "missing-frag", dir, sizeof dir);
     snprintf(path, sizeof path, "%s/full.frag", dir);
     assert_int_equal(unlink(path), 0);
     ht_renderer *r = create((ht_renderer_desc){ .bundle_dir = dir }, HT_OK);
     assert_int_equal(ht_renderer_tier(r), HT_TIER_VERTEX);
-    assert_true(logged("full.frag: cannot read"));
+    assert_true(ht_test_logged("full.frag: cannot read"));
     ht_renderer_destroy(r);
 }
 
@@ -323,7 +228,7 @@ static void test_render_gl20_profile_picks_vertex_with_the_reason(void **state) 
     (void)state;
     ht_renderer *r = create((ht_renderer_desc){ .profile = { .gl_major = 2, .gl_minor = 0 } }, HT_OK);
     assert_int_equal(ht_renderer_tier(r), HT_TIER_VERTEX);
-    assert_true(logged("skipped full: needs GL 2.1, have 2.0"));
+    assert_true(ht_test_logged("skipped full: needs GL 2.1, have 2.0"));
     ht_image img;
     render(r, &img);
     check_trace(ht_renderer_trace(r), 0.98f);
@@ -333,18 +238,18 @@ static void test_render_gl20_profile_picks_vertex_with_the_reason(void **state) 
 
 static void test_render_gl13_profile_leaves_only_fixed(void **state) {
     (void)state;
-    log_text[0] = '\0';
+    ht_test_log_clear();
     ht_renderer *r = NULL;
-    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = ht_test_getproc, .bundle_dir = bundle_dir,
-                                                            .log = capture,
+    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = ht_test_getproc, .bundle_dir = fx.bundle_dir,
+                                                            .log = ht_test_log_capture,
                                                             .profile = { .gl_major = 1, .gl_minor = 3 } }, &r);
-    assert_true(logged("skipped full: needs GL 2.1, have 1.3"));
-    assert_true(logged("skipped vertex: needs GL 2.0, have 1.3"));
+    assert_true(ht_test_logged("skipped full: needs GL 2.1, have 1.3"));
+    assert_true(ht_test_logged("skipped vertex: needs GL 2.0, have 1.3"));
     if (res == HT_OK) {
         assert_int_equal(ht_renderer_tier(r), HT_TIER_FIXED);
     } else {
         assert_int_equal(res, HT_ERR_NO_TIER);
-        assert_true(logged("skipped fixed: no fixed backend in this build"));
+        assert_true(ht_test_logged("skipped fixed: no fixed backend in this build"));
     }
     ht_renderer_destroy(r);
 }
@@ -365,10 +270,10 @@ static void test_render_environment_forces_a_tier_and_desc_wins(void **state) {
 static void test_render_missing_bundle_is_one_line_error(void **state) {
     (void)state;
     char dir[256];
-    snprintf(dir, sizeof dir, "%s/no-such-bundle", work);
+    snprintf(dir, sizeof dir, "%s/no-such-bundle", fx.work);
     ht_renderer *r = create((ht_renderer_desc){ .bundle_dir = dir }, HT_ERR_IO);
     assert_null(r);
-    char *line = strstr(log_text, "no-such-bundle/manifest.json: cannot read");
+    char *line = strstr(ht_test_log_text, "no-such-bundle/manifest.json: cannot read");
     assert_non_null(line);
     /* one line: nothing after its newline */
     assert_string_equal(strchr(line, '\n'), "\n");
@@ -377,19 +282,19 @@ static void test_render_missing_bundle_is_one_line_error(void **state) {
 static void test_render_corrupt_manifest_is_one_line_error(void **state) {
     (void)state;
     char dir[256];
-    copy_bundle("corrupt-manifest", dir, sizeof dir);
-    write_file(dir, "manifest.json", "{\"format\": \"hairtier-bundle/1\", \"opaque_cutoff\": ");
+    ht_test_furball_copy_bundle(&fx, "corrupt-manifest", dir, sizeof dir);
+    ht_test_write_file(dir, "manifest.json", "{\"format\": \"hairtier-bundle/1\", \"opaque_cutoff\": ");
     ht_renderer *r = create((ht_renderer_desc){ .bundle_dir = dir }, HT_ERR_PARSE);
     assert_null(r);
-    char *line = strstr(log_text, "corrupt-manifest/manifest.json: manifest: not valid JSON");
+    char *line = strstr(ht_test_log_text, "corrupt-manifest/manifest.json: manifest: not valid JSON");
     assert_non_null(line);
     assert_string_equal(strchr(line, '\n'), "\n");
 
-    write_file(dir, "manifest.json",
+    ht_test_write_file(dir, "manifest.json",
                "{\"format\": \"hairtier-bundle/1\", \"opaque_cutoff\": 0.5, \"lights\": [\"directional\"],"
                " \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": 2.1}, \"files\": {}}]}");
     r = create((ht_renderer_desc){ .bundle_dir = dir }, HT_ERR_PARSE);
-    assert_true(logged("manifest.json: tiers[0].requires.gl: expected a string"));
+    assert_true(ht_test_logged("manifest.json: tiers[0].requires.gl: expected a string"));
 }
 
 static void test_render_head_and_hair_draw_without_gl_errors(void **state) {
@@ -400,21 +305,16 @@ static void test_render_head_and_hair_draw_without_gl_errors(void **state) {
     ht_mesh_sort_inside_out(&hair);
     ht_renderer *r = create((ht_renderer_desc){ 0 }, HT_OK);
     assert_int_equal(ht_renderer_set_mesh(r, &hair), HT_OK);
-    glViewport(0, 0, SIZE, SIZE);
-    glClearColor(background[0], background[1], background[2], 1);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     ht_frame_desc f = frame();
     f.camera.eye[2] = 4;
     f.opaque = &head;
-    assert_int_equal(ht_renderer_draw(r, &f), HT_OK);
-    assert_int_equal(glGetError(), GL_NO_ERROR);
+    ht_image img;
+    ht_test_draw(&fx.gl, r, &f, ht_test_background, &img);
     for (int i = 0; i < ht_renderer_trace(r)->count; i++)
         assert_int_equal(ht_renderer_trace(r)->entries[i].gl_error, GL_NO_ERROR);
-    ht_image img;
-    assert_int_equal(ht_test_gl_read(&gl, &img), HT_OK);
     const uint8_t *centre = img.pixels + 4 * ((SIZE / 2) * SIZE + SIZE / 2);
-    assert_true(abs(centre[0] - (int)(background[0] * 255 + 0.5f)) > 8 ||
-                abs(centre[2] - (int)(background[2] * 255 + 0.5f)) > 8); /* the lit head */
+    assert_true(abs(centre[0] - (int)(ht_test_background[0] * 255 + 0.5f)) > 8 ||
+                abs(centre[2] - (int)(ht_test_background[2] * 255 + 0.5f)) > 8); /* the lit head */
     ht_image_free(&img);
     ht_renderer_destroy(r);
     assert_int_equal(ht_renderer_set_mesh(NULL, &hair), HT_ERR_INVALID_ARGUMENT);
@@ -447,35 +347,21 @@ static int child_main(const char *bundle) {
         printf("child: %s\n", err);
         return 1;
     }
-    log_text[0] = '\0';
+    ht_test_log_clear();
     ht_renderer *r = NULL;
     ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = ht_test_getproc, .bundle_dir = bundle,
-                                                            .log = capture }, &r);
-    fputs(log_text, stdout);
+                                                            .log = ht_test_log_capture }, &r);
+    fputs(ht_test_log_text, stdout);
     printf("result=%s tier=%s\n", ht_result_string(res), res == HT_OK ? ht_tier_name(ht_renderer_tier(r)) : "-");
     ht_renderer_destroy(r);
     ht_test_gl_destroy(&cgl);
     return 0;
 }
 
-static void run_child(const char *version, char *out, size_t size) {
-    char exe[PATH_MAX];
-    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    assert_true(n > 0);
-    exe[n] = '\0';
-    char cmd[PATH_MAX + 512];
-    snprintf(cmd, sizeof cmd, "MESA_GL_VERSION_OVERRIDE=%s '%s' --child '%s' 2>&1", version, exe, bundle_dir);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t used = fread(out, 1, size - 1, p);
-    out[used] = '\0';
-    assert_int_equal(pclose(p), 0);
-}
-
 static void test_render_mesa_gl20_override_picks_vertex(void **state) {
     (void)state;
     char out[8192];
-    run_child("2.0", out, sizeof out);
+    ht_test_run_child("2.0", fx.bundle_dir, out, sizeof out);
     if (!strstr(out, "hairtier: device GL 2.0")) fail_msg("child did not see GL 2.0:\n%s", out);
     assert_non_null(strstr(out, "skipped full: needs GL 2.1, have 2.0"));
     assert_non_null(strstr(out, "result=ok tier=vertex"));
@@ -484,7 +370,7 @@ static void test_render_mesa_gl20_override_picks_vertex(void **state) {
 static void test_render_mesa_gl13_override_skips_glsl_tiers(void **state) {
     (void)state;
     char out[8192];
-    run_child("1.3", out, sizeof out);
+    ht_test_run_child("1.3", fx.bundle_dir, out, sizeof out);
     if (!strstr(out, "hairtier: device GL 1.3")) fail_msg("child did not see GL 1.3:\n%s", out);
     assert_non_null(strstr(out, "skipped full: needs GL 2.1, have 1.3"));
     assert_non_null(strstr(out, "skipped vertex: needs GL 2.0, have 1.3"));

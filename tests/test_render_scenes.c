@@ -18,6 +18,7 @@
 
 #include "hairgen.h"
 #include "image.h"
+#include "support_scratch.h"
 
 /* The tiers' mean difference from the full tier over hair pixels, in /255:
    what their documented drops cost on the demo scenes. Measured 7.2 to 11.3
@@ -29,15 +30,12 @@ static char work[64];
 
 static int setup(void **state) {
     (void)state;
-    strcpy(work, "/tmp/hairtier-test-scenes-XXXXXX");
-    return mkdtemp(work) ? 0 : -1;
+    return ht_test_scratch_create(work, sizeof work, "scenes") ? 0 : -1;
 }
 
 static int teardown(void **state) {
     (void)state;
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", work);
-    return system(cmd) == 0 ? 0 : -1;
+    return ht_test_scratch_remove(work);
 }
 
 static const char *build_dir(void) {

@@ -1,7 +1,6 @@
 /* test_texture.c — procedural textures (determinism, value ranges, the
    statistics the renderer relies on), file textures reduced to their slot,
    and packing into the albedo and detail images. */
-#include <dirent.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -16,28 +15,18 @@
 #include "emit.h"
 #include "hairgen.h"
 #include "rng.h"
+#include "support_scratch.h"
 
 static char dir[64];
 
 static int make_dir(void **state) {
     (void)state;
-    snprintf(dir, sizeof dir, "/tmp/ht-test-texture-XXXXXX");
-    return mkdtemp(dir) ? 0 : -1;
+    return ht_test_scratch_create(dir, sizeof dir, "texture") ? 0 : -1;
 }
 
 static int remove_dir(void **state) {
     (void)state;
-    DIR *d = opendir(dir);
-    if (!d) return -1;
-    struct dirent *e;
-    char path[512];
-    while ((e = readdir(d)))
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
-            snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-            remove(path);
-        }
-    closedir(d);
-    return rmdir(dir);
+    return ht_test_scratch_remove(dir);
 }
 
 static ht_texture_source procedural(const char *name, int size, uint32_t seed) {

@@ -1,0 +1,59 @@
+/* support_render.h — what the renderer tests share around ht_renderer:
+   the fur-ball fixture (a scratch directory holding the dark-brown fur-ball
+   bundle, an OSMesa context, the fur-ball mesh sorted inside out, its two
+   lights), a renderer factory that records the trace and captures the log
+   (support_log.h), one frame drawn and read back, coverage counts, and
+   re-running the test binary under MESA_GL_VERSION_OVERRIDE.
+
+   Helpers that check fail the running cmocka test. */
+#ifndef HT_SUPPORT_RENDER_H
+#define HT_SUPPORT_RENDER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "hairtier.h"
+#include "support_osmesa.h"
+
+typedef struct ht_test_furball {
+    char work[64];          /* scratch directory */
+    char bundle_dir[128];   /* work/bundle: materials/dark-brown.json x scenes/furball.json */
+    ht_test_gl gl;          /* size x size, current */
+    ht_mesh mesh;           /* 400 hairs, sorted inside out */
+} ht_test_furball;
+
+/* For cmocka group setup/teardown: false (with the reason on stderr) when
+   anything cannot be made; name tells the scratch directory apart. */
+bool ht_test_furball_setup(ht_test_furball *f, const char *name, int size);
+int ht_test_furball_teardown(ht_test_furball *f);
+/* The fixture's mesh on its own (for a child process). */
+ht_result ht_test_furball_mesh(ht_mesh *out);
+/* The two lights (directional key, point fill), looked at from (0, 0.3, eye_z). */
+ht_frame_desc ht_test_furball_frame(float eye_z);
+/* A copy of the fixture's bundle at work/NAME, to break. */
+void ht_test_furball_copy_bundle(const ht_test_furball *f, const char *name, char *out, size_t size);
+
+extern const float ht_test_background[3];   /* the clear colour of the coverage tests */
+
+/* ht_renderer_create with getproc (unless set), the log capture and the
+   trace; bundle_dir unless desc sets one. Fails the test, showing the log,
+   unless the result is expect. */
+ht_renderer *ht_test_renderer_create(ht_renderer_desc desc, const char *bundle_dir, ht_result expect);
+/* Clears the whole context to clear (depth too), draws f without error,
+   reads it back. */
+void ht_test_draw(const ht_test_gl *gl, ht_renderer *r, const ht_frame_desc *f, const float clear[3],
+                  ht_image *img);
+
+typedef struct ht_test_pixel_stats {
+    int changed;    /* more than 2/255 from background in some channel */
+    int magenta;    /* what a failed shader looks like */
+} ht_test_pixel_stats;
+
+ht_test_pixel_stats ht_test_pixel_stats_of(const ht_image *img, const float background[3]);
+
+/* Runs this test binary as `EXE --child BUNDLE_DIR` with
+   MESA_GL_VERSION_OVERRIDE=version (Mesa reads it once per process);
+   out receives its stdout and stderr. The child must exit 0. */
+void ht_test_run_child(const char *version, const char *bundle_dir, char *out, size_t size);
+
+#endif

@@ -1,0 +1,66 @@
+/* support_scratch.c — see support_scratch.h. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "support_scratch.h"
+
+bool ht_test_scratch_create(char *dir, size_t size, const char *name) {
+    int n = snprintf(dir, size, "/tmp/hairtier-test-%s-XXXXXX", name);
+    return n > 0 && (size_t)n < size && mkdtemp(dir) != NULL;
+}
+
+int ht_test_scratch_remove(const char *dir) {
+    struct stat st;
+    if (lstat(dir, &st) != 0) return -1;
+    if (!S_ISDIR(st.st_mode)) return unlink(dir) == 0 ? 0 : -1;
+    chmod(dir, 0700); /* a read-only directory can neither be listed nor emptied */
+    DIR *d = opendir(dir);
+    if (!d) return -1;
+    int result = 0;
+    struct dirent *e;
+    char path[1024];
+    while ((e = readdir(d))) {
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
+        int n = snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        if (n < 0 || (size_t)n >= sizeof path || ht_test_scratch_remove(path) != 0) result = -1;
+    }
+    closedir(d);
+    return rmdir(dir) == 0 ? result : -1;
+}
+
+void ht_test_write_file(const char *dir, const char *name, const char *text) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+char *ht_test_read_file(const char *dir, const char *name) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    static char text[1 << 16];
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    return text;
+}
+
+void ht_test_copy_dir(const char *from, const char *to) {
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "rm -rf %s && cp -r %s %s", to, from, to);
+    assert_int_equal(system(cmd), 0);
+}
