@@ -64,7 +64,11 @@ ht_result ht_emit_vertex(const ht_plan *plan, ht_tier_output *out, char *err, si
     out->tier = HT_TIER_VERTEX;
     snprintf(out->requires.gl, sizeof out->requires.gl, "2.0");
     snprintf(out->requires.glsl, sizeof out->requires.glsl, "1.10");
-    out->requires.texture_units = ht_output_add_sampler(out, plan, "albedo") ? 1 : 0;
+    /* One unit even without an albedo: the runtime binds a 1x1 white texture
+       there, since GL_RGB_SCALE (which undoes the halved colour) applies
+       only on an enabled unit with a complete texture. */
+    ht_output_add_sampler(out, plan, "albedo");
+    out->requires.texture_units = 1;
 
     ht_output_add_model_features(out, plan);
     if (plan->base) ht_output_add_feature(out, "base");
