@@ -36,6 +36,8 @@ TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 DEPS_STAMP := $(BUILD)/.deps-installed
 
 .PHONY: all deps test asan bench demo clean
+# Keep objects that pattern rules build on the way (tests, examples).
+.SECONDARY:
 .DEFAULT_GOAL := all
 
 all: $(LIB) $(HAIRGEN) $(PROGRAMS)
@@ -86,7 +88,7 @@ test: all $(TESTS)
 	  done; \
 	done; \
 	echo; [ -z "$$failed" ] || echo "failed:$$failed"; \
-	echo "test binaries: $$pass passed, $$fail failed"; \
+	echo "binaries: $$pass passed, $$fail failed"; \
 	[ $$fail -eq 0 ]
 
 asan:
