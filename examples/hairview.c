@@ -118,6 +118,9 @@ static int run(const options *o, view *v) {
     }
     ht_mesh_sort_inside_out(&v->hair);
 
+    /* The error line is the library's last line after the failing call, so
+       none from an earlier call may stand in for it. */
+    last_log[0] = '\0';
     r = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->bundle, .tier = o->tier,
                                                 .strict = o->strict, .log = log_line, .flat = o->flat },
                            &v->renderer);
@@ -125,6 +128,7 @@ static int run(const options *o, view *v) {
         fprintf(stderr, "hairview: %s\n", last_log[0] ? last_log : ht_result_string(r));
         return 1;
     }
+    last_log[0] = '\0';
     if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) {
         fprintf(stderr, "hairview: %s\n", last_log[0] ? last_log : ht_result_string(r));
         return 1;
@@ -134,6 +138,7 @@ static int run(const options *o, view *v) {
                             .aspect = (float)scene.width / (float)scene.height,
                             .opaque = v->head.index_count ? &v->head : NULL };
     ht_result fr = HT_OK;
+    last_log[0] = '\0';
     draw_frame(&scene, v, &frame, &fr); /* warm-up: shader variants, texture uploads */
     double t0 = now_ms();
     for (int i = 0; i < o->frames; i++) draw_frame(&scene, v, &frame, &fr);

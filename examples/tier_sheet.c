@@ -165,7 +165,10 @@ static void render_tier(const options *o, const ht_scene *s, const ht_mesh *hair
     ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->bundle,
                                                             .tier = tier, .strict = true, .log = log_line },
                                        &r);
-    if (res == HT_OK) res = ht_renderer_set_mesh(r, hair);
+    if (res == HT_OK) {
+        last_log[0] = '\0'; /* not the creation's "tier ..." line */
+        res = ht_renderer_set_mesh(r, hair);
+    }
     if (res != HT_OK) {
         snprintf(p->reason, sizeof p->reason, "%s", last_log[0] ? last_log : ht_result_string(res));
         goto done;
@@ -178,6 +181,7 @@ static void render_tier(const options *o, const ht_scene *s, const ht_mesh *hair
         snprintf(p->reason, sizeof p->reason, "out of memory");
         goto done;
     }
+    last_log[0] = '\0';
     draw_frame(s, r, &frame, &res); /* warm-up: shader variants, texture uploads */
     for (int i = 0; i < o->frames; i++) {
         double t0 = now_ms();

@@ -91,6 +91,9 @@ static ht_result parse_textures(const parse_ctx *c, const cJSON *obj, const char
         if (!cJSON_IsObject(t)) return fail(c, field, "expected an object");
         ht_bundle_texture *tex = &out[*count];
         if (strlen(t->string) >= sizeof tex->name) return fail(c, field, "texture name too long");
+        /* JSON parsers keep duplicate keys; which one wins would be arbitrary. */
+        for (int k = 0; k < *count; k++)
+            if (strcmp(out[k].name, t->string) == 0) return fail(c, field, "listed twice");
         snprintf(tex->name, sizeof tex->name, "%s", t->string);
         ht_result r;
         char file_field[200];
@@ -170,6 +173,7 @@ static ht_result parse_tier(const parse_ctx *c, const cJSON *t, int index, ht_bu
         if (out->file_count >= HT_BUNDLE_MAX_FILES) return fail(c, field, "more than %d files", HT_BUNDLE_MAX_FILES);
         ht_bundle_file *bf = &out->files[out->file_count];
         if (strlen(f->string) >= sizeof bf->role) return fail(c, field, "role name too long");
+        if (ht_bundle_tier_file(out, f->string)) return fail(c, field, "listed twice");
         snprintf(bf->role, sizeof bf->role, "%s", f->string);
         if ((r = get_string(c, files, files_path, f->string, false, bf->file, sizeof bf->file)) != HT_OK ||
             (r = check_file_name(c, field, bf->file)) != HT_OK)
@@ -199,6 +203,12 @@ static ht_result parse_tier(const parse_ctx *c, const cJSON *t, int index, ht_bu
                 (r = get_string(c, s, field, "texture", false, bs->texture, sizeof bs->texture)) != HT_OK ||
                 (r = get_int(c, s, field, "unit", -1, 0, 31, &bs->unit)) != HT_OK)
                 return r;
+            for (int k = 0; k < out->sampler_count; k++)
+                if (strcmp(out->samplers[k].uniform, bs->uniform) == 0) {
+                    char uf[200];
+                    path_key(uf, sizeof uf, field, "uniform");
+                    return fail(c, uf, "\"%s\" already bound by %s[%d]", bs->uniform, smp_path, k);
+                }
             for (int k = 0; k < out->sampler_count; k++)
                 if (out->samplers[k].unit == bs->unit) {
                     char uf[200];
@@ -273,6 +283,15 @@ ht_result ht_bundle_parse(const char *json_text, const char *dir, const char *fi
             goto done;
         }
         if ((r = parse_tier(&c, t, out->tier_count, &out->tiers[out->tier_count])) != HT_OK) goto done;
+        /* A second entry of a tier would never be selected by name and
+           would shadow the first for ht_bundle_find_tier. */
+        for (int k = 0; k < out->tier_count; k++)
+            if (strcmp(out->tiers[k].name, out->tiers[out->tier_count].name) == 0) {
+                char field[48];
+                snprintf(field, sizeof field, "tiers[%d].name", out->tier_count);
+                r = fail(&c, field, "\"%s\" already listed as tiers[%d]", out->tiers[k].name, k);
+                goto done;
+            }
         out->tier_count++;
     }
     if (out->tier_count == 0) { r = fail(&c, "tiers", "empty"); goto done; }

@@ -3,11 +3,13 @@
    pass list and its state live here, once, so every tier draws the same
    passes over the same index ranges; backends (tier.h) only shade. */
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "errfmt.h"
+#include "model.h"
 #include "renderer_internal.h"
 
 #if defined(__has_include)
@@ -47,19 +49,28 @@ static void copy_text(char *dst, size_t size, const char *src) {
 
 /* ---- matrices ---- */
 
-static float dot3(const float a[3], const float b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+/* In double: a camera far from the origin (|eye| ~ 1e20) squares past
+   float's range, although its matrices are finite. */
+static double dot3d(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-static void cross3(const float a[3], const float b[3], float out[3]) {
+static void cross3d(const double a[3], const double b[3], double out[3]) {
     out[0] = a[1] * b[2] - a[2] * b[1];
     out[1] = a[2] * b[0] - a[0] * b[2];
     out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-static bool normalize3(float v[3]) {
-    float len2 = dot3(v, v);
-    if (!(len2 > 1e-20f) || !isfinite(len2)) return false;
-    float inv = 1.0f / sqrtf(len2);
+/* False (v untouched) below the model's shortest direction, or not finite. */
+static bool normalize3d(double v[3]) {
+    double len2 = dot3d(v, v);
+    if (!(len2 > HT_MODEL_MIN_LENGTH2) || !isfinite(len2)) return false;
+    double inv = 1.0 / sqrt(len2);
     for (int i = 0; i < 3; i++) v[i] *= inv;
+    return true;
+}
+
+static bool all_finite(const float *v, int n) {
+    for (int i = 0; i < n; i++)
+        if (!isfinite(v[i])) return false;
     return true;
 }
 
@@ -68,29 +79,35 @@ bool ht_mat4_perspective(float out[16], float fov_y, float aspect, float z_near,
         !(z_far > z_near) || !isfinite(z_far))
         return false;
     float f = 1.0f / tanf(fov_y * 3.14159265358979f / 360.0f);
-    memset(out, 0, 16 * sizeof *out);
-    out[0] = f / aspect;
-    out[5] = f;
-    out[10] = (z_far + z_near) / (z_near - z_far);
-    out[11] = -1.0f;
-    out[14] = 2.0f * z_far * z_near / (z_near - z_far);
+    float m[16] = { 0 };
+    m[0] = f / aspect;
+    m[5] = f;
+    m[10] = (z_far + z_near) / (z_near - z_far);
+    m[11] = -1.0f;
+    m[14] = 2.0f * z_far * z_near / (z_near - z_far);
+    /* A tiny fov or a huge far plane overflows float. */
+    if (!all_finite(m, 16)) return false;
+    memcpy(out, m, sizeof m);
     return true;
 }
 
 bool ht_mat4_look_at(float out[16], const float eye[3], const float target[3], const float up[3]) {
-    float f[3] = { target[0] - eye[0], target[1] - eye[1], target[2] - eye[2] };
-    float u0[3] = { up[0], up[1], up[2] };
-    float s[3], u[3];
-    if (!normalize3(f) || !normalize3(u0)) return false;
-    cross3(f, u0, s);
-    if (!normalize3(s)) return false;
-    cross3(s, f, u);
+    if (!all_finite(eye, 3) || !all_finite(target, 3) || !all_finite(up, 3)) return false;
+    double e[3] = { eye[0], eye[1], eye[2] };
+    double f[3] = { (double)target[0] - e[0], (double)target[1] - e[1], (double)target[2] - e[2] };
+    double u0[3] = { up[0], up[1], up[2] };
+    double s[3], u[3];
+    if (!normalize3d(f) || !normalize3d(u0)) return false;
+    cross3d(f, u0, s);
+    if (!normalize3d(s)) return false;
+    cross3d(s, f, u);
     const float m[16] = {
-        s[0], u[0], -f[0], 0,
-        s[1], u[1], -f[1], 0,
-        s[2], u[2], -f[2], 0,
-        -dot3(s, eye), -dot3(u, eye), dot3(f, eye), 1,
+        (float)s[0], (float)u[0], (float)-f[0], 0,
+        (float)s[1], (float)u[1], (float)-f[1], 0,
+        (float)s[2], (float)u[2], (float)-f[2], 0,
+        (float)-dot3d(s, e), (float)-dot3d(u, e), (float)dot3d(f, e), 1,
     };
+    if (!all_finite(m, 16)) return false;
     memcpy(out, m, sizeof m);
     return true;
 }
@@ -105,11 +122,15 @@ static ht_result create_backend(ht_renderer *r, const ht_renderer_desc *desc) {
     };
     for (int t = HT_TIER_FULL; t < HT_TIER_COUNT; t++) sd.have_backend[t] = backend_for((ht_tier)t) != NULL;
     char err[1024];
+    /* Each round's skipped list extends the previous round's (tiers are
+       walked best first, a failed one joins the list): log only what is new. */
+    int logged = 0;
     for (;;) {
         ht_selection sel;
         ht_result res = ht_select_tier(&sd, &sel, err, sizeof err);
-        for (int i = 0; i < sel.skipped_count; i++)
+        for (int i = logged; i < sel.skipped_count; i++)
             ht_log_linef(r->log, r->log_user, "hairtier: skipped %s", sel.skipped[i]);
+        logged = sel.skipped_count;
         if (res != HT_OK) {
             ht_log_linef(r->log, r->log_user, "hairtier: %s", err);
             return res;
@@ -222,20 +243,68 @@ void ht_renderer_destroy(ht_renderer *r) {
     free(r);
 }
 
-ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
-    if (!r || !mesh) return HT_ERR_INVALID_ARGUMENT;
-    if ((mesh->index_count && (!mesh->indices || !mesh->vertices)) || mesh->index_count % 3 ||
-        mesh->index_count > (uint32_t)INT32_MAX) {
-        ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: mesh: index buffer is not whole triangles");
-        return HT_ERR_INVALID_ARGUMENT;
-    }
-    for (uint32_t i = 0; i < mesh->index_count; i++)
-        if (mesh->indices[i] >= mesh->vertex_count) {
-            ht_log_linef(r->log, r->log_user,
-                         "hairtier: ht_renderer_set_mesh: mesh: indices[%u] = %u, only %u vertices", i,
-                         mesh->indices[i], mesh->vertex_count);
-            return HT_ERR_INVALID_ARGUMENT;
+/* ---- what callers hand in ---- */
+
+/* Logs "hairtier: WHAT: FIELD: ..." and returns HT_ERR_INVALID_ARGUMENT. */
+__attribute__((format(printf, 4, 5)))
+static ht_result reject(const ht_renderer *r, const char *what, const char *field, const char *fmt, ...) {
+    char line[HT_LOG_LINE_MAX];
+    va_list ap;
+    va_start(ap, fmt);
+    ht_set_field_error_v(line, sizeof line, what, field, fmt, ap);
+    va_end(ap);
+    ht_log_linef(r->log, r->log_user, "hairtier: %s", line);
+    return HT_ERR_INVALID_ARGUMENT;
+}
+
+/* Whole triangles, every index naming a vertex, every vertex number finite
+   (a NaN normal or tangent would reach the shaders, which owe nothing to
+   NaN input). Degenerate but finite data is fine: the model defines zero
+   normals, tangents and ao. */
+static ht_result check_mesh(const ht_renderer *r, const char *what, const ht_mesh *m) {
+    char field[96];
+    if (m->index_count % 3)
+        return reject(r, what, "index_count", "%u is not whole triangles", m->index_count);
+    if (m->index_count > (uint32_t)INT32_MAX)
+        return reject(r, what, "index_count", "%u, more than one glDrawElements draws", m->index_count);
+    if (m->index_count && !m->indices)
+        return reject(r, what, "indices", "NULL with index_count %u", m->index_count);
+    if (m->vertex_count && !m->vertices)
+        return reject(r, what, "vertices", "NULL with vertex_count %u", m->vertex_count);
+    for (uint32_t i = 0; i < m->index_count; i++)
+        if (m->indices[i] >= m->vertex_count) {
+            snprintf(field, sizeof field, "indices[%u]", i);
+            return reject(r, what, field, "%u, only %u vertices", m->indices[i], m->vertex_count);
         }
+    static const struct { const char *name; size_t offset; int n; } members[] = {
+        { "position", offsetof(ht_vertex, position), 3 }, { "normal", offsetof(ht_vertex, normal), 3 },
+        { "tangent", offsetof(ht_vertex, tangent), 3 },   { "uv", offsetof(ht_vertex, uv), 2 },
+        { "ao", offsetof(ht_vertex, ao), 1 },
+    };
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        const ht_vertex *x = &m->vertices[v];
+        if (all_finite(x->position, 3) && all_finite(x->normal, 3) && all_finite(x->tangent, 3) &&
+            all_finite(x->uv, 2) && isfinite(x->ao))
+            continue;
+        for (size_t k = 0; k < sizeof members / sizeof members[0]; k++) {
+            const float *f = (const float *)((const char *)x + members[k].offset);
+            for (int c = 0; c < members[k].n; c++)
+                if (!isfinite(f[c])) {
+                    if (members[k].n == 1) snprintf(field, sizeof field, "vertices[%u].%s", v, members[k].name);
+                    else snprintf(field, sizeof field, "vertices[%u].%s[%d]", v, members[k].name, c);
+                    return reject(r, what, field, "%g is not finite", (double)f[c]);
+                }
+        }
+    }
+    return HT_OK;
+}
+
+ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
+    if (!r) return HT_ERR_INVALID_ARGUMENT;
+    if (!mesh) return reject(r, "ht_renderer_set_mesh", "mesh", "NULL");
+    /* A rejected mesh leaves the previous one in place. */
+    ht_result checked = check_mesh(r, "ht_renderer_set_mesh: mesh", mesh);
+    if (checked != HT_OK) return checked;
     release_mesh(r);
     size_t vbytes = (size_t)mesh->vertex_count * sizeof(ht_vertex);
     size_t ibytes = (size_t)mesh->index_count * sizeof(uint32_t);
@@ -260,6 +329,8 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
         r->indices = malloc(ibytes ? ibytes : 1);
         if (!r->vertices || !r->indices) {
             release_mesh(r);
+            ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: mesh: out of memory for %u vertices",
+                         mesh->vertex_count);
             return HT_ERR_OUT_OF_MEMORY;
         }
         if (vbytes) memcpy(r->vertices, mesh->vertices, vbytes);
@@ -271,6 +342,8 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
     if (r->backend && r->backend->set_mesh) {
         ht_result res = r->backend->set_mesh(r->backend_state, mesh);
         if (res != HT_OK) {
+            ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: %s tier: %s", ht_tier_name(r->tier),
+                         ht_result_string(res));
             release_mesh(r);
             return res;
         }
@@ -315,7 +388,7 @@ static void clear_arrays(ht_renderer *r) {
 }
 
 /* The head: simple fixed-function lighting from the frame's lights. */
-static void draw_opaque_scene(ht_renderer *r, const ht_mesh *m, const ht_frame_desc *f) {
+static void draw_opaque_scene(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f) {
     const ht_gl *gl = &r->gl;
     if (!m->vertices || !m->indices || m->index_count == 0) return;
     if (r->caps.has_vbo) {
@@ -438,36 +511,135 @@ static void bind_flat(ht_renderer *r) {
     gl->Color4f(r->flat_color[0], r->flat_color[1], r->flat_color[2], 1.0f);
 }
 
-ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
-    if (!r || !f) return HT_ERR_INVALID_ARGUMENT;
-    const ht_gl *gl = &r->gl;
+/* Frame warnings logged once per renderer: bit 0 too many lights, bit 1 + i
+   light i's type differs from the plan. */
+#define WARN_LIGHT_COUNT 1u
+#define WARN_LIGHT_TYPE(i) (2u << (i))
+
+static const char *light_type_name(ht_light_type t) { return t == HT_LIGHT_POINT ? "point" : "directional"; }
+
+/* Every number of the frame finite and in range, each failure one line
+   naming the field; out receives the camera's matrices. */
+static ht_result check_frame(const ht_renderer *r, const ht_frame_desc *f, ht_tier_frame *out) {
+    static const char what[] = "ht_frame_desc";
     const ht_camera *cam = &f->camera;
-    if (f->light_count < 0 || f->light_count > HT_MAX_LIGHTS || (f->light_count > 0 && !f->lights)) {
-        ht_log_linef(r->log, r->log_user, "hairtier: ht_frame_desc: light_count: %d, expected 0..%d with lights set",
-                     f->light_count, HT_MAX_LIGHTS);
-        return HT_ERR_INVALID_ARGUMENT;
+    if (f->light_count < 0 || f->light_count > HT_MAX_LIGHTS)
+        return reject(r, what, "light_count", "%d outside 0..%d", f->light_count, HT_MAX_LIGHTS);
+    if (f->light_count > 0 && !f->lights)
+        return reject(r, what, "lights", "NULL with light_count %d", f->light_count);
+    char field[48];
+    for (int i = 0; i < f->light_count; i++) {
+        const ht_light *l = &f->lights[i];
+        if (l->type != HT_LIGHT_DIRECTIONAL && l->type != HT_LIGHT_POINT) {
+            snprintf(field, sizeof field, "lights[%d].type", i);
+            return reject(r, what, field, "%d is not HT_LIGHT_DIRECTIONAL or HT_LIGHT_POINT", (int)l->type);
+        }
+        if (!all_finite(l->vector, 3)) {
+            snprintf(field, sizeof field, "lights[%d].vector", i);
+            return reject(r, what, field, "(%g, %g, %g) is not finite", (double)l->vector[0], (double)l->vector[1],
+                          (double)l->vector[2]);
+        }
+        for (int k = 0; k < 3; k++)
+            if (!(l->color[k] >= 0 && l->color[k] <= 4)) {
+                snprintf(field, sizeof field, "lights[%d].color", i);
+                return reject(r, what, field, "(%g, %g, %g) outside [0, 4]", (double)l->color[0],
+                              (double)l->color[1], (double)l->color[2]);
+            }
     }
+    static const struct { const char *name; size_t offset; } vectors[] = {
+        { "camera.eye", offsetof(ht_camera, eye) }, { "camera.target", offsetof(ht_camera, target) },
+        { "camera.up", offsetof(ht_camera, up) },
+    };
+    for (size_t i = 0; i < sizeof vectors / sizeof vectors[0]; i++) {
+        const float *v = (const float *)((const char *)cam + vectors[i].offset);
+        if (!all_finite(v, 3))
+            return reject(r, what, vectors[i].name, "(%g, %g, %g) is not finite", (double)v[0], (double)v[1],
+                          (double)v[2]);
+    }
+    double view[3], up[3], side[3];
+    for (int k = 0; k < 3; k++) {
+        view[k] = (double)cam->target[k] - (double)cam->eye[k];
+        up[k] = cam->up[k];
+    }
+    if (!normalize3d(view)) return reject(r, what, "camera.target", "equals camera.eye: no view direction");
+    if (!normalize3d(up)) return reject(r, what, "camera.up", "zero vector");
+    cross3d(view, up, side);
+    if (!normalize3d(side))
+        return reject(r, what, "camera.up", "parallel to the view direction (target - eye): the roll is undefined");
+    if (!(cam->fov_y > 0 && cam->fov_y < 180))
+        return reject(r, what, "camera.fov_y", "%g outside (0, 180) degrees", (double)cam->fov_y);
+    float z_near = cam->z_near != 0 ? cam->z_near : DEFAULT_Z_NEAR;
+    float z_far = cam->z_far != 0 ? cam->z_far : DEFAULT_Z_FAR;
+    if (!(z_near > 0) || !isfinite(z_near))
+        return reject(r, what, "camera.z_near", "%g, expected > 0 (0 means %g)", (double)z_near,
+                      (double)DEFAULT_Z_NEAR);
+    if (!(z_far > z_near) || !isfinite(z_far))
+        return reject(r, what, "camera.z_far", "%g, expected finite and > z_near %g", (double)z_far, (double)z_near);
     float aspect = f->aspect;
     if (aspect == 0) {
         GLint vp[4] = { 0, 0, 0, 0 };
-        gl->GetIntegerv(GL_VIEWPORT, vp);
-        aspect = vp[3] > 0 ? (float)vp[2] / (float)vp[3] : 1.0f;
+        r->gl.GetIntegerv(GL_VIEWPORT, vp);
+        aspect = vp[3] > 0 && vp[2] > 0 ? (float)vp[2] / (float)vp[3] : 1.0f;
     }
-    float z_near = cam->z_near != 0 ? cam->z_near : DEFAULT_Z_NEAR;
-    float z_far = cam->z_far != 0 ? cam->z_far : DEFAULT_Z_FAR;
-    ht_tier_frame tf = { .lights = f->lights, .light_count = f->light_count };
-    memcpy(tf.eye, cam->eye, sizeof tf.eye);
-    if (!ht_mat4_perspective(tf.projection, cam->fov_y, aspect, z_near, z_far)) {
-        ht_log_linef(r->log, r->log_user,
-                     "hairtier: ht_frame_desc: camera: fov_y %g, aspect %g, z %g..%g is not a projection",
-                     (double)cam->fov_y, (double)aspect, (double)z_near, (double)z_far);
-        return HT_ERR_INVALID_ARGUMENT;
+    if (!(aspect > 0) || !isfinite(aspect))
+        return reject(r, what, "aspect", "%g, expected > 0 (0 means the viewport's)", (double)aspect);
+    if (!ht_mat4_perspective(out->projection, cam->fov_y, aspect, z_near, z_far))
+        return reject(r, what, "camera", "fov_y %g, aspect %g, z %g..%g overflow the projection matrix",
+                      (double)cam->fov_y, (double)aspect, (double)z_near, (double)z_far);
+    if (!ht_mat4_look_at(out->view, cam->eye, cam->target, cam->up))
+        return reject(r, what, "camera.eye", "(%g, %g, %g) overflows the view matrix", (double)cam->eye[0],
+                      (double)cam->eye[1], (double)cam->eye[2]);
+    memcpy(out->eye, cam->eye, sizeof out->eye);
+    if (f->opaque) return check_mesh(r, "ht_frame_desc: opaque", f->opaque);
+    return HT_OK;
+}
+
+/* The lights every backend and the head see: directional vectors unit
+   length in double (a huge one would overflow the shaders' float
+   normalize), zero staying zero; within the bundle's plan each light takes
+   the planned type, which is what the generated shaders evaluate, so every
+   tier shades the same light. Deviations are logged once per renderer. */
+static int plan_lights(ht_renderer *r, const ht_frame_desc *f, ht_light out[HT_MAX_LIGHTS]) {
+    int n = f->light_count;
+    const int planned = r->have_bundle && r->backend ? r->bundle.light_count : n;
+    if (n > planned) {
+        if (!(r->warned & WARN_LIGHT_COUNT))
+            ht_log_linef(r->log, r->log_user,
+                         "hairtier: ht_frame_desc: light_count: %d, the bundle plans %d; lights[%d..%d] are not drawn",
+                         n, planned, planned, n - 1);
+        r->warned |= WARN_LIGHT_COUNT;
+        n = planned;
     }
-    if (!ht_mat4_look_at(tf.view, cam->eye, cam->target, cam->up)) {
-        ht_log_linef(r->log, r->log_user,
-                     "hairtier: ht_frame_desc: camera: eye on target or up along the view direction");
-        return HT_ERR_INVALID_ARGUMENT;
+    for (int i = 0; i < n; i++) {
+        out[i] = f->lights[i];
+        if (r->have_bundle && r->backend && out[i].type != r->bundle.lights[i]) {
+            if (!(r->warned & WARN_LIGHT_TYPE(i)))
+                ht_log_linef(r->log, r->log_user,
+                             "hairtier: ht_frame_desc: lights[%d].type: %s, the bundle plans %s; shaded as %s",
+                             i, light_type_name(out[i].type), light_type_name(r->bundle.lights[i]),
+                             light_type_name(r->bundle.lights[i]));
+            r->warned |= WARN_LIGHT_TYPE(i);
+            out[i].type = r->bundle.lights[i];
+        }
+        if (out[i].type == HT_LIGHT_DIRECTIONAL) {
+            double v[3] = { out[i].vector[0], out[i].vector[1], out[i].vector[2] };
+            if (!normalize3d(v)) v[0] = v[1] = v[2] = 0;
+            for (int k = 0; k < 3; k++) out[i].vector[k] = (float)v[k];
+        }
     }
+    return n;
+}
+
+ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
+    if (!r) return HT_ERR_INVALID_ARGUMENT;
+    if (!f) return reject(r, "ht_renderer_draw", "frame", "NULL");
+    const ht_gl *gl = &r->gl;
+    ht_tier_frame tf = { 0 };
+    ht_result checked = check_frame(r, f, &tf);
+    if (checked != HT_OK) return checked;
+    ht_light lights[HT_MAX_LIGHTS];
+    tf.light_count = plan_lights(r, f, lights);
+    tf.lights = lights;
     while (gl->GetError() != GL_NO_ERROR) {}
     r->trace.count = 0;
 
@@ -477,7 +649,7 @@ ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
     gl->LoadMatrixf(tf.view);
     gl->Enable(GL_DEPTH_TEST);
 
-    if (f->opaque) draw_opaque_scene(r, f->opaque, f);
+    if (f->opaque) draw_opaque_scene(r, f->opaque, &tf);
     if (!r->has_mesh || r->index_count == 0) return HT_OK;
 
     if (r->caps.has_vbo) {

@@ -29,6 +29,7 @@ struct ht_renderer {
     uint32_t *indices;
     uint32_t vertex_count, index_count;
     bool has_mesh;
+    unsigned warned;                  /* frame warnings already logged once (renderer.c) */
     ht_trace trace;
 };
 

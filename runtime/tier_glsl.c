@@ -64,14 +64,23 @@ static GLuint compile(glsl_state *s, const ht_bundle *b, const char *file, GLenu
         snprintf(err, err_size, "compile failed: %s", rerr);
         return 0;
     }
+    while (gl->GetError() != GL_NO_ERROR) {}
     GLuint sh = gl->CreateShader(stage);
+    if (!sh) {
+        /* A driver that refuses the stage outright (no info log to read). */
+        GLenum e = gl->GetError();
+        snprintf(err, err_size, "compile failed: %s: glCreateShader(%s) refused (GL error 0x%04x)", file,
+                 stage == GL_VERTEX_SHADER ? "GL_VERTEX_SHADER" : "GL_FRAGMENT_SHADER", e);
+        free(text);
+        return 0;
+    }
     const GLchar *src = text;
     gl->ShaderSource(sh, 1, &src, NULL);
     gl->CompileShader(sh);
     free(text);
     GLint ok = GL_FALSE, len = 0;
     gl->GetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-    if (ok == GL_TRUE && sh) return sh;
+    if (ok == GL_TRUE) return sh;
     gl->GetShaderiv(sh, GL_INFO_LOG_LENGTH, &len);
     char *log = calloc((size_t)(len > 0 ? len : 1) + 1, 1);
     if (log && len > 0) gl->GetShaderInfoLog(sh, len, NULL, log);
@@ -96,6 +105,12 @@ static ht_result build_program(glsl_state *s, const ht_tier_context *ctx, const 
         return HT_ERR_COMPILE;
     }
     GLuint prog = gl->CreateProgram();
+    if (!prog) {
+        snprintf(err, err_size, "link failed: %s: glCreateProgram refused (GL error 0x%04x)", vert, gl->GetError());
+        gl->DeleteShader(vs);
+        if (fs) gl->DeleteShader(fs);
+        return HT_ERR_COMPILE;
+    }
     gl->AttachShader(prog, vs);
     if (fs) gl->AttachShader(prog, fs);
     gl->LinkProgram(prog);
@@ -130,6 +145,23 @@ static ht_result build_program(glsl_state *s, const ht_tier_context *ctx, const 
     return HT_OK;
 }
 
+/* The size a PNG's header declares, read before decoding: a corrupt or
+   hostile header must not make us allocate what it claims. False when the
+   file does not start like a PNG (the decoder then says why). */
+static bool png_header_size(const char *path, uint32_t *width, uint32_t *height) {
+    static const unsigned char signature[8] = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n' };
+    unsigned char h[24];
+    FILE *f = fopen(path, "rb");
+    if (!f) return false;
+    size_t n = fread(h, 1, sizeof h, f);
+    fclose(f);
+    if (n != sizeof h || memcmp(h, signature, sizeof signature) != 0 || memcmp(h + 12, "IHDR", 4) != 0)
+        return false;
+    *width = (uint32_t)h[16] << 24 | (uint32_t)h[17] << 16 | (uint32_t)h[18] << 8 | h[19];
+    *height = (uint32_t)h[20] << 24 | (uint32_t)h[21] << 16 | (uint32_t)h[22] << 8 | h[23];
+    return true;
+}
+
 static ht_result upload_texture(glsl_state *s, const ht_bundle *b, const ht_bundle_texture *t,
                                 GLuint *out, char *err, size_t err_size) {
     const ht_gl *gl = s->gl;
@@ -141,6 +173,11 @@ static ht_result upload_texture(glsl_state *s, const ht_bundle *b, const ht_bund
     if (t->depth != 1) {
         snprintf(err, err_size, "%s/manifest.json: textures.%s.depth: %d, GLSL tiers sample 2D textures",
                  b->dir, t->name, t->depth);
+        return HT_ERR_PARSE;
+    }
+    uint32_t hw, hh;
+    if (png_header_size(path, &hw, &hh) && (hw != (uint32_t)t->width || hh != (uint32_t)t->height)) {
+        snprintf(err, err_size, "%s: %ux%u, manifest says %dx%d", path, hw, hh, t->width, t->height);
         return HT_ERR_PARSE;
     }
     ht_image img = { 0 };
@@ -212,9 +249,10 @@ static ht_result create(const ht_tier_context *ctx, bool vertex_only, void **out
     const char *frag = vertex_only ? NULL : ht_bundle_tier_file(t, "fragment");
     const char *pvert = ht_bundle_tier_file(t, "prime_vertex");
     const char *pfrag = vertex_only ? NULL : ht_bundle_tier_file(t, "prime_fragment");
+    const int index = (int)(t - ctx->bundle->tiers); /* manifest fields are named tiers[i] */
     ht_result r;
     if (!vert || (!vertex_only && !frag)) {
-        snprintf(err, err_size, "%s/manifest.json: tiers.%s.files: needs \"vertex\"%s", ctx->bundle->dir, t->name,
+        snprintf(err, err_size, "%s/manifest.json: tiers[%d].files: needs \"vertex\"%s", ctx->bundle->dir, index,
                  vertex_only ? "" : " and \"fragment\"");
         r = HT_ERR_PARSE;
         goto fail;
@@ -227,15 +265,28 @@ static ht_result create(const ht_tier_context *ctx, bool vertex_only, void **out
         s->has_prime = true;
     }
     for (int i = 0; i < t->sampler_count; i++) {
-        const ht_bundle_texture *bt = ht_bundle_find_texture(ctx->bundle, t, t->samplers[i].texture);
+        const ht_bundle_sampler *smp = &t->samplers[i];
+        const ht_bundle_texture *bt = ht_bundle_find_texture(ctx->bundle, t, smp->texture);
         glsl_texture *gt = &s->textures[s->texture_count];
-        gt->unit = t->samplers[i].unit;
-        gt->albedo = strcmp(t->samplers[i].texture, "albedo") == 0;
+        gt->unit = smp->unit;
+        gt->albedo = strcmp(smp->texture, "albedo") == 0;
         if (vertex_only && !gt->albedo) continue; /* fixed-function fragment reads only albedo */
+        if (!bt) {
+            snprintf(err, err_size, "%s/manifest.json: tiers[%d].samplers[%d].texture: \"%s\" is not listed in textures",
+                     ctx->bundle->dir, index, i, smp->texture);
+            r = HT_ERR_PARSE;
+            goto fail;
+        }
         if (gt->unit >= ctx->caps->texture_units) {
-            snprintf(err, err_size, "%s/manifest.json: tiers.%s.samplers[%d].unit: %d, device has %d units",
-                     ctx->bundle->dir, t->name, i, gt->unit, ctx->caps->texture_units);
+            snprintf(err, err_size, "%s/manifest.json: tiers[%d].samplers[%d].unit: %d, device has %d units",
+                     ctx->bundle->dir, index, i, gt->unit, ctx->caps->texture_units);
             r = HT_ERR_UNSUPPORTED;
+            goto fail;
+        }
+        if (vertex_only && gt->unit != 0) {
+            snprintf(err, err_size, "%s/manifest.json: tiers[%d].samplers[%d].unit: %d, the vertex tier's "
+                     "fixed-function fragment stage reads albedo from unit 0", ctx->bundle->dir, index, i, gt->unit);
+            r = HT_ERR_PARSE;
             goto fail;
         }
         s->texture_count++;
