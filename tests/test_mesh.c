@@ -481,6 +481,196 @@ static void test_patches_same_seed_same_bytes_other_seed_differs(void **state) {
     ht_mesh_free(&c);
 }
 
+/* The shape of a head of hair. Row centres are the midpoints of a row's two
+   vertices; a strip's root azimuth is measured from its root centre (the
+   face is +z, the back -z). */
+static void row_centre(const ht_mesh *m, uint32_t strip, uint32_t rows, uint32_t row, double c[3]) {
+    const ht_vertex *v = &m->vertices[(strip * rows + row) * 2];
+    for (int k = 0; k < 3; k++) c[k] = 0.5 * ((double)v[0].position[k] + v[1].position[k]);
+}
+static double length3d(const double a[3]) { return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+static double horizontal3d(const double a[3]) { return hypot(a[0], a[2]); }
+
+static const ht_patches_desc shape_descs[] = {
+    { 0 },
+    { .layers = 3, .strips = 48, .segments = 12, .seed = 5 }, /* scenes/patches.json */
+    { .head_radius = 3, .layers = 5, .strips = 7, .segments = 30, .seed = 3 },
+    { .head_radius = 0.25f, .layers = 1, .strips = 1, .segments = 1, .seed = 2 },
+    { .layers = 2, .strips = 2000, .segments = 2, .seed = 4 },
+};
+#define SHAPE_DESCS (sizeof shape_descs / sizeof shape_descs[0])
+
+static void resolved(const ht_patches_desc *in, double *radius, int *layers, int *strips, uint32_t *rows) {
+    *radius = in->head_radius ? in->head_radius : 1.0;
+    *layers = in->layers ? in->layers : 3;
+    *strips = in->strips ? in->strips : 64;
+    *rows = (uint32_t)(in->segments ? in->segments : 12) + 1;
+}
+
+static void test_patches_roots_sit_on_the_upper_scalp_in_layer_shells(void **state) {
+    (void)state;
+    for (size_t i = 0; i < SHAPE_DESCS; i++) {
+        double R;
+        int layers, strips;
+        uint32_t rows;
+        resolved(&shape_descs[i], &R, &layers, &strips, &rows);
+        ht_mesh m;
+        assert_int_equal(ht_mesh_build_patches(&shape_descs[i], &m, NULL), HT_OK);
+        double previous_outermost = R;
+        for (int l = 0; l < layers; l++) {
+            double innermost = INFINITY, outermost = 0;
+            for (int s = 0; s < strips; s++) {
+                double c[3];
+                row_centre(&m, (uint32_t)(l * strips + s), rows, 0, c);
+                const double r = length3d(c);
+                assert_true(c[1] > 0.5 * r);          /* the top of the head */
+                assert_true(r > R && r < 1.2 * R);     /* on the scalp */
+                innermost = fmin(innermost, r);
+                outermost = fmax(outermost, r);
+            }
+            assert_true(innermost > previous_outermost); /* each layer a shell outside the last */
+            previous_outermost = outermost;
+        }
+        ht_mesh_free(&m);
+    }
+}
+
+/* A strip whose tip is below the equator lies on the scalp above it and
+   hangs below it: roughly straight down, outside the head's vertical
+   cylinder, ending well below its root and fanned out past its scalp
+   shell. With narrow ribbons (24 strips or more) most strips are such
+   strips; wide ones widen the fringe that keeps them off the face. */
+static void test_patches_long_strips_follow_the_scalp_then_hang_down(void **state) {
+    (void)state;
+    for (size_t i = 0; i < SHAPE_DESCS; i++) {
+        double R;
+        int layers, strips;
+        uint32_t rows;
+        resolved(&shape_descs[i], &R, &layers, &strips, &rows);
+        ht_mesh m;
+        assert_int_equal(ht_mesh_build_patches(&shape_descs[i], &m, NULL), HT_OK);
+        uint32_t hanging = 0;
+        for (uint32_t s = 0; s < m.component_count; s++) {
+            double root[3], tip[3];
+            row_centre(&m, s, rows, 0, root);
+            row_centre(&m, s, rows, rows - 1, tip);
+            if (tip[1] >= 0) continue;
+            hanging++;
+            assert_true(tip[1] < root[1] - R && tip[1] < -0.5 * R);
+            double scalp_shell = 0;
+            for (uint32_t r = 0; r < rows; r++) {
+                double c[3];
+                row_centre(&m, s, rows, r, c);
+                if (c[1] > 0) {
+                    assert_true(length3d(c) > R && length3d(c) < 1.2 * R); /* hugs the scalp */
+                    scalp_shell = fmax(scalp_shell, length3d(c));
+                    continue;
+                }
+                assert_true(horizontal3d(c) > R); /* beside the head, not under it */
+                if (r == 0) continue;
+                double above[3], step[3];
+                row_centre(&m, s, rows, r - 1, above);
+                for (int k = 0; k < 3; k++) step[k] = c[k] - above[k];
+                if (above[1] <= 0) assert_true(-step[1] > 0.75 * length3d(step)); /* falls along -y */
+            }
+            assert_true(horizontal3d(tip) > scalp_shell); /* the tip fans out */
+            assert_true(horizontal3d(tip) < 1.5 * R);     /* but hangs, not sticks out */
+        }
+        if (strips >= 24) assert_true(hanging > m.component_count / 2);
+        else assert_true(hanging < m.component_count); /* the face side always has a fringe */
+        ht_mesh_free(&m);
+    }
+}
+
+static void test_patches_back_hair_falls_behind_side_hair_beside_front_hair_stops_above(void **state) {
+    (void)state;
+    for (size_t i = 0; i < SHAPE_DESCS; i++) {
+        double R;
+        int layers, strips;
+        uint32_t rows;
+        resolved(&shape_descs[i], &R, &layers, &strips, &rows);
+        ht_mesh m;
+        assert_int_equal(ht_mesh_build_patches(&shape_descs[i], &m, NULL), HT_OK);
+        int back = 0, side = 0, front = 0;
+        for (uint32_t s = 0; s < m.component_count; s++) {
+            double root[3], tip[3];
+            row_centre(&m, s, rows, 0, root);
+            row_centre(&m, s, rows, rows - 1, tip);
+            const double phi = atan2(root[0], root[2]);
+            if (fabs(phi) > 2.5) {
+                back++;
+                assert_true(tip[2] < -0.7 * R && tip[1] < -0.5 * R);
+            } else if (fabs(fabs(phi) - M_PI / 2) < 0.3 && strips >= 24) { /* see above */
+                side++;
+                assert_true(tip[0] * phi > 0 && fabs(tip[0]) > 0.9 * R && tip[1] < -0.5 * R);
+            } else if (fabs(phi) < 0.5) {
+                front++;
+                assert_true(tip[2] > 0.5 * R && tip[1] > 0.3 * R); /* a fringe over the forehead */
+            }
+        }
+        if (strips >= 24) assert_true(back > 0 && side > 0 && front > 0);
+        ht_mesh_free(&m);
+    }
+}
+
+/* Points spread over a triangle: its corners, edge midpoints and inner
+   points, so a triangle crossing a region is seen even when no vertex is in it. */
+#define TRIANGLE_SAMPLES 8
+static void triangle_point(const ht_mesh *m, uint32_t t, int i, int j, double p[3]) {
+    const float *a = m->vertices[m->indices[t]].position, *b = m->vertices[m->indices[t + 1]].position,
+                *c = m->vertices[m->indices[t + 2]].position;
+    const double u = (double)i / TRIANGLE_SAMPLES, v = (double)j / TRIANGLE_SAMPLES, w = 1 - u - v;
+    for (int k = 0; k < 3; k++) p[k] = u * a[k] + v * b[k] + w * c[k];
+}
+
+/* Seen from the front, a window over the face, under the hairline, has no
+   hair in front of the head: nothing outside the head with z > 0,
+   |x| < 0.55 R, y < 0.3 R, whatever the strip count. */
+static void test_patches_leave_the_face_bare(void **state) {
+    (void)state;
+    for (size_t i = 0; i < SHAPE_DESCS; i++) {
+        double R;
+        int layers, strips;
+        uint32_t rows;
+        resolved(&shape_descs[i], &R, &layers, &strips, &rows);
+        ht_mesh m;
+        assert_int_equal(ht_mesh_build_patches(&shape_descs[i], &m, NULL), HT_OK);
+        for (uint32_t t = 0; t < m.index_count; t += 3)
+            for (int a = 0; a <= TRIANGLE_SAMPLES; a++)
+                for (int b = 0; a + b <= TRIANGLE_SAMPLES; b++) {
+                    double p[3];
+                    triangle_point(&m, t, a, b, p);
+                    if (length3d(p) <= R) continue; /* hidden by the head */
+                    assert_false(p[2] > 0 && fabs(p[0]) < 0.55 * R && p[1] < 0.3 * R);
+                }
+        ht_mesh_free(&m);
+    }
+}
+
+/* With a dozen segments or more the chords between rows stay outside the
+   head too, not only the vertices. */
+static void test_patches_triangles_clear_the_head_with_enough_segments(void **state) {
+    (void)state;
+    const ht_patches_desc descs[] = {
+        { 0 },
+        { .layers = 1, .strips = 5, .segments = 12, .seed = 9 },
+        { .head_radius = 3, .layers = 5, .strips = 7, .segments = 30, .seed = 3 },
+    };
+    for (size_t i = 0; i < sizeof descs / sizeof descs[0]; i++) {
+        const double R = descs[i].head_radius ? descs[i].head_radius : 1.0;
+        ht_mesh m;
+        assert_int_equal(ht_mesh_build_patches(&descs[i], &m, NULL), HT_OK);
+        for (uint32_t t = 0; t < m.index_count; t += 3)
+            for (int a = 0; a <= TRIANGLE_SAMPLES; a++)
+                for (int b = 0; a + b <= TRIANGLE_SAMPLES; b++) {
+                    double p[3];
+                    triangle_point(&m, t, a, b, p);
+                    assert_true(length3d(p) > R);
+                }
+        ht_mesh_free(&m);
+    }
+}
+
 /* ---- sort ---- */
 
 static void test_sort_keys_are_centroid_distances(void **state) {
@@ -739,6 +929,11 @@ int main(void) {
         cmocka_unit_test(test_patches_neighbouring_strips_overlap),
         cmocka_unit_test(test_patches_fill_head_sphere),
         cmocka_unit_test(test_patches_same_seed_same_bytes_other_seed_differs),
+        cmocka_unit_test(test_patches_roots_sit_on_the_upper_scalp_in_layer_shells),
+        cmocka_unit_test(test_patches_long_strips_follow_the_scalp_then_hang_down),
+        cmocka_unit_test(test_patches_back_hair_falls_behind_side_hair_beside_front_hair_stops_above),
+        cmocka_unit_test(test_patches_leave_the_face_bare),
+        cmocka_unit_test(test_patches_triangles_clear_the_head_with_enough_segments),
         cmocka_unit_test(test_sort_keys_are_centroid_distances),
         cmocka_unit_test(test_sort_orders_components_inside_out_keeping_triangles),
         cmocka_unit_test(test_sort_is_stable_for_ties),
