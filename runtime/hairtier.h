@@ -264,7 +264,18 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out);
 ht_tier ht_renderer_tier(const ht_renderer *r);
 /* Why this tier: "best supported", "forced by HAIRTIER_TIER", ... */
 const char *ht_renderer_reason(const ht_renderer *r);
+/* Uploads the hair mesh (VBOs where the GL has them). Non-finite vertex
+   data, indices out of range or a partial triangle are refused with
+   HT_ERR_INVALID_ARGUMENT and one log line naming the element; the
+   previously set mesh stays in place. */
 ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh);
+/* Draws the opaque mesh, then the hair in the four passes. The frame is
+   checked first (finite camera with eye != target and up not parallel to
+   the view, fov_y in (0,180), finite lights with colours in [0,4]); a bad
+   frame is HT_ERR_INVALID_ARGUMENT with one log line and no draw call.
+   Lights beyond the count the bundle was planned for are ignored, and a
+   light whose type differs from the plan is shaded as planned; each is
+   logged once per renderer. */
 ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *frame);
 const ht_trace *ht_renderer_trace(const ht_renderer *r);
 /* What the renderer saw of the device, after the desc's profile. */
