@@ -61,7 +61,8 @@ static bool value_of(const gl_name *table, const char *name, GLenum *out) {
 }
 
 static const char *const model_names[] = { "scheuermann", "kajiya-kay" };
-static const char *const coords_names[] = { "uv", "cpu-dots" };
+static const char *const coords_names[] = { "uv", "cpu-dots", "texture-matrix" };
+#define COORDS_COUNT 3
 
 static const GLenum default_source[3] = { GL_TEXTURE, GL_PREVIOUS, GL_CONSTANT };
 static const GLenum default_operand_rgb[3] = { GL_SRC_COLOR, GL_SRC_COLOR, GL_SRC_ALPHA };
@@ -104,6 +105,12 @@ float ht_combiner_lut_coord(double d, int size) {
     if (!(d >= -1.0)) d = -1.0; /* also NaN */
     if (d > 1.0) d = 1.0;
     return (float)((0.5 + (d + 1.0) * 0.5 * (double)(size - 1)) / (double)size);
+}
+
+ht_combiner_coords ht_combiner_lut_coords(const ht_combiner_program *p) {
+    for (int i = 0; p && i < p->stage_count && i < HT_COMBINER_MAX_STAGES; i++)
+        if (strcmp(p->stages[i].texture, p->lut_texture) == 0) return p->stages[i].coords;
+    return HT_COORDS_UV;
 }
 
 int ht_combiner_dot_names(ht_model_kind model, const char *names[3]) {
@@ -184,17 +191,24 @@ static ht_result check_stage(const ctx *c, const ht_combiner_program *p, int ind
         return fail(c, FIELD("filter"), "must be GL_LINEAR or GL_NEAREST");
     if (!name_of(wrap_names, s->wrap))
         return fail(c, FIELD("wrap"), "must be GL_CLAMP_TO_EDGE or GL_REPEAT");
+    if ((unsigned)s->coords >= COORDS_COUNT)
+        return fail(c, FIELD("coords"), "unknown rule %d", (int)s->coords);
     const bool reads_lut = strcmp(s->texture, p->lut_texture) == 0;
     if (reads_lut) {
-        if (s->coords != HT_COORDS_CPU_DOTS)
-            return fail(c, FIELD("coords"), "the LUT is indexed by cpu-dots, not uv");
+        if (s->coords == HT_COORDS_UV)
+            return fail(c, FIELD("coords"), "the LUT is indexed by cpu-dots or texture-matrix, not uv");
+        if (s->coords == HT_COORDS_TEXTURE_MATRIX && p->model != HT_MODEL_KAJIYA_KAY)
+            return fail(c, FIELD("coords"), "texture-matrix needs kajiya-kay: the t1.H and t2.H of %s "
+                        "need two shifted tangents, one matrix row each cannot make them",
+                        model_names[p->model]);
         GLenum want = p->lut_size[2] > 1 ? GL_TEXTURE_3D : GL_TEXTURE_2D;
         if (s->target != want)
             return fail(c, FIELD("target"), "the LUT of depth %d is %s", p->lut_size[2],
                         name_of(target_names, want));
     } else {
         if (s->coords != HT_COORDS_UV)
-            return fail(c, FIELD("coords"), "cpu-dots index the LUT \"%s\" only", p->lut_texture);
+            return fail(c, FIELD("coords"), "%s index the LUT \"%s\" only", coords_names[s->coords],
+                        p->lut_texture);
         if (s->target != GL_TEXTURE_2D)
             return fail(c, FIELD("target"), "textures other than the LUT are 2d");
     }
@@ -501,7 +515,7 @@ static ht_result parse_stage(const ctx *c, const cJSON *o, int index, ht_combine
     if (r == HT_OK) r = get_gl(c, o, path, "target", target_names, "texture target", &s->target);
     if (r == HT_OK) r = get_gl(c, o, path, "filter", filter_names, "filter", &s->filter);
     if (r == HT_OK) r = get_gl(c, o, path, "wrap", wrap_names, "wrap mode", &s->wrap);
-    if (r == HT_OK) r = get_choice(c, o, path, "coords", coords_names, 2, &coords);
+    if (r == HT_OK) r = get_choice(c, o, path, "coords", coords_names, COORDS_COUNT, &coords);
     s->coords = (ht_combiner_coords)coords;
     if (r == HT_OK)
         r = get_gl(c, o, path, "combine_rgb", combine_names, "GL 1.3 combiner function", &s->combine_rgb);
@@ -745,6 +759,21 @@ static ht_result check_texture(const ctx *c, const ht_combiner_program *p, int s
     return HT_OK;
 }
 
+/* GL's texture-coordinate transform: (s,t,r,q) = M (T,1), then the divide
+   by q. False when q is not positive or a coordinate is not finite. */
+static bool texture_matrix_coord(const float m[16], const float T[3], float out[3]) {
+    const float in[4] = { T[0], T[1], T[2], 1.0f };
+    float v[4];
+    for (int row = 0; row < 4; row++)
+        v[row] = m[row] * in[0] + m[4 + row] * in[1] + m[8 + row] * in[2] + m[12 + row] * in[3];
+    if (!(v[3] > 0.0f) || !isfinite(v[3])) return false;
+    for (int i = 0; i < 3; i++) {
+        out[i] = v[i] / v[3];
+        if (!isfinite(out[i])) return false;
+    }
+    return true;
+}
+
 ht_result ht_combiner_eval(const ht_combiner_program *p, const ht_combiner_texture *textures,
                            int texture_count, const ht_combiner_fragment *frag, float out[4],
                            char *err, size_t err_size) {
@@ -759,8 +788,16 @@ ht_result ht_combiner_eval(const ht_combiner_program *p, const ht_combiner_textu
         const ht_combiner_texture *t = find_texture(textures, texture_count, s->texture);
         ht_result r = check_texture(&c, p, si, t);
         if (r != HT_OK) return r;
-        const float uv3[3] = { frag->uv[0], frag->uv[1], 0.0f };
-        rgba tex = sample(s, t->image, t->depth, s->coords == HT_COORDS_CPU_DOTS ? frag->lut_coord : uv3);
+        float coord[3] = { frag->uv[0], frag->uv[1], 0.0f };
+        if (s->coords == HT_COORDS_CPU_DOTS) {
+            memcpy(coord, frag->lut_coord, sizeof coord);
+        } else if (s->coords == HT_COORDS_TEXTURE_MATRIX &&
+                   !texture_matrix_coord(frag->texture_matrix, frag->tangent, coord)) {
+            char field[48];
+            snprintf(field, sizeof field, "stages[%d].coords", si);
+            return fail_argument(&c, field, "the texture matrix gives q <= 0 or a non-finite coordinate");
+        }
+        rgba tex = sample(s, t->image, t->depth, coord);
         rgba constant = { { s->constant[0], s->constant[1], s->constant[2], s->constant[3] } };
         rgba next;
         for (int ch = 0; ch < 3; ch++) {

@@ -8,9 +8,28 @@
        Scheuermann: a = N.L, b = t1.H, c = t2.H      (3D texture)
        Kajiya-Kay:  a = T.L, b = T.H                 (2D texture)
    holding rgb = ht_model_dot_terms_d(a, b, c) / lut_scale in 8 bits. The
-   coordinates are computed per vertex on the CPU (fixed_coords.h), because
-   t1.H and t2.H need two shifted tangents that one texture-matrix row cannot
-   produce. Typical program (shadergen/emit_fixed.c writes it):
+   LUT stage's "coords" says who computes its coordinates per vertex:
+     "cpu-dots"        the CPU, every frame (fixed_coords.h): Scheuermann
+                       always (t1.H and t2.H need two shifted tangents that
+                       one texture-matrix row cannot produce), Kajiya-Kay
+                       with a point key light.
+     "texture-matrix"  GL (Heidrich-Seidel): Kajiya-Kay with a directional
+                       key light only. The vertex tangent T is the texture
+                       coordinate (s,t,r,q) = (T,1) and the texture matrix
+                       (ht_fixed_coords_texture_matrix), loaded per frame,
+                       holds the rows
+                           s = k0 (L.T) + 1/2,  t = k1 (H.T) + 1/2,  r = 1/2,  q = 1
+                       with k = (n-1)/(2n): the "endpoints" mapping below is
+                       affine in d, so it folds into the row. H = normalize(L
+                       + V) with V the direction from the camera's target to
+                       its eye, constant per frame: an infinite viewer, since
+                       a matrix cannot form V = eye - position per vertex
+                       (the emitter lists it as dropped). A row without a
+                       direction (no L, or L = -V) is the constant the CPU
+                       rule would give; a vertex without a tangent gets
+                       primary colour 0, the model's answer there (sin = 0,
+                       S = 0), because the matrix cannot tell T = 0.
+   Typical program (shadergen/emit_fixed.c writes it):
        unit 0: LUT,    rgb = MODULATE(TEXTURE, PRIMARY_COLOR)   primary = light0.color * ao
        unit 1: albedo, rgb = MODULATE(TEXTURE, PREVIOUS) x RGB_SCALE lut_scale,
                        alpha = REPLACE(TEXTURE)
@@ -35,8 +54,11 @@
        for each stage s: glActiveTexture(GL_TEXTURE0 + s.unit); bind s.texture;
            glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
            glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, s.combine_rgb); ...
-       every frame: ht_fixed_coords_compute(&p, ...) for unit 0's texcoords
-       and the primary colours.
+       every frame, "cpu-dots": ht_fixed_coords_compute(&p, ...) for unit 0's
+       texcoords and the primary colours; "texture-matrix": unit 0's texcoords
+       are the tangents, ht_fixed_coords_texture_matrix(&p, ...) goes into
+       unit 0's GL_TEXTURE matrix and ht_fixed_coords_colors(&p, ...) gives
+       the primary colours (only when the light colour changes).
    GL 1.2 only promises GL_MAX_3D_TEXTURE_SIZE >= 16: check it against
    lut_size before choosing this tier (the emitter's LUT axes reach 256).
 
@@ -65,6 +87,8 @@
 typedef enum ht_combiner_coords {
     HT_COORDS_UV = 0,       /* "uv": the vertex uv */
     HT_COORDS_CPU_DOTS,     /* "cpu-dots": LUT coordinates of the model's dot products */
+    HT_COORDS_TEXTURE_MATRIX, /* "texture-matrix": the tangent through the texture matrix
+                                 (Kajiya-Kay's LUT stage only, see above) */
 } ht_combiner_coords;
 
 typedef struct ht_combiner_stage {
@@ -108,6 +132,10 @@ void ht_combiner_stage_defaults(ht_combiner_stage *s, int unit);
 double ht_combiner_lut_centre(int x, int size);
 float ht_combiner_lut_coord(double d, int size);
 
+/* How the LUT stage's coordinates are made (HT_COORDS_UV when no stage
+   reads the LUT, which validation refuses). */
+ht_combiner_coords ht_combiner_lut_coords(const ht_combiner_program *p);
+
 /* The names of the dot products along the LUT's axes ("N.L", "t1.H",
    "t2.H"; "T.L", "T.H"); returns how many (3 or 2). */
 int ht_combiner_dot_names(ht_model_kind model, const char *names[3]);
@@ -133,18 +161,24 @@ typedef struct ht_combiner_texture {
     int depth;               /* 1 for 2D */
 } ht_combiner_texture;
 
-/* What one fragment sees: interpolated vertex data. */
+/* What one fragment sees: interpolated vertex data, and the frame's
+   texture matrix. */
 typedef struct ht_combiner_fragment {
     float lut_coord[3];      /* texcoord of "cpu-dots" stages */
     float uv[2];             /* texcoord of "uv" stages */
     float primary[4];        /* primary colour, clamped to [0,1] as GL does */
+    float tangent[3];        /* texcoord (s,t,r) of "texture-matrix" stages, q = 1 */
+    float texture_matrix[16]; /* their GL_TEXTURE matrix, column-major (glLoadMatrixf) */
 } ht_combiner_fragment;
 
-/* Evaluates the program for one fragment as GL would: 8-bit texels (value /
-   255), GL_LINEAR / GL_NEAREST filtering with GL_CLAMP_TO_EDGE / GL_REPEAT
-   (trilinear for 3D, no mipmaps), each stage's function, then its scale,
-   then a clamp to [0,1]. Fails when a stage's texture is missing or its
-   size disagrees with the program. */
+/* Evaluates the program for one fragment as GL would: a "texture-matrix"
+   stage's coordinate is texture_matrix x (tangent, 1) divided by its q
+   (GL transforms per vertex and interpolates, the same for an affine
+   matrix), then 8-bit texels (value / 255), GL_LINEAR / GL_NEAREST
+   filtering with GL_CLAMP_TO_EDGE / GL_REPEAT (trilinear for 3D, no
+   mipmaps), each stage's function, then its scale, then a clamp to [0,1].
+   Fails when a stage's texture is missing or its size disagrees with the
+   program, or a texture matrix gives q <= 0 or a non-finite coordinate. */
 ht_result ht_combiner_eval(const ht_combiner_program *p, const ht_combiner_texture *textures,
                            int texture_count, const ht_combiner_fragment *frag, float rgba[4],
                            char *err, size_t err_size);

@@ -3,16 +3,27 @@
    model's dot products (Heidrich-Seidel). No shader object anywhere: only
    glTexEnv, textures and client arrays.
 
-   Per frame: the LUT coordinates and primary colours are computed per
-   vertex on the CPU (fixed_coords.h) for the frame's lights and eye. Per
-   pass: every stage of the program is set up on its unit (bind_pass); the
-   prime-Z pass enables only the stages its alpha depends on (the albedo's
-   alpha; no LUT), since its colour writes are off. Per draw: stages read
-   their texture coordinates from the CPU arrays ("cpu-dots") or the vertex
-   uv ("uv"), the colour array is the primary colour; the renderer then
-   draws with its index buffer over its range, so passes, state and draw
-   ranges stay those of every other tier. end_frame puts GL's initial
-   texture-environment state back on every unit it touched. */
+   Per frame, by the LUT stage's rule (combiner.h): "cpu-dots" computes the
+   LUT coordinates and primary colours per vertex on the CPU
+   (fixed_coords.h) for the frame's lights and eye; "texture-matrix" loads
+   the LUT unit's texture matrix (16 floats, infinite viewer: the view
+   matrix's view direction), points the unit's texture coordinates at the
+   mesh's tangents (normalized once, in set_mesh) and recomputes the
+   primary colours only when the light's colour changes. A frame whose key
+   light is a point light cannot use the matrix (the renderer shades lights
+   as the bundle plans them, so only a caller driving the backend directly
+   gets there): it gets CPU coordinates, with one log line the first time.
+
+   Per pass: every stage of the program is set up on its unit (bind_pass);
+   the prime-Z pass enables only the stages its alpha depends on (the
+   albedo's alpha; no LUT), since its colour writes are off. Per draw:
+   stages read their texture coordinates from the CPU arrays ("cpu-dots"),
+   the tangents ("texture-matrix") or the vertex uv ("uv"), the colour
+   array is the primary colour; the renderer then draws with its index
+   buffer over its range, so passes, state and draw ranges stay those of
+   every other tier. end_frame puts GL's initial texture-environment state
+   and identity texture matrix back on every unit it touched. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,10 +40,16 @@ typedef struct fixed_state {
     ht_combiner_program program;
     GLuint textures[HT_COMBINER_MAX_STAGES];  /* per stage */
     int prime_first;                          /* first stage the prime-Z pass enables */
-    ht_vertex *vertices;                      /* copy of the mesh's, for coords and uv */
+    int lut_unit;                             /* the unit of the stage reading the LUT */
+    bool matrix_rule;                         /* the program's LUT coords are "texture-matrix" */
+    bool frame_matrix;                        /* this frame loaded the texture matrix */
+    bool point_light_logged;
+    ht_vertex *vertices;                      /* copy of the mesh's, for coords, tangents and uv */
     uint32_t vertex_count;
-    float *coords;                            /* 3 per vertex: LUT texcoords */
+    float *coords;                            /* 3 per vertex: CPU LUT texcoords (NULL until needed) */
     float *colors;                            /* 4 per vertex: primary colour */
+    bool colors_valid;                        /* colors hold color_key's light */
+    float color_key[4];                       /* lit (0/1), light colour rgb */
     ht_log_fn log;
     void *log_user;
 } fixed_state;
@@ -234,54 +251,129 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
         return r;
     }
     s->prime_first = prime_first_stage(&s->program);
+    s->matrix_rule = ht_combiner_lut_coords(&s->program) == HT_COORDS_TEXTURE_MATRIX;
+    for (int i = 0; i < s->program.stage_count; i++)
+        if (strcmp(s->program.stages[i].texture, s->program.lut_texture) == 0) s->lut_unit = s->program.stages[i].unit;
     const int *n = s->program.lut_size;
+    char prime[48] = "no stage";
+    if (s->prime_first < s->program.stage_count)
+        snprintf(prime, sizeof prime, "stages %d..%d", s->prime_first, s->program.stage_count - 1);
     ht_log_linef(s->log, s->log_user, "hairtier: fixed: %d combiner stages, LUT %dx%dx%d scale %d, prime Z uses "
-                 "stages %d..%d", s->program.stage_count, n[0], n[1], n[2], s->program.lut_scale, s->prime_first,
-                 s->program.stage_count - 1);
+                 "%s, coordinates %s", s->program.stage_count, n[0], n[1], n[2], s->program.lut_scale, prime,
+                 s->matrix_rule ? "by the texture matrix (infinite viewer)" : "on the CPU per vertex");
     *out = s;
     return HT_OK;
 }
 
 /* ---- per mesh, per frame ---- */
 
+/* The texture matrix reads the tangent as it is: make it unit once, here,
+   so T.L and T.H are cosines (model.c's rule: shorter than
+   sqrt(HT_MODEL_MIN_LENGTH2), or not finite, is no direction: zero, and
+   ht_fixed_coords_colors makes such a vertex black). */
+static void normalize_tangents(ht_vertex *v, size_t n) {
+    for (size_t i = 0; i < n; i++) {
+        float *t = v[i].tangent;
+        double len2 = (double)t[0] * t[0] + (double)t[1] * t[1] + (double)t[2] * t[2];
+        bool ok = isfinite(len2) && len2 > HT_MODEL_MIN_LENGTH2;
+        double inv = ok ? 1.0 / sqrt(len2) : 0.0;
+        for (int k = 0; k < 3; k++) t[k] = (float)(ok ? t[k] * inv : 0.0);
+    }
+}
+
 static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     fixed_state *s = state;
     size_t n = mesh->vertex_count;
     ht_vertex *v = malloc(n ? n * sizeof *v : 1);
-    float *coords = malloc(n ? n * 3 * sizeof *coords : 1);
+    float *coords = s->matrix_rule ? NULL : malloc(n ? n * 3 * sizeof *coords : 1);
     float *colors = malloc(n ? n * 4 * sizeof *colors : 1);
-    if (!v || !coords || !colors) {
+    if (!v || (!s->matrix_rule && !coords) || !colors) {
         free(v);
         free(coords);
         free(colors);
         return HT_ERR_OUT_OF_MEMORY;
     }
     if (n) memcpy(v, mesh->vertices, n * sizeof *v);
+    if (s->matrix_rule) normalize_tangents(v, n);
     free(s->vertices);
     free(s->coords);
     free(s->colors);
     s->vertices = v;
     s->coords = coords;
     s->colors = colors;
+    s->colors_valid = false;
     s->vertex_count = mesh->vertex_count;
     /* Until the first frame: unlit, inside the LUT. */
-    for (size_t i = 0; i < 3 * n; i++) coords[i] = 0.5f;
+    for (size_t i = 0; coords && i < 3 * n; i++) coords[i] = 0.5f;
     for (size_t i = 0; i < 4 * n; i++) colors[i] = (i % 4 == 3) ? 1.0f : 0.0f;
     return HT_OK;
+}
+
+static void active_unit(const fixed_state *s, int unit) {
+    if (s->gl->ActiveTexture) s->gl->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+}
+
+/* Loads unit's GL_TEXTURE matrix (identity when m is NULL), keeping the
+   caller's matrix mode. */
+static void load_texture_matrix(const fixed_state *s, int unit, const float *m) {
+    const ht_gl *gl = s->gl;
+    GLint mode = GL_MODELVIEW;
+    gl->GetIntegerv(GL_MATRIX_MODE, &mode);
+    active_unit(s, unit);
+    gl->MatrixMode(GL_TEXTURE);
+    if (m) gl->LoadMatrixf(m);
+    else gl->LoadIdentity();
+    gl->MatrixMode((GLenum)mode);
+}
+
+/* Primary colours for the "texture-matrix" rule: per vertex, but only when
+   what they depend on (is the light there, its colour) changed. */
+static void update_colors(fixed_state *s, const ht_tier_frame *f) {
+    const ht_light *light = s->program.light < f->light_count ? &f->lights[s->program.light] : NULL;
+    const float key[4] = { light ? 1.0f : 0.0f, light ? light->color[0] : 0.0f, light ? light->color[1] : 0.0f,
+                           light ? light->color[2] : 0.0f };
+    if (s->colors_valid && memcmp(key, s->color_key, sizeof key) == 0) return;
+    char err[256];
+    if (ht_fixed_coords_colors(&s->program, s->vertices, s->vertex_count, f->lights, f->light_count, s->colors, err,
+                               sizeof err) != HT_OK) {
+        ht_log_linef(s->log, s->log_user, "hairtier: fixed: %s", err);
+        return;
+    }
+    memcpy(s->color_key, key, sizeof key);
+    s->colors_valid = true;
 }
 
 static void begin_frame(void *state, const ht_tier_frame *f) {
     fixed_state *s = state;
     char err[256];
-    if (s->vertices &&
-        ht_fixed_coords_compute(&s->program, s->vertices, s->vertex_count, f->lights, f->light_count, f->eye,
+    s->frame_matrix = false;
+    if (!s->vertices) return;
+    if (s->matrix_rule) {
+        /* the view matrix's third row is the unit direction from the target to the eye */
+        const float view_dir[3] = { f->view[2], f->view[6], f->view[10] };
+        float m[16];
+        ht_result r = ht_fixed_coords_texture_matrix(&s->program, f->lights, f->light_count, view_dir, m, err,
+                                                     sizeof err);
+        if (r == HT_OK) {
+            load_texture_matrix(s, s->lut_unit, m);
+            s->frame_matrix = true;
+            update_colors(s, f);
+            return;
+        }
+        if (!s->point_light_logged)
+            ht_log_linef(s->log, s->log_user, "hairtier: fixed: %s: CPU coordinates for such frames", err);
+        s->point_light_logged = true;
+        if (!s->coords) s->coords = malloc(s->vertex_count ? (size_t)s->vertex_count * 3 * sizeof *s->coords : 1);
+        if (!s->coords) {
+            ht_log_linef(s->log, s->log_user, "hairtier: fixed: out of memory for CPU coordinates: hair not drawn");
+            return;
+        }
+    }
+    s->colors_valid = false;
+    if (ht_fixed_coords_compute(&s->program, s->vertices, s->vertex_count, f->lights, f->light_count, f->eye,
                                 s->coords, s->colors, err, sizeof err) != HT_OK) {
         ht_log_linef(s->log, s->log_user, "hairtier: fixed: %s", err);
     }
-}
-
-static void active_unit(const fixed_state *s, int unit) {
-    if (s->gl->ActiveTexture) s->gl->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
 }
 
 /* One stage's texture environment, exactly as the program states it. */
@@ -338,6 +430,9 @@ static bool draw(void *state, ht_pass pass, int sub_pass, uint32_t first_index, 
     fixed_state *s = state;
     const ht_gl *gl = s->gl;
     if (!s->vertices) return false;
+    /* a point-light frame of a texture-matrix program without memory for its
+       coordinates (logged in begin_frame): draw nothing rather than garbage */
+    if (!s->frame_matrix && !s->coords) return true;
     GLint bound = 0;
     if (gl->BindBuffer) {
         gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
@@ -348,7 +443,9 @@ static bool draw(void *state, ht_pass pass, int sub_pass, uint32_t first_index, 
         const ht_combiner_stage *st = &s->program.stages[i];
         if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)st->unit);
         gl->EnableClientState(GL_TEXTURE_COORD_ARRAY);
-        if (st->coords == HT_COORDS_CPU_DOTS)
+        if (st->coords == HT_COORDS_TEXTURE_MATRIX && s->frame_matrix)
+            gl->TexCoordPointer(3, GL_FLOAT, stride, (const char *)s->vertices + offsetof(ht_vertex, tangent));
+        else if (st->coords != HT_COORDS_UV)
             gl->TexCoordPointer(3, GL_FLOAT, 0, s->coords);
         else
             gl->TexCoordPointer(2, GL_FLOAT, stride, (const char *)s->vertices + offsetof(ht_vertex, uv));
@@ -375,6 +472,8 @@ static void end_frame(void *state) {
         if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)st->unit);
         gl->DisableClientState(GL_TEXTURE_COORD_ARRAY);
     }
+    if (s->frame_matrix) load_texture_matrix(s, s->lut_unit, NULL);
+    s->frame_matrix = false;
     active_unit(s, 0);
     if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0);
     gl->DisableClientState(GL_COLOR_ARRAY);

@@ -1,9 +1,12 @@
 /* fixed_coords.c — per-vertex LUT coordinates and primary colours of the
-   fixed tier (see fixed_coords.h), in double precision like the oracle. */
+   fixed tier, and the texture matrix that replaces the coordinates for
+   Kajiya-Kay under a directional light (see fixed_coords.h), in double
+   precision like the oracle. */
 #include "fixed_coords.h"
 
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 static double dot3(const double a[3], const double b[3]) {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -38,6 +41,87 @@ static double shifted_dot(const double T[3], const double N[3], double shift, co
     return clamp_unit(dot3(t, H));
 }
 
+static const ht_light *program_light(const ht_combiner_program *p, const ht_light *lights, int light_count) {
+    return p->light < light_count ? &lights[p->light] : NULL;
+}
+
+/* The primary colour of one vertex: clamp(light.color * ao), alpha 1. */
+static void vertex_color(const ht_combiner_program *p, const ht_vertex *v, const double color[3], bool black,
+                         float out[4]) {
+    double ao = p->ao ? clamp01((double)v->ao) : 1.0;
+    for (int i = 0; i < 3; i++) out[i] = black ? 0.0f : (float)clamp01(color[i] * ao);
+    out[3] = 1.0f;
+}
+
+static void light_color(const ht_light *light, double color[3]) {
+    for (int i = 0; i < 3; i++) color[i] = light && isfinite(light->color[i]) ? (double)light->color[i] : 0.0;
+}
+
+ht_result ht_fixed_coords_colors(const ht_combiner_program *p, const ht_vertex *vertices, size_t count,
+                                 const ht_light *lights, int light_count, float *colors,
+                                 char *err, size_t err_size) {
+    if (!p || (count > 0 && (!vertices || !colors)) || (light_count > 0 && !lights)) {
+        snprintf(err, err_size, "fixed_coords: NULL argument");
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    double color[3];
+    light_color(program_light(p, lights, light_count), color);
+    const bool matrix = ht_combiner_lut_coords(p) == HT_COORDS_TEXTURE_MATRIX;
+    for (size_t vi = 0; vi < count; vi++) {
+        double T[3], unit[3];
+        to_double(vertices[vi].tangent, T);
+        bool black = matrix && !normalize_or_zero(T, unit);
+        vertex_color(p, &vertices[vi], color, black, &colors[4 * vi]);
+    }
+    return HT_OK;
+}
+
+/* Row `row` of the column-major m: (k * dir, offset) where the LUT axis of
+   `size` texels maps d to k d + offset (ht_combiner_lut_coord is affine on
+   [-1,1]); a row without a direction is the constant coordinate of d_none. */
+static void matrix_row(float m[16], int row, int size, const double dir[3], bool has_dir, double d_none) {
+    const double lo = ht_combiner_lut_coord(-1.0, size), hi = ht_combiner_lut_coord(1.0, size);
+    const double k = 0.5 * (hi - lo), offset = 0.5 * (hi + lo);
+    for (int col = 0; col < 3; col++) m[4 * col + row] = has_dir ? (float)(k * dir[col]) : 0.0f;
+    m[12 + row] = has_dir ? (float)offset : ht_combiner_lut_coord(d_none, size);
+}
+
+ht_result ht_fixed_coords_texture_matrix(const ht_combiner_program *p, const ht_light *lights,
+                                         int light_count, const float view_dir[3], float m[16],
+                                         char *err, size_t err_size) {
+    if (m) {
+        memset(m, 0, 16 * sizeof *m);
+        m[0] = m[5] = m[10] = m[15] = 1.0f;
+    }
+    if (!p || !view_dir || !m || (light_count > 0 && !lights)) {
+        snprintf(err, err_size, "fixed_coords: NULL argument");
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    if (ht_combiner_lut_coords(p) != HT_COORDS_TEXTURE_MATRIX || p->model != HT_MODEL_KAJIYA_KAY) {
+        snprintf(err, err_size, "fixed_coords: the program's LUT stage is not texture-matrix");
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    const ht_light *light = program_light(p, lights, light_count);
+    if (light && light->type == HT_LIGHT_POINT) {
+        snprintf(err, err_size, "fixed_coords: light %d is a point light: its L varies per vertex, the "
+                 "texture matrix needs a directional one", p->light);
+        return HT_ERR_UNSUPPORTED;
+    }
+    double raw[3] = { 0, 0, 0 }, L[3], V[3], H[3];
+    if (light) to_double(light->vector, raw);
+    bool has_l = normalize_or_zero(raw, L);
+    to_double(view_dir, raw);
+    normalize_or_zero(raw, V);
+    for (int i = 0; i < 3; i++) raw[i] = L[i] + V[i];
+    bool has_h = normalize_or_zero(raw, H);
+    /* the CPU rule's answers without a direction: sin(T,L) = 0, S = 0 */
+    matrix_row(m, 0, p->lut_size[0], L, has_l, 1.0);
+    matrix_row(m, 1, p->lut_size[1], H, has_h, -1.0);
+    matrix_row(m, 2, p->lut_size[2], L, false, 0.0);
+    m[15] = 1.0f;
+    return HT_OK;
+}
+
 ht_result ht_fixed_coords_compute(const ht_combiner_program *p, const ht_vertex *vertices,
                                   size_t count, const ht_light *lights, int light_count,
                                   const float eye[3], float *lut_coords, float *colors,
@@ -47,13 +131,10 @@ ht_result ht_fixed_coords_compute(const ht_combiner_program *p, const ht_vertex 
         snprintf(err, err_size, "fixed_coords: NULL argument");
         return HT_ERR_INVALID_ARGUMENT;
     }
-    const ht_light *light = p->light < light_count ? &lights[p->light] : NULL;
-    double eye_d[3], light_v[3] = { 0, 0, 0 }, color[3] = { 0, 0, 0 };
+    const ht_light *light = program_light(p, lights, light_count);
+    double eye_d[3], light_v[3] = { 0, 0, 0 };
     to_double(eye, eye_d);
-    if (light) {
-        to_double(light->vector, light_v);
-        to_double(light->color, color);
-    }
+    if (light) to_double(light->vector, light_v);
     const bool kajiya_kay = p->model == HT_MODEL_KAJIYA_KAY;
 
     for (size_t vi = 0; vi < count; vi++) {
@@ -85,10 +166,6 @@ ht_result ht_fixed_coords_compute(const ht_combiner_program *p, const ht_vertex 
             d[2] = shifted_dot(T, N, p->shift[1], H, has_t && has_h);
         }
         for (int i = 0; i < 3; i++) lut_coords[3 * vi + i] = ht_combiner_lut_coord(d[i], p->lut_size[i]);
-
-        double ao = p->ao ? clamp01((double)v->ao) : 1.0;
-        for (int i = 0; i < 3; i++) colors[4 * vi + i] = (float)clamp01(color[i] * ao);
-        colors[4 * vi + 3] = 1.0f;
     }
-    return HT_OK;
+    return ht_fixed_coords_colors(p, vertices, count, lights, light_count, colors, err, err_size);
 }

@@ -24,6 +24,12 @@
    RGBA8): the diffuse axis drops to 16 first, then the larger highlight
    axis halves. dark-brown (e 80 / 24): 32 x 128 x 64 = 262144 texels.
 
+   Coordinates (combiner.h): Kajiya-Kay under a directional key light gets
+   "texture-matrix" (T as texture coordinate, (T.L, T.H) from the texture
+   matrix, the viewer taken at infinity for H, listed as dropped); every
+   other program "cpu-dots" (Scheuermann's shifted tangents, a point
+   light's per-vertex L).
+
    Everything stored is dot_terms / scale in 8 bits, scale the smallest of
    1, 2, 4 at or above ht_model_dot_terms_max: the LUT error is at most
    0.5/255 x scale plus linear interpolation between texels. */
@@ -156,13 +162,21 @@ static ht_result bake_lut(const ht_shading *s, const ht_combiner_program *p, ht_
     return HT_OK;
 }
 
+/* The texture matrix can index the LUT when every dot product is one of
+   the unshifted tangent with a vector constant per frame: Kajiya-Kay's T.L
+   and T.H, L directional. */
+static ht_combiner_coords coords_rule(const ht_plan *plan, ht_model_kind model) {
+    bool directional = plan->light_count > 0 && plan->light_types[0] == HT_LIGHT_DIRECTIONAL;
+    return model == HT_MODEL_KAJIYA_KAY && directional ? HT_COORDS_TEXTURE_MATRIX : HT_COORDS_CPU_DOTS;
+}
+
 /* Unit 0: LUT x primary colour; alpha = primary alpha (1). */
-static void lut_stage(const ht_combiner_program *p, ht_combiner_stage *s) {
+static void lut_stage(const ht_combiner_program *p, ht_combiner_coords coords, ht_combiner_stage *s) {
     ht_combiner_stage_defaults(s, 0);
     snprintf(s->texture, sizeof s->texture, "%s", LUT_NAME);
     s->target = p->lut_size[2] > 1 ? GL_TEXTURE_3D : GL_TEXTURE_2D;
     s->wrap = GL_CLAMP_TO_EDGE;
-    s->coords = HT_COORDS_CPU_DOTS;
+    s->coords = coords;
     s->source_rgb[0] = GL_TEXTURE;
     s->source_rgb[1] = GL_PRIMARY_COLOR;
     s->combine_alpha = GL_REPLACE;
@@ -192,7 +206,7 @@ static void add_albedo_sampler(ht_tier_output *out, const ht_plan *plan) {
     t->unit = 1;
 }
 
-static void list_dropped(const ht_plan *plan, ht_tier_output *out) {
+static void list_dropped(const ht_plan *plan, ht_combiner_coords coords, ht_tier_output *out) {
     if (plan->shift)
         ht_output_add_dropped(out, "shift: jitter dropped, the LUT holds the constant shifts only "
                                    "(shift texture read as 0.5)");
@@ -205,13 +219,21 @@ static void list_dropped(const ht_plan *plan, ht_tier_output *out) {
         note_dropped(out, "lights 2..%d: dropped, only light 1 (the key light) is lit: one LUT "
                           "lookup per pixel", plan->light_count);
     ht_output_add_dropped(out, "light colour: clamped to 1 per channel (it is the primary colour)");
-    ht_output_add_dropped(out, "dot products: per vertex on the CPU, interpolated linearly across "
-                               "triangles (Heidrich-Seidel); tessellate where T bends");
+    if (coords == HT_COORDS_TEXTURE_MATRIX) {
+        ht_output_add_dropped(out, "infinite viewer for H: V is the camera's view direction, constant per "
+                                   "frame (the texture matrix cannot form eye - position per vertex)");
+        ht_output_add_dropped(out, "dot products: T.L, T.H per vertex from the tangent by the texture "
+                                   "matrix, interpolated linearly (Heidrich-Seidel); tessellate where T bends");
+    } else {
+        ht_output_add_dropped(out, "dot products: per vertex on the CPU, interpolated linearly across "
+                                   "triangles (Heidrich-Seidel); tessellate where T bends");
+    }
     ht_output_add_dropped(out, "LUT: 8-bit, texel error up to 0.5/255 x scale, linear interpolation "
                                "between texels");
 }
 
-static void list_features(const ht_plan *plan, const ht_combiner_program *p, ht_tier_output *out) {
+static void list_features(const ht_plan *plan, const ht_combiner_program *p, ht_combiner_coords coords,
+                          ht_tier_output *out) {
     char line[64];
     ht_output_add_feature(out, plan->shading.model == HT_MODEL_KAJIYA_KAY ? "kajiya-kay" : "scheuermann");
     if (plan->light_count > 0) {
@@ -225,6 +247,7 @@ static void list_features(const ht_plan *plan, const ht_combiner_program *p, ht_
     snprintf(line, sizeof line, "lut %dx%dx%d rgb8 scale %d", p->lut_size[0], p->lut_size[1],
              p->lut_size[2], p->lut_scale);
     ht_output_add_feature(out, line);
+    ht_output_add_feature(out, coords == HT_COORDS_TEXTURE_MATRIX ? "coords texture-matrix" : "coords cpu-dots");
 }
 
 ht_result ht_emit_fixed(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size) {
@@ -248,13 +271,14 @@ ht_result ht_emit_fixed(const ht_plan *plan, ht_tier_output *out, char *err, siz
         p.shift[1] = shading.secondary.shift;
     }
     snprintf(p.lut_texture, sizeof p.lut_texture, "%s", LUT_NAME);
-    list_dropped(plan, out);
+    const ht_combiner_coords coords = coords_rule(plan, shading.model);
+    list_dropped(plan, coords, out);
     choose_sizes(&shading, axis_names, out, p.lut_size);
     p.lut_scale = choose_scale(&shading, out);
 
     const bool albedo = plan->base || plan->alpha;
     p.stage_count = albedo ? 2 : 1;
-    lut_stage(&p, &p.stages[0]);
+    lut_stage(&p, coords, &p.stages[0]);
     if (albedo) albedo_stage(&p.stages[1]);
     /* The scale is restored on the last stage: each stage clamps to [0,1],
        and lighting above 1 must survive until a dark base scales it down. */
@@ -268,7 +292,7 @@ ht_result ht_emit_fixed(const ht_plan *plan, ht_tier_output *out, char *err, siz
              sizeof out->requires.extensions[0], "GL_ARB_texture_env_combine");
     out->requires.texture_units = p.stage_count;
     if (albedo) add_albedo_sampler(out, plan);
-    list_features(plan, &p, out);
+    list_features(plan, &p, coords, out);
 
     char *text = NULL;
     ht_result r = ht_combiner_write(&p, &text, err, err_size);
