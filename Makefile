@@ -18,7 +18,7 @@ LDFLAGS  += $(SAN)
 # glslang's static libraries are C++; its pkg-config file is read lazily,
 # after the packages are installed.
 GLSLANG_LIBS = $(shell pkg-config --libs glslang) -lglslang-default-resource-limits -lstdc++
-LDLIBS   = $(GLSLANG_LIBS) -lOSMesa -lcjson -lpng16 -lpthread -lm
+LDLIBS   = $(GLSLANG_LIBS) -lOSMesa -lcjson -lpng16 -lz -lpthread -lm
 
 RUNTIME_SRC := $(wildcard runtime/*.c fallback/*.c)
 GEN_SRC     := $(filter-out shadergen/hairgen.c,$(wildcard shadergen/*.c))

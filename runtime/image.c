@@ -120,7 +120,8 @@ static int read_body(png_session *s, ht_image *out) {
     png_read_update_info(s->png, s->info);
 
     int channels = png_get_channels(s->png, s->info);
-    if (width > INT_MAX || height > INT_MAX) png_error(s->png, "image is too large");
+    if (width > INT_MAX || height > INT_MAX || (uint64_t)width * height > HT_IMAGE_MAX_PIXELS)
+        png_error(s->png, "image is too large");
     size_t bytes = image_bytes((int)width, (int)height, channels);
     size_t row_bytes = (size_t)width * (size_t)channels;
     if (bytes == 0 || png_get_rowbytes(s->png, s->info) != row_bytes)

@@ -14,6 +14,11 @@ typedef struct ht_image {
     uint8_t *pixels;    /* rows top to bottom, tightly packed */
 } ht_image;
 
+/* The most pixels a PNG may declare: 64 Mi, 256 MiB as RGBA (the largest
+   texture hairgen writes is a 256 x 65536 LUT atlas). A header claiming more
+   is refused before anything is allocated. */
+#define HT_IMAGE_MAX_PIXELS (64u * 1024u * 1024u)
+
 ht_result ht_image_alloc(ht_image *img, int width, int height, int channels);
 void ht_image_free(ht_image *img);
 /* Reads any PNG libpng reads; expands palette and low bit depths, strips 16

@@ -16,6 +16,7 @@
 
 #include <cmocka.h>
 #include <png.h>
+#include <zlib.h>
 
 #include "image.h"
 #include "rng.h"
@@ -194,6 +195,44 @@ static void write_raw_png(const char *path, const raw_png *r) {
     png_write_end(png, NULL);
     png_destroy_write_struct(&png, &info);
     fclose(f);
+}
+
+/* Appends one PNG chunk (length, type, data, CRC over type and data). */
+static void put_chunk(FILE *f, const char type[4], const uint8_t *data, uint32_t size) {
+    const uint8_t length[4] = { (uint8_t)(size >> 24), (uint8_t)(size >> 16), (uint8_t)(size >> 8), (uint8_t)size };
+    uLong crc = crc32(0L, (const Bytef *)type, 4);
+    crc = crc32(crc, data, size);
+    const uint8_t crc_bytes[4] = { (uint8_t)(crc >> 24), (uint8_t)(crc >> 16), (uint8_t)(crc >> 8), (uint8_t)crc };
+    fwrite(length, 1, 4, f);
+    fwrite(type, 1, 4, f);
+    if (size) fwrite(data, 1, size, f);
+    fwrite(crc_bytes, 1, 4, f);
+}
+
+static void test_read_refuses_a_header_claiming_a_huge_image_before_allocating(void **state) {
+    (void)state;
+    char path[256];
+    in_dir(path, sizeof path, "huge.png");
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    /* A well-formed chunk list whose header claims 100000 x 100000 RGBA
+       (40 GB if a reader believed it) over a few bytes of image data. */
+    static const uint8_t signature[8] = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n' };
+    fwrite(signature, 1, sizeof signature, f);
+    const uint8_t ihdr[13] = { 0, 1, 0x86, 0xA0, 0, 1, 0x86, 0xA0, 8, PNG_COLOR_TYPE_RGB_ALPHA, 0, 0, 0 };
+    put_chunk(f, "IHDR", ihdr, sizeof ihdr);
+    uint8_t zeros[64] = { 0 }, packed[128];
+    uLongf packed_size = sizeof packed;
+    assert_int_equal(compress(packed, &packed_size, zeros, sizeof zeros), Z_OK);
+    put_chunk(f, "IDAT", packed, (uint32_t)packed_size);
+    put_chunk(f, "IEND", NULL, 0);
+    fclose(f);
+    ht_image img = { 0 };
+    char err[256] = "";
+    assert_int_equal(ht_image_read_png(path, &img, err, sizeof err), HT_ERR_IO);
+    assert_null(img.pixels);
+    if (!strstr(err, "too large")) fail_msg("unexpected error: %s", err);
+    remove(path);
 }
 
 static void test_read_expands_palette_with_transparency(void **state) {
@@ -414,6 +453,7 @@ int main(void) {
         cmocka_unit_test(test_read_fails_on_missing_file),
         cmocka_unit_test(test_read_fails_on_empty_file_and_text),
         cmocka_unit_test(test_read_fails_on_every_truncation),
+        cmocka_unit_test(test_read_refuses_a_header_claiming_a_huge_image_before_allocating),
         cmocka_unit_test(test_read_fails_on_corrupt_image_data),
         cmocka_unit_test(test_write_into_missing_directory_leaves_nothing),
         cmocka_unit_test(test_write_into_read_only_directory_leaves_nothing),
