@@ -116,3 +116,19 @@ void ht_test_run_child(const char *version, const char *bundle_dir, char *out, s
     out[used] = '\0';
     assert_int_equal(pclose(p), 0);
 }
+
+bool ht_test_child_renderer(const char *bundle_dir, int size, ht_test_gl *gl, ht_renderer **r) {
+    char err[256];
+    *r = NULL;
+    if (!ht_test_gl_create(gl, size, size, NULL, err, sizeof err)) {
+        printf("child: %s\n", err);
+        return false;
+    }
+    ht_test_log_clear();
+    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = ht_test_getproc, .bundle_dir = bundle_dir,
+                                                            .log = ht_test_log_capture }, r);
+    fputs(ht_test_log_text, stdout);
+    printf("result=%s tier=%s\n", ht_result_string(res), res == HT_OK ? ht_tier_name(ht_renderer_tier(*r)) : "-");
+    if (res != HT_OK) *r = NULL;
+    return true;
+}

@@ -51,6 +51,11 @@ typedef struct ht_test_pixel_stats {
 
 ht_test_pixel_stats ht_test_pixel_stats_of(const ht_image *img, const float background[3]);
 
+/* The child side: a size x size context and a renderer on bundle_dir,
+   printing the renderer's log and "result=RESULT tier=TIER" on stdout for
+   the parent to read. *r is NULL unless the result is HT_OK. False when no
+   context could be made (the reason printed). */
+bool ht_test_child_renderer(const char *bundle_dir, int size, ht_test_gl *gl, ht_renderer **r);
 /* Runs this test binary as `EXE --child BUNDLE_DIR` with
    MESA_GL_VERSION_OVERRIDE=version (Mesa reads it once per process);
    out receives its stdout and stderr. The child must exit 0. */

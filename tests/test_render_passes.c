@@ -341,18 +341,9 @@ static void test_render_rejects_degenerate_cameras(void **state) {
 
 /* Child mode: argv = exe --child BUNDLE; MESA_GL_VERSION_OVERRIDE is set. */
 static int child_main(const char *bundle) {
-    char err[256];
     ht_test_gl cgl;
-    if (!ht_test_gl_create(&cgl, 16, 16, NULL, err, sizeof err)) {
-        printf("child: %s\n", err);
-        return 1;
-    }
-    ht_test_log_clear();
-    ht_renderer *r = NULL;
-    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = ht_test_getproc, .bundle_dir = bundle,
-                                                            .log = ht_test_log_capture }, &r);
-    fputs(ht_test_log_text, stdout);
-    printf("result=%s tier=%s\n", ht_result_string(res), res == HT_OK ? ht_tier_name(ht_renderer_tier(r)) : "-");
+    ht_renderer *r;
+    if (!ht_test_child_renderer(bundle, 16, &cgl, &r)) return 1;
     ht_renderer_destroy(r);
     ht_test_gl_destroy(&cgl);
     return 0;

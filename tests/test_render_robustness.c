@@ -725,20 +725,11 @@ static void test_draw_refuses_a_bad_opaque_mesh(void **state) {
 /* Child mode: argv = exe --child BUNDLE under Mesa overrides. Prints the
    log, the result and tier, and one frame's GL error and coverage. */
 static int child_main(const char *bundle) {
-    char err[256];
     ht_test_gl gl;
-    if (!ht_test_gl_create(&gl, 32, 32, NULL, err, sizeof err)) {
-        printf("child: %s\n", err);
-        return 1;
-    }
-    ht_test_log_clear();
-    ht_renderer *r = NULL;
-    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = ht_test_getproc, .bundle_dir = bundle,
-                                                            .log = ht_test_log_capture }, &r);
-    fputs(ht_test_log_text, stdout);
-    printf("result=%s tier=%s\n", ht_result_string(res), res == HT_OK ? ht_tier_name(ht_renderer_tier(r)) : "-");
+    ht_renderer *r;
+    if (!ht_test_child_renderer(bundle, 32, &gl, &r)) return 1;
     ht_mesh mesh;
-    if (res == HT_OK && ht_test_furball_mesh(&mesh) == HT_OK) {
+    if (r && ht_test_furball_mesh(&mesh) == HT_OK) {
         ht_frame_desc f = ht_test_furball_frame(2.4f);
         glViewport(0, 0, 32, 32);
         glClearColor(ht_test_background[0], ht_test_background[1], ht_test_background[2], 1);
