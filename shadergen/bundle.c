@@ -7,6 +7,7 @@
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <locale.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,6 +19,10 @@
 #include "hairgen.h"
 
 #define BUNDLE_FORMAT "hairtier-bundle/1"
+/* Hashed into input_hash and written to the manifest: a new generator
+   invalidates caches keyed on the hash. Bump it with any change to what a
+   bundle holds. */
+#define GENERATOR_VERSION "hairgen 1"
 
 /* FNV-1a 64 over every input file's bytes: the key a build cache can use. */
 typedef struct input_hash { uint64_t value; } input_hash;
@@ -151,6 +156,7 @@ static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t h
     char hash_text[32];
     snprintf(hash_text, sizeof hash_text, "fnv1a64:%016llx", (unsigned long long)hash);
     cJSON_AddStringToObject(root, "format", BUNDLE_FORMAT);
+    cJSON_AddStringToObject(root, "generator", GENERATOR_VERSION);
     cJSON_AddStringToObject(root, "input_hash", hash_text);
     cJSON_AddStringToObject(root, "material", m->name);
     cJSON_AddStringToObject(root, "model",
@@ -178,7 +184,7 @@ static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t h
 static void print_summary(FILE *out, const ht_material *m, const ht_plan *plan,
                           const ht_tier_output *tiers, int tier_count, const char *dir) {
     fprintf(out, "hairgen: %s -> %s\n", m->name, dir);
-    fprintf(out, "%-7s %-34s %-5s %s\n", "tier", "needs", "units", "features");
+    fprintf(out, "%-7s %-52s %-5s %s\n", "tier", "needs", "units", "features");
     for (int i = 0; i < tier_count; i++) {
         const ht_tier_output *t = &tiers[i];
         char needs[128];
@@ -190,10 +196,46 @@ static void print_summary(FILE *out, const ht_material *m, const ht_plan *plan,
         int f = 0;
         for (int k = 0; k < t->feature_count && f < (int)sizeof features; k++)
             f += snprintf(features + f, sizeof features - f, "%s%s", k ? ", " : "", t->features[k]);
-        fprintf(out, "%-7s %-34s %-5d %s\n", ht_tier_name(t->tier), needs, t->requires.texture_units, features);
+        fprintf(out, "%-7s %-52s %-5d %s\n", ht_tier_name(t->tier), needs, t->requires.texture_units, features);
         for (int k = 0; k < t->dropped_count; k++) fprintf(out, "%-7s   dropped: %s\n", "", t->dropped[k]);
     }
     for (int i = 0; i < plan->note_count; i++) fprintf(out, "note: %s\n", plan->notes[i]);
+}
+
+/* What may be replaced: nothing, an empty directory, or a bundle (a
+   manifest.json of BUNDLE_FORMAT). Anything else is refused before any work,
+   so `-o` pointed at the wrong directory deletes nothing. */
+static ht_result check_target(const char *dir, char *err, size_t err_size) {
+    struct stat st;
+    if (stat(dir, &st) != 0) return HT_OK;
+    if (!S_ISDIR(st.st_mode)) return ht_fail(err, err_size, HT_ERR_IO, "%s: exists and is not a directory", dir);
+    DIR *d = opendir(dir);
+    if (!d) return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot read: %s", dir, strerror(errno));
+    bool empty = true;
+    struct dirent *e;
+    while (empty && (e = readdir(d)) != NULL) empty = strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0;
+    closedir(d);
+    if (empty) return HT_OK;
+
+    char path[4096];
+    bool bundle = false;
+    if (join_path(path, sizeof path, dir, "manifest.json")) {
+        FILE *f = fopen(path, "rb");
+        char text[4096];
+        size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
+        if (f) fclose(f);
+        text[n] = '\0';
+        cJSON *m = cJSON_Parse(text);
+        const cJSON *format = cJSON_GetObjectItemCaseSensitive(m, "format");
+        bundle = cJSON_IsString(format) && strcmp(format->valuestring, BUNDLE_FORMAT) == 0;
+        cJSON_Delete(m);
+        if (!bundle && n == sizeof text - 1) bundle = strstr(text, "\"" BUNDLE_FORMAT "\"") != NULL;
+    }
+    if (!bundle)
+        return ht_fail(err, err_size, HT_ERR_IO,
+                       "%s: exists and is not a hairtier bundle (no manifest.json of format %s); "
+                       "refusing to replace it", dir, BUNDLE_FORMAT);
+    return HT_OK;
 }
 
 /* Moves the finished temporary directory to `dir`, replacing what was there. */
@@ -240,11 +282,13 @@ static ht_result write_bundle(const char *tmp, const ht_plan *plan, const ht_mat
     return r;
 }
 
-ht_result ht_bundle_generate(const char *material_path, const char *scene_path,
-                             const char *out_dir, FILE *summary, char *err, size_t err_size) {
+static ht_result generate(const char *material_path, const char *scene_path,
+                          const char *out_dir, FILE *summary, char *err, size_t err_size) {
+    ht_result r = check_target(out_dir, err, err_size);
+    if (r != HT_OK) return r;
     ht_material material;
     ht_scene scene;
-    ht_result r = ht_material_load(material_path, &material, err, err_size);
+    r = ht_material_load(material_path, &material, err, err_size);
     if (r != HT_OK) return r;
     if (scene_path) {
         r = ht_scene_load(scene_path, &scene, err, err_size);
@@ -254,6 +298,7 @@ ht_result ht_bundle_generate(const char *material_path, const char *scene_path,
     }
 
     input_hash hash = { 0xcbf29ce484222325ull };
+    hash_bytes(&hash, GENERATOR_VERSION, sizeof GENERATOR_VERSION);
     r = hash_file(&hash, material_path, err, err_size);
     if (r == HT_OK && scene_path) r = hash_file(&hash, scene_path, err, err_size);
     for (int i = 0; i < HT_TEX_COUNT && r == HT_OK; i++)
@@ -281,16 +326,46 @@ ht_result ht_bundle_generate(const char *material_path, const char *scene_path,
             r = ht_fail(err, err_size, HT_ERR_IO, "%s: cannot create a temporary directory beside it: %s",
                      out_dir, strerror(errno));
             tmp[0] = '\0';
+        } else {
+            /* mkdtemp makes it owner-only; a bundle is as readable as any file. */
+            mode_t mask = umask(0);
+            umask(mask);
+            chmod(tmp, 0777 & ~mask);
         }
     }
     if (r == HT_OK)
         r = write_bundle(tmp, &plan, &material, hash.value, &albedo, &detail, tiers, 3, err, err_size);
     if (r == HT_OK) r = publish(tmp, out_dir, err, err_size);
-    else if (tmp[0]) remove_tree(tmp);
+    if (r != HT_OK && tmp[0]) remove_tree(tmp);
     if (r == HT_OK && summary) print_summary(summary, &material, &plan, tiers, 3, out_dir);
 
     for (int i = 0; i < 3; i++) ht_tier_output_free(&tiers[i]);
     ht_image_free(&albedo);
     ht_image_free(&detail);
+    return r;
+}
+
+ht_result ht_bundle_generate(const char *material_path, const char *scene_path,
+                             const char *out_dir, FILE *summary, char *err, size_t err_size) {
+    /* "dir/" and "dir" are the same bundle; the temporary sibling needs the
+       name without the slash. */
+    char dir[4096];
+    size_t len = out_dir ? strlen(out_dir) : 0;
+    while (len > 1 && out_dir[len - 1] == '/') len--;
+    if (len == 0 || len >= sizeof dir || (len == 1 && out_dir[0] == '/'))
+        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "%s: not a usable output directory",
+                       out_dir ? out_dir : "(null)");
+    memcpy(dir, out_dir, len);
+    dir[len] = '\0';
+
+    /* Every number hairgen prints (GLSL literals, manifest, program, error
+       lines) must not depend on the caller's locale: same inputs, same bytes. */
+    locale_t c_locale = newlocale(LC_ALL_MASK, "C", (locale_t)0);
+    locale_t previous = c_locale ? uselocale(c_locale) : (locale_t)0;
+    ht_result r = generate(material_path, scene_path, dir, summary, err, err_size);
+    if (c_locale) {
+        uselocale(previous);
+        freelocale(c_locale);
+    }
     return r;
 }

@@ -39,7 +39,9 @@ static void varyings(ht_strbuf *sb, const ht_plan *plan, const char *dp, const c
     ht_strbuf_addf(sb, "varying %svec3 v_position; /* world space */\n", dp);
     ht_strbuf_addf(sb, "varying %svec3 v_tangent;\n", dp);
     if (!kajiya_kay(plan)) ht_strbuf_addf(sb, "varying %svec3 v_normal;\n", dp);
-    if (uses_uv(plan)) ht_strbuf_addf(sb, "varying %svec2 v_uv;\n", cp);
+    /* uv addresses texels: mediump's 11-bit mantissa is a whole texel of a
+       2048 texture near uv = 1, so it gets the direction precision. */
+    if (uses_uv(plan)) ht_strbuf_addf(sb, "varying %svec2 v_uv;\n", dp);
     if (plan->ao) ht_strbuf_addf(sb, "varying %sfloat v_ao;\n", cp);
 }
 

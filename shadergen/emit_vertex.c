@@ -76,9 +76,14 @@ ht_result ht_emit_vertex(const ht_plan *plan, ht_tier_output *out, char *err, si
     if (plan->ao) ht_output_add_feature(out, "ao");
     if (plan->shift)
         ht_output_add_dropped(out, "shift: GLSL 1.10 vertex texture fetch is optional, so no per-vertex jitter");
-    if (plan->sparkle)
-        ht_output_add_dropped(out, "sparkle: approximated by its mean scaling the secondary highlight: "
-                                   "GLSL 1.10 vertex texture fetch is optional, so no per-vertex mask");
+    if (plan->sparkle) {
+        char line[160];
+        snprintf(line, sizeof line, "sparkle: approximated by its mean %.3f scaling the secondary highlight: "
+                                    "GLSL 1.10 vertex texture fetch is optional", plan->sparkle_mean);
+        ht_output_add_dropped(out, line);
+    }
+    ht_output_add_dropped(out, "lighting: clamps at 2 per channel before the base texture multiplies it "
+                               "(the colour is halved to fit GL's [0,1] and GL_RGB_SCALE 2 restores it)");
 
     ht_plan unmasked = *plan;
     unmasked.shading = ht_plan_unmasked_shading(plan);

@@ -11,8 +11,10 @@ static void usage(FILE *out) {
           "Generates every shader tier of one hair material for one scene and writes\n"
           "DIR (manifest.json, GLSL files, the fixed-function combiner program, PNG\n"
           "textures). Every GLSL file is validated with glslang; on any error nothing\n"
-          "is written and the exit status is 1. Without --scene the material is\n"
-          "planned for one white directional light. See docs/bundle.md.\n", out);
+          "is written and the exit status is 1 (2 for a usage error). DIR is replaced\n"
+          "whole if it is a bundle already; any other existing directory is refused.\n"
+          "Without --scene the material is planned for one white directional light.\n"
+          "See docs/bundle.md.\n", out);
 }
 
 int main(int argc, char **argv) {
@@ -21,10 +23,13 @@ int main(int argc, char **argv) {
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             usage(stdout);
             return 0;
-        } else if (strcmp(argv[i], "--scene") == 0 && i + 1 < argc) {
-            scene = argv[++i];
-        } else if (strcmp(argv[i], "-o") == 0 && i + 1 < argc) {
-            out_dir = argv[++i];
+        } else if ((strcmp(argv[i], "--scene") == 0 || strcmp(argv[i], "-o") == 0) && i + 1 < argc) {
+            const char **slot = argv[i][1] == 'o' ? &out_dir : &scene;
+            if (*slot) {
+                fprintf(stderr, "hairgen: %s: given twice (see --help)\n", argv[i]);
+                return 2;
+            }
+            *slot = argv[++i];
         } else if (argv[i][0] == '-') {
             fprintf(stderr, "hairgen: %s: unknown option or missing value (see --help)\n", argv[i]);
             return 2;
@@ -35,7 +40,7 @@ int main(int argc, char **argv) {
             return 2;
         }
     }
-    if (!material || !out_dir) {
+    if (!material || !out_dir || !out_dir[0]) {
         usage(stderr);
         return 2;
     }

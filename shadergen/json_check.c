@@ -181,6 +181,57 @@ static bool truncated(const char *text, const char *end) {
     return in_string || depth > 0;
 }
 
+/* What cJSON accepts but JSON (RFC 8259) does not, and which would slip
+   through silently: a raw control character or an escaped NUL in a string
+   (cJSON ends the C string there, so "ok\u0000bad" would read as "ok"), a
+   number with a leading zero ("080") or a bare fraction point ("80.").
+   Returns the offending position, or NULL when the text is clean. */
+static const char *lax_json(const char *text, const char **why) {
+    bool in_string = false;
+    for (const char *p = text; *p; p++) {
+        unsigned char ch = (unsigned char)*p;
+        if (in_string) {
+            if (ch < 0x20) {
+                *why = "raw control character in a string (escape it)";
+                return p;
+            }
+            if (ch == '\\') {
+                if (strncmp(p + 1, "u0000", 5) == 0) {
+                    *why = "\\u0000 (NUL) in a string";
+                    return p;
+                }
+                if (p[1]) p++;
+            } else if (ch == '"') {
+                in_string = false;
+            }
+            continue;
+        }
+        if (ch == '"') {
+            in_string = true;
+        } else if (ch == '-' || (ch >= '0' && ch <= '9')) {
+            const char *start = p;
+            if (*p == '-') p++;
+            if (p[0] == '0' && p[1] >= '0' && p[1] <= '9') {
+                *why = "number with a leading zero";
+                return start;
+            }
+            while (*p >= '0' && *p <= '9') p++;
+            if (*p == '.' && !(p[1] >= '0' && p[1] <= '9')) {
+                *why = "number with no digit after its '.'";
+                return start;
+            }
+            while (p[1] && strchr("0123456789.eE+-", p[1])) p++;
+        }
+    }
+    return NULL;
+}
+
+static int line_of(const char *text, const char *at) {
+    int line = 1;
+    for (const char *p = text; p < at && *p; p++) line += *p == '\n';
+    return line;
+}
+
 ht_result ht_json_parse_root(const ht_jctx *c, const char *text, cJSON **root) {
     *root = NULL;
     if (blank(text)) return ht_json_fail(c, "line 1", "empty file, expected a JSON object");
@@ -200,6 +251,13 @@ ht_result ht_json_parse_root(const ht_jctx *c, const char *text, cJSON **root) {
         size_t n = strcspn(end, "\r\n");
         if (n > 20) n = 20;
         return ht_json_fail(c, field, "malformed JSON at column %d near '%.*s'", column, (int)n, end);
+    }
+    const char *why = NULL, *lax = lax_json(text, &why);
+    if (lax) {
+        char field[32];
+        snprintf(field, sizeof field, "line %d", line_of(text, lax));
+        cJSON_Delete(doc);
+        return ht_json_fail(c, field, "malformed JSON: %s", why);
     }
     if (!cJSON_IsObject(doc)) {
         char got[ECHO_MAX + 48];
@@ -355,7 +413,11 @@ ht_result ht_json_float_item(const ht_jctx *c, const cJSON *item, const char *pa
     ht_result res = ht_json_number_item(c, item, path, r, &v);
     if (res != HT_OK) return res;
     float f = (float)v;
-    if (!isfinite(f) || !in_range((double)f, r)) {
+    /* The value as stored must still be in range (1e-50 must not become the
+       0 that means "default"), judged against the bounds as floats too, so
+       a bound written in the docs (0.0001) is accepted exactly. */
+    ht_jrange as_float = { (float)r.lo, (float)r.hi, r.lo_open, r.hi_open };
+    if (!isfinite(f) || !in_range((double)f, as_float)) {
         char rt[96], a[40], b[40];
         return ht_json_fail(c, path, "must be in %s, got %s (%s in 32-bit float)",
                             range_text(rt, r), num(a, v), num(b, (double)f));

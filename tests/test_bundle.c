@@ -221,6 +221,58 @@ static void test_bundle_input_hash_follows_the_inputs(void **state) {
     cJSON_Delete(mc);
 }
 
+static void test_bundle_refuses_to_replace_a_directory_that_is_not_a_bundle(void **state) {
+    (void)state;
+    char dir[256], keep[300], err[2048] = "";
+    snprintf(dir, sizeof dir, "%s/not-a-bundle", work);
+    snprintf(keep, sizeof keep, "%s/precious.txt", dir);
+    mkdir(dir, 0755);
+    write_text(keep, "mine\n");
+    assert_int_equal(ht_bundle_generate("materials/dark-brown.json", NULL, dir, NULL, err, sizeof err), HT_ERR_IO);
+    assert_non_null(strstr(err, "not a hairtier bundle"));
+    assert_true(exists(keep));
+    assert_int_equal(count_temporaries(), 0);
+}
+
+static void test_bundle_onto_a_file_fails_and_leaves_nothing(void **state) {
+    (void)state;
+    char file[256], err[2048] = "";
+    snprintf(file, sizeof file, "%s/plain-file", work);
+    write_text(file, "x");
+    assert_int_equal(ht_bundle_generate("materials/dark-brown.json", NULL, file, NULL, err, sizeof err), HT_ERR_IO);
+    assert_non_null(strstr(err, "not a directory"));
+    assert_int_equal(count_temporaries(), 0);
+}
+
+static void test_bundle_path_with_trailing_slash_is_the_same_bundle(void **state) {
+    (void)state;
+    char dir[256], slashed[260];
+    snprintf(dir, sizeof dir, "%s/slashed", work);
+    snprintf(slashed, sizeof slashed, "%s//", dir);
+    generate("materials/blond.json", NULL, slashed);
+    generate("materials/dark-brown.json", NULL, slashed); /* replaces, no temporary inside */
+    cJSON *m = load_manifest(dir);
+    assert_string_equal(cJSON_GetObjectItem(m, "material")->valuestring, "dark-brown");
+    cJSON_Delete(m);
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) assert_null(strstr(e->d_name, ".tmp-"));
+    closedir(d);
+    assert_int_equal(count_temporaries(), 0);
+}
+
+static void test_bundle_is_readable_per_the_umask(void **state) {
+    (void)state;
+    char dir[256];
+    snprintf(dir, sizeof dir, "%s/modes", work);
+    mode_t old = umask(022);
+    generate("materials/blond.json", NULL, dir);
+    umask(old);
+    struct stat st;
+    assert_int_equal(stat(dir, &st), 0);
+    assert_int_equal(st.st_mode & 0777, 0755);
+}
+
 static int run_hairgen(const char *args) {
     const char *build = getenv("HAIRTIER_BUILD");
     char cmd[1024];
@@ -235,6 +287,8 @@ static void test_hairgen_cli_reports_errors_with_exit_codes(void **state) {
     assert_int_equal(run_hairgen("--help"), 0);
     assert_int_equal(run_hairgen(""), 2);
     assert_int_equal(run_hairgen("materials/dark-brown.json --bogus -o x"), 2);
+    assert_int_equal(run_hairgen("materials/dark-brown.json -o a -o b"), 2);
+    assert_int_equal(run_hairgen("materials/dark-brown.json -o ''"), 2);
     snprintf(args, sizeof args, "no-such-material.json -o %s/cli-missing", work);
     assert_int_equal(run_hairgen(args), 1);
     snprintf(path, sizeof path, "%s/stderr.txt", work);
@@ -256,6 +310,10 @@ int main(void) {
         cmocka_unit_test(test_bundle_replaces_an_existing_bundle),
         cmocka_unit_test(test_bundle_input_hash_follows_the_inputs),
         cmocka_unit_test(test_hairgen_cli_reports_errors_with_exit_codes),
+        cmocka_unit_test(test_bundle_refuses_to_replace_a_directory_that_is_not_a_bundle),
+        cmocka_unit_test(test_bundle_onto_a_file_fails_and_leaves_nothing),
+        cmocka_unit_test(test_bundle_path_with_trailing_slash_is_the_same_bundle),
+        cmocka_unit_test(test_bundle_is_readable_per_the_umask),
     };
     return cmocka_run_group_tests(tests, make_work_dir, remove_work_dir);
 }

@@ -160,7 +160,7 @@ static void check_output(const ht_plan *p, const emitted *e) {
     assert_string_equal(text_of(&e->vertex, "vertex.vert")->role, "vertex");
     assert_string_equal(text_of(&e->vertex, "vertex-prime.vert")->role, "prime_vertex");
     assert_non_null(strstr(text_of(&e->vertex, "vertex.vert")->text, "gl_FrontColor = vec4(rgb * 0.5, 1.0);"));
-    assert_int_equal(e->vertex.dropped_count, (int)p->shift + (int)p->sparkle);
+    assert_int_equal(e->vertex.dropped_count, (int)p->shift + (int)p->sparkle + 1); /* + the clamp at 2 */
 
     const char *model = p->shading.model == HT_MODEL_KAJIYA_KAY ? "kajiya-kay" : "scheuermann";
     assert_string_equal(e->full.features[0], model);
@@ -439,9 +439,10 @@ static void test_vertex_tier_drops_shift_and_sparkle_with_reasons(void **state) 
     ht_plan p = plan_of(&m, 1, 0);
     emitted e;
     emit_both(&p, &e);
-    assert_int_equal(e.vertex.dropped_count, 2);
+    assert_int_equal(e.vertex.dropped_count, 3);
     assert_true(strncmp(e.vertex.dropped[0], "shift: ", 7) == 0);
     assert_true(strncmp(e.vertex.dropped[1], "sparkle: ", 9) == 0);
+    assert_true(strncmp(e.vertex.dropped[2], "lighting: clamps at 2", 21) == 0);
     assert_int_equal(e.full.dropped_count, 0);
     assert_true(has_string(e.full.features, e.full.feature_count, "1 directional light"));
     free_both(&e);

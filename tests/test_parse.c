@@ -47,6 +47,10 @@ static const bad_case bad_cases[] = {
     { "material-whitespace-only.json", HT_ERR_PARSE, "line 1", "empty file" },
     { "material-malformed.json", HT_ERR_PARSE, "line 6", "malformed JSON" },
     { "material-truncated.json", HT_ERR_PARSE, "line 7", "unexpected end of file" },
+    { "material-nul-in-name.json", HT_ERR_PARSE, "line 2", "(NUL) in a string" },
+    { "material-raw-tab.json", HT_ERR_PARSE, "line 2", "raw control character" },
+    { "material-leading-zero.json", HT_ERR_PARSE, "line 5", "leading zero" },
+    { "material-bare-point.json", HT_ERR_PARSE, "line 5", "no digit after its '.'" },
     { "material-trailing-garbage.json", HT_ERR_PARSE, "line 16", "near 'x'" },
     { "material-not-object.json", HT_ERR_PARSE, "(root)", "expected a JSON object, got an array" },
     { "material-wrong-format.json", HT_ERR_PARSE, "format", "got \"hairtier-scene/1\"" },
@@ -543,6 +547,41 @@ static void test_material_range_edges(void **state) {
     }
 }
 
+/* The scene's inclusive bounds as docs/materials.md writes them are
+   accepted exactly, though 0.0001 is not a float; just outside is not. */
+static void test_scene_range_edges_as_documented(void **state) {
+    (void)state;
+    static const char scene_template[] =
+        "{\"format\": \"hairtier-scene/1\", \"resolution\": [8, 8],\n"
+        " \"camera\": {\"eye\": [0, 0, 3], \"target\": [0, 0, 0], \"near\": %s, \"far\": 100},\n"
+        " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 0]}],\n"
+        " \"geometry\": {\"type\": \"%s\", %s}}\n";
+    static const struct { const char *near, *type, *geometry, *field; } cases[] = {
+        { "0.0001", "furball", "\"length\": 0.0001, \"width\": 0.00001", NULL },
+        { "99", "furball", "\"length\": 10, \"width\": 1", NULL },
+        { "0.05", "patches", "\"head_radius\": 0.001", NULL },
+        { "0.05", "patches", "\"head_radius\": 100", NULL },
+        { "0.000099", "furball", "\"length\": 1", "camera.near" },
+        { "0.05", "furball", "\"length\": 0.000099", "geometry.length" },
+        { "0.05", "furball", "\"width\": 0.0000099", "geometry.width" },
+        { "0.05", "patches", "\"head_radius\": 0.00099", "geometry.head_radius" },
+    };
+    for (size_t i = 0; i < COUNT(cases); i++) {
+        char text[1024], err[512] = "";
+        snprintf(text, sizeof text, scene_template, cases[i].near, cases[i].type, cases[i].geometry);
+        ht_scene s;
+        ht_result r = ht_scene_parse(text, "edge.json", &s, err, sizeof err);
+        if (!cases[i].field) {
+            if (r != HT_OK) fail_msg("case %zu rejected: %s", i, err);
+        } else {
+            if (r != HT_ERR_PARSE) fail_msg("case %zu accepted, expected an error at %s", i, cases[i].field);
+            char what[32];
+            snprintf(what, sizeof what, "case %zu", i);
+            check_error_line(what, err, "edge.json", cases[i].field, "");
+        }
+    }
+}
+
 /* ---- robustness ---- */
 
 static void test_failed_parse_leaves_output_untouched(void **state) {
@@ -646,6 +685,7 @@ int main(void) {
         cmocka_unit_test(test_scene_defaults_fill_omitted_fields),
         cmocka_unit_test(test_scene_patches_defaults_and_four_lights),
         cmocka_unit_test(test_material_range_edges),
+        cmocka_unit_test(test_scene_range_edges_as_documented),
         cmocka_unit_test(test_failed_parse_leaves_output_untouched),
         cmocka_unit_test(test_small_or_absent_error_buffer_is_safe),
         cmocka_unit_test(test_error_is_one_line_even_for_hostile_keys),

@@ -2,7 +2,7 @@
    by the real programs (build/hairgen, then build/hairview with each tier
    forced) is hair, not a blank or garbage frame: enough pixels differ from
    the background, the hair is not one flat colour, it has highlights well
-   above its median, no pixel is the magenta or black of a failed shader,
+   above its median, no pixel is the magenta of a failed shader,
    and the three tiers agree with each other within a measured bound. */
 #include <setjmp.h>
 #include <stdarg.h>
