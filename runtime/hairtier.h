@@ -131,7 +131,8 @@ typedef struct ht_vertex {
 typedef struct ht_component {
     uint32_t first_index;
     uint32_t index_count;
-    float sort_key;      /* distance of its centroid from ht_mesh.center */
+    float sort_key;      /* what the sort orders by; the builders write the distance
+                            of the component's vertex centroid from ht_mesh.center */
 } ht_component;
 
 typedef struct ht_mesh {
@@ -141,7 +142,8 @@ typedef struct ht_mesh {
     uint32_t index_count;
     ht_component *components;
     uint32_t component_count;
-    float center[3];             /* what "inside" means for the sort */
+    float center[3];             /* the point the builders measured sort_key from
+                                    (written by them; the sort reads only sort_key) */
 } ht_mesh;
 
 ht_result ht_mesh_build_furball(const ht_furball_desc *desc, ht_mesh *out);
