@@ -13,6 +13,7 @@
 #include "hairgen.h"
 #include "hairtier.h"
 #include "offscreen.h"
+#include "tempdir.h"
 #include "timing.h"
 
 #define WIDTH 512
@@ -57,12 +58,12 @@ static bool time_round_robin(contender *c, int count, const ht_scene *scene) {
     return true;
 }
 
-int main(void) {
+/* Everything but the scratch directory, which main removes whatever this
+   returns. */
+static int run(const char *work) {
     char err[2048];
-    char bundle[] = "/tmp/hairtier-bench-frame-XXXXXX";
-    if (!mkdtemp(bundle)) { perror("mkdtemp"); return 1; }
     char dir[128];
-    snprintf(dir, sizeof dir, "%s/bundle", bundle);
+    snprintf(dir, sizeof dir, "%s/bundle", work);
     ht_scene scene;
     if (ht_scene_load("scenes/furball.json", &scene, err, sizeof err) != HT_OK ||
         ht_bundle_generate("materials/dark-brown.json", "scenes/furball.json", dir, NULL, err, sizeof err) != HT_OK) {
@@ -74,16 +75,18 @@ int main(void) {
     OSMesaContext ctx = offscreen_create(buffer, WIDTH, HEIGHT);
     if (!ctx) {
         fprintf(stderr, "bench_frame: cannot create a %dx%d OSMesa context\n", WIDTH, HEIGHT);
+        free(buffer);
         return 1;
     }
 
+    int status = 1;
     ht_furball_desc fur = scene.furball;
     fur.hairs = 10000;
     fur.joints = 16;
     ht_mesh mesh;
     if (ht_mesh_build_furball(&fur, &mesh) != HT_OK) {
         fprintf(stderr, "bench_frame: cannot build the fur ball\n");
-        return 1;
+        goto close_context;
     }
     ht_mesh_sort_inside_out(&mesh);
 
@@ -97,25 +100,38 @@ int main(void) {
     };
     if (!c[0].renderer || !c[1].renderer || !time_round_robin(c, 4, &scene)) {
         fprintf(stderr, "bench_frame: the geometry floor or the full tier did not render\n");
-        return 1;
-    }
-    double floor_ms = median(c[0].samples, FRAMES);
-    printf("  %-14s %8.2f ms\n", c[0].name, floor_ms);
-    for (int k = 1; k < 4; k++) {
-        if (!c[k].renderer) {
-            printf("  %-14s      n/a (does not run here)\n", c[k].name);
-            continue;
+    } else {
+        double floor_ms = median(c[0].samples, FRAMES);
+        printf("  %-14s %8.2f ms\n", c[0].name, floor_ms);
+        for (int k = 1; k < 4; k++) {
+            if (!c[k].renderer) {
+                printf("  %-14s      n/a (does not run here)\n", c[k].name);
+                continue;
+            }
+            double ms = median(c[k].samples, FRAMES);
+            printf("  %-14s %8.2f ms   %.2fx the floor\n", c[k].name, ms, ms / floor_ms);
         }
-        double ms = median(c[k].samples, FRAMES);
-        printf("  %-14s %8.2f ms   %.2fx the floor\n", c[k].name, ms, ms / floor_ms);
+        status = 0;
     }
     for (int k = 0; k < 4; k++)
         if (c[k].renderer) ht_renderer_destroy(c[k].renderer);
-
     ht_mesh_free(&mesh);
+close_context:
     OSMesaDestroyContext(ctx);
     free(buffer);
-    snprintf(err, sizeof err, "rm -rf %s", bundle);
-    if (system(err) != 0) return 1;
-    return 0;
+    return status;
+}
+
+int main(void) {
+    char work[] = "/tmp/hairtier-bench-frame-XXXXXX";
+    if (!mkdtemp(work)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    int status = run(work);
+    if (tempdir_remove(work) != 0) {
+        fprintf(stderr, "bench_frame: cannot remove %s\n", work);
+        status = 1;
+    }
+    return status;
 }

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "hairgen.h"
+#include "tempdir.h"
 #include "timing.h"
 
 #define VARIANTS 100
@@ -34,11 +35,10 @@ static int write_variant(const char *path, int i) {
     return fclose(f);
 }
 
-int main(void) {
+/* Everything but the scratch directory, which main removes whatever this
+   returns. */
+static int run(const char *root) {
     char err[2048];
-    char root[] = "/tmp/hairtier-bench-XXXXXX";
-    if (!mkdtemp(root)) { perror("mkdtemp"); return 1; }
-
     char dir[512];
     snprintf(dir, sizeof dir, "%s/one", root);
     double t0 = now_ms();
@@ -84,7 +84,19 @@ int main(void) {
     printf("hairgen, all tiers of %d materials:         %8.1f ms (%.1f ms each)\n", VARIANTS, many_ms, many_ms / VARIANTS);
     printf("glslangValidator, one process per file (%d): %8.1f ms\n", files, shell_ms);
     printf("ratio shell validation / in-process generation: %.2f\n", shell_ms / many_ms);
+    return 0;
+}
 
-    snprintf(cmd, sizeof cmd, "rm -rf %s", root);
-    return system(cmd) == 0 ? 0 : 1;
+int main(void) {
+    char root[] = "/tmp/hairtier-bench-XXXXXX";
+    if (!mkdtemp(root)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    int status = run(root);
+    if (tempdir_remove(root) != 0) {
+        fprintf(stderr, "bench_hairgen: cannot remove %s\n", root);
+        status = 1;
+    }
+    return status;
 }

@@ -76,50 +76,56 @@ ht_result ht_caps_probe(ht_getproc_fn getproc, ht_caps *out) {
     char err[160];
     ht_result r = ht_gl_load(&gl, getproc, err, sizeof err);
     if (r != HT_OK) return r;
-    while (gl.GetError() != GL_NO_ERROR) {}
+    return ht_caps_probe_gl(&gl, out);
+}
 
-    const char *version = (const char *)gl.GetString(GL_VERSION);
+ht_result ht_caps_probe_gl(const ht_gl *gl, ht_caps *out) {
+    if (!gl || !out) return HT_ERR_INVALID_ARGUMENT;
+    memset(out, 0, sizeof *out);
+    while (gl->GetError() != GL_NO_ERROR) {}
+
+    const char *version = (const char *)gl->GetString(GL_VERSION);
     if (!version || !ht_parse_version(version, false, &out->gl_major, &out->gl_minor))
         return HT_ERR_GL; /* no current context, or a driver that names no version */
     snprintf(out->version, sizeof out->version, "%s", version);
-    const char *renderer = (const char *)gl.GetString(GL_RENDERER);
+    const char *renderer = (const char *)gl->GetString(GL_RENDERER);
     snprintf(out->renderer, sizeof out->renderer, "%s", renderer ? renderer : "");
 
     /* GL 3.x core has no GL_EXTENSIONS string; compatibility contexts keep it
        but glGetStringi is the one that works on both. */
-    if (out->gl_major >= 3 && gl.has_stringi) {
+    if (out->gl_major >= 3 && gl->has_stringi) {
         GLint n = 0;
-        gl.GetIntegerv(GL_NUM_EXTENSIONS, &n);
+        gl->GetIntegerv(GL_NUM_EXTENSIONS, &n);
         for (GLint i = 0; i < n; i++) {
-            const char *name = (const char *)gl.GetStringi(GL_EXTENSIONS, (GLuint)i);
+            const char *name = (const char *)gl->GetStringi(GL_EXTENSIONS, (GLuint)i);
             if (name) append_extension(out->extensions, sizeof out->extensions, name);
         }
     } else {
         copy_extensions(out->extensions, sizeof out->extensions,
-                        (const char *)gl.GetString(GL_EXTENSIONS));
+                        (const char *)gl->GetString(GL_EXTENSIONS));
     }
 
-    derive_flags(out, &gl);
+    derive_flags(out, gl);
     out->texture_units = 1;
     if (out->has_multitexture) {
         GLint units = 1;
-        gl.GetIntegerv(GL_MAX_TEXTURE_UNITS, &units);
+        gl->GetIntegerv(GL_MAX_TEXTURE_UNITS, &units);
         out->texture_units = units > 1 ? units : 1;
     }
     if (out->has_3d_textures) {
         GLint size = 0;
-        gl.GetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &size);
+        gl->GetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &size);
         out->max_3d_texture_size = size > 0 ? size : 0;
     }
     if (out->has_shaders) {
         /* GL 2.0 guarantees GLSL 1.10; some drivers leave the string out. */
-        const char *sl = (const char *)gl.GetString(GL_SHADING_LANGUAGE_VERSION);
+        const char *sl = (const char *)gl->GetString(GL_SHADING_LANGUAGE_VERSION);
         if (!ht_parse_version(sl, true, &out->glsl_major, &out->glsl_minor) || out->glsl_major < 1) {
             out->glsl_major = 1;
             out->glsl_minor = 10;
         }
     }
-    while (gl.GetError() != GL_NO_ERROR) {}
+    while (gl->GetError() != GL_NO_ERROR) {}
     return HT_OK;
 }
 

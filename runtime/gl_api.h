@@ -43,10 +43,6 @@
     X(core, void, FrontFace, (GLenum mode)) \
     X(core, void, AlphaFunc, (GLenum func, GLfloat ref)) \
     X(core, void, BlendFunc, (GLenum sfactor, GLenum dfactor)) \
-    X(core, void, Clear, (GLbitfield mask)) \
-    X(core, void, ClearColor, (GLfloat r, GLfloat g, GLfloat b, GLfloat a)) \
-    X(core, void, ClearDepth, (GLdouble depth)) \
-    X(core, void, Viewport, (GLint x, GLint y, GLsizei w, GLsizei h)) \
     X(core, void, MatrixMode, (GLenum mode)) \
     X(core, void, LoadMatrixf, (const GLfloat *m)) \
     X(core, void, LoadIdentity, (void)) \
@@ -61,7 +57,13 @@
     X(core, void, Lightfv, (GLenum light, GLenum pname, const GLfloat *params)) \
     X(core, void, LightModelfv, (GLenum pname, const GLfloat *params)) \
     X(core, void, Materialfv, (GLenum face, GLenum pname, const GLfloat *params)) \
-    X(core, void, ColorMaterial, (GLenum face, GLenum mode)) \
+    X(core, void, Lightf, (GLenum light, GLenum pname, GLfloat param)) \
+    X(core, void, LightModeli, (GLenum pname, GLint param)) \
+    X(core, void, PolygonMode, (GLenum face, GLenum mode)) \
+    X(core, void, PushAttrib, (GLbitfield mask)) \
+    X(core, void, PopAttrib, (void)) \
+    X(core, void, PushClientAttrib, (GLbitfield mask)) \
+    X(core, void, PopClientAttrib, (void)) \
     X(core, void, ShadeModel, (GLenum mode)) \
     X(core, void, GenTextures, (GLsizei n, GLuint *textures)) \
     X(core, void, DeleteTextures, (GLsizei n, const GLuint *textures)) \
@@ -71,16 +73,10 @@
     X(core, void, TexEnvi, (GLenum target, GLenum pname, GLint param)) \
     X(core, void, TexEnvf, (GLenum target, GLenum pname, GLfloat param)) \
     X(core, void, TexEnvfv, (GLenum target, GLenum pname, const GLfloat *params)) \
-    X(core, void, TexGeni, (GLenum coord, GLenum pname, GLint param)) \
-    X(core, void, TexGenfv, (GLenum coord, GLenum pname, const GLfloat *params)) \
     X(core, void, PixelStorei, (GLenum pname, GLint param)) \
-    X(core, void, ReadPixels, (GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type, void *pixels)) \
-    X(core, void, Finish, (void)) \
-    X(core, void, Flush, (void)) \
     X(tex3d, void, TexImage3D, (GLenum target, GLint level, GLint internalformat, GLsizei w, GLsizei h, GLsizei d, GLint border, GLenum format, GLenum type, const void *pixels)) \
     X(multitexture, void, ActiveTexture, (GLenum texture)) \
     X(multitexture, void, ClientActiveTexture, (GLenum texture)) \
-    X(multitexture, void, MultiTexCoord3f, (GLenum target, GLfloat s, GLfloat t, GLfloat r)) \
     X(vbo, void, GenBuffers, (GLsizei n, GLuint *buffers)) \
     X(vbo, void, DeleteBuffers, (GLsizei n, const GLuint *buffers)) \
     X(vbo, void, BindBuffer, (GLenum target, GLuint buffer)) \
@@ -93,6 +89,7 @@
     X(shaders, void, DeleteShader, (GLuint shader)) \
     X(shaders, GLuint, CreateProgram, (void)) \
     X(shaders, void, AttachShader, (GLuint program, GLuint shader)) \
+    X(shaders, void, BindAttribLocation, (GLuint program, GLuint index, const GLchar *name)) \
     X(shaders, void, LinkProgram, (GLuint program)) \
     X(shaders, void, GetProgramiv, (GLuint program, GLenum pname, GLint *params)) \
     X(shaders, void, GetProgramInfoLog, (GLuint program, GLsizei size, GLsizei *length, GLchar *log)) \
@@ -102,6 +99,9 @@
     X(shaders, void, Uniform1i, (GLint location, GLint v0)) \
     X(shaders, void, Uniform3fv, (GLint location, GLsizei count, const GLfloat *value)) \
     X(shaders, void, Uniform4fv, (GLint location, GLsizei count, const GLfloat *value)) \
+    X(shaders, void, VertexAttribPointer, (GLuint index, GLint size, GLenum type, GLboolean normalized, GLsizei stride, const void *ptr)) \
+    X(shaders, void, EnableVertexAttribArray, (GLuint index)) \
+    X(shaders, void, DisableVertexAttribArray, (GLuint index)) \
     X(stringi, const GLubyte *, GetStringi, (GLenum name, GLuint index))
 
 typedef struct ht_gl {
@@ -119,5 +119,9 @@ ht_result ht_gl_load(ht_gl *gl, ht_getproc_fn getproc, char *err, size_t err_siz
 /* Drops the groups the context may not use (caps.c decides from versions and
    extensions): their pointers become NULL, their flag false. */
 void ht_gl_restrict(ht_gl *gl, bool tex3d, bool multitexture, bool vbo, bool shaders);
+
+/* ht_caps_probe (caps.c) through a table already loaded from the context,
+   before any ht_gl_restrict. */
+ht_result ht_caps_probe_gl(const ht_gl *gl, ht_caps *out);
 
 #endif

@@ -277,7 +277,25 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh);
    frame is HT_ERR_INVALID_ARGUMENT with one log line and no draw call.
    Lights beyond the count the bundle was planned for are ignored, and a
    light whose type differs from the plan is shaded as planned; each is
-   logged once per renderer. */
+   logged once per renderer.
+   GL state: the draw saves the application's (glPushAttrib(GL_ALL_ATTRIB_BITS),
+   glPushClientAttrib(GL_CLIENT_ALL_ATTRIB_BITS), the current program, the
+   projection, modelview and every unit's texture matrix), draws from a
+   baseline of its own (lighting, fog, colour material, texgen, logic op,
+   polygon offset and stipple off; every texture target off, GL_MODULATE
+   and an identity texture matrix on every unit; smooth shading, filled
+   polygons; no program; no client array or generic attribute array but
+   its own), and restores all of it. What it leaves changed: the colour and
+   depth buffers it drew into, and glGetError, which it clears first (an
+   error the application left pending is consumed). Taken from the
+   application as they are: viewport, scissor and stencil tests, clip
+   planes, depth range, blend equation and colour, the framebuffer and draw
+   buffer. With no room on either attribute stack the draw draws nothing
+   and returns HT_ERR_GL with one log line.
+   ht_renderer_create and ht_renderer_set_mesh are not wrapped that way:
+   they leave the current program 0, the active unit's 2D (and 3D) texture
+   binding 0, GL_UNPACK_ALIGNMENT 4 and GL_ARRAY_BUFFER and
+   GL_ELEMENT_ARRAY_BUFFER bound to 0, and clear glGetError. */
 ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *frame);
 const ht_trace *ht_renderer_trace(const ht_renderer *r);
 /* What the renderer saw of the device, after the desc's profile. */

@@ -63,30 +63,39 @@ static int compare_entries(const void *pa, const void *pb) {
     return (a->index > b->index) - (a->index < b->index);
 }
 
-/* The components must tile the index buffer: every run inside it and the
-   runs' lengths adding up to index_count. Anything else is left alone. */
-static int components_tile_indices(const ht_mesh *m) {
-    uint64_t total = 0;
-    for (uint32_t c = 0; c < m->component_count; c++) {
-        const ht_component *cp = &m->components[c];
-        if ((uint64_t)cp->first_index + cp->index_count > m->index_count) return 0;
-        total += cp->index_count;
-    }
-    return total == m->index_count;
+static int compare_runs(const void *pa, const void *pb) {
+    const ht_component *a = pa, *b = pb;
+    if (a->first_index != b->first_index) return a->first_index < b->first_index ? -1 : 1;
+    return (a->index_count > b->index_count) - (a->index_count < b->index_count);
 }
 
-/* Allocation failure leaves the mesh as it was (still drawable, unsorted):
-   the function has no way to report it and the order is only a quality
-   matter. */
+/* The components must tile the index buffer: their runs, ordered by
+   first_index, start at 0 and each where the one before ends, the last
+   ending at index_count (no gap, no overlap, nothing outside). runs is
+   scratch space for component_count entries. */
+static bool components_tile_indices(const ht_mesh *m, ht_component *runs) {
+    memcpy(runs, m->components, sizeof *runs * m->component_count);
+    qsort(runs, m->component_count, sizeof *runs, compare_runs);
+    uint64_t cursor = 0;
+    for (uint32_t c = 0; c < m->component_count; c++) {
+        if (runs[c].first_index != cursor) return false;
+        cursor += runs[c].index_count;
+    }
+    return cursor == m->index_count;
+}
+
+/* Components that do not tile the index buffer leave the mesh alone, as
+   does an allocation failure (still drawable, unsorted): the function has
+   no way to report either and the order is only a quality matter. */
 void ht_mesh_sort_inside_out(ht_mesh *mesh) {
     if (!mesh || mesh->component_count < 2 || !mesh->components || !mesh->indices) return;
-    if (!components_tile_indices(mesh)) return;
 
     uint32_t n = mesh->component_count;
     sort_entry *entries = malloc(sizeof *entries * n);
     ht_component *components = malloc(sizeof *components * n);
     uint32_t *indices = malloc(sizeof *indices * (mesh->index_count ? mesh->index_count : 1));
     if (!entries || !components || !indices) goto done;
+    if (!components_tile_indices(mesh, components)) goto done;
 
     for (uint32_t c = 0; c < n; c++) entries[c] = (sort_entry){ mesh->components[c].sort_key, c };
     qsort(entries, n, sizeof *entries, compare_entries);

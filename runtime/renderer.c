@@ -1,23 +1,21 @@
 /* renderer.c — probes the device, selects a tier, and draws hair in
    Scheuermann's four passes (docs: DESIGN.md "Passes and sort order"). The
    pass list and its state live here, once, so every tier draws the same
-   passes over the same index ranges; backends (tier.h) only shade. */
+   passes over the same index ranges; backends (tier.h) only shade. A frame
+   runs between saving the application's GL state, with a baseline of its
+   own, and restoring it (hairtier.h: ht_renderer_draw). */
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "errfmt.h"
+#include "fixed.h"
 #include "model.h"
 #include "renderer_internal.h"
-
-#if defined(__has_include)
-#  if __has_include("fixed.h")
-#    include "fixed.h"
-#    define HT_HAVE_FIXED_BACKEND 1
-#  endif
-#endif
+#include "shader_interface.h"
 
 #define DEFAULT_Z_NEAR 0.05f
 #define DEFAULT_Z_FAR 100.0f
@@ -27,9 +25,7 @@ static const ht_tier_backend *backend_for(ht_tier t) {
     switch (t) {
     case HT_TIER_FULL: return &ht_tier_glsl_full_backend;
     case HT_TIER_VERTEX: return &ht_tier_glsl_vertex_backend;
-#ifdef HT_HAVE_FIXED_BACKEND
     case HT_TIER_FIXED: return &ht_tier_fixed_backend;
-#endif
     default: return NULL;
     }
 }
@@ -114,13 +110,14 @@ bool ht_mat4_look_at(float out[16], const float eye[3], const float target[3], c
 
 /* ---- creation ---- */
 
+static int clamp_int(int v, int lo, int hi) { return v < lo ? lo : v > hi ? hi : v; }
+
 static ht_result create_backend(ht_renderer *r, const ht_renderer_desc *desc) {
     char failed_text[HT_BUNDLE_MAX_TIERS][HT_SELECT_REASON];
     ht_select_desc sd = {
         .caps = &r->caps, .bundle = &r->bundle, .requested = desc->tier,
         .env_tier = getenv("HAIRTIER_TIER"), .strict = desc->strict,
     };
-    for (int t = HT_TIER_FULL; t < HT_TIER_COUNT; t++) sd.have_backend[t] = backend_for((ht_tier)t) != NULL;
     char err[1024];
     /* Each round's skipped list extends the previous round's (tiers are
        walked best first, a failed one joins the list): log only what is new. */
@@ -182,7 +179,7 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
         ht_log_linef(r->log, r->log_user, "hairtier: %s", err);
         goto fail;
     }
-    if ((res = ht_caps_probe(desc->getproc, &r->caps)) != HT_OK) {
+    if ((res = ht_caps_probe_gl(&r->gl, &r->caps)) != HT_OK) {
         ht_log_linef(r->log, r->log_user, "hairtier: glGetString(GL_VERSION): no answer (is a GL context current?)");
         goto fail;
     }
@@ -190,6 +187,12 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
     /* The runtime itself must not call what the profile hides. */
     ht_gl_restrict(&r->gl, r->caps.has_3d_textures, r->caps.has_multitexture, r->caps.has_vbo,
                    r->caps.has_shaders);
+    /* What the frame's baseline covers beyond the units (renderer.c). */
+    GLint lights = HT_MAX_LIGHTS, attribs = 0;
+    r->gl.GetIntegerv(GL_MAX_LIGHTS, &lights);
+    r->max_lights = clamp_int(lights, HT_MAX_LIGHTS, HT_RENDERER_MAX_LIGHTS);
+    if (r->caps.has_shaders) r->gl.GetIntegerv(GL_MAX_VERTEX_ATTRIBS, &attribs);
+    r->vertex_attribs = clamp_int(attribs, 0, HT_RENDERER_MAX_ATTRIBS);
     ht_log_linef(r->log, r->log_user, "hairtier: device GL %d.%d, GLSL %d.%02d, %d texture units, %s%s",
                  r->caps.gl_major, r->caps.gl_minor, r->caps.glsl_major, r->caps.glsl_minor, r->caps.texture_units,
                  r->caps.renderer, r->caps.has_vbo ? "" : ", no VBOs");
@@ -353,41 +356,176 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
 
 /* ---- drawing ---- */
 
-/* Arrays of ht_vertex: base is NULL with a bound VBO (offsets), else the
-   data. Units past what the device has are left alone. */
+/* A member of ht_vertex: an offset into the bound VBO when base is NULL
+   (GL takes offsets as pointers), else its address in base. */
+static const void *array_at(const ht_vertex *base, size_t offset) {
+    return base ? (const void *)((const char *)base + offset) : (const void *)(uintptr_t)offset;
+}
+
+static bool glsl_tier(const ht_renderer *r) {
+    return r->backend && (r->tier == HT_TIER_FULL || r->tier == HT_TIER_VERTEX);
+}
+
+/* Arrays of ht_vertex: base is NULL with a bound VBO, else the data. The
+   hair gets uv as texture coordinate set 0 and, for the GLSL tiers, tangent
+   and ao as generic attributes (shader_interface.h); the fixed tier points
+   the coordinate sets its stages read itself (tier.h: draw). */
 static void set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes) {
     const ht_gl *gl = &r->gl;
     const GLsizei stride = (GLsizei)sizeof(ht_vertex);
-    const char *b = (const char *)base;
     gl->EnableClientState(GL_VERTEX_ARRAY);
-    gl->VertexPointer(3, GL_FLOAT, stride, b + offsetof(ht_vertex, position));
+    gl->VertexPointer(3, GL_FLOAT, stride, array_at(base, offsetof(ht_vertex, position)));
     gl->EnableClientState(GL_NORMAL_ARRAY);
-    gl->NormalPointer(GL_FLOAT, stride, b + offsetof(ht_vertex, normal));
+    gl->NormalPointer(GL_FLOAT, stride, array_at(base, offsetof(ht_vertex, normal)));
     if (!hair_attributes) return;
-    static const struct { int size; size_t offset; } units[3] = {
-        { 2, offsetof(ht_vertex, uv) }, { 3, offsetof(ht_vertex, tangent) }, { 1, offsetof(ht_vertex, ao) },
-    };
-    int n = r->caps.has_multitexture ? (r->caps.texture_units < 3 ? r->caps.texture_units : 3) : 1;
-    for (int u = 0; u < n; u++) {
-        if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)u);
-        gl->EnableClientState(GL_TEXTURE_COORD_ARRAY);
-        gl->TexCoordPointer(units[u].size, GL_FLOAT, stride, b + units[u].offset);
-    }
     if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0);
+    gl->EnableClientState(GL_TEXTURE_COORD_ARRAY);
+    gl->TexCoordPointer(2, GL_FLOAT, stride, array_at(base, offsetof(ht_vertex, uv)));
+    if (glsl_tier(r)) {
+        gl->VertexAttribPointer(HT_ATTR_TANGENT_LOCATION, 3, GL_FLOAT, GL_FALSE, stride,
+                                array_at(base, offsetof(ht_vertex, tangent)));
+        gl->EnableVertexAttribArray(HT_ATTR_TANGENT_LOCATION);
+        gl->VertexAttribPointer(HT_ATTR_AO_LOCATION, 1, GL_FLOAT, GL_FALSE, stride,
+                                array_at(base, offsetof(ht_vertex, ao)));
+        gl->EnableVertexAttribArray(HT_ATTR_AO_LOCATION);
+    }
 }
 
+/* Off again before the next draw of the frame (the head's arrays are not
+   the hair's), whatever the app's arrays were: those come back with the
+   client attributes at the end of the frame. */
 static void clear_arrays(ht_renderer *r) {
     const ht_gl *gl = &r->gl;
-    int n = r->caps.has_multitexture ? (r->caps.texture_units < 3 ? r->caps.texture_units : 3) : 1;
-    for (int u = n - 1; u >= 0; u--) {
-        if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)u);
-        gl->DisableClientState(GL_TEXTURE_COORD_ARRAY);
+    if (glsl_tier(r)) {
+        gl->DisableVertexAttribArray(HT_ATTR_AO_LOCATION);
+        gl->DisableVertexAttribArray(HT_ATTR_TANGENT_LOCATION);
     }
+    if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0);
+    gl->DisableClientState(GL_TEXTURE_COORD_ARRAY);
     gl->DisableClientState(GL_NORMAL_ARRAY);
     gl->DisableClientState(GL_VERTEX_ARRAY);
 }
 
-/* The head: simple fixed-function lighting from the frame's lights. */
+/* ---- the application's state ---- */
+
+typedef struct app_state {
+    GLint program;
+    GLfloat projection[16], modelview[16];
+    GLfloat texture[HT_RENDERER_MAX_UNITS][16];
+} app_state;
+
+/* The units the baseline covers: every one the device has (as far as the
+   profile lets the runtime see). */
+static int baseline_units(const ht_renderer *r) {
+    if (!r->gl.ActiveTexture) return 1;
+    return r->caps.texture_units < HT_RENDERER_MAX_UNITS ? r->caps.texture_units : HT_RENDERER_MAX_UNITS;
+}
+
+static bool version_at_least(const ht_caps *c, int major, int minor) {
+    return c->gl_major > major || (c->gl_major == major && c->gl_minor >= minor);
+}
+
+/* glPushAttrib and glPushClientAttrib, the program and the matrices (read,
+   not pushed: the projection and texture stacks may be only 2 deep). A full
+   attribute stack is HT_ERR_GL with one line and nothing changed. */
+static ht_result save_app_state(ht_renderer *r, app_state *s) {
+    const ht_gl *gl = &r->gl;
+    const char *failed = "glPushAttrib";
+    gl->PushAttrib(GL_ALL_ATTRIB_BITS);
+    GLenum e = gl->GetError();
+    if (e == GL_NO_ERROR) {
+        failed = "glPushClientAttrib";
+        gl->PushClientAttrib(GL_CLIENT_ALL_ATTRIB_BITS);
+        e = gl->GetError();
+        if (e != GL_NO_ERROR) gl->PopAttrib();
+    }
+    if (e != GL_NO_ERROR) {
+        ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_draw: %s: GL error 0x%04x (is the application's "
+                     "attribute stack full?); nothing drawn", failed, e);
+        while (gl->GetError() != GL_NO_ERROR) {}
+        return HT_ERR_GL;
+    }
+    s->program = 0;
+    if (gl->UseProgram) gl->GetIntegerv(GL_CURRENT_PROGRAM, &s->program);
+    gl->GetFloatv(GL_PROJECTION_MATRIX, s->projection);
+    gl->GetFloatv(GL_MODELVIEW_MATRIX, s->modelview);
+    for (int u = 0; u < baseline_units(r); u++) {
+        if (gl->ActiveTexture) gl->ActiveTexture(GL_TEXTURE0 + (GLenum)u);
+        gl->GetFloatv(GL_TEXTURE_MATRIX, s->texture[u]);
+    }
+    return HT_OK;
+}
+
+/* Fixed-function state the application may have left that would reach the
+   hair or the head: off, or GL's initial value. Where and how deep to draw
+   (viewport, scissor, stencil, clip planes, depth range, framebuffer) stay
+   the application's. */
+static void set_baseline(ht_renderer *r) {
+    const ht_gl *gl = &r->gl;
+    const ht_caps *c = &r->caps;
+    static const GLenum off[] = { GL_LIGHTING, GL_FOG, GL_COLOR_MATERIAL, GL_NORMALIZE, GL_POLYGON_OFFSET_FILL,
+                                  GL_POLYGON_STIPPLE, GL_COLOR_LOGIC_OP, GL_BLEND, GL_ALPHA_TEST, GL_CULL_FACE };
+    for (size_t i = 0; i < sizeof off / sizeof off[0]; i++) gl->Disable(off[i]);
+    if (version_at_least(c, 1, 4)) gl->Disable(GL_COLOR_SUM);
+    gl->ShadeModel(GL_SMOOTH);
+    gl->PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    if (gl->UseProgram) gl->UseProgram(0);
+
+    const bool cube = version_at_least(c, 1, 3) || ht_extension_list_has(c->extensions, "GL_ARB_texture_cube_map") ||
+                      ht_extension_list_has(c->extensions, "GL_EXT_texture_cube_map");
+    const bool rectangle = version_at_least(c, 3, 1) ||
+                           ht_extension_list_has(c->extensions, "GL_ARB_texture_rectangle") ||
+                           ht_extension_list_has(c->extensions, "GL_NV_texture_rectangle") ||
+                           ht_extension_list_has(c->extensions, "GL_EXT_texture_rectangle");
+    static const GLenum texgen[4] = { GL_TEXTURE_GEN_S, GL_TEXTURE_GEN_T, GL_TEXTURE_GEN_R, GL_TEXTURE_GEN_Q };
+    gl->MatrixMode(GL_TEXTURE);
+    for (int u = baseline_units(r) - 1; u >= 0; u--) {
+        if (gl->ActiveTexture) gl->ActiveTexture(GL_TEXTURE0 + (GLenum)u);
+        gl->Disable(GL_TEXTURE_1D);
+        gl->Disable(GL_TEXTURE_2D);
+        if (c->has_3d_textures) gl->Disable(GL_TEXTURE_3D);
+        if (cube) gl->Disable(GL_TEXTURE_CUBE_MAP);
+        if (rectangle) gl->Disable(GL_TEXTURE_RECTANGLE);
+        for (int k = 0; k < 4; k++) gl->Disable(texgen[k]);
+        gl->TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+        gl->LoadIdentity();
+        if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)u);
+        gl->DisableClientState(GL_TEXTURE_COORD_ARRAY);
+    }
+    gl->MatrixMode(GL_MODELVIEW);
+
+    /* No array but the renderer's own: an app's array left enabled would be
+       read past its end. */
+    gl->DisableClientState(GL_COLOR_ARRAY);
+    gl->DisableClientState(GL_INDEX_ARRAY);
+    gl->DisableClientState(GL_EDGE_FLAG_ARRAY);
+    if (version_at_least(c, 1, 4)) {
+        gl->DisableClientState(GL_SECONDARY_COLOR_ARRAY);
+        gl->DisableClientState(GL_FOG_COORD_ARRAY);
+    }
+    for (int i = 0; i < r->vertex_attribs; i++) gl->DisableVertexAttribArray((GLuint)i);
+}
+
+/* Reloads the matrices and program, then pops both attribute stacks (which
+   bring back the matrix mode, active units, enables, bindings, arrays). */
+static void restore_app_state(ht_renderer *r, const app_state *s) {
+    const ht_gl *gl = &r->gl;
+    gl->MatrixMode(GL_TEXTURE);
+    for (int u = 0; u < baseline_units(r); u++) {
+        if (gl->ActiveTexture) gl->ActiveTexture(GL_TEXTURE0 + (GLenum)u);
+        gl->LoadMatrixf(s->texture[u]);
+    }
+    gl->MatrixMode(GL_PROJECTION);
+    gl->LoadMatrixf(s->projection);
+    gl->MatrixMode(GL_MODELVIEW);
+    gl->LoadMatrixf(s->modelview);
+    if (gl->UseProgram) gl->UseProgram((GLuint)s->program);
+    gl->PopClientAttrib();
+    gl->PopAttrib();
+}
+
+/* The head: simple fixed-function lighting from the frame's lights. Every
+   lighting parameter that shapes it is set here, not inherited. */
 static void draw_opaque_scene(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f) {
     const ht_gl *gl = &r->gl;
     if (!m->vertices || !m->indices || m->index_count == 0) return;
@@ -406,9 +544,12 @@ static void draw_opaque_scene(ht_renderer *r, const ht_mesh *m, const ht_tier_fr
     const float ambient[4] = { 0.08f, 0.08f, 0.08f, 1 }, zero[4] = { 0, 0, 0, 1 };
     const float material[4] = { 0.55f, 0.5f, 0.45f, 1 };
     gl->LightModelfv(GL_LIGHT_MODEL_AMBIENT, ambient);
+    gl->LightModeli(GL_LIGHT_MODEL_TWO_SIDE, GL_FALSE);
+    gl->LightModeli(GL_LIGHT_MODEL_LOCAL_VIEWER, GL_FALSE);
     gl->Materialfv(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE, material);
     gl->Materialfv(GL_FRONT_AND_BACK, GL_SPECULAR, zero);
-    for (int i = 0; i < HT_MAX_LIGHTS; i++) {
+    gl->Materialfv(GL_FRONT_AND_BACK, GL_EMISSION, zero);
+    for (int i = 0; i < r->max_lights; i++) {
         GLenum light = GL_LIGHT0 + (GLenum)i;
         if (i >= f->light_count) {
             gl->Disable(light);
@@ -422,6 +563,10 @@ static void draw_opaque_scene(ht_renderer *r, const ht_mesh *m, const ht_tier_fr
         gl->Lightfv(light, GL_DIFFUSE, color);
         gl->Lightfv(light, GL_SPECULAR, zero);
         gl->Lightfv(light, GL_AMBIENT, zero);
+        gl->Lightf(light, GL_SPOT_CUTOFF, 180.0f);
+        gl->Lightf(light, GL_CONSTANT_ATTENUATION, 1.0f);
+        gl->Lightf(light, GL_LINEAR_ATTENUATION, 0.0f);
+        gl->Lightf(light, GL_QUADRATIC_ATTENUATION, 0.0f);
         gl->Enable(light);
     }
     set_arrays(r, m->vertices, false);
@@ -495,20 +640,9 @@ static void record_state(ht_renderer *r, ht_trace_entry *e) {
     e->alpha_ref = f;
 }
 
+/* Flat mode: the baseline has no texture, lighting or program. */
 static void bind_flat(ht_renderer *r) {
-    const ht_gl *gl = &r->gl;
-    if (gl->ActiveTexture) {
-        for (int u = 0; u < r->caps.texture_units && u < 8; u++) {
-            gl->ActiveTexture(GL_TEXTURE0 + (GLenum)u);
-            gl->Disable(GL_TEXTURE_2D);
-        }
-        gl->ActiveTexture(GL_TEXTURE0);
-    } else {
-        gl->Disable(GL_TEXTURE_2D);
-    }
-    if (gl->UseProgram) gl->UseProgram(0);
-    gl->Disable(GL_LIGHTING);
-    gl->Color4f(r->flat_color[0], r->flat_color[1], r->flat_color[2], 1.0f);
+    r->gl.Color4f(r->flat_color[0], r->flat_color[1], r->flat_color[2], 1.0f);
 }
 
 /* Frame warnings logged once per renderer: bit 0 too many lights, bit 1 + i
@@ -630,26 +764,16 @@ static int plan_lights(ht_renderer *r, const ht_frame_desc *f, ht_light out[HT_M
     return n;
 }
 
-ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
-    if (!r) return HT_ERR_INVALID_ARGUMENT;
-    if (!f) return reject(r, "ht_renderer_draw", "frame", "NULL");
+/* The frame proper, between saving and restoring the app's state. */
+static ht_result draw_frame(ht_renderer *r, const ht_frame_desc *f, const ht_tier_frame *tf) {
     const ht_gl *gl = &r->gl;
-    ht_tier_frame tf = { 0 };
-    ht_result checked = check_frame(r, f, &tf);
-    if (checked != HT_OK) return checked;
-    ht_light lights[HT_MAX_LIGHTS];
-    tf.light_count = plan_lights(r, f, lights);
-    tf.lights = lights;
-    while (gl->GetError() != GL_NO_ERROR) {}
-    r->trace.count = 0;
-
     gl->MatrixMode(GL_PROJECTION);
-    gl->LoadMatrixf(tf.projection);
+    gl->LoadMatrixf(tf->projection);
     gl->MatrixMode(GL_MODELVIEW);
-    gl->LoadMatrixf(tf.view);
+    gl->LoadMatrixf(tf->view);
     gl->Enable(GL_DEPTH_TEST);
 
-    if (f->opaque) draw_opaque_scene(r, f->opaque, &tf);
+    if (f->opaque) draw_opaque_scene(r, f->opaque, tf);
     if (!r->has_mesh || r->index_count == 0) return HT_OK;
 
     if (r->caps.has_vbo) {
@@ -659,7 +783,7 @@ ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
     set_arrays(r, r->caps.has_vbo ? NULL : r->vertices, true);
     const void *indices = r->caps.has_vbo ? NULL : r->indices;
 
-    if (r->backend) r->backend->begin_frame(r->backend_state, &tf);
+    if (r->backend) r->backend->begin_frame(r->backend_state, tf);
     ht_result result = HT_OK;
     for (int p = 0; p < HT_PASS_COUNT; p++) {
         ht_pass pass = (ht_pass)p;
@@ -684,18 +808,27 @@ ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
         }
     }
     if (r->backend) r->backend->end_frame(r->backend_state);
-
     clear_arrays(r);
-    if (r->caps.has_vbo) {
-        gl->BindBuffer(GL_ARRAY_BUFFER, 0);
-        gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
-    }
-    /* Leave the app GL's defaults for what the passes changed. */
-    gl->Disable(GL_BLEND);
-    gl->Disable(GL_ALPHA_TEST);
-    gl->Disable(GL_CULL_FACE);
-    gl->DepthMask(GL_TRUE);
-    gl->DepthFunc(GL_LESS);
-    gl->ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    return result;
+}
+
+ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
+    if (!r) return HT_ERR_INVALID_ARGUMENT;
+    if (!f) return reject(r, "ht_renderer_draw", "frame", "NULL");
+    ht_tier_frame tf = { 0 };
+    ht_result checked = check_frame(r, f, &tf);
+    if (checked != HT_OK) return checked;
+    ht_light lights[HT_MAX_LIGHTS];
+    tf.light_count = plan_lights(r, f, lights);
+    tf.lights = lights;
+    while (r->gl.GetError() != GL_NO_ERROR) {}
+    r->trace.count = 0;
+
+    app_state saved;
+    ht_result result = save_app_state(r, &saved);
+    if (result != HT_OK) return result;
+    set_baseline(r);
+    result = draw_frame(r, f, &tf);
+    restore_app_state(r, &saved);
     return result;
 }

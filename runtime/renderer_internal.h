@@ -9,6 +9,11 @@
 #include "select.h"
 #include "tier.h"
 
+/* What the renderer saves and resets per frame, at most (renderer.c). */
+#define HT_RENDERER_MAX_UNITS 32      /* GL_TEXTURE0 .. GL_TEXTURE31 */
+#define HT_RENDERER_MAX_ATTRIBS 32
+#define HT_RENDERER_MAX_LIGHTS 64
+
 struct ht_renderer {
     ht_gl gl;
     ht_caps caps;
@@ -29,6 +34,8 @@ struct ht_renderer {
     uint32_t *indices;
     uint32_t vertex_count, index_count;
     bool has_mesh;
+    int vertex_attribs;               /* GL_MAX_VERTEX_ATTRIBS (capped), 0 without shaders */
+    int max_lights;                   /* GL_MAX_LIGHTS (capped): the head turns off the ones it does not use */
     unsigned warned;                  /* frame warnings already logged once (renderer.c) */
     ht_trace trace;
 };

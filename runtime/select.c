@@ -113,10 +113,6 @@ static bool tier_blocked(const ht_select_desc *d, int i, char *line, size_t size
         snprintf(line, size, "%s: %s", t->name, why);
         return true;
     }
-    if (!d->have_backend[t->tier]) {
-        snprintf(line, size, "%s: no %s backend in this build", t->name, t->name);
-        return true;
-    }
     if (d->failed[i]) {
         snprintf(line, size, "%s: %s", t->name, d->failed[i]);
         return true;

@@ -6,17 +6,15 @@
        ht_selection sel;
        ht_result r = ht_select_tier(&(ht_select_desc){
                .caps = &caps, .bundle = &bundle, .requested = desc->tier,
-               .env_tier = getenv("HAIRTIER_TIER"), .strict = desc->strict,
-               .have_backend = { [HT_TIER_FULL] = true, [HT_TIER_VERTEX] = true } },
+               .env_tier = getenv("HAIRTIER_TIER"), .strict = desc->strict },
            &sel, err, sizeof err);
        for (int i = 0; i < sel.skipped_count; i++) log(sel.skipped[i]);
 
    Rules: tiers are walked best first as the bundle lists them; a tier runs
    when the device meets its requirements (GL version, shader stages, GLSL
-   version, extensions, texture units), a backend for it is linked, and it
-   has not failed at runtime (`failed`, e.g. "compile failed: ..."). An
-   extension is met by the extension string or by the core GL version it
-   entered. desc.tier forces a tier, else HAIRTIER_TIER does; a forced tier
+   version, extensions, texture units) and it has not failed at runtime
+   (`failed`, e.g. "compile failed: ..."). An extension is met by the
+   extension string or by the core GL version it entered. desc.tier forces a tier, else HAIRTIER_TIER does; a forced tier
    that cannot run drops to the next one that can, unless strict. */
 #ifndef HT_SELECT_H
 #define HT_SELECT_H
@@ -35,7 +33,6 @@ typedef struct ht_select_desc {
     ht_tier requested;                          /* HT_TIER_AUTO → env_tier */
     const char *env_tier;                       /* HAIRTIER_TIER's value, NULL when unset */
     bool strict;                                /* a forced tier that cannot run is an error */
-    bool have_backend[HT_TIER_COUNT];           /* backends linked into this build */
     const char *failed[HT_BUNDLE_MAX_TIERS];    /* per bundle tier: why it failed at runtime, or NULL */
 } ht_select_desc;
 

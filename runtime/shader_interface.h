@@ -3,19 +3,26 @@
 #ifndef HT_SHADER_INTERFACE_H
 #define HT_SHADER_INTERFACE_H
 
-/* Desktop GLSL (1.10 / 1.20) reads the fixed-function vertex arrays, so every
-   tier draws from the same buffers and ftransform() keeps depth invariant:
+/* Desktop GLSL (1.10 / 1.20) reads position, normal and uv from the
+   fixed-function vertex arrays, so every tier draws from the same buffers and
+   ftransform() keeps depth invariant:
      gl_Vertex          position (world space: the model matrix is identity)
      gl_Normal          ribbon normal
      gl_MultiTexCoord0  uv
-     gl_MultiTexCoord1  tangent (xyz)
-     gl_MultiTexCoord2  ao (x)
-   ESSL 1.00 has no built-in attributes; its variants use these instead. */
+   Tangent and ao are generic attributes at fixed locations (bound before
+   linking), not texture coordinates: a device with one or two texture units
+   has only that many coordinate sets. 6 and 7 alias no conventional
+   attribute on drivers that alias (0 is gl_Vertex, 2 gl_Normal, 3 gl_Color,
+   8.. the texture coordinates). ESSL 1.00 uses the same two names. */
+#define HT_ATTR_TANGENT          "a_tangent"   /* vec3 */
+#define HT_ATTR_AO               "a_ao"        /* float */
+#define HT_ATTR_TANGENT_LOCATION 6
+#define HT_ATTR_AO_LOCATION      7
+
+/* ESSL 1.00 has no built-in attributes; its variants read these too. */
 #define HT_ES_ATTR_POSITION "a_position"
 #define HT_ES_ATTR_NORMAL   "a_normal"
-#define HT_ES_ATTR_TANGENT  "a_tangent"
 #define HT_ES_ATTR_UV       "a_uv"
-#define HT_ES_ATTR_AO       "a_ao"
 #define HT_ES_U_MVP         "u_mvp"        /* mat4, ES only */
 
 /* Uniforms, world space. Arrays sized by the planned light count. */

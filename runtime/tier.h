@@ -13,11 +13,14 @@
                renderer's glDrawElements over the whole sorted index range
        end_frame(state)                          unbind, restore defaults
 
-   Adding the fixed tier (fallback/fixed.c): define
-       const ht_tier_backend ht_tier_fixed_backend = { .tier = HT_TIER_FIXED, ... };
-   and declare it in fallback/fixed.h; renderer.c links it in when that
-   header exists (it checks with __has_include). Until then selection skips
-   the fixed tier with "fixed: no fixed backend in this build". */
+   Around the frame the renderer saves the application's GL state and sets a
+   baseline (no lighting, fog, colour material or texgen; every texture
+   target off and GL_MODULATE on every unit; identity texture matrices; no
+   program; no client arrays but its own), so a backend starts from known
+   state and may leave what it touched: the renderer restores the app's.
+
+   The backends: ht_tier_glsl_full_backend and ht_tier_glsl_vertex_backend
+   (tier_glsl.c, declared below), ht_tier_fixed_backend (fallback/fixed.h). */
 #ifndef HT_TIER_H
 #define HT_TIER_H
 

@@ -113,6 +113,10 @@ static ht_result build_program(glsl_state *s, const ht_tier_context *ctx, const 
     }
     gl->AttachShader(prog, vs);
     if (fs) gl->AttachShader(prog, fs);
+    /* Where the renderer's arrays feed them; a program without one (the
+       prime pass) ignores the binding. */
+    gl->BindAttribLocation(prog, HT_ATTR_TANGENT_LOCATION, HT_ATTR_TANGENT);
+    gl->BindAttribLocation(prog, HT_ATTR_AO_LOCATION, HT_ATTR_AO);
     gl->LinkProgram(prog);
     gl->DeleteShader(vs); /* flagged; freed with the program */
     if (fs) gl->DeleteShader(fs);
@@ -231,6 +235,12 @@ static ht_result create(const ht_tier_context *ctx, bool vertex_only, void **out
     *out = NULL;
     if (!ctx->gl->has_shaders) {
         snprintf(err, err_size, "no shader entry points");
+        return HT_ERR_UNSUPPORTED;
+    }
+    /* Selection checks the manifest; a bundle written before the vertex tier
+       listed GL_ARB_texture_env_combine is caught here. */
+    if (vertex_only && !ctx->caps->has_combine) {
+        snprintf(err, err_size, "needs GL_ARB_texture_env_combine");
         return HT_ERR_UNSUPPORTED;
     }
     if (vertex_only && !ctx->gl->has_multitexture && ctx->tier->sampler_count > 1) {

@@ -53,29 +53,32 @@ static char *main_vertex(const ht_plan *plan, bool es) {
     if (es) {
         ht_strbuf_addf(&sb, "uniform mat4 %s;\n", HT_ES_U_MVP);
         ht_strbuf_addf(&sb, "attribute vec3 %s;\n", HT_ES_ATTR_POSITION);
-        ht_strbuf_addf(&sb, "attribute vec3 %s;\n", HT_ES_ATTR_TANGENT);
+    } else {
+        ht_strbuf_add(&sb, "/* Generic attributes, not texture coordinates: a device may have only\n"
+                           "   one coordinate set (shader_interface.h). */\n");
+    }
+    ht_strbuf_addf(&sb, "attribute vec3 %s;\n", HT_ATTR_TANGENT);
+    if (es) {
         if (!kajiya_kay(plan)) ht_strbuf_addf(&sb, "attribute vec3 %s;\n", HT_ES_ATTR_NORMAL);
         if (uses_uv(plan)) ht_strbuf_addf(&sb, "attribute vec2 %s;\n", HT_ES_ATTR_UV);
-        if (plan->ao) ht_strbuf_addf(&sb, "attribute float %s;\n", HT_ES_ATTR_AO);
     }
+    if (plan->ao) ht_strbuf_addf(&sb, "attribute float %s;\n", HT_ATTR_AO);
     varyings(&sb, plan, "", "");
     ht_strbuf_add(&sb, "\nvoid main() {\n");
     if (es) {
         ht_strbuf_addf(&sb, "    gl_Position = %s * vec4(%s, 1.0);\n", HT_ES_U_MVP, HT_ES_ATTR_POSITION);
         ht_strbuf_addf(&sb, "    v_position = %s; /* the model matrix is identity */\n", HT_ES_ATTR_POSITION);
-        ht_strbuf_addf(&sb, "    v_tangent = %s;\n", HT_ES_ATTR_TANGENT);
         if (!kajiya_kay(plan)) ht_strbuf_addf(&sb, "    v_normal = %s;\n", HT_ES_ATTR_NORMAL);
         if (uses_uv(plan)) ht_strbuf_addf(&sb, "    v_uv = %s;\n", HT_ES_ATTR_UV);
-        if (plan->ao) ht_strbuf_addf(&sb, "    v_ao = %s;\n", HT_ES_ATTR_AO);
     } else {
         ht_strbuf_add(&sb, "    /* ftransform(): depth bit-identical to every pass of every tier. */\n");
         ht_strbuf_add(&sb, "    gl_Position = ftransform();\n");
         ht_strbuf_add(&sb, "    v_position = gl_Vertex.xyz; /* the model matrix is identity */\n");
-        ht_strbuf_add(&sb, "    v_tangent = gl_MultiTexCoord1.xyz;\n");
         if (!kajiya_kay(plan)) ht_strbuf_add(&sb, "    v_normal = gl_Normal;\n");
         if (uses_uv(plan)) ht_strbuf_add(&sb, "    v_uv = gl_MultiTexCoord0.xy;\n");
-        if (plan->ao) ht_strbuf_add(&sb, "    v_ao = gl_MultiTexCoord2.x;\n");
     }
+    ht_strbuf_addf(&sb, "    v_tangent = %s;\n", HT_ATTR_TANGENT);
+    if (plan->ao) ht_strbuf_addf(&sb, "    v_ao = %s;\n", HT_ATTR_AO);
     ht_strbuf_add(&sb, "}\n");
     return ht_strbuf_take(&sb);
 }

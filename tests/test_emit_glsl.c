@@ -16,6 +16,7 @@
 #include <cmocka.h>
 
 #include "emit.h"
+#include "shader_interface.h"
 #include "strbuf.h"
 
 /* ---- fixtures ---- */
@@ -122,6 +123,9 @@ static void check_output(const ht_plan *p, const emitted *e) {
             if (x->stage == HT_STAGE_VERTEX && !x->es) {
                 assert_int_equal(count_of(x->text, "gl_Position = ftransform();"), 1);
                 assert_int_equal(count_of(x->text, "gl_Position"), 1);
+                /* Only uv is a texture coordinate: a device may have one set. */
+                assert_null(strstr(x->text, "gl_MultiTexCoord1"));
+                assert_null(strstr(x->text, "gl_MultiTexCoord2"));
             }
             /* pow(0, e) is undefined in GLSL: every pow must sit behind its guard. */
             assert_int_equal(count_of(x->text, "pow("), count_of(x->text, "s > 0.0 ? pow(s, "));
@@ -152,6 +156,17 @@ static void check_output(const ht_plan *p, const emitted *e) {
     assert_int_equal(e->vertex.text_count, 2);
     assert_string_equal(e->vertex.requires.gl, "2.0");
     assert_string_equal(e->vertex.requires.glsl, "1.10");
+    /* Its fragment stage is GL_COMBINE with GL_RGB_SCALE. */
+    assert_int_equal(e->vertex.requires.extension_count, 1);
+    assert_string_equal(e->vertex.requires.extensions[0], "GL_ARB_texture_env_combine");
+    assert_int_equal(e->full.requires.extension_count, 0);
+    /* Tangent and ao are generic attributes, the same names on desktop and ES. */
+    const char *lit_vertex[] = { "full.vert", "full-es.vert", "vertex.vert" };
+    for (int i = 0; i < 3; i++) {
+        const ht_out_text *x = text_of(i < 2 ? &e->full : &e->vertex, lit_vertex[i]);
+        assert_int_equal(count_of(x->text, "attribute vec3 " HT_ATTR_TANGENT ";"), 1);
+        assert_int_equal(count_of(x->text, "attribute float " HT_ATTR_AO ";"), p->ao ? 1 : 0);
+    }
     const bool albedo = p->base || p->alpha;
     assert_int_equal(e->vertex.requires.texture_units, 1); /* albedo, or the runtime's white texel */
     assert_int_equal(e->vertex.sampler_count, albedo ? 1 : 0);

@@ -757,6 +757,67 @@ static void test_sort_leaves_meshes_it_cannot_sort_alone(void **state) {
     ht_mesh_free(&m);
 }
 
+/* Six vertices, indices 0..5, room for count components. */
+static ht_mesh six_index_mesh(uint32_t count) {
+    ht_mesh m = { 0 };
+    m.vertices = calloc(6, sizeof *m.vertices);
+    m.indices = malloc(sizeof *m.indices * 6);
+    m.components = calloc(count, sizeof *m.components);
+    assert_non_null(m.vertices);
+    assert_non_null(m.indices);
+    assert_non_null(m.components);
+    m.vertex_count = m.index_count = 6;
+    m.component_count = count;
+    for (uint32_t i = 0; i < 6; i++) m.indices[i] = i;
+    return m;
+}
+
+/* The components as given, keys descending so a sort would reverse them:
+   the mesh must come out untouched. */
+static void expect_left_alone(const ht_component *components, uint32_t count, const char *what) {
+    ht_mesh m = six_index_mesh(count);
+    for (uint32_t c = 0; c < count; c++) {
+        m.components[c] = components[c];
+        m.components[c].sort_key = (float)(count - c);
+    }
+    uint32_t *indices = m.indices;
+    ht_mesh_sort_inside_out(&m);
+    if (m.indices != indices) fail_msg("%s: the index buffer was replaced", what);
+    for (uint32_t i = 0; i < 6; i++)
+        if (m.indices[i] != i) fail_msg("%s: indices[%u] became %u", what, i, m.indices[i]);
+    for (uint32_t c = 0; c < count; c++)
+        if (memcmp(&m.components[c], &components[c], offsetof(ht_component, sort_key)) != 0 ||
+            m.components[c].sort_key != (float)(count - c))
+            fail_msg("%s: components[%u] changed", what, c);
+    ht_mesh_free(&m);
+}
+
+static void test_sort_leaves_overlapping_or_gapped_components_alone(void **state) {
+    (void)state;
+    /* Lengths that add up to index_count are not enough: the runs must
+       tile the buffer. */
+    expect_left_alone((const ht_component[]){ { 0, 3, 0 }, { 0, 3, 0 } }, 2, "the same run twice");
+    expect_left_alone((const ht_component[]){ { 0, 4, 0 }, { 2, 2, 0 } }, 2, "a run inside another");
+    expect_left_alone((const ht_component[]){ { 3, 3, 0 }, { 0, 3, 0 }, { 1, 0, 0 } }, 3, "an empty run inside one");
+    expect_left_alone((const ht_component[]){ { 1, 3, 0 }, { 4, 2, 0 } }, 2, "a gap at the start, one past the end");
+    expect_left_alone((const ht_component[]){ { 0, 3, 0 }, { UINT32_MAX, 3, 0 } }, 2, "a run past the end");
+
+    /* The same buffer tiled out of order, with an empty run at its end:
+       sorted by key. */
+    ht_mesh m = six_index_mesh(3);
+    m.components[0] = (ht_component){ 3, 3, 1.0f };
+    m.components[1] = (ht_component){ 6, 0, 3.0f };
+    m.components[2] = (ht_component){ 0, 3, 2.0f };
+    ht_mesh_sort_inside_out(&m);
+    const uint32_t want[6] = { 3, 4, 5, 0, 1, 2 };
+    assert_memory_equal(m.indices, want, sizeof want);
+    assert_int_equal(m.components[0].first_index, 0);
+    assert_int_equal(m.components[1].first_index, 3);
+    assert_int_equal(m.components[2].first_index, 6);
+    assert_int_equal(m.components[2].index_count, 0);
+    ht_mesh_free(&m);
+}
+
 /* ---- bad input and failure ---- */
 
 static void assert_mesh_zeroed(const ht_mesh *m) {
@@ -937,6 +998,7 @@ int main(void) {
         cmocka_unit_test(test_sort_keys_are_centroid_distances),
         cmocka_unit_test(test_sort_orders_components_inside_out_keeping_triangles),
         cmocka_unit_test(test_sort_is_stable_for_ties),
+        cmocka_unit_test(test_sort_leaves_overlapping_or_gapped_components_alone),
         cmocka_unit_test(test_sort_leaves_meshes_it_cannot_sort_alone),
         cmocka_unit_test(test_furball_rejects_invalid_desc),
         cmocka_unit_test(test_patches_rejects_invalid_desc),

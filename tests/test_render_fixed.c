@@ -179,8 +179,10 @@ static void APIENTRY watch_draw_elements(GLenum mode, GLsizei count, GLenum type
     real_draw_elements(mode, count, type, indices);
 }
 
+/* Program 0 is no shader: the renderer unbinds the application's program
+   around every frame, whatever the tier. */
 static void APIENTRY watch_use_program(GLuint p) {
-    shader_calls++;
+    if (p != 0) shader_calls++;
     real_use_program(p);
 }
 

@@ -25,10 +25,8 @@
 #define W 64
 #define H 4
 
-/* <GL/gl.h> declares GL 1.3 itself, so glext.h leaves these out. */
-typedef void (APIENTRYP multitexcoord1f_fn)(GLenum, GLfloat);
+/* <GL/gl.h> declares GL 1.3 itself, so glext.h leaves this out. */
 typedef void (APIENTRYP multitexcoord2f_fn)(GLenum, GLfloat, GLfloat);
-typedef void (APIENTRYP multitexcoord3f_fn)(GLenum, GLfloat, GLfloat, GLfloat);
 
 typedef struct gl2 {
     PFNGLCREATESHADERPROC CreateShader;
@@ -39,6 +37,7 @@ typedef struct gl2 {
     PFNGLDELETESHADERPROC DeleteShader;
     PFNGLCREATEPROGRAMPROC CreateProgram;
     PFNGLATTACHSHADERPROC AttachShader;
+    PFNGLBINDATTRIBLOCATIONPROC BindAttribLocation;
     PFNGLLINKPROGRAMPROC LinkProgram;
     PFNGLGETPROGRAMIVPROC GetProgramiv;
     PFNGLGETPROGRAMINFOLOGPROC GetProgramInfoLog;
@@ -49,9 +48,9 @@ typedef struct gl2 {
     PFNGLUNIFORM3FVPROC Uniform3fv;
     PFNGLUNIFORM4FVPROC Uniform4fv;
     PFNGLACTIVETEXTUREPROC ActiveTexture;
-    multitexcoord1f_fn MultiTexCoord1f;
+    PFNGLVERTEXATTRIB1FPROC VertexAttrib1f;
+    PFNGLVERTEXATTRIB3FPROC VertexAttrib3f;
     multitexcoord2f_fn MultiTexCoord2f;
-    multitexcoord3f_fn MultiTexCoord3f;
 } gl2;
 
 typedef struct fixture {
@@ -98,6 +97,7 @@ static int setup(void **state) {
     LOAD(f, DeleteShader);
     LOAD(f, CreateProgram);
     LOAD(f, AttachShader);
+    LOAD(f, BindAttribLocation);
     LOAD(f, LinkProgram);
     LOAD(f, GetProgramiv);
     LOAD(f, GetProgramInfoLog);
@@ -108,9 +108,9 @@ static int setup(void **state) {
     LOAD(f, Uniform3fv);
     LOAD(f, Uniform4fv);
     LOAD(f, ActiveTexture);
-    LOAD(f, MultiTexCoord1f);
+    LOAD(f, VertexAttrib1f);
+    LOAD(f, VertexAttrib3f);
     LOAD(f, MultiTexCoord2f);
-    LOAD(f, MultiTexCoord3f);
     f->albedo_tex = texture_1x1(albedo_texel);
     f->detail_tex = texture_1x1(detail_texel);
     f->white_tex = texture_1x1((const uint8_t[4]){ 255, 255, 255, 255 });
@@ -141,7 +141,8 @@ static GLuint compile(const gl2 *gl, GLenum type, const char *file, const char *
 }
 
 /* Links a vertex shader with a fragment shader, or with the fixed-function
-   fragment stage when fs is NULL (the vertex tier). */
+   fragment stage when fs is NULL (the vertex tier), with tangent and ao at
+   the locations the runtime binds (shader_interface.h). */
 static GLuint link_program(const gl2 *gl, const ht_out_text *vs, const ht_out_text *fs) {
     GLuint p = gl->CreateProgram();
     GLuint v = compile(gl, GL_VERTEX_SHADER, vs->file, vs->text);
@@ -151,6 +152,8 @@ static GLuint link_program(const gl2 *gl, const ht_out_text *vs, const ht_out_te
         fr = compile(gl, GL_FRAGMENT_SHADER, fs->file, fs->text);
         gl->AttachShader(p, fr);
     }
+    gl->BindAttribLocation(p, HT_ATTR_TANGENT_LOCATION, HT_ATTR_TANGENT);
+    gl->BindAttribLocation(p, HT_ATTR_AO_LOCATION, HT_ATTR_AO);
     gl->LinkProgram(p);
     gl->DeleteShader(v);
     if (fr) gl->DeleteShader(fr);
@@ -364,8 +367,9 @@ static void check_parity(fixture *f, const ht_plan *p, bool full_tier) {
         glBegin(GL_POINTS);
         glNormal3f((float)cases[i].N[0], (float)cases[i].N[1], (float)cases[i].N[2]);
         gl->MultiTexCoord2f(GL_TEXTURE0, 0.5f, 0.5f);
-        gl->MultiTexCoord3f(GL_TEXTURE1, (float)cases[i].T[0], (float)cases[i].T[1], (float)cases[i].T[2]);
-        gl->MultiTexCoord1f(GL_TEXTURE2, (float)cases[i].ao);
+        gl->VertexAttrib3f(HT_ATTR_TANGENT_LOCATION, (float)cases[i].T[0], (float)cases[i].T[1],
+                           (float)cases[i].T[2]);
+        gl->VertexAttrib1f(HT_ATTR_AO_LOCATION, (float)cases[i].ao);
         glVertex3fv(positions[i]);
         glEnd();
     }

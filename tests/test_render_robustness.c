@@ -1,10 +1,11 @@
 /* test_render_robustness — bad input to the runtime and the programs, on
    OSMesa: broken bundle textures and manifest fields, frames with NaN,
    infinite or degenerate cameras and lights, meshes with NaN or
-   out-of-range data, a driver that refuses a shader stage, and hairview
-   runs that cannot succeed. Each gets a result code and one line naming the
-   file or field, or a documented finite behaviour; programs exit non-zero
-   and leave no output behind.
+   out-of-range data, a driver that refuses a shader stage, and hairview,
+   tier_sheet and benchmark runs that cannot succeed. Each gets a result
+   code and one line naming the file or field, or a documented finite
+   behaviour; programs exit non-zero and leave no output (or scratch
+   directory) behind.
 
    Frames are drawn into a float colour buffer: GL clamps only fixed-point
    buffers, so a NaN or Inf a shader computes stays visible there and every
@@ -19,6 +20,7 @@
 
 #include <cJSON.h>
 #include <dirent.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -107,6 +109,15 @@ static int draw(ht_renderer *r, const ht_frame_desc *f, ht_result expect) {
 }
 
 static void snapshot(float *out) { memcpy(out, float_buffer, sizeof float_buffer); }
+
+/* Pixels whose colour sums to more than the background's: lit hair (black
+   hair sums to less). */
+static int brighter_than_background(const float *pixels) {
+    const float bg = ht_test_background[0] + ht_test_background[1] + ht_test_background[2];
+    int n = 0;
+    for (int i = 0; i < SIZE * SIZE; i++) n += pixels[4 * i] + pixels[4 * i + 1] + pixels[4 * i + 2] > bg + 0.05f;
+    return n;
+}
 
 /* The one log line that starts with `what`; fails unless there is exactly
    one (a reason may recur inside other lines, e.g. the chosen tier's). */
@@ -377,6 +388,20 @@ static void test_sampler_units_the_device_lacks_drop_the_tier(void **state) {
     assert_int_equal(ht_renderer_tier(r), HT_TIER_VERTEX);
     snprintf(want, sizeof want, "hairtier: skipped full: %s/manifest.json: tiers[0].samplers[1].unit: 1, device has 1 units", dir);
     logged_once(want);
+    /* The tier it falls to draws on one unit what it draws on all of them:
+       lit hair, not the black of an ao or tangent read from a coordinate
+       set the device does not have. */
+    static float all_units[SIZE * SIZE * 4];
+    const ht_frame_desc f = frame();
+    ht_renderer *every_unit = create((ht_renderer_desc){ .tier = HT_TIER_VERTEX, .strict = true }, dir, HT_OK);
+    assert_true(draw(every_unit, &f, HT_OK) > SIZE * SIZE / 20);
+    snapshot(all_units);
+    assert_true(brighter_than_background(all_units) > SIZE * SIZE / 40);
+    ht_renderer_destroy(every_unit);
+    assert_true(draw(r, &f, HT_OK) > SIZE * SIZE / 20);
+    if (memcmp(all_units, float_buffer, sizeof all_units) != 0)
+        fail_msg("vertex tier on one unit: %d pixels brighter than the background, %d on every unit",
+                 brighter_than_background(float_buffer), brighter_than_background(all_units));
     ht_renderer_destroy(r);
 
     /* The vertex tier's fixed-function fragment stage reads unit 0 only. */
@@ -940,6 +965,41 @@ static void test_tier_sheet_without_a_bundle_writes_no_sheet(void **state) {
     assert_false(exists(sheet));
 }
 
+/* The entries of /tmp whose names start with prefix, one per line. */
+static void tmp_entries(const char *prefix, char *out, size_t size) {
+    out[0] = '\0';
+    DIR *d = opendir("/tmp");
+    assert_non_null(d);
+    struct dirent *e;
+    size_t used = 0;
+    while ((e = readdir(d)))
+        if (strncmp(e->d_name, prefix, strlen(prefix)) == 0 && used < size)
+            used += (size_t)snprintf(out + used, size - used, "%s\n", e->d_name);
+    closedir(d);
+}
+
+/* Run where there are no materials/ or scenes/, the benchmarks stop at
+   their first step; the scratch directory each made goes with them. */
+static void test_benchmarks_failing_early_leave_no_scratch_directory(void **state) {
+    (void)state;
+    char build[PATH_MAX], before[8192], after[8192], cmd[PATH_MAX * 2 + 256];
+    assert_non_null(realpath(build_dir(), build));
+    const char *benches[2] = { "bench_frame", "bench_hairgen" };
+    for (int i = 0; i < 2; i++) {
+        tmp_entries("hairtier-bench-", before, sizeof before);
+        snprintf(cmd, sizeof cmd, "cd '%s' && '%s/%s' >/dev/null 2>&1", fx.work, build, benches[i]);
+        int status = system(cmd);
+        assert_true(WIFEXITED(status));
+        assert_int_equal(WEXITSTATUS(status), 1);
+        tmp_entries("hairtier-bench-", after, sizeof after);
+        for (const char *line = after; *line; line += strcspn(line, "\n") + 1) {
+            char name[256];
+            snprintf(name, sizeof name, "%.*s\n", (int)strcspn(line, "\n"), line);
+            if (!strstr(before, name)) fail_msg("%s left /tmp/%.*s behind", benches[i], (int)strlen(name) - 1, name);
+        }
+    }
+}
+
 int main(int argc, char **argv) {
     if (argc == 3 && strcmp(argv[1], "--child") == 0) return child_main(argv[2]);
     const struct CMUnitTest tests[] = {
@@ -960,6 +1020,7 @@ int main(int argc, char **argv) {
         cmocka_unit_test(test_driver_refusing_every_shader_stage_falls_to_fixed),
         cmocka_unit_test(test_hairview_fails_cleanly_on_bad_input),
         cmocka_unit_test(test_tier_sheet_without_a_bundle_writes_no_sheet),
+        cmocka_unit_test(test_benchmarks_failing_early_leave_no_scratch_directory),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

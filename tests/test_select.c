@@ -21,7 +21,8 @@ static const char manifest[] =
     "  {\"name\": \"full\", \"requires\": {\"gl\": \"2.1\", \"glsl\": \"1.20\", \"extensions\": [], \"texture_units\": 2},"
     "   \"files\": {\"vertex\": \"full.vert\", \"fragment\": \"full.frag\"},"
     "   \"samplers\": [{\"uniform\": \"u_albedo\", \"texture\": \"albedo\", \"unit\": 0}]},"
-    "  {\"name\": \"vertex\", \"requires\": {\"gl\": \"2.0\", \"glsl\": \"1.10\", \"extensions\": [], \"texture_units\": 1},"
+    "  {\"name\": \"vertex\", \"requires\": {\"gl\": \"2.0\", \"glsl\": \"1.10\","
+    "   \"extensions\": [\"GL_ARB_texture_env_combine\"], \"texture_units\": 1},"
     "   \"files\": {\"vertex\": \"vertex.vert\"}},"
     "  {\"name\": \"fixed\", \"requires\": {\"gl\": \"1.2\", \"glsl\": null,"
     "   \"extensions\": [\"GL_ARB_multitexture\", \"GL_ARB_texture_env_combine\"], \"texture_units\": 2},"
@@ -55,9 +56,7 @@ static ht_caps device(int major, int minor, int glsl_major, int glsl_minor, int 
 }
 
 static ht_select_desc request(const ht_caps *caps) {
-    return (ht_select_desc){ .caps = caps, .bundle = &bundle,
-                             .have_backend = { [HT_TIER_FULL] = true, [HT_TIER_VERTEX] = true,
-                                               [HT_TIER_FIXED] = true } };
+    return (ht_select_desc){ .caps = caps, .bundle = &bundle };
 }
 
 static ht_result run(const ht_select_desc *d, ht_selection *s, char *err) {
@@ -152,6 +151,22 @@ static void test_select_fixed_needs_texture_env_combine(void **state) {
     assert_string_equal(s.skipped[2], "fixed: needs GL_ARB_texture_env_combine");
 }
 
+static void test_select_skips_vertex_without_texture_env_combine(void **state) {
+    (void)state;
+    /* A vertex-shader-only GL 2.0 device whose profile hides combine. */
+    ht_caps c = device(2, 0, 1, 10, 4);
+    c.has_fragment_shaders = false;
+    c.has_combine = false;
+    ht_select_desc d = request(&c);
+    ht_selection s;
+    char err[512];
+    assert_int_equal(run(&d, &s, err), HT_ERR_NO_TIER);
+    assert_string_equal(s.skipped[1], "vertex: needs GL_ARB_texture_env_combine");
+    c.has_combine = true;
+    assert_int_equal(run(&d, &s, err), HT_OK);
+    assert_int_equal(s.tier, HT_TIER_VERTEX);
+}
+
 static void test_select_extension_met_by_its_string_on_an_older_gl(void **state) {
     (void)state;
     ht_caps c = device(1, 2, 0, 0, 2);
@@ -175,17 +190,6 @@ static void test_select_extension_met_by_the_core_version_it_entered(void **stat
     assert_true(ht_caps_satisfies_extension(&c, "GL_ARB_texture_env_combine"));
     assert_false(ht_caps_satisfies_extension(&c, "GL_ARB_texture_env_crossbar")); /* 1.4 */
     assert_false(ht_caps_satisfies_extension(&c, "GL_ARB_fragment_shader"));      /* 2.0 */
-}
-
-static void test_select_skips_fixed_without_a_backend(void **state) {
-    (void)state;
-    ht_caps c = device(1, 3, 0, 0, 2);
-    ht_select_desc d = request(&c);
-    d.have_backend[HT_TIER_FIXED] = false;
-    ht_selection s;
-    char err[512];
-    assert_int_equal(run(&d, &s, err), HT_ERR_NO_TIER);
-    assert_string_equal(s.skipped[2], "fixed: no fixed backend in this build");
 }
 
 static void test_select_honours_a_forced_tier(void **state) {
@@ -459,9 +463,9 @@ int main(void) {
         cmocka_unit_test(test_select_skips_vertex_without_shaders),
         cmocka_unit_test(test_select_fixed_needs_two_units),
         cmocka_unit_test(test_select_fixed_needs_texture_env_combine),
+        cmocka_unit_test(test_select_skips_vertex_without_texture_env_combine),
         cmocka_unit_test(test_select_extension_met_by_its_string_on_an_older_gl),
         cmocka_unit_test(test_select_extension_met_by_the_core_version_it_entered),
-        cmocka_unit_test(test_select_skips_fixed_without_a_backend),
         cmocka_unit_test(test_select_honours_a_forced_tier),
         cmocka_unit_test(test_select_honours_the_environment),
         cmocka_unit_test(test_select_desc_tier_wins_over_the_environment),
