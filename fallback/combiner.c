@@ -4,12 +4,11 @@
 
 #include <cJSON.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "errfmt.h"
+#include "json_check.h"
 
 /* ---- names ---- */
 
@@ -128,25 +127,9 @@ int ht_combiner_dot_names(ht_model_kind model, const char *names[3]) {
 
 /* ---- validation ---- */
 
-typedef struct ctx {
-    const char *file;
-    char *err;
-    size_t err_size;
-} ctx;
-
-static ht_result fail(const ctx *c, const char *field, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-static ht_result fail(const ctx *c, const char *field, const char *fmt, ...) {
-    va_list ap;
-    va_start(ap, fmt);
-    ht_set_field_error_v(c->err, c->err_size, c->file, field, fmt, ap);
-    va_end(ap);
-    return HT_ERR_PARSE;
-}
-
-/* fail() for a caller's mistake rather than bad input. */
-static ht_result fail_argument(const ctx *c, const char *field, const char *what) {
-    fail(c, field, "%s", what);
+/* ht_json_fail() for a caller's mistake rather than bad input. */
+static ht_result fail_argument(const ht_jctx *c, const char *field, const char *what) {
+    ht_json_fail(c, field, "%s", what);
     return HT_ERR_INVALID_ARGUMENT;
 }
 
@@ -154,68 +137,68 @@ static bool is_scale(int s) { return s == 1 || s == 2 || s == 4; }
 
 static bool is_pow2(int n) { return n >= 1 && (n & (n - 1)) == 0; }
 
-static ht_result check_arguments(const ctx *c, const char *stage_path, const char *what,
+static ht_result check_arguments(const ht_jctx *c, const char *stage_path, const char *what,
                                  GLenum combine, const GLenum source[3], const GLenum operand[3],
                                  const gl_name *operand_table, const GLenum default_operand[3]) {
-    char field[96];
+    char field[HT_JSON_PATH_MAX];
     int used = argument_count(combine);
     for (int i = 0; i < 3; i++) {
         snprintf(field, sizeof field, "%s.source_%s[%d]", stage_path, what, i);
         if (i < used && !name_of(source_names, source[i]))
-            return fail(c, field, "0x%X is not a source ARB_texture_env_combine offers "
+            return ht_json_fail(c, field, "0x%X is not a source ARB_texture_env_combine offers "
                         "(GL_TEXTURE, GL_CONSTANT, GL_PRIMARY_COLOR, GL_PREVIOUS)", source[i]);
         if (i >= used && source[i] != default_source[i])
-            return fail(c, field, "unused by %s, must keep GL's default %s",
+            return ht_json_fail(c, field, "unused by %s, must keep GL's default %s",
                         name_of(combine_names, combine), name_of(source_names, default_source[i]));
         snprintf(field, sizeof field, "%s.operand_%s[%d]", stage_path, what, i);
         if (i < used && !name_of(operand_table, operand[i]))
-            return fail(c, field, "0x%X is not a valid %s operand", operand[i], what);
+            return ht_json_fail(c, field, "0x%X is not a valid %s operand", operand[i], what);
         if (i >= used && operand[i] != default_operand[i])
-            return fail(c, field, "unused by %s, must keep GL's default %s",
+            return ht_json_fail(c, field, "unused by %s, must keep GL's default %s",
                         name_of(combine_names, combine), name_of(operand_rgb_names, default_operand[i]));
     }
     return HT_OK;
 }
 
-static ht_result check_stage(const ctx *c, const ht_combiner_program *p, int index) {
+static ht_result check_stage(const ht_jctx *c, const ht_combiner_program *p, int index) {
     const ht_combiner_stage *s = &p->stages[index];
     char path[32], field[96];
     snprintf(path, sizeof path, "stages[%d]", index);
 #define FIELD(name) (snprintf(field, sizeof field, "%s." name, path), field)
     if (s->unit != index)
-        return fail(c, FIELD("unit"), "%d: stage %d must be on unit %d (GL combines units in order)",
+        return ht_json_fail(c, FIELD("unit"), "%d: stage %d must be on unit %d (GL combines units in order)",
                     s->unit, index, index);
-    if (!s->texture[0]) return fail(c, FIELD("texture"), "empty texture name");
-    if (!name_of(target_names, s->target)) return fail(c, FIELD("target"), "must be 2d or 3d");
+    if (!s->texture[0]) return ht_json_fail(c, FIELD("texture"), "empty texture name");
+    if (!name_of(target_names, s->target)) return ht_json_fail(c, FIELD("target"), "must be 2d or 3d");
     if (!name_of(filter_names, s->filter))
-        return fail(c, FIELD("filter"), "must be GL_LINEAR or GL_NEAREST");
+        return ht_json_fail(c, FIELD("filter"), "must be GL_LINEAR or GL_NEAREST");
     if (!name_of(wrap_names, s->wrap))
-        return fail(c, FIELD("wrap"), "must be GL_CLAMP_TO_EDGE or GL_REPEAT");
+        return ht_json_fail(c, FIELD("wrap"), "must be GL_CLAMP_TO_EDGE or GL_REPEAT");
     if ((unsigned)s->coords >= COORDS_COUNT)
-        return fail(c, FIELD("coords"), "unknown rule %d", (int)s->coords);
+        return ht_json_fail(c, FIELD("coords"), "unknown rule %d", (int)s->coords);
     const bool reads_lut = strcmp(s->texture, p->lut_texture) == 0;
     if (reads_lut) {
         if (s->coords == HT_COORDS_UV)
-            return fail(c, FIELD("coords"), "the LUT is indexed by cpu-dots or texture-matrix, not uv");
+            return ht_json_fail(c, FIELD("coords"), "the LUT is indexed by cpu-dots or texture-matrix, not uv");
         if (s->coords == HT_COORDS_TEXTURE_MATRIX && p->model != HT_MODEL_KAJIYA_KAY)
-            return fail(c, FIELD("coords"), "texture-matrix needs kajiya-kay: the t1.H and t2.H of %s "
+            return ht_json_fail(c, FIELD("coords"), "texture-matrix needs kajiya-kay: the t1.H and t2.H of %s "
                         "need two shifted tangents, one matrix row each cannot make them",
                         model_names[p->model]);
         GLenum want = p->lut_size[2] > 1 ? GL_TEXTURE_3D : GL_TEXTURE_2D;
         if (s->target != want)
-            return fail(c, FIELD("target"), "the LUT of depth %d is %s", p->lut_size[2],
+            return ht_json_fail(c, FIELD("target"), "the LUT of depth %d is %s", p->lut_size[2],
                         name_of(target_names, want));
     } else {
         if (s->coords != HT_COORDS_UV)
-            return fail(c, FIELD("coords"), "%s index the LUT \"%s\" only", coords_names[s->coords],
+            return ht_json_fail(c, FIELD("coords"), "%s index the LUT \"%s\" only", coords_names[s->coords],
                         p->lut_texture);
         if (s->target != GL_TEXTURE_2D)
-            return fail(c, FIELD("target"), "textures other than the LUT are 2d");
+            return ht_json_fail(c, FIELD("target"), "textures other than the LUT are 2d");
     }
     if (!name_of(combine_names, s->combine_rgb))
-        return fail(c, FIELD("combine_rgb"), "0x%X is not a GL 1.3 combiner function", s->combine_rgb);
+        return ht_json_fail(c, FIELD("combine_rgb"), "0x%X is not a GL 1.3 combiner function", s->combine_rgb);
     if (!name_of(combine_names, s->combine_alpha))
-        return fail(c, FIELD("combine_alpha"), "0x%X is not a GL 1.3 combiner function",
+        return ht_json_fail(c, FIELD("combine_alpha"), "0x%X is not a GL 1.3 combiner function",
                     s->combine_alpha);
     ht_result r = check_arguments(c, path, "rgb", s->combine_rgb, s->source_rgb, s->operand_rgb,
                                   operand_rgb_names, default_operand_rgb);
@@ -223,54 +206,54 @@ static ht_result check_stage(const ctx *c, const ht_combiner_program *p, int ind
         r = check_arguments(c, path, "alpha", s->combine_alpha, s->source_alpha, s->operand_alpha,
                             operand_alpha_names, default_operand_alpha);
     if (r != HT_OK) return r;
-    if (!is_scale(s->rgb_scale)) return fail(c, FIELD("rgb_scale"), "%d is not 1, 2 or 4", s->rgb_scale);
+    if (!is_scale(s->rgb_scale)) return ht_json_fail(c, FIELD("rgb_scale"), "%d is not 1, 2 or 4", s->rgb_scale);
     if (!is_scale(s->alpha_scale))
-        return fail(c, FIELD("alpha_scale"), "%d is not 1, 2 or 4", s->alpha_scale);
+        return ht_json_fail(c, FIELD("alpha_scale"), "%d is not 1, 2 or 4", s->alpha_scale);
     for (int i = 0; i < 4; i++)
         if (!(s->constant[i] >= 0.0f && s->constant[i] <= 1.0f)) {
             snprintf(field, sizeof field, "%s.constant[%d]", path, i);
-            return fail(c, field, "must be in [0,1]");
+            return ht_json_fail(c, field, "must be in [0,1]");
         }
 #undef FIELD
     return HT_OK;
 }
 
-static ht_result check_program(const ctx *c, const ht_combiner_program *p) {
+static ht_result check_program(const ht_jctx *c, const ht_combiner_program *p) {
     if (p->model != HT_MODEL_SCHEUERMANN && p->model != HT_MODEL_KAJIYA_KAY)
-        return fail(c, "model", "unknown model %d", (int)p->model);
+        return ht_json_fail(c, "model", "unknown model %d", (int)p->model);
     if (p->light < 0 || p->light >= HT_MAX_LIGHTS)
-        return fail(c, "primary_color", "light %d is outside 0..%d", p->light, HT_MAX_LIGHTS - 1);
+        return ht_json_fail(c, "primary_color", "light %d is outside 0..%d", p->light, HT_MAX_LIGHTS - 1);
     for (int i = 0; i < 2; i++)
         if (!(fabs(p->shift[i]) <= 100.0)) {
             char field[32];
             snprintf(field, sizeof field, "shifts[%d]", i);
-            return fail(c, field, "must be a finite number in [-100,100]");
+            return ht_json_fail(c, field, "must be a finite number in [-100,100]");
         }
-    if (!p->lut_texture[0]) return fail(c, "lut.texture", "empty texture name");
+    if (!p->lut_texture[0]) return ht_json_fail(c, "lut.texture", "empty texture name");
     for (int i = 0; i < 3; i++)
         if (!is_pow2(p->lut_size[i]) || p->lut_size[i] > HT_COMBINER_MAX_LUT_SIZE) {
             char field[32];
             snprintf(field, sizeof field, "lut.size[%d]", i);
-            return fail(c, field, "%d is not a power of two in 1..%d (GL 1.x textures)",
+            return ht_json_fail(c, field, "%d is not a power of two in 1..%d (GL 1.x textures)",
                         p->lut_size[i], HT_COMBINER_MAX_LUT_SIZE);
         }
     if (p->model == HT_MODEL_KAJIYA_KAY && p->lut_size[2] != 1)
-        return fail(c, "lut.size[2]", "kajiya-kay has two dot products: depth must be 1");
-    if (!is_scale(p->lut_scale)) return fail(c, "lut.scale", "%d is not 1, 2 or 4", p->lut_scale);
+        return ht_json_fail(c, "lut.size[2]", "kajiya-kay has two dot products: depth must be 1");
+    if (!is_scale(p->lut_scale)) return ht_json_fail(c, "lut.scale", "%d is not 1, 2 or 4", p->lut_scale);
     if (p->stage_count < 1 || p->stage_count > HT_COMBINER_MAX_STAGES)
-        return fail(c, "stages", "%d stages, expected 1..%d", p->stage_count, HT_COMBINER_MAX_STAGES);
+        return ht_json_fail(c, "stages", "%d stages, expected 1..%d", p->stage_count, HT_COMBINER_MAX_STAGES);
     bool lut_read = false;
     for (int i = 0; i < p->stage_count; i++) {
         ht_result r = check_stage(c, p, i);
         if (r != HT_OK) return r;
         lut_read = lut_read || strcmp(p->stages[i].texture, p->lut_texture) == 0;
     }
-    if (!lut_read) return fail(c, "stages", "no stage reads the LUT \"%s\"", p->lut_texture);
+    if (!lut_read) return ht_json_fail(c, "stages", "no stage reads the LUT \"%s\"", p->lut_texture);
     return HT_OK;
 }
 
 ht_result ht_combiner_validate(const ht_combiner_program *p, char *err, size_t err_size) {
-    ctx c = { "program", err, err_size };
+    ht_jctx c = { "program", err, err_size };
     if (!p) return fail_argument(&c, "program", "NULL");
     return check_program(&c, p);
 }
@@ -353,70 +336,65 @@ ht_result ht_combiner_write(const ht_combiner_program *p, char **text, char *err
 
 /* ---- parse ---- */
 
-static void path_key(char *out, size_t size, const char *parent, const char *key) {
-    if (parent[0]) snprintf(out, size, "%s.%s", parent, key);
-    else snprintf(out, size, "%s", key);
-}
-
-static ht_result check_keys(const ctx *c, const cJSON *obj, const char *path, const char *const known[]) {
+static ht_result check_keys(const ht_jctx *c, const cJSON *obj, const char *path, const char *const known[]) {
     for (const cJSON *item = obj->child; item; item = item->next) {
         bool ok = false;
         for (int i = 0; known[i]; i++) ok = ok || strcmp(item->string, known[i]) == 0;
-        char field[96];
-        path_key(field, sizeof field, path, item->string);
-        if (!ok) return fail(c, field, "unknown field");
+        char field[HT_JSON_PATH_MAX];
+        ht_json_path_key(field, path, item->string);
+        if (!ok) return ht_json_fail(c, field, "unknown field");
         for (const cJSON *other = item->next; other; other = other->next)
-            if (strcmp(other->string, item->string) == 0) return fail(c, field, "appears twice");
+            if (strcmp(other->string, item->string) == 0) return ht_json_fail(c, field, "appears twice");
     }
     return HT_OK;
 }
 
 /* The field `key` of obj, which must exist and have `type`. */
-static ht_result member(const ctx *c, const cJSON *obj, const char *path, const char *key,
+static ht_result member(const ht_jctx *c, const cJSON *obj, const char *path, const char *key,
                         int type, const char *type_name, const cJSON **out) {
-    char field[96];
-    path_key(field, sizeof field, path, key);
+    char field[HT_JSON_PATH_MAX];
+    ht_json_path_key(field, path, key);
     const cJSON *item = cJSON_GetObjectItemCaseSensitive(obj, key);
-    if (!item) return fail(c, field, "missing");
-    if ((item->type & 0xFF) != type) return fail(c, field, "must be %s", type_name);
+    if (!item) return ht_json_fail(c, field, "missing");
+    if ((item->type & 0xFF) != type) return ht_json_fail(c, field, "must be %s", type_name);
     *out = item;
     return HT_OK;
 }
 
-static ht_result int_item(const ctx *c, const cJSON *item, const char *field, int lo, int hi, int *out) {
-    if (!cJSON_IsNumber(item)) return fail(c, field, "must be a number");
+static ht_result int_item(const ht_jctx *c, const cJSON *item, const char *field, int lo, int hi, int *out) {
+    if (!cJSON_IsNumber(item)) return ht_json_fail(c, field, "must be a number");
     double v = item->valuedouble;
     if (!(v >= lo && v <= hi) || v != floor(v))
-        return fail(c, field, "must be an integer in %d..%d", lo, hi);
+        return ht_json_fail(c, field, "must be an integer in %d..%d", lo, hi);
     *out = (int)v;
     return HT_OK;
 }
 
-static ht_result get_int(const ctx *c, const cJSON *obj, const char *path, const char *key,
+static ht_result get_int(const ht_jctx *c, const cJSON *obj, const char *path, const char *key,
                          int lo, int hi, int *out) {
     const cJSON *item = NULL;
     ht_result r = member(c, obj, path, key, cJSON_Number, "a number", &item);
     if (r != HT_OK) return r;
-    char field[96];
-    path_key(field, sizeof field, path, key);
+    char field[HT_JSON_PATH_MAX];
+    ht_json_path_key(field, path, key);
     return int_item(c, item, field, lo, hi, out);
 }
 
-static ht_result get_string(const ctx *c, const cJSON *obj, const char *path, const char *key,
+static ht_result get_string(const ht_jctx *c, const cJSON *obj, const char *path, const char *key,
                             char *out, size_t out_size) {
     const cJSON *item = NULL;
     ht_result r = member(c, obj, path, key, cJSON_String, "a string", &item);
     if (r != HT_OK) return r;
-    char field[96];
-    path_key(field, sizeof field, path, key);
+    char field[HT_JSON_PATH_MAX];
+    ht_json_path_key(field, path, key);
     size_t len = strlen(item->valuestring);
     if (len == 0 || len >= out_size)
-        return fail(c, field, "must be 1..%zu characters", out_size - 1);
+        return ht_json_fail(c, field, "must be 1..%zu characters", out_size - 1);
     memcpy(out, item->valuestring, len + 1);
     return HT_OK;
 }
 
-static ht_result get_choice(const ctx *c, const cJSON *obj, const char *path, const char *key,
+static ht_result get_choice(const ht_jctx *c, const cJSON *obj, const char *path, const char *key,
                             const char *const names[], int count, int *out) {
     const cJSON *item = NULL;
     ht_result r = member(c, obj, path, key, cJSON_String, "a string", &item);
@@ -426,40 +404,40 @@ static ht_result get_choice(const ctx *c, const cJSON *obj, const char *path, co
             *out = i;
             return HT_OK;
         }
-    char field[96], expected[160] = "";
-    path_key(field, sizeof field, path, key);
+    char field[HT_JSON_PATH_MAX], expected[160] = "";
+    ht_json_path_key(field, path, key);
     for (int i = 0; i < count; i++)
         snprintf(expected + strlen(expected), sizeof expected - strlen(expected), "%s\"%s\"",
                  i ? ", " : "", names[i]);
-    return fail(c, field, "\"%.40s\" is unknown, expected one of %s", item->valuestring, expected);
+    return ht_json_fail(c, field, "\"%.40s\" is unknown, expected one of %s", item->valuestring, expected);
 }
 
-static ht_result gl_item(const ctx *c, const cJSON *item, const char *field, const gl_name *table,
+static ht_result gl_item(const ht_jctx *c, const cJSON *item, const char *field, const gl_name *table,
                          const char *what, GLenum *out) {
-    if (!cJSON_IsString(item)) return fail(c, field, "must be a string naming a GL enum");
+    if (!cJSON_IsString(item)) return ht_json_fail(c, field, "must be a string naming a GL enum");
     if (value_of(table, item->valuestring, out)) return HT_OK;
     char expected[200] = "";
     for (int i = 0; table[i].name; i++)
         snprintf(expected + strlen(expected), sizeof expected - strlen(expected), "%s%s",
                  i ? ", " : "", table[i].name);
-    return fail(c, field, "\"%.40s\" is not a %s (expected %s)", item->valuestring, what, expected);
+    return ht_json_fail(c, field, "\"%.40s\" is not a %s (expected %s)", item->valuestring, what, expected);
 }
 
-static ht_result get_gl(const ctx *c, const cJSON *obj, const char *path, const char *key,
+static ht_result get_gl(const ht_jctx *c, const cJSON *obj, const char *path, const char *key,
                         const gl_name *table, const char *what, GLenum *out) {
     const cJSON *item = NULL;
     ht_result r = member(c, obj, path, key, cJSON_String, "a string naming a GL enum", &item);
     if (r != HT_OK) return r;
-    char field[96];
-    path_key(field, sizeof field, path, key);
+    char field[HT_JSON_PATH_MAX];
+    ht_json_path_key(field, path, key);
     return gl_item(c, item, field, table, what, out);
 }
 
 /* source_WHAT / operand_WHAT: as many entries as the function reads. */
-static ht_result get_arguments(const ctx *c, const cJSON *obj, const char *path, const char *what,
+static ht_result get_arguments(const ht_jctx *c, const cJSON *obj, const char *path, const char *what,
                                GLenum combine, const gl_name *operand_table,
                                GLenum source[3], GLenum operand[3]) {
-    char key[32], field[96];
+    char key[32], field[HT_JSON_PATH_MAX];
     const int used = argument_count(combine);
     const gl_name *tables[2] = { source_names, operand_table };
     const char *kinds[2] = { "source", "operand" };
@@ -470,13 +448,13 @@ static ht_result get_arguments(const ctx *c, const cJSON *obj, const char *path,
         const cJSON *arr = NULL;
         ht_result r = member(c, obj, path, key, cJSON_Array, "an array", &arr);
         if (r != HT_OK) return r;
-        path_key(field, sizeof field, path, key);
+        ht_json_path_key(field, path, key);
         int n = cJSON_GetArraySize(arr);
         if (n != used)
-            return fail(c, field, "%d entries, %s reads %d", n, name_of(combine_names, combine), used);
+            return ht_json_fail(c, field, "%d entries, %s reads %d", n, name_of(combine_names, combine), used);
         for (int i = 0; i < n; i++) {
-            char item_field[112];
-            snprintf(item_field, sizeof item_field, "%s[%d]", field, i);
+            char item_field[HT_JSON_PATH_MAX];
+            ht_json_path_index(item_field, field, i);
             r = gl_item(c, cJSON_GetArrayItem(arr, i), item_field, tables[k], descr[k], &outs[k][i]);
             if (r != HT_OK) return r;
         }
@@ -498,7 +476,7 @@ static bool primary_rule(const char *text, int *light, bool *ao) {
     return true;
 }
 
-static ht_result parse_stage(const ctx *c, const cJSON *o, int index, ht_combiner_stage *s) {
+static ht_result parse_stage(const ht_jctx *c, const cJSON *o, int index, ht_combiner_stage *s) {
     static const char *const keys[] = {
         "unit", "texture", "target", "filter", "wrap", "coords", "combine_rgb", "source_rgb",
         "operand_rgb", "combine_alpha", "source_alpha", "operand_alpha", "rgb_scale",
@@ -506,7 +484,7 @@ static ht_result parse_stage(const ctx *c, const cJSON *o, int index, ht_combine
     };
     char path[32];
     snprintf(path, sizeof path, "stages[%d]", index);
-    if (!cJSON_IsObject(o)) return fail(c, path, "must be an object");
+    if (!cJSON_IsObject(o)) return ht_json_fail(c, path, "must be an object");
     ht_combiner_stage_defaults(s, index);
     int coords = 0;
     ht_result r = check_keys(c, o, path, keys);
@@ -535,14 +513,14 @@ static ht_result parse_stage(const ctx *c, const cJSON *o, int index, ht_combine
     if (r == HT_OK && cJSON_GetArraySize(k) != 4) {
         char field[64];
         snprintf(field, sizeof field, "%s.constant", path);
-        r = fail(c, field, "must hold 4 numbers");
+        r = ht_json_fail(c, field, "must hold 4 numbers");
     }
     for (int i = 0; r == HT_OK && i < 4; i++) {
         const cJSON *v = cJSON_GetArrayItem(k, i);
         if (!cJSON_IsNumber(v) || !(v->valuedouble >= 0.0 && v->valuedouble <= 1.0)) {
             char field[64];
             snprintf(field, sizeof field, "%s.constant[%d]", path, i);
-            r = fail(c, field, "must be a number in [0,1]");
+            r = ht_json_fail(c, field, "must be a number in [0,1]");
         } else {
             s->constant[i] = (float)v->valuedouble;
         }
@@ -552,7 +530,7 @@ static ht_result parse_stage(const ctx *c, const cJSON *o, int index, ht_combine
 
 ht_result ht_combiner_parse(const char *json_text, const char *file_name, ht_combiner_program *out,
                             char *err, size_t err_size) {
-    ctx c = { file_name ? file_name : "<program>", err, err_size };
+    ht_jctx c = { file_name ? file_name : "<program>", err, err_size };
     if (!json_text || !out) return fail_argument(&c, "program", "NULL argument");
     memset(out, 0, sizeof *out);
     cJSON *root = cJSON_Parse(json_text);
@@ -562,7 +540,7 @@ ht_result ht_combiner_parse(const char *json_text, const char *file_name, ht_com
         for (const char *q = json_text; at && q < at && *q; q++) line += *q == '\n';
         char where[32];
         snprintf(where, sizeof where, "line %d", line);
-        return fail(&c, where, "malformed JSON near \"%.20s\"", at ? at : "");
+        return ht_json_fail(&c, where, "malformed JSON near \"%.20s\"", at ? at : "");
     }
     static const char *const keys[] = { "format", "model", "primary_color", "dots", "shifts",
                                         "lut", "stages", NULL };
@@ -570,18 +548,18 @@ ht_result ht_combiner_parse(const char *json_text, const char *file_name, ht_com
     ht_result r = HT_OK;
     const cJSON *item = NULL;
     char text[48];
-    if (!cJSON_IsObject(root)) r = fail(&c, "(root)", "must be an object");
+    if (!cJSON_IsObject(root)) r = ht_json_fail(&c, "(root)", "must be an object");
     if (r == HT_OK) r = check_keys(&c, root, "", keys);
     if (r == HT_OK) r = get_string(&c, root, "", "format", text, sizeof text);
     if (r == HT_OK && strcmp(text, HT_COMBINER_FORMAT) != 0)
-        r = fail(&c, "format", "\"%s\", expected \"%s\"", text, HT_COMBINER_FORMAT);
+        r = ht_json_fail(&c, "format", "\"%s\", expected \"%s\"", text, HT_COMBINER_FORMAT);
     int model = 0;
     if (r == HT_OK) r = get_choice(&c, root, "", "model", model_names, 2, &model);
     out->model = (ht_model_kind)model;
 
     if (r == HT_OK) r = get_string(&c, root, "", "primary_color", text, sizeof text);
     if (r == HT_OK && !primary_rule(text, &out->light, &out->ao))
-        r = fail(&c, "primary_color", "\"%s\", expected \"lightN.color*ao\" or \"lightN.color\"", text);
+        r = ht_json_fail(&c, "primary_color", "\"%s\", expected \"lightN.color*ao\" or \"lightN.color\"", text);
 
     const char *want[3];
     int want_count = ht_combiner_dot_names(out->model, want);
@@ -593,18 +571,18 @@ ht_result ht_combiner_parse(const char *json_text, const char *file_name, ht_com
             same = cJSON_IsString(d) && strcmp(d->valuestring, want[i]) == 0;
         }
         if (!same)
-            r = fail(&c, "dots", "must be [\"%s\", \"%s\"%s%s%s] for %s", want[0], want[1],
+            r = ht_json_fail(&c, "dots", "must be [\"%s\", \"%s\"%s%s%s] for %s", want[0], want[1],
                      want_count > 2 ? ", \"" : "", want_count > 2 ? want[2] : "",
                      want_count > 2 ? "\"" : "", model_names[out->model]);
     }
     if (r == HT_OK) r = member(&c, root, "", "shifts", cJSON_Array, "an array of 2 numbers", &item);
-    if (r == HT_OK && cJSON_GetArraySize(item) != 2) r = fail(&c, "shifts", "must hold 2 numbers");
+    if (r == HT_OK && cJSON_GetArraySize(item) != 2) r = ht_json_fail(&c, "shifts", "must hold 2 numbers");
     for (int i = 0; r == HT_OK && i < 2; i++) {
         const cJSON *v = cJSON_GetArrayItem(item, i);
         if (!cJSON_IsNumber(v) || !(fabs(v->valuedouble) <= 100.0)) {
             char field[32];
             snprintf(field, sizeof field, "shifts[%d]", i);
-            r = fail(&c, field, "must be a number in [-100,100]");
+            r = ht_json_fail(&c, field, "must be a number in [-100,100]");
         } else {
             out->shift[i] = v->valuedouble;
         }
@@ -615,7 +593,7 @@ ht_result ht_combiner_parse(const char *json_text, const char *file_name, ht_com
     if (r == HT_OK) r = check_keys(&c, lut, "lut", lut_keys);
     if (r == HT_OK) r = get_string(&c, lut, "lut", "texture", out->lut_texture, sizeof out->lut_texture);
     if (r == HT_OK) r = member(&c, lut, "lut", "size", cJSON_Array, "an array of 3 integers", &item);
-    if (r == HT_OK && cJSON_GetArraySize(item) != 3) r = fail(&c, "lut.size", "must hold 3 integers");
+    if (r == HT_OK && cJSON_GetArraySize(item) != 3) r = ht_json_fail(&c, "lut.size", "must hold 3 integers");
     for (int i = 0; r == HT_OK && i < 3; i++) {
         char field[32];
         snprintf(field, sizeof field, "lut.size[%d]", i);
@@ -624,7 +602,7 @@ ht_result ht_combiner_parse(const char *json_text, const char *file_name, ht_com
     if (r == HT_OK) r = get_int(&c, lut, "lut", "scale", 1, 4, &out->lut_scale);
     if (r == HT_OK) r = get_string(&c, lut, "lut", "centres", text, sizeof text);
     if (r == HT_OK && strcmp(text, "endpoints") != 0)
-        r = fail(&c, "lut.centres", "\"%s\", expected \"endpoints\" (texel centres from d = -1 to d = 1)",
+        r = ht_json_fail(&c, "lut.centres", "\"%s\", expected \"endpoints\" (texel centres from d = -1 to d = 1)",
                  text);
 
     const cJSON *stages = NULL;
@@ -632,7 +610,7 @@ ht_result ht_combiner_parse(const char *json_text, const char *file_name, ht_com
     if (r == HT_OK) {
         int n = cJSON_GetArraySize(stages);
         if (n < 1 || n > HT_COMBINER_MAX_STAGES)
-            r = fail(&c, "stages", "%d stages, expected 1..%d", n, HT_COMBINER_MAX_STAGES);
+            r = ht_json_fail(&c, "stages", "%d stages, expected 1..%d", n, HT_COMBINER_MAX_STAGES);
         out->stage_count = n;
     }
     for (int i = 0; r == HT_OK && i < out->stage_count; i++)
@@ -732,7 +710,7 @@ static const ht_combiner_texture *find_texture(const ht_combiner_texture *t, int
     return NULL;
 }
 
-static ht_result check_texture(const ctx *c, const ht_combiner_program *p, int stage,
+static ht_result check_texture(const ht_jctx *c, const ht_combiner_program *p, int stage,
                                const ht_combiner_texture *t) {
     const ht_combiner_stage *s = &p->stages[stage];
     char field[48];
@@ -777,7 +755,7 @@ static bool texture_matrix_coord(const float m[16], const float T[3], float out[
 ht_result ht_combiner_eval(const ht_combiner_program *p, const ht_combiner_texture *textures,
                            int texture_count, const ht_combiner_fragment *frag, float out[4],
                            char *err, size_t err_size) {
-    ctx c = { "combiner", err, err_size };
+    ht_jctx c = { "combiner", err, err_size };
     if (!p || !frag || !out || (texture_count > 0 && !textures))
         return fail_argument(&c, "eval", "NULL argument");
     rgba primary, previous;

@@ -3,7 +3,6 @@
    can add information. */
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,93 +10,74 @@
 #include <cJSON.h>
 
 #include "bundle.h"
-#include "errfmt.h"
+#include "json_check.h"
 #include "select.h"
 
 #define BUNDLE_FORMAT "hairtier-bundle/1"
 
-typedef struct parse_ctx {
-    const char *file;
-    char *err;
-    size_t err_size;
-} parse_ctx;
-
-__attribute__((format(printf, 3, 4)))
-static ht_result fail(const parse_ctx *c, const char *field, const char *fmt, ...) {
-    va_list ap;
-    va_start(ap, fmt);
-    ht_set_field_error_v(c->err, c->err_size, c->file, field, fmt, ap);
-    va_end(ap);
-    return HT_ERR_PARSE;
-}
-
-static void path_key(char *out, size_t size, const char *parent, const char *key) {
-    snprintf(out, size, "%s%s%s", parent, parent[0] ? "." : "", key);
-}
-
 /* A string field copied into out; absent is an error unless optional. */
-static ht_result get_string(const parse_ctx *c, const cJSON *obj, const char *parent, const char *key,
+static ht_result get_string(const ht_jctx *c, const cJSON *obj, const char *parent, const char *key,
                             bool optional, char *out, size_t out_size) {
-    char field[160];
-    path_key(field, sizeof field, parent, key);
+    char field[HT_JSON_PATH_MAX];
+    ht_json_path_key(field, parent, key);
     const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
     if (!v || cJSON_IsNull(v)) {
         if (optional) { out[0] = '\0'; return HT_OK; }
-        return fail(c, field, "missing");
+        return ht_json_fail(c, field, "missing");
     }
-    if (!cJSON_IsString(v)) return fail(c, field, "expected a string");
+    if (!cJSON_IsString(v)) return ht_json_fail(c, field, "expected a string");
     if (strlen(v->valuestring) >= out_size)
-        return fail(c, field, "longer than %zu characters", out_size - 1);
+        return ht_json_fail(c, field, "longer than %zu characters", out_size - 1);
     memcpy(out, v->valuestring, strlen(v->valuestring) + 1);
     return HT_OK;
 }
 
-static ht_result get_int(const parse_ctx *c, const cJSON *obj, const char *parent, const char *key,
+static ht_result get_int(const ht_jctx *c, const cJSON *obj, const char *parent, const char *key,
                          int def, int lo, int hi, int *out) {
-    char field[160];
-    path_key(field, sizeof field, parent, key);
+    char field[HT_JSON_PATH_MAX];
+    ht_json_path_key(field, parent, key);
     const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
     if (!v) {
-        if (def < lo) return fail(c, field, "missing");
+        if (def < lo) return ht_json_fail(c, field, "missing");
         *out = def;
         return HT_OK;
     }
     if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble) || v->valuedouble != floor(v->valuedouble))
-        return fail(c, field, "expected an integer");
+        return ht_json_fail(c, field, "expected an integer");
     if (v->valuedouble < lo || v->valuedouble > hi)
-        return fail(c, field, "%g outside [%d, %d]", v->valuedouble, lo, hi);
+        return ht_json_fail(c, field, "%g outside [%d, %d]", v->valuedouble, lo, hi);
     *out = (int)v->valuedouble;
     return HT_OK;
 }
 
 /* A file name must stay inside the bundle directory. */
-static ht_result check_file_name(const parse_ctx *c, const char *field, const char *name) {
-    if (!name[0]) return fail(c, field, "empty file name");
+static ht_result check_file_name(const ht_jctx *c, const char *field, const char *name) {
+    if (!name[0]) return ht_json_fail(c, field, "empty file name");
     if (strchr(name, '/') || strchr(name, '\\') || strcmp(name, ".") == 0 || strcmp(name, "..") == 0)
-        return fail(c, field, "\"%s\" is not a plain file name inside the bundle", name);
+        return ht_json_fail(c, field, "\"%s\" is not a plain file name inside the bundle", name);
     return HT_OK;
 }
 
-static ht_result parse_textures(const parse_ctx *c, const cJSON *obj, const char *parent,
+static ht_result parse_textures(const ht_jctx *c, const cJSON *obj, const char *parent,
                                 ht_bundle_texture *out, int *count) {
     *count = 0;
     if (!obj || cJSON_IsNull(obj)) return HT_OK;
-    if (!cJSON_IsObject(obj)) return fail(c, parent, "expected an object");
+    if (!cJSON_IsObject(obj)) return ht_json_fail(c, parent, "expected an object");
     const cJSON *t;
     cJSON_ArrayForEach(t, obj) {
-        char field[160];
-        path_key(field, sizeof field, parent, t->string);
-        if (*count >= HT_BUNDLE_MAX_TEXTURES) return fail(c, field, "more than %d textures", HT_BUNDLE_MAX_TEXTURES);
-        if (!cJSON_IsObject(t)) return fail(c, field, "expected an object");
+        char field[HT_JSON_PATH_MAX];
+        ht_json_path_key(field, parent, t->string);
+        if (*count >= HT_BUNDLE_MAX_TEXTURES) return ht_json_fail(c, field, "more than %d textures", HT_BUNDLE_MAX_TEXTURES);
+        if (!cJSON_IsObject(t)) return ht_json_fail(c, field, "expected an object");
         ht_bundle_texture *tex = &out[*count];
-        if (strlen(t->string) >= sizeof tex->name) return fail(c, field, "texture name too long");
+        if (strlen(t->string) >= sizeof tex->name) return ht_json_fail(c, field, "texture name too long");
         /* JSON parsers keep duplicate keys; which one wins would be arbitrary. */
         for (int k = 0; k < *count; k++)
-            if (strcmp(out[k].name, t->string) == 0) return fail(c, field, "listed twice");
+            if (strcmp(out[k].name, t->string) == 0) return ht_json_fail(c, field, "listed twice");
         snprintf(tex->name, sizeof tex->name, "%s", t->string);
         ht_result r;
-        char file_field[200];
-        path_key(file_field, sizeof file_field, field, "file");
+        char file_field[HT_JSON_PATH_MAX];
+        ht_json_path_key(file_field, field, "file");
         if ((r = get_string(c, t, field, "file", false, tex->file, sizeof tex->file)) != HT_OK ||
             (r = check_file_name(c, file_field, tex->file)) != HT_OK ||
             (r = get_int(c, t, field, "width", 0, 1, 16384, &tex->width)) != HT_OK ||
@@ -109,71 +89,71 @@ static ht_result parse_textures(const parse_ctx *c, const cJSON *obj, const char
     return HT_OK;
 }
 
-static ht_result parse_version_field(const parse_ctx *c, const cJSON *req, const char *parent,
+static ht_result parse_version_field(const ht_jctx *c, const cJSON *req, const char *parent,
                                      const char *key, bool glsl, bool optional, int *major, int *minor) {
-    char text[16], field[160];
-    path_key(field, sizeof field, parent, key);
+    char text[16], field[HT_JSON_PATH_MAX];
+    ht_json_path_key(field, parent, key);
     ht_result r = get_string(c, req, parent, key, optional, text, sizeof text);
     if (r != HT_OK) return r;
     *major = *minor = 0;
     if (!text[0]) {
         if (optional) return HT_OK;
-        return fail(c, field, "empty version");
+        return ht_json_fail(c, field, "empty version");
     }
     if (!ht_parse_version(text, glsl, major, minor) || text[0] < '0' || text[0] > '9' || !strchr(text, '.'))
-        return fail(c, field, "\"%s\" is not a version like \"%s\"", text, glsl ? "1.20" : "2.1");
+        return ht_json_fail(c, field, "\"%s\" is not a version like \"%s\"", text, glsl ? "1.20" : "2.1");
     return HT_OK;
 }
 
-static ht_result parse_tier(const parse_ctx *c, const cJSON *t, int index, ht_bundle_tier *out) {
-    char base[64], field[160];
+static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_bundle_tier *out) {
+    char base[64], field[HT_JSON_PATH_MAX];
     snprintf(base, sizeof base, "tiers[%d]", index);
     memset(out, 0, sizeof *out);
-    if (!cJSON_IsObject(t)) return fail(c, base, "expected an object");
+    if (!cJSON_IsObject(t)) return ht_json_fail(c, base, "expected an object");
     ht_result r = get_string(c, t, base, "name", false, out->name, sizeof out->name);
     if (r != HT_OK) return r;
     out->tier = ht_tier_from_name(out->name);
     if (out->tier == HT_TIER_AUTO) {
-        path_key(field, sizeof field, base, "name");
-        return fail(c, field, "\"auto\" is not a tier");
+        ht_json_path_key(field, base, "name");
+        return ht_json_fail(c, field, "\"auto\" is not a tier");
     }
 
-    char req_path[96];
-    path_key(req_path, sizeof req_path, base, "requires");
+    char req_path[HT_JSON_PATH_MAX];
+    ht_json_path_key(req_path, base, "requires");
     const cJSON *req = cJSON_GetObjectItemCaseSensitive(t, "requires");
-    if (!cJSON_IsObject(req)) return fail(c, req_path, req ? "expected an object" : "missing");
+    if (!cJSON_IsObject(req)) return ht_json_fail(c, req_path, req ? "expected an object" : "missing");
     if ((r = parse_version_field(c, req, req_path, "gl", false, false, &out->gl_major, &out->gl_minor)) != HT_OK ||
         (r = parse_version_field(c, req, req_path, "glsl", true, true, &out->glsl_major, &out->glsl_minor)) != HT_OK ||
         (r = get_int(c, req, req_path, "texture_units", 0, 0, 64, &out->texture_units)) != HT_OK)
         return r;
     const cJSON *ext = cJSON_GetObjectItemCaseSensitive(req, "extensions");
-    path_key(field, sizeof field, req_path, "extensions");
+    ht_json_path_key(field, req_path, "extensions");
     if (ext && !cJSON_IsNull(ext)) {
-        if (!cJSON_IsArray(ext)) return fail(c, field, "expected an array of strings");
+        if (!cJSON_IsArray(ext)) return ht_json_fail(c, field, "expected an array of strings");
         const cJSON *e;
         cJSON_ArrayForEach(e, ext) {
-            char ef[200];
-            snprintf(ef, sizeof ef, "%s[%d]", field, out->extension_count);
+            char ef[HT_JSON_PATH_MAX];
+            ht_json_path_index(ef, field, out->extension_count);
             if (out->extension_count >= HT_BUNDLE_MAX_EXTENSIONS)
-                return fail(c, ef, "more than %d extensions", HT_BUNDLE_MAX_EXTENSIONS);
+                return ht_json_fail(c, ef, "more than %d extensions", HT_BUNDLE_MAX_EXTENSIONS);
             if (!cJSON_IsString(e) || !e->valuestring[0] || strchr(e->valuestring, ' ') ||
                 strlen(e->valuestring) >= sizeof out->extensions[0])
-                return fail(c, ef, "expected an extension name like \"GL_ARB_multitexture\"");
+                return ht_json_fail(c, ef, "expected an extension name like \"GL_ARB_multitexture\"");
             snprintf(out->extensions[out->extension_count++], sizeof out->extensions[0], "%s", e->valuestring);
         }
     }
 
-    char files_path[96];
-    path_key(files_path, sizeof files_path, base, "files");
+    char files_path[HT_JSON_PATH_MAX];
+    ht_json_path_key(files_path, base, "files");
     const cJSON *files = cJSON_GetObjectItemCaseSensitive(t, "files");
-    if (!cJSON_IsObject(files)) return fail(c, files_path, files ? "expected an object" : "missing");
+    if (!cJSON_IsObject(files)) return ht_json_fail(c, files_path, files ? "expected an object" : "missing");
     const cJSON *f;
     cJSON_ArrayForEach(f, files) {
-        path_key(field, sizeof field, files_path, f->string);
-        if (out->file_count >= HT_BUNDLE_MAX_FILES) return fail(c, field, "more than %d files", HT_BUNDLE_MAX_FILES);
+        ht_json_path_key(field, files_path, f->string);
+        if (out->file_count >= HT_BUNDLE_MAX_FILES) return ht_json_fail(c, field, "more than %d files", HT_BUNDLE_MAX_FILES);
         ht_bundle_file *bf = &out->files[out->file_count];
-        if (strlen(f->string) >= sizeof bf->role) return fail(c, field, "role name too long");
-        if (ht_bundle_tier_file(out, f->string)) return fail(c, field, "listed twice");
+        if (strlen(f->string) >= sizeof bf->role) return ht_json_fail(c, field, "role name too long");
+        if (ht_bundle_tier_file(out, f->string)) return ht_json_fail(c, field, "listed twice");
         snprintf(bf->role, sizeof bf->role, "%s", f->string);
         if ((r = get_string(c, files, files_path, f->string, false, bf->file, sizeof bf->file)) != HT_OK ||
             (r = check_file_name(c, field, bf->file)) != HT_OK)
@@ -181,23 +161,23 @@ static ht_result parse_tier(const parse_ctx *c, const cJSON *t, int index, ht_bu
         out->file_count++;
     }
 
-    char tex_path[96];
-    path_key(tex_path, sizeof tex_path, base, "textures");
+    char tex_path[HT_JSON_PATH_MAX];
+    ht_json_path_key(tex_path, base, "textures");
     if ((r = parse_textures(c, cJSON_GetObjectItemCaseSensitive(t, "textures"), tex_path,
                             out->textures, &out->texture_count)) != HT_OK)
         return r;
 
-    char smp_path[96];
-    path_key(smp_path, sizeof smp_path, base, "samplers");
+    char smp_path[HT_JSON_PATH_MAX];
+    ht_json_path_key(smp_path, base, "samplers");
     const cJSON *samplers = cJSON_GetObjectItemCaseSensitive(t, "samplers");
     if (samplers && !cJSON_IsNull(samplers)) {
-        if (!cJSON_IsArray(samplers)) return fail(c, smp_path, "expected an array");
+        if (!cJSON_IsArray(samplers)) return ht_json_fail(c, smp_path, "expected an array");
         const cJSON *s;
         cJSON_ArrayForEach(s, samplers) {
-            snprintf(field, sizeof field, "%s[%d]", smp_path, out->sampler_count);
+            ht_json_path_index(field, smp_path, out->sampler_count);
             if (out->sampler_count >= HT_BUNDLE_MAX_SAMPLERS)
-                return fail(c, field, "more than %d samplers", HT_BUNDLE_MAX_SAMPLERS);
-            if (!cJSON_IsObject(s)) return fail(c, field, "expected an object");
+                return ht_json_fail(c, field, "more than %d samplers", HT_BUNDLE_MAX_SAMPLERS);
+            if (!cJSON_IsObject(s)) return ht_json_fail(c, field, "expected an object");
             ht_bundle_sampler *bs = &out->samplers[out->sampler_count];
             if ((r = get_string(c, s, field, "uniform", false, bs->uniform, sizeof bs->uniform)) != HT_OK ||
                 (r = get_string(c, s, field, "texture", false, bs->texture, sizeof bs->texture)) != HT_OK ||
@@ -205,15 +185,15 @@ static ht_result parse_tier(const parse_ctx *c, const cJSON *t, int index, ht_bu
                 return r;
             for (int k = 0; k < out->sampler_count; k++)
                 if (strcmp(out->samplers[k].uniform, bs->uniform) == 0) {
-                    char uf[200];
-                    path_key(uf, sizeof uf, field, "uniform");
-                    return fail(c, uf, "\"%s\" already bound by %s[%d]", bs->uniform, smp_path, k);
+                    char uf[HT_JSON_PATH_MAX];
+                    ht_json_path_key(uf, field, "uniform");
+                    return ht_json_fail(c, uf, "\"%s\" already bound by %s[%d]", bs->uniform, smp_path, k);
                 }
             for (int k = 0; k < out->sampler_count; k++)
                 if (out->samplers[k].unit == bs->unit) {
-                    char uf[200];
-                    path_key(uf, sizeof uf, field, "unit");
-                    return fail(c, uf, "unit %d already used by %s", bs->unit, out->samplers[k].uniform);
+                    char uf[HT_JSON_PATH_MAX];
+                    ht_json_path_key(uf, field, "unit");
+                    return ht_json_fail(c, uf, "unit %d already used by %s", bs->unit, out->samplers[k].uniform);
                 }
             out->sampler_count++;
         }
@@ -223,8 +203,8 @@ static ht_result parse_tier(const parse_ctx *c, const cJSON *t, int index, ht_bu
 
 ht_result ht_bundle_parse(const char *json_text, const char *dir, const char *file_name,
                           ht_bundle *out, char *err, size_t err_size) {
-    parse_ctx c = { .file = file_name ? file_name : "manifest.json", .err = err, .err_size = err_size };
-    if (!json_text || !out) return fail(&c, "manifest", "no input");
+    ht_jctx c = { .file = file_name ? file_name : "manifest.json", .err = err, .err_size = err_size };
+    if (!json_text || !out) return ht_json_fail(&c, "manifest", "no input");
     memset(out, 0, sizeof *out);
     snprintf(out->dir, sizeof out->dir, "%s", dir ? dir : ".");
 
@@ -232,14 +212,14 @@ ht_result ht_bundle_parse(const char *json_text, const char *dir, const char *fi
     if (!root) {
         const char *at = cJSON_GetErrorPtr();
         size_t offset = at && at >= json_text ? (size_t)(at - json_text) : 0;
-        return fail(&c, "manifest", "not valid JSON (near byte %zu)", offset);
+        return ht_json_fail(&c, "manifest", "not valid JSON (near byte %zu)", offset);
     }
     ht_result r = HT_OK;
     char format[32];
-    if (!cJSON_IsObject(root)) { r = fail(&c, "manifest", "expected a JSON object"); goto done; }
+    if (!cJSON_IsObject(root)) { r = ht_json_fail(&c, "manifest", "expected a JSON object"); goto done; }
     if ((r = get_string(&c, root, "", "format", false, format, sizeof format)) != HT_OK) goto done;
     if (strcmp(format, BUNDLE_FORMAT) != 0) {
-        r = fail(&c, "format", "\"%s\" is not \"%s\"", format, BUNDLE_FORMAT);
+        r = ht_json_fail(&c, "format", "\"%s\" is not \"%s\"", format, BUNDLE_FORMAT);
         goto done;
     }
     if ((r = get_string(&c, root, "", "material", true, out->material, sizeof out->material)) != HT_OK ||
@@ -247,39 +227,39 @@ ht_result ht_bundle_parse(const char *json_text, const char *dir, const char *fi
         goto done;
 
     const cJSON *cutoff = cJSON_GetObjectItemCaseSensitive(root, "opaque_cutoff");
-    if (!cutoff) { r = fail(&c, "opaque_cutoff", "missing"); goto done; }
+    if (!cutoff) { r = ht_json_fail(&c, "opaque_cutoff", "missing"); goto done; }
     if (!cJSON_IsNumber(cutoff) || !isfinite(cutoff->valuedouble) ||
         cutoff->valuedouble <= 0 || cutoff->valuedouble > 1) {
-        r = fail(&c, "opaque_cutoff", "expected a number in (0, 1]");
+        r = ht_json_fail(&c, "opaque_cutoff", "expected a number in (0, 1]");
         goto done;
     }
     out->opaque_cutoff = (float)cutoff->valuedouble;
 
     const cJSON *lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
-    if (!cJSON_IsArray(lights)) { r = fail(&c, "lights", lights ? "expected an array" : "missing"); goto done; }
+    if (!cJSON_IsArray(lights)) { r = ht_json_fail(&c, "lights", lights ? "expected an array" : "missing"); goto done; }
     const cJSON *l;
     cJSON_ArrayForEach(l, lights) {
         char field[32];
         snprintf(field, sizeof field, "lights[%d]", out->light_count);
-        if (out->light_count >= HT_MAX_LIGHTS) { r = fail(&c, field, "more than %d lights", HT_MAX_LIGHTS); goto done; }
+        if (out->light_count >= HT_MAX_LIGHTS) { r = ht_json_fail(&c, field, "more than %d lights", HT_MAX_LIGHTS); goto done; }
         if (cJSON_IsString(l) && strcmp(l->valuestring, "directional") == 0)
             out->lights[out->light_count++] = HT_LIGHT_DIRECTIONAL;
         else if (cJSON_IsString(l) && strcmp(l->valuestring, "point") == 0)
             out->lights[out->light_count++] = HT_LIGHT_POINT;
-        else { r = fail(&c, field, "expected \"directional\" or \"point\""); goto done; }
+        else { r = ht_json_fail(&c, field, "expected \"directional\" or \"point\""); goto done; }
     }
-    if (out->light_count == 0) { r = fail(&c, "lights", "empty"); goto done; }
+    if (out->light_count == 0) { r = ht_json_fail(&c, "lights", "empty"); goto done; }
 
     if ((r = parse_textures(&c, cJSON_GetObjectItemCaseSensitive(root, "textures"), "textures",
                             out->textures, &out->texture_count)) != HT_OK)
         goto done;
 
     const cJSON *tiers = cJSON_GetObjectItemCaseSensitive(root, "tiers");
-    if (!cJSON_IsArray(tiers)) { r = fail(&c, "tiers", tiers ? "expected an array" : "missing"); goto done; }
+    if (!cJSON_IsArray(tiers)) { r = ht_json_fail(&c, "tiers", tiers ? "expected an array" : "missing"); goto done; }
     const cJSON *t;
     cJSON_ArrayForEach(t, tiers) {
         if (out->tier_count >= HT_BUNDLE_MAX_TIERS) {
-            r = fail(&c, "tiers", "more than %d tiers", HT_BUNDLE_MAX_TIERS);
+            r = ht_json_fail(&c, "tiers", "more than %d tiers", HT_BUNDLE_MAX_TIERS);
             goto done;
         }
         if ((r = parse_tier(&c, t, out->tier_count, &out->tiers[out->tier_count])) != HT_OK) goto done;
@@ -289,12 +269,12 @@ ht_result ht_bundle_parse(const char *json_text, const char *dir, const char *fi
             if (strcmp(out->tiers[k].name, out->tiers[out->tier_count].name) == 0) {
                 char field[48];
                 snprintf(field, sizeof field, "tiers[%d].name", out->tier_count);
-                r = fail(&c, field, "\"%s\" already listed as tiers[%d]", out->tiers[k].name, k);
+                r = ht_json_fail(&c, field, "\"%s\" already listed as tiers[%d]", out->tiers[k].name, k);
                 goto done;
             }
         out->tier_count++;
     }
-    if (out->tier_count == 0) { r = fail(&c, "tiers", "empty"); goto done; }
+    if (out->tier_count == 0) { r = ht_json_fail(&c, "tiers", "empty"); goto done; }
 
     /* Samplers must name a texture the bundle lists. */
     for (int i = 0; i < out->tier_count; i++) {
@@ -303,7 +283,7 @@ ht_result ht_bundle_parse(const char *json_text, const char *dir, const char *fi
             if (!ht_bundle_find_texture(out, bt, bt->samplers[s].texture)) {
                 char field[96];
                 snprintf(field, sizeof field, "tiers[%d].samplers[%d].texture", i, s);
-                r = fail(&c, field, "\"%s\" is not listed in textures", bt->samplers[s].texture);
+                r = ht_json_fail(&c, field, "\"%s\" is not listed in textures", bt->samplers[s].texture);
                 goto done;
             }
     }
@@ -312,43 +292,11 @@ done:
     return r;
 }
 
+/* The whole file, or NULL with one line in err (json_check.h's reader:
+   unreadable, over its size cap, or holding a NUL byte). */
 static char *read_file(const char *path, char *err, size_t err_size) {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        snprintf(err, err_size, "%s: cannot read: %s", path, strerror(errno));
-        return NULL;
-    }
     char *text = NULL;
-    size_t size = 0, cap = 0;
-    for (;;) {
-        if (cap - size < 4096) {
-            size_t ncap = cap ? cap * 2 : 16384;
-            if (ncap > (64u << 20)) {
-                snprintf(err, err_size, "%s: larger than 64 MiB", path);
-                goto fail;
-            }
-            char *p = realloc(text, ncap + 1);
-            if (!p) { snprintf(err, err_size, "%s: out of memory", path); goto fail; }
-            text = p;
-            cap = ncap;
-        }
-        size_t n = fread(text + size, 1, cap - size, f);
-        size += n;
-        if (n == 0) break;
-    }
-    if (ferror(f)) { snprintf(err, err_size, "%s: read error", path); goto fail; }
-    fclose(f);
-    text[size] = '\0';
-    if (strlen(text) != size) {
-        snprintf(err, err_size, "%s: contains a NUL byte", path);
-        free(text);
-        return NULL;
-    }
-    return text;
-fail:
-    fclose(f);
-    free(text);
-    return NULL;
+    return ht_json_read_file(path, &text, err, err_size) == HT_OK ? text : NULL;
 }
 
 ht_result ht_bundle_load(const char *dir, ht_bundle *out, char *err, size_t err_size) {

@@ -1,5 +1,6 @@
-/* json_check.h — checked access to cJSON documents for hairgen's file
-   formats: every getter checks type, finiteness and range, fills a default
+/* json_check.h — checked access to cJSON documents, shared by every file
+   format hairtier reads (materials, scenes, the bundle manifest, the
+   combiner program): every getter checks type, finiteness and range, fills a default
    when the field is absent and optional, and on failure writes one line
    "FILE: FIELD: what is wrong" where FIELD is the JSON path of the value
    ("primary.exponent", "lights[1].color[2]").
