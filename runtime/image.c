@@ -20,6 +20,7 @@
 #include <png.h>
 
 #include "errfmt.h"
+#include "file_open.h"
 
 /* Bytes of a width x height x channels image, 0 when it does not fit. */
 static size_t image_bytes(int width, int height, int channels) {
@@ -106,6 +107,18 @@ static int read_body(png_session *s, ht_image *out) {
 
     png_set_read_fn(s->png, s, read_bytes);
     png_set_sig_bytes(s->png, 8);
+    /* Memory is bounded by the image limits, not by what a chunk header
+       claims: without these a 44-byte file whose zTXt says 2 GiB made
+       libpng allocate and zero 2 GiB before finding the file truncated.
+       Text, colour-profile and unknown chunks carry nothing a texture
+       needs, so they are skipped unread into memory. */
+    png_set_user_limits(s->png, HT_IMAGE_MAX_SIDE, HT_IMAGE_MAX_SIDE);
+    png_set_chunk_malloc_max(s->png, HT_IMAGE_MAX_CHUNK_BYTES);
+    png_set_chunk_cache_max(s->png, 64);
+    static const png_byte ignored[] = { 't', 'E', 'X', 't', '\0', 'z', 'T', 'X', 't', '\0',
+                                        'i', 'T', 'X', 't', '\0', 'i', 'C', 'C', 'P', '\0' };
+    png_set_keep_unknown_chunks(s->png, PNG_HANDLE_CHUNK_NEVER, NULL, 0);
+    png_set_keep_unknown_chunks(s->png, PNG_HANDLE_CHUNK_NEVER, ignored, 4);
     png_read_info(s->png, s->info);
 
     png_uint_32 width = 0, height = 0;
@@ -151,11 +164,8 @@ ht_result ht_image_read_png(const char *path, ht_image *out, char *err, size_t e
     png_session s = { 0 };
     ht_result result = HT_ERR_IO;
 
-    s.file = fopen(path, "rb");
-    if (!s.file) {
-        ht_set_error(err, err_size, "%s: cannot open: %s", path, strerror(errno));
+    if (ht_file_open_regular(path, HT_FILE_MAX_PNG, &s.file, NULL, err, err_size) != HT_OK)
         return HT_ERR_IO;
-    }
     uint8_t signature[8];
     size_t got = fread(signature, 1, sizeof signature, s.file);
     if (got != sizeof signature || png_sig_cmp(signature, 0, sizeof signature) != 0) {

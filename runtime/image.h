@@ -18,6 +18,13 @@ typedef struct ht_image {
    texture hairgen writes is a 256 x 65536 LUT atlas). A header claiming more
    is refused before anything is allocated. */
 #define HT_IMAGE_MAX_PIXELS (64u * 1024u * 1024u)
+/* The longest side libpng lets a PNG declare; the pixel count above is
+   the real bound (a 1 x 64 Mi strip is allowed), checked with its own
+   message before any row is allocated. */
+#define HT_IMAGE_MAX_SIDE HT_IMAGE_MAX_PIXELS
+/* The most memory libpng may give one chunk (IDAT is streamed and never
+   held whole; only ancillary chunks are buffered). */
+#define HT_IMAGE_MAX_CHUNK_BYTES (8u << 20)
 
 ht_result ht_image_alloc(ht_image *img, int width, int height, int channels);
 void ht_image_free(ht_image *img);

@@ -12,6 +12,7 @@
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmocka.h>
@@ -235,6 +236,92 @@ static void test_read_refuses_a_header_claiming_a_huge_image_before_allocating(v
     remove(path);
 }
 
+/* Peak virtual memory of this process in KiB (/proc/self/status VmPeak):
+   a reservation counts even if its pages are never touched. */
+static long vm_peak_kib(void) {
+    FILE *f = fopen("/proc/self/status", "r");
+    if (!f) return -1;
+    char line[256];
+    long kib = -1;
+    while (fgets(line, sizeof line, f))
+        if (sscanf(line, "VmPeak: %ld kB", &kib) == 1) break;
+    fclose(f);
+    return kib;
+}
+
+/* A 44-byte file: a valid IHDR, then a zTXt chunk whose length claims 2 GiB
+   over 3 bytes. Read in a child so the peak is its own: a reader that
+   believed the claim reserves 2 GiB (the defect: libpng allocated and
+   zeroed it before finding the file truncated); one that bounds chunk
+   memory stays within a few MiB. */
+static void test_read_bounds_memory_when_a_chunk_claims_two_gibibytes(void **state) {
+    (void)state;
+    char path[256];
+    in_dir(path, sizeof path, "ztxt.png");
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    static const uint8_t signature[8] = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n' };
+    fwrite(signature, 1, sizeof signature, f);
+    const uint8_t ihdr[13] = { 0, 0, 0, 4, 0, 0, 0, 4, 8, PNG_COLOR_TYPE_RGB_ALPHA, 0, 0, 0 };
+    put_chunk(f, "IHDR", ihdr, sizeof ihdr);
+    static const uint8_t claim[8] = { 0x7F, 0xFF, 0xFF, 0xFF, 'z', 'T', 'X', 't' };
+    fwrite(claim, 1, sizeof claim, f);
+    fwrite("k\0\0", 1, 3, f);
+    fclose(f);
+    assert_int_equal(file_size(path), 44);
+
+    int pipe_fd[2];
+    assert_int_equal(pipe(pipe_fd), 0);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        close(pipe_fd[0]);
+        long before = vm_peak_kib();
+        ht_image img = { 0 };
+        char err[256] = "";
+        ht_result r = ht_image_read_png(path, &img, err, sizeof err);
+        long grown = vm_peak_kib() - before;
+        dprintf(pipe_fd[1], "%d %ld %s", (int)r, grown, err);
+        _exit(0);
+    }
+    close(pipe_fd[1]);
+    char line[512] = "";
+    ssize_t got = read(pipe_fd[0], line, sizeof line - 1);
+    close(pipe_fd[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    assert_true(WIFEXITED(status));
+    assert_true(got > 0);
+    line[got] = '\0';
+    int result = -1;
+    long grown_kib = -1;
+    assert_int_equal(sscanf(line, "%d %ld", &result, &grown_kib), 2);
+    if (result != HT_ERR_IO || !strstr(line, "truncated")) fail_msg("unexpected result: %s", line);
+    if (grown_kib < 0 || grown_kib > 64 * 1024) fail_msg("peak memory grew by %ld KiB reading it", grown_kib);
+    remove(path);
+}
+
+static void test_read_refuses_what_is_not_a_regular_file(void **state) {
+    (void)state;
+    char path[256];
+    char err[256] = "";
+    ht_image img = { 0 };
+    in_dir(path, sizeof path, "fifo.png");
+    assert_int_equal(mkfifo(path, 0600), 0);
+    /* Would block forever waiting for a writer if the reader opened it blindly. */
+    assert_int_equal(ht_image_read_png(path, &img, err, sizeof err), HT_ERR_IO);
+    if (!strstr(err, "not a regular file (a FIFO)") || !strstr(err, path)) fail_msg("unexpected error: %s", err);
+    remove(path);
+    in_dir(path, sizeof path, "folder.png");
+    assert_int_equal(mkdir(path, 0700), 0);
+    assert_int_equal(ht_image_read_png(path, &img, err, sizeof err), HT_ERR_IO);
+    if (!strstr(err, "not a regular file (a directory)")) fail_msg("unexpected error: %s", err);
+    rmdir(path);
+    assert_int_equal(ht_image_read_png("/dev/zero", &img, err, sizeof err), HT_ERR_IO);
+    if (!strstr(err, "/dev/zero: not a regular file (a character device)")) fail_msg("unexpected error: %s", err);
+    assert_null(img.pixels);
+}
+
 static void test_read_expands_palette_with_transparency(void **state) {
     (void)state;
     const png_color palette[3] = { { 10, 20, 30 }, { 200, 100, 50 }, { 1, 2, 3 } };
@@ -455,6 +542,8 @@ int main(void) {
         cmocka_unit_test(test_read_fails_on_every_truncation),
         cmocka_unit_test(test_read_refuses_a_header_claiming_a_huge_image_before_allocating),
         cmocka_unit_test(test_read_fails_on_corrupt_image_data),
+        cmocka_unit_test(test_read_bounds_memory_when_a_chunk_claims_two_gibibytes),
+        cmocka_unit_test(test_read_refuses_what_is_not_a_regular_file),
         cmocka_unit_test(test_write_into_missing_directory_leaves_nothing),
         cmocka_unit_test(test_write_into_read_only_directory_leaves_nothing),
         cmocka_unit_test(test_write_failing_half_way_keeps_the_old_file),
