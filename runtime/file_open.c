@@ -26,7 +26,7 @@ ht_result ht_file_open_regular(const char *path, uint64_t max_bytes, FILE **out,
        writer before fstat could tell what it is. Cleared again below. */
     int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
     if (fd < 0) {
-        ht_set_error(err, err_size, "%s: cannot open: %s", path, strerror(errno));
+        ht_set_error(err, err_size, "%s: cannot read: %s", path, strerror(errno));
         return HT_ERR_IO;
     }
     struct stat st;

@@ -2,6 +2,8 @@
    parsers (see json_check.h). */
 #include "json_check.h"
 
+#include "file_open.h"
+
 #include <errno.h>
 #include <float.h>
 #include <math.h>
@@ -14,7 +16,7 @@
 
 /* Bigger inputs are not hand-edited files; refusing them keeps a stray
    multi-gigabyte path from being read into memory. */
-#define MAX_FILE_BYTES (16u << 20)
+#define MAX_FILE_BYTES HT_FILE_MAX_JSON
 /* Longest user string echoed in a message. */
 #define ECHO_MAX 40
 
@@ -102,8 +104,12 @@ void ht_json_path_index(char out[HT_JSON_PATH_MAX], const char *parent, int inde
 ht_result ht_json_read_file(const char *path, char **text, char *err, size_t err_size) {
     ht_jctx c = { path, err, err_size };
     *text = NULL;
-    FILE *f = fopen(path, "rb");
-    if (!f) goto io_error;
+    FILE *f = NULL;
+    ht_result opened = ht_file_open_regular(path, MAX_FILE_BYTES, &f, NULL, err, err_size);
+    if (opened != HT_OK) {
+        if (err && err_size) one_line(err);
+        return opened;
+    }
     size_t cap = 4096, len = 0;
     char *buf = malloc(cap + 1);
     if (!buf) { fclose(f); goto no_memory; }
@@ -181,6 +187,22 @@ static bool truncated(const char *text, const char *end) {
     return in_string || depth > 0;
 }
 
+/* Open brackets before `end`, outside strings: cJSON refuses a document
+   deeper than CJSON_NESTING_LIMIT at the bracket that crosses it. */
+static int nesting_at(const char *text, const char *end) {
+    int depth = 0, deepest = 0;
+    bool in_string = false;
+    for (const char *p = text; *p && p <= end; p++) {
+        if (in_string) {
+            if (*p == '\\' && p[1]) p++;
+            else if (*p == '"') in_string = false;
+        } else if (*p == '"') in_string = true;
+        else if (*p == '{' || *p == '[') { if (++depth > deepest) deepest = depth; }
+        else if (*p == '}' || *p == ']') depth--;
+    }
+    return deepest;
+}
+
 /* What cJSON accepts but JSON (RFC 8259) does not, and which would slip
    through silently: a raw control character or an escaped NUL in a string
    (cJSON ends the C string there, so "ok\u0000bad" would read as "ok"), a
@@ -220,7 +242,11 @@ static const char *lax_json(const char *text, const char **why) {
                 *why = "number with no digit after its '.'";
                 return start;
             }
-            while (p[1] && strchr("0123456789.eE+-", p[1])) p++;
+            /* p may sit on the terminating NUL (a text ending in "4"): step
+               over the rest of the number without reading past it, then
+               back one so the loop's p++ lands on what follows. */
+            while (*p && strchr("0123456789.eE+-", *p)) p++;
+            p--;
         }
     }
     return NULL;
@@ -246,6 +272,8 @@ ht_result ht_json_parse_root(const ht_jctx *c, const char *text, cJSON **root) {
         }
         char field[32];
         snprintf(field, sizeof field, "line %d", line);
+        if (nesting_at(text, end) > CJSON_NESTING_LIMIT)
+            return ht_json_fail(c, field, "malformed JSON: nested more than %d levels deep", CJSON_NESTING_LIMIT);
         if (truncated(text, end))
             return ht_json_fail(c, field, "malformed JSON: unexpected end of file (truncated?)");
         size_t n = strcspn(end, "\r\n");
