@@ -216,7 +216,7 @@ static void test_missing_file_is_io_error_with_strerror(void **state) {
         assert_string_equal(err, want);
     }
     assert_int_equal(load(MATERIAL, "tests/data", err, sizeof err), HT_ERR_IO);
-    assert_non_null(strstr(err, strerror(EISDIR)));
+    assert_non_null(strstr(err, "tests/data: not a regular file (a directory)"));
 }
 
 /* Every file in tests/data/bad/ is in the table, so none goes unchecked. */
