@@ -115,7 +115,7 @@ static int clamp_int(int v, int lo, int hi) { return v < lo ? lo : v > hi ? hi :
 static ht_result create_backend(ht_renderer *r, const ht_renderer_desc *desc) {
     char failed_text[HT_BUNDLE_MAX_TIERS][HT_SELECT_REASON];
     ht_select_desc sd = {
-        .caps = &r->caps, .bundle = &r->bundle, .requested = desc->tier,
+        .caps = &r->caps, .extensions = r->extensions, .bundle = &r->bundle, .requested = desc->tier,
         .env_tier = getenv("HAIRTIER_TIER"), .strict = desc->strict,
     };
     char err[1024];
@@ -179,11 +179,12 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
         ht_log_linef(r->log, r->log_user, "hairtier: %s", err);
         goto fail;
     }
-    if ((res = ht_caps_probe_gl(&r->gl, &r->caps)) != HT_OK) {
+    if ((res = ht_caps_probe_gl(&r->gl, &r->caps, &r->extensions)) != HT_OK) {
         ht_log_linef(r->log, r->log_user, "hairtier: glGetString(GL_VERSION): no answer (is a GL context current?)");
         goto fail;
     }
     ht_caps_apply_profile(&r->caps, &desc->profile);
+    ht_caps_hide_extensions(r->extensions, desc->profile.hide_extensions);
     /* The runtime itself must not call what the profile hides. */
     ht_gl_restrict(&r->gl, r->caps.has_3d_textures, r->caps.has_multitexture, r->caps.has_vbo,
                    r->caps.has_shaders);
@@ -243,6 +244,7 @@ void ht_renderer_destroy(ht_renderer *r) {
     if (!r) return;
     if (r->backend && r->backend->destroy) r->backend->destroy(r->backend_state);
     release_mesh(r);
+    free(r->extensions);
     free(r);
 }
 
@@ -421,10 +423,6 @@ static int baseline_units(const ht_renderer *r) {
     return r->caps.texture_units < HT_RENDERER_MAX_UNITS ? r->caps.texture_units : HT_RENDERER_MAX_UNITS;
 }
 
-static bool version_at_least(const ht_caps *c, int major, int minor) {
-    return c->gl_major > major || (c->gl_major == major && c->gl_minor >= minor);
-}
-
 /* glPushAttrib and glPushClientAttrib, the program and the matrices (read,
    not pushed: the projection and texture stacks may be only 2 deep). A full
    attribute stack is HT_ERR_GL with one line and nothing changed. */
@@ -466,17 +464,17 @@ static void set_baseline(ht_renderer *r) {
     static const GLenum off[] = { GL_LIGHTING, GL_FOG, GL_COLOR_MATERIAL, GL_NORMALIZE, GL_POLYGON_OFFSET_FILL,
                                   GL_POLYGON_STIPPLE, GL_COLOR_LOGIC_OP, GL_BLEND, GL_ALPHA_TEST, GL_CULL_FACE };
     for (size_t i = 0; i < sizeof off / sizeof off[0]; i++) gl->Disable(off[i]);
-    if (version_at_least(c, 1, 4)) gl->Disable(GL_COLOR_SUM);
+    if (ht_caps_gl_at_least(c, 1, 4)) gl->Disable(GL_COLOR_SUM);
     gl->ShadeModel(GL_SMOOTH);
     gl->PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     if (gl->UseProgram) gl->UseProgram(0);
 
-    const bool cube = version_at_least(c, 1, 3) || ht_extension_list_has(c->extensions, "GL_ARB_texture_cube_map") ||
-                      ht_extension_list_has(c->extensions, "GL_EXT_texture_cube_map");
-    const bool rectangle = version_at_least(c, 3, 1) ||
-                           ht_extension_list_has(c->extensions, "GL_ARB_texture_rectangle") ||
-                           ht_extension_list_has(c->extensions, "GL_NV_texture_rectangle") ||
-                           ht_extension_list_has(c->extensions, "GL_EXT_texture_rectangle");
+    const bool cube = ht_caps_gl_at_least(c, 1, 3) || ht_caps_lists_extension(c, "GL_ARB_texture_cube_map") ||
+                      ht_caps_lists_extension(c, "GL_EXT_texture_cube_map");
+    const bool rectangle = ht_caps_gl_at_least(c, 3, 1) ||
+                           ht_caps_lists_extension(c, "GL_ARB_texture_rectangle") ||
+                           ht_caps_lists_extension(c, "GL_NV_texture_rectangle") ||
+                           ht_caps_lists_extension(c, "GL_EXT_texture_rectangle");
     static const GLenum texgen[4] = { GL_TEXTURE_GEN_S, GL_TEXTURE_GEN_T, GL_TEXTURE_GEN_R, GL_TEXTURE_GEN_Q };
     gl->MatrixMode(GL_TEXTURE);
     for (int u = baseline_units(r) - 1; u >= 0; u--) {
@@ -499,7 +497,7 @@ static void set_baseline(ht_renderer *r) {
     gl->DisableClientState(GL_COLOR_ARRAY);
     gl->DisableClientState(GL_INDEX_ARRAY);
     gl->DisableClientState(GL_EDGE_FLAG_ARRAY);
-    if (version_at_least(c, 1, 4)) {
+    if (ht_caps_gl_at_least(c, 1, 4)) {
         gl->DisableClientState(GL_SECONDARY_COLOR_ARRAY);
         gl->DisableClientState(GL_FOG_COORD_ARRAY);
     }

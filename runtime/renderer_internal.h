@@ -17,6 +17,7 @@
 struct ht_renderer {
     ht_gl gl;
     ht_caps caps;
+    char *extensions;                 /* the device's whole list, after the profile (caps.h) */
     ht_bundle bundle;
     bool have_bundle;
     ht_log_fn log;
