@@ -33,6 +33,7 @@
 #include "fixed.h"
 #include "fixed_coords.h"
 #include "image.h"
+#include "vecmath.h"
 
 typedef struct fixed_state {
     const ht_gl *gl;
@@ -273,11 +274,10 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
    ht_fixed_coords_colors makes such a vertex black). */
 static void normalize_tangents(ht_vertex *v, size_t n) {
     for (size_t i = 0; i < n; i++) {
-        float *t = v[i].tangent;
-        double len2 = (double)t[0] * t[0] + (double)t[1] * t[1] + (double)t[2] * t[2];
-        bool ok = isfinite(len2) && len2 > HT_MODEL_MIN_LENGTH2;
-        double inv = ok ? 1.0 / sqrt(len2) : 0.0;
-        for (int k = 0; k < 3; k++) t[k] = (float)(ok ? t[k] * inv : 0.0);
+        double t[3];
+        ht_vec3_from_float(t, v[i].tangent);
+        ht_vec3_direction(t, t);
+        ht_vec3_store(v[i].tangent, t);
     }
 }
 
