@@ -32,6 +32,7 @@
 #include "errfmt.h"
 #include "fixed.h"
 #include "fixed_coords.h"
+#include "gl_texture.h"
 #include "image.h"
 #include "vecmath.h"
 
@@ -195,44 +196,18 @@ static ht_result read_stage_image(const fixed_state *s, const ht_tier_context *c
 }
 
 static ht_result upload_stage(fixed_state *s, const ht_tier_context *ctx, int stage, char *err, size_t err_size) {
-    const ht_gl *gl = s->gl;
     const ht_combiner_stage *st = &s->program.stages[stage];
     char path[1200];
     ht_image img = { 0 };
     int depth = 1;
     ht_result r = read_stage_image(s, ctx, stage, &img, &depth, path, sizeof path, err, err_size);
     if (r != HT_OK) return r;
-    static const GLenum formats[5] = { 0, GL_LUMINANCE, GL_LUMINANCE_ALPHA, GL_RGB, GL_RGBA };
-    static const GLint sized[5] = { 0, GL_LUMINANCE8, GL_LUMINANCE8_ALPHA8, GL_RGB8, GL_RGBA8 };
-    int ch = img.channels >= 1 && img.channels <= 4 ? img.channels : 4;
-    while (gl->GetError() != GL_NO_ERROR) {}
-    gl->GenTextures(1, &s->textures[stage]);
-    gl->BindTexture(st->target, s->textures[stage]);
-    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    /* Slices stacked vertically are exactly glTexImage3D's layout: image z
-       starts at row z * height. */
-    if (st->target == GL_TEXTURE_3D)
-        gl->TexImage3D(GL_TEXTURE_3D, 0, sized[ch], img.width, img.height / depth, depth, 0, formats[ch],
-                       GL_UNSIGNED_BYTE, img.pixels);
-    else
-        gl->TexImage2D(GL_TEXTURE_2D, 0, sized[ch], img.width, img.height, 0, formats[ch], GL_UNSIGNED_BYTE,
-                       img.pixels);
-    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
     /* No mipmaps: the LUT is indexed, not minified; albedo as the GLSL tiers. */
-    gl->TexParameteri(st->target, GL_TEXTURE_MIN_FILTER, (GLint)st->filter);
-    gl->TexParameteri(st->target, GL_TEXTURE_MAG_FILTER, (GLint)st->filter);
-    gl->TexParameteri(st->target, GL_TEXTURE_WRAP_S, (GLint)st->wrap);
-    gl->TexParameteri(st->target, GL_TEXTURE_WRAP_T, (GLint)st->wrap);
-    if (st->target == GL_TEXTURE_3D) gl->TexParameteri(st->target, GL_TEXTURE_WRAP_R, (GLint)st->wrap);
-    gl->BindTexture(st->target, 0);
+    r = ht_gl_texture_upload(s->gl, &(ht_gl_texture_desc){ .target = st->target, .image = &img, .depth = depth,
+                                                           .filter = st->filter, .wrap = st->wrap, .name = path },
+                             &s->textures[stage], err, err_size);
     ht_image_free(&img);
-    GLenum e = gl->GetError();
-    if (e != GL_NO_ERROR) {
-        snprintf(err, err_size, "%s: %s: GL error 0x%04x", path,
-                 st->target == GL_TEXTURE_3D ? "glTexImage3D" : "glTexImage2D", e);
-        return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
-    }
-    return HT_OK;
+    return r;
 }
 
 static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_t err_size) {
