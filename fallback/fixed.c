@@ -16,7 +16,8 @@
 
    Per pass: every stage of the program is set up on its unit (bind_pass);
    the prime-Z pass enables only the stages its alpha depends on (the
-   albedo's alpha; no LUT), since its colour writes are off. Per draw:
+   albedo's alpha; no LUT), since its colour writes are off. Before each
+   draw (point_stage_arrays):
    stages read their texture coordinates from the CPU arrays ("cpu-dots"),
    the tangents ("texture-matrix") or the vertex uv ("uv"), the colour
    array is the primary colour; the renderer then draws with its index
@@ -394,20 +395,18 @@ static void bind_pass(void *state, ht_pass pass, int sub_pass) {
 }
 
 /* Points each stage's texture coordinates and the colour array at the
-   CPU data, then lets the renderer draw its own index range. Client
-   pointers are taken with no array buffer bound (the renderer's VBO holds
-   only its own vertex and normal arrays). */
-static bool draw(void *state, ht_pass pass, int sub_pass, uint32_t first_index, uint32_t index_count) {
+   CPU data; the renderer then draws its own index range. Client pointers
+   are taken with no array buffer bound (the renderer's VBO holds only its
+   own vertex and normal arrays). */
+static bool point_stage_arrays(void *state, ht_pass pass, int sub_pass) {
     (void)pass;
     (void)sub_pass;
-    (void)first_index;
-    (void)index_count;
     fixed_state *s = state;
     const ht_gl *gl = s->gl;
-    if (!s->vertices) return false;
+    if (!s->vertices) return true; /* no mesh of its own: the renderer's arrays */
     /* a point-light frame of a texture-matrix program without memory for its
        coordinates (logged in begin_frame): draw nothing rather than garbage */
-    if (!s->frame_matrix && !s->coords) return true;
+    if (!s->frame_matrix && !s->coords) return false;
     GLint bound = 0;
     if (gl->BindBuffer) {
         gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
@@ -429,7 +428,7 @@ static bool draw(void *state, ht_pass pass, int sub_pass, uint32_t first_index, 
     gl->EnableClientState(GL_COLOR_ARRAY);
     gl->ColorPointer(4, GL_FLOAT, 0, s->colors);
     if (gl->BindBuffer) gl->BindBuffer(GL_ARRAY_BUFFER, (GLuint)bound);
-    return false;
+    return true;
 }
 
 static void end_frame(void *state) {
@@ -462,7 +461,7 @@ const ht_tier_backend ht_tier_fixed_backend = {
     .set_mesh = set_mesh,
     .begin_frame = begin_frame,
     .bind_pass = bind_pass,
-    .draw = draw,
+    .set_arrays = point_stage_arrays,
     .end_frame = end_frame,
     .destroy = destroy,
 };

@@ -390,6 +390,7 @@ static void end_frame(void *state) {
 
 const ht_tier_backend ht_tier_glsl_full_backend = {
     .tier = HT_TIER_FULL,
+    .generic_attributes = true,
     .create = create_full,
     .begin_frame = begin_frame,
     .bind_pass = bind_pass,
@@ -399,6 +400,7 @@ const ht_tier_backend ht_tier_glsl_full_backend = {
 
 const ht_tier_backend ht_tier_glsl_vertex_backend = {
     .tier = HT_TIER_VERTEX,
+    .generic_attributes = true,
     .create = create_vertex,
     .begin_frame = begin_frame,
     .bind_pass = bind_pass,

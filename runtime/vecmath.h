@@ -1,7 +1,8 @@
 /* vecmath.h — the small double-precision vec3 helpers the runtime shares
    (cglm's habit: header-only, static inline, r first for outputs): the mesh
    builders, the renderer's camera matrices and frame checks, and the fixed
-   tier's per-vertex coordinates. Internal to libhairtier.
+   tier's per-vertex coordinates; and the two camera matrices GLU would
+   give (no GLU dependency). Internal to libhairtier.
 
    Geometry is computed in double and stored as float, so rounding never
    turns a unit vector into a slightly non-unit one that accumulates, and a
@@ -16,6 +17,7 @@
 
 #include <math.h>
 #include <stdbool.h>
+#include <string.h>
 
 #include "model.h"
 
@@ -88,6 +90,51 @@ static inline double ht_clamp_unit(double x) { return x > 1.0 ? 1.0 : (x < -1.0 
 static inline bool ht_all_finite(const float *v, int n) {
     for (int i = 0; i < n; i++)
         if (!isfinite(v[i])) return false;
+    return true;
+}
+
+/* ---- mat4 (float[16], column-major, as glLoadMatrixf takes it) ---- */
+
+/* gluPerspective, column-major. False (out untouched) for fov outside
+   (0,180), aspect <= 0, near <= 0, far <= near, or a matrix that overflows
+   float (a tiny fov, a huge far plane). */
+static inline bool ht_mat4_perspective(float out[16], float fov_y, float aspect, float z_near, float z_far) {
+    if (!(fov_y > 0 && fov_y < 180) || !(aspect > 0) || !isfinite(aspect) || !(z_near > 0) ||
+        !(z_far > z_near) || !isfinite(z_far))
+        return false;
+    float f = 1.0f / tanf(fov_y * 3.14159265358979f / 360.0f);
+    float m[16] = { 0 };
+    m[0] = f / aspect;
+    m[5] = f;
+    m[10] = (z_far + z_near) / (z_near - z_far);
+    m[11] = -1.0f;
+    m[14] = 2.0f * z_far * z_near / (z_near - z_far);
+    if (!ht_all_finite(m, 16)) return false;
+    memcpy(out, m, sizeof m);
+    return true;
+}
+
+/* gluLookAt, column-major, computed in double. False (out untouched) when
+   eye is on target, up is parallel to the view direction, or an input or
+   the result is not finite. */
+static inline bool ht_mat4_look_at(float out[16], const float eye[3], const float target[3], const float up[3]) {
+    if (!ht_all_finite(eye, 3) || !ht_all_finite(target, 3) || !ht_all_finite(up, 3)) return false;
+    double e[3] = { eye[0], eye[1], eye[2] };
+    double f[3] = { (double)target[0] - e[0], (double)target[1] - e[1], (double)target[2] - e[2] };
+    double u0[3] = { up[0], up[1], up[2] };
+    double s[3], u[3];
+    if (!ht_vec3_direction(f, f) || !ht_vec3_direction(u0, u0)) return false;
+    ht_vec3_cross(s, f, u0);
+    if (!ht_vec3_direction(s, s)) return false;
+    ht_vec3_cross(u, s, f);
+    const float m[16] = {
+        (float)s[0], (float)u[0], (float)-f[0], 0,
+        (float)s[1], (float)u[1], (float)-f[1], 0,
+        (float)s[2], (float)u[2], (float)-f[2], 0,
+        (float)-ht_vec3_dot(s, e), (float)-ht_vec3_dot(u, e), (float)ht_vec3_dot(f, e), 1,
+    };
+    if (!ht_all_finite(m, 16)) return false;
+    memcpy(out, m, sizeof m);
     return true;
 }
 
