@@ -3,7 +3,7 @@
    matrices and the vertex arrays; a backend owns its programs, textures and
    texture-environment state. Internal to libhairtier.
 
-   A frame, as renderer.c drives it:
+   A frame, as renderer.c and passes.c drive it:
        begin_frame(state, frame)                 lights, eye, matrices
        for pass in PRIME_Z, OPAQUE, BACK, FRONT:
            renderer sets the pass's fixed state
