@@ -16,7 +16,8 @@
 
    Per pass: every stage of the program is set up on its unit (bind_pass);
    the prime-Z pass enables only the stages its alpha depends on (the
-   albedo's alpha; no LUT), since its colour writes are off. Per draw:
+   albedo's alpha; no LUT), since its colour writes are off. Before each
+   draw (point_stage_arrays):
    stages read their texture coordinates from the CPU arrays ("cpu-dots"),
    the tangents ("texture-matrix") or the vertex uv ("uv"), the colour
    array is the primary colour; the renderer then draws with its index
@@ -32,7 +33,9 @@
 #include "errfmt.h"
 #include "fixed.h"
 #include "fixed_coords.h"
+#include "gl_texture.h"
 #include "image.h"
+#include "vecmath.h"
 
 typedef struct fixed_state {
     const ht_gl *gl;
@@ -194,44 +197,18 @@ static ht_result read_stage_image(const fixed_state *s, const ht_tier_context *c
 }
 
 static ht_result upload_stage(fixed_state *s, const ht_tier_context *ctx, int stage, char *err, size_t err_size) {
-    const ht_gl *gl = s->gl;
     const ht_combiner_stage *st = &s->program.stages[stage];
     char path[1200];
     ht_image img = { 0 };
     int depth = 1;
     ht_result r = read_stage_image(s, ctx, stage, &img, &depth, path, sizeof path, err, err_size);
     if (r != HT_OK) return r;
-    static const GLenum formats[5] = { 0, GL_LUMINANCE, GL_LUMINANCE_ALPHA, GL_RGB, GL_RGBA };
-    static const GLint sized[5] = { 0, GL_LUMINANCE8, GL_LUMINANCE8_ALPHA8, GL_RGB8, GL_RGBA8 };
-    int ch = img.channels >= 1 && img.channels <= 4 ? img.channels : 4;
-    while (gl->GetError() != GL_NO_ERROR) {}
-    gl->GenTextures(1, &s->textures[stage]);
-    gl->BindTexture(st->target, s->textures[stage]);
-    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    /* Slices stacked vertically are exactly glTexImage3D's layout: image z
-       starts at row z * height. */
-    if (st->target == GL_TEXTURE_3D)
-        gl->TexImage3D(GL_TEXTURE_3D, 0, sized[ch], img.width, img.height / depth, depth, 0, formats[ch],
-                       GL_UNSIGNED_BYTE, img.pixels);
-    else
-        gl->TexImage2D(GL_TEXTURE_2D, 0, sized[ch], img.width, img.height, 0, formats[ch], GL_UNSIGNED_BYTE,
-                       img.pixels);
-    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
     /* No mipmaps: the LUT is indexed, not minified; albedo as the GLSL tiers. */
-    gl->TexParameteri(st->target, GL_TEXTURE_MIN_FILTER, (GLint)st->filter);
-    gl->TexParameteri(st->target, GL_TEXTURE_MAG_FILTER, (GLint)st->filter);
-    gl->TexParameteri(st->target, GL_TEXTURE_WRAP_S, (GLint)st->wrap);
-    gl->TexParameteri(st->target, GL_TEXTURE_WRAP_T, (GLint)st->wrap);
-    if (st->target == GL_TEXTURE_3D) gl->TexParameteri(st->target, GL_TEXTURE_WRAP_R, (GLint)st->wrap);
-    gl->BindTexture(st->target, 0);
+    r = ht_gl_texture_upload(s->gl, &(ht_gl_texture_desc){ .target = st->target, .image = &img, .depth = depth,
+                                                           .filter = st->filter, .wrap = st->wrap, .name = path },
+                             &s->textures[stage], err, err_size);
     ht_image_free(&img);
-    GLenum e = gl->GetError();
-    if (e != GL_NO_ERROR) {
-        snprintf(err, err_size, "%s: %s: GL error 0x%04x", path,
-                 st->target == GL_TEXTURE_3D ? "glTexImage3D" : "glTexImage2D", e);
-        return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
-    }
-    return HT_OK;
+    return r;
 }
 
 static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_t err_size) {
@@ -273,11 +250,10 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
    ht_fixed_coords_colors makes such a vertex black). */
 static void normalize_tangents(ht_vertex *v, size_t n) {
     for (size_t i = 0; i < n; i++) {
-        float *t = v[i].tangent;
-        double len2 = (double)t[0] * t[0] + (double)t[1] * t[1] + (double)t[2] * t[2];
-        bool ok = isfinite(len2) && len2 > HT_MODEL_MIN_LENGTH2;
-        double inv = ok ? 1.0 / sqrt(len2) : 0.0;
-        for (int k = 0; k < 3; k++) t[k] = (float)(ok ? t[k] * inv : 0.0);
+        double t[3];
+        ht_vec3_from_float(t, v[i].tangent);
+        ht_vec3_direction(t, t);
+        ht_vec3_store(v[i].tangent, t);
     }
 }
 
@@ -419,20 +395,18 @@ static void bind_pass(void *state, ht_pass pass, int sub_pass) {
 }
 
 /* Points each stage's texture coordinates and the colour array at the
-   CPU data, then lets the renderer draw its own index range. Client
-   pointers are taken with no array buffer bound (the renderer's VBO holds
-   only its own vertex and normal arrays). */
-static bool draw(void *state, ht_pass pass, int sub_pass, uint32_t first_index, uint32_t index_count) {
+   CPU data; the renderer then draws its own index range. Client pointers
+   are taken with no array buffer bound (the renderer's VBO holds only its
+   own vertex and normal arrays). */
+static bool point_stage_arrays(void *state, ht_pass pass, int sub_pass) {
     (void)pass;
     (void)sub_pass;
-    (void)first_index;
-    (void)index_count;
     fixed_state *s = state;
     const ht_gl *gl = s->gl;
-    if (!s->vertices) return false;
+    if (!s->vertices) return true; /* no mesh of its own: the renderer's arrays */
     /* a point-light frame of a texture-matrix program without memory for its
        coordinates (logged in begin_frame): draw nothing rather than garbage */
-    if (!s->frame_matrix && !s->coords) return true;
+    if (!s->frame_matrix && !s->coords) return false;
     GLint bound = 0;
     if (gl->BindBuffer) {
         gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
@@ -454,7 +428,7 @@ static bool draw(void *state, ht_pass pass, int sub_pass, uint32_t first_index, 
     gl->EnableClientState(GL_COLOR_ARRAY);
     gl->ColorPointer(4, GL_FLOAT, 0, s->colors);
     if (gl->BindBuffer) gl->BindBuffer(GL_ARRAY_BUFFER, (GLuint)bound);
-    return false;
+    return true;
 }
 
 static void end_frame(void *state) {
@@ -487,7 +461,7 @@ const ht_tier_backend ht_tier_fixed_backend = {
     .set_mesh = set_mesh,
     .begin_frame = begin_frame,
     .bind_pass = bind_pass,
-    .draw = draw,
+    .set_arrays = point_stage_arrays,
     .end_frame = end_frame,
     .destroy = destroy,
 };

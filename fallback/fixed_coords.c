@@ -8,37 +8,15 @@
 #include <stdio.h>
 #include <string.h>
 
-static double dot3(const double a[3], const double b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-/* model.c's rule: no direction below HT_MODEL_MIN_LENGTH2 (and for NaN). */
-static bool normalize_or_zero(const double v[3], double out[3]) {
-    double len2 = dot3(v, v);
-    if (!(len2 > HT_MODEL_MIN_LENGTH2) || !isfinite(len2)) {
-        out[0] = out[1] = out[2] = 0.0;
-        return false;
-    }
-    double inv = 1.0 / sqrt(len2);
-    for (int i = 0; i < 3; i++) out[i] = v[i] * inv;
-    return true;
-}
-
-static void to_double(const float in[3], double out[3]) {
-    for (int i = 0; i < 3; i++) out[i] = (double)in[i];
-}
-
-static double clamp_unit(double x) { return x > 1.0 ? 1.0 : (x < -1.0 ? -1.0 : x); }
-
-static double clamp01(double x) { return x > 0.0 ? (x < 1.0 ? x : 1.0) : 0.0; }
+#include "vecmath.h"
 
 /* d = t.H of the shifted tangent, or -1 (S = 0) without a direction. */
 static double shifted_dot(const double T[3], const double N[3], double shift, const double H[3],
                           bool has_h) {
     double v[3], t[3];
     for (int i = 0; i < 3; i++) v[i] = T[i] + shift * N[i];
-    if (!has_h || !normalize_or_zero(v, t)) return -1.0;
-    return clamp_unit(dot3(t, H));
+    if (!has_h || !ht_vec3_direction(t, v)) return -1.0;
+    return ht_clamp_unit(ht_vec3_dot(t, H));
 }
 
 static const ht_light *program_light(const ht_combiner_program *p, const ht_light *lights, int light_count) {
@@ -48,8 +26,8 @@ static const ht_light *program_light(const ht_combiner_program *p, const ht_ligh
 /* The primary colour of one vertex: clamp(light.color * ao), alpha 1. */
 static void vertex_color(const ht_combiner_program *p, const ht_vertex *v, const double color[3], bool black,
                          float out[4]) {
-    double ao = p->ao ? clamp01((double)v->ao) : 1.0;
-    for (int i = 0; i < 3; i++) out[i] = black ? 0.0f : (float)clamp01(color[i] * ao);
+    double ao = p->ao ? ht_clamp01((double)v->ao) : 1.0;
+    for (int i = 0; i < 3; i++) out[i] = black ? 0.0f : (float)ht_clamp01(color[i] * ao);
     out[3] = 1.0f;
 }
 
@@ -69,8 +47,8 @@ ht_result ht_fixed_coords_colors(const ht_combiner_program *p, const ht_vertex *
     const bool matrix = ht_combiner_lut_coords(p) == HT_COORDS_TEXTURE_MATRIX;
     for (size_t vi = 0; vi < count; vi++) {
         double T[3], unit[3];
-        to_double(vertices[vi].tangent, T);
-        bool black = matrix && !normalize_or_zero(T, unit);
+        ht_vec3_from_float(T, vertices[vi].tangent);
+        bool black = matrix && !ht_vec3_direction(unit, T);
         vertex_color(p, &vertices[vi], color, black, &colors[4 * vi]);
     }
     return HT_OK;
@@ -108,12 +86,12 @@ ht_result ht_fixed_coords_texture_matrix(const ht_combiner_program *p, const ht_
         return HT_ERR_UNSUPPORTED;
     }
     double raw[3] = { 0, 0, 0 }, L[3], V[3], H[3];
-    if (light) to_double(light->vector, raw);
-    bool has_l = normalize_or_zero(raw, L);
-    to_double(view_dir, raw);
-    normalize_or_zero(raw, V);
+    if (light) ht_vec3_from_float(raw, light->vector);
+    bool has_l = ht_vec3_direction(L, raw);
+    ht_vec3_from_float(raw, view_dir);
+    ht_vec3_direction(V, raw);
     for (int i = 0; i < 3; i++) raw[i] = L[i] + V[i];
-    bool has_h = normalize_or_zero(raw, H);
+    bool has_h = ht_vec3_direction(H, raw);
     /* the CPU rule's answers without a direction: sin(T,L) = 0, S = 0 */
     matrix_row(m, 0, p->lut_size[0], L, has_l, 1.0);
     matrix_row(m, 1, p->lut_size[1], H, has_h, -1.0);
@@ -133,35 +111,35 @@ ht_result ht_fixed_coords_compute(const ht_combiner_program *p, const ht_vertex 
     }
     const ht_light *light = program_light(p, lights, light_count);
     double eye_d[3], light_v[3] = { 0, 0, 0 };
-    to_double(eye, eye_d);
-    if (light) to_double(light->vector, light_v);
+    ht_vec3_from_float(eye_d, eye);
+    if (light) ht_vec3_from_float(light_v, light->vector);
     const bool kajiya_kay = p->model == HT_MODEL_KAJIYA_KAY;
 
     for (size_t vi = 0; vi < count; vi++) {
         const ht_vertex *v = &vertices[vi];
         double pos[3], T[3], N[3], raw[3], L[3], V[3], H[3];
-        to_double(v->position, pos);
-        to_double(v->tangent, raw);
-        bool has_t = normalize_or_zero(raw, T);
-        to_double(v->normal, raw);
-        normalize_or_zero(raw, N);
+        ht_vec3_from_float(pos, v->position);
+        ht_vec3_from_float(raw, v->tangent);
+        bool has_t = ht_vec3_direction(T, raw);
+        ht_vec3_from_float(raw, v->normal);
+        ht_vec3_direction(N, raw);
         for (int i = 0; i < 3; i++)
             raw[i] = light && light->type == HT_LIGHT_POINT ? light_v[i] - pos[i] : light_v[i];
-        bool has_l = normalize_or_zero(raw, L);
+        bool has_l = ht_vec3_direction(L, raw);
         for (int i = 0; i < 3; i++) raw[i] = eye_d[i] - pos[i];
-        normalize_or_zero(raw, V);
+        ht_vec3_direction(V, raw);
         for (int i = 0; i < 3; i++) raw[i] = L[i] + V[i];
-        bool has_h = normalize_or_zero(raw, H);
+        bool has_h = ht_vec3_direction(H, raw);
 
         double d[3];
         if (kajiya_kay) {
-            d[0] = has_t && has_l ? clamp_unit(dot3(T, L)) : 1.0;
-            d[1] = has_t && has_h ? clamp_unit(dot3(T, H)) : -1.0;
+            d[0] = has_t && has_l ? ht_clamp_unit(ht_vec3_dot(T, L)) : 1.0;
+            d[1] = has_t && has_h ? ht_clamp_unit(ht_vec3_dot(T, H)) : -1.0;
             d[2] = 0.0;
         } else {
             /* the model shifts the normalized T along the normalized N; a
                zero T stays without direction after the shift (model.c) */
-            d[0] = clamp_unit(dot3(N, L));
+            d[0] = ht_clamp_unit(ht_vec3_dot(N, L));
             d[1] = shifted_dot(T, N, p->shift[0], H, has_t && has_h);
             d[2] = shifted_dot(T, N, p->shift[1], H, has_t && has_h);
         }

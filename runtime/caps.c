@@ -2,14 +2,10 @@
    pretend it offers less. */
 #include <ctype.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
-#include "gl_api.h"
-#include "select.h"
-
-static int version_at_least(const ht_caps *c, int major, int minor) {
-    return c->gl_major > major || (c->gl_major == major && c->gl_minor >= minor);
-}
+#include "caps.h"
 
 /* Reads "M.m" from the first digit on: "4.5 (Compatibility Profile) Mesa",
    "OpenGL ES 2.0 foo", "1.20 NVIDIA". GLSL minors are two digits: "1.2"
@@ -31,41 +27,142 @@ bool ht_parse_version(const char *s, bool glsl, int *major, int *minor) {
     return true;
 }
 
-static void append_extension(char *list, size_t size, const char *name) {
-    size_t used = strlen(list), n = strlen(name);
-    if (n == 0 || used + n + 2 > size) return; /* truncate at a name boundary */
-    if (used) list[used++] = ' ';
-    memcpy(list + used, name, n + 1);
+bool ht_extension_list_has(const char *list, const char *name) {
+    if (!list || !name || !name[0]) return false;
+    size_t n = strlen(name);
+    for (const char *p = list; (p = strstr(p, name)) != NULL; p += n) {
+        bool starts = p == list || p[-1] == ' ';
+        bool ends = p[n] == '\0' || p[n] == ' ';
+        if (starts && ends) return true;
+    }
+    return false;
 }
 
-static void copy_extensions(char *list, size_t size, const char *all) {
-    list[0] = '\0';
-    char name[128];
-    while (all && *all) {
-        while (*all == ' ') all++;
-        size_t n = strcspn(all, " ");
-        if (n > 0 && n < sizeof name) {
-            memcpy(name, all, n);
-            name[n] = '\0';
-            append_extension(list, size, name);
-        }
-        all += n;
+typedef enum core_flag { FLAG_NONE, FLAG_MULTITEXTURE, FLAG_COMBINE, FLAG_CROSSBAR, FLAG_3D,
+                         FLAG_VBO, FLAG_SHADERS, FLAG_FRAGMENT } core_flag;
+
+/* Every extension the runtime asks about by name, one known_extensions bit
+   each (at most 32). Those with a version became core then, and the flag
+   says whether this context (after its profile) may use them; version 0.0:
+   never core here, only the list counts. */
+static const struct { const char *name; int major, minor; core_flag flag; } known[] = {
+    { "GL_EXT_texture3D", 1, 2, FLAG_3D },
+    { "GL_EXT_texture_edge_clamp", 1, 2, FLAG_NONE },
+    { "GL_SGIS_texture_edge_clamp", 1, 2, FLAG_NONE },
+    { "GL_ARB_multitexture", 1, 3, FLAG_MULTITEXTURE },
+    { "GL_ARB_texture_env_combine", 1, 3, FLAG_COMBINE },
+    { "GL_EXT_texture_env_combine", 1, 3, FLAG_COMBINE },
+    { "GL_ARB_texture_env_dot3", 1, 3, FLAG_COMBINE },
+    { "GL_ARB_texture_cube_map", 1, 3, FLAG_NONE },
+    { "GL_ARB_texture_border_clamp", 1, 3, FLAG_NONE },
+    { "GL_ARB_texture_env_crossbar", 1, 4, FLAG_CROSSBAR },
+    { "GL_ARB_vertex_buffer_object", 1, 5, FLAG_VBO },
+    { "GL_ARB_shader_objects", 2, 0, FLAG_SHADERS },
+    { "GL_ARB_vertex_shader", 2, 0, FLAG_SHADERS },
+    { "GL_ARB_fragment_shader", 2, 0, FLAG_FRAGMENT },
+    { "GL_ARB_shading_language_100", 2, 0, FLAG_SHADERS },
+    { "GL_ARB_texture_non_power_of_two", 2, 0, FLAG_NONE },
+    { "GL_EXT_texture_cube_map", 0, 0, FLAG_NONE },
+    { "GL_ARB_texture_rectangle", 0, 0, FLAG_NONE },
+    { "GL_NV_texture_rectangle", 0, 0, FLAG_NONE },
+    { "GL_EXT_texture_rectangle", 0, 0, FLAG_NONE },
+};
+#define KNOWN_COUNT (int)(sizeof known / sizeof known[0])
+_Static_assert(sizeof known / sizeof known[0] <= 32, "known_extensions is 32 bits");
+
+static int known_index(const char *name, size_t n) {
+    for (int i = 0; i < KNOWN_COUNT; i++)
+        if (strlen(known[i].name) == n && memcmp(known[i].name, name, n) == 0) return i;
+    return -1;
+}
+
+void ht_caps_note_extensions(ht_caps *c, const char *list) {
+    while (list && *list) {
+        while (*list == ' ') list++;
+        size_t n = strcspn(list, " ");
+        int k = n ? known_index(list, n) : -1;
+        if (k >= 0) c->known_extensions |= 1u << k;
+        list += n;
     }
 }
 
-/* Derived flags from version, extension string and loaded entry points. */
+bool ht_caps_lists_extension(const ht_caps *c, const char *name) {
+    int k = name ? known_index(name, strlen(name)) : -1;
+    return k >= 0 && (c->known_extensions & (1u << k));
+}
+
+static bool flag_set(const ht_caps *c, core_flag f) {
+    switch (f) {
+    case FLAG_NONE: return true;
+    case FLAG_MULTITEXTURE: return c->has_multitexture;
+    case FLAG_COMBINE: return c->has_combine;
+    case FLAG_CROSSBAR: return c->has_crossbar;
+    case FLAG_3D: return c->has_3d_textures;
+    case FLAG_VBO: return c->has_vbo;
+    case FLAG_SHADERS: return c->has_shaders;
+    case FLAG_FRAGMENT: return c->has_shaders && c->has_fragment_shaders;
+    }
+    return false;
+}
+
+bool ht_caps_satisfies_extension(const ht_caps *c, const char *list, const char *name) {
+    if (!c || !name) return false;
+    int k = known_index(name, strlen(name));
+    if (k < 0) return ht_extension_list_has(list, name);
+    if (!flag_set(c, known[k].flag)) return false;
+    bool core = known[k].major > 0 && ht_caps_gl_at_least(c, known[k].major, known[k].minor);
+    return (c->known_extensions & (1u << k)) || core;
+}
+
+void ht_caps_hide_extensions(char *list, const char *hide) {
+    if (!list || !hide) return;
+    char *out = list;
+    const char *s = list;
+    while (*s) {
+        while (*s == ' ') s++;
+        size_t n = strcspn(s, " ");
+        if (n == 0) break;
+        char name[128];
+        bool hidden = n < sizeof name && (memcpy(name, s, n), name[n] = '\0', ht_extension_list_has(hide, name));
+        if (!hidden) {
+            if (out != list) *out++ = ' ';
+            memmove(out, s, n);
+            out += n;
+        }
+        s += n;
+    }
+    *out = '\0';
+}
+
+/* Appends name to a growing heap list; false when out of memory. */
+static bool append_extension(char **list, size_t *used, size_t *cap, const char *name) {
+    size_t n = strlen(name);
+    if (n == 0) return true;
+    if (*used + n + 2 > *cap) {
+        size_t grow = (*cap ? *cap * 2 : 4096) + n;
+        char *p = realloc(*list, grow);
+        if (!p) return false;
+        *list = p;
+        *cap = grow;
+    }
+    if (*used) (*list)[(*used)++] = ' ';
+    memcpy(*list + *used, name, n + 1);
+    *used += n;
+    return true;
+}
+
+/* Derived flags from version, known extensions and loaded entry points. */
 static void derive_flags(ht_caps *c, const ht_gl *gl) {
-    const char *e = c->extensions;
     c->has_multitexture = gl->has_multitexture &&
-        (version_at_least(c, 1, 3) || ht_extension_list_has(e, "GL_ARB_multitexture"));
-    c->has_combine = version_at_least(c, 1, 3) || ht_extension_list_has(e, "GL_ARB_texture_env_combine") ||
-                     ht_extension_list_has(e, "GL_EXT_texture_env_combine");
-    c->has_crossbar = version_at_least(c, 1, 4) || ht_extension_list_has(e, "GL_ARB_texture_env_crossbar");
+        (ht_caps_gl_at_least(c, 1, 3) || ht_caps_lists_extension(c, "GL_ARB_multitexture"));
+    c->has_combine = ht_caps_gl_at_least(c, 1, 3) || ht_caps_lists_extension(c, "GL_ARB_texture_env_combine") ||
+                     ht_caps_lists_extension(c, "GL_EXT_texture_env_combine");
+    c->has_crossbar = ht_caps_gl_at_least(c, 1, 4) || ht_caps_lists_extension(c, "GL_ARB_texture_env_crossbar");
     c->has_3d_textures = gl->has_tex3d &&
-        (version_at_least(c, 1, 2) || ht_extension_list_has(e, "GL_EXT_texture3D"));
+        (ht_caps_gl_at_least(c, 1, 2) || ht_caps_lists_extension(c, "GL_EXT_texture3D"));
     c->has_vbo = gl->has_vbo &&
-        (version_at_least(c, 1, 5) || ht_extension_list_has(e, "GL_ARB_vertex_buffer_object"));
-    c->has_shaders = gl->has_shaders && version_at_least(c, 2, 0);
+        (ht_caps_gl_at_least(c, 1, 5) || ht_caps_lists_extension(c, "GL_ARB_vertex_buffer_object"));
+    c->has_shaders = gl->has_shaders && ht_caps_gl_at_least(c, 2, 0);
     c->has_vertex_shaders = c->has_fragment_shaders = c->has_shaders;
 }
 
@@ -76,10 +173,11 @@ ht_result ht_caps_probe(ht_getproc_fn getproc, ht_caps *out) {
     char err[160];
     ht_result r = ht_gl_load(&gl, getproc, err, sizeof err);
     if (r != HT_OK) return r;
-    return ht_caps_probe_gl(&gl, out);
+    return ht_caps_probe_gl(&gl, out, NULL);
 }
 
-ht_result ht_caps_probe_gl(const ht_gl *gl, ht_caps *out) {
+ht_result ht_caps_probe_gl(const ht_gl *gl, ht_caps *out, char **extensions) {
+    if (extensions) *extensions = NULL;
     if (!gl || !out) return HT_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
     while (gl->GetError() != GL_NO_ERROR) {}
@@ -93,17 +191,25 @@ ht_result ht_caps_probe_gl(const ht_gl *gl, ht_caps *out) {
 
     /* GL 3.x core has no GL_EXTENSIONS string; compatibility contexts keep it
        but glGetStringi is the one that works on both. */
+    char *list = NULL;
+    size_t used = 0, cap = 0;
+    bool keep = extensions != NULL;
     if (out->gl_major >= 3 && gl->has_stringi) {
         GLint n = 0;
         gl->GetIntegerv(GL_NUM_EXTENSIONS, &n);
         for (GLint i = 0; i < n; i++) {
             const char *name = (const char *)gl->GetStringi(GL_EXTENSIONS, (GLuint)i);
-            if (name) append_extension(out->extensions, sizeof out->extensions, name);
+            if (!name || strchr(name, ' ')) continue;
+            ht_caps_note_extensions(out, name);
+            if (keep) keep = append_extension(&list, &used, &cap, name);
         }
     } else {
-        copy_extensions(out->extensions, sizeof out->extensions,
-                        (const char *)gl->GetString(GL_EXTENSIONS));
+        const char *all = (const char *)gl->GetString(GL_EXTENSIONS);
+        ht_caps_note_extensions(out, all);
+        if (keep && all) keep = append_extension(&list, &used, &cap, all);
     }
+    if (extensions && keep) *extensions = list ? list : calloc(1, 1);
+    else free(list);
 
     derive_flags(out, gl);
     out->texture_units = 1;
@@ -129,12 +235,6 @@ ht_result ht_caps_probe_gl(const ht_gl *gl, ht_caps *out) {
     return HT_OK;
 }
 
-bool ht_caps_has_extension(ht_getproc_fn getproc, const char *name) {
-    ht_caps caps;
-    if (!name || ht_caps_probe(getproc, &caps) != HT_OK) return false;
-    return ht_caps_satisfies_extension(&caps, name);
-}
-
 void ht_caps_apply_profile(ht_caps *c, const ht_device_profile *p) {
     if (!c || !p) return;
     if ((p->gl_major || p->gl_minor) &&
@@ -150,24 +250,8 @@ void ht_caps_apply_profile(ht_caps *c, const ht_device_profile *p) {
     if (p->texture_units > 0 && c->texture_units > p->texture_units) c->texture_units = p->texture_units;
     if (p->max_3d_texture_size > 0 && c->max_3d_texture_size > p->max_3d_texture_size)
         c->max_3d_texture_size = p->max_3d_texture_size;
-    if (p->hide_extensions) {
-        char kept[HT_CAPS_EXTENSIONS_SIZE];
-        kept[0] = '\0';
-        char name[128];
-        const char *s = c->extensions;
-        while (*s) {
-            while (*s == ' ') s++;
-            size_t n = strcspn(s, " ");
-            if (n > 0 && n < sizeof name) {
-                memcpy(name, s, n);
-                name[n] = '\0';
-                if (!ht_extension_list_has(p->hide_extensions, name))
-                    append_extension(kept, sizeof kept, name);
-            }
-            s += n;
-        }
-        memcpy(c->extensions, kept, sizeof kept);
-    }
+    for (int k = 0; p->hide_extensions && k < KNOWN_COUNT; k++)
+        if (ht_extension_list_has(p->hide_extensions, known[k].name)) c->known_extensions &= ~(1u << k);
     /* Re-derive from the lowered version and list; a flag never comes back. */
     ht_gl present = { .has_tex3d = c->has_3d_textures, .has_multitexture = c->has_multitexture,
                       .has_vbo = c->has_vbo && !p->no_vbo, .has_shaders = c->has_shaders && !p->no_shaders };

@@ -120,8 +120,4 @@ ht_result ht_gl_load(ht_gl *gl, ht_getproc_fn getproc, char *err, size_t err_siz
    extensions): their pointers become NULL, their flag false. */
 void ht_gl_restrict(ht_gl *gl, bool tex3d, bool multitexture, bool vbo, bool shaders);
 
-/* ht_caps_probe (caps.c) through a table already loaded from the context,
-   before any ht_gl_restrict. */
-ht_result ht_caps_probe_gl(const ht_gl *gl, ht_caps *out);
-
 #endif

@@ -160,8 +160,6 @@ void ht_mesh_free(ht_mesh *mesh);
 typedef void *(*ht_getproc_fn)(const char *name);
 typedef void (*ht_log_fn)(void *user, const char *line);
 
-#define HT_CAPS_EXTENSIONS_SIZE 16384
-
 typedef struct ht_caps {
     int gl_major, gl_minor;
     int glsl_major, glsl_minor;   /* 0.0 when there are no shaders */
@@ -177,7 +175,8 @@ typedef struct ht_caps {
     bool has_vertex_shaders;      /* GLSL vertex stage (has_shaders, unless a profile hides it) */
     bool has_fragment_shaders;    /* GLSL fragment stage */
     int max_3d_texture_size;      /* GL_MAX_3D_TEXTURE_SIZE; 0 without 3D textures */
-    char extensions[HT_CAPS_EXTENSIONS_SIZE]; /* space-separated; truncated at a name boundary */
+    uint32_t known_extensions;    /* one bit per extension libhairtier asks about by name (its own
+                                     table, internal); the device's whole list is glGetString's */
 } ht_caps;
 
 /* A device profile caps what the runtime may use, so tests (and cautious
@@ -199,9 +198,8 @@ typedef struct ht_device_profile {
     bool no_vbo;                  /* false */
 } ht_device_profile;
 
-/* Probes the current context. `extensions` lists what the device offers. */
+/* Probes the current context: versions, the flags above, units. */
 ht_result ht_caps_probe(ht_getproc_fn getproc, ht_caps *out);
-bool ht_caps_has_extension(ht_getproc_fn getproc, const char *name);
 /* Lowers caps to what the profile allows (NULL or all-zero: unchanged). */
 void ht_caps_apply_profile(ht_caps *caps, const ht_device_profile *profile);
 

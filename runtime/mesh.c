@@ -42,7 +42,7 @@ float ht_mesh_centroid_distance(const ht_mesh *m, uint32_t first_vertex, uint32_
         for (int k = 0; k < 3; k++) sum[k] += m->vertices[first_vertex + i].position[k];
     double d[3];
     for (int k = 0; k < 3; k++) d[k] = sum[k] / count - m->center[k];
-    return (float)v3_length(d);
+    return (float)ht_vec3_length(d);
 }
 
 typedef struct sort_entry {

@@ -70,13 +70,13 @@ static void random_direction(ht_rng *rng, double d[3]) {
     double z = 2.0 * ht_rng_unit(rng) - 1.0;
     double phi = 2.0 * M_PI * ht_rng_unit(rng);
     double r = sqrt(fmax(0.0, 1.0 - z * z));
-    v3_set(d, r * cos(phi), r * sin(phi), z);
+    ht_vec3_set(d, r * cos(phi), r * sin(phi), z);
 }
 
 static void widening_axis(const double d0[3], const double gravity[3], double w[3]) {
-    v3_cross(w, d0, gravity);
+    ht_vec3_cross(w, d0, gravity);
     /* Relative test: a nearly parallel gravity gives a w of rounding noise. */
-    if (v3_length(w) <= 1e-6 * v3_length(gravity) || !v3_normalize(w)) v3_any_perpendicular(w, d0);
+    if (ht_vec3_length(w) <= 1e-6 * ht_vec3_length(gravity) || !ht_vec3_normalize(w)) ht_vec3_any_perpendicular(w, d0);
 }
 
 typedef struct hair_scratch {
@@ -97,21 +97,21 @@ static void build_hair(const ht_furball_desc *d, ht_rng *rng, const hair_scratch
     /* Flipping w flips the normal cross(t, w) and keeps the winding
        counter-clockwise seen from the normal's side. */
     double up[3] = { -gravity[0], -gravity[1], -gravity[2] }, n0[3];
-    if (!v3_normalize(up)) v3_set(up, 0, 1, 0);
-    v3_cross(n0, d0, w);
-    if (v3_dot(n0, up) < 0)
+    if (!ht_vec3_normalize(up)) ht_vec3_set(up, 0, 1, 0);
+    ht_vec3_cross(n0, d0, w);
+    if (ht_vec3_dot(n0, up) < 0)
         for (int k = 0; k < 3; k++) w[k] = -w[k];
 
-    v3_copy(dir, d0);
-    v3_set(s->joint[0], 0, 0, 0);
+    ht_vec3_copy(dir, d0);
+    ht_vec3_set(s->joint[0], 0, 0, 0);
     /* A sum within rounding of zero has no direction worth following. */
-    const double zero_step = 1e-6 * (1.0 + v3_length(pull));
+    const double zero_step = 1e-6 * (1.0 + ht_vec3_length(pull));
     for (int j = 1; j < joints; j++) {
         double next[3];
-        v3_mad(next, dir, 1.0, pull);
-        if (v3_length(next) > zero_step && v3_normalize(next)) v3_copy(dir, next);
-        v3_copy(s->segment[j - 1], dir);
-        v3_mad(s->joint[j], s->joint[j - 1], d->length, dir);
+        ht_vec3_mad(next, dir, 1.0, pull);
+        if (ht_vec3_length(next) > zero_step && ht_vec3_normalize(next)) ht_vec3_copy(dir, next);
+        ht_vec3_copy(s->segment[j - 1], dir);
+        ht_vec3_mad(s->joint[j], s->joint[j - 1], d->length, dir);
     }
 
     const double hair_length = (double)d->length * (joints - 1);
@@ -119,34 +119,34 @@ static void build_hair(const ht_furball_desc *d, ht_rng *rng, const hair_scratch
 
     for (int j = 0; j < joints; j++) {
         double t[3], n[3];
-        if (j == 0) v3_copy(t, s->segment[0]);
-        else if (j == joints - 1) v3_copy(t, s->segment[j - 1]);
+        if (j == 0) ht_vec3_copy(t, s->segment[0]);
+        else if (j == joints - 1) ht_vec3_copy(t, s->segment[j - 1]);
         else {
-            v3_mad(t, s->segment[j - 1], 1.0, s->segment[j]);
+            ht_vec3_mad(t, s->segment[j - 1], 1.0, s->segment[j]);
             /* A hair that turned right round: follow the outgoing segment. */
-            if (!(v3_length(t) > 1e-6 && v3_normalize(t))) v3_copy(t, s->segment[j]);
+            if (!(ht_vec3_length(t) > 1e-6 && ht_vec3_normalize(t))) ht_vec3_copy(t, s->segment[j]);
         }
 
-        v3_cross(n, t, w);
+        ht_vec3_cross(n, t, w);
         /* Never falls back at the root (t = d0 ⟂ w), so prev_n is set
            before the fallback needs it. */
-        if (!(v3_length(n) > 1e-6 && v3_normalize(n))) {
-            v3_copy(n, prev_n);
-            if (!v3_orthonormalize(n, t)) v3_any_perpendicular(n, t);
+        if (!(ht_vec3_length(n) > 1e-6 && ht_vec3_normalize(n))) {
+            ht_vec3_copy(n, prev_n);
+            if (!ht_vec3_orthonormalize(n, t)) ht_vec3_any_perpendicular(n, t);
         }
-        v3_copy(prev_n, n);
+        ht_vec3_copy(prev_n, n);
 
         const double v = (double)j / (joints - 1);
         const double half = 0.5 * d->width * (1.0 - (1.0 - FURBALL_TIP_WIDTH) * v);
-        const double r = clamp01(v3_length(s->joint[j]) / hair_length);
+        const double r = ht_clamp01(ht_vec3_length(s->joint[j]) / hair_length);
         const float ao = (float)(0.25 + 0.75 * 0.5 * (v + r));
         for (int side = 0; side < 2; side++) {
             ht_vertex *vx = &out[2 * j + side];
             double p[3];
-            v3_mad(p, s->joint[j], side ? half : -half, w);
-            v3_store(vx->position, p);
-            v3_store(vx->normal, n);
-            v3_store(vx->tangent, t);
+            ht_vec3_mad(p, s->joint[j], side ? half : -half, w);
+            ht_vec3_store(vx->position, p);
+            ht_vec3_store(vx->normal, n);
+            ht_vec3_store(vx->tangent, t);
             vx->uv[0] = streak_u;
             vx->uv[1] = (float)v;
             vx->ao = ao;

@@ -110,10 +110,10 @@ static ht_result resolve(const ht_patches_desc *in, ht_patches_desc *d) {
 }
 
 static void sphere_point(double p[3], double r, double theta, double phi) {
-    v3_set(p, r * sin(theta) * sin(phi), r * cos(theta), r * sin(theta) * cos(phi));
+    ht_vec3_set(p, r * sin(theta) * sin(phi), r * cos(theta), r * sin(theta) * cos(phi));
 }
 
-static void azimuth_direction(double e[3], double phi) { v3_set(e, cos(phi), 0.0, -sin(phi)); }
+static void azimuth_direction(double e[3], double phi) { ht_vec3_set(e, cos(phi), 0.0, -sin(phi)); }
 
 /* `a` of the header: the ribbon's half width over its distance from the
    y axis (0.35 r near the crown), 0.75 of the strip spacing, at most 0.6. */
@@ -159,19 +159,19 @@ static void centre_point(const strip_params *p, double v, double c[3], double ou
         const double x = fmin(s / p->scalp_length, 1.0);
         const double r = p->hang > 0 ? p->r : p->r * (1.0 + FRINGE_LIFT * x * x);
         sphere_point(c, r, p->theta0 + (p->theta1 - p->theta0) * x, p->phi + p->drift * sin(M_PI * x));
-        v3_copy(out, c);
-        v3_normalize(out);
+        ht_vec3_copy(out, c);
+        ht_vec3_normalize(out);
         return;
     }
     const double u = (s - p->scalp_length) / p->hang;
     const double rho = p->r + p->fan * u * u;
     const double side = p->wave * u * sin(2.0 * M_PI * p->wave_freq * u + p->wave_phase);
     double h[3], e[3];
-    v3_set(h, sin(p->phi), 0.0, cos(p->phi));
+    ht_vec3_set(h, sin(p->phi), 0.0, cos(p->phi));
     azimuth_direction(e, p->phi);
-    v3_set(c, rho * h[0] + side * e[0], -u * p->hang, rho * h[2] + side * e[2]);
-    v3_set(out, c[0], 0.0, c[2]);
-    v3_normalize(out);
+    ht_vec3_set(c, rho * h[0] + side * e[0], -u * p->hang, rho * h[2] + side * e[2]);
+    ht_vec3_set(out, c[0], 0.0, c[2]);
+    ht_vec3_normalize(out);
 }
 
 static void build_strip(const ht_patches_desc *d, const strip_params *p, double (*centre)[3],
@@ -184,43 +184,43 @@ static void build_strip(const ht_patches_desc *d, const strip_params *p, double 
     /* Rows are at least 0.8 R / segments apart along the path, so no
        segment is empty; the fallback is for safety. */
     for (int i = 0; i + 1 < rows; i++) {
-        v3_mad(segment[i], centre[i + 1], -1.0, centre[i]);
-        if (!v3_normalize(segment[i])) v3_set(segment[i], 0, -1, 0);
+        ht_vec3_mad(segment[i], centre[i + 1], -1.0, centre[i]);
+        if (!ht_vec3_normalize(segment[i])) ht_vec3_set(segment[i], 0, -1, 0);
     }
 
     for (int i = 0; i < rows; i++) {
         double t[3];
-        if (i == 0) v3_copy(t, segment[0]);
-        else if (i == rows - 1) v3_copy(t, segment[i - 1]);
+        if (i == 0) ht_vec3_copy(t, segment[0]);
+        else if (i == rows - 1) ht_vec3_copy(t, segment[i - 1]);
         else {
-            v3_mad(t, segment[i - 1], 1.0, segment[i]);
-            if (!v3_normalize(t)) v3_copy(t, segment[i]);
+            ht_vec3_mad(t, segment[i - 1], 1.0, segment[i]);
+            if (!ht_vec3_normalize(t)) ht_vec3_copy(t, segment[i]);
         }
 
         const double *c = centre[i];
         const double horizontal = hypot(c[0], c[2]);
         const int hanging = c[1] < 0 && p->hang > 0;
         double w[3], n[3];
-        v3_cross(w, outward[i], t);
-        if (!v3_normalize(w)) v3_any_perpendicular(w, t);
-        v3_cross(n, t, w);
-        v3_normalize(n);
-        if (v3_dot(n, c) < 0) {
+        ht_vec3_cross(w, outward[i], t);
+        if (!ht_vec3_normalize(w)) ht_vec3_any_perpendicular(w, t);
+        ht_vec3_cross(n, t, w);
+        ht_vec3_normalize(n);
+        if (ht_vec3_dot(n, c) < 0) {
             /* Keep the normal outward and the winding with it. */
             for (int k = 0; k < 3; k++) { n[k] = -n[k]; w[k] = -w[k]; }
         }
 
         const double hw = a * fmax(horizontal, 0.35 * p->r);
         const double v = (double)i / d->segments;
-        const double h = (hanging ? horizontal : v3_length(c)) - R;
-        const float ao = (float)(0.25 + 0.75 * 0.5 * (clamp01(h / h_max) + v));
+        const double h = (hanging ? horizontal : ht_vec3_length(c)) - R;
+        const float ao = (float)(0.25 + 0.75 * 0.5 * (ht_clamp01(h / h_max) + v));
         for (int side = 0; side < 2; side++) {
             ht_vertex *vx = &out[2 * i + side];
             double pos[3];
-            v3_mad(pos, c, side ? hw : -hw, w);
-            v3_store(vx->position, pos);
-            v3_store(vx->normal, n);
-            v3_store(vx->tangent, t);
+            ht_vec3_mad(pos, c, side ? hw : -hw, w);
+            ht_vec3_store(vx->position, pos);
+            ht_vec3_store(vx->normal, n);
+            ht_vec3_store(vx->tangent, t);
             vx->uv[0] = (float)side;
             vx->uv[1] = (float)v;
             vx->ao = ao;
@@ -236,11 +236,11 @@ static void build_head(float radius, ht_vertex *v, uint32_t *idx) {
             double n[3], e[3], pos[3];
             sphere_point(n, 1.0, theta, phi);
             azimuth_direction(e, phi);
-            v3_mad(pos, (const double[3]){ 0, 0, 0 }, radius, n);
+            ht_vec3_mad(pos, (const double[3]){ 0, 0, 0 }, radius, n);
             ht_vertex *vx = &v[i * (HEAD_SLICES + 1) + j];
-            v3_store(vx->position, pos);
-            v3_store(vx->normal, n);
-            v3_store(vx->tangent, e);
+            ht_vec3_store(vx->position, pos);
+            ht_vec3_store(vx->normal, n);
+            ht_vec3_store(vx->tangent, e);
             vx->uv[0] = (float)j / HEAD_SLICES;
             vx->uv[1] = (float)i / HEAD_STACKS;
             vx->ao = 1.0f;

@@ -1,5 +1,6 @@
-/* renderer_internal.h — the renderer's state and its matrix helpers, shared
-   by renderer.c and the tests that check the projection. */
+/* renderer_internal.h — the renderer's state, shared by the files the
+   renderer is split into (renderer.c names them), and what each of them
+   lends the others. Internal to libhairtier. */
 #ifndef HT_RENDERER_INTERNAL_H
 #define HT_RENDERER_INTERNAL_H
 
@@ -9,7 +10,7 @@
 #include "select.h"
 #include "tier.h"
 
-/* What the renderer saves and resets per frame, at most (renderer.c). */
+/* What the renderer saves and resets per frame, at most (gl_state.c). */
 #define HT_RENDERER_MAX_UNITS 32      /* GL_TEXTURE0 .. GL_TEXTURE31 */
 #define HT_RENDERER_MAX_ATTRIBS 32
 #define HT_RENDERER_MAX_LIGHTS 64
@@ -17,6 +18,7 @@
 struct ht_renderer {
     ht_gl gl;
     ht_caps caps;
+    char *extensions;                 /* the device's whole list, after the profile (caps.h) */
     ht_bundle bundle;
     bool have_bundle;
     ht_log_fn log;
@@ -36,14 +38,43 @@ struct ht_renderer {
     bool has_mesh;
     int vertex_attribs;               /* GL_MAX_VERTEX_ATTRIBS (capped), 0 without shaders */
     int max_lights;                   /* GL_MAX_LIGHTS (capped): the head turns off the ones it does not use */
-    unsigned warned;                  /* frame warnings already logged once (renderer.c) */
+    unsigned warned;                  /* frame warnings already logged once (validate.c) */
     ht_trace trace;
 };
 
-/* gluPerspective and gluLookAt, column-major. False (out untouched) for
-   degenerate input: fov outside (0,180), aspect <= 0, near <= 0,
-   far <= near, eye on target, up parallel to the view direction. */
-bool ht_mat4_perspective(float out[16], float fov_y_degrees, float aspect, float z_near, float z_far);
-bool ht_mat4_look_at(float out[16], const float eye[3], const float target[3], const float up[3]);
+/* The files the renderer is split into, and what each lends the others. */
+
+/* validate.c: each refusal logs one line and returns HT_ERR_INVALID_ARGUMENT. */
+__attribute__((format(printf, 4, 5)))
+ht_result ht_renderer_reject(const ht_renderer *r, const char *what, const char *field, const char *fmt, ...);
+ht_result ht_renderer_check_mesh(const ht_renderer *r, const char *what, const ht_mesh *m);
+/* Fills out's camera, eye and matrices (lights are plan_lights' job). */
+ht_result ht_renderer_check_frame(const ht_renderer *r, const ht_frame_desc *f, ht_tier_frame *out);
+/* The lights every backend and the head see; returns how many. */
+int ht_renderer_plan_lights(ht_renderer *r, const ht_frame_desc *f, ht_light out[HT_MAX_LIGHTS]);
+
+/* mesh_gpu.c */
+void ht_renderer_release_mesh(ht_renderer *r);
+/* base: NULL with the hair VBO bound, else the vertices; hair_attributes:
+   uv and the backend's generic attributes too (the head needs neither). */
+void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes);
+void ht_renderer_clear_arrays(ht_renderer *r);
+
+/* gl_state.c: save (HT_ERR_GL with one line and nothing changed when an
+   attribute stack is full), baseline, restore. */
+typedef struct ht_gl_state {
+    GLint program;
+    GLfloat projection[16], modelview[16];
+    GLfloat texture[HT_RENDERER_MAX_UNITS][16];
+} ht_gl_state;
+ht_result ht_gl_state_save(ht_renderer *r, ht_gl_state *s);
+void ht_gl_state_set_baseline(ht_renderer *r);
+void ht_gl_state_restore(ht_renderer *r, const ht_gl_state *s);
+
+/* opaque_scene.c */
+void ht_renderer_draw_opaque(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f);
+
+/* passes.c: the four passes over the hair mesh, recording the trace. */
+ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf);
 
 #endif

@@ -5,72 +5,9 @@
 
 #include "select.h"
 
-bool ht_extension_list_has(const char *list, const char *name) {
-    if (!list || !name || !name[0]) return false;
-    size_t n = strlen(name);
-    for (const char *p = list; (p = strstr(p, name)) != NULL; p += n) {
-        bool starts = p == list || p[-1] == ' ';
-        bool ends = p[n] == '\0' || p[n] == ' ';
-        if (starts && ends) return true;
-    }
-    return false;
-}
-
-typedef enum core_flag { FLAG_NONE, FLAG_MULTITEXTURE, FLAG_COMBINE, FLAG_CROSSBAR, FLAG_3D,
-                         FLAG_VBO, FLAG_SHADERS, FLAG_FRAGMENT } core_flag;
-
-/* Extensions that became core, with the version and the caps flag that
-   says whether this context (after its profile) may use them. */
-static const struct { const char *name; int major, minor; core_flag flag; } core_extensions[] = {
-    { "GL_EXT_texture3D", 1, 2, FLAG_3D },
-    { "GL_EXT_texture_edge_clamp", 1, 2, FLAG_NONE },
-    { "GL_SGIS_texture_edge_clamp", 1, 2, FLAG_NONE },
-    { "GL_ARB_multitexture", 1, 3, FLAG_MULTITEXTURE },
-    { "GL_ARB_texture_env_combine", 1, 3, FLAG_COMBINE },
-    { "GL_EXT_texture_env_combine", 1, 3, FLAG_COMBINE },
-    { "GL_ARB_texture_env_dot3", 1, 3, FLAG_COMBINE },
-    { "GL_ARB_texture_cube_map", 1, 3, FLAG_NONE },
-    { "GL_ARB_texture_border_clamp", 1, 3, FLAG_NONE },
-    { "GL_ARB_texture_env_crossbar", 1, 4, FLAG_CROSSBAR },
-    { "GL_ARB_vertex_buffer_object", 1, 5, FLAG_VBO },
-    { "GL_ARB_shader_objects", 2, 0, FLAG_SHADERS },
-    { "GL_ARB_vertex_shader", 2, 0, FLAG_SHADERS },
-    { "GL_ARB_fragment_shader", 2, 0, FLAG_FRAGMENT },
-    { "GL_ARB_shading_language_100", 2, 0, FLAG_SHADERS },
-    { "GL_ARB_texture_non_power_of_two", 2, 0, FLAG_NONE },
-};
-
-static bool flag_set(const ht_caps *c, core_flag f) {
-    switch (f) {
-    case FLAG_NONE: return true;
-    case FLAG_MULTITEXTURE: return c->has_multitexture;
-    case FLAG_COMBINE: return c->has_combine;
-    case FLAG_CROSSBAR: return c->has_crossbar;
-    case FLAG_3D: return c->has_3d_textures;
-    case FLAG_VBO: return c->has_vbo;
-    case FLAG_SHADERS: return c->has_shaders;
-    case FLAG_FRAGMENT: return c->has_shaders && c->has_fragment_shaders;
-    }
-    return false;
-}
-
-static bool at_least(int major, int minor, int want_major, int want_minor) {
-    return major > want_major || (major == want_major && minor >= want_minor);
-}
-
-bool ht_caps_satisfies_extension(const ht_caps *c, const char *name) {
-    if (!c || !name) return false;
-    for (size_t i = 0; i < sizeof core_extensions / sizeof core_extensions[0]; i++) {
-        if (strcmp(core_extensions[i].name, name) != 0) continue;
-        if (!flag_set(c, core_extensions[i].flag)) return false;
-        return ht_extension_list_has(c->extensions, name) ||
-               at_least(c->gl_major, c->gl_minor, core_extensions[i].major, core_extensions[i].minor);
-    }
-    return ht_extension_list_has(c->extensions, name);
-}
-
-bool ht_select_check_requirements(const ht_caps *c, const ht_bundle_tier *t, char *why, size_t why_size) {
-    if (!at_least(c->gl_major, c->gl_minor, t->gl_major, t->gl_minor)) {
+bool ht_select_check_requirements(const ht_caps *c, const char *extensions, const ht_bundle_tier *t,
+                                  char *why, size_t why_size) {
+    if (!ht_version_at_least(c->gl_major, c->gl_minor, t->gl_major, t->gl_minor)) {
         snprintf(why, why_size, "needs GL %d.%d, have %d.%d", t->gl_major, t->gl_minor, c->gl_major, c->gl_minor);
         return false;
     }
@@ -84,13 +21,13 @@ bool ht_select_check_requirements(const ht_caps *c, const ht_bundle_tier *t, cha
                  c->has_shaders && c->has_vertex_shaders ? "vertex shaders only" : "none");
         return false;
     }
-    if (glsl && !at_least(c->glsl_major, c->glsl_minor, t->glsl_major, t->glsl_minor)) {
+    if (glsl && !ht_version_at_least(c->glsl_major, c->glsl_minor, t->glsl_major, t->glsl_minor)) {
         snprintf(why, why_size, "needs GLSL %d.%02d, have %d.%02d", t->glsl_major, t->glsl_minor,
                  c->glsl_major, c->glsl_minor);
         return false;
     }
     for (int i = 0; i < t->extension_count; i++)
-        if (!ht_caps_satisfies_extension(c, t->extensions[i])) {
+        if (!ht_caps_satisfies_extension(c, extensions, t->extensions[i])) {
             snprintf(why, why_size, "needs %s", t->extensions[i]);
             return false;
         }
@@ -109,7 +46,7 @@ static bool tier_blocked(const ht_select_desc *d, int i, char *line, size_t size
         snprintf(line, size, "%s: unknown to this runtime", t->name);
         return true;
     }
-    if (!ht_select_check_requirements(d->caps, t, why, sizeof why)) {
+    if (!ht_select_check_requirements(d->caps, d->extensions, t, why, sizeof why)) {
         snprintf(line, size, "%s: %s", t->name, why);
         return true;
     }

@@ -23,12 +23,14 @@
 #include <stddef.h>
 
 #include "bundle.h"
+#include "caps.h"
 #include "hairtier.h"
 
 #define HT_SELECT_REASON 320
 
 typedef struct ht_select_desc {
     const ht_caps *caps;                        /* required */
+    const char *extensions;                     /* the device's whole list (caps.h), NULL → known names only */
     const ht_bundle *bundle;                    /* required */
     ht_tier requested;                          /* HT_TIER_AUTO → env_tier */
     const char *env_tier;                       /* HAIRTIER_TIER's value, NULL when unset */
@@ -52,15 +54,7 @@ ht_result ht_select_tier(const ht_select_desc *desc, ht_selection *out, char *er
 
 /* True when the device meets the tier's manifest requirements; otherwise
    why = "needs ..." (without the tier name). */
-bool ht_select_check_requirements(const ht_caps *caps, const ht_bundle_tier *tier,
+bool ht_select_check_requirements(const ht_caps *caps, const char *extensions, const ht_bundle_tier *tier,
                                   char *why, size_t why_size);
-
-/* Exact, whole-name match in a space-separated list. */
-bool ht_extension_list_has(const char *list, const char *name);
-/* In the extension list, or core since the context's GL version (and the
-   matching capability flag still set, so device profiles take effect). */
-bool ht_caps_satisfies_extension(const ht_caps *caps, const char *name);
-/* "M.m" from the first digit of s; glsl: "1.2" means minor 20. */
-bool ht_parse_version(const char *s, bool glsl, int *major, int *minor);
 
 #endif

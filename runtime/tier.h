@@ -3,14 +3,14 @@
    matrices and the vertex arrays; a backend owns its programs, textures and
    texture-environment state. Internal to libhairtier.
 
-   A frame, as renderer.c drives it:
+   A frame, as renderer.c and passes.c drive it:
        begin_frame(state, frame)                 lights, eye, matrices
        for pass in PRIME_Z, OPAQUE, BACK, FRONT:
            renderer sets the pass's fixed state
            for sub in 0 .. sub_passes(pass) - 1:
                bind_pass(state, pass, sub)
-               draw(...) or, when draw is NULL / returns false, the
-               renderer's glDrawElements over the whole sorted index range
+               set_arrays(state, pass, sub)      optional: arrays of its own
+               the renderer's glDrawElements over the whole sorted index range
        end_frame(state)                          unbind, restore defaults
 
    Around the frame the renderer saves the application's GL state and sets a
@@ -20,7 +20,9 @@
    state and may leave what it touched: the renderer restores the app's.
 
    The backends: ht_tier_glsl_full_backend and ht_tier_glsl_vertex_backend
-   (tier_glsl.c, declared below), ht_tier_fixed_backend (fallback/fixed.h). */
+   (tier_glsl.c, declared below), ht_tier_fixed_backend (fallback/fixed.h);
+   backends.c is their table, and the only runtime file that names
+   fallback/. The renderer knows a tier only through its backend's fields. */
 #ifndef HT_TIER_H
 #define HT_TIER_H
 
@@ -52,6 +54,10 @@ typedef struct ht_tier_frame {
 
 typedef struct ht_tier_backend {
     ht_tier tier;
+    /* The renderer feeds tangent and ao as generic attributes at
+       shader_interface.h's locations (programs read them; fixed-function
+       stages cannot). */
+    bool generic_attributes;
     /* Compiles/loads everything. A failure (HT_ERR_COMPILE, HT_ERR_IO, ...)
        makes the renderer drop to the next tier with err as the reason, so err
        is one line: "compile failed: full.frag: 0:12(3): error: ...". */
@@ -62,14 +68,18 @@ typedef struct ht_tier_backend {
     /* Optional: NULL → 1. A tier with too few units may split a pass. */
     int (*sub_passes)(void *state, ht_pass pass);
     void (*bind_pass)(void *state, ht_pass pass, int sub_pass);
-    /* Optional: draws [first_index, first_index + index_count) itself and
-       returns true; NULL or false → the renderer draws with its arrays. */
-    bool (*draw)(void *state, ht_pass pass, int sub_pass, uint32_t first_index, uint32_t index_count);
+    /* Optional: points the client arrays its stages read beyond the
+       renderer's (position, normal, uv) before the renderer draws; false
+       when it has nothing valid to draw with, and the draw is skipped. */
+    bool (*set_arrays)(void *state, ht_pass pass, int sub_pass);
     void (*end_frame)(void *state);
     void (*destroy)(void *state);
 } ht_tier_backend;
 
 extern const ht_tier_backend ht_tier_glsl_full_backend;
 extern const ht_tier_backend ht_tier_glsl_vertex_backend;
+
+/* The backend of a tier (backends.c); NULL for one this runtime lacks. */
+const ht_tier_backend *ht_tier_backend_find(ht_tier tier);
 
 #endif

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "errfmt.h"
+#include "gl_texture.h"
 #include "image.h"
 #include "shader_interface.h"
 #include "tier.h"
@@ -168,7 +169,6 @@ static bool png_header_size(const char *path, uint32_t *width, uint32_t *height)
 
 static ht_result upload_texture(glsl_state *s, const ht_bundle *b, const ht_bundle_texture *t,
                                 GLuint *out, char *err, size_t err_size) {
-    const ht_gl *gl = s->gl;
     char path[1200], ierr[512];
     if (!ht_bundle_path(b, t->file, path, sizeof path)) {
         snprintf(err, err_size, "%s: path too long", t->file);
@@ -195,29 +195,13 @@ static ht_result upload_texture(glsl_state *s, const ht_bundle *b, const ht_bund
         ht_image_free(&img);
         return HT_ERR_PARSE;
     }
-    static const GLenum formats[5] = { 0, GL_LUMINANCE, GL_LUMINANCE_ALPHA, GL_RGB, GL_RGBA };
-    GLenum format = img.channels >= 1 && img.channels <= 4 ? formats[img.channels] : GL_RGBA;
-    gl->GenTextures(1, out);
-    gl->BindTexture(GL_TEXTURE_2D, *out);
-    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    /* PNG row 0 lands at t = 0: texel (x, y) is uv ((x+.5)/w, (y+.5)/h), as
-       the generator writes it. uv wraps (REPEAT); no mipmaps: the textures
-       are stretched along strands, where mip blending smears the alpha. */
-    gl->TexImage2D(GL_TEXTURE_2D, 0, (GLint)format, img.width, img.height, 0, format, GL_UNSIGNED_BYTE,
-                   img.pixels);
-    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
-    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    gl->BindTexture(GL_TEXTURE_2D, 0);
+    /* uv wraps (REPEAT); no mipmaps: the textures are stretched along
+       strands, where mip blending smears the alpha. */
+    r = ht_gl_texture_upload(s->gl, &(ht_gl_texture_desc){ .target = GL_TEXTURE_2D, .image = &img,
+                                                           .filter = GL_LINEAR, .wrap = GL_REPEAT, .name = path },
+                             out, err, err_size);
     ht_image_free(&img);
-    GLenum e = gl->GetError();
-    if (e != GL_NO_ERROR) {
-        snprintf(err, err_size, "%s: glTexImage2D: GL error 0x%04x", path, e);
-        return HT_ERR_GL;
-    }
-    return HT_OK;
+    return r;
 }
 
 static void destroy(void *state) {
@@ -312,12 +296,12 @@ static ht_result create(const ht_tier_context *ctx, bool vertex_only, void **out
             glsl_texture *gt = &s->textures[s->texture_count++];
             gt->unit = 0;
             gt->albedo = true;
-            s->gl->GenTextures(1, &gt->id);
-            s->gl->BindTexture(GL_TEXTURE_2D, gt->id);
-            s->gl->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, 1, 1, 0, GL_RGBA, GL_UNSIGNED_BYTE, white);
-            s->gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-            s->gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-            s->gl->BindTexture(GL_TEXTURE_2D, 0);
+            const ht_image one = { .width = 1, .height = 1, .channels = 4, .pixels = (uint8_t *)white };
+            r = ht_gl_texture_upload(s->gl, &(ht_gl_texture_desc){ .target = GL_TEXTURE_2D, .image = &one,
+                                                                   .filter = GL_NEAREST, .wrap = GL_REPEAT,
+                                                                   .name = "white albedo" },
+                                     &gt->id, err, err_size);
+            if (r != HT_OK) goto fail;
         }
     }
     *out = s;
@@ -406,6 +390,7 @@ static void end_frame(void *state) {
 
 const ht_tier_backend ht_tier_glsl_full_backend = {
     .tier = HT_TIER_FULL,
+    .generic_attributes = true,
     .create = create_full,
     .begin_frame = begin_frame,
     .bind_pass = bind_pass,
@@ -415,6 +400,7 @@ const ht_tier_backend ht_tier_glsl_full_backend = {
 
 const ht_tier_backend ht_tier_glsl_vertex_backend = {
     .tier = HT_TIER_VERTEX,
+    .generic_attributes = true,
     .create = create_vertex,
     .begin_frame = begin_frame,
     .bind_pass = bind_pass,

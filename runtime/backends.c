@@ -1,0 +1,19 @@
+/* backends.c — the table of tier backends: the one place the runtime
+   names each tier's implementation (and the only runtime file that
+   includes fallback/), so adding a tier is a row here and a backend. */
+#include <stddef.h>
+
+#include "fixed.h"
+#include "tier.h"
+
+static const ht_tier_backend *const backends[] = {
+    &ht_tier_glsl_full_backend,
+    &ht_tier_glsl_vertex_backend,
+    &ht_tier_fixed_backend,
+};
+
+const ht_tier_backend *ht_tier_backend_find(ht_tier tier) {
+    for (size_t i = 0; i < sizeof backends / sizeof backends[0]; i++)
+        if (backends[i]->tier == tier) return backends[i];
+    return NULL;
+}

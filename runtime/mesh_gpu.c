@@ -1,0 +1,120 @@
+/* mesh_gpu.c — the hair mesh on the GL side: uploaded once (VBOs where
+   the GL has them, else a private copy) and pointed at as vertex arrays
+   for each draw. */
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "errfmt.h"
+#include "renderer_internal.h"
+#include "shader_interface.h"
+
+void ht_renderer_release_mesh(ht_renderer *r) {
+    if (r->vbo) r->gl.DeleteBuffers(1, &r->vbo);
+    if (r->ibo) r->gl.DeleteBuffers(1, &r->ibo);
+    r->vbo = r->ibo = 0;
+    free(r->vertices);
+    free(r->indices);
+    r->vertices = NULL;
+    r->indices = NULL;
+    r->has_mesh = false;
+}
+
+ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
+    if (!r) return HT_ERR_INVALID_ARGUMENT;
+    if (!mesh) return ht_renderer_reject(r, "ht_renderer_set_mesh", "mesh", "NULL");
+    /* A rejected mesh leaves the previous one in place. */
+    ht_result checked = ht_renderer_check_mesh(r, "ht_renderer_set_mesh: mesh", mesh);
+    if (checked != HT_OK) return checked;
+    ht_renderer_release_mesh(r);
+    size_t vbytes = (size_t)mesh->vertex_count * sizeof(ht_vertex);
+    size_t ibytes = (size_t)mesh->index_count * sizeof(uint32_t);
+    if (r->caps.has_vbo) {
+        while (r->gl.GetError() != GL_NO_ERROR) {}
+        r->gl.GenBuffers(1, &r->vbo);
+        r->gl.GenBuffers(1, &r->ibo);
+        r->gl.BindBuffer(GL_ARRAY_BUFFER, r->vbo);
+        r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)vbytes, mesh->vertices, GL_STATIC_DRAW);
+        r->gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo);
+        r->gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)ibytes, mesh->indices, GL_STATIC_DRAW);
+        r->gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+        r->gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+        GLenum e = r->gl.GetError();
+        if (e != GL_NO_ERROR) {
+            ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: glBufferData: GL error 0x%04x", e);
+            ht_renderer_release_mesh(r);
+            return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
+        }
+    } else {
+        r->vertices = malloc(vbytes ? vbytes : 1);
+        r->indices = malloc(ibytes ? ibytes : 1);
+        if (!r->vertices || !r->indices) {
+            ht_renderer_release_mesh(r);
+            ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: mesh: out of memory for %u vertices",
+                         mesh->vertex_count);
+            return HT_ERR_OUT_OF_MEMORY;
+        }
+        if (vbytes) memcpy(r->vertices, mesh->vertices, vbytes);
+        if (ibytes) memcpy(r->indices, mesh->indices, ibytes);
+    }
+    r->vertex_count = mesh->vertex_count;
+    r->index_count = mesh->index_count;
+    r->has_mesh = true;
+    if (r->backend && r->backend->set_mesh) {
+        ht_result res = r->backend->set_mesh(r->backend_state, mesh);
+        if (res != HT_OK) {
+            ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: %s tier: %s", ht_tier_name(r->tier),
+                         ht_result_string(res));
+            ht_renderer_release_mesh(r);
+            return res;
+        }
+    }
+    return HT_OK;
+}
+
+/* A member of ht_vertex: an offset into the bound VBO when base is NULL
+   (GL takes offsets as pointers), else its address in base. */
+static const void *array_at(const ht_vertex *base, size_t offset) {
+    return base ? (const void *)((const char *)base + offset) : (const void *)(uintptr_t)offset;
+}
+
+/* Arrays of ht_vertex: base is NULL with a bound VBO, else the data. The
+   hair gets uv as texture coordinate set 0 and, for a backend that asks
+   (generic_attributes), tangent and ao as generic attributes
+   (shader_interface.h); a backend points any other array itself (tier.h:
+   set_arrays). */
+void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes) {
+    const ht_gl *gl = &r->gl;
+    const GLsizei stride = (GLsizei)sizeof(ht_vertex);
+    gl->EnableClientState(GL_VERTEX_ARRAY);
+    gl->VertexPointer(3, GL_FLOAT, stride, array_at(base, offsetof(ht_vertex, position)));
+    gl->EnableClientState(GL_NORMAL_ARRAY);
+    gl->NormalPointer(GL_FLOAT, stride, array_at(base, offsetof(ht_vertex, normal)));
+    if (!hair_attributes) return;
+    if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0);
+    gl->EnableClientState(GL_TEXTURE_COORD_ARRAY);
+    gl->TexCoordPointer(2, GL_FLOAT, stride, array_at(base, offsetof(ht_vertex, uv)));
+    if (r->backend && r->backend->generic_attributes) {
+        gl->VertexAttribPointer(HT_ATTR_TANGENT_LOCATION, 3, GL_FLOAT, GL_FALSE, stride,
+                                array_at(base, offsetof(ht_vertex, tangent)));
+        gl->EnableVertexAttribArray(HT_ATTR_TANGENT_LOCATION);
+        gl->VertexAttribPointer(HT_ATTR_AO_LOCATION, 1, GL_FLOAT, GL_FALSE, stride,
+                                array_at(base, offsetof(ht_vertex, ao)));
+        gl->EnableVertexAttribArray(HT_ATTR_AO_LOCATION);
+    }
+}
+
+/* Off again before the next draw of the frame (the head's arrays are not
+   the hair's), whatever the app's arrays were: those come back with the
+   client attributes at the end of the frame. */
+void ht_renderer_clear_arrays(ht_renderer *r) {
+    const ht_gl *gl = &r->gl;
+    if (r->backend && r->backend->generic_attributes) {
+        gl->DisableVertexAttribArray(HT_ATTR_AO_LOCATION);
+        gl->DisableVertexAttribArray(HT_ATTR_TANGENT_LOCATION);
+    }
+    if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0);
+    gl->DisableClientState(GL_TEXTURE_COORD_ARRAY);
+    gl->DisableClientState(GL_NORMAL_ARRAY);
+    gl->DisableClientState(GL_VERTEX_ARRAY);
+}

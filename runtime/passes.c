@@ -1,0 +1,117 @@
+/* passes.c — Scheuermann's four passes (docs/DESIGN.md "Passes and sort
+   order"): the fixed depth/cull/blend/alpha state of each, the loop that
+   hands each (sub-)pass to the backend and draws, and the trace read back
+   from GL. Once, here, so every tier draws the same passes. */
+#include "errfmt.h"
+#include "renderer_internal.h"
+
+#define DEFAULT_CUTOFF 0.98f
+
+/* The fixed state of each pass; the numbers are Scheuermann's scheme. */
+static void set_pass_state(ht_renderer *r, ht_pass pass) {
+    const ht_gl *gl = &r->gl;
+    float cutoff = r->have_bundle ? r->bundle.opaque_cutoff : DEFAULT_CUTOFF;
+    gl->Enable(GL_DEPTH_TEST);
+    gl->Enable(GL_ALPHA_TEST);
+    gl->FrontFace(GL_CCW);
+    switch (pass) {
+    case HT_PASS_PRIME_Z:
+        gl->AlphaFunc(GL_GEQUAL, cutoff);
+        gl->Disable(GL_CULL_FACE);
+        gl->DepthMask(GL_TRUE);
+        gl->DepthFunc(GL_LESS);
+        gl->ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        gl->Disable(GL_BLEND);
+        break;
+    case HT_PASS_OPAQUE:
+        gl->AlphaFunc(GL_GEQUAL, cutoff);
+        gl->Disable(GL_CULL_FACE);
+        gl->DepthMask(GL_FALSE);
+        gl->DepthFunc(GL_EQUAL);
+        gl->ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        gl->Disable(GL_BLEND);
+        break;
+    case HT_PASS_BACK:
+    case HT_PASS_FRONT:
+        gl->AlphaFunc(GL_LESS, cutoff);
+        gl->Enable(GL_CULL_FACE);
+        gl->CullFace(pass == HT_PASS_BACK ? GL_FRONT : GL_BACK);
+        gl->DepthMask(pass == HT_PASS_FRONT ? GL_TRUE : GL_FALSE);
+        gl->DepthFunc(GL_LESS);
+        gl->ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        gl->Enable(GL_BLEND);
+        gl->BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+        break;
+    case HT_PASS_COUNT:
+        break;
+    }
+}
+
+/* Read back from GL, so the trace shows what was set, not what was meant. */
+static void record_state(ht_renderer *r, ht_trace_entry *e) {
+    const ht_gl *gl = &r->gl;
+    GLint v = 0;
+    GLboolean b[4] = { 0 };
+    GLfloat f = 0;
+    e->cull = gl->IsEnabled(GL_CULL_FACE) == GL_TRUE;
+    gl->GetIntegerv(GL_CULL_FACE_MODE, &v);
+    e->cull_face = (unsigned)v;
+    gl->GetIntegerv(GL_DEPTH_FUNC, &v);
+    e->depth_func = (unsigned)v;
+    gl->GetBooleanv(GL_DEPTH_WRITEMASK, b);
+    e->depth_write = b[0] == GL_TRUE;
+    gl->GetBooleanv(GL_COLOR_WRITEMASK, b);
+    e->color_write = b[0] || b[1] || b[2] || b[3];
+    e->blend = gl->IsEnabled(GL_BLEND) == GL_TRUE;
+    e->alpha_test = gl->IsEnabled(GL_ALPHA_TEST) == GL_TRUE;
+    gl->GetIntegerv(GL_ALPHA_TEST_FUNC, &v);
+    e->alpha_func = (unsigned)v;
+    gl->GetFloatv(GL_ALPHA_TEST_REF, &f);
+    e->alpha_ref = f;
+}
+
+/* Flat mode: the baseline has no texture, lighting or program. */
+static void bind_flat(ht_renderer *r) {
+    r->gl.Color4f(r->flat_color[0], r->flat_color[1], r->flat_color[2], 1.0f);
+}
+
+/* The hair, pass by pass over the whole sorted index range: every tier
+   draws the same passes and ranges; only the shading differs. */
+ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf) {
+    const ht_gl *gl = &r->gl;
+    if (!r->has_mesh || r->index_count == 0) return HT_OK;
+    if (r->caps.has_vbo) {
+        gl->BindBuffer(GL_ARRAY_BUFFER, r->vbo);
+        gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo);
+    }
+    ht_renderer_set_arrays(r, r->caps.has_vbo ? NULL : r->vertices, true);
+    const void *indices = r->caps.has_vbo ? NULL : r->indices;
+
+    if (r->backend) r->backend->begin_frame(r->backend_state, tf);
+    ht_result result = HT_OK;
+    for (int p = 0; p < HT_PASS_COUNT; p++) {
+        ht_pass pass = (ht_pass)p;
+        set_pass_state(r, pass);
+        int subs = r->backend && r->backend->sub_passes ? r->backend->sub_passes(r->backend_state, pass) : 1;
+        for (int sub = 0; sub < subs; sub++) {
+            if (r->backend) r->backend->bind_pass(r->backend_state, pass, sub);
+            else bind_flat(r);
+            ht_trace_entry e = { .pass = pass, .sub_pass = sub, .first_index = 0, .index_count = r->index_count };
+            if (r->record_trace) record_state(r, &e);
+            bool draw = !r->backend || !r->backend->set_arrays ||
+                        r->backend->set_arrays(r->backend_state, pass, sub);
+            if (draw) gl->DrawElements(GL_TRIANGLES, (GLsizei)r->index_count, GL_UNSIGNED_INT, indices);
+            e.gl_error = gl->GetError();
+            if (e.gl_error != GL_NO_ERROR) {
+                ht_log_linef(r->log, r->log_user, "hairtier: pass %d.%d (%s): GL error 0x%04x", p, sub,
+                             r->backend ? ht_tier_name(r->tier) : "flat", e.gl_error);
+                result = HT_ERR_GL;
+                while (gl->GetError() != GL_NO_ERROR) {}
+            }
+            if (r->record_trace && r->trace.count < HT_TRACE_MAX) r->trace.entries[r->trace.count++] = e;
+        }
+    }
+    if (r->backend) r->backend->end_frame(r->backend_state);
+    ht_renderer_clear_arrays(r);
+    return result;
+}

@@ -1,0 +1,123 @@
+/* test_caps — what a device offers, from synthetic caps and driver strings:
+   version parsing, extension lookup (known names as caps bits, any other
+   name in the whole list) and device profiles; no GL context. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "caps.h"
+
+/* A device of the given GL version with what that version brings. */
+static ht_caps device(int major, int minor) {
+    ht_caps c;
+    memset(&c, 0, sizeof c);
+    c.gl_major = major;
+    c.gl_minor = minor;
+    int v = major * 10 + minor;
+    c.has_shaders = c.has_vertex_shaders = c.has_fragment_shaders = v >= 20;
+    c.texture_units = v >= 13 ? 4 : 1;
+    c.has_multitexture = c.has_combine = v >= 13;
+    c.has_crossbar = v >= 14;
+    c.has_3d_textures = v >= 12;
+    c.has_vbo = v >= 15;
+    return c;
+}
+
+static void test_caps_parse_version_survives_driver_strings(void **state) {
+    (void)state;
+    int ma, mi;
+    assert_true(ht_parse_version("4.5 (Compatibility Profile) Mesa 22.3.6", false, &ma, &mi));
+    assert_int_equal(ma * 10 + mi, 45);
+    assert_true(ht_parse_version("OpenGL ES 2.0 Mesa", false, &ma, &mi));
+    assert_int_equal(ma * 10 + mi, 20);
+    assert_true(ht_parse_version("1.20 NVIDIA via Cg compiler", true, &ma, &mi));
+    assert_int_equal(ma * 100 + mi, 120);
+    assert_true(ht_parse_version("1.2", true, &ma, &mi)); /* GLSL minors are hundredths */
+    assert_int_equal(ma * 100 + mi, 120);
+    assert_true(ht_parse_version("OpenGL ES GLSL ES 1.00", true, &ma, &mi));
+    assert_int_equal(ma * 100 + mi, 100);
+    assert_true(ht_parse_version("3", false, &ma, &mi));
+    assert_int_equal(ma * 10 + mi, 30);
+    assert_false(ht_parse_version("", false, &ma, &mi));
+    assert_false(ht_parse_version(NULL, false, &ma, &mi));
+    assert_false(ht_parse_version("no digits", false, &ma, &mi));
+    assert_true(ht_parse_version("99999999999999999999.9999999", false, &ma, &mi)); /* no overflow */
+    assert_true(ma >= 0 && mi >= 0);
+}
+
+static void test_caps_extension_list_matches_whole_names_only(void **state) {
+    (void)state;
+    const char *list = "GL_ARB_texture_env_combine_x GL_EXT_bgra GL_ARB_multitexture";
+    assert_false(ht_extension_list_has(list, "GL_ARB_texture_env_combine"));
+    assert_false(ht_extension_list_has(list, "GL_ARB_multi"));
+    assert_false(ht_extension_list_has(list, "bgra"));
+    assert_true(ht_extension_list_has(list, "GL_ARB_multitexture"));
+    assert_true(ht_extension_list_has(list, "GL_EXT_bgra"));
+    assert_false(ht_extension_list_has(list, ""));
+    assert_false(ht_extension_list_has(NULL, "GL_EXT_bgra"));
+}
+
+static void test_caps_extension_met_by_the_core_version_it_entered(void **state) {
+    (void)state;
+    ht_caps c = device(1, 3); /* empty extension list */
+    assert_true(ht_caps_satisfies_extension(&c, NULL, "GL_ARB_texture_env_combine"));
+    assert_false(ht_caps_satisfies_extension(&c, NULL, "GL_ARB_texture_env_crossbar")); /* 1.4 */
+    assert_false(ht_caps_satisfies_extension(&c, NULL, "GL_ARB_fragment_shader"));      /* 2.0 */
+}
+
+static void test_caps_notes_known_names_and_looks_others_up_in_the_list(void **state) {
+    (void)state;
+    ht_caps c = device(1, 2);
+    const char *list = "GL_EXT_bgra GL_ARB_texture_rectangle GL_ARB_texture_env_combine_x";
+    ht_caps_note_extensions(&c, list);
+    assert_true(ht_caps_lists_extension(&c, "GL_ARB_texture_rectangle"));
+    assert_false(ht_caps_lists_extension(&c, "GL_ARB_texture_env_combine"));
+    assert_false(ht_caps_lists_extension(&c, "GL_EXT_bgra")); /* not a name the runtime asks about */
+    assert_true(ht_caps_satisfies_extension(&c, list, "GL_EXT_bgra"));
+    assert_false(ht_caps_satisfies_extension(&c, NULL, "GL_EXT_bgra"));
+    assert_false(ht_caps_satisfies_extension(&c, list, "GL_ARB_texture_env_combine"));
+}
+
+static void test_caps_profile_hides_listed_extensions_from_bits_and_list(void **state) {
+    (void)state;
+    ht_caps c = device(1, 2);
+    c.has_multitexture = true;
+    char list[] = "GL_ARB_multitexture GL_EXT_bgra GL_ARB_texture_env_combine GL_NV_fence";
+    ht_caps_note_extensions(&c, list);
+    c.has_combine = true;
+    const ht_device_profile p = { .hide_extensions = "GL_ARB_texture_env_combine GL_NV_fence" };
+    ht_caps_apply_profile(&c, &p);
+    ht_caps_hide_extensions(list, p.hide_extensions);
+    assert_string_equal(list, "GL_ARB_multitexture GL_EXT_bgra");
+    assert_false(c.has_combine);
+    assert_false(ht_caps_lists_extension(&c, "GL_ARB_texture_env_combine"));
+    assert_false(ht_caps_satisfies_extension(&c, list, "GL_NV_fence"));
+    assert_true(ht_caps_satisfies_extension(&c, list, "GL_ARB_multitexture"));
+}
+
+static void test_caps_profile_lowering_the_version_keeps_listed_extensions(void **state) {
+    (void)state;
+    ht_caps c = device(2, 1);
+    ht_caps_note_extensions(&c, "GL_ARB_texture_env_combine");
+    ht_caps_apply_profile(&c, &(ht_device_profile){ .gl_major = 1, .gl_minor = 2 });
+    assert_true(c.has_combine);   /* listed, so still there below 1.3 */
+    assert_false(c.has_crossbar); /* core only since 1.4, not listed */
+    assert_false(c.has_shaders);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_caps_parse_version_survives_driver_strings),
+        cmocka_unit_test(test_caps_extension_list_matches_whole_names_only),
+        cmocka_unit_test(test_caps_extension_met_by_the_core_version_it_entered),
+        cmocka_unit_test(test_caps_notes_known_names_and_looks_others_up_in_the_list),
+        cmocka_unit_test(test_caps_profile_hides_listed_extensions_from_bits_and_list),
+        cmocka_unit_test(test_caps_profile_lowering_the_version_keeps_listed_extensions),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
