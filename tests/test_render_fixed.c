@@ -52,6 +52,7 @@
 #include "hairtier.h"
 #include "image.h"
 #include "model.h"
+#include "support_combiner_eval.h"
 #include "support_log.h"
 #include "support_osmesa.h"
 #include "support_probe.h"
