@@ -3,7 +3,7 @@
 #ifndef HT_RENDERER_INTERNAL_H
 #define HT_RENDERER_INTERNAL_H
 
-#include "bundle.h"
+#include "manifest.h"
 #include "gl_api.h"
 #include "hairtier.h"
 #include "select.h"
@@ -17,7 +17,7 @@
 struct ht_renderer {
     ht_gl gl;
     ht_caps caps;
-    ht_bundle bundle;
+    ht_manifest bundle;
     bool have_bundle;
     ht_log_fn log;
     void *log_user;

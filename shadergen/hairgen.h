@@ -82,7 +82,7 @@ typedef struct ht_plan {
     ht_light_type light_types[HT_MAX_LIGHTS];
     bool base, alpha, shift, sparkle, secondary, ao;  /* modelled features */
     double opaque_cutoff;
-    /* Mean of the sparkle texture (1 until bundle.c measures it): the
+    /* Mean of the sparkle texture (1 until generate.c measures it): the
        tiers that cannot sample the mask scale the secondary highlight by it
        instead of leaving it unmasked. */
     double sparkle_mean;
@@ -97,13 +97,13 @@ void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out);
    colour scaled by plan->sparkle_mean (unchanged when sparkle is absent). */
 ht_shading ht_plan_unmasked_shading(const ht_plan *plan);
 
-/* ---- bundle (shadergen/bundle.c) ---- */
+/* ---- generator (shadergen/generate.c) ---- */
 
 /* Generates every tier for (material, scene) and writes DIR atomically (a
    temporary sibling renamed into place; an existing DIR is replaced only
    after the new one is complete). scene_path may be NULL (ht_scene_default).
    summary, when not NULL, receives the human-readable table. */
-ht_result ht_bundle_generate(const char *material_path, const char *scene_path,
+ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
                              const char *out_dir, FILE *summary, char *err, size_t err_size);
 
 #endif

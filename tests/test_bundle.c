@@ -69,8 +69,8 @@ static cJSON *load_manifest(const char *dir) {
 
 static void generate(const char *material, const char *scene, const char *dir) {
     char err[2048] = "";
-    ht_result r = ht_bundle_generate(material, scene, dir, NULL, err, sizeof err);
-    if (r != HT_OK) fail_msg("ht_bundle_generate: %s", err);
+    ht_result r = ht_generate_bundle(material, scene, dir, NULL, err, sizeof err);
+    if (r != HT_OK) fail_msg("ht_generate_bundle: %s", err);
 }
 
 static void test_bundle_lists_every_tier_best_first_with_existing_files(void **state) {
@@ -164,7 +164,7 @@ static void test_bundle_failure_writes_nothing(void **state) {
                "  \"primary\": {\"color\": [1,1,1], \"exponent\": 80},\n"
                "  \"secondary\": {\"color\": [0.5,0.5,0.5], \"exponent\": 20},\n"
                "  \"textures\": {\"base\": {\"file\": \"no-such-file.png\"}} }\n");
-    ht_result r = ht_bundle_generate(material, NULL, dir, NULL, err, sizeof err);
+    ht_result r = ht_generate_bundle(material, NULL, dir, NULL, err, sizeof err);
     assert_int_not_equal(r, HT_OK);
     assert_non_null(strstr(err, "no-such-file.png"));
     assert_false(exists(dir));
@@ -181,7 +181,7 @@ static void test_bundle_failure_keeps_the_previous_bundle(void **state) {
     size_t before_size = 0, after_size = 0;
     char *before = read_all(manifest, &before_size);
     write_text(material, "{ \"format\": \"hairtier-material/1\", \"name\": \"m\", ");
-    assert_int_not_equal(ht_bundle_generate(material, NULL, dir, NULL, err, sizeof err), HT_OK);
+    assert_int_not_equal(ht_generate_bundle(material, NULL, dir, NULL, err, sizeof err), HT_OK);
     char *after = read_all(manifest, &after_size);
     assert_non_null(after);
     assert_int_equal(before_size, after_size);
@@ -228,7 +228,7 @@ static void test_bundle_refuses_to_replace_a_directory_that_is_not_a_bundle(void
     snprintf(keep, sizeof keep, "%s/precious.txt", dir);
     mkdir(dir, 0755);
     write_text(keep, "mine\n");
-    assert_int_equal(ht_bundle_generate("materials/dark-brown.json", NULL, dir, NULL, err, sizeof err), HT_ERR_IO);
+    assert_int_equal(ht_generate_bundle("materials/dark-brown.json", NULL, dir, NULL, err, sizeof err), HT_ERR_IO);
     assert_non_null(strstr(err, "not a hairtier bundle"));
     assert_true(exists(keep));
     assert_int_equal(count_temporaries(), 0);
@@ -239,7 +239,7 @@ static void test_bundle_onto_a_file_fails_and_leaves_nothing(void **state) {
     char file[256], err[2048] = "";
     snprintf(file, sizeof file, "%s/plain-file", work);
     write_text(file, "x");
-    assert_int_equal(ht_bundle_generate("materials/dark-brown.json", NULL, file, NULL, err, sizeof err), HT_ERR_IO);
+    assert_int_equal(ht_generate_bundle("materials/dark-brown.json", NULL, file, NULL, err, sizeof err), HT_ERR_IO);
     assert_non_null(strstr(err, "not a directory"));
     assert_int_equal(count_temporaries(), 0);
 }

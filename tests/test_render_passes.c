@@ -272,7 +272,7 @@ static void test_render_glsl_tiers_on_one_or_two_units_match_the_eight_unit_imag
     static const float black[3] = { 0, 0, 0 };
     char kk[256], err[1024];
     snprintf(kk, sizeof kk, "%s/kajiya-kay", fx.work);
-    if (ht_bundle_generate("materials/kajiya-kay.json", "scenes/furball.json", kk, NULL, err, sizeof err) != HT_OK)
+    if (ht_generate_bundle("materials/kajiya-kay.json", "scenes/furball.json", kk, NULL, err, sizeof err) != HT_OK)
         fail_msg("%s", err);
     const struct { ht_tier tier; const char *dir; int units; } cases[] = {
         { HT_TIER_FULL, kk, 1 },           { HT_TIER_FULL, fx.bundle_dir, 2 },

@@ -1,4 +1,4 @@
-/* bundle.c — hairgen's output: every tier of one (material, scene) written
+/* generate.c — hairgen's output: every tier of one (material, scene) written
    as a directory (docs/bundle.md), atomically: files go into a temporary
    sibling directory which is renamed into place only once complete, so a
    failure leaves no DIR and an existing DIR is either the old or the new one. */
@@ -345,7 +345,7 @@ static ht_result generate(const char *material_path, const char *scene_path,
     return r;
 }
 
-ht_result ht_bundle_generate(const char *material_path, const char *scene_path,
+ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
                              const char *out_dir, FILE *summary, char *err, size_t err_size) {
     /* "dir/" and "dir" are the same bundle; the temporary sibling needs the
        name without the slash. */
