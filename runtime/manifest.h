@@ -18,6 +18,18 @@
 #include <stddef.h>
 
 #include "hairtier.h"
+#include "image.h"
+
+/* The schema's one home: shadergen/generate.c writes what this reader
+   accepts and checks these limits before writing, so hairgen never makes a
+   bundle the runtime refuses (tests/test_manifest.c holds the two together). */
+#define HT_MANIFEST_FORMAT "hairtier-bundle/1"
+#define HT_MANIFEST_FILE "manifest.json"
+/* Texture sizes the runtime reads: per side, 3D depth (slices), and texels
+   in all (the PNG reader's cap, so a listed texture is never one it refuses). */
+#define HT_MANIFEST_MAX_TEXTURE_SIZE 16384
+#define HT_MANIFEST_MAX_TEXTURE_DEPTH 4096
+#define HT_MANIFEST_MAX_TEXTURE_PIXELS HT_IMAGE_MAX_PIXELS
 
 #define HT_MANIFEST_MAX_TIERS 8
 #define HT_MANIFEST_MAX_FILES 8

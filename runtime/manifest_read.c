@@ -13,8 +13,6 @@
 #include "json_check.h"
 #include "select.h"
 
-#define BUNDLE_FORMAT "hairtier-bundle/1"
-
 /* A string field copied into out; absent is an error unless optional. */
 static ht_result get_string(const ht_jctx *c, const cJSON *obj, const char *parent, const char *key,
                             bool optional, char *out, size_t out_size) {
@@ -80,9 +78,9 @@ static ht_result parse_textures(const ht_jctx *c, const cJSON *obj, const char *
         ht_json_path_key(file_field, field, "file");
         if ((r = get_string(c, t, field, "file", false, tex->file, sizeof tex->file)) != HT_OK ||
             (r = check_file_name(c, file_field, tex->file)) != HT_OK ||
-            (r = get_int(c, t, field, "width", 0, 1, 16384, &tex->width)) != HT_OK ||
-            (r = get_int(c, t, field, "height", 0, 1, 16384, &tex->height)) != HT_OK ||
-            (r = get_int(c, t, field, "depth", 1, 1, 4096, &tex->depth)) != HT_OK)
+            (r = get_int(c, t, field, "width", 0, 1, HT_MANIFEST_MAX_TEXTURE_SIZE, &tex->width)) != HT_OK ||
+            (r = get_int(c, t, field, "height", 0, 1, HT_MANIFEST_MAX_TEXTURE_SIZE, &tex->height)) != HT_OK ||
+            (r = get_int(c, t, field, "depth", 1, 1, HT_MANIFEST_MAX_TEXTURE_DEPTH, &tex->depth)) != HT_OK)
             return r;
         (*count)++;
     }
@@ -218,8 +216,8 @@ ht_result ht_manifest_parse(const char *json_text, const char *dir, const char *
     char format[32];
     if (!cJSON_IsObject(root)) { r = ht_json_fail(&c, "manifest", "expected a JSON object"); goto done; }
     if ((r = get_string(&c, root, "", "format", false, format, sizeof format)) != HT_OK) goto done;
-    if (strcmp(format, BUNDLE_FORMAT) != 0) {
-        r = ht_json_fail(&c, "format", "\"%s\" is not \"%s\"", format, BUNDLE_FORMAT);
+    if (strcmp(format, HT_MANIFEST_FORMAT) != 0) {
+        r = ht_json_fail(&c, "format", "\"%s\" is not \"%s\"", format, HT_MANIFEST_FORMAT);
         goto done;
     }
     if ((r = get_string(&c, root, "", "material", true, out->material, sizeof out->material)) != HT_OK ||

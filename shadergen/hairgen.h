@@ -44,6 +44,8 @@ typedef struct ht_material {
     ht_shading shading;
     ht_texture_source textures[HT_TEX_COUNT];
     double opaque_cutoff;  /* alpha at or above this is opaque; (0,1], default 0.98 */
+    char file[1024];       /* the file it was read from, naming it in errors;
+                              "" for a material built in memory */
 } ht_material;
 
 /* Errors are one line "FILE: FIELD: what is wrong" written to err. */
