@@ -16,3 +16,6 @@ git grep -lE 'ht_bundle|HT_BUNDLE_|"bundle\.h"' -- '*.c' '*.h' | xargs -r sed -i
   -e 's/\bht_bundle_/ht_manifest_/g' \
   -e 's/\bHT_BUNDLE_/HT_MANIFEST_/g' \
   -e 's/"bundle\.h"/"manifest.h"/g'
+# ht_scene / ht_geometry_kind now live in runtime/scene.h (hairgen.h includes
+# it). A file outside shadergen/ that uses them without including hairgen.h
+# needs: #include "scene.h"  (no sed: add it by hand where the compiler asks).

@@ -11,6 +11,7 @@
 
 #include "hairtier.h"
 #include "model.h"
+#include "scene.h"
 #include "image.h"
 
 /* ---- material (materials/NAME.json, format "hairtier-material/1") ---- */
@@ -52,12 +53,6 @@ typedef struct ht_material {
 ht_result ht_material_load(const char *path, ht_material *out, char *err, size_t err_size);
 ht_result ht_material_parse(const char *json_text, const char *file_name,
                             ht_material *out, char *err, size_t err_size);
-ht_result ht_scene_load(const char *path, ht_scene *out, char *err, size_t err_size);
-ht_result ht_scene_parse(const char *json_text, const char *file_name,
-                         ht_scene *out, char *err, size_t err_size);
-/* The scene a material is planned for when none is given: one white
-   directional light, the fur ball. */
-void ht_scene_default(ht_scene *out);
 
 /* ---- textures ---- */
 
