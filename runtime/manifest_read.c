@@ -206,15 +206,11 @@ ht_result ht_manifest_parse(const char *json_text, const char *dir, const char *
     memset(out, 0, sizeof *out);
     snprintf(out->dir, sizeof out->dir, "%s", dir ? dir : ".");
 
-    cJSON *root = cJSON_Parse(json_text);
-    if (!root) {
-        const char *at = cJSON_GetErrorPtr();
-        size_t offset = at && at >= json_text ? (size_t)(at - json_text) : 0;
-        return ht_json_fail(&c, "manifest", "not valid JSON (near byte %zu)", offset);
-    }
-    ht_result r = HT_OK;
+    /* Syntax errors say line and column, as every other format's do. */
+    cJSON *root;
+    ht_result r = ht_json_parse_root(&c, json_text, &root);
+    if (r != HT_OK) return r;
     char format[32];
-    if (!cJSON_IsObject(root)) { r = ht_json_fail(&c, "manifest", "expected a JSON object"); goto done; }
     if ((r = get_string(&c, root, "", "format", false, format, sizeof format)) != HT_OK) goto done;
     if (strcmp(format, HT_MANIFEST_FORMAT) != 0) {
         r = ht_json_fail(&c, "format", "\"%s\" is not \"%s\"", format, HT_MANIFEST_FORMAT);
