@@ -18,7 +18,8 @@ LDFLAGS  += $(SAN)
 # glslang's static libraries are C++; its pkg-config file is read lazily,
 # after the packages are installed.
 GLSLANG_LIBS = $(shell pkg-config --libs glslang) -lglslang-default-resource-limits -lstdc++
-LDLIBS   = $(GLSLANG_LIBS) -lOSMesa -lcjson -lpng16 -lz -lpthread -lm
+RUNTIME_LIBS = -lOSMesa -lcjson -lpng16 -lz -lpthread -lm
+LDLIBS   = $(GLSLANG_LIBS) $(RUNTIME_LIBS)
 
 RUNTIME_SRC := $(wildcard runtime/*.c fallback/*.c)
 GEN_SRC     := $(filter-out shadergen/hairgen.c,$(wildcard shadergen/*.c))
@@ -67,6 +68,10 @@ $(GENLIB): $(call obj,$(GEN_SRC))
 
 $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+# hairview draws a bundle: the runtime only, no generator, no glslang.
+$(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(LIB)
+	$(CC) $(LDFLAGS) $^ $(RUNTIME_LIBS) -o $@
 
 $(BUILD)/%: $(BUILD)/obj/examples/%.o $(GENLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@

@@ -66,7 +66,7 @@ static int run(const char *work) {
     snprintf(dir, sizeof dir, "%s/bundle", work);
     ht_scene scene;
     if (ht_scene_load("scenes/furball.json", &scene, err, sizeof err) != HT_OK ||
-        ht_bundle_generate("materials/dark-brown.json", "scenes/furball.json", dir, NULL, err, sizeof err) != HT_OK) {
+        ht_generate_bundle("materials/dark-brown.json", "scenes/furball.json", dir, NULL, err, sizeof err) != HT_OK) {
         fprintf(stderr, "bench_frame: %s\n", err);
         return 1;
     }

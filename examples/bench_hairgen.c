@@ -42,7 +42,7 @@ static int run(const char *root) {
     char dir[512];
     snprintf(dir, sizeof dir, "%s/one", root);
     double t0 = now_ms();
-    if (ht_bundle_generate("materials/dark-brown.json", "scenes/furball.json", dir, NULL, err, sizeof err) != HT_OK) {
+    if (ht_generate_bundle("materials/dark-brown.json", "scenes/furball.json", dir, NULL, err, sizeof err) != HT_OK) {
         fprintf(stderr, "bench_hairgen: %s\n", err);
         return 1;
     }
@@ -55,7 +55,7 @@ static int run(const char *root) {
         snprintf(dir, sizeof dir, "%s/bundle-%03d", root, i);
         if (write_variant(material, i) != 0) { perror(material); return 1; }
         t0 = now_ms();
-        if (ht_bundle_generate(material, "scenes/furball.json", dir, NULL, err, sizeof err) != HT_OK) {
+        if (ht_generate_bundle(material, "scenes/furball.json", dir, NULL, err, sizeof err) != HT_OK) {
             fprintf(stderr, "bench_hairgen: %s\n", err);
             return 1;
         }

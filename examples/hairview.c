@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hairgen.h"
+#include "scene.h"
 #include "hairtier.h"
 #include "image.h"
 #include "offscreen.h"

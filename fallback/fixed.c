@@ -101,17 +101,17 @@ static void destroy(void *state) {
 
 static ht_result load_program(fixed_state *s, const ht_tier_context *ctx, char *path, size_t path_size,
                               char *err, size_t err_size) {
-    const ht_bundle *b = ctx->bundle;
-    const char *file = ht_bundle_tier_file(ctx->tier, "program");
+    const ht_manifest *b = ctx->bundle;
+    const char *file = ht_manifest_tier_file(ctx->tier, "program");
     if (!file) {
         snprintf(err, err_size, "%s/manifest.json: tiers.%s.files: needs \"program\"", b->dir, ctx->tier->name);
         return HT_ERR_PARSE;
     }
-    if (!ht_bundle_path(b, file, path, path_size)) {
+    if (!ht_manifest_path(b, file, path, path_size)) {
         snprintf(err, err_size, "%s: path too long", file);
         return HT_ERR_IO;
     }
-    char *text = ht_bundle_read_text(b, file, err, err_size);
+    char *text = ht_manifest_read_text(b, file, err, err_size);
     if (!text) return HT_ERR_IO;
     ht_result r = ht_combiner_parse(text, path, &s->program, err, err_size);
     free(text);
@@ -160,15 +160,15 @@ static ht_result check_device(const fixed_state *s, const ht_tier_context *ctx, 
 static ht_result read_stage_image(const fixed_state *s, const ht_tier_context *ctx, int stage,
                                   ht_image *img, int *depth, char *path, size_t path_size,
                                   char *err, size_t err_size) {
-    const ht_bundle *b = ctx->bundle;
+    const ht_manifest *b = ctx->bundle;
     const ht_combiner_stage *st = &s->program.stages[stage];
-    const ht_bundle_texture *t = ht_bundle_find_texture(b, ctx->tier, st->texture);
+    const ht_manifest_texture *t = ht_manifest_find_texture(b, ctx->tier, st->texture);
     if (!t) {
         snprintf(err, err_size, "%s/manifest.json: tiers.%s.textures: \"%s\" (stages[%d] of the program) is "
                  "not listed", b->dir, ctx->tier->name, st->texture, stage);
         return HT_ERR_PARSE;
     }
-    if (!ht_bundle_path(b, t->file, path, path_size)) {
+    if (!ht_manifest_path(b, t->file, path, path_size)) {
         snprintf(err, err_size, "%s: path too long", t->file);
         return HT_ERR_IO;
     }

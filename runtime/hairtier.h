@@ -66,7 +66,7 @@ typedef enum ht_tier {
 const char *ht_tier_name(ht_tier t);          /* "auto", "full", ... */
 ht_tier ht_tier_from_name(const char *name);  /* HT_TIER_COUNT when unknown */
 
-/* ---- scene description (also read from scene JSON files by hairgen) ---- */
+/* ---- lights, camera, hair geometry (a whole scene: scene.h) ---- */
 
 #define HT_MAX_LIGHTS 4
 
@@ -102,19 +102,6 @@ typedef struct ht_patches_desc {
     int segments;       /* 0 → 12, quads along a strip */
     uint32_t seed;
 } ht_patches_desc;
-
-typedef enum ht_geometry_kind { HT_GEOMETRY_FURBALL = 0, HT_GEOMETRY_PATCHES = 1 } ht_geometry_kind;
-
-typedef struct ht_scene {
-    int width, height;          /* pixels */
-    ht_camera camera;
-    ht_light lights[HT_MAX_LIGHTS];
-    int light_count;            /* 1..4 */
-    float background[3];
-    ht_geometry_kind geometry;
-    ht_furball_desc furball;
-    ht_patches_desc patches;
-} ht_scene;
 
 /* ---- hair meshes ---- */
 

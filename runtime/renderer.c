@@ -31,7 +31,7 @@ static void copy_text(char *dst, size_t size, const char *src) {
 static int clamp_int(int v, int lo, int hi) { return v < lo ? lo : v > hi ? hi : v; }
 
 static ht_result create_backend(ht_renderer *r, const ht_renderer_desc *desc) {
-    char failed_text[HT_BUNDLE_MAX_TIERS][HT_SELECT_REASON];
+    char failed_text[HT_MANIFEST_MAX_TIERS][HT_SELECT_REASON];
     ht_select_desc sd = {
         .caps = &r->caps, .extensions = r->extensions, .bundle = &r->bundle, .requested = desc->tier,
         .env_tier = getenv("HAIRTIER_TIER"), .strict = desc->strict,
@@ -121,7 +121,7 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
                  r->caps.renderer, r->caps.has_vbo ? "" : ", no VBOs");
 
     if (desc->bundle_dir && desc->bundle_dir[0]) {
-        if ((res = ht_bundle_load(desc->bundle_dir, &r->bundle, err, sizeof err)) != HT_OK) {
+        if ((res = ht_manifest_load(desc->bundle_dir, &r->bundle, err, sizeof err)) != HT_OK) {
             ht_log_linef(r->log, r->log_user, "hairtier: %s", err);
             goto fail;
         }

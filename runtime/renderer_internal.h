@@ -4,7 +4,7 @@
 #ifndef HT_RENDERER_INTERNAL_H
 #define HT_RENDERER_INTERNAL_H
 
-#include "bundle.h"
+#include "manifest.h"
 #include "gl_api.h"
 #include "hairtier.h"
 #include "select.h"
@@ -19,7 +19,7 @@ struct ht_renderer {
     ht_gl gl;
     ht_caps caps;
     char *extensions;                 /* the device's whole list, after the profile (caps.h) */
-    ht_bundle bundle;
+    ht_manifest bundle;
     bool have_bundle;
     ht_log_fn log;
     void *log_user;

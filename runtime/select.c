@@ -5,18 +5,18 @@
 
 #include "select.h"
 
-bool ht_select_check_requirements(const ht_caps *c, const char *extensions, const ht_bundle_tier *t,
+bool ht_select_check_requirements(const ht_caps *c, const char *extensions, const ht_manifest_tier *t,
                                   char *why, size_t why_size) {
     if (!ht_version_at_least(c->gl_major, c->gl_minor, t->gl_major, t->gl_minor)) {
         snprintf(why, why_size, "needs GL %d.%d, have %d.%d", t->gl_major, t->gl_minor, c->gl_major, c->gl_minor);
         return false;
     }
     bool glsl = t->glsl_major > 0;
-    if (glsl && ht_bundle_tier_file(t, "vertex") && !(c->has_shaders && c->has_vertex_shaders)) {
+    if (glsl && ht_manifest_tier_file(t, "vertex") && !(c->has_shaders && c->has_vertex_shaders)) {
         snprintf(why, why_size, "needs vertex shaders (GLSL %d.%02d), have none", t->glsl_major, t->glsl_minor);
         return false;
     }
-    if (glsl && ht_bundle_tier_file(t, "fragment") && !(c->has_shaders && c->has_fragment_shaders)) {
+    if (glsl && ht_manifest_tier_file(t, "fragment") && !(c->has_shaders && c->has_fragment_shaders)) {
         snprintf(why, why_size, "needs fragment shaders (GLSL %d.%02d), have %s", t->glsl_major, t->glsl_minor,
                  c->has_shaders && c->has_vertex_shaders ? "vertex shaders only" : "none");
         return false;
@@ -40,7 +40,7 @@ bool ht_select_check_requirements(const ht_caps *c, const char *extensions, cons
 
 /* Why bundle tier i cannot run, or false when it can. */
 static bool tier_blocked(const ht_select_desc *d, int i, char *line, size_t size) {
-    const ht_bundle_tier *t = &d->bundle->tiers[i];
+    const ht_manifest_tier *t = &d->bundle->tiers[i];
     char why[HT_SELECT_REASON - 24];
     if (t->tier <= HT_TIER_AUTO || t->tier >= HT_TIER_COUNT) {
         snprintf(line, size, "%s: unknown to this runtime", t->name);
@@ -58,7 +58,7 @@ static bool tier_blocked(const ht_select_desc *d, int i, char *line, size_t size
 }
 
 static void add_skip(ht_selection *out, const char *line) {
-    if (out->skipped_count < HT_BUNDLE_MAX_TIERS)
+    if (out->skipped_count < HT_MANIFEST_MAX_TIERS)
         snprintf(out->skipped[out->skipped_count++], sizeof out->skipped[0], "%s", line);
 }
 
@@ -79,7 +79,7 @@ ht_result ht_select_tier(const ht_select_desc *d, ht_selection *out, char *err, 
         snprintf(err, err_size, "select: caps and bundle are required");
         return HT_ERR_INVALID_ARGUMENT;
     }
-    const ht_bundle *b = d->bundle;
+    const ht_manifest *b = d->bundle;
     const char *source = NULL;
     if (d->requested != HT_TIER_AUTO) {
         if (d->requested < 0 || d->requested >= HT_TIER_COUNT) {

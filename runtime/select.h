@@ -22,7 +22,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "bundle.h"
+#include "manifest.h"
 #include "caps.h"
 #include "hairtier.h"
 
@@ -31,11 +31,11 @@
 typedef struct ht_select_desc {
     const ht_caps *caps;                        /* required */
     const char *extensions;                     /* the device's whole list (caps.h), NULL → known names only */
-    const ht_bundle *bundle;                    /* required */
+    const ht_manifest *bundle;                    /* required */
     ht_tier requested;                          /* HT_TIER_AUTO → env_tier */
     const char *env_tier;                       /* HAIRTIER_TIER's value, NULL when unset */
     bool strict;                                /* a forced tier that cannot run is an error */
-    const char *failed[HT_BUNDLE_MAX_TIERS];    /* per bundle tier: why it failed at runtime, or NULL */
+    const char *failed[HT_MANIFEST_MAX_TIERS];    /* per bundle tier: why it failed at runtime, or NULL */
 } ht_select_desc;
 
 typedef struct ht_selection {
@@ -43,7 +43,7 @@ typedef struct ht_selection {
     ht_tier tier;                               /* HT_TIER_COUNT when none */
     ht_tier forced;                             /* HT_TIER_AUTO when nothing forced */
     char reason[HT_SELECT_REASON];              /* why this tier, one line */
-    char skipped[HT_BUNDLE_MAX_TIERS][HT_SELECT_REASON]; /* "full: needs GLSL 1.20, have 1.10" */
+    char skipped[HT_MANIFEST_MAX_TIERS][HT_SELECT_REASON]; /* "full: needs GLSL 1.20, have 1.10" */
     int skipped_count;
 } ht_selection;
 
@@ -54,7 +54,7 @@ ht_result ht_select_tier(const ht_select_desc *desc, ht_selection *out, char *er
 
 /* True when the device meets the tier's manifest requirements; otherwise
    why = "needs ..." (without the tier name). */
-bool ht_select_check_requirements(const ht_caps *caps, const char *extensions, const ht_bundle_tier *tier,
+bool ht_select_check_requirements(const ht_caps *caps, const char *extensions, const ht_manifest_tier *tier,
                                   char *why, size_t why_size);
 
 #endif

@@ -30,7 +30,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "bundle.h"
+#include "manifest.h"
 #include "gl_api.h"
 #include "hairtier.h"
 
@@ -38,8 +38,8 @@
 typedef struct ht_tier_context {
     const ht_gl *gl;               /* restricted to what caps allows */
     const ht_caps *caps;           /* after the device profile */
-    const ht_bundle *bundle;
-    const ht_bundle_tier *tier;    /* this backend's manifest entry */
+    const ht_manifest *bundle;
+    const ht_manifest_tier *tier;    /* this backend's manifest entry */
     ht_log_fn log;                 /* never NULL */
     void *log_user;
 } ht_tier_context;

@@ -32,7 +32,7 @@ typedef struct glsl_state {
     int light_count;                         /* the manifest's: the size of the uniform arrays */
     glsl_program main, prime;
     bool has_prime;
-    glsl_texture textures[HT_BUNDLE_MAX_SAMPLERS + 1];
+    glsl_texture textures[HT_MANIFEST_MAX_SAMPLERS + 1];
     int texture_count;
 } glsl_state;
 
@@ -56,11 +56,11 @@ static void log_info(const glsl_state *s, const char *file, const char *log) {
     }
 }
 
-static GLuint compile(glsl_state *s, const ht_bundle *b, const char *file, GLenum stage,
+static GLuint compile(glsl_state *s, const ht_manifest *b, const char *file, GLenum stage,
                       char *err, size_t err_size) {
     const ht_gl *gl = s->gl;
     char rerr[512];
-    char *text = ht_bundle_read_text(b, file, rerr, sizeof rerr);
+    char *text = ht_manifest_read_text(b, file, rerr, sizeof rerr);
     if (!text) {
         snprintf(err, err_size, "compile failed: %s", rerr);
         return 0;
@@ -167,10 +167,10 @@ static bool png_header_size(const char *path, uint32_t *width, uint32_t *height)
     return true;
 }
 
-static ht_result upload_texture(glsl_state *s, const ht_bundle *b, const ht_bundle_texture *t,
+static ht_result upload_texture(glsl_state *s, const ht_manifest *b, const ht_manifest_texture *t,
                                 GLuint *out, char *err, size_t err_size) {
     char path[1200], ierr[512];
-    if (!ht_bundle_path(b, t->file, path, sizeof path)) {
+    if (!ht_manifest_path(b, t->file, path, sizeof path)) {
         snprintf(err, err_size, "%s: path too long", t->file);
         return HT_ERR_IO;
     }
@@ -238,11 +238,11 @@ static ht_result create(const ht_tier_context *ctx, bool vertex_only, void **out
     s->log_user = ctx->log_user;
     s->vertex_only = vertex_only;
     s->light_count = ctx->bundle->light_count;
-    const ht_bundle_tier *t = ctx->tier;
-    const char *vert = ht_bundle_tier_file(t, "vertex");
-    const char *frag = vertex_only ? NULL : ht_bundle_tier_file(t, "fragment");
-    const char *pvert = ht_bundle_tier_file(t, "prime_vertex");
-    const char *pfrag = vertex_only ? NULL : ht_bundle_tier_file(t, "prime_fragment");
+    const ht_manifest_tier *t = ctx->tier;
+    const char *vert = ht_manifest_tier_file(t, "vertex");
+    const char *frag = vertex_only ? NULL : ht_manifest_tier_file(t, "fragment");
+    const char *pvert = ht_manifest_tier_file(t, "prime_vertex");
+    const char *pfrag = vertex_only ? NULL : ht_manifest_tier_file(t, "prime_fragment");
     const int index = (int)(t - ctx->bundle->tiers); /* manifest fields are named tiers[i] */
     ht_result r;
     if (!vert || (!vertex_only && !frag)) {
@@ -259,8 +259,8 @@ static ht_result create(const ht_tier_context *ctx, bool vertex_only, void **out
         s->has_prime = true;
     }
     for (int i = 0; i < t->sampler_count; i++) {
-        const ht_bundle_sampler *smp = &t->samplers[i];
-        const ht_bundle_texture *bt = ht_bundle_find_texture(ctx->bundle, t, smp->texture);
+        const ht_manifest_sampler *smp = &t->samplers[i];
+        const ht_manifest_texture *bt = ht_manifest_find_texture(ctx->bundle, t, smp->texture);
         glsl_texture *gt = &s->textures[s->texture_count];
         gt->unit = smp->unit;
         gt->albedo = strcmp(smp->texture, "albedo") == 0;

@@ -45,7 +45,7 @@ int main(int argc, char **argv) {
         return 2;
     }
     char err[2048] = "";
-    ht_result r = ht_bundle_generate(material, scene, out_dir, stdout, err, sizeof err);
+    ht_result r = ht_generate_bundle(material, scene, out_dir, stdout, err, sizeof err);
     if (r != HT_OK) {
         fprintf(stderr, "hairgen: %s\n", err[0] ? err : ht_result_string(r));
         return 1;

@@ -11,6 +11,7 @@
 
 #include "hairtier.h"
 #include "model.h"
+#include "scene.h"
 #include "image.h"
 
 /* ---- material (materials/NAME.json, format "hairtier-material/1") ---- */
@@ -44,18 +45,14 @@ typedef struct ht_material {
     ht_shading shading;
     ht_texture_source textures[HT_TEX_COUNT];
     double opaque_cutoff;  /* alpha at or above this is opaque; (0,1], default 0.98 */
+    char file[1024];       /* the file it was read from, naming it in errors;
+                              "" for a material built in memory */
 } ht_material;
 
 /* Errors are one line "FILE: FIELD: what is wrong" written to err. */
 ht_result ht_material_load(const char *path, ht_material *out, char *err, size_t err_size);
 ht_result ht_material_parse(const char *json_text, const char *file_name,
                             ht_material *out, char *err, size_t err_size);
-ht_result ht_scene_load(const char *path, ht_scene *out, char *err, size_t err_size);
-ht_result ht_scene_parse(const char *json_text, const char *file_name,
-                         ht_scene *out, char *err, size_t err_size);
-/* The scene a material is planned for when none is given: one white
-   directional light, the fur ball. */
-void ht_scene_default(ht_scene *out);
 
 /* ---- textures ---- */
 
@@ -82,7 +79,7 @@ typedef struct ht_plan {
     ht_light_type light_types[HT_MAX_LIGHTS];
     bool base, alpha, shift, sparkle, secondary, ao;  /* modelled features */
     double opaque_cutoff;
-    /* Mean of the sparkle texture (1 until bundle.c measures it): the
+    /* Mean of the sparkle texture (1 until generate.c measures it): the
        tiers that cannot sample the mask scale the secondary highlight by it
        instead of leaving it unmasked. */
     double sparkle_mean;
@@ -97,13 +94,13 @@ void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out);
    colour scaled by plan->sparkle_mean (unchanged when sparkle is absent). */
 ht_shading ht_plan_unmasked_shading(const ht_plan *plan);
 
-/* ---- bundle (shadergen/bundle.c) ---- */
+/* ---- generator (shadergen/generate.c) ---- */
 
 /* Generates every tier for (material, scene) and writes DIR atomically (a
    temporary sibling renamed into place; an existing DIR is replaced only
    after the new one is complete). scene_path may be NULL (ht_scene_default).
    summary, when not NULL, receives the human-readable table. */
-ht_result ht_bundle_generate(const char *material_path, const char *scene_path,
+ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
                              const char *out_dir, FILE *summary, char *err, size_t err_size);
 
 #endif

@@ -225,6 +225,7 @@ ht_result ht_material_parse(const char *json_text, const char *file_name,
     }
     r = parse_material(&c, root, file_name, m);
     cJSON_Delete(root);
+    if (file_name) snprintf(m->file, sizeof m->file, "%s", file_name);
     if (r == HT_OK) {
         *out = *m;
         if (err && err_size) err[0] = '\0';

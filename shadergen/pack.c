@@ -13,6 +13,34 @@
 #include <stdio.h>
 
 #include "errfmt.h"
+#include "manifest.h"
+
+/* The runtime refuses a bundle texture over manifest.h's limits, so the
+   generator refuses it first, naming the material field(s) it came from,
+   and before allocating (two thin sources can pack into a huge image). */
+static ht_result check_size(const ht_material *m, const char *fields, const char *what,
+                            int w, int h, char *err, size_t err_size) {
+    const char *file = m->file[0] ? m->file : "<material>";
+    if (w > HT_MANIFEST_MAX_TEXTURE_SIZE || h > HT_MANIFEST_MAX_TEXTURE_SIZE) {
+        ht_set_error(err, err_size, "%s: %s: %s %dx%d texels; a bundle texture has at most %d per side",
+                     file, fields, what, w, h, HT_MANIFEST_MAX_TEXTURE_SIZE);
+        return HT_ERR_UNSUPPORTED;
+    }
+    if ((uint64_t)w * (uint64_t)h > HT_MANIFEST_MAX_TEXTURE_PIXELS) {
+        ht_set_error(err, err_size, "%s: %s: %s %dx%d texels; a bundle texture has at most %u in all",
+                     file, fields, what, w, h, (unsigned)HT_MANIFEST_MAX_TEXTURE_PIXELS);
+        return HT_ERR_UNSUPPORTED;
+    }
+    return HT_OK;
+}
+
+/* The size pack_two() makes from a and b: the larger of each side. */
+static void packed_size(const ht_image *a, const ht_image *b, int *w, int *h) {
+    *w = a->pixels ? a->width : 0;
+    *h = a->pixels ? a->height : 0;
+    if (b->pixels && b->width > *w) *w = b->width;
+    if (b->pixels && b->height > *h) *h = b->height;
+}
 
 /* The texel of src nearest to the centre of texel (x, y) of a w x h image. */
 static const uint8_t *nearest(const ht_image *src, int x, int y, int w, int h) {
@@ -66,6 +94,23 @@ ht_result ht_textures_pack(const ht_material *m, const ht_plan *plan,
     if (r == HT_OK) r = make_if(plan->alpha, m, HT_TEX_ALPHA, &alpha, err, err_size);
     if (r == HT_OK) r = make_if(plan->shift, m, HT_TEX_SHIFT, &shift, err, err_size);
     if (r == HT_OK) r = make_if(plan->sparkle, m, HT_TEX_SPARKLE, &sparkle, err, err_size);
+    if (r != HT_OK) goto done;
+
+    static const char *const sources[HT_TEX_COUNT] = {
+        "textures.base", "textures.alpha", "textures.shift", "textures.sparkle",
+    };
+    const ht_image *made[HT_TEX_COUNT] = { &base, &alpha, &shift, &sparkle };
+    for (int i = 0; i < HT_TEX_COUNT && r == HT_OK; i++)
+        if (made[i]->pixels)
+            r = check_size(m, sources[i], "the texture is", made[i]->width, made[i]->height, err, err_size);
+    int w, h;
+    packed_size(&base, &alpha, &w, &h);
+    if (r == HT_OK && base.pixels && alpha.pixels)
+        r = check_size(m, "textures.base, textures.alpha", "they pack into an albedo of", w, h, err, err_size);
+    packed_size(&shift, &sparkle, &w, &h);
+    if (r == HT_OK && shift.pixels && sparkle.pixels)
+        r = check_size(m, "textures.shift, textures.sparkle", "they pack into a detail texture of", w, h,
+                       err, err_size);
     if (r != HT_OK) goto done;
 
     if (plan->base || plan->alpha)

@@ -185,7 +185,7 @@ void ht_probe_make_bundle(const char *work, const ht_probe_material *p, const ht
     snprintf(dir, dir_size, "%s/probe-%s-%s", work, p->name, type);
     write_material(p, material_path);
     write_scene(scene, type);
-    if (ht_bundle_generate(material_path, scene, dir, NULL, err, sizeof err) != HT_OK)
+    if (ht_generate_bundle(material_path, scene, dir, NULL, err, sizeof err) != HT_OK)
         fail_msg("hairgen %s: %s", p->name, err);
     assert_int_equal(ht_material_load(material_path, material, err, sizeof err), HT_OK);
 }

@@ -8,7 +8,7 @@
    position, which ht_probe_cell_at reconstructs exactly by casting the
    pixel centre's ray onto the plane. The cells cover the model's extremes
    (ht_probe_make_cells); the materials are written as JSON and turned into
-   a bundle by ht_bundle_generate.
+   a bundle by ht_generate_bundle.
 
    Helpers that check fail the running cmocka test. */
 #ifndef HT_SUPPORT_PROBE_H

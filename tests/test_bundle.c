@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "hairgen.h"
+#include "image.h"
 #include "support_scratch.h"
 
 static char work[64];
@@ -69,8 +70,8 @@ static cJSON *load_manifest(const char *dir) {
 
 static void generate(const char *material, const char *scene, const char *dir) {
     char err[2048] = "";
-    ht_result r = ht_bundle_generate(material, scene, dir, NULL, err, sizeof err);
-    if (r != HT_OK) fail_msg("ht_bundle_generate: %s", err);
+    ht_result r = ht_generate_bundle(material, scene, dir, NULL, err, sizeof err);
+    if (r != HT_OK) fail_msg("ht_generate_bundle: %s", err);
 }
 
 static void test_bundle_lists_every_tier_best_first_with_existing_files(void **state) {
@@ -164,7 +165,7 @@ static void test_bundle_failure_writes_nothing(void **state) {
                "  \"primary\": {\"color\": [1,1,1], \"exponent\": 80},\n"
                "  \"secondary\": {\"color\": [0.5,0.5,0.5], \"exponent\": 20},\n"
                "  \"textures\": {\"base\": {\"file\": \"no-such-file.png\"}} }\n");
-    ht_result r = ht_bundle_generate(material, NULL, dir, NULL, err, sizeof err);
+    ht_result r = ht_generate_bundle(material, NULL, dir, NULL, err, sizeof err);
     assert_int_not_equal(r, HT_OK);
     assert_non_null(strstr(err, "no-such-file.png"));
     assert_false(exists(dir));
@@ -181,7 +182,7 @@ static void test_bundle_failure_keeps_the_previous_bundle(void **state) {
     size_t before_size = 0, after_size = 0;
     char *before = read_all(manifest, &before_size);
     write_text(material, "{ \"format\": \"hairtier-material/1\", \"name\": \"m\", ");
-    assert_int_not_equal(ht_bundle_generate(material, NULL, dir, NULL, err, sizeof err), HT_OK);
+    assert_int_not_equal(ht_generate_bundle(material, NULL, dir, NULL, err, sizeof err), HT_OK);
     char *after = read_all(manifest, &after_size);
     assert_non_null(after);
     assert_int_equal(before_size, after_size);
@@ -228,7 +229,7 @@ static void test_bundle_refuses_to_replace_a_directory_that_is_not_a_bundle(void
     snprintf(keep, sizeof keep, "%s/precious.txt", dir);
     mkdir(dir, 0755);
     write_text(keep, "mine\n");
-    assert_int_equal(ht_bundle_generate("materials/dark-brown.json", NULL, dir, NULL, err, sizeof err), HT_ERR_IO);
+    assert_int_equal(ht_generate_bundle("materials/dark-brown.json", NULL, dir, NULL, err, sizeof err), HT_ERR_IO);
     assert_non_null(strstr(err, "not a hairtier bundle"));
     assert_true(exists(keep));
     assert_int_equal(count_temporaries(), 0);
@@ -239,7 +240,7 @@ static void test_bundle_onto_a_file_fails_and_leaves_nothing(void **state) {
     char file[256], err[2048] = "";
     snprintf(file, sizeof file, "%s/plain-file", work);
     write_text(file, "x");
-    assert_int_equal(ht_bundle_generate("materials/dark-brown.json", NULL, file, NULL, err, sizeof err), HT_ERR_IO);
+    assert_int_equal(ht_generate_bundle("materials/dark-brown.json", NULL, file, NULL, err, sizeof err), HT_ERR_IO);
     assert_non_null(strstr(err, "not a directory"));
     assert_int_equal(count_temporaries(), 0);
 }
@@ -301,6 +302,68 @@ static void test_hairgen_cli_reports_errors_with_exit_codes(void **state) {
     assert_int_equal(run_hairgen(args), 0);
 }
 
+static void write_png(const char *path, int width, int height) {
+    ht_image img;
+    char err[256];
+    assert_int_equal(ht_image_alloc(&img, width, height, 3), HT_OK);
+    memset(img.pixels, 200, (size_t)width * (size_t)height * 3);
+    if (ht_image_write_png(path, &img, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    ht_image_free(&img);
+}
+
+/* hairgen on `material` must exit 1 with one stderr line naming the material
+   file and `field`, and write nothing. */
+static void expect_hairgen_refuses(const char *material, const char *field, const char *dir) {
+    char args[700], path[300];
+    snprintf(args, sizeof args, "%s -o %s", material, dir);
+    assert_int_equal(run_hairgen(args), 1);
+    snprintf(path, sizeof path, "%s/stderr.txt", work);
+    char *text = read_all(path, NULL);
+    assert_non_null(text);
+    char want[600];
+    snprintf(want, sizeof want, "hairgen: %s: %s: ", material, field);
+    if (!strstr(text, want)) fail_msg("no \"%s\" in: %s", want, text);
+    assert_ptr_equal(strchr(text, '\n'), text + strlen(text) - 1); /* one line */
+    free(text);
+    assert_false(exists(dir));
+    assert_int_equal(count_temporaries(), 0);
+}
+
+static void write_textured_material(const char *path, const char *textures) {
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fprintf(f, "{ \"format\": \"hairtier-material/1\", \"name\": \"m\", \"model\": \"scheuermann\",\n"
+               "  \"diffuse\": {\"color\": [0.2,0.1,0.1]},\n"
+               "  \"primary\": {\"color\": [1,1,1], \"exponent\": 80},\n"
+               "  \"secondary\": {\"color\": [0.5,0.5,0.5], \"exponent\": 20},\n"
+               "  \"textures\": {%s} }\n", textures);
+    fclose(f);
+}
+
+static void test_hairgen_refuses_a_texture_wider_than_the_runtime_reads(void **state) {
+    (void)state;
+    char png[300], material[300], dir[300];
+    snprintf(png, sizeof png, "%s/wide.png", work);
+    write_png(png, 65536, 1);
+    snprintf(material, sizeof material, "%s/wide.json", work);
+    write_textured_material(material, "\"base\": {\"file\": \"wide.png\"}");
+    snprintf(dir, sizeof dir, "%s/wide-bundle", work);
+    expect_hairgen_refuses(material, "textures.base", dir);
+}
+
+static void test_hairgen_refuses_a_packed_albedo_over_the_runtime_texel_limit(void **state) {
+    (void)state;
+    char png[300], material[300], dir[300];
+    snprintf(png, sizeof png, "%s/row.png", work);
+    write_png(png, 16384, 1);
+    snprintf(png, sizeof png, "%s/column.png", work);
+    write_png(png, 1, 16384);
+    snprintf(material, sizeof material, "%s/huge.json", work);
+    write_textured_material(material, "\"base\": {\"file\": \"row.png\"}, \"alpha\": {\"file\": \"column.png\"}");
+    snprintf(dir, sizeof dir, "%s/huge-bundle", work);
+    expect_hairgen_refuses(material, "textures.base, textures.alpha", dir);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bundle_lists_every_tier_best_first_with_existing_files),
@@ -314,6 +377,8 @@ int main(void) {
         cmocka_unit_test(test_bundle_onto_a_file_fails_and_leaves_nothing),
         cmocka_unit_test(test_bundle_path_with_trailing_slash_is_the_same_bundle),
         cmocka_unit_test(test_bundle_is_readable_per_the_umask),
+        cmocka_unit_test(test_hairgen_refuses_a_texture_wider_than_the_runtime_reads),
+        cmocka_unit_test(test_hairgen_refuses_a_packed_albedo_over_the_runtime_texel_limit),
     };
     return cmocka_run_group_tests(tests, make_work_dir, remove_work_dir);
 }

@@ -22,6 +22,7 @@
 #include "fixed_coords.h"
 #include "hairgen.h"
 #include "rng.h"
+#include "support_combiner_eval.h"
 
 /* The whole tier against the oracle, per channel after the framebuffer's
    [0,1] clamp. Measured with the seed below: max 0.0116, mean 0.00048 over

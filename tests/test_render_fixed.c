@@ -43,7 +43,7 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
-#include "bundle.h"
+#include "manifest.h"
 #include "combiner.h"
 #include "fixed.h"
 #include "fixed_coords.h"
@@ -52,6 +52,7 @@
 #include "hairtier.h"
 #include "image.h"
 #include "model.h"
+#include "support_combiner_eval.h"
 #include "support_log.h"
 #include "support_osmesa.h"
 #include "support_probe.h"
@@ -835,14 +836,14 @@ static void test_backend_gives_a_point_key_light_cpu_coordinates_logged_once(voi
     ht_material material;
     ht_probe_make_bundle(fx.work, &kk, &sun, dir, sizeof dir, &material);
     const ht_combiner_program prog = bundle_program(dir);
-    static ht_bundle bundle;
-    assert_int_equal(ht_bundle_load(dir, &bundle, err, sizeof err), HT_OK);
+    static ht_manifest bundle;
+    assert_int_equal(ht_manifest_load(dir, &bundle, err, sizeof err), HT_OK);
     static ht_gl gl;
     assert_int_equal(ht_gl_load(&gl, ht_test_getproc, err, sizeof err), HT_OK);
     ht_caps caps;
     assert_int_equal(ht_caps_probe(ht_test_getproc, &caps), HT_OK);
     ht_test_log_clear();
-    const ht_tier_context ctx = { &gl, &caps, &bundle, ht_bundle_find_tier(&bundle, HT_TIER_FIXED),
+    const ht_tier_context ctx = { &gl, &caps, &bundle, ht_manifest_find_tier(&bundle, HT_TIER_FIXED),
                                   ht_test_log_capture, NULL };
     assert_non_null(ctx.tier);
     void *backend = NULL;

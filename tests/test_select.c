@@ -9,7 +9,7 @@
 
 #include <cmocka.h>
 
-#include "bundle.h"
+#include "manifest.h"
 #include "select.h"
 
 /* Requirements as hairgen writes them (docs/bundle.md). */
@@ -28,12 +28,12 @@ static const char manifest[] =
     "   \"extensions\": [\"GL_ARB_multitexture\", \"GL_ARB_texture_env_combine\"], \"texture_units\": 2},"
     "   \"files\": {\"program\": \"fixed.json\"}}]}";
 
-static ht_bundle bundle;
+static ht_manifest bundle;
 
 static int setup(void **state) {
     (void)state;
     char err[256];
-    return ht_bundle_parse(manifest, "/bundle", "/bundle/manifest.json", &bundle, err, sizeof err) == HT_OK ? 0 : -1;
+    return ht_manifest_parse(manifest, "/bundle", "/bundle/manifest.json", &bundle, err, sizeof err) == HT_OK ? 0 : -1;
 }
 
 /* A device of the given GL version with what that version brings. */
@@ -305,7 +305,7 @@ static void test_select_gives_every_skipped_tier_a_reason(void **state) {
 
 static void test_select_forced_tier_missing_from_the_bundle(void **state) {
     (void)state;
-    ht_bundle b = bundle;
+    ht_manifest b = bundle;
     b.tier_count = 2; /* full and vertex only */
     ht_caps c = device(4, 5, 4, 50, 8);
     ht_select_desc d = request(&c);
@@ -366,9 +366,9 @@ static void test_select_profile_models_a_vertex_shader_only_device(void **state)
 
 /* Bad manifests: one line naming the file and the field. */
 static void expect_manifest_error(const char *text, const char *field) {
-    ht_bundle b;
+    ht_manifest b;
     char err[512] = "";
-    assert_int_equal(ht_bundle_parse(text, "/d", "/d/manifest.json", &b, err, sizeof err), HT_ERR_PARSE);
+    assert_int_equal(ht_manifest_parse(text, "/d", "/d/manifest.json", &b, err, sizeof err), HT_ERR_PARSE);
     assert_non_null(strstr(err, "/d/manifest.json: "));
     if (!strstr(err, field)) fail_msg("expected field %s in: %s", field, err);
     assert_null(strchr(err, '\n'));
@@ -408,15 +408,15 @@ static void test_bundle_reads_the_documented_fields(void **state) {
     assert_int_equal(bundle.tier_count, 3);
     assert_float_equal(bundle.opaque_cutoff, 0.9f, 1e-6f);
     assert_int_equal(bundle.light_count, 1);
-    const ht_bundle_tier *fixed = ht_bundle_find_tier(&bundle, HT_TIER_FIXED);
+    const ht_manifest_tier *fixed = ht_manifest_find_tier(&bundle, HT_TIER_FIXED);
     assert_non_null(fixed);
     assert_int_equal(fixed->glsl_major, 0);
     assert_int_equal(fixed->extension_count, 2);
-    assert_string_equal(ht_bundle_tier_file(fixed, "program"), "fixed.json");
-    const ht_bundle_tier *full = ht_bundle_find_tier(&bundle, HT_TIER_FULL);
+    assert_string_equal(ht_manifest_tier_file(fixed, "program"), "fixed.json");
+    const ht_manifest_tier *full = ht_manifest_find_tier(&bundle, HT_TIER_FULL);
     assert_int_equal(full->glsl_major * 100 + full->glsl_minor, 120);
-    assert_null(ht_bundle_tier_file(full, "es_vertex"));
-    assert_non_null(ht_bundle_find_texture(&bundle, full, "albedo"));
+    assert_null(ht_manifest_tier_file(full, "es_vertex"));
+    assert_non_null(ht_manifest_find_texture(&bundle, full, "albedo"));
 }
 
 int main(void) {

@@ -1,4 +1,4 @@
-/* bundle.c — hairgen's output: every tier of one (material, scene) written
+/* generate.c — hairgen's output: every tier of one (material, scene) written
    as a directory (docs/bundle.md), atomically: files go into a temporary
    sibling directory which is renamed into place only once complete, so a
    failure leaves no DIR and an existing DIR is either the old or the new one. */
@@ -17,8 +17,8 @@
 #include "emit.h"
 #include "errfmt.h"
 #include "hairgen.h"
+#include "manifest.h"
 
-#define BUNDLE_FORMAT "hairtier-bundle/1"
 /* Hashed into input_hash and written to the manifest: a new generator
    invalidates caches keyed on the hash. Bump it with any change to what a
    bundle holds. */
@@ -155,7 +155,7 @@ static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t h
     cJSON *root = cJSON_CreateObject();
     char hash_text[32];
     snprintf(hash_text, sizeof hash_text, "fnv1a64:%016llx", (unsigned long long)hash);
-    cJSON_AddStringToObject(root, "format", BUNDLE_FORMAT);
+    cJSON_AddStringToObject(root, "format", HT_MANIFEST_FORMAT);
     cJSON_AddStringToObject(root, "generator", GENERATOR_VERSION);
     cJSON_AddStringToObject(root, "input_hash", hash_text);
     cJSON_AddStringToObject(root, "material", m->name);
@@ -203,7 +203,7 @@ static void print_summary(FILE *out, const ht_material *m, const ht_plan *plan,
 }
 
 /* What may be replaced: nothing, an empty directory, or a bundle (a
-   manifest.json of BUNDLE_FORMAT). Anything else is refused before any work,
+   manifest.json of HT_MANIFEST_FORMAT). Anything else is refused before any work,
    so `-o` pointed at the wrong directory deletes nothing. */
 static ht_result check_target(const char *dir, char *err, size_t err_size) {
     struct stat st;
@@ -227,14 +227,14 @@ static ht_result check_target(const char *dir, char *err, size_t err_size) {
         text[n] = '\0';
         cJSON *m = cJSON_Parse(text);
         const cJSON *format = cJSON_GetObjectItemCaseSensitive(m, "format");
-        bundle = cJSON_IsString(format) && strcmp(format->valuestring, BUNDLE_FORMAT) == 0;
+        bundle = cJSON_IsString(format) && strcmp(format->valuestring, HT_MANIFEST_FORMAT) == 0;
         cJSON_Delete(m);
-        if (!bundle && n == sizeof text - 1) bundle = strstr(text, "\"" BUNDLE_FORMAT "\"") != NULL;
+        if (!bundle && n == sizeof text - 1) bundle = strstr(text, "\"" HT_MANIFEST_FORMAT "\"") != NULL;
     }
     if (!bundle)
         return ht_fail(err, err_size, HT_ERR_IO,
                        "%s: exists and is not a hairtier bundle (no manifest.json of format %s); "
-                       "refusing to replace it", dir, BUNDLE_FORMAT);
+                       "refusing to replace it", dir, HT_MANIFEST_FORMAT);
     return HT_OK;
 }
 
@@ -345,7 +345,7 @@ static ht_result generate(const char *material_path, const char *scene_path,
     return r;
 }
 
-ht_result ht_bundle_generate(const char *material_path, const char *scene_path,
+ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
                              const char *out_dir, FILE *summary, char *err, size_t err_size) {
     /* "dir/" and "dir" are the same bundle; the temporary sibling needs the
        name without the slash. */

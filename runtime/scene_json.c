@@ -5,8 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hairgen.h"
+#include "scene.h"
 #include "json_check.h"
+#include "model.h"
 
 #define SCENE_FORMAT "hairtier-scene/1"
 

@@ -1,4 +1,4 @@
-/* bundle.c — reads DIR/manifest.json (docs/bundle.md) with cJSON. Only the
+/* manifest_read.c — reads DIR/manifest.json (docs/bundle.md) with cJSON. Only the
    documented fields are read; anything else is ignored so newer generators
    can add information. */
 #include <errno.h>
@@ -9,11 +9,9 @@
 
 #include <cJSON.h>
 
-#include "bundle.h"
+#include "manifest.h"
 #include "json_check.h"
-#include "select.h"
-
-#define BUNDLE_FORMAT "hairtier-bundle/1"
+#include "caps.h"
 
 /* A string field copied into out; absent is an error unless optional. */
 static ht_result get_string(const ht_jctx *c, const cJSON *obj, const char *parent, const char *key,
@@ -59,7 +57,7 @@ static ht_result check_file_name(const ht_jctx *c, const char *field, const char
 }
 
 static ht_result parse_textures(const ht_jctx *c, const cJSON *obj, const char *parent,
-                                ht_bundle_texture *out, int *count) {
+                                ht_manifest_texture *out, int *count) {
     *count = 0;
     if (!obj || cJSON_IsNull(obj)) return HT_OK;
     if (!cJSON_IsObject(obj)) return ht_json_fail(c, parent, "expected an object");
@@ -67,9 +65,9 @@ static ht_result parse_textures(const ht_jctx *c, const cJSON *obj, const char *
     cJSON_ArrayForEach(t, obj) {
         char field[HT_JSON_PATH_MAX];
         ht_json_path_key(field, parent, t->string);
-        if (*count >= HT_BUNDLE_MAX_TEXTURES) return ht_json_fail(c, field, "more than %d textures", HT_BUNDLE_MAX_TEXTURES);
+        if (*count >= HT_MANIFEST_MAX_TEXTURES) return ht_json_fail(c, field, "more than %d textures", HT_MANIFEST_MAX_TEXTURES);
         if (!cJSON_IsObject(t)) return ht_json_fail(c, field, "expected an object");
-        ht_bundle_texture *tex = &out[*count];
+        ht_manifest_texture *tex = &out[*count];
         if (strlen(t->string) >= sizeof tex->name) return ht_json_fail(c, field, "texture name too long");
         /* JSON parsers keep duplicate keys; which one wins would be arbitrary. */
         for (int k = 0; k < *count; k++)
@@ -80,9 +78,9 @@ static ht_result parse_textures(const ht_jctx *c, const cJSON *obj, const char *
         ht_json_path_key(file_field, field, "file");
         if ((r = get_string(c, t, field, "file", false, tex->file, sizeof tex->file)) != HT_OK ||
             (r = check_file_name(c, file_field, tex->file)) != HT_OK ||
-            (r = get_int(c, t, field, "width", 0, 1, 16384, &tex->width)) != HT_OK ||
-            (r = get_int(c, t, field, "height", 0, 1, 16384, &tex->height)) != HT_OK ||
-            (r = get_int(c, t, field, "depth", 1, 1, 4096, &tex->depth)) != HT_OK)
+            (r = get_int(c, t, field, "width", 0, 1, HT_MANIFEST_MAX_TEXTURE_SIZE, &tex->width)) != HT_OK ||
+            (r = get_int(c, t, field, "height", 0, 1, HT_MANIFEST_MAX_TEXTURE_SIZE, &tex->height)) != HT_OK ||
+            (r = get_int(c, t, field, "depth", 1, 1, HT_MANIFEST_MAX_TEXTURE_DEPTH, &tex->depth)) != HT_OK)
             return r;
         (*count)++;
     }
@@ -105,7 +103,7 @@ static ht_result parse_version_field(const ht_jctx *c, const cJSON *req, const c
     return HT_OK;
 }
 
-static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_bundle_tier *out) {
+static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_manifest_tier *out) {
     char base[64], field[HT_JSON_PATH_MAX];
     snprintf(base, sizeof base, "tiers[%d]", index);
     memset(out, 0, sizeof *out);
@@ -134,8 +132,8 @@ static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_bund
         cJSON_ArrayForEach(e, ext) {
             char ef[HT_JSON_PATH_MAX];
             ht_json_path_index(ef, field, out->extension_count);
-            if (out->extension_count >= HT_BUNDLE_MAX_EXTENSIONS)
-                return ht_json_fail(c, ef, "more than %d extensions", HT_BUNDLE_MAX_EXTENSIONS);
+            if (out->extension_count >= HT_MANIFEST_MAX_EXTENSIONS)
+                return ht_json_fail(c, ef, "more than %d extensions", HT_MANIFEST_MAX_EXTENSIONS);
             if (!cJSON_IsString(e) || !e->valuestring[0] || strchr(e->valuestring, ' ') ||
                 strlen(e->valuestring) >= sizeof out->extensions[0])
                 return ht_json_fail(c, ef, "expected an extension name like \"GL_ARB_multitexture\"");
@@ -150,10 +148,10 @@ static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_bund
     const cJSON *f;
     cJSON_ArrayForEach(f, files) {
         ht_json_path_key(field, files_path, f->string);
-        if (out->file_count >= HT_BUNDLE_MAX_FILES) return ht_json_fail(c, field, "more than %d files", HT_BUNDLE_MAX_FILES);
-        ht_bundle_file *bf = &out->files[out->file_count];
+        if (out->file_count >= HT_MANIFEST_MAX_FILES) return ht_json_fail(c, field, "more than %d files", HT_MANIFEST_MAX_FILES);
+        ht_manifest_file *bf = &out->files[out->file_count];
         if (strlen(f->string) >= sizeof bf->role) return ht_json_fail(c, field, "role name too long");
-        if (ht_bundle_tier_file(out, f->string)) return ht_json_fail(c, field, "listed twice");
+        if (ht_manifest_tier_file(out, f->string)) return ht_json_fail(c, field, "listed twice");
         snprintf(bf->role, sizeof bf->role, "%s", f->string);
         if ((r = get_string(c, files, files_path, f->string, false, bf->file, sizeof bf->file)) != HT_OK ||
             (r = check_file_name(c, field, bf->file)) != HT_OK)
@@ -175,10 +173,10 @@ static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_bund
         const cJSON *s;
         cJSON_ArrayForEach(s, samplers) {
             ht_json_path_index(field, smp_path, out->sampler_count);
-            if (out->sampler_count >= HT_BUNDLE_MAX_SAMPLERS)
-                return ht_json_fail(c, field, "more than %d samplers", HT_BUNDLE_MAX_SAMPLERS);
+            if (out->sampler_count >= HT_MANIFEST_MAX_SAMPLERS)
+                return ht_json_fail(c, field, "more than %d samplers", HT_MANIFEST_MAX_SAMPLERS);
             if (!cJSON_IsObject(s)) return ht_json_fail(c, field, "expected an object");
-            ht_bundle_sampler *bs = &out->samplers[out->sampler_count];
+            ht_manifest_sampler *bs = &out->samplers[out->sampler_count];
             if ((r = get_string(c, s, field, "uniform", false, bs->uniform, sizeof bs->uniform)) != HT_OK ||
                 (r = get_string(c, s, field, "texture", false, bs->texture, sizeof bs->texture)) != HT_OK ||
                 (r = get_int(c, s, field, "unit", -1, 0, 31, &bs->unit)) != HT_OK)
@@ -201,25 +199,21 @@ static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_bund
     return HT_OK;
 }
 
-ht_result ht_bundle_parse(const char *json_text, const char *dir, const char *file_name,
-                          ht_bundle *out, char *err, size_t err_size) {
+ht_result ht_manifest_parse(const char *json_text, const char *dir, const char *file_name,
+                          ht_manifest *out, char *err, size_t err_size) {
     ht_jctx c = { .file = file_name ? file_name : "manifest.json", .err = err, .err_size = err_size };
     if (!json_text || !out) return ht_json_fail(&c, "manifest", "no input");
     memset(out, 0, sizeof *out);
     snprintf(out->dir, sizeof out->dir, "%s", dir ? dir : ".");
 
-    cJSON *root = cJSON_Parse(json_text);
-    if (!root) {
-        const char *at = cJSON_GetErrorPtr();
-        size_t offset = at && at >= json_text ? (size_t)(at - json_text) : 0;
-        return ht_json_fail(&c, "manifest", "not valid JSON (near byte %zu)", offset);
-    }
-    ht_result r = HT_OK;
+    /* Syntax errors say line and column, as every other format's do. */
+    cJSON *root;
+    ht_result r = ht_json_parse_root(&c, json_text, &root);
+    if (r != HT_OK) return r;
     char format[32];
-    if (!cJSON_IsObject(root)) { r = ht_json_fail(&c, "manifest", "expected a JSON object"); goto done; }
     if ((r = get_string(&c, root, "", "format", false, format, sizeof format)) != HT_OK) goto done;
-    if (strcmp(format, BUNDLE_FORMAT) != 0) {
-        r = ht_json_fail(&c, "format", "\"%s\" is not \"%s\"", format, BUNDLE_FORMAT);
+    if (strcmp(format, HT_MANIFEST_FORMAT) != 0) {
+        r = ht_json_fail(&c, "format", "\"%s\" is not \"%s\"", format, HT_MANIFEST_FORMAT);
         goto done;
     }
     if ((r = get_string(&c, root, "", "material", true, out->material, sizeof out->material)) != HT_OK ||
@@ -258,13 +252,13 @@ ht_result ht_bundle_parse(const char *json_text, const char *dir, const char *fi
     if (!cJSON_IsArray(tiers)) { r = ht_json_fail(&c, "tiers", tiers ? "expected an array" : "missing"); goto done; }
     const cJSON *t;
     cJSON_ArrayForEach(t, tiers) {
-        if (out->tier_count >= HT_BUNDLE_MAX_TIERS) {
-            r = ht_json_fail(&c, "tiers", "more than %d tiers", HT_BUNDLE_MAX_TIERS);
+        if (out->tier_count >= HT_MANIFEST_MAX_TIERS) {
+            r = ht_json_fail(&c, "tiers", "more than %d tiers", HT_MANIFEST_MAX_TIERS);
             goto done;
         }
         if ((r = parse_tier(&c, t, out->tier_count, &out->tiers[out->tier_count])) != HT_OK) goto done;
         /* A second entry of a tier would never be selected by name and
-           would shadow the first for ht_bundle_find_tier. */
+           would shadow the first for ht_manifest_find_tier. */
         for (int k = 0; k < out->tier_count; k++)
             if (strcmp(out->tiers[k].name, out->tiers[out->tier_count].name) == 0) {
                 char field[48];
@@ -278,9 +272,9 @@ ht_result ht_bundle_parse(const char *json_text, const char *dir, const char *fi
 
     /* Samplers must name a texture the bundle lists. */
     for (int i = 0; i < out->tier_count; i++) {
-        const ht_bundle_tier *bt = &out->tiers[i];
+        const ht_manifest_tier *bt = &out->tiers[i];
         for (int s = 0; s < bt->sampler_count; s++)
-            if (!ht_bundle_find_texture(out, bt, bt->samplers[s].texture)) {
+            if (!ht_manifest_find_texture(out, bt, bt->samplers[s].texture)) {
                 char field[96];
                 snprintf(field, sizeof field, "tiers[%d].samplers[%d].texture", i, s);
                 r = ht_json_fail(&c, field, "\"%s\" is not listed in textures", bt->samplers[s].texture);
@@ -299,7 +293,7 @@ static char *read_file(const char *path, char *err, size_t err_size) {
     return ht_json_read_file(path, &text, err, err_size) == HT_OK ? text : NULL;
 }
 
-ht_result ht_bundle_load(const char *dir, ht_bundle *out, char *err, size_t err_size) {
+ht_result ht_manifest_load(const char *dir, ht_manifest *out, char *err, size_t err_size) {
     if (!dir || !dir[0] || !out) {
         snprintf(err, err_size, "bundle: bundle_dir: required");
         return HT_ERR_INVALID_ARGUMENT;
@@ -311,24 +305,24 @@ ht_result ht_bundle_load(const char *dir, ht_bundle *out, char *err, size_t err_
     }
     char *text = read_file(path, err, err_size);
     if (!text) return HT_ERR_IO;
-    ht_result r = ht_bundle_parse(text, dir, path, out, err, err_size);
+    ht_result r = ht_manifest_parse(text, dir, path, out, err, err_size);
     free(text);
     return r;
 }
 
-const ht_bundle_tier *ht_bundle_find_tier(const ht_bundle *b, ht_tier tier) {
+const ht_manifest_tier *ht_manifest_find_tier(const ht_manifest *b, ht_tier tier) {
     for (int i = 0; b && i < b->tier_count; i++)
         if (b->tiers[i].tier == tier) return &b->tiers[i];
     return NULL;
 }
 
-const char *ht_bundle_tier_file(const ht_bundle_tier *t, const char *role) {
+const char *ht_manifest_tier_file(const ht_manifest_tier *t, const char *role) {
     for (int i = 0; t && role && i < t->file_count; i++)
         if (strcmp(t->files[i].role, role) == 0) return t->files[i].file;
     return NULL;
 }
 
-const ht_bundle_texture *ht_bundle_find_texture(const ht_bundle *b, const ht_bundle_tier *t,
+const ht_manifest_texture *ht_manifest_find_texture(const ht_manifest *b, const ht_manifest_tier *t,
                                                 const char *name) {
     for (int i = 0; t && name && i < t->texture_count; i++)
         if (strcmp(t->textures[i].name, name) == 0) return &t->textures[i];
@@ -337,17 +331,17 @@ const ht_bundle_texture *ht_bundle_find_texture(const ht_bundle *b, const ht_bun
     return NULL;
 }
 
-bool ht_bundle_path(const ht_bundle *b, const char *file, char *out, size_t out_size) {
+bool ht_manifest_path(const ht_manifest *b, const char *file, char *out, size_t out_size) {
     return (size_t)snprintf(out, out_size, "%s/%s", b->dir, file) < out_size;
 }
 
-char *ht_bundle_read_text(const ht_bundle *b, const char *file, char *err, size_t err_size) {
+char *ht_manifest_read_text(const ht_manifest *b, const char *file, char *err, size_t err_size) {
     char path[1200];
     if (!file) {
         snprintf(err, err_size, "%s/manifest.json: files: role missing", b->dir);
         return NULL;
     }
-    if (!ht_bundle_path(b, file, path, sizeof path)) {
+    if (!ht_manifest_path(b, file, path, sizeof path)) {
         snprintf(err, err_size, "%s: path too long", file);
         return NULL;
     }

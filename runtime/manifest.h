@@ -1,0 +1,104 @@
+/* manifest.h — a hairgen bundle's manifest.json read into plain structs (the
+   format is docs/bundle.md). Internal to libhairtier.
+
+   Usage:
+       ht_manifest b;
+       char err[512];
+       if (ht_manifest_load("out/bundle", &b, err, sizeof err) != HT_OK) puts(err);
+       const ht_manifest_tier *full = ht_manifest_find_tier(&b, HT_TIER_FULL);
+       char *frag = ht_manifest_read_text(&b, ht_manifest_tier_file(full, "fragment"), err, sizeof err);
+
+   Every error is one line "DIR/manifest.json: FIELD: what is wrong"
+   (FIELD like tiers[1].requires.glsl). File names in a manifest must be plain
+   names inside the bundle directory. */
+#ifndef HT_MANIFEST_H
+#define HT_MANIFEST_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "hairtier.h"
+#include "image.h"
+
+/* The schema's one home: shadergen/generate.c writes what this reader
+   accepts and checks these limits before writing, so hairgen never makes a
+   bundle the runtime refuses (tests/test_manifest.c holds the two together). */
+#define HT_MANIFEST_FORMAT "hairtier-bundle/1"
+#define HT_MANIFEST_FILE "manifest.json"
+/* Texture sizes the runtime reads: per side, 3D depth (slices), and texels
+   in all (the PNG reader's cap, so a listed texture is never one it refuses). */
+#define HT_MANIFEST_MAX_TEXTURE_SIZE 16384
+#define HT_MANIFEST_MAX_TEXTURE_DEPTH 4096
+#define HT_MANIFEST_MAX_TEXTURE_PIXELS HT_IMAGE_MAX_PIXELS
+
+#define HT_MANIFEST_MAX_TIERS 8
+#define HT_MANIFEST_MAX_FILES 8
+#define HT_MANIFEST_MAX_SAMPLERS 4
+#define HT_MANIFEST_MAX_TEXTURES 4
+#define HT_MANIFEST_MAX_EXTENSIONS 8
+#define HT_MANIFEST_NAME 64
+
+typedef struct ht_manifest_texture {
+    char name[24];                 /* key: "albedo", "detail", "fixed-lut" */
+    char file[HT_MANIFEST_NAME];
+    int width, height, depth;      /* depth 1 for 2D */
+} ht_manifest_texture;
+
+typedef struct ht_manifest_file {
+    char role[24];                 /* "vertex", "fragment", "prime_vertex", "program", ... */
+    char file[HT_MANIFEST_NAME];
+} ht_manifest_file;
+
+typedef struct ht_manifest_sampler {
+    char uniform[32];
+    char texture[24];              /* a key of the tier's or the bundle's textures */
+    int unit;
+} ht_manifest_sampler;
+
+typedef struct ht_manifest_tier {
+    char name[16];
+    ht_tier tier;                  /* HT_TIER_COUNT: a tier this runtime does not know */
+    int gl_major, gl_minor;        /* requires.gl */
+    int glsl_major, glsl_minor;    /* requires.glsl; 0.0 when the tier has no GLSL */
+    char extensions[HT_MANIFEST_MAX_EXTENSIONS][48];
+    int extension_count;
+    int texture_units;             /* requires.texture_units; 0 when absent */
+    ht_manifest_file files[HT_MANIFEST_MAX_FILES];
+    int file_count;
+    ht_manifest_sampler samplers[HT_MANIFEST_MAX_SAMPLERS];
+    int sampler_count;
+    ht_manifest_texture textures[HT_MANIFEST_MAX_TEXTURES]; /* the tier's own ("fixed-lut") */
+    int texture_count;
+} ht_manifest_tier;
+
+typedef struct ht_manifest {
+    char dir[1024];
+    char material[64];
+    char model[32];
+    ht_light_type lights[HT_MAX_LIGHTS];
+    int light_count;
+    float opaque_cutoff;           /* (0, 1] */
+    ht_manifest_texture textures[HT_MANIFEST_MAX_TEXTURES];
+    int texture_count;
+    ht_manifest_tier tiers[HT_MANIFEST_MAX_TIERS]; /* best first, as listed */
+    int tier_count;
+} ht_manifest;
+
+ht_result ht_manifest_load(const char *dir, ht_manifest *out, char *err, size_t err_size);
+/* Parses manifest text; file_name only labels errors. */
+ht_result ht_manifest_parse(const char *json_text, const char *dir, const char *file_name,
+                          ht_manifest *out, char *err, size_t err_size);
+
+const ht_manifest_tier *ht_manifest_find_tier(const ht_manifest *b, ht_tier tier);
+/* The file of a role, NULL when the tier lists none. */
+const char *ht_manifest_tier_file(const ht_manifest_tier *t, const char *role);
+/* A texture by key: the tier's own first, then the bundle's; NULL if neither. */
+const ht_manifest_texture *ht_manifest_find_texture(const ht_manifest *b, const ht_manifest_tier *t,
+                                                const char *name);
+/* DIR/file into out; false when it does not fit. */
+bool ht_manifest_path(const ht_manifest *b, const char *file, char *out, size_t out_size);
+/* Reads a text file of the bundle (malloc'd, NUL-terminated) or NULL with
+   "DIR/FILE: why" in err. */
+char *ht_manifest_read_text(const ht_manifest *b, const char *file, char *err, size_t err_size);
+
+#endif

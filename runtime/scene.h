@@ -1,0 +1,43 @@
+/* scene.h — a scene to draw hair in: image size, camera, lights, which hair
+   geometry to build; read from "hairtier-scene/1" files (docs/materials.md).
+   Not needed to draw hair (hairtier.h is): the generator plans a material
+   for a scene, and the examples and tests build and render one. The reader
+   (runtime/scene_json.c) needs only cJSON, so hairview links it without the
+   generator or glslang.
+
+   Usage:
+       ht_scene s;
+       char err[512];
+       if (ht_scene_load("scenes/furball.json", &s, err, sizeof err) != HT_OK) puts(err);
+       ht_mesh hair;
+       if (s.geometry == HT_GEOMETRY_FURBALL) ht_mesh_build_furball(&s.furball, &hair);
+
+   Errors are one line "FILE: FIELD: what is wrong". */
+#ifndef HT_SCENE_H
+#define HT_SCENE_H
+
+#include <stddef.h>
+
+#include "hairtier.h"
+
+typedef enum ht_geometry_kind { HT_GEOMETRY_FURBALL = 0, HT_GEOMETRY_PATCHES = 1 } ht_geometry_kind;
+
+typedef struct ht_scene {
+    int width, height;          /* pixels */
+    ht_camera camera;
+    ht_light lights[HT_MAX_LIGHTS];
+    int light_count;            /* 1..4 */
+    float background[3];
+    ht_geometry_kind geometry;
+    ht_furball_desc furball;
+    ht_patches_desc patches;
+} ht_scene;
+
+ht_result ht_scene_load(const char *path, ht_scene *out, char *err, size_t err_size);
+ht_result ht_scene_parse(const char *json_text, const char *file_name,
+                         ht_scene *out, char *err, size_t err_size);
+/* The scene a material is planned for when none is given: one white
+   directional light, the fur ball. */
+void ht_scene_default(ht_scene *out);
+
+#endif
