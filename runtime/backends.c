@@ -4,12 +4,14 @@
 #include <stddef.h>
 
 #include "fixed.h"
+#include "fixed4.h"
 #include "tier.h"
 
 static const ht_tier_backend *const backends[] = {
     &ht_tier_glsl_full_backend,
     &ht_tier_glsl_vertex_backend,
     &ht_tier_fixed_backend,
+    &ht_tier_fixed4_backend,
 };
 
 const ht_tier_backend *ht_tier_backend_find(ht_tier tier) {

@@ -57,6 +57,7 @@
     X(core, void, Lightfv, (GLenum light, GLenum pname, const GLfloat *params)) \
     X(core, void, LightModelfv, (GLenum pname, const GLfloat *params)) \
     X(core, void, Materialfv, (GLenum face, GLenum pname, const GLfloat *params)) \
+    X(core, void, ColorMaterial, (GLenum face, GLenum mode)) \
     X(core, void, Lightf, (GLenum light, GLenum pname, GLfloat param)) \
     X(core, void, LightModeli, (GLenum pname, GLint param)) \
     X(core, void, PolygonMode, (GLenum face, GLenum mode)) \

@@ -59,7 +59,8 @@ typedef enum ht_tier {
     HT_TIER_AUTO = 0,  /* best the device runs */
     HT_TIER_FULL,      /* per-pixel GLSL */
     HT_TIER_VERTEX,    /* per-vertex GLSL lighting, fixed-function fragment */
-    HT_TIER_FIXED,     /* GL 1.3 texture combiners + lookup textures */
+    HT_TIER_FIXED,     /* GL 1.3 texture combiners + lookup textures, 2 units */
+    HT_TIER_FIXED4,    /* GL 1.3 combiners on 4 units, every coordinate made by the device */
     HT_TIER_COUNT
 } ht_tier;
 

@@ -62,6 +62,14 @@ void ht_tier_output_free(ht_tier_output *out);
 ht_result ht_emit_full(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
 ht_result ht_emit_vertex(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
 ht_result ht_emit_fixed(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
+/* HT_ERR_UNSUPPORTED (err says why) when the plan needs what the tier
+   cannot do on the device (a point light among the two it lights): the
+   generator then leaves the tier out of the bundle. */
+ht_result ht_emit_fixed4(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
+
+/* Texels a LUT axis holding a highlight of exponent e needs, before the
+   [16, 256] clamp: next power of two of 8 sqrt(e) (emit_fixed.c). */
+int ht_lut_highlight_texels(double e);
 
 /* glslang's C API, in process: preprocess + parse at exactly this version
    and profile (es → ESSL). log receives glslang's info log on failure. */

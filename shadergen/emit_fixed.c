@@ -55,7 +55,7 @@ static bool is_black(const double c[3]) { return c[0] <= 0.0 && c[1] <= 0.0 && c
 /* Texels a highlight of exponent e needs: next power of two of 8 sqrt(e).
    For 0 < e < 2, sin^e = (1 - d^2)^(e/2) has an infinite slope at d = +-1
    (like Kajiya-Kay's diffuse) and takes the largest axis. */
-static int highlight_texels(double e) {
+int ht_lut_highlight_texels(double e) {
     if (e > 0.0 && e < 2.0) return MAX_AXIS;
     double want = 8.0 * sqrt(e > 0.0 ? e : 0.0);
     int n = 1;
@@ -104,7 +104,7 @@ static void choose_sizes(const ht_shading *s, const char *const axis_names[3],
             *n = 1;
             continue;
         }
-        int want = highlight_texels(l->exponent);
+        int want = ht_lut_highlight_texels(l->exponent);
         *n = clamp_axis(want);
         if (want > *n)
             note_dropped(out, "LUT axis %s: exponent %g wants %d texels, clamped to %d: lobe widened, "

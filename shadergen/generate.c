@@ -309,15 +309,24 @@ static ht_result generate(const char *material_path, const char *scene_path,
     ht_plan plan;
     ht_plan_make(&material, &scene, &plan);
 
-    ht_tier_output tiers[3];
+    /* Best first: the order the runtime walks. */
+    enum { EMITTERS = 4 };
+    ht_tier_output tiers[EMITTERS];
     memset(tiers, 0, sizeof tiers);
     ht_image albedo = { 0 }, detail = { 0 };
-    ht_result (*const emitters[3])(const ht_plan *, ht_tier_output *, char *, size_t) = {
-        ht_emit_full, ht_emit_vertex, ht_emit_fixed
+    ht_result (*const emitters[EMITTERS])(const ht_plan *, ht_tier_output *, char *, size_t) = {
+        ht_emit_full, ht_emit_vertex, ht_emit_fixed4, ht_emit_fixed
     };
     r = ht_textures_pack(&material, &plan, &albedo, &detail, err, err_size);
     if (r == HT_OK && plan.sparkle) plan.sparkle_mean = channel_mean(&detail, 1);
-    for (int i = 0; i < 3 && r == HT_OK; i++) r = emitters[i](&plan, &tiers[i], err, err_size);
+    int tier_count = 0;
+    for (int i = 0; i < EMITTERS && r == HT_OK; i++) {
+        r = emitters[i](&plan, &tiers[tier_count], err, err_size);
+        /* A tier the plan rules out (fixed4 under a point light) is left
+           out of the bundle; the runtime then never sees it. */
+        if (r == HT_ERR_UNSUPPORTED) r = HT_OK;
+        else if (r == HT_OK) tier_count++;
+    }
 
     char tmp[4096] = "";
     if (r == HT_OK) {
@@ -334,12 +343,12 @@ static ht_result generate(const char *material_path, const char *scene_path,
         }
     }
     if (r == HT_OK)
-        r = write_bundle(tmp, &plan, &material, hash.value, &albedo, &detail, tiers, 3, err, err_size);
+        r = write_bundle(tmp, &plan, &material, hash.value, &albedo, &detail, tiers, tier_count, err, err_size);
     if (r == HT_OK) r = publish(tmp, out_dir, err, err_size);
     if (r != HT_OK && tmp[0]) remove_tree(tmp);
-    if (r == HT_OK && summary) print_summary(summary, &material, &plan, tiers, 3, out_dir);
+    if (r == HT_OK && summary) print_summary(summary, &material, &plan, tiers, tier_count, out_dir);
 
-    for (int i = 0; i < 3; i++) ht_tier_output_free(&tiers[i]);
+    for (int i = 0; i < EMITTERS; i++) ht_tier_output_free(&tiers[i]);
     ht_image_free(&albedo);
     ht_image_free(&detail);
     return r;

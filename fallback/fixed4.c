@@ -1,0 +1,528 @@
+/* fixed4.c — the `fixed4` tier's backend (fixed4_program.h has the layout
+   and the why). No shader object anywhere: GL 1.3 texture combiners,
+   texture matrices and GL's fixed-function lighting.
+
+   Per mesh (set_mesh): the static arrays: the shifted tangents t1, t2
+   (Kajiya-Kay: T) as 3-component texture coordinates, uv, and the colour
+   (1, 1, 1, ao) whose alpha carries ao through the combiners; in buffer
+   objects when the device has them, client memory otherwise.
+   Per frame (begin_frame): one texture matrix per LUT unit (16 floats from
+   the lights and the infinite viewer) and, only when a light colour or the
+   scale changed, the LUTs rebaked and reloaded (O(LUT texels)). Nothing is
+   proportional to the vertex count.
+   Per pass: GL lighting (Scheuermann) for the diffuse term into the
+   primary colour; the prime-Z pass enables only the last unit (the
+   albedo's alpha), with lighting off. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "errfmt.h"
+#include "fixed4.h"
+#include "fixed4_program.h"
+#include "gl_texture.h"
+#include "image.h"
+
+enum { MAX_UNITS = HT_FIXED4_MAX_LUTS + 2 };
+
+typedef enum array_kind { ARRAY_VEC0 = 0, ARRAY_VEC1, ARRAY_UV, ARRAY_COLOR, ARRAY_COUNT } array_kind;
+
+typedef struct fixed4_state {
+    const ht_gl *gl;
+    const ht_caps *caps;
+    ht_fixed4_program program;
+    int luts, units;
+    GLuint lut_textures[HT_FIXED4_MAX_LUTS];
+    GLuint albedo;
+    bool albedo_is_white;
+    /* static per-vertex arrays: client memory, or offsets into buffers */
+    float *arrays[ARRAY_COUNT];
+    GLuint buffers[ARRAY_COUNT];
+    bool have_mesh;
+    /* the local-viewer rule: SoA inputs, this frame's coordinates (2 floats per
+       vertex per LUT), what they were made for, and how much work it was */
+    ht_fixed4_soa soa;
+    float *coords[HT_FIXED4_MAX_LUTS];
+    GLuint coord_buffers[HT_FIXED4_MAX_LUTS];
+    bool coords_valid;
+    float coords_key[3 + 3 * HT_FIXED4_MAX_LIGHTS];
+    uint64_t cpu_vertices;
+    /* what the LUTs were baked for */
+    bool baked;
+    float baked_colors[HT_FIXED4_MAX_LIGHTS][3];
+    int scale;
+    /* this frame */
+    float matrices[HT_FIXED4_MAX_LUTS][16];
+    float light_dirs[HT_FIXED4_MAX_LIGHTS][3];
+    float light_colors[HT_FIXED4_MAX_LIGHTS][3];
+    float view[16];
+    ht_log_fn log;
+    void *log_user;
+} fixed4_state;
+
+static void destroy(void *state) {
+    fixed4_state *s = state;
+    if (!s) return;
+    for (int i = 0; i < HT_FIXED4_MAX_LUTS; i++)
+        if (s->lut_textures[i]) s->gl->DeleteTextures(1, &s->lut_textures[i]);
+    if (s->albedo) s->gl->DeleteTextures(1, &s->albedo);
+    for (int i = 0; i < ARRAY_COUNT; i++) {
+        free(s->arrays[i]);
+        if (s->buffers[i]) s->gl->DeleteBuffers(1, &s->buffers[i]);
+    }
+    for (int k = 0; k < HT_FIXED4_MAX_LUTS; k++) {
+        free(s->coords[k]);
+        if (s->coord_buffers[k]) s->gl->DeleteBuffers(1, &s->coord_buffers[k]);
+    }
+    ht_fixed4_soa_free(&s->soa);
+    free(s);
+}
+
+static ht_result load_program(fixed4_state *s, const ht_tier_context *ctx, char *err, size_t err_size) {
+    const ht_manifest *b = ctx->bundle;
+    const char *file = ht_manifest_tier_file(ctx->tier, "program");
+    if (!file) {
+        snprintf(err, err_size, "%s/manifest.json: tiers.%s.files: needs \"program\"", b->dir, ctx->tier->name);
+        return HT_ERR_PARSE;
+    }
+    char path[1200];
+    if (!ht_manifest_path(b, file, path, sizeof path)) {
+        snprintf(err, err_size, "%s: path too long", file);
+        return HT_ERR_IO;
+    }
+    char *text = ht_manifest_read_text(b, file, err, err_size);
+    if (!text) return HT_ERR_IO;
+    ht_result r = ht_fixed4_parse(text, path, &s->program, err, err_size);
+    free(text);
+    return r;
+}
+
+static ht_result check_device(const fixed4_state *s, const ht_tier_context *ctx, char *err, size_t err_size) {
+    const ht_caps *c = ctx->caps;
+    const ht_gl *gl = ctx->gl;
+    if (!c->has_combine) return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "needs GL_ARB_texture_env_combine");
+    if (!c->has_multitexture || !gl->ActiveTexture || !gl->ClientActiveTexture)
+        return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "needs GL_ARB_multitexture");
+    if (s->units > c->texture_units)
+        return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "needs %d texture units, have %d", s->units,
+                       c->texture_units);
+    return HT_OK;
+}
+
+static ht_result load_albedo(fixed4_state *s, const ht_tier_context *ctx, char *err, size_t err_size) {
+    const ht_manifest *b = ctx->bundle;
+    const ht_manifest_texture *t = ht_manifest_find_texture(b, ctx->tier, "albedo");
+    ht_image img = { 0 };
+    char path[1200] = "white albedo";
+    static const unsigned char white[4] = { 255, 255, 255, 255 };
+    if (t) {
+        if (!ht_manifest_path(b, t->file, path, sizeof path))
+            return ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", t->file);
+        ht_result r = ht_image_read_png(path, &img, err, err_size);
+        if (r != HT_OK) return r;
+    } else {
+        /* no albedo: a white texel keeps the final stage's scale and alpha 1 */
+        img = (ht_image){ .width = 1, .height = 1, .channels = 4, .pixels = (uint8_t *)white };
+        s->albedo_is_white = true;
+    }
+    ht_result r = ht_gl_texture_upload(s->gl, &(ht_gl_texture_desc){ .target = GL_TEXTURE_2D, .image = &img,
+                                                                     .filter = GL_LINEAR, .wrap = GL_REPEAT,
+                                                                     .name = path },
+                                       &s->albedo, err, err_size);
+    if (t) ht_image_free(&img);
+    return r;
+}
+
+/* Bakes and uploads every LUT for the frame's light colours and scale. */
+static ht_result bake_luts(fixed4_state *s, char *err, size_t err_size) {
+    for (int k = 0; k < s->luts; k++) {
+        ht_image img = { 0 };
+        ht_result r = ht_fixed4_bake_lut(&s->program, k, (const float(*)[3])s->light_colors, s->scale, &img);
+        if (r != HT_OK) return ht_fail(err, err_size, r, "fixed4: LUT %d: out of memory", k);
+        if (s->lut_textures[k]) s->gl->DeleteTextures(1, &s->lut_textures[k]);
+        s->lut_textures[k] = 0;
+        char name[32];
+        snprintf(name, sizeof name, "fixed4 LUT %d", k);
+        r = ht_gl_texture_upload(s->gl, &(ht_gl_texture_desc){ .target = GL_TEXTURE_2D, .image = &img,
+                                                               .filter = GL_LINEAR, .wrap = GL_CLAMP_TO_EDGE,
+                                                               .name = name },
+                                 &s->lut_textures[k], err, err_size);
+        ht_image_free(&img);
+        if (r != HT_OK) return r;
+    }
+    memcpy(s->baked_colors, s->light_colors, sizeof s->baked_colors);
+    s->baked = true;
+    return HT_OK;
+}
+
+static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_t err_size) {
+    *out = NULL;
+    fixed4_state *s = calloc(1, sizeof *s);
+    if (!s) return HT_ERR_OUT_OF_MEMORY;
+    s->gl = ctx->gl;
+    s->caps = ctx->caps;
+    s->log = ctx->log;
+    s->log_user = ctx->log_user;
+    ht_result r = load_program(s, ctx, err, err_size);
+    if (r == HT_OK) {
+        s->luts = ht_fixed4_lut_count(&s->program);
+        s->units = ht_fixed4_units(&s->program);
+        r = check_device(s, ctx, err, err_size);
+    }
+    if (r == HT_OK) r = load_albedo(s, ctx, err, err_size);
+    /* LUTs for white lights until the first frame says otherwise: a bake
+       that cannot succeed fails here, where the tier can still drop. */
+    for (int l = 0; r == HT_OK && l < HT_FIXED4_MAX_LIGHTS; l++)
+        s->light_colors[l][0] = s->light_colors[l][1] = s->light_colors[l][2] = l < s->program.lights ? 1.0f : 0.0f;
+    if (r == HT_OK) {
+        s->scale = ht_fixed4_scale(&s->program, (const float(*)[3])s->light_colors);
+        r = bake_luts(s, err, err_size);
+    }
+    if (r != HT_OK) {
+        destroy(s);
+        return r;
+    }
+    int w = 0, h = 0;
+    ht_fixed4_lut_size(&s->program, 0, &w, &h);
+    ht_log_linef(s->log, s->log_user, "hairtier: fixed4: %d units, %d LUT%s %dx%d, %d light%s, coordinates by the "
+                 "texture matrix (infinite viewer), diffuse by GL lighting%s", s->units, s->luts,
+                 s->luts == 1 ? "" : "s", w, h, s->program.lights, s->program.lights == 1 ? "" : "s",
+                 s->program.shading.model == HT_MODEL_KAJIYA_KAY ? " (none: Kajiya-Kay's is in the LUT)" : "");
+    *out = s;
+    return HT_OK;
+}
+
+/* ---- per mesh ---- */
+
+static ht_result set_mesh(void *state, const ht_mesh *mesh) {
+    fixed4_state *s = state;
+    const ht_gl *gl = s->gl;
+    size_t n = mesh->vertex_count;
+    static const int widths[ARRAY_COUNT] = { 3, 3, 2, 4 };
+    float *a[ARRAY_COUNT] = { NULL };
+    for (int i = 0; i < ARRAY_COUNT; i++) {
+        a[i] = malloc(n ? n * (size_t)widths[i] * sizeof(float) : sizeof(float));
+        if (!a[i]) {
+            for (int j = 0; j < i; j++) free(a[j]);
+            return HT_ERR_OUT_OF_MEMORY;
+        }
+    }
+    const bool kk = s->program.shading.model == HT_MODEL_KAJIYA_KAY;
+    ht_fixed4_vertex_arrays(&s->program, mesh->vertices, n, a[ARRAY_VEC0], kk ? NULL : a[ARRAY_VEC1],
+                            a[ARRAY_COLOR]);
+    if (kk) memcpy(a[ARRAY_VEC1], a[ARRAY_VEC0], n * 3 * sizeof(float));
+    for (size_t i = 0; i < n; i++) {
+        a[ARRAY_UV][2 * i] = mesh->vertices[i].uv[0];
+        a[ARRAY_UV][2 * i + 1] = mesh->vertices[i].uv[1];
+    }
+    if (s->program.viewer == HT_FIXED4_VIEWER_LOCAL) {
+        ht_fixed4_soa soa;
+        float *coords[HT_FIXED4_MAX_LUTS] = { NULL };
+        bool ok = ht_fixed4_soa_make(&s->program, mesh->vertices, n, &soa) == HT_OK;
+        for (int k = 0; ok && k < s->luts; k++) ok = (coords[k] = malloc((n ? n : 1) * 2 * sizeof(float))) != NULL;
+        if (!ok) {
+            if (soa.count || soa.px) ht_fixed4_soa_free(&soa);
+            for (int k = 0; k < HT_FIXED4_MAX_LUTS; k++) free(coords[k]);
+            for (int i = 0; i < ARRAY_COUNT; i++) free(a[i]);
+            return HT_ERR_OUT_OF_MEMORY;
+        }
+        ht_fixed4_soa_free(&s->soa);
+        s->soa = soa;
+        for (int k = 0; k < HT_FIXED4_MAX_LUTS; k++) {
+            free(s->coords[k]);
+            s->coords[k] = coords[k];
+        }
+        s->coords_valid = false;
+    }
+    for (int i = 0; i < ARRAY_COUNT; i++) {
+        free(s->arrays[i]);
+        s->arrays[i] = a[i];
+    }
+    s->have_mesh = true;
+    if (!gl->GenBuffers || !s->caps->has_vbo) return HT_OK;
+    /* Uploaded once: the draw reads them from the device every frame. */
+    while (gl->GetError() != GL_NO_ERROR) {}
+    for (int i = 0; i < ARRAY_COUNT; i++) {
+        if (!s->buffers[i]) gl->GenBuffers(1, &s->buffers[i]);
+        gl->BindBuffer(GL_ARRAY_BUFFER, s->buffers[i]);
+        gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(n * (size_t)widths[i] * sizeof(float)), s->arrays[i],
+                       GL_STATIC_DRAW);
+    }
+    for (int k = 0; s->program.viewer == HT_FIXED4_VIEWER_LOCAL && k < s->luts; k++) {
+        if (!s->coord_buffers[k]) gl->GenBuffers(1, &s->coord_buffers[k]);
+        gl->BindBuffer(GL_ARRAY_BUFFER, s->coord_buffers[k]);
+        gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(n * 2 * sizeof(float)), NULL, GL_DYNAMIC_DRAW);
+    }
+    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    GLenum e = gl->GetError();
+    if (e != GL_NO_ERROR) {
+        ht_log_linef(s->log, s->log_user, "hairtier: fixed4: glBufferData: %s: hair not drawn",
+                     e == GL_OUT_OF_MEMORY ? "GL_OUT_OF_MEMORY" : "GL error");
+        s->have_mesh = false;
+        return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
+    }
+    /* The client copies are no longer read. */
+    for (int i = 0; i < ARRAY_COUNT; i++) {
+        free(s->arrays[i]);
+        s->arrays[i] = NULL;
+    }
+    return HT_OK;
+}
+
+/* ---- per frame ---- */
+
+/* The local-viewer rule's per-vertex work: only when the eye or a light
+   direction moved since the coordinates were made. */
+static void update_local_coords(fixed4_state *s, const float eye[3]) {
+    float key[3 + 3 * HT_FIXED4_MAX_LIGHTS];
+    memcpy(key, eye, 3 * sizeof(float));
+    memcpy(key + 3, s->light_dirs, sizeof s->light_dirs);
+    if (!s->have_mesh || (s->coords_valid && memcmp(key, s->coords_key, sizeof key) == 0)) return;
+    ht_fixed4_local_coords(&s->program, &s->soa, (const float(*)[3])s->light_dirs, eye, s->coords);
+    s->cpu_vertices += s->soa.count;
+    const ht_gl *gl = s->gl;
+    for (int k = 0; k < s->luts && s->coord_buffers[k]; k++) {
+        gl->BindBuffer(GL_ARRAY_BUFFER, s->coord_buffers[k]);
+        gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(s->soa.count * 2 * sizeof(float)), s->coords[k],
+                       GL_DYNAMIC_DRAW);
+    }
+    if (s->coord_buffers[0]) gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    memcpy(s->coords_key, key, sizeof key);
+    s->coords_valid = true;
+}
+
+static void begin_frame(void *state, const ht_tier_frame *f) {
+    fixed4_state *s = state;
+    const ht_fixed4_program *p = &s->program;
+    for (int l = 0; l < HT_FIXED4_MAX_LIGHTS; l++) {
+        const bool lit = l < p->lights && l < f->light_count;
+        for (int i = 0; i < 3; i++) {
+            s->light_dirs[l][i] = lit ? f->lights[l].vector[i] : 0.0f;
+            s->light_colors[l][i] = lit ? f->lights[l].color[i] : 0.0f;
+        }
+    }
+    memcpy(s->view, f->view, sizeof s->view);
+    /* the view matrix's third row is the unit direction from the target to the eye */
+    const float view_dir[3] = { f->view[2], f->view[6], f->view[10] };
+    if (p->viewer == HT_FIXED4_VIEWER_LOCAL) update_local_coords(s, f->eye);
+    else
+        for (int k = 0; k < s->luts; k++)
+            ht_fixed4_texture_matrix(p, k, (const float(*)[3])s->light_dirs, view_dir, s->matrices[k]);
+    int scale = ht_fixed4_scale(p, (const float(*)[3])s->light_colors);
+    if (!s->baked || scale != s->scale || memcmp(s->baked_colors, s->light_colors, sizeof s->baked_colors) != 0) {
+        s->scale = scale;
+        char err[256];
+        if (bake_luts(s, err, sizeof err) != HT_OK) {
+            s->baked = false;
+            ht_log_linef(s->log, s->log_user, "hairtier: fixed4: %s", err);
+        }
+    }
+}
+
+static void active_unit(const fixed4_state *s, int unit) { s->gl->ActiveTexture(GL_TEXTURE0 + (GLenum)unit); }
+
+typedef struct env {
+    GLenum rgb, alpha;
+    GLenum src_rgb[3], op_rgb[3];
+    GLenum src_alpha[1], op_alpha[1];
+    int scale;
+} env;
+
+static void apply_env(const ht_gl *gl, const env *e) {
+    gl->TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
+    gl->TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, (GLint)e->rgb);
+    gl->TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, (GLint)e->alpha);
+    static const GLenum src_rgb[3] = { GL_SOURCE0_RGB, GL_SOURCE1_RGB, GL_SOURCE2_RGB };
+    static const GLenum op_rgb[3] = { GL_OPERAND0_RGB, GL_OPERAND1_RGB, GL_OPERAND2_RGB };
+    for (int a = 0; a < 2; a++) {
+        gl->TexEnvi(GL_TEXTURE_ENV, src_rgb[a], (GLint)e->src_rgb[a]);
+        gl->TexEnvi(GL_TEXTURE_ENV, op_rgb[a], (GLint)e->op_rgb[a]);
+    }
+    gl->TexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA, (GLint)e->src_alpha[0]);
+    gl->TexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_ALPHA, (GLint)e->op_alpha[0]);
+    gl->TexEnvf(GL_TEXTURE_ENV, GL_RGB_SCALE, (GLfloat)e->scale);
+    gl->TexEnvf(GL_TEXTURE_ENV, GL_ALPHA_SCALE, 1.0f);
+}
+
+/* The stage of `unit` (fixed4_program.h's table). */
+static env stage_env(const fixed4_state *s, int unit) {
+    const int albedo_unit = s->luts, final_unit = s->luts + 1;
+    if (unit < s->luts) {
+        /* first LUT: + primary (Scheuermann's diffuse; Kajiya-Kay's is black) */
+        GLenum other = unit == 0 ? GL_PRIMARY_COLOR : GL_PREVIOUS;
+        return (env){ GL_ADD, GL_REPLACE, { GL_TEXTURE, other }, { GL_SRC_COLOR, GL_SRC_COLOR },
+                      { other }, { GL_SRC_ALPHA }, 1 };
+    }
+    if (unit == albedo_unit)
+        return (env){ GL_MODULATE, GL_REPLACE, { GL_TEXTURE, GL_PREVIOUS }, { GL_SRC_COLOR, GL_SRC_COLOR },
+                      { GL_PREVIOUS }, { GL_SRC_ALPHA }, 1 };
+    (void)final_unit;
+    /* final: rgb x ao (carried in alpha) x scale; alpha = the albedo's coverage */
+    return (env){ GL_MODULATE, GL_REPLACE, { GL_PREVIOUS, GL_PREVIOUS }, { GL_SRC_COLOR, GL_SRC_ALPHA },
+                  { GL_TEXTURE }, { GL_SRC_ALPHA }, s->scale };
+}
+
+static void load_texture_matrix(const fixed4_state *s, int unit, const float *m) {
+    const ht_gl *gl = s->gl;
+    active_unit(s, unit);
+    gl->MatrixMode(GL_TEXTURE);
+    if (m) gl->LoadMatrixf(m);
+    else gl->LoadIdentity();
+    gl->MatrixMode(GL_MODELVIEW);
+}
+
+/* GL lighting for Scheuermann's wrapped diffuse, per light l:
+       primary = sum_l kd lc_l (wrap + (1 - wrap) max(N.L_l, 0)) / scale
+   (ambient + diffuse terms), alpha = the colour array's ao. With one light a
+   second GL light along -L with the negated diffuse makes the sum exactly
+   kd lc (wrap + (1 - wrap) N.L), which the primary colour's clamp at 0
+   turns into the model's saturate(); with two, a light behind the strand
+   keeps up to wrap kd lc where the model falls to 0 (measured in the
+   README). */
+static void set_lighting(const fixed4_state *s) {
+    const ht_gl *gl = s->gl;
+    const ht_fixed4_program *p = &s->program;
+    const double w = p->shading.wrap, inv = 1.0 / (double)s->scale;
+    static const float zero[4] = { 0, 0, 0, 1 }, one[4] = { 1, 1, 1, 1 };
+    gl->MatrixMode(GL_MODELVIEW);
+    gl->LoadIdentity(); /* positions given in eye space below */
+    int gl_light = 0;
+    for (int l = 0; l < p->lights; l++) {
+        double L[3];
+        for (int i = 0; i < 3; i++) L[i] = s->light_dirs[l][i];
+        double eye[3];
+        for (int i = 0; i < 3; i++)
+            eye[i] = s->view[0 * 4 + i] * L[0] + s->view[1 * 4 + i] * L[1] + s->view[2 * 4 + i] * L[2];
+        float ambient[4] = { 0, 0, 0, 1 }, diffuse[4] = { 0, 0, 0, 1 }, negative[4] = { 0, 0, 0, 1 };
+        for (int i = 0; i < 3; i++) {
+            double kl = p->shading.diffuse_color[i] * (double)s->light_colors[l][i] * inv;
+            ambient[i] = (float)(w * kl);
+            diffuse[i] = (float)((1.0 - w) * kl);
+            negative[i] = -diffuse[i];
+        }
+        const float pos[4] = { (float)eye[0], (float)eye[1], (float)eye[2], 0.0f };
+        GLenum id = GL_LIGHT0 + (GLenum)gl_light++;
+        gl->Enable(id);
+        gl->Lightfv(id, GL_AMBIENT, ambient);
+        gl->Lightfv(id, GL_DIFFUSE, diffuse);
+        gl->Lightfv(id, GL_SPECULAR, zero);
+        gl->Lightfv(id, GL_POSITION, pos);
+        if (p->lights == 1) {
+            const float back[4] = { -pos[0], -pos[1], -pos[2], 0.0f };
+            id = GL_LIGHT0 + (GLenum)gl_light++;
+            gl->Enable(id);
+            gl->Lightfv(id, GL_AMBIENT, zero);
+            gl->Lightfv(id, GL_DIFFUSE, negative);
+            gl->Lightfv(id, GL_SPECULAR, zero);
+            gl->Lightfv(id, GL_POSITION, back);
+        }
+    }
+    gl->LoadMatrixf(s->view);
+    const float no_ambient[4] = { 0, 0, 0, 1 };
+    gl->LightModelfv(GL_LIGHT_MODEL_AMBIENT, no_ambient);
+    gl->LightModeli(GL_LIGHT_MODEL_TWO_SIDE, GL_FALSE);
+    gl->Materialfv(GL_FRONT_AND_BACK, GL_AMBIENT, one);
+    gl->Materialfv(GL_FRONT_AND_BACK, GL_SPECULAR, zero);
+    gl->Materialfv(GL_FRONT_AND_BACK, GL_EMISSION, zero);
+    gl->ColorMaterial(GL_FRONT_AND_BACK, GL_DIFFUSE);
+    gl->Enable(GL_COLOR_MATERIAL);
+    gl->Enable(GL_LIGHTING);
+}
+
+static void clear_lighting(const fixed4_state *s) {
+    const ht_gl *gl = s->gl;
+    gl->Disable(GL_LIGHTING);
+    gl->Disable(GL_COLOR_MATERIAL);
+    for (int i = 0; i < 2 * HT_FIXED4_MAX_LIGHTS; i++) gl->Disable(GL_LIGHT0 + (GLenum)i);
+}
+
+static void bind_pass(void *state, ht_pass pass, int sub_pass) {
+    (void)sub_pass;
+    fixed4_state *s = state;
+    const ht_gl *gl = s->gl;
+    const bool prime = pass == HT_PASS_PRIME_Z;
+    const int final_unit = s->units - 1;
+    for (int u = 0; u < s->units; u++) {
+        active_unit(s, u);
+        gl->Disable(GL_TEXTURE_2D);
+        if (prime && u != final_unit) continue;
+        gl->BindTexture(GL_TEXTURE_2D, u < s->luts ? s->lut_textures[u] : s->albedo);
+        gl->Enable(GL_TEXTURE_2D);
+        env e = stage_env(s, u);
+        apply_env(gl, &e);
+        if (u < s->luts && s->program.viewer == HT_FIXED4_VIEWER_INFINITE) load_texture_matrix(s, u, s->matrices[u]);
+    }
+    active_unit(s, 0);
+    if (!prime && s->program.shading.model == HT_MODEL_SCHEUERMANN) set_lighting(s);
+    else clear_lighting(s);
+}
+
+static const void *array_pointer(const fixed4_state *s, array_kind k) {
+    if (s->buffers[k]) {
+        s->gl->BindBuffer(GL_ARRAY_BUFFER, s->buffers[k]);
+        return NULL; /* offset 0 in the bound buffer */
+    }
+    if (s->gl->BindBuffer) s->gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    return s->arrays[k];
+}
+
+static bool set_arrays(void *state, ht_pass pass, int sub_pass) {
+    (void)pass;
+    (void)sub_pass;
+    fixed4_state *s = state;
+    const ht_gl *gl = s->gl;
+    if (!s->have_mesh || !s->baked) return false;
+    if (s->program.viewer == HT_FIXED4_VIEWER_LOCAL && !s->coords_valid) return false;
+    GLint bound = 0;
+    if (gl->BindBuffer) gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
+    for (int u = 0; u < s->units; u++) {
+        gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)u);
+        gl->EnableClientState(GL_TEXTURE_COORD_ARRAY);
+        if (u < s->luts && s->program.viewer == HT_FIXED4_VIEWER_LOCAL) {
+            gl->BindBuffer(GL_ARRAY_BUFFER, s->coord_buffers[u]);
+            gl->TexCoordPointer(2, GL_FLOAT, 0, s->coord_buffers[u] ? NULL : s->coords[u]);
+        } else if (u < s->luts) {
+            const void *ptr = array_pointer(s, u == 0 ? ARRAY_VEC0 : ARRAY_VEC1);
+            gl->TexCoordPointer(3, GL_FLOAT, 0, ptr);
+        } else {
+            gl->TexCoordPointer(2, GL_FLOAT, 0, array_pointer(s, ARRAY_UV));
+        }
+    }
+    gl->ClientActiveTexture(GL_TEXTURE0);
+    gl->EnableClientState(GL_COLOR_ARRAY);
+    gl->ColorPointer(4, GL_FLOAT, 0, array_pointer(s, ARRAY_COLOR));
+    if (gl->BindBuffer) gl->BindBuffer(GL_ARRAY_BUFFER, (GLuint)bound);
+    return true;
+}
+
+static void end_frame(void *state) {
+    fixed4_state *s = state;
+    const ht_gl *gl = s->gl;
+    for (int u = s->units - 1; u >= 0; u--) {
+        active_unit(s, u);
+        gl->TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+        gl->TexEnvf(GL_TEXTURE_ENV, GL_RGB_SCALE, 1.0f);
+        gl->BindTexture(GL_TEXTURE_2D, 0);
+        gl->Disable(GL_TEXTURE_2D);
+        if (u < s->luts) load_texture_matrix(s, u, NULL);
+        gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)u);
+        gl->DisableClientState(GL_TEXTURE_COORD_ARRAY);
+    }
+    active_unit(s, 0);
+    gl->ClientActiveTexture(GL_TEXTURE0);
+    gl->DisableClientState(GL_COLOR_ARRAY);
+    clear_lighting(s);
+    gl->Color4f(1, 1, 1, 1);
+}
+
+const ht_tier_backend ht_tier_fixed4_backend = {
+    .tier = HT_TIER_FIXED4,
+    .create = create,
+    .set_mesh = set_mesh,
+    .begin_frame = begin_frame,
+    .bind_pass = bind_pass,
+    .set_arrays = set_arrays,
+    .end_frame = end_frame,
+    .destroy = destroy,
+};
