@@ -93,48 +93,48 @@ static cJSON *string_array(const char (*items)[160], int count) {
 
 static cJSON *texture_entry(const char *file, const ht_image *img, int depth, const char *contents) {
     cJSON *t = cJSON_CreateObject();
-    cJSON_AddStringToObject(t, "file", file);
-    cJSON_AddNumberToObject(t, "width", img->width);
-    cJSON_AddNumberToObject(t, "height", img->height / depth);
-    cJSON_AddNumberToObject(t, "depth", depth);
-    cJSON_AddStringToObject(t, "contents", contents);
+    cJSON_AddStringToObject(t, HT_MANIFEST_KEY_FILE, file);
+    cJSON_AddNumberToObject(t, HT_MANIFEST_KEY_WIDTH, img->width);
+    cJSON_AddNumberToObject(t, HT_MANIFEST_KEY_HEIGHT, img->height / depth);
+    cJSON_AddNumberToObject(t, HT_MANIFEST_KEY_DEPTH, depth);
+    cJSON_AddStringToObject(t, HT_MANIFEST_KEY_CONTENTS, contents);
     return t;
 }
 
 static cJSON *tier_entry(const ht_tier_output *t) {
     cJSON *o = cJSON_CreateObject();
-    cJSON_AddStringToObject(o, "name", ht_tier_name(t->tier));
-    cJSON *req = cJSON_AddObjectToObject(o, "requires");
-    cJSON_AddStringToObject(req, "gl", t->requires.gl);
-    if (t->requires.glsl[0]) cJSON_AddStringToObject(req, "glsl", t->requires.glsl);
-    else cJSON_AddNullToObject(req, "glsl");
-    cJSON *ext = cJSON_AddArrayToObject(req, "extensions");
+    cJSON_AddStringToObject(o, HT_MANIFEST_KEY_NAME, ht_tier_name(t->tier));
+    cJSON *req = cJSON_AddObjectToObject(o, HT_MANIFEST_KEY_REQUIRES);
+    cJSON_AddStringToObject(req, HT_MANIFEST_KEY_GL, t->requires.gl);
+    if (t->requires.glsl[0]) cJSON_AddStringToObject(req, HT_MANIFEST_KEY_GLSL, t->requires.glsl);
+    else cJSON_AddNullToObject(req, HT_MANIFEST_KEY_GLSL);
+    cJSON *ext = cJSON_AddArrayToObject(req, HT_MANIFEST_KEY_EXTENSIONS);
     for (int i = 0; i < t->requires.extension_count; i++)
         cJSON_AddItemToArray(ext, cJSON_CreateString(t->requires.extensions[i]));
-    cJSON_AddNumberToObject(req, "texture_units", t->requires.texture_units);
+    cJSON_AddNumberToObject(req, HT_MANIFEST_KEY_TEXTURE_UNITS, t->requires.texture_units);
 
-    cJSON *files = cJSON_AddObjectToObject(o, "files");
+    cJSON *files = cJSON_AddObjectToObject(o, HT_MANIFEST_KEY_FILES);
     for (int i = 0; i < t->text_count; i++)
         cJSON_AddStringToObject(files, t->texts[i].role, t->texts[i].file);
     if (t->image_count > 0) {
-        cJSON *tex = cJSON_AddObjectToObject(o, "textures");
+        cJSON *tex = cJSON_AddObjectToObject(o, HT_MANIFEST_KEY_TEXTURES);
         for (int i = 0; i < t->image_count; i++)
             cJSON_AddItemToObject(tex, t->images[i].name,
                                   texture_entry(t->images[i].file, &t->images[i].image,
                                                 t->images[i].depth, t->images[i].contents));
     }
-    cJSON *samplers = cJSON_AddArrayToObject(o, "samplers");
+    cJSON *samplers = cJSON_AddArrayToObject(o, HT_MANIFEST_KEY_SAMPLERS);
     for (int i = 0; i < t->sampler_count; i++) {
         cJSON *s = cJSON_CreateObject();
-        cJSON_AddStringToObject(s, "uniform", t->samplers[i].sampler);
-        cJSON_AddStringToObject(s, "texture", t->samplers[i].name);
-        cJSON_AddNumberToObject(s, "unit", t->samplers[i].unit);
+        cJSON_AddStringToObject(s, HT_MANIFEST_KEY_UNIFORM, t->samplers[i].sampler);
+        cJSON_AddStringToObject(s, HT_MANIFEST_KEY_TEXTURE, t->samplers[i].name);
+        cJSON_AddNumberToObject(s, HT_MANIFEST_KEY_UNIT, t->samplers[i].unit);
         cJSON_AddItemToArray(samplers, s);
     }
-    cJSON *features = cJSON_AddArrayToObject(o, "features");
+    cJSON *features = cJSON_AddArrayToObject(o, HT_MANIFEST_KEY_FEATURES);
     for (int i = 0; i < t->feature_count; i++)
         cJSON_AddItemToArray(features, cJSON_CreateString(t->features[i]));
-    cJSON_AddItemToObject(o, "dropped", string_array(t->dropped, t->dropped_count));
+    cJSON_AddItemToObject(o, HT_MANIFEST_KEY_DROPPED, string_array(t->dropped, t->dropped_count));
     return o;
 }
 
@@ -157,17 +157,17 @@ static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t h
     cJSON *root = cJSON_CreateObject();
     char hash_text[32];
     snprintf(hash_text, sizeof hash_text, "fnv1a64:%016llx", (unsigned long long)hash);
-    cJSON_AddStringToObject(root, "format", HT_MANIFEST_FORMAT);
-    cJSON_AddStringToObject(root, "generator", GENERATOR_VERSION);
-    cJSON_AddStringToObject(root, "input_hash", hash_text);
-    cJSON_AddStringToObject(root, "material", m->name);
-    cJSON_AddStringToObject(root, "model",
+    cJSON_AddStringToObject(root, HT_MANIFEST_KEY_FORMAT, HT_MANIFEST_FORMAT);
+    cJSON_AddStringToObject(root, HT_MANIFEST_KEY_GENERATOR, GENERATOR_VERSION);
+    cJSON_AddStringToObject(root, HT_MANIFEST_KEY_INPUT_HASH, hash_text);
+    cJSON_AddStringToObject(root, HT_MANIFEST_KEY_MATERIAL, m->name);
+    cJSON_AddStringToObject(root, HT_MANIFEST_KEY_MODEL,
                             plan->shading.model == HT_MODEL_KAJIYA_KAY ? "kajiya-kay" : "scheuermann");
-    cJSON *lights = cJSON_AddArrayToObject(root, "lights");
+    cJSON *lights = cJSON_AddArrayToObject(root, HT_MANIFEST_KEY_LIGHTS);
     for (int i = 0; i < plan->light_count; i++)
         cJSON_AddItemToArray(lights, cJSON_CreateString(light_type_name(plan->light_types[i])));
-    cJSON_AddNumberToObject(root, "opaque_cutoff", plan->opaque_cutoff);
-    cJSON *textures = cJSON_AddObjectToObject(root, "textures");
+    cJSON_AddNumberToObject(root, HT_MANIFEST_KEY_OPAQUE_CUTOFF, plan->opaque_cutoff);
+    cJSON *textures = cJSON_AddObjectToObject(root, HT_MANIFEST_KEY_TEXTURES);
     for (int i = 0; i < plan->texture_count; i++) {
         const ht_plan_texture *pt = &plan->textures[i];
         const ht_image *img = strcmp(pt->name, "albedo") == 0 ? albedo : detail;
@@ -175,8 +175,8 @@ static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t h
         snprintf(file, sizeof file, "%s.png", pt->name);
         cJSON_AddItemToObject(textures, pt->name, texture_entry(file, img, 1, pt->contents));
     }
-    cJSON_AddItemToObject(root, "notes", string_array(plan->notes, plan->note_count));
-    cJSON *tier_list = cJSON_AddArrayToObject(root, "tiers");
+    cJSON_AddItemToObject(root, HT_MANIFEST_KEY_NOTES, string_array(plan->notes, plan->note_count));
+    cJSON *tier_list = cJSON_AddArrayToObject(root, HT_MANIFEST_KEY_TIERS);
     for (int i = 0; i < tier_count; i++) cJSON_AddItemToArray(tier_list, tier_entry(&tiers[i]));
     char *text = cJSON_Print(root);
     cJSON_Delete(root);
@@ -220,14 +220,14 @@ static ht_result check_target(const char *dir, char *err, size_t err_size) {
 
     char path[4096];
     bool bundle = false;
-    if (join_path(path, sizeof path, dir, "manifest.json")) {
+    if (join_path(path, sizeof path, dir, HT_MANIFEST_FILE)) {
         FILE *f = fopen(path, "rb");
         char text[4096];
         size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
         if (f) fclose(f);
         text[n] = '\0';
         cJSON *m = cJSON_Parse(text);
-        const cJSON *format = cJSON_GetObjectItemCaseSensitive(m, "format");
+        const cJSON *format = cJSON_GetObjectItemCaseSensitive(m, HT_MANIFEST_KEY_FORMAT);
         bundle = cJSON_IsString(format) && strcmp(format->valuestring, HT_MANIFEST_FORMAT) == 0;
         cJSON_Delete(m);
         if (!bundle && n == sizeof text - 1) bundle = strstr(text, "\"" HT_MANIFEST_FORMAT "\"") != NULL;
