@@ -639,3 +639,21 @@ ht_result ht_json_string(const ht_jctx *c, const cJSON *obj, const char *path,
     memcpy(out, s, n + 1);
     return HT_OK;
 }
+
+ht_result ht_json_string_or_null(const ht_jctx *c, const cJSON *obj, const char *path,
+                                 const char *key, char *out, size_t out_size) {
+    const cJSON *it = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!it || cJSON_IsNull(it)) {
+        if (out_size) out[0] = '\0';
+        return HT_OK;
+    }
+    return ht_json_string(c, obj, path, key, NULL, out, out_size);
+}
+
+ht_result ht_json_int32(const ht_jctx *c, const cJSON *obj, const char *path,
+                        const char *key, const int *def, int lo, int hi, int *out) {
+    int64_t v, d = def ? *def : 0;
+    ht_result r = ht_json_int(c, obj, path, key, def ? &d : NULL, lo, hi, &v);
+    if (r == HT_OK) *out = (int)v;
+    return r;
+}

@@ -120,12 +120,18 @@ ht_result ht_json_vec(const ht_jctx *c, const cJSON *obj, const char *path,
                       double *out);
 ht_result ht_json_vec3f(const ht_jctx *c, const cJSON *obj, const char *path,
                         const char *key, const float *def, ht_jrange r, float out[3]);
+/* ht_json_int into an int: lo..hi must fit an int; def NULL: required. */
+ht_result ht_json_int32(const ht_jctx *c, const cJSON *obj, const char *path,
+                        const char *key, const int *def, int lo, int hi, int *out);
 /* One of `names` (NULL-terminated); *out is its index. def < 0: required. */
 ht_result ht_json_enum(const ht_jctx *c, const cJSON *obj, const char *path,
                        const char *key, int def, const char *const names[], int *out);
 /* A string of 1..out_size-1 bytes; required when def is NULL. */
 ht_result ht_json_string(const ht_jctx *c, const cJSON *obj, const char *path,
                          const char *key, const char *def, char *out, size_t out_size);
+/* An optional string: absent or null gives ""; present, as ht_json_string. */
+ht_result ht_json_string_or_null(const ht_jctx *c, const cJSON *obj, const char *path,
+                                 const char *key, char *out, size_t out_size);
 
 /* Edit distance (optimal string alignment: a swap of neighbours costs 1). */
 int ht_json_edit_distance(const char *a, const char *b);

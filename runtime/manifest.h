@@ -31,6 +31,39 @@
 #define HT_MANIFEST_MAX_TEXTURE_DEPTH 4096
 #define HT_MANIFEST_MAX_TEXTURE_PIXELS HT_IMAGE_MAX_PIXELS
 
+/* Every key of the manifest, written by shadergen/generate.c and read by
+   runtime/manifest_read.c (docs/bundle.md describes them). */
+#define HT_MANIFEST_KEY_FORMAT "format"
+#define HT_MANIFEST_KEY_GENERATOR "generator"
+#define HT_MANIFEST_KEY_INPUT_HASH "input_hash"
+#define HT_MANIFEST_KEY_MATERIAL "material"
+#define HT_MANIFEST_KEY_MODEL "model"
+#define HT_MANIFEST_KEY_LIGHTS "lights"
+#define HT_MANIFEST_KEY_OPAQUE_CUTOFF "opaque_cutoff"
+#define HT_MANIFEST_KEY_TEXTURES "textures"      /* root and tier: name -> texture */
+#define HT_MANIFEST_KEY_NOTES "notes"
+#define HT_MANIFEST_KEY_TIERS "tiers"
+/* a texture */
+#define HT_MANIFEST_KEY_FILE "file"
+#define HT_MANIFEST_KEY_WIDTH "width"
+#define HT_MANIFEST_KEY_HEIGHT "height"
+#define HT_MANIFEST_KEY_DEPTH "depth"
+#define HT_MANIFEST_KEY_CONTENTS "contents"
+/* a tier */
+#define HT_MANIFEST_KEY_NAME "name"
+#define HT_MANIFEST_KEY_REQUIRES "requires"
+#define HT_MANIFEST_KEY_GL "gl"
+#define HT_MANIFEST_KEY_GLSL "glsl"
+#define HT_MANIFEST_KEY_EXTENSIONS "extensions"
+#define HT_MANIFEST_KEY_TEXTURE_UNITS "texture_units"
+#define HT_MANIFEST_KEY_FILES "files"            /* role -> file name */
+#define HT_MANIFEST_KEY_SAMPLERS "samplers"
+#define HT_MANIFEST_KEY_UNIFORM "uniform"
+#define HT_MANIFEST_KEY_TEXTURE "texture"
+#define HT_MANIFEST_KEY_UNIT "unit"
+#define HT_MANIFEST_KEY_FEATURES "features"
+#define HT_MANIFEST_KEY_DROPPED "dropped"
+
 #define HT_MANIFEST_MAX_TIERS 8
 #define HT_MANIFEST_MAX_FILES 8
 #define HT_MANIFEST_MAX_SAMPLERS 4

@@ -1,4 +1,5 @@
-/* manifest_read.c — reads DIR/manifest.json (docs/bundle.md) with cJSON. Only the
+/* manifest_read.c — reads DIR/manifest.json (docs/bundle.md) with
+   json_check.h's checked getters; the keys are manifest.h's. Only the
    documented fields are read; anything else is ignored so newer generators
    can add information. */
 #include <errno.h>
@@ -13,40 +14,9 @@
 #include "json_check.h"
 #include "caps.h"
 
-/* A string field copied into out; absent is an error unless optional. */
-static ht_result get_string(const ht_jctx *c, const cJSON *obj, const char *parent, const char *key,
-                            bool optional, char *out, size_t out_size) {
-    char field[HT_JSON_PATH_MAX];
-    ht_json_path_key(field, parent, key);
-    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
-    if (!v || cJSON_IsNull(v)) {
-        if (optional) { out[0] = '\0'; return HT_OK; }
-        return ht_json_fail(c, field, "missing");
-    }
-    if (!cJSON_IsString(v)) return ht_json_fail(c, field, "expected a string");
-    if (strlen(v->valuestring) >= out_size)
-        return ht_json_fail(c, field, "longer than %zu characters", out_size - 1);
-    memcpy(out, v->valuestring, strlen(v->valuestring) + 1);
-    return HT_OK;
-}
-
-static ht_result get_int(const ht_jctx *c, const cJSON *obj, const char *parent, const char *key,
-                         int def, int lo, int hi, int *out) {
-    char field[HT_JSON_PATH_MAX];
-    ht_json_path_key(field, parent, key);
-    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
-    if (!v) {
-        if (def < lo) return ht_json_fail(c, field, "missing");
-        *out = def;
-        return HT_OK;
-    }
-    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble) || v->valuedouble != floor(v->valuedouble))
-        return ht_json_fail(c, field, "expected an integer");
-    if (v->valuedouble < lo || v->valuedouble > hi)
-        return ht_json_fail(c, field, "%g outside [%d, %d]", v->valuedouble, lo, hi);
-    *out = (int)v->valuedouble;
-    return HT_OK;
-}
+/* Field access goes through json_check.h's getters, so a manifest's
+   messages read like every other format's. */
+#define K(name) HT_MANIFEST_KEY_##name
 
 /* A file name must stay inside the bundle directory. */
 static ht_result check_file_name(const ht_jctx *c, const char *field, const char *name) {
@@ -75,12 +45,12 @@ static ht_result parse_textures(const ht_jctx *c, const cJSON *obj, const char *
         snprintf(tex->name, sizeof tex->name, "%s", t->string);
         ht_result r;
         char file_field[HT_JSON_PATH_MAX];
-        ht_json_path_key(file_field, field, "file");
-        if ((r = get_string(c, t, field, "file", false, tex->file, sizeof tex->file)) != HT_OK ||
+        ht_json_path_key(file_field, field, K(FILE));
+        if ((r = ht_json_string(c, t, field, K(FILE), NULL, tex->file, sizeof tex->file)) != HT_OK ||
             (r = check_file_name(c, file_field, tex->file)) != HT_OK ||
-            (r = get_int(c, t, field, "width", 0, 1, HT_MANIFEST_MAX_TEXTURE_SIZE, &tex->width)) != HT_OK ||
-            (r = get_int(c, t, field, "height", 0, 1, HT_MANIFEST_MAX_TEXTURE_SIZE, &tex->height)) != HT_OK ||
-            (r = get_int(c, t, field, "depth", 1, 1, HT_MANIFEST_MAX_TEXTURE_DEPTH, &tex->depth)) != HT_OK)
+            (r = ht_json_int32(c, t, field, K(WIDTH), NULL, 1, HT_MANIFEST_MAX_TEXTURE_SIZE, &tex->width)) != HT_OK ||
+            (r = ht_json_int32(c, t, field, K(HEIGHT), NULL, 1, HT_MANIFEST_MAX_TEXTURE_SIZE, &tex->height)) != HT_OK ||
+            (r = ht_json_int32(c, t, field, K(DEPTH), &(int){ 1 }, 1, HT_MANIFEST_MAX_TEXTURE_DEPTH, &tex->depth)) != HT_OK)
             return r;
         (*count)++;
     }
@@ -91,13 +61,11 @@ static ht_result parse_version_field(const ht_jctx *c, const cJSON *req, const c
                                      const char *key, bool glsl, bool optional, int *major, int *minor) {
     char text[16], field[HT_JSON_PATH_MAX];
     ht_json_path_key(field, parent, key);
-    ht_result r = get_string(c, req, parent, key, optional, text, sizeof text);
+    ht_result r = optional ? ht_json_string_or_null(c, req, parent, key, text, sizeof text)
+                           : ht_json_string(c, req, parent, key, NULL, text, sizeof text);
     if (r != HT_OK) return r;
     *major = *minor = 0;
-    if (!text[0]) {
-        if (optional) return HT_OK;
-        return ht_json_fail(c, field, "empty version");
-    }
+    if (!text[0]) return HT_OK; /* optional and absent */
     if (!ht_parse_version(text, glsl, major, minor) || text[0] < '0' || text[0] > '9' || !strchr(text, '.'))
         return ht_json_fail(c, field, "\"%s\" is not a version like \"%s\"", text, glsl ? "1.20" : "2.1");
     return HT_OK;
@@ -105,46 +73,42 @@ static ht_result parse_version_field(const ht_jctx *c, const cJSON *req, const c
 
 static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_manifest_tier *out) {
     char base[64], field[HT_JSON_PATH_MAX];
-    snprintf(base, sizeof base, "tiers[%d]", index);
+    snprintf(base, sizeof base, K(TIERS) "[%d]", index);
     memset(out, 0, sizeof *out);
     if (!cJSON_IsObject(t)) return ht_json_fail(c, base, "expected an object");
-    ht_result r = get_string(c, t, base, "name", false, out->name, sizeof out->name);
+    ht_result r = ht_json_string(c, t, base, K(NAME), NULL, out->name, sizeof out->name);
     if (r != HT_OK) return r;
     out->tier = ht_tier_from_name(out->name);
     if (out->tier == HT_TIER_AUTO) {
-        ht_json_path_key(field, base, "name");
+        ht_json_path_key(field, base, K(NAME));
         return ht_json_fail(c, field, "\"auto\" is not a tier");
     }
 
     char req_path[HT_JSON_PATH_MAX];
-    ht_json_path_key(req_path, base, "requires");
-    const cJSON *req = cJSON_GetObjectItemCaseSensitive(t, "requires");
-    if (!cJSON_IsObject(req)) return ht_json_fail(c, req_path, req ? "expected an object" : "missing");
-    if ((r = parse_version_field(c, req, req_path, "gl", false, false, &out->gl_major, &out->gl_minor)) != HT_OK ||
-        (r = parse_version_field(c, req, req_path, "glsl", true, true, &out->glsl_major, &out->glsl_minor)) != HT_OK ||
-        (r = get_int(c, req, req_path, "texture_units", 0, 0, 64, &out->texture_units)) != HT_OK)
+    ht_json_path_key(req_path, base, K(REQUIRES));
+    const cJSON *req, *ext;
+    int ext_count;
+    if ((r = ht_json_object(c, t, base, K(REQUIRES), true, &req)) != HT_OK ||
+        (r = parse_version_field(c, req, req_path, K(GL), false, false, &out->gl_major, &out->gl_minor)) != HT_OK ||
+        (r = parse_version_field(c, req, req_path, K(GLSL), true, true, &out->glsl_major, &out->glsl_minor)) != HT_OK ||
+        (r = ht_json_int32(c, req, req_path, K(TEXTURE_UNITS), &(int){ 0 }, 0, 64, &out->texture_units)) != HT_OK ||
+        (r = ht_json_array(c, req, req_path, K(EXTENSIONS), false, 0, HT_MANIFEST_MAX_EXTENSIONS,
+                           &ext, &ext_count)) != HT_OK)
         return r;
-    const cJSON *ext = cJSON_GetObjectItemCaseSensitive(req, "extensions");
-    ht_json_path_key(field, req_path, "extensions");
-    if (ext && !cJSON_IsNull(ext)) {
-        if (!cJSON_IsArray(ext)) return ht_json_fail(c, field, "expected an array of strings");
-        const cJSON *e;
-        cJSON_ArrayForEach(e, ext) {
-            char ef[HT_JSON_PATH_MAX];
-            ht_json_path_index(ef, field, out->extension_count);
-            if (out->extension_count >= HT_MANIFEST_MAX_EXTENSIONS)
-                return ht_json_fail(c, ef, "more than %d extensions", HT_MANIFEST_MAX_EXTENSIONS);
-            if (!cJSON_IsString(e) || !e->valuestring[0] || strchr(e->valuestring, ' ') ||
-                strlen(e->valuestring) >= sizeof out->extensions[0])
-                return ht_json_fail(c, ef, "expected an extension name like \"GL_ARB_multitexture\"");
-            snprintf(out->extensions[out->extension_count++], sizeof out->extensions[0], "%s", e->valuestring);
-        }
+    ht_json_path_key(field, req_path, K(EXTENSIONS));
+    for (const cJSON *e = ext ? ext->child : NULL; e; e = e->next) {
+        char ef[HT_JSON_PATH_MAX];
+        ht_json_path_index(ef, field, out->extension_count);
+        if (!cJSON_IsString(e) || !e->valuestring[0] || strchr(e->valuestring, ' ') ||
+            strlen(e->valuestring) >= sizeof out->extensions[0])
+            return ht_json_fail(c, ef, "expected an extension name like \"GL_ARB_multitexture\"");
+        snprintf(out->extensions[out->extension_count++], sizeof out->extensions[0], "%s", e->valuestring);
     }
 
     char files_path[HT_JSON_PATH_MAX];
-    ht_json_path_key(files_path, base, "files");
-    const cJSON *files = cJSON_GetObjectItemCaseSensitive(t, "files");
-    if (!cJSON_IsObject(files)) return ht_json_fail(c, files_path, files ? "expected an object" : "missing");
+    ht_json_path_key(files_path, base, K(FILES));
+    const cJSON *files;
+    if ((r = ht_json_object(c, t, base, K(FILES), true, &files)) != HT_OK) return r;
     const cJSON *f;
     cJSON_ArrayForEach(f, files) {
         ht_json_path_key(field, files_path, f->string);
@@ -153,48 +117,46 @@ static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_mani
         if (strlen(f->string) >= sizeof bf->role) return ht_json_fail(c, field, "role name too long");
         if (ht_manifest_tier_file(out, f->string)) return ht_json_fail(c, field, "listed twice");
         snprintf(bf->role, sizeof bf->role, "%s", f->string);
-        if ((r = get_string(c, files, files_path, f->string, false, bf->file, sizeof bf->file)) != HT_OK ||
+        if ((r = ht_json_string(c, files, files_path, f->string, NULL, bf->file, sizeof bf->file)) != HT_OK ||
             (r = check_file_name(c, field, bf->file)) != HT_OK)
             return r;
         out->file_count++;
     }
 
     char tex_path[HT_JSON_PATH_MAX];
-    ht_json_path_key(tex_path, base, "textures");
-    if ((r = parse_textures(c, cJSON_GetObjectItemCaseSensitive(t, "textures"), tex_path,
+    ht_json_path_key(tex_path, base, K(TEXTURES));
+    if ((r = parse_textures(c, cJSON_GetObjectItemCaseSensitive(t, K(TEXTURES)), tex_path,
                             out->textures, &out->texture_count)) != HT_OK)
         return r;
 
     char smp_path[HT_JSON_PATH_MAX];
-    ht_json_path_key(smp_path, base, "samplers");
-    const cJSON *samplers = cJSON_GetObjectItemCaseSensitive(t, "samplers");
-    if (samplers && !cJSON_IsNull(samplers)) {
-        if (!cJSON_IsArray(samplers)) return ht_json_fail(c, smp_path, "expected an array");
-        const cJSON *s;
-        cJSON_ArrayForEach(s, samplers) {
-            ht_json_path_index(field, smp_path, out->sampler_count);
-            if (out->sampler_count >= HT_MANIFEST_MAX_SAMPLERS)
-                return ht_json_fail(c, field, "more than %d samplers", HT_MANIFEST_MAX_SAMPLERS);
-            if (!cJSON_IsObject(s)) return ht_json_fail(c, field, "expected an object");
-            ht_manifest_sampler *bs = &out->samplers[out->sampler_count];
-            if ((r = get_string(c, s, field, "uniform", false, bs->uniform, sizeof bs->uniform)) != HT_OK ||
-                (r = get_string(c, s, field, "texture", false, bs->texture, sizeof bs->texture)) != HT_OK ||
-                (r = get_int(c, s, field, "unit", -1, 0, 31, &bs->unit)) != HT_OK)
-                return r;
-            for (int k = 0; k < out->sampler_count; k++)
-                if (strcmp(out->samplers[k].uniform, bs->uniform) == 0) {
-                    char uf[HT_JSON_PATH_MAX];
-                    ht_json_path_key(uf, field, "uniform");
-                    return ht_json_fail(c, uf, "\"%s\" already bound by %s[%d]", bs->uniform, smp_path, k);
-                }
-            for (int k = 0; k < out->sampler_count; k++)
-                if (out->samplers[k].unit == bs->unit) {
-                    char uf[HT_JSON_PATH_MAX];
-                    ht_json_path_key(uf, field, "unit");
-                    return ht_json_fail(c, uf, "unit %d already used by %s", bs->unit, out->samplers[k].uniform);
-                }
-            out->sampler_count++;
-        }
+    ht_json_path_key(smp_path, base, K(SAMPLERS));
+    const cJSON *samplers;
+    int sampler_items;
+    if ((r = ht_json_array(c, t, base, K(SAMPLERS), false, 0, HT_MANIFEST_MAX_SAMPLERS,
+                           &samplers, &sampler_items)) != HT_OK)
+        return r;
+    for (const cJSON *s = samplers ? samplers->child : NULL; s; s = s->next) {
+        ht_json_path_index(field, smp_path, out->sampler_count);
+        if (!cJSON_IsObject(s)) return ht_json_fail(c, field, "expected an object");
+        ht_manifest_sampler *bs = &out->samplers[out->sampler_count];
+        if ((r = ht_json_string(c, s, field, K(UNIFORM), NULL, bs->uniform, sizeof bs->uniform)) != HT_OK ||
+            (r = ht_json_string(c, s, field, K(TEXTURE), NULL, bs->texture, sizeof bs->texture)) != HT_OK ||
+            (r = ht_json_int32(c, s, field, K(UNIT), NULL, 0, 31, &bs->unit)) != HT_OK)
+            return r;
+        for (int k = 0; k < out->sampler_count; k++)
+            if (strcmp(out->samplers[k].uniform, bs->uniform) == 0) {
+                char uf[HT_JSON_PATH_MAX];
+                ht_json_path_key(uf, field, K(UNIFORM));
+                return ht_json_fail(c, uf, "\"%s\" already bound by %s[%d]", bs->uniform, smp_path, k);
+            }
+        for (int k = 0; k < out->sampler_count; k++)
+            if (out->samplers[k].unit == bs->unit) {
+                char uf[HT_JSON_PATH_MAX];
+                ht_json_path_key(uf, field, K(UNIT));
+                return ht_json_fail(c, uf, "unit %d already used by %s", bs->unit, out->samplers[k].uniform);
+            }
+        out->sampler_count++;
     }
     return HT_OK;
 }
@@ -210,65 +172,42 @@ ht_result ht_manifest_parse(const char *json_text, const char *dir, const char *
     cJSON *root;
     ht_result r = ht_json_parse_root(&c, json_text, &root);
     if (r != HT_OK) return r;
-    char format[32];
-    if ((r = get_string(&c, root, "", "format", false, format, sizeof format)) != HT_OK) goto done;
-    if (strcmp(format, HT_MANIFEST_FORMAT) != 0) {
-        r = ht_json_fail(&c, "format", "\"%s\" is not \"%s\"", format, HT_MANIFEST_FORMAT);
+    static const char *const light_names[] = { "directional", "point", NULL };
+    const cJSON *lights, *tiers;
+    int light_items, tier_items;
+    if ((r = ht_json_format(&c, root, HT_MANIFEST_FORMAT, "bundle manifest")) != HT_OK ||
+        (r = ht_json_string_or_null(&c, root, "", K(MATERIAL), out->material, sizeof out->material)) != HT_OK ||
+        (r = ht_json_string_or_null(&c, root, "", K(MODEL), out->model, sizeof out->model)) != HT_OK ||
+        (r = ht_json_float(&c, root, "", K(OPAQUE_CUTOFF), NULL, HT_JRANGE_LO_OPEN(0, 1), &out->opaque_cutoff)) != HT_OK ||
+        (r = ht_json_array(&c, root, "", K(LIGHTS), true, 1, HT_MAX_LIGHTS, &lights, &light_items)) != HT_OK)
         goto done;
+    for (const cJSON *l = lights->child; l; l = l->next) {
+        char field[HT_JSON_PATH_MAX];
+        ht_json_path_index(field, K(LIGHTS), out->light_count);
+        int which = -1;
+        for (int i = 0; cJSON_IsString(l) && light_names[i]; i++)
+            if (strcmp(l->valuestring, light_names[i]) == 0) which = i;
+        if (which < 0) { r = ht_json_fail(&c, field, "expected \"directional\" or \"point\""); goto done; }
+        out->lights[out->light_count++] = which == 1 ? HT_LIGHT_POINT : HT_LIGHT_DIRECTIONAL;
     }
-    if ((r = get_string(&c, root, "", "material", true, out->material, sizeof out->material)) != HT_OK ||
-        (r = get_string(&c, root, "", "model", true, out->model, sizeof out->model)) != HT_OK)
+
+    if ((r = parse_textures(&c, cJSON_GetObjectItemCaseSensitive(root, K(TEXTURES)), K(TEXTURES),
+                            out->textures, &out->texture_count)) != HT_OK ||
+        (r = ht_json_array(&c, root, "", K(TIERS), true, 1, HT_MANIFEST_MAX_TIERS, &tiers, &tier_items)) != HT_OK)
         goto done;
-
-    const cJSON *cutoff = cJSON_GetObjectItemCaseSensitive(root, "opaque_cutoff");
-    if (!cutoff) { r = ht_json_fail(&c, "opaque_cutoff", "missing"); goto done; }
-    if (!cJSON_IsNumber(cutoff) || !isfinite(cutoff->valuedouble) ||
-        cutoff->valuedouble <= 0 || cutoff->valuedouble > 1) {
-        r = ht_json_fail(&c, "opaque_cutoff", "expected a number in (0, 1]");
-        goto done;
-    }
-    out->opaque_cutoff = (float)cutoff->valuedouble;
-
-    const cJSON *lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
-    if (!cJSON_IsArray(lights)) { r = ht_json_fail(&c, "lights", lights ? "expected an array" : "missing"); goto done; }
-    const cJSON *l;
-    cJSON_ArrayForEach(l, lights) {
-        char field[32];
-        snprintf(field, sizeof field, "lights[%d]", out->light_count);
-        if (out->light_count >= HT_MAX_LIGHTS) { r = ht_json_fail(&c, field, "more than %d lights", HT_MAX_LIGHTS); goto done; }
-        if (cJSON_IsString(l) && strcmp(l->valuestring, "directional") == 0)
-            out->lights[out->light_count++] = HT_LIGHT_DIRECTIONAL;
-        else if (cJSON_IsString(l) && strcmp(l->valuestring, "point") == 0)
-            out->lights[out->light_count++] = HT_LIGHT_POINT;
-        else { r = ht_json_fail(&c, field, "expected \"directional\" or \"point\""); goto done; }
-    }
-    if (out->light_count == 0) { r = ht_json_fail(&c, "lights", "empty"); goto done; }
-
-    if ((r = parse_textures(&c, cJSON_GetObjectItemCaseSensitive(root, "textures"), "textures",
-                            out->textures, &out->texture_count)) != HT_OK)
-        goto done;
-
-    const cJSON *tiers = cJSON_GetObjectItemCaseSensitive(root, "tiers");
-    if (!cJSON_IsArray(tiers)) { r = ht_json_fail(&c, "tiers", tiers ? "expected an array" : "missing"); goto done; }
-    const cJSON *t;
-    cJSON_ArrayForEach(t, tiers) {
-        if (out->tier_count >= HT_MANIFEST_MAX_TIERS) {
-            r = ht_json_fail(&c, "tiers", "more than %d tiers", HT_MANIFEST_MAX_TIERS);
-            goto done;
-        }
+    for (const cJSON *t = tiers->child; t; t = t->next) {
         if ((r = parse_tier(&c, t, out->tier_count, &out->tiers[out->tier_count])) != HT_OK) goto done;
         /* A second entry of a tier would never be selected by name and
            would shadow the first for ht_manifest_find_tier. */
         for (int k = 0; k < out->tier_count; k++)
             if (strcmp(out->tiers[k].name, out->tiers[out->tier_count].name) == 0) {
                 char field[48];
-                snprintf(field, sizeof field, "tiers[%d].name", out->tier_count);
+                snprintf(field, sizeof field, K(TIERS) "[%d]." K(NAME), out->tier_count);
                 r = ht_json_fail(&c, field, "\"%s\" already listed as tiers[%d]", out->tiers[k].name, k);
                 goto done;
             }
         out->tier_count++;
     }
-    if (out->tier_count == 0) { r = ht_json_fail(&c, "tiers", "empty"); goto done; }
 
     /* Samplers must name a texture the bundle lists. */
     for (int i = 0; i < out->tier_count; i++) {
@@ -276,7 +215,7 @@ ht_result ht_manifest_parse(const char *json_text, const char *dir, const char *
         for (int s = 0; s < bt->sampler_count; s++)
             if (!ht_manifest_find_texture(out, bt, bt->samplers[s].texture)) {
                 char field[96];
-                snprintf(field, sizeof field, "tiers[%d].samplers[%d].texture", i, s);
+                snprintf(field, sizeof field, K(TIERS) "[%d]." K(SAMPLERS) "[%d]." K(TEXTURE), i, s);
                 r = ht_json_fail(&c, field, "\"%s\" is not listed in textures", bt->samplers[s].texture);
                 goto done;
             }
@@ -299,7 +238,7 @@ ht_result ht_manifest_load(const char *dir, ht_manifest *out, char *err, size_t 
         return HT_ERR_INVALID_ARGUMENT;
     }
     char path[1200];
-    if ((size_t)snprintf(path, sizeof path, "%s/manifest.json", dir) >= sizeof path) {
+    if ((size_t)snprintf(path, sizeof path, "%s/" HT_MANIFEST_FILE, dir) >= sizeof path) {
         snprintf(err, err_size, "%.200s...: bundle directory path too long", dir);
         return HT_ERR_INVALID_ARGUMENT;
     }
@@ -338,7 +277,7 @@ bool ht_manifest_path(const ht_manifest *b, const char *file, char *out, size_t 
 char *ht_manifest_read_text(const ht_manifest *b, const char *file, char *err, size_t err_size) {
     char path[1200];
     if (!file) {
-        snprintf(err, err_size, "%s/manifest.json: files: role missing", b->dir);
+        snprintf(err, err_size, "%s/" HT_MANIFEST_FILE ": " K(FILES) ": role missing", b->dir);
         return NULL;
     }
     if (!ht_manifest_path(b, file, path, sizeof path)) {

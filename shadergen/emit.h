@@ -1,10 +1,10 @@
 /* emit.h — what each tier's emitter produces: text files (shaders, the
    combiner program), images (lookup textures), requirements and the
-   features it models or drops. bundle.c writes these out unchanged. */
+   features it models or drops. generate.c hands these out unchanged. */
 #ifndef HT_EMIT_H
 #define HT_EMIT_H
 
-#include "hairgen.h"
+#include "hairgen_internal.h"
 
 typedef enum ht_stage {
     HT_STAGE_NONE = 0,   /* not GLSL (the combiner program) */

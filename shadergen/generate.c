@@ -1,7 +1,9 @@
-/* generate.c — hairgen's output: every tier of one (material, scene) written
-   as a directory (docs/bundle.md), atomically: files go into a temporary
-   sibling directory which is renamed into place only once complete, so a
-   failure leaves no DIR and an existing DIR is either the old or the new one. */
+/* generate.c — the generator's two steps (hairgen.h). Build: every tier of
+   one (material, scene) in memory (ht_generate). Write: those files as a
+   directory (docs/bundle.md), atomically (ht_generate_bundle): files go into
+   a temporary sibling directory which is renamed into place only once
+   complete, so a failure leaves no DIR and an existing DIR is either the old
+   or the new one. */
 #define _GNU_SOURCE /* renameat2(RENAME_EXCHANGE): swap a finished bundle in */
 #include <cJSON.h>
 #include <dirent.h>
@@ -16,7 +18,7 @@
 
 #include "emit.h"
 #include "errfmt.h"
-#include "hairgen.h"
+#include "hairgen_internal.h"
 #include "manifest.h"
 
 /* Hashed into input_hash and written to the manifest: a new generator
@@ -91,48 +93,48 @@ static cJSON *string_array(const char (*items)[160], int count) {
 
 static cJSON *texture_entry(const char *file, const ht_image *img, int depth, const char *contents) {
     cJSON *t = cJSON_CreateObject();
-    cJSON_AddStringToObject(t, "file", file);
-    cJSON_AddNumberToObject(t, "width", img->width);
-    cJSON_AddNumberToObject(t, "height", img->height / depth);
-    cJSON_AddNumberToObject(t, "depth", depth);
-    cJSON_AddStringToObject(t, "contents", contents);
+    cJSON_AddStringToObject(t, HT_MANIFEST_KEY_FILE, file);
+    cJSON_AddNumberToObject(t, HT_MANIFEST_KEY_WIDTH, img->width);
+    cJSON_AddNumberToObject(t, HT_MANIFEST_KEY_HEIGHT, img->height / depth);
+    cJSON_AddNumberToObject(t, HT_MANIFEST_KEY_DEPTH, depth);
+    cJSON_AddStringToObject(t, HT_MANIFEST_KEY_CONTENTS, contents);
     return t;
 }
 
 static cJSON *tier_entry(const ht_tier_output *t) {
     cJSON *o = cJSON_CreateObject();
-    cJSON_AddStringToObject(o, "name", ht_tier_name(t->tier));
-    cJSON *req = cJSON_AddObjectToObject(o, "requires");
-    cJSON_AddStringToObject(req, "gl", t->requires.gl);
-    if (t->requires.glsl[0]) cJSON_AddStringToObject(req, "glsl", t->requires.glsl);
-    else cJSON_AddNullToObject(req, "glsl");
-    cJSON *ext = cJSON_AddArrayToObject(req, "extensions");
+    cJSON_AddStringToObject(o, HT_MANIFEST_KEY_NAME, ht_tier_name(t->tier));
+    cJSON *req = cJSON_AddObjectToObject(o, HT_MANIFEST_KEY_REQUIRES);
+    cJSON_AddStringToObject(req, HT_MANIFEST_KEY_GL, t->requires.gl);
+    if (t->requires.glsl[0]) cJSON_AddStringToObject(req, HT_MANIFEST_KEY_GLSL, t->requires.glsl);
+    else cJSON_AddNullToObject(req, HT_MANIFEST_KEY_GLSL);
+    cJSON *ext = cJSON_AddArrayToObject(req, HT_MANIFEST_KEY_EXTENSIONS);
     for (int i = 0; i < t->requires.extension_count; i++)
         cJSON_AddItemToArray(ext, cJSON_CreateString(t->requires.extensions[i]));
-    cJSON_AddNumberToObject(req, "texture_units", t->requires.texture_units);
+    cJSON_AddNumberToObject(req, HT_MANIFEST_KEY_TEXTURE_UNITS, t->requires.texture_units);
 
-    cJSON *files = cJSON_AddObjectToObject(o, "files");
+    cJSON *files = cJSON_AddObjectToObject(o, HT_MANIFEST_KEY_FILES);
     for (int i = 0; i < t->text_count; i++)
         cJSON_AddStringToObject(files, t->texts[i].role, t->texts[i].file);
     if (t->image_count > 0) {
-        cJSON *tex = cJSON_AddObjectToObject(o, "textures");
+        cJSON *tex = cJSON_AddObjectToObject(o, HT_MANIFEST_KEY_TEXTURES);
         for (int i = 0; i < t->image_count; i++)
             cJSON_AddItemToObject(tex, t->images[i].name,
                                   texture_entry(t->images[i].file, &t->images[i].image,
                                                 t->images[i].depth, t->images[i].contents));
     }
-    cJSON *samplers = cJSON_AddArrayToObject(o, "samplers");
+    cJSON *samplers = cJSON_AddArrayToObject(o, HT_MANIFEST_KEY_SAMPLERS);
     for (int i = 0; i < t->sampler_count; i++) {
         cJSON *s = cJSON_CreateObject();
-        cJSON_AddStringToObject(s, "uniform", t->samplers[i].sampler);
-        cJSON_AddStringToObject(s, "texture", t->samplers[i].name);
-        cJSON_AddNumberToObject(s, "unit", t->samplers[i].unit);
+        cJSON_AddStringToObject(s, HT_MANIFEST_KEY_UNIFORM, t->samplers[i].sampler);
+        cJSON_AddStringToObject(s, HT_MANIFEST_KEY_TEXTURE, t->samplers[i].name);
+        cJSON_AddNumberToObject(s, HT_MANIFEST_KEY_UNIT, t->samplers[i].unit);
         cJSON_AddItemToArray(samplers, s);
     }
-    cJSON *features = cJSON_AddArrayToObject(o, "features");
+    cJSON *features = cJSON_AddArrayToObject(o, HT_MANIFEST_KEY_FEATURES);
     for (int i = 0; i < t->feature_count; i++)
         cJSON_AddItemToArray(features, cJSON_CreateString(t->features[i]));
-    cJSON_AddItemToObject(o, "dropped", string_array(t->dropped, t->dropped_count));
+    cJSON_AddItemToObject(o, HT_MANIFEST_KEY_DROPPED, string_array(t->dropped, t->dropped_count));
     return o;
 }
 
@@ -155,17 +157,17 @@ static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t h
     cJSON *root = cJSON_CreateObject();
     char hash_text[32];
     snprintf(hash_text, sizeof hash_text, "fnv1a64:%016llx", (unsigned long long)hash);
-    cJSON_AddStringToObject(root, "format", HT_MANIFEST_FORMAT);
-    cJSON_AddStringToObject(root, "generator", GENERATOR_VERSION);
-    cJSON_AddStringToObject(root, "input_hash", hash_text);
-    cJSON_AddStringToObject(root, "material", m->name);
-    cJSON_AddStringToObject(root, "model",
+    cJSON_AddStringToObject(root, HT_MANIFEST_KEY_FORMAT, HT_MANIFEST_FORMAT);
+    cJSON_AddStringToObject(root, HT_MANIFEST_KEY_GENERATOR, GENERATOR_VERSION);
+    cJSON_AddStringToObject(root, HT_MANIFEST_KEY_INPUT_HASH, hash_text);
+    cJSON_AddStringToObject(root, HT_MANIFEST_KEY_MATERIAL, m->name);
+    cJSON_AddStringToObject(root, HT_MANIFEST_KEY_MODEL,
                             plan->shading.model == HT_MODEL_KAJIYA_KAY ? "kajiya-kay" : "scheuermann");
-    cJSON *lights = cJSON_AddArrayToObject(root, "lights");
+    cJSON *lights = cJSON_AddArrayToObject(root, HT_MANIFEST_KEY_LIGHTS);
     for (int i = 0; i < plan->light_count; i++)
         cJSON_AddItemToArray(lights, cJSON_CreateString(light_type_name(plan->light_types[i])));
-    cJSON_AddNumberToObject(root, "opaque_cutoff", plan->opaque_cutoff);
-    cJSON *textures = cJSON_AddObjectToObject(root, "textures");
+    cJSON_AddNumberToObject(root, HT_MANIFEST_KEY_OPAQUE_CUTOFF, plan->opaque_cutoff);
+    cJSON *textures = cJSON_AddObjectToObject(root, HT_MANIFEST_KEY_TEXTURES);
     for (int i = 0; i < plan->texture_count; i++) {
         const ht_plan_texture *pt = &plan->textures[i];
         const ht_image *img = strcmp(pt->name, "albedo") == 0 ? albedo : detail;
@@ -173,17 +175,16 @@ static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t h
         snprintf(file, sizeof file, "%s.png", pt->name);
         cJSON_AddItemToObject(textures, pt->name, texture_entry(file, img, 1, pt->contents));
     }
-    cJSON_AddItemToObject(root, "notes", string_array(plan->notes, plan->note_count));
-    cJSON *tier_list = cJSON_AddArrayToObject(root, "tiers");
+    cJSON_AddItemToObject(root, HT_MANIFEST_KEY_NOTES, string_array(plan->notes, plan->note_count));
+    cJSON *tier_list = cJSON_AddArrayToObject(root, HT_MANIFEST_KEY_TIERS);
     for (int i = 0; i < tier_count; i++) cJSON_AddItemToArray(tier_list, tier_entry(&tiers[i]));
     char *text = cJSON_Print(root);
     cJSON_Delete(root);
     return text;
 }
 
-static void print_summary(FILE *out, const ht_material *m, const ht_plan *plan,
-                          const ht_tier_output *tiers, int tier_count, const char *dir) {
-    fprintf(out, "hairgen: %s -> %s\n", m->name, dir);
+/* The tier table hairgen prints after its "hairgen: NAME -> DIR" line. */
+static void print_summary(FILE *out, const ht_plan *plan, const ht_tier_output *tiers, int tier_count) {
     fprintf(out, "%-7s %-52s %-5s %s\n", "tier", "needs", "units", "features");
     for (int i = 0; i < tier_count; i++) {
         const ht_tier_output *t = &tiers[i];
@@ -219,14 +220,14 @@ static ht_result check_target(const char *dir, char *err, size_t err_size) {
 
     char path[4096];
     bool bundle = false;
-    if (join_path(path, sizeof path, dir, "manifest.json")) {
+    if (join_path(path, sizeof path, dir, HT_MANIFEST_FILE)) {
         FILE *f = fopen(path, "rb");
         char text[4096];
         size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
         if (f) fclose(f);
         text[n] = '\0';
         cJSON *m = cJSON_Parse(text);
-        const cJSON *format = cJSON_GetObjectItemCaseSensitive(m, "format");
+        const cJSON *format = cJSON_GetObjectItemCaseSensitive(m, HT_MANIFEST_KEY_FORMAT);
         bundle = cJSON_IsString(format) && strcmp(format->valuestring, HT_MANIFEST_FORMAT) == 0;
         cJSON_Delete(m);
         if (!bundle && n == sizeof text - 1) bundle = strstr(text, "\"" HT_MANIFEST_FORMAT "\"") != NULL;
@@ -252,38 +253,236 @@ static ht_result publish(const char *tmp, const char *dir, char *err, size_t err
     return HT_OK;
 }
 
-static ht_result write_bundle(const char *tmp, const ht_plan *plan, const ht_material *m,
-                              uint64_t hash, const ht_image *albedo, const ht_image *detail,
-                              const ht_tier_output *tiers, int tier_count, char *err, size_t err_size) {
-    char path[4096];
-    ht_result r = HT_OK;
-    const ht_image *packed[2] = { albedo, detail };
-    const char *packed_names[2] = { "albedo.png", "detail.png" };
-    for (int i = 0; i < 2 && r == HT_OK; i++) {
-        if (!packed[i]->pixels) continue;
-        r = join_path(path, sizeof path, tmp, packed_names[i])
-                ? ht_image_write_png(path, packed[i], err, err_size)
-                : ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", tmp);
+/* ---- build step: everything in memory ---- */
+
+/* Takes ownership of text or image (the tier output no longer frees it). */
+static ht_generated_file *add_file(ht_generated *g, const char *name, ht_tier tier, const char *role) {
+    if (g->file_count >= HT_GENERATED_MAX_FILES) return NULL;
+    ht_generated_file *f = &g->files[g->file_count++];
+    memset(f, 0, sizeof *f);
+    snprintf(f->name, sizeof f->name, "%s", name);
+    snprintf(f->role, sizeof f->role, "%s", role);
+    f->tier = tier;
+    return f;
+}
+
+static void hash_string(input_hash *h, const char *s) { hash_bytes(h, s, strlen(s) + 1); }
+static void hash_doubles(input_hash *h, const double *v, int n) { hash_bytes(h, v, sizeof *v * (size_t)n); }
+static void hash_int(input_hash *h, int64_t v) { hash_bytes(h, &v, sizeof v); }
+
+/* The in-memory key: every value of the material and scene the plan reads,
+   field by field (never a struct's padding), and the texture files' bytes. */
+static ht_result hash_values(input_hash *h, const ht_material *m, const ht_scene *scene,
+                             char *err, size_t err_size) {
+    hash_string(h, m->name);
+    hash_int(h, m->shading.model);
+    hash_doubles(h, m->shading.diffuse_color, 3);
+    hash_doubles(h, &m->shading.wrap, 1);
+    const ht_lobe *lobes[2] = { &m->shading.primary, &m->shading.secondary };
+    for (int i = 0; i < 2; i++) {
+        hash_doubles(h, lobes[i]->color, 3);
+        hash_doubles(h, &lobes[i]->exponent, 1);
+        hash_doubles(h, &lobes[i]->shift, 1);
     }
-    for (int t = 0; t < tier_count && r == HT_OK; t++) {
-        for (int i = 0; i < tiers[t].text_count && r == HT_OK; i++)
-            r = write_file(tmp, tiers[t].texts[i].file, tiers[t].texts[i].text, err, err_size);
-        for (int i = 0; i < tiers[t].image_count && r == HT_OK; i++) {
-            r = join_path(path, sizeof path, tmp, tiers[t].images[i].file)
-                    ? ht_image_write_png(path, &tiers[t].images[i].image, err, err_size)
-                    : ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", tmp);
+    hash_doubles(h, &m->opaque_cutoff, 1);
+    for (int i = 0; i < HT_TEX_COUNT; i++) {
+        const ht_texture_source *t = &m->textures[i];
+        hash_int(h, t->origin);
+        if (t->origin == HT_TEXTURE_PROCEDURAL) {
+            hash_string(h, t->procedural);
+            hash_int(h, t->size);
+            hash_int(h, t->seed);
+        } else if (t->origin == HT_TEXTURE_FILE) {
+            ht_result r = hash_file(h, t->path, err, err_size);
+            if (r != HT_OK) return r;
         }
     }
+    hash_int(h, scene->light_count);
+    for (int i = 0; i < scene->light_count && i < HT_MAX_LIGHTS; i++) hash_int(h, scene->lights[i].type);
+    return HT_OK;
+}
+
+static char *summary_text(const ht_plan *plan, const ht_tier_output *tiers, int tier_count) {
+    char *text = NULL;
+    size_t size = 0;
+    FILE *f = open_memstream(&text, &size);
+    if (!f) return NULL;
+    print_summary(f, plan, tiers, tier_count);
+    if (fclose(f) != 0) {
+        free(text);
+        return NULL;
+    }
+    return text;
+}
+
+static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *err, size_t err_size) {
+    const ht_material *m = desc->material;
+    ht_result r = ht_material_check(m, err, err_size);
     if (r != HT_OK) return r;
-    char *manifest = manifest_text(plan, m, hash, albedo, detail, tiers, tier_count);
-    if (!manifest) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", tmp);
-    r = write_file(tmp, "manifest.json", manifest, err, err_size);
-    cJSON_free(manifest);
+    ht_scene default_scene;
+    const ht_scene *scene = desc->scene;
+    if (!scene) {
+        ht_scene_default(&default_scene);
+        scene = &default_scene;
+    }
+    const char *file = m->file[0] ? m->file : "<material>";
+
+    g->input_hash = desc->input_hash;
+    if (!g->input_hash) {
+        input_hash hash = { 0xcbf29ce484222325ull };
+        hash_bytes(&hash, GENERATOR_VERSION, sizeof GENERATOR_VERSION);
+        r = hash_values(&hash, m, scene, err, err_size);
+        if (r != HT_OK) return r;
+        g->input_hash = hash.value;
+    }
+
+    ht_plan plan;
+    ht_plan_make(m, scene, &plan);
+
+    /* Best first: the order the runtime walks. */
+    enum { EMITTERS = 4 };
+    ht_tier_output tiers[EMITTERS];
+    memset(tiers, 0, sizeof tiers);
+    ht_image albedo = { 0 }, detail = { 0 };
+    ht_result (*const emitters[EMITTERS])(const ht_plan *, ht_tier_output *, char *, size_t) = {
+        ht_emit_full, ht_emit_vertex, ht_emit_fixed4, ht_emit_fixed
+    };
+    r = ht_textures_pack(m, &plan, &albedo, &detail, err, err_size);
+    if (r == HT_OK && plan.sparkle) plan.sparkle_mean = channel_mean(&detail, 1);
+    int tier_count = 0;
+    for (int i = 0; i < EMITTERS && r == HT_OK; i++) {
+        r = emitters[i](&plan, &tiers[tier_count], err, err_size);
+        /* A tier the plan rules out (fixed4 under a point light) is left
+           out of the bundle; the runtime then never sees it. */
+        if (r == HT_ERR_UNSUPPORTED) r = HT_OK;
+        else if (r == HT_OK) tier_count++;
+    }
+
+    char *manifest = NULL;
+    if (r == HT_OK) {
+        char *cj = manifest_text(&plan, m, g->input_hash, &albedo, &detail, tiers, tier_count);
+        manifest = cj ? strdup(cj) : NULL;
+        cJSON_free(cj);
+        g->summary = summary_text(&plan, tiers, tier_count);
+        if (!manifest || !g->summary) r = ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", file);
+    }
+
+    /* The files in the order a bundle is written: the packed textures, each
+       tier's texts then images, the manifest last. Ownership moves into g. */
+    if (r == HT_OK) {
+        ht_image *packed[2] = { &albedo, &detail };
+        const char *packed_names[2] = { "albedo", "detail" };
+        bool fits = true;
+        for (int i = 0; i < 2; i++) {
+            if (!packed[i]->pixels) continue;
+            char name[32];
+            snprintf(name, sizeof name, "%s.png", packed_names[i]);
+            ht_generated_file *f = add_file(g, name, HT_TIER_AUTO, packed_names[i]);
+            if (!f) { fits = false; break; }
+            f->image = *packed[i];
+            f->depth = 1;
+            *packed[i] = (ht_image){ 0 };
+        }
+        for (int t = 0; t < tier_count && fits; t++) {
+            for (int i = 0; i < tiers[t].text_count && fits; i++) {
+                ht_out_text *ot = &tiers[t].texts[i];
+                ht_generated_file *f = add_file(g, ot->file, tiers[t].tier, ot->role);
+                if (!f) { fits = false; break; }
+                f->text = ot->text;
+                ot->text = NULL;
+            }
+            for (int i = 0; i < tiers[t].image_count && fits; i++) {
+                ht_out_image *oi = &tiers[t].images[i];
+                ht_generated_file *f = add_file(g, oi->file, tiers[t].tier, oi->name);
+                if (!f) { fits = false; break; }
+                f->image = oi->image;
+                f->depth = oi->depth;
+                oi->image = (ht_image){ 0 };
+            }
+        }
+        ht_generated_file *f = fits ? add_file(g, HT_MANIFEST_FILE, HT_TIER_AUTO, "manifest") : NULL;
+        if (f) {
+            f->text = manifest;
+            g->manifest = manifest;
+            manifest = NULL;
+        } else {
+            r = ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "%s: more than %d bundle files", file,
+                        HT_GENERATED_MAX_FILES);
+        }
+    }
+
+    free(manifest);
+    for (int i = 0; i < EMITTERS; i++) ht_tier_output_free(&tiers[i]);
+    ht_image_free(&albedo);
+    ht_image_free(&detail);
     return r;
 }
 
-static ht_result generate(const char *material_path, const char *scene_path,
-                          const char *out_dir, FILE *summary, char *err, size_t err_size) {
+/* Every number the generator prints (GLSL literals, manifest, program,
+   error lines) must not depend on the caller's locale: same inputs, same
+   bytes. */
+typedef struct c_locale_scope { locale_t c, previous; } c_locale_scope;
+
+static c_locale_scope c_locale_enter(void) {
+    c_locale_scope s = { newlocale(LC_ALL_MASK, "C", (locale_t)0), (locale_t)0 };
+    if (s.c) s.previous = uselocale(s.c);
+    return s;
+}
+
+static void c_locale_leave(c_locale_scope s) {
+    if (!s.c) return;
+    uselocale(s.previous);
+    freelocale(s.c);
+}
+
+ht_result ht_generate(const ht_generate_desc *desc, ht_generated *out, char *err, size_t err_size) {
+    if (!out) return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "ht_generate: no output");
+    memset(out, 0, sizeof *out);
+    if (!desc || !desc->material)
+        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "ht_generate: material: required");
+    c_locale_scope loc = c_locale_enter();
+    ht_result r = generate(desc, out, err, err_size);
+    c_locale_leave(loc);
+    if (r != HT_OK) ht_generated_free(out);
+    return r;
+}
+
+void ht_generated_free(ht_generated *g) {
+    if (!g) return;
+    for (int i = 0; i < g->file_count && i < HT_GENERATED_MAX_FILES; i++) {
+        free(g->files[i].text);
+        ht_image_free(&g->files[i].image);
+    }
+    free(g->summary);
+    memset(g, 0, sizeof *g);
+}
+
+const ht_generated_file *ht_generated_find(const ht_generated *g, const char *name) {
+    for (int i = 0; g && name && i < g->file_count; i++)
+        if (strcmp(g->files[i].name, name) == 0) return &g->files[i];
+    return NULL;
+}
+
+/* ---- write step: the generated files into a directory ---- */
+
+static ht_result write_bundle(const char *tmp, const ht_generated *g, char *err, size_t err_size) {
+    char path[4096];
+    ht_result r = HT_OK;
+    for (int i = 0; i < g->file_count && r == HT_OK; i++) {
+        const ht_generated_file *f = &g->files[i];
+        if (f->text) {
+            r = write_file(tmp, f->name, f->text, err, err_size);
+        } else {
+            r = join_path(path, sizeof path, tmp, f->name)
+                    ? ht_image_write_png(path, &f->image, err, err_size)
+                    : ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", tmp);
+        }
+    }
+    return r;
+}
+
+static ht_result generate_bundle(const char *material_path, const char *scene_path,
+                                 const char *out_dir, FILE *summary, char *err, size_t err_size) {
     ht_result r = check_target(out_dir, err, err_size);
     if (r != HT_OK) return r;
     ht_material material;
@@ -297,6 +496,7 @@ static ht_result generate(const char *material_path, const char *scene_path,
         ht_scene_default(&scene);
     }
 
+    /* The bundle's key is its input files' bytes. */
     input_hash hash = { 0xcbf29ce484222325ull };
     hash_bytes(&hash, GENERATOR_VERSION, sizeof GENERATOR_VERSION);
     r = hash_file(&hash, material_path, err, err_size);
@@ -306,51 +506,31 @@ static ht_result generate(const char *material_path, const char *scene_path,
             r = hash_file(&hash, material.textures[i].path, err, err_size);
     if (r != HT_OK) return r;
 
-    ht_plan plan;
-    ht_plan_make(&material, &scene, &plan);
-
-    /* Best first: the order the runtime walks. */
-    enum { EMITTERS = 4 };
-    ht_tier_output tiers[EMITTERS];
-    memset(tiers, 0, sizeof tiers);
-    ht_image albedo = { 0 }, detail = { 0 };
-    ht_result (*const emitters[EMITTERS])(const ht_plan *, ht_tier_output *, char *, size_t) = {
-        ht_emit_full, ht_emit_vertex, ht_emit_fixed4, ht_emit_fixed
-    };
-    r = ht_textures_pack(&material, &plan, &albedo, &detail, err, err_size);
-    if (r == HT_OK && plan.sparkle) plan.sparkle_mean = channel_mean(&detail, 1);
-    int tier_count = 0;
-    for (int i = 0; i < EMITTERS && r == HT_OK; i++) {
-        r = emitters[i](&plan, &tiers[tier_count], err, err_size);
-        /* A tier the plan rules out (fixed4 under a point light) is left
-           out of the bundle; the runtime then never sees it. */
-        if (r == HT_ERR_UNSUPPORTED) r = HT_OK;
-        else if (r == HT_OK) tier_count++;
-    }
+    ht_generated g;
+    r = ht_generate(&(ht_generate_desc){ .material = &material, .scene = &scene, .input_hash = hash.value },
+                    &g, err, err_size);
+    if (r != HT_OK) return r;
 
     char tmp[4096] = "";
-    if (r == HT_OK) {
-        int n = snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", out_dir);
-        if (n < 0 || (size_t)n >= sizeof tmp || !mkdtemp(tmp)) {
-            r = ht_fail(err, err_size, HT_ERR_IO, "%s: cannot create a temporary directory beside it: %s",
-                     out_dir, strerror(errno));
-            tmp[0] = '\0';
-        } else {
-            /* mkdtemp makes it owner-only; a bundle is as readable as any file. */
-            mode_t mask = umask(0);
-            umask(mask);
-            chmod(tmp, 0777 & ~mask);
-        }
+    int n = snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", out_dir);
+    if (n < 0 || (size_t)n >= sizeof tmp || !mkdtemp(tmp)) {
+        r = ht_fail(err, err_size, HT_ERR_IO, "%s: cannot create a temporary directory beside it: %s",
+                    out_dir, strerror(errno));
+        tmp[0] = '\0';
+    } else {
+        /* mkdtemp makes it owner-only; a bundle is as readable as any file. */
+        mode_t mask = umask(0);
+        umask(mask);
+        chmod(tmp, 0777 & ~mask);
     }
-    if (r == HT_OK)
-        r = write_bundle(tmp, &plan, &material, hash.value, &albedo, &detail, tiers, tier_count, err, err_size);
+    if (r == HT_OK) r = write_bundle(tmp, &g, err, err_size);
     if (r == HT_OK) r = publish(tmp, out_dir, err, err_size);
     if (r != HT_OK && tmp[0]) remove_tree(tmp);
-    if (r == HT_OK && summary) print_summary(summary, &material, &plan, tiers, tier_count, out_dir);
-
-    for (int i = 0; i < EMITTERS; i++) ht_tier_output_free(&tiers[i]);
-    ht_image_free(&albedo);
-    ht_image_free(&detail);
+    if (r == HT_OK && summary) {
+        fprintf(summary, "hairgen: %s -> %s\n", material.name, out_dir);
+        fputs(g.summary, summary);
+    }
+    ht_generated_free(&g);
     return r;
 }
 
@@ -367,14 +547,8 @@ ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
     memcpy(dir, out_dir, len);
     dir[len] = '\0';
 
-    /* Every number hairgen prints (GLSL literals, manifest, program, error
-       lines) must not depend on the caller's locale: same inputs, same bytes. */
-    locale_t c_locale = newlocale(LC_ALL_MASK, "C", (locale_t)0);
-    locale_t previous = c_locale ? uselocale(c_locale) : (locale_t)0;
-    ht_result r = generate(material_path, scene_path, dir, summary, err, err_size);
-    if (c_locale) {
-        uselocale(previous);
-        freelocale(c_locale);
-    }
+    c_locale_scope loc = c_locale_enter();
+    ht_result r = generate_bundle(material_path, scene_path, dir, summary, err, err_size);
+    c_locale_leave(loc);
     return r;
 }

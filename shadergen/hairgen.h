@@ -1,6 +1,31 @@
-/* hairgen.h — the offline generator's internal interfaces: material and scene
-   files in, a plan of what to model, emitted tiers, a bundle directory out.
-   No GL context anywhere in shadergen/. */
+/* hairgen.h — the offline generator as a library (libhairgen.a): a material
+   and a scene in, every tier's shader texts, the combiner program, the
+   lookup textures and the manifest out, in memory (ht_generate) or written
+   as a bundle directory (ht_generate_bundle, what `hairgen` runs). No GL
+   context anywhere in shadergen/; the output is a pure function of the
+   input: same input, byte-identical output.
+
+   Usage (in memory):
+       ht_material m;
+       char err[1024];
+       if (ht_material_load("materials/blond.json", &m, err, sizeof err) != HT_OK) puts(err);
+       ht_scene scene;
+       ht_scene_default(&scene);
+       ht_generated g;
+       if (ht_generate(&(ht_generate_desc){ .material = &m, .scene = &scene }, &g,
+                       err, sizeof err) != HT_OK) puts(err);
+       const ht_generated_file *frag = ht_generated_find(&g, "full.frag");
+       puts(frag->text);
+       puts(g.manifest);
+       ht_generated_free(&g);
+
+   Usage (files, what hairgen does):
+       ht_generate_bundle("materials/blond.json", "scenes/furball.json", "out/bundle",
+                          stdout, err, sizeof err);
+
+   Errors are one line "FILE: FIELD: what is wrong" written to err.
+   Internal interfaces (plan, emitters, texture baking) are in
+   hairgen_internal.h. */
 #ifndef HT_HAIRGEN_H
 #define HT_HAIRGEN_H
 
@@ -53,53 +78,64 @@ typedef struct ht_material {
 ht_result ht_material_load(const char *path, ht_material *out, char *err, size_t err_size);
 ht_result ht_material_parse(const char *json_text, const char *file_name,
                             ht_material *out, char *err, size_t err_size);
-
-/* ---- textures ---- */
-
-/* Makes one texture of the material: procedural ones generated, file ones
-   read (PNG) and reduced to the channels the slot needs (base: 3, others: 1). */
-ht_result ht_texture_make(const ht_texture_source *src, ht_texture_slot slot,
-                          ht_image *out, char *err, size_t err_size);
-
-/* ---- plan: what the scene needs modelled ---- */
-
-#define HT_MAX_NOTES 16
-#define HT_MAX_UNITS 4
-
-typedef struct ht_plan_texture {
-    char name[16];          /* "albedo", "detail", "lut" */
-    char sampler[24];       /* uniform name in GLSL tiers */
-    char contents[64];      /* "base.rgb alpha.a" */
-    int unit;
-} ht_plan_texture;
-
-typedef struct ht_plan {
-    ht_shading shading;
-    int light_count;
-    ht_light_type light_types[HT_MAX_LIGHTS];
-    bool base, alpha, shift, sparkle, secondary, ao;  /* modelled features */
-    double opaque_cutoff;
-    /* Mean of the sparkle texture (1 until generate.c measures it): the
-       tiers that cannot sample the mask scale the secondary highlight by it
-       instead of leaving it unmasked. */
-    double sparkle_mean;
-    ht_plan_texture textures[HT_MAX_UNITS];  /* GLSL tiers' texture units */
-    int texture_count;
-    char notes[HT_MAX_NOTES][160];           /* what was dropped and why */
-    int note_count;
-} ht_plan;
-
-void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out);
-/* The shading a tier without the sparkle mask evaluates: the secondary
-   colour scaled by plan->sparkle_mean (unchanged when sparkle is absent). */
-ht_shading ht_plan_unmasked_shading(const ht_plan *plan);
+/* Checks a material built in memory against the rules the file reader
+   enforces (docs/materials.md): finite colours in [0,1], exponents in
+   [0, 10000], finite shifts, wrap in [0,1], opaque_cutoff 0 (default) or in
+   (0,1], known texture generators and power-of-two sizes 16..2048. FILE is
+   m->file, or "<material>" when empty; FIELD is the JSON path
+   ("primary.exponent"). */
+ht_result ht_material_check(const ht_material *m, char *err, size_t err_size);
 
 /* ---- generator (shadergen/generate.c) ---- */
 
-/* Generates every tier for (material, scene) and writes DIR atomically (a
-   temporary sibling renamed into place; an existing DIR is replaced only
-   after the new one is complete). scene_path may be NULL (ht_scene_default).
-   summary, when not NULL, receives the human-readable table. */
+typedef struct ht_generate_desc {
+    const ht_material *material; /* required; checked with ht_material_check */
+    const ht_scene *scene;       /* NULL: ht_scene_default() */
+    uint64_t input_hash;         /* 0: FNV-1a 64 over the generator version, the
+                                    material's and scene's values the plan reads
+                                    and the bytes of the material's texture files;
+                                    ht_generate_bundle passes the hash of its input
+                                    files' bytes instead */
+} ht_generate_desc;
+
+#define HT_GENERATED_MAX_FILES 40
+
+/* One file of a bundle: a text (shader, combiner program, manifest) or an
+   image (written as PNG). */
+typedef struct ht_generated_file {
+    char name[48];      /* file name in the bundle: "full.vert", "fixed-lut.png", "manifest.json" */
+    ht_tier tier;       /* the tier it belongs to; HT_TIER_AUTO for the bundle's own
+                           files (albedo.png, detail.png, manifest.json) */
+    char role[24];      /* its manifest key: "vertex", "fragment", "program", "fixed-lut",
+                           "albedo", "detail"; "manifest" for manifest.json */
+    char *text;         /* NUL-terminated; NULL for an image */
+    ht_image image;     /* pixels NULL for a text; a 3D texture's slices stacked vertically */
+    int depth;          /* image depth in slices (1 for 2D); 0 for a text */
+} ht_generated_file;
+
+typedef struct ht_generated {
+    ht_generated_file files[HT_GENERATED_MAX_FILES]; /* in the order ht_generate_bundle
+                                                         writes them; manifest.json last */
+    int file_count;
+    const char *manifest;  /* manifest.json's text (files[file_count - 1].text) */
+    uint64_t input_hash;   /* the hash written to the manifest */
+    char *summary;         /* the tier table hairgen prints, one tier per line */
+} ht_generated;
+
+/* Generates every tier for desc->material and desc->scene into *out; writes
+   no file. On failure *out is empty (safe to ht_generated_free) and err
+   holds one line. */
+ht_result ht_generate(const ht_generate_desc *desc, ht_generated *out, char *err, size_t err_size);
+/* Frees what ht_generate allocated and zeroes *g; NULL and zeroed are fine. */
+void ht_generated_free(ht_generated *g);
+/* The file named `name`, or NULL. */
+const ht_generated_file *ht_generated_find(const ht_generated *g, const char *name);
+
+/* Loads the material (and scene; scene_path may be NULL: ht_scene_default),
+   runs ht_generate and writes DIR atomically (a temporary sibling renamed
+   into place; an existing DIR is replaced only after the new one is
+   complete, and only when it is empty or a bundle). summary, when not NULL,
+   receives the human-readable table. */
 ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
                              const char *out_dir, FILE *summary, char *err, size_t err_size);
 

@@ -1,6 +1,9 @@
 /* material_json.c — reads "hairtier-material/1" files into ht_material.
    Every rule (required fields, defaults, ranges) is listed in
    docs/materials.md; keep the two in step. */
+#include <float.h>
+#include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -241,4 +244,100 @@ ht_result ht_material_load(const char *path, ht_material *out, char *err, size_t
     r = ht_material_parse(text, path, out, err, err_size);
     free(text);
     return r;
+}
+
+/* ---- a material built in memory ---- */
+
+typedef struct check_ctx {
+    const char *file;
+    char *err;
+    size_t err_size;
+} check_ctx;
+
+static ht_result check_fail(const check_ctx *c, const char *field, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static ht_result check_fail(const check_ctx *c, const char *field, const char *fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    ht_set_field_error_v(c->err, c->err_size, c->file, field, fmt, ap);
+    va_end(ap);
+    return HT_ERR_INVALID_ARGUMENT;
+}
+
+/* v in [lo, hi] and finite; %.17g names the value exactly. */
+static ht_result check_number(const check_ctx *c, const char *field, double v, double lo, double hi) {
+    if (!isfinite(v)) return check_fail(c, field, "must be a finite number, got %g", v);
+    if (v < lo || v > hi) return check_fail(c, field, "must be in [%g, %g], got %.17g", lo, hi, v);
+    return HT_OK;
+}
+
+static ht_result check_color(const check_ctx *c, const char *parent, const double color[3]) {
+    for (int i = 0; i < 3; i++) {
+        char field[64];
+        snprintf(field, sizeof field, "%s.color[%d]", parent, i);
+        ht_result r = check_number(c, field, color[i], 0, 1);
+        if (r != HT_OK) return r;
+    }
+    return HT_OK;
+}
+
+static ht_result check_lobe(const check_ctx *c, const char *name, const ht_lobe *l) {
+    char field[64];
+    ht_result r = check_color(c, name, l->color);
+    snprintf(field, sizeof field, "%s.exponent", name);
+    if (r == HT_OK) r = check_number(c, field, l->exponent, 0, 10000);
+    snprintf(field, sizeof field, "%s.shift", name);
+    if (r == HT_OK) r = check_number(c, field, l->shift, -DBL_MAX, DBL_MAX);
+    return r;
+}
+
+ht_result ht_material_check(const ht_material *m, char *err, size_t err_size) {
+    check_ctx c = { "<material>", err, err_size };
+    if (!m) return check_fail(&c, "material", "required");
+    if (m->file[0] && memchr(m->file, '\0', sizeof m->file)) c.file = m->file;
+    if (!memchr(m->name, '\0', sizeof m->name)) return check_fail(&c, "name", "not NUL-terminated");
+    if (!m->name[0]) return check_fail(&c, "name", "empty");
+    for (const char *p = m->name; *p; p++) {
+        char ch = *p;
+        if (!((ch >= 'A' && ch <= 'Z') || (ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') ||
+              ch == '_' || ch == '-'))
+            return check_fail(&c, "name", "character %ld is '%c'; names use only A-Z a-z 0-9 _ -",
+                              (long)(p - m->name) + 1, ch >= 0x20 && ch < 0x7f ? ch : '?');
+    }
+    const ht_shading *s = &m->shading;
+    if (s->model != HT_MODEL_SCHEUERMANN && s->model != HT_MODEL_KAJIYA_KAY)
+        return check_fail(&c, "model", "unknown model %d", (int)s->model);
+    bool kk = s->model == HT_MODEL_KAJIYA_KAY;
+    ht_result r = check_color(&c, "diffuse", s->diffuse_color);
+    if (r == HT_OK) r = check_number(&c, "diffuse.wrap", s->wrap, 0, 1);
+    if (r == HT_OK) r = check_lobe(&c, "primary", &s->primary);
+    if (r == HT_OK && !kk) r = check_lobe(&c, "secondary", &s->secondary);
+    if (r != HT_OK) return r;
+    /* 0 means the default (0.98), as in ht_plan_make. */
+    if (m->opaque_cutoff != 0.0 &&
+        (!isfinite(m->opaque_cutoff) || m->opaque_cutoff <= 0.0 || m->opaque_cutoff > 1.0))
+        return check_fail(&c, "alpha.opaque_cutoff", "must be 0 (default) or in (0, 1], got %.17g",
+                          m->opaque_cutoff);
+    for (int i = 0; i < HT_TEX_COUNT; i++) {
+        const ht_texture_source *t = &m->textures[i];
+        char field[64];
+        snprintf(field, sizeof field, "textures.%s", slot_names[i]);
+        if (t->origin == HT_TEXTURE_ABSENT) continue;
+        if (kk && (i == HT_TEX_SHIFT || i == HT_TEX_SPARKLE))
+            return check_fail(&c, field, "model \"kajiya-kay\" has no %s texture", slot_names[i]);
+        if (t->origin == HT_TEXTURE_FILE) {
+            if (!memchr(t->path, '\0', sizeof t->path) || !t->path[0])
+                return check_fail(&c, field, "file texture without a path");
+        } else if (t->origin == HT_TEXTURE_PROCEDURAL) {
+            if (!memchr(t->procedural, '\0', sizeof t->procedural) ||
+                strcmp(t->procedural, slot_generators[i]) != 0)
+                return check_fail(&c, field, "the %s slot takes procedural \"%s\"", slot_names[i],
+                                  slot_generators[i]);
+            if (t->size < 16 || t->size > 2048 || (t->size & (t->size - 1)))
+                return check_fail(&c, field, "size must be a power of two (16, 32, ..., 2048), got %d", t->size);
+        } else {
+            return check_fail(&c, field, "unknown origin %d", (int)t->origin);
+        }
+    }
+    return HT_OK;
 }

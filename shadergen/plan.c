@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "hairgen.h"
+#include "hairgen_internal.h"
 #include "shader_interface.h"
 
 #define DEFAULT_OPAQUE_CUTOFF 0.98

@@ -31,7 +31,7 @@
    Slots: base holds 3 channels (grey expands to rgb), the others 1 channel:
    alpha takes a file's alpha channel when it has one, else its luminance;
    shift and sparkle take luminance. */
-#include "hairgen.h"
+#include "hairgen_internal.h"
 
 #include <stdio.h>
 #include <string.h>

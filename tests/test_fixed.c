@@ -20,7 +20,7 @@
 #include "combiner.h"
 #include "emit.h"
 #include "fixed_coords.h"
-#include "hairgen.h"
+#include "hairgen_internal.h"
 #include "rng.h"
 #include "support_combiner_eval.h"
 

@@ -8,7 +8,7 @@
 
 #include <cmocka.h>
 
-#include "hairgen.h"
+#include "hairgen_internal.h"
 
 static ht_material material(ht_model_kind model, bool base, bool alpha, bool shift, bool sparkle) {
     ht_material m;

@@ -13,7 +13,7 @@
 #include <cmocka.h>
 
 #include "emit.h"
-#include "hairgen.h"
+#include "hairgen_internal.h"
 #include "rng.h"
 #include "support_scratch.h"
 

@@ -1,0 +1,49 @@
+/* hairgen_internal.h — the generator's internal interfaces (libhairgen and
+   its tests): texture baking, the plan of what to model. The public API is
+   hairgen.h; the emitters are emit.h. */
+#ifndef HT_HAIRGEN_INTERNAL_H
+#define HT_HAIRGEN_INTERNAL_H
+
+#include "hairgen.h"
+
+/* ---- textures ---- */
+
+/* Makes one texture of the material: procedural ones generated, file ones
+   read (PNG) and reduced to the channels the slot needs (base: 3, others: 1). */
+ht_result ht_texture_make(const ht_texture_source *src, ht_texture_slot slot,
+                          ht_image *out, char *err, size_t err_size);
+
+/* ---- plan: what the scene needs modelled ---- */
+
+#define HT_MAX_NOTES 16
+#define HT_MAX_UNITS 4
+
+typedef struct ht_plan_texture {
+    char name[16];          /* "albedo", "detail", "lut" */
+    char sampler[24];       /* uniform name in GLSL tiers */
+    char contents[64];      /* "base.rgb alpha.a" */
+    int unit;
+} ht_plan_texture;
+
+typedef struct ht_plan {
+    ht_shading shading;
+    int light_count;
+    ht_light_type light_types[HT_MAX_LIGHTS];
+    bool base, alpha, shift, sparkle, secondary, ao;  /* modelled features */
+    double opaque_cutoff;
+    /* Mean of the sparkle texture (1 until generate.c measures it): the
+       tiers that cannot sample the mask scale the secondary highlight by it
+       instead of leaving it unmasked. */
+    double sparkle_mean;
+    ht_plan_texture textures[HT_MAX_UNITS];  /* GLSL tiers' texture units */
+    int texture_count;
+    char notes[HT_MAX_NOTES][160];           /* what was dropped and why */
+    int note_count;
+} ht_plan;
+
+void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out);
+/* The shading a tier without the sparkle mask evaluates: the secondary
+   colour scaled by plan->sparkle_mean (unchanged when sparkle is absent). */
+ht_shading ht_plan_unmasked_shading(const ht_plan *plan);
+
+#endif
