@@ -8,8 +8,8 @@
    8 sqrt(e) texels, clamped to [16, 256] (as the fixed tier's axes);
    Kajiya-Kay's sin(T.L) takes 256 (infinite slope at T.L = +-1). With two
    lights a Scheuermann LUT is n x n, at most 256 x 256 RGB8. */
+#include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "emit.h"
@@ -34,7 +34,13 @@ static void list(const ht_plan *plan, const ht_fixed4_program *p, ht_tier_output
     ht_fixed4_lut_size(p, 0, &w, &h);
     snprintf(line, sizeof line, "%d luts %dx%d rgb8, baked by the runtime", ht_fixed4_lut_count(p), w, h);
     ht_output_add_feature(out, line);
-    ht_output_add_feature(out, "coords texture-matrix");
+    if (p->viewer == HT_FIXED4_VIEWER_LOCAL) {
+        snprintf(line, sizeof line, "coords cpu-local-viewer (the hair spans %.1f deg from the eye)",
+                 plan->viewer_spread * 180.0 / M_PI);
+        ht_output_add_feature(out, line);
+    } else {
+        ht_output_add_feature(out, "coords texture-matrix");
+    }
     if (!kk) ht_output_add_feature(out, "diffuse gl-lighting");
 
     if (plan->shift) ht_output_add_dropped(out, "shift: the per-texel jitter (t1, t2 are static per vertex)");
@@ -49,7 +55,12 @@ static void list(const ht_plan *plan, const ht_fixed4_program *p, ht_tier_output
                  plan->light_count);
         ht_output_add_dropped(out, line);
     }
-    ht_output_add_dropped(out, "viewer: infinite for H (a texture matrix holds one V per frame)");
+    if (p->viewer == HT_FIXED4_VIEWER_INFINITE)
+        ht_output_add_dropped(out, "viewer: infinite for H (a texture matrix holds one V per frame; the scene's "
+                                   "hair is far enough for that)");
+    else
+        ht_output_add_dropped(out, "per-vertex CPU work: the LUT coordinates, in float, only when the eye or a "
+                                   "light moved (the scene's viewer is too close for one V per frame)");
     if (!kk && p->lights > 1)
         ht_output_add_dropped(out, "diffuse: with two lights GL lighting clamps each light at N.L = 0, not at "
                                    "the wrapped zero: up to wrap x diffuse x light colour too bright behind");
@@ -73,7 +84,7 @@ ht_result ht_emit_fixed4(const ht_plan *plan, ht_tier_output *out, char *err, si
             return ht_fail(err, err_size, HT_ERR_UNSUPPORTED,
                            "fixed4: light %d is a point light (a texture matrix holds one L per frame)", l);
     p.ao = plan->ao;
-    p.viewer = getenv("HT_TEST_LOCAL") ? HT_FIXED4_VIEWER_LOCAL : HT_FIXED4_VIEWER_INFINITE;
+    p.viewer = plan->local_viewer ? HT_FIXED4_VIEWER_LOCAL : HT_FIXED4_VIEWER_INFINITE;
     if (p.shading.model == HT_MODEL_KAJIYA_KAY) {
         p.lut_axis[0] = HT_FIXED4_MAX_AXIS;
         p.lut_axis[1] = axis_for(p.shading.primary.exponent, p.shading.primary.color);

@@ -35,6 +35,12 @@ typedef struct ht_plan {
        tiers that cannot sample the mask scale the secondary highlight by it
        instead of leaving it unmasked. */
     double sparkle_mean;
+    /* The angle (radians) the hair's bounding sphere subtends from the
+       scene's eye, and whether the tiers that could take the viewer at
+       infinity should not: true when that spread moves the narrowest
+       highlight by more than a quarter of its width (1/sqrt(e)). */
+    double viewer_spread;
+    bool local_viewer;
     ht_plan_texture textures[HT_MAX_UNITS];  /* GLSL tiers' texture units */
     int texture_count;
     char notes[HT_MAX_NOTES][160];           /* what was dropped and why */

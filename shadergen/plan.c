@@ -1,5 +1,6 @@
 /* plan.c — decides what the tiers model: the scene's lights, the textures the
    material has, and the texture units the GLSL tiers bind them to. */
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -30,6 +31,31 @@ static bool has(const ht_material *m, ht_texture_slot s) {
     return m->textures[s].origin != HT_TEXTURE_ABSENT;
 }
 
+/* A sphere around the origin holding the scene's hair: both builders grow
+   hair from there (fur ball: strands of (joints - 1) segments, bent by
+   gravity; patches: a head of head_radius with strips hanging below it). */
+static double hair_radius(const ht_scene *s) {
+    if (s->geometry == HT_GEOMETRY_PATCHES) {
+        double r = s->patches.head_radius > 0 ? s->patches.head_radius : 1.0;
+        return 2.0 * r;
+    }
+    int joints = s->furball.joints > 0 ? s->furball.joints : 16;
+    double length = s->furball.length > 0 ? s->furball.length : 0.08;
+    return 1.2 * (double)(joints - 1) * length;
+}
+
+static void plan_viewer(const ht_scene *scene, ht_plan *out) {
+    const float *e = scene->camera.eye;
+    double dist = sqrt((double)e[0] * e[0] + (double)e[1] * e[1] + (double)e[2] * e[2]);
+    double r = hair_radius(scene);
+    out->viewer_spread = dist > r ? asin(r / dist) : M_PI / 2;
+    double e_max = out->shading.primary.exponent;
+    if (out->secondary && out->shading.secondary.exponent > e_max) e_max = out->shading.secondary.exponent;
+    double width = 1.0 / sqrt(e_max > 1.0 ? e_max : 1.0);
+    /* H turns by half of V's turn; d = t.H moves by up to that much. */
+    out->local_viewer = 0.5 * out->viewer_spread > 0.25 * width;
+}
+
 void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out) {
     memset(out, 0, sizeof *out);
     out->shading = m->shading;
@@ -51,6 +77,8 @@ void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out) {
     /* The material parser enforces (0,1]; a hand-built material may leave 0. */
     out->opaque_cutoff = m->opaque_cutoff > 0.0 && m->opaque_cutoff <= 1.0 ? m->opaque_cutoff
                                                                             : DEFAULT_OPAQUE_CUTOFF;
+
+    plan_viewer(scene, out);
 
     if (out->base || out->alpha) add_texture(out, "albedo", HT_U_ALBEDO, "base.rgb alpha.a");
     if (out->shift || out->sparkle) add_texture(out, "detail", HT_U_DETAIL, "shift.r sparkle.g");
