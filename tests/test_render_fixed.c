@@ -1002,7 +1002,7 @@ static void test_missing_or_wrong_lut_skips_fixed_naming_the_file(void **state) 
     ht_test_furball_copy_bundle(&fx, "missing-lut", dir, sizeof dir);
     snprintf(path, sizeof path, "%s/fixed-lut.png", dir);
     assert_int_equal(unlink(path), 0);
-    snprintf(want, sizeof want, "%s/fixed-lut.png: cannot open", dir);
+    snprintf(want, sizeof want, "%s/fixed-lut.png: cannot read: No such file", dir);
     expect_skipped(dir, want);
 
     /* A LUT image that is not the size the manifest lists. */

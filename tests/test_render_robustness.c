@@ -211,7 +211,7 @@ static void test_missing_detail_texture_drops_full_to_vertex_naming_the_file(voi
 
     ht_renderer *r = create((ht_renderer_desc){ 0 }, dir, HT_OK);
     assert_int_equal(ht_renderer_tier(r), HT_TIER_VERTEX); /* the vertex tier never reads detail */
-    snprintf(want, sizeof want, "hairtier: skipped full: %s: cannot open", path);
+    snprintf(want, sizeof want, "hairtier: skipped full: %s: cannot read: No such file", path);
     logged_once(want);
     assert_non_null(strstr(ht_renderer_reason(r), "detail.png"));
     ht_frame_desc f = frame();
@@ -220,7 +220,7 @@ static void test_missing_detail_texture_drops_full_to_vertex_naming_the_file(voi
 
     /* Strict: the downgrade is the error, with the same reason. */
     assert_null(create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true }, dir, HT_ERR_UNSUPPORTED));
-    snprintf(want, sizeof want, "hairtier: full: %s: cannot open", path);
+    snprintf(want, sizeof want, "hairtier: full: %s: cannot read: No such file", path);
     logged_once(want);
 }
 
@@ -254,7 +254,7 @@ static void test_broken_albedo_leaves_no_tier_and_names_the_file(void **state) {
     (void)state;
     size_t n;
     unsigned char *png = read_bytes(fx.bundle_dir, "albedo.png", &n);
-    expect_albedo_fails_every_tier("albedo-missing", NULL, 0, "cannot open");
+    expect_albedo_fails_every_tier("albedo-missing", NULL, 0, "cannot read: No such file");
     expect_albedo_fails_every_tier("albedo-empty", "", 0, "file is empty");
     expect_albedo_fails_every_tier("albedo-text", "not a png at all", 16, "not a PNG file");
     expect_albedo_fails_every_tier("albedo-truncated", png, n / 2, "file is truncated");
