@@ -1,6 +1,9 @@
 # hairtier — `make` builds build/hairgen, build/hairview and build/libhairtier.a;
 # `make test` runs every test; `make demo` renders the default scenes to out/;
-# `make asan` runs the tests under AddressSanitizer + UBSan; `make bench`.
+# `make asan` runs the tests under AddressSanitizer + UBSan; `make bench`;
+# `make fuzz` builds the libFuzzer targets (fuzz/, clang, ASan + UBSan) and
+# runs each for FUZZ_SECONDS (60); `make fuzz-smoke` runs each for 5 s (CI);
+# `make check-valgrind` runs make demo's programs under memcheck.
 # Missing Debian packages are installed first (apt-get, as root).
 
 CC      ?= cc
@@ -41,7 +44,7 @@ SOFTPIPE_TESTS := test_render_app_state test_render_fixed test_render_glsl_compi
 $(foreach t,$(filter-out $(notdir $(TESTS)),$(SOFTPIPE_TESTS)),$(error SOFTPIPE_TESTS: no tests/$(t).c))
 DEPS_STAMP := $(BUILD)/.deps-installed
 
-.PHONY: all deps test asan bench demo clean
+.PHONY: all deps test asan bench demo clean fuzz fuzz-build fuzz-seeds fuzz-smoke check-valgrind
 # Keep objects that pattern rules build on the way (tests, examples).
 .SECONDARY:
 .DEFAULT_GOAL := all
@@ -119,7 +122,64 @@ demo: all
 	done
 	@echo "demo: wrote out/furball.png and out/patches.png (bundles in out/furball-bundle, out/patches-bundle)"
 
+# ---- fuzzing (docs/robustness.md records the runs) ----
+FUZZ_BUILD   ?= build-fuzz
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS := $(patsubst fuzz/%.c,%,$(wildcard fuzz/fuzz_*.c))
+FUZZ_SAN     := -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined
+
+$(BUILD)/fuzz/%: $(BUILD)/obj/fuzz/%.o $(GENLIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) -fsanitize=fuzzer $^ $(LDLIBS) -o $@
+
+fuzz-build: deps
+	$(MAKE) BUILD=$(FUZZ_BUILD) CC=clang OPT="-O1 -g -fno-omit-frame-pointer" SAN="$(FUZZ_SAN)" \
+	  $(patsubst %,$(FUZZ_BUILD)/fuzz/%,$(FUZZ_TARGETS))
+
+# Seeds: the shipped materials and scenes, a generated bundle's manifest,
+# combiner program and PNGs; each target's corpus grows in $(FUZZ_BUILD)/corpus.
+fuzz-seeds: $(HAIRGEN)
+	@rm -rf $(FUZZ_BUILD)/seeds && mkdir -p $(FUZZ_BUILD)/seeds/fuzz_material $(FUZZ_BUILD)/seeds/fuzz_scene \
+	  $(FUZZ_BUILD)/seeds/fuzz_manifest $(FUZZ_BUILD)/seeds/fuzz_combiner $(FUZZ_BUILD)/seeds/fuzz_png \
+	  $(FUZZ_BUILD)/seeds/fuzz_json
+	@$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json -o $(FUZZ_BUILD)/seed-bundle >/dev/null
+	@$(HAIRGEN) materials/kajiya-kay.json -o $(FUZZ_BUILD)/seed-bundle-kk >/dev/null
+	@cp materials/*.json $(FUZZ_BUILD)/seeds/fuzz_material/
+	@cp scenes/*.json $(FUZZ_BUILD)/seeds/fuzz_scene/
+	@cp $(FUZZ_BUILD)/seed-bundle/manifest.json $(FUZZ_BUILD)/seeds/fuzz_manifest/a.json
+	@cp $(FUZZ_BUILD)/seed-bundle-kk/manifest.json $(FUZZ_BUILD)/seeds/fuzz_manifest/b.json
+	@cp $(FUZZ_BUILD)/seed-bundle/fixed.json $(FUZZ_BUILD)/seeds/fuzz_combiner/a.json
+	@cp $(FUZZ_BUILD)/seed-bundle-kk/fixed.json $(FUZZ_BUILD)/seeds/fuzz_combiner/b.json
+	@cp $(FUZZ_BUILD)/seed-bundle/detail.png $(FUZZ_BUILD)/seeds/fuzz_png/detail.png
+	@find tests/data -name '*.png' -size -64k -exec cp {} $(FUZZ_BUILD)/seeds/fuzz_png/ \; 2>/dev/null || true
+	@cp materials/*.json scenes/*.json $(FUZZ_BUILD)/seed-bundle/*.json $(FUZZ_BUILD)/seeds/fuzz_json/
+
+# Each target for FUZZ_SECONDS; its last lines (runs, coverage, any crash)
+# go to $(FUZZ_BUILD)/TARGET.log, a summary line per target to stdout.
+fuzz: fuzz-build fuzz-seeds
+	@fail=0; for t in $(FUZZ_TARGETS); do \
+	  mkdir -p $(FUZZ_BUILD)/corpus/$$t $(FUZZ_BUILD)/crashes/$$t; \
+	  if $(FUZZ_BUILD)/fuzz/$$t -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=2048 -timeout=10 -max_len=65536 \
+	       -print_final_stats=1 -artifact_prefix=$(FUZZ_BUILD)/crashes/$$t/ \
+	       $(FUZZ_BUILD)/corpus/$$t $(FUZZ_BUILD)/seeds/$$t > $(FUZZ_BUILD)/$$t.log 2>&1; then r=ok; \
+	  else r=FAILED; fail=1; fi; \
+	  echo "$$t: $$r, $$(grep -o 'stat::number_of_executed_units: *[0-9]*' $(FUZZ_BUILD)/$$t.log | grep -o '[0-9]*$$') runs in $(FUZZ_SECONDS) s, corpus $$(ls $(FUZZ_BUILD)/corpus/$$t | wc -l), $$(grep -o 'cov: [0-9]*' $(FUZZ_BUILD)/$$t.log | tail -1)"; \
+	done; rm -f /tmp/hairtier-fuzz-png-*.png; [ $$fail -eq 0 ]
+
+fuzz-smoke:
+	$(MAKE) fuzz FUZZ_SECONDS=5
+
+# ---- valgrind memcheck over make demo's programs (a small scene) ----
+VALGRIND := valgrind --tool=memcheck --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite \
+            --suppressions=tests/valgrind.supp --num-callers=30
+check-valgrind: all
+	@mkdir -p out/valgrind
+	$(VALGRIND) $(HAIRGEN) materials/dark-brown.json --scene tests/data/valgrind-scene.json -o out/valgrind/bundle
+	MESA_SHADER_CACHE_DISABLE=true $(VALGRIND) $(BUILD)/hairview --bundle out/valgrind/bundle \
+	  --scene tests/data/valgrind-scene.json -o out/valgrind/furball.png
+	@echo "check-valgrind: clean"
+
 clean:
-	rm -rf build build-asan out
+	rm -rf build build-asan build-fuzz out
 
 -include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)

@@ -29,6 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "caps.h"
 #include "combiner.h"
 #include "errfmt.h"
 #include "fixed.h"
@@ -137,6 +138,14 @@ static ht_result check_device(const fixed_state *s, const ht_tier_context *ctx, 
         snprintf(err, err_size, "needs GL_ARB_multitexture for %d stages", p->stage_count);
         return HT_ERR_UNSUPPORTED;
     }
+    /* The primary colour's light must be one the bundle plans (defect F):
+       a light beyond them is never set, and the hair would draw unlit. */
+    if (p->light >= ctx->bundle->light_count) {
+        snprintf(err, err_size, "%s: primary_color: light %d, the bundle has %d light%s (%s/manifest.json: lights)",
+                 path, p->light, ctx->bundle->light_count, ctx->bundle->light_count == 1 ? "" : "s",
+                 ctx->bundle->dir);
+        return HT_ERR_PARSE;
+    }
     const int *n = p->lut_size;
     int largest = n[0] > n[1] ? n[0] : n[1];
     if (n[2] > largest) largest = n[2];
@@ -154,6 +163,8 @@ static ht_result check_device(const fixed_state *s, const ht_tier_context *ctx, 
     }
     return HT_OK;
 }
+
+static bool is_pow2(int v) { return v > 0 && (v & (v - 1)) == 0; }
 
 /* Reads a stage's texture and checks it against the manifest (and, for the
    LUT, against the program): the image is width x (height * depth). */
@@ -192,13 +203,25 @@ static ht_result read_stage_image(const fixed_state *s, const ht_tier_context *c
         ht_image_free(img);
         return HT_ERR_PARSE;
     }
+    /* GL 1.x samples only power-of-two sizes unless GL 2.0 or
+       ARB_texture_non_power_of_two allows others (GL_INVALID_VALUE, or
+       garbage on old drivers): refuse the tier with a line instead. */
+    if ((!is_pow2(img->width) || !is_pow2(img->height / t->depth) || !is_pow2(t->depth)) &&
+        !ht_caps_gl_at_least(ctx->caps, 2, 0) &&
+        !ht_caps_lists_extension(ctx->caps, "GL_ARB_texture_non_power_of_two")) {
+        snprintf(err, err_size, "%s: %dx%d is not a power of two; needs GL 2.0 or GL_ARB_texture_non_power_of_two, "
+                 "have GL %d.%d without it", path, img->width, img->height / t->depth, ctx->caps->gl_major,
+                 ctx->caps->gl_minor);
+        ht_image_free(img);
+        return HT_ERR_UNSUPPORTED;
+    }
     *depth = t->depth;
     return HT_OK;
 }
 
 static ht_result upload_stage(fixed_state *s, const ht_tier_context *ctx, int stage, char *err, size_t err_size) {
     const ht_combiner_stage *st = &s->program.stages[stage];
-    char path[1200];
+    char path[HT_LIMIT_BUNDLE_FILE_PATH];
     ht_image img = { 0 };
     int depth = 1;
     ht_result r = read_stage_image(s, ctx, stage, &img, &depth, path, sizeof path, err, err_size);
@@ -219,7 +242,7 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
     s->caps = ctx->caps;
     s->log = ctx->log;
     s->log_user = ctx->log_user;
-    char path[1200];
+    char path[HT_LIMIT_BUNDLE_FILE_PATH];
     ht_result r = load_program(s, ctx, path, sizeof path, err, err_size);
     if (r == HT_OK) r = check_device(s, ctx, path, err, err_size);
     for (int i = 0; r == HT_OK && i < s->program.stage_count; i++) r = upload_stage(s, ctx, i, err, err_size);

@@ -3,6 +3,8 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <stdbool.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -61,4 +63,34 @@ ht_result ht_file_open_regular(const char *path, uint64_t max_bytes, FILE **out,
     *out = f;
     if (size) *size = (uint64_t)st.st_size;
     return HT_OK;
+}
+
+char *ht_file_read_text(const char *path, uint64_t max_bytes, char *err, size_t err_size) {
+    FILE *f;
+    uint64_t size;
+    if (ht_file_open_regular(path, max_bytes, &f, &size, err, err_size) != HT_OK) return NULL;
+    /* The size fstat saw, plus one byte to notice a file that grew. */
+    char *text = malloc((size_t)size + 2);
+    if (!text) {
+        fclose(f);
+        ht_set_error(err, err_size, "%s: out of memory (%llu bytes)", path, (unsigned long long)size);
+        return NULL;
+    }
+    size_t got = fread(text, 1, (size_t)size + 1, f);
+    bool bad = ferror(f) != 0;
+    int e = errno;
+    fclose(f);
+    if (bad || got > size) {
+        free(text);
+        if (bad) ht_set_error(err, err_size, "%s: cannot read: %s", path, strerror(e));
+        else ht_set_error(err, err_size, "%s: grew while being read", path);
+        return NULL;
+    }
+    text[got] = '\0';
+    if (strlen(text) != got) {
+        free(text);
+        ht_set_error(err, err_size, "%s: NUL byte in a text file", path);
+        return NULL;
+    }
+    return text;
 }

@@ -21,10 +21,11 @@
 #include <stdio.h>
 
 #include "hairtier.h"
+#include "ht_limits.h"
 
-#define HT_FILE_MAX_JSON    (16u << 20)   /* materials, scenes, manifests, combiner programs */
-#define HT_FILE_MAX_SHADER  (1u << 20)    /* one GLSL source */
-#define HT_FILE_MAX_PNG     (512u << 20)  /* a PNG: 64 Mi RGBA pixels stored, with room for poor compression */
+#define HT_FILE_MAX_JSON    HT_LIMIT_FILE_JSON
+#define HT_FILE_MAX_SHADER  HT_LIMIT_FILE_SHADER
+#define HT_FILE_MAX_PNG     HT_LIMIT_FILE_PNG
 
 /* Opens path for reading ("rb"). Refuses (HT_ERR_IO, err "PATH: why") a
    missing or unreadable file, anything but a regular file (naming what it
@@ -33,5 +34,10 @@
    that was checked. size may be NULL. */
 ht_result ht_file_open_regular(const char *path, uint64_t max_bytes, FILE **out, uint64_t *size,
                                char *err, size_t err_size);
+
+/* The whole of a regular text file of at most max_bytes, malloc'd and
+   NUL-terminated, or NULL with "PATH: why" in err (what
+   ht_file_open_regular refuses, a read error, a NUL byte, out of memory). */
+char *ht_file_read_text(const char *path, uint64_t max_bytes, char *err, size_t err_size);
 
 #endif

@@ -1,6 +1,7 @@
 /* gl_state.c — the application's GL state around a frame: saved,
    replaced by a known baseline, restored (hairtier.h: ht_renderer_draw
    lists what is covered and what is taken as the application left it). */
+#include "gl_error.h"
 #include "caps.h"
 #include "errfmt.h"
 #include "renderer_internal.h"
@@ -27,8 +28,8 @@ ht_result ht_gl_state_save(ht_renderer *r, ht_gl_state *s) {
         if (e != GL_NO_ERROR) gl->PopAttrib();
     }
     if (e != GL_NO_ERROR) {
-        ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_draw: %s: GL error 0x%04x (is the application's "
-                     "attribute stack full?); nothing drawn", failed, e);
+        ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_draw: %s: %s (is the application's "
+                     "attribute stack full?); nothing drawn", failed, ht_gl_error_name(e));
         while (gl->GetError() != GL_NO_ERROR) {}
         return HT_ERR_GL;
     }

@@ -1,6 +1,7 @@
 /* gl_texture.c — one image to one GL texture (gl_texture.h). */
 #include <stdio.h>
 
+#include "gl_error.h"
 #include "gl_texture.h"
 
 ht_result ht_gl_texture_upload(const ht_gl *gl, const ht_gl_texture_desc *d, GLuint *out,
@@ -33,8 +34,8 @@ ht_result ht_gl_texture_upload(const ht_gl *gl, const ht_gl_texture_desc *d, GLu
     gl->BindTexture(d->target, 0);
     GLenum e = gl->GetError();
     if (e != GL_NO_ERROR) {
-        snprintf(err, err_size, "%s: %s: GL error 0x%04x", d->name ? d->name : "texture",
-                 is_3d ? "glTexImage3D" : "glTexImage2D", e);
+        snprintf(err, err_size, "%s: %s: %s", d->name ? d->name : "texture",
+                 is_3d ? "glTexImage3D" : "glTexImage2D", ht_gl_error_name(e));
         return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
     }
     return HT_OK;

@@ -7,7 +7,7 @@
        GLuint id;
        if (ht_gl_texture_upload(gl, &(ht_gl_texture_desc){ .target = GL_TEXTURE_2D,
                .image = &img, .filter = GL_LINEAR, .wrap = GL_REPEAT, .name = path },
-               &id, err, sizeof err) != HT_OK) ...;   // err: "PATH: glTexImage2D: GL error 0x0505"
+               &id, err, sizeof err) != HT_OK) ...;   // err: "PATH: glTexImage2D: GL_OUT_OF_MEMORY"
 
    Leaves the target's binding 0 and GL_UNPACK_ALIGNMENT 4 (hairtier.h
    promises both after ht_renderer_create). */

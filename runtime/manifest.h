@@ -19,6 +19,7 @@
 
 #include "hairtier.h"
 #include "image.h"
+#include "ht_limits.h"
 
 /* The schema's one home: shadergen/generate.c writes what this reader
    accepts and checks these limits before writing, so hairgen never makes a
@@ -26,10 +27,12 @@
 #define HT_MANIFEST_FORMAT "hairtier-bundle/1"
 #define HT_MANIFEST_FILE "manifest.json"
 /* Texture sizes the runtime reads: per side, 3D depth (slices), and texels
-   in all (the PNG reader's cap, so a listed texture is never one it refuses). */
-#define HT_MANIFEST_MAX_TEXTURE_SIZE 16384
-#define HT_MANIFEST_MAX_TEXTURE_DEPTH 4096
-#define HT_MANIFEST_MAX_TEXTURE_PIXELS HT_IMAGE_MAX_PIXELS
+   in all (the PNG reader's cap, so a listed texture is never one it refuses).
+   The values live in ht_limits.h, the one table generator and runtime share. */
+#define HT_MANIFEST_MAX_TEXTURE_SIZE HT_LIMIT_TEXTURE_SIDE
+#define HT_MANIFEST_MAX_TEXTURE_DEPTH HT_LIMIT_TEXTURE_DEPTH
+#define HT_MANIFEST_MAX_TEXTURE_PIXELS HT_LIMIT_TEXTURE_PIXELS
+_Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader reads every bundle texture");
 
 /* Every key of the manifest, written by shadergen/generate.c and read by
    runtime/manifest_read.c (docs/bundle.md describes them). */
@@ -64,12 +67,12 @@
 #define HT_MANIFEST_KEY_FEATURES "features"
 #define HT_MANIFEST_KEY_DROPPED "dropped"
 
-#define HT_MANIFEST_MAX_TIERS 8
-#define HT_MANIFEST_MAX_FILES 8
-#define HT_MANIFEST_MAX_SAMPLERS 4
-#define HT_MANIFEST_MAX_TEXTURES 4
-#define HT_MANIFEST_MAX_EXTENSIONS 8
-#define HT_MANIFEST_NAME 64
+#define HT_MANIFEST_MAX_TIERS HT_LIMIT_TIERS
+#define HT_MANIFEST_MAX_FILES HT_LIMIT_TIER_FILES
+#define HT_MANIFEST_MAX_SAMPLERS HT_LIMIT_SAMPLERS
+#define HT_MANIFEST_MAX_TEXTURES HT_LIMIT_TEXTURES
+#define HT_MANIFEST_MAX_EXTENSIONS HT_LIMIT_EXTENSIONS
+#define HT_MANIFEST_NAME (HT_LIMIT_BUNDLE_NAME + 1)
 
 typedef struct ht_manifest_texture {
     char name[24];                 /* key: "albedo", "detail", "fixed-lut" */
@@ -105,7 +108,7 @@ typedef struct ht_manifest_tier {
 } ht_manifest_tier;
 
 typedef struct ht_manifest {
-    char dir[1024];
+    char dir[HT_LIMIT_DIR_PATH + 1]; /* a longer path is refused, never cut */
     char material[64];
     char model[32];
     ht_light_type lights[HT_MAX_LIGHTS];

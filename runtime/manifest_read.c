@@ -13,6 +13,7 @@
 #include "manifest.h"
 #include "json_check.h"
 #include "caps.h"
+#include "errfmt.h"
 
 /* Field access goes through json_check.h's getters, so a manifest's
    messages read like every other format's. */
@@ -57,6 +58,15 @@ static ht_result parse_textures(const ht_jctx *c, const cJSON *obj, const char *
     return HT_OK;
 }
 
+/* Exactly MAJOR.MINOR, one or two digits each: "2.1", "1.20"; not
+   "2.1.9.9.9", "2.", " 2.1" or "2.1 beta". */
+static bool plain_version(const char *t) {
+    size_t a = strspn(t, "0123456789");
+    if (a < 1 || a > 2 || t[a] != '.') return false;
+    size_t b = strspn(t + a + 1, "0123456789");
+    return b >= 1 && b <= 2 && t[a + 1 + b] == '\0';
+}
+
 static ht_result parse_version_field(const ht_jctx *c, const cJSON *req, const char *parent,
                                      const char *key, bool glsl, bool optional, int *major, int *minor) {
     char text[16], field[HT_JSON_PATH_MAX];
@@ -65,8 +75,11 @@ static ht_result parse_version_field(const ht_jctx *c, const cJSON *req, const c
                            : ht_json_string(c, req, parent, key, NULL, text, sizeof text);
     if (r != HT_OK) return r;
     *major = *minor = 0;
-    if (!text[0]) return HT_OK; /* optional and absent */
-    if (!ht_parse_version(text, glsl, major, minor) || text[0] < '0' || text[0] > '9' || !strchr(text, '.'))
+    if (!text[0]) {
+        if (optional) return HT_OK;
+        return ht_json_fail(c, field, "empty version");
+    }
+    if (!plain_version(text) || !ht_parse_version(text, glsl, major, minor))
         return ht_json_fail(c, field, "\"%s\" is not a version like \"%s\"", text, glsl ? "1.20" : "2.1");
     return HT_OK;
 }
@@ -166,6 +179,10 @@ ht_result ht_manifest_parse(const char *json_text, const char *dir, const char *
     ht_jctx c = { .file = file_name ? file_name : "manifest.json", .err = err, .err_size = err_size };
     if (!json_text || !out) return ht_json_fail(&c, "manifest", "no input");
     memset(out, 0, sizeof *out);
+    /* Cut, the directory would name another one's files (defect D). */
+    if (dir && strlen(dir) > HT_LIMIT_DIR_PATH)
+        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "%.200s...: bundle directory path is %zu bytes, "
+                       "more than %d", dir, strlen(dir), HT_LIMIT_DIR_PATH);
     snprintf(out->dir, sizeof out->dir, "%s", dir ? dir : ".");
 
     /* Syntax errors say line and column, as every other format's do. */
@@ -237,9 +254,11 @@ ht_result ht_manifest_load(const char *dir, ht_manifest *out, char *err, size_t 
         snprintf(err, err_size, "bundle: bundle_dir: required");
         return HT_ERR_INVALID_ARGUMENT;
     }
-    char path[1200];
-    if ((size_t)snprintf(path, sizeof path, "%s/" HT_MANIFEST_FILE, dir) >= sizeof path) {
-        snprintf(err, err_size, "%.200s...: bundle directory path too long", dir);
+    char path[HT_LIMIT_BUNDLE_FILE_PATH];
+    if (strlen(dir) > HT_LIMIT_DIR_PATH ||
+        (size_t)snprintf(path, sizeof path, "%s/" HT_MANIFEST_FILE, dir) >= sizeof path) {
+        snprintf(err, err_size, "%.200s...: bundle directory path is %zu bytes, more than %d", dir, strlen(dir),
+                 HT_LIMIT_DIR_PATH);
         return HT_ERR_INVALID_ARGUMENT;
     }
     char *text = read_file(path, err, err_size);
@@ -275,7 +294,7 @@ bool ht_manifest_path(const ht_manifest *b, const char *file, char *out, size_t 
 }
 
 char *ht_manifest_read_text(const ht_manifest *b, const char *file, char *err, size_t err_size) {
-    char path[1200];
+    char path[HT_LIMIT_BUNDLE_FILE_PATH];
     if (!file) {
         snprintf(err, err_size, "%s/" HT_MANIFEST_FILE ": " K(FILES) ": role missing", b->dir);
         return NULL;

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gl_error.h"
 #include "errfmt.h"
 #include "renderer_internal.h"
 #include "shader_interface.h"
@@ -41,7 +42,7 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
         r->gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
         GLenum e = r->gl.GetError();
         if (e != GL_NO_ERROR) {
-            ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: glBufferData: GL error 0x%04x", e);
+            ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: glBufferData: %s", ht_gl_error_name(e));
             ht_renderer_release_mesh(r);
             return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
         }

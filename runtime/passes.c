@@ -2,6 +2,7 @@
    order"): the fixed depth/cull/blend/alpha state of each, the loop that
    hands each (sub-)pass to the backend and draws, and the trace read back
    from GL. Once, here, so every tier draws the same passes. */
+#include "gl_error.h"
 #include "errfmt.h"
 #include "renderer_internal.h"
 
@@ -103,8 +104,8 @@ ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf) {
             if (draw) gl->DrawElements(GL_TRIANGLES, (GLsizei)r->index_count, GL_UNSIGNED_INT, indices);
             e.gl_error = gl->GetError();
             if (e.gl_error != GL_NO_ERROR) {
-                ht_log_linef(r->log, r->log_user, "hairtier: pass %d.%d (%s): GL error 0x%04x", p, sub,
-                             r->backend ? ht_tier_name(r->tier) : "flat", e.gl_error);
+                ht_log_linef(r->log, r->log_user, "hairtier: pass %d.%d (%s): %s", p, sub,
+                             r->backend ? ht_tier_name(r->tier) : "flat", ht_gl_error_name(e.gl_error));
                 result = HT_ERR_GL;
                 while (gl->GetError() != GL_NO_ERROR) {}
             }

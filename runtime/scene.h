@@ -17,6 +17,7 @@
 #define HT_SCENE_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "hairtier.h"
 
@@ -36,6 +37,11 @@ typedef struct ht_scene {
 ht_result ht_scene_load(const char *path, ht_scene *out, char *err, size_t err_size);
 ht_result ht_scene_parse(const char *json_text, const char *file_name,
                          ht_scene *out, char *err, size_t err_size);
+/* Bytes the scene's hair needs, every copy together (ht_limits.h), and the
+   check every parse runs: above HT_LIMIT_SCENE_BYTES it fails with
+   "FILE: geometry.hairs: needs about N GB ...". */
+uint64_t ht_scene_memory_estimate(const ht_scene *s);
+ht_result ht_scene_check_budget(const ht_scene *s, const char *file_name, char *err, size_t err_size);
 /* The scene a material is planned for when none is given: one white
    directional light, the fur ball. */
 void ht_scene_default(ht_scene *out);

@@ -239,6 +239,7 @@ ht_result ht_scene_parse(const char *json_text, const char *file_name,
     s.patches = patches_defaults;
     r = parse_scene(&c, root, &s);
     cJSON_Delete(root);
+    if (r == HT_OK) r = ht_scene_check_budget(&s, c.file, err, err_size);
     if (r == HT_OK) {
         *out = s;
         if (err && err_size) err[0] = '\0';

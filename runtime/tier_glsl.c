@@ -7,7 +7,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gl_error.h"
 #include "errfmt.h"
+#include "file_open.h"
 #include "gl_texture.h"
 #include "image.h"
 #include "shader_interface.h"
@@ -60,7 +62,11 @@ static GLuint compile(glsl_state *s, const ht_manifest *b, const char *file, GLe
                       char *err, size_t err_size) {
     const ht_gl *gl = s->gl;
     char rerr[512];
-    char *text = ht_manifest_read_text(b, file, rerr, sizeof rerr);
+    char path[HT_LIMIT_BUNDLE_FILE_PATH];
+    char *text = NULL;
+    if (!file) ht_set_error(rerr, sizeof rerr, "%s/manifest.json: files: role missing", b->dir);
+    else if (!ht_manifest_path(b, file, path, sizeof path)) ht_set_error(rerr, sizeof rerr, "%s: path too long", file);
+    else text = ht_file_read_text(path, HT_FILE_MAX_SHADER, rerr, sizeof rerr); /* regular files, 1 MiB */
     if (!text) {
         snprintf(err, err_size, "compile failed: %s", rerr);
         return 0;
@@ -70,8 +76,8 @@ static GLuint compile(glsl_state *s, const ht_manifest *b, const char *file, GLe
     if (!sh) {
         /* A driver that refuses the stage outright (no info log to read). */
         GLenum e = gl->GetError();
-        snprintf(err, err_size, "compile failed: %s: glCreateShader(%s) refused (GL error 0x%04x)", file,
-                 stage == GL_VERTEX_SHADER ? "GL_VERTEX_SHADER" : "GL_FRAGMENT_SHADER", e);
+        snprintf(err, err_size, "compile failed: %s: glCreateShader(%s) refused (%s)", file,
+                 stage == GL_VERTEX_SHADER ? "GL_VERTEX_SHADER" : "GL_FRAGMENT_SHADER", ht_gl_error_name(e));
         free(text);
         return 0;
     }
@@ -107,7 +113,7 @@ static ht_result build_program(glsl_state *s, const ht_tier_context *ctx, const 
     }
     GLuint prog = gl->CreateProgram();
     if (!prog) {
-        snprintf(err, err_size, "link failed: %s: glCreateProgram refused (GL error 0x%04x)", vert, gl->GetError());
+        snprintf(err, err_size, "link failed: %s: glCreateProgram refused (%s)", vert, ht_gl_error_name(gl->GetError()));
         gl->DeleteShader(vs);
         if (fs) gl->DeleteShader(fs);
         return HT_ERR_COMPILE;
@@ -156,8 +162,11 @@ static ht_result build_program(glsl_state *s, const ht_tier_context *ctx, const 
 static bool png_header_size(const char *path, uint32_t *width, uint32_t *height) {
     static const unsigned char signature[8] = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n' };
     unsigned char h[24];
-    FILE *f = fopen(path, "rb");
-    if (!f) return false;
+    FILE *f;
+    char ignored[8];
+    /* Regular files only: fopen on a FIFO would wait for a writer forever;
+       ht_image_read_png then says what the file is. */
+    if (ht_file_open_regular(path, HT_FILE_MAX_PNG, &f, NULL, ignored, sizeof ignored) != HT_OK) return false;
     size_t n = fread(h, 1, sizeof h, f);
     fclose(f);
     if (n != sizeof h || memcmp(h, signature, sizeof signature) != 0 || memcmp(h + 12, "IHDR", 4) != 0)
@@ -169,7 +178,7 @@ static bool png_header_size(const char *path, uint32_t *width, uint32_t *height)
 
 static ht_result upload_texture(glsl_state *s, const ht_manifest *b, const ht_manifest_texture *t,
                                 GLuint *out, char *err, size_t err_size) {
-    char path[1200], ierr[512];
+    char path[HT_LIMIT_BUNDLE_FILE_PATH], ierr[512];
     if (!ht_manifest_path(b, t->file, path, sizeof path)) {
         snprintf(err, err_size, "%s: path too long", t->file);
         return HT_ERR_IO;

@@ -18,6 +18,7 @@
 
 #include "emit.h"
 #include "errfmt.h"
+#include "file_open.h"
 #include "hairgen_internal.h"
 #include "manifest.h"
 
@@ -37,9 +38,16 @@ static void hash_bytes(input_hash *h, const void *data, size_t size) {
     }
 }
 
-static ht_result hash_file(input_hash *h, const char *path, char *err, size_t err_size) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
+/* Only regular files of at most max_bytes are hashed: /dev/zero would be
+   hashed forever and a FIFO would wait for a writer (defects C2, C3). label,
+   when given, is "MATERIAL: FIELD" naming where the path came from. */
+static ht_result hash_file(input_hash *h, const char *path, uint64_t max_bytes, const char *label,
+                           char *err, size_t err_size) {
+    FILE *f;
+    char why[1200];
+    if (ht_file_open_regular(path, max_bytes, &f, NULL, why, sizeof why) != HT_OK)
+        return label ? ht_fail(err, err_size, HT_ERR_IO, "%s: %s", label, why)
+                     : ht_fail(err, err_size, HT_ERR_IO, "%s", why);
     unsigned char buf[65536];
     size_t n;
     while ((n = fread(buf, 1, sizeof buf, f)) > 0) hash_bytes(h, buf, n);
@@ -66,7 +74,7 @@ static ht_result write_file(const char *dir, const char *name, const char *text,
     size_t len = strlen(text);
     bool ok = fwrite(text, 1, len, f) == len;
     ok = (fclose(f) == 0) && ok;
-    if (!ok) return ht_fail(err, err_size, HT_ERR_IO, "%s: write failed", path);
+    if (!ok) return ht_fail(err, err_size, HT_ERR_IO, "%s: write failed: %s", path, strerror(errno));
     return HT_OK;
 }
 
@@ -499,11 +507,15 @@ static ht_result generate_bundle(const char *material_path, const char *scene_pa
     /* The bundle's key is its input files' bytes. */
     input_hash hash = { 0xcbf29ce484222325ull };
     hash_bytes(&hash, GENERATOR_VERSION, sizeof GENERATOR_VERSION);
-    r = hash_file(&hash, material_path, err, err_size);
-    if (r == HT_OK && scene_path) r = hash_file(&hash, scene_path, err, err_size);
+    r = hash_file(&hash, material_path, HT_FILE_MAX_JSON, NULL, err, err_size);
+    if (r == HT_OK && scene_path) r = hash_file(&hash, scene_path, HT_FILE_MAX_JSON, NULL, err, err_size);
+    static const char *const slots[HT_TEX_COUNT] = { "base", "alpha", "shift", "sparkle" };
     for (int i = 0; i < HT_TEX_COUNT && r == HT_OK; i++)
-        if (material.textures[i].origin == HT_TEXTURE_FILE)
-            r = hash_file(&hash, material.textures[i].path, err, err_size);
+        if (material.textures[i].origin == HT_TEXTURE_FILE) {
+            char label[1200];
+            snprintf(label, sizeof label, "%.1000s: textures.%s.file", material_path, slots[i]);
+            r = hash_file(&hash, material.textures[i].path, HT_FILE_MAX_PNG, label, err, err_size);
+        }
     if (r != HT_OK) return r;
 
     ht_generated g;
@@ -523,7 +535,17 @@ static ht_result generate_bundle(const char *material_path, const char *scene_pa
         umask(mask);
         chmod(tmp, 0777 & ~mask);
     }
-    if (r == HT_OK) r = write_bundle(tmp, &g, err, err_size);
+    if (r == HT_OK) {
+        r = write_bundle(tmp, &g, err, err_size);
+        /* The temporary directory is removed below: name the bundle's own
+           path for the file that failed (a full disk), not the temporary's. */
+        size_t tl = strlen(tmp);
+        if (r != HT_OK && err && strncmp(err, tmp, tl) == 0) {
+            char why[1200];
+            snprintf(why, sizeof why, "%s", err + tl);
+            ht_set_error(err, err_size, "%s%s (nothing written; %s is as it was)", out_dir, why, out_dir);
+        }
+    }
     if (r == HT_OK) r = publish(tmp, out_dir, err, err_size);
     if (r != HT_OK && tmp[0]) remove_tree(tmp);
     if (r == HT_OK && summary) {
@@ -544,6 +566,9 @@ ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
     if (len == 0 || len >= sizeof dir || (len == 1 && out_dir[0] == '/'))
         return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "%s: not a usable output directory",
                        out_dir ? out_dir : "(null)");
+    if (len > HT_LIMIT_DIR_PATH)
+        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "%.200s...: output directory path is %zu bytes; "
+                       "the runtime reads bundles at paths of at most %d", out_dir, len, HT_LIMIT_DIR_PATH);
     memcpy(dir, out_dir, len);
     dir[len] = '\0';
 

@@ -77,8 +77,18 @@ static ht_result pack_two(const ht_image *a, int a_channels, const ht_image *b, 
 /* Makes the slot's texture when the plan models it; leaves img zeroed otherwise. */
 static ht_result make_if(bool modelled, const ht_material *m, ht_texture_slot slot,
                          ht_image *img, char *err, size_t err_size) {
+    static const char *const slots[HT_TEX_COUNT] = { "base", "alpha", "shift", "sparkle" };
     if (!modelled) return HT_OK;
-    return ht_texture_make(&m->textures[slot], slot, img, err, err_size);
+    char why[1200];
+    ht_result r = ht_texture_make(&m->textures[slot], slot, img, why, sizeof why);
+    if (r == HT_OK) return HT_OK;
+    /* A file's error names the PNG; say which material field named it. */
+    if (m->textures[slot].origin == HT_TEXTURE_FILE)
+        ht_set_error(err, err_size, "%s: textures.%s.file: %s", m->file[0] ? m->file : "<material>", slots[slot],
+                     why);
+    else
+        ht_set_error(err, err_size, "%s", why);
+    return r;
 }
 
 ht_result ht_textures_pack(const ht_material *m, const ht_plan *plan,
@@ -117,7 +127,9 @@ ht_result ht_textures_pack(const ht_material *m, const ht_plan *plan,
         r = pack_two(&base, 3, &alpha, 3, (const uint8_t[4]){ 255, 255, 255, 255 }, albedo);
     if (r == HT_OK && (plan->shift || plan->sparkle))
         r = pack_two(&shift, 1, &sparkle, 1, (const uint8_t[4]){ 128, 255, 0, 255 }, detail);
-    if (r != HT_OK) ht_set_error(err, err_size, "packing textures: out of memory");
+    if (r != HT_OK)
+        ht_set_error(err, err_size, "%s: textures: out of memory packing the albedo and detail textures",
+                     m->file[0] ? m->file : "<material>");
 
 done:
     ht_image_free(&base);

@@ -28,7 +28,7 @@ int ht_test_scratch_remove(const char *dir) {
     if (!d) return -1;
     int result = 0;
     struct dirent *e;
-    char path[1024];
+    char path[4096];
     while ((e = readdir(d))) {
         if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
         int n = snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
@@ -39,7 +39,7 @@ int ht_test_scratch_remove(const char *dir) {
 }
 
 void ht_test_write_file(const char *dir, const char *name, const char *text) {
-    char path[512];
+    char path[4096];
     snprintf(path, sizeof path, "%s/%s", dir, name);
     FILE *f = fopen(path, "wb");
     assert_non_null(f);
@@ -48,7 +48,7 @@ void ht_test_write_file(const char *dir, const char *name, const char *text) {
 }
 
 char *ht_test_read_file(const char *dir, const char *name) {
-    char path[512];
+    char path[4096];
     snprintf(path, sizeof path, "%s/%s", dir, name);
     FILE *f = fopen(path, "rb");
     assert_non_null(f);
@@ -60,7 +60,7 @@ char *ht_test_read_file(const char *dir, const char *name) {
 }
 
 void ht_test_copy_dir(const char *from, const char *to) {
-    char cmd[1024];
+    char cmd[8192 + 64];
     snprintf(cmd, sizeof cmd, "rm -rf %s && cp -r %s %s", to, from, to);
     assert_int_equal(system(cmd), 0);
 }
