@@ -164,7 +164,6 @@ static ht_result check_device(const fixed_state *s, const ht_tier_context *ctx, 
     return HT_OK;
 }
 
-static bool is_pow2(int v) { return v > 0 && (v & (v - 1)) == 0; }
 
 /* Reads a stage's texture and checks it against the manifest (and, for the
    LUT, against the program): the image is width x (height * depth). */
@@ -203,17 +202,11 @@ static ht_result read_stage_image(const fixed_state *s, const ht_tier_context *c
         ht_image_free(img);
         return HT_ERR_PARSE;
     }
-    /* GL 1.x samples only power-of-two sizes unless GL 2.0 or
-       ARB_texture_non_power_of_two allows others (GL_INVALID_VALUE, or
-       garbage on old drivers): refuse the tier with a line instead. */
-    if ((!is_pow2(img->width) || !is_pow2(img->height / t->depth) || !is_pow2(t->depth)) &&
-        !ht_caps_gl_at_least(ctx->caps, 2, 0) &&
-        !ht_caps_lists_extension(ctx->caps, "GL_ARB_texture_non_power_of_two")) {
-        snprintf(err, err_size, "%s: %dx%d is not a power of two; needs GL 2.0 or GL_ARB_texture_non_power_of_two, "
-                 "have GL %d.%d without it", path, img->width, img->height / t->depth, ctx->caps->gl_major,
-                 ctx->caps->gl_minor);
+    ht_result npot = ht_gl_texture_check_size(ctx->caps, img->width, img->height / t->depth, t->depth, path, err,
+                                              err_size);
+    if (npot != HT_OK) {
         ht_image_free(img);
-        return HT_ERR_UNSUPPORTED;
+        return npot;
     }
     *depth = t->depth;
     return HT_OK;

@@ -40,3 +40,15 @@ ht_result ht_gl_texture_upload(const ht_gl *gl, const ht_gl_texture_desc *d, GLu
     }
     return HT_OK;
 }
+
+static bool is_pow2(int v) { return v > 0 && (v & (v - 1)) == 0; }
+
+ht_result ht_gl_texture_check_size(const ht_caps *caps, int width, int height, int depth, const char *name,
+                                   char *err, size_t err_size) {
+    if ((is_pow2(width) && is_pow2(height) && is_pow2(depth)) || ht_caps_gl_at_least(caps, 2, 0) ||
+        ht_caps_lists_extension(caps, "GL_ARB_texture_non_power_of_two"))
+        return HT_OK;
+    snprintf(err, err_size, "%s: %dx%d is not a power of two; needs GL 2.0 or GL_ARB_texture_non_power_of_two, "
+             "have GL %d.%d without it", name, width, height, caps->gl_major, caps->gl_minor);
+    return HT_ERR_UNSUPPORTED;
+}

@@ -15,6 +15,7 @@
 #define HT_GL_TEXTURE_H
 
 #include "gl_api.h"
+#include "caps.h"
 #include "image.h"
 
 typedef struct ht_gl_texture_desc {
@@ -30,5 +31,12 @@ typedef struct ht_gl_texture_desc {
    line in err (and *out, if created, still set for the caller to delete). */
 ht_result ht_gl_texture_upload(const ht_gl *gl, const ht_gl_texture_desc *desc, GLuint *out,
                                char *err, size_t err_size);
+
+/* GL 1.x samples only power-of-two sizes unless GL 2.0 or
+   ARB_texture_non_power_of_two allows others (GL_INVALID_VALUE, or garbage
+   on old drivers). HT_ERR_UNSUPPORTED with one line naming `name` when
+   caps cannot take a width x height x depth texture. */
+ht_result ht_gl_texture_check_size(const ht_caps *caps, int width, int height, int depth, const char *name,
+                                   char *err, size_t err_size);
 
 #endif

@@ -301,7 +301,7 @@ static ht_result hash_values(input_hash *h, const ht_material *m, const ht_scene
             hash_int(h, t->size);
             hash_int(h, t->seed);
         } else if (t->origin == HT_TEXTURE_FILE) {
-            ht_result r = hash_file(h, t->path, err, err_size);
+            ht_result r = hash_file(h, t->path, HT_FILE_MAX_PNG, NULL, err, err_size);
             if (r != HT_OK) return r;
         }
     }

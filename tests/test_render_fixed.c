@@ -304,7 +304,7 @@ static void test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes(void
     /* With the mesh in VBOs (the extension survives GL 1.3 on Mesa) and in
        client arrays. */
     for (int no_vbo = 0; no_vbo < 2; no_vbo++) {
-        ht_renderer *r = create((ht_renderer_desc){ .profile = { .gl_major = 1, .gl_minor = 3,
+        ht_renderer *r = create((ht_renderer_desc){ .profile = { .gl_major = 1, .gl_minor = 3, .texture_units = 2,
                                                                  .no_vbo = no_vbo } }, HT_OK);
         assert_int_equal(ht_renderer_tier(r), HT_TIER_FIXED);
         assert_true(ht_test_logged("skipped full: needs GL 2.1, have 1.3"));
@@ -881,9 +881,11 @@ static void test_backend_gives_a_point_key_light_cpu_coordinates_logged_once(voi
 static void expect_refused(ht_device_profile profile, const char *dir, const char *reason) {
     char want[512], line[1024];
     snprintf(want, sizeof want, "hairtier: skipped fixed: %s", reason);
-    /* GL 1.3 leaves fixed the only candidate: the renderer has no tier. */
+    /* GL 1.3 with at most 2 units leaves fixed the only candidate (fixed4
+       needs 4): the renderer has no tier. */
     profile.gl_major = 1;
     profile.gl_minor = 3;
+    if (profile.texture_units == 0) profile.texture_units = 2;
     ht_renderer *r = create((ht_renderer_desc){ .profile = profile, .bundle_dir = dir }, HT_ERR_NO_TIER);
     assert_null(r);
     if (!logged_line("skipped fixed: ", line, sizeof line)) fail_msg("no fixed line in:\n%s", ht_test_log_text);
@@ -939,7 +941,7 @@ static void test_device_with_small_3d_textures_is_refused(void **state) {
              p.lut_size[1], p.lut_size[2], largest, largest / 2);
     expect_refused((ht_device_profile){ .max_3d_texture_size = largest / 2 }, fx.bundle_dir, reason);
     /* Exactly the largest axis is enough. */
-    ht_renderer *r = create((ht_renderer_desc){ .profile = { .gl_major = 1, .gl_minor = 3,
+    ht_renderer *r = create((ht_renderer_desc){ .profile = { .gl_major = 1, .gl_minor = 3, .texture_units = 2,
                                                              .max_3d_texture_size = largest } }, HT_OK);
     assert_int_equal(ht_renderer_tier(r), HT_TIER_FIXED);
     assert_int_equal(ht_renderer_caps(r)->max_3d_texture_size, largest);
@@ -953,7 +955,7 @@ static void test_device_with_small_3d_textures_is_refused(void **state) {
 /* ---- broken bundles ---- */
 
 static void expect_skipped(const char *dir, const char *reason_start) {
-    ht_renderer *r = create((ht_renderer_desc){ .profile = { .gl_major = 1, .gl_minor = 3 }, .bundle_dir = dir },
+    ht_renderer *r = create((ht_renderer_desc){ .profile = { .gl_major = 1, .gl_minor = 3, .texture_units = 2 }, .bundle_dir = dir },
                             HT_ERR_NO_TIER);
     assert_null(r);
     char want[512], line[1024];

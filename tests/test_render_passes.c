@@ -238,18 +238,26 @@ static void test_render_gl20_profile_picks_vertex_with_the_reason(void **state) 
     ht_renderer_destroy(r);
 }
 
-static void test_render_gl13_profile_leaves_only_fixed(void **state) {
+/* GL 1.3 leaves the combiner tiers: four units pick fixed4, two pick fixed. */
+static void test_render_gl13_profile_picks_fixed4_with_four_units_and_fixed_with_two(void **state) {
     (void)state;
-    ht_test_log_clear();
-    ht_renderer *r = NULL;
-    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = ht_test_getproc, .bundle_dir = fx.bundle_dir,
-                                                            .log = ht_test_log_capture,
-                                                            .profile = { .gl_major = 1, .gl_minor = 3 } }, &r);
-    assert_true(ht_test_logged("skipped full: needs GL 2.1, have 1.3"));
-    assert_true(ht_test_logged("skipped vertex: needs GL 2.0, have 1.3"));
-    assert_int_equal(res, HT_OK);
-    assert_int_equal(ht_renderer_tier(r), HT_TIER_FIXED);
-    ht_renderer_destroy(r);
+    const int units[2] = { 4, 2 };
+    const ht_tier want[2] = { HT_TIER_FIXED4, HT_TIER_FIXED };
+    for (int i = 0; i < 2; i++) {
+        ht_test_log_clear();
+        ht_renderer *r = NULL;
+        ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = ht_test_getproc,
+                                                                .bundle_dir = fx.bundle_dir,
+                                                                .log = ht_test_log_capture,
+                                                                .profile = { .gl_major = 1, .gl_minor = 3,
+                                                                             .texture_units = units[i] } }, &r);
+        assert_true(ht_test_logged("skipped full: needs GL 2.1, have 1.3"));
+        assert_true(ht_test_logged("skipped vertex: needs GL 2.0, have 1.3"));
+        if (units[i] < 4) assert_true(ht_test_logged("skipped fixed4: needs 4 texture units, have 2"));
+        assert_int_equal(res, HT_OK);
+        assert_int_equal(ht_renderer_tier(r), want[i]);
+        ht_renderer_destroy(r);
+    }
 }
 
 /* Pixels brighter than black in some channel: hair that is lit, on the
@@ -440,7 +448,7 @@ int main(int argc, char **argv) {
         cmocka_unit_test(test_render_broken_full_shader_drops_to_vertex),
         cmocka_unit_test(test_render_missing_shader_file_drops_to_vertex),
         cmocka_unit_test(test_render_gl20_profile_picks_vertex_with_the_reason),
-        cmocka_unit_test(test_render_gl13_profile_leaves_only_fixed),
+        cmocka_unit_test(test_render_gl13_profile_picks_fixed4_with_four_units_and_fixed_with_two),
         cmocka_unit_test(test_render_glsl_tiers_on_one_or_two_units_match_the_eight_unit_image),
         cmocka_unit_test(test_render_vertex_tier_needs_texture_env_combine),
         cmocka_unit_test(test_render_environment_forces_a_tier_and_desc_wins),
