@@ -1,5 +1,6 @@
 /* combiner.c — the fixed tier's combiner program: validation, JSON write
-   and parse (cJSON). */
+   (cJSON) and parse (runtime/json_check.h's getters, so its messages read
+   like every other format's). */
 #include "combiner.h"
 
 #include <cJSON.h>
@@ -12,55 +13,41 @@
 
 /* ---- names ---- */
 
-typedef struct gl_name { GLenum value; const char *name; } gl_name;
+/* A GL enum's names in the file (NULL-terminated, for ht_json_enum) and
+   their values, index for index. */
+enum { GL_NAMES_MAX = 6 };
+typedef struct gl_names { const char *name[GL_NAMES_MAX + 1]; GLenum value[GL_NAMES_MAX]; } gl_names;
 
-static const gl_name combine_names[] = {
-    { GL_REPLACE, "GL_REPLACE" },       { GL_MODULATE, "GL_MODULATE" },
-    { GL_ADD, "GL_ADD" },               { GL_ADD_SIGNED, "GL_ADD_SIGNED" },
-    { GL_INTERPOLATE, "GL_INTERPOLATE" }, { GL_SUBTRACT, "GL_SUBTRACT" },
-    { 0, NULL },
+static const gl_names combine_names = {
+    { "GL_REPLACE", "GL_MODULATE", "GL_ADD", "GL_ADD_SIGNED", "GL_INTERPOLATE", "GL_SUBTRACT", NULL },
+    { GL_REPLACE, GL_MODULATE, GL_ADD, GL_ADD_SIGNED, GL_INTERPOLATE, GL_SUBTRACT },
 };
-static const gl_name source_names[] = {
-    { GL_TEXTURE, "GL_TEXTURE" },       { GL_CONSTANT, "GL_CONSTANT" },
-    { GL_PRIMARY_COLOR, "GL_PRIMARY_COLOR" }, { GL_PREVIOUS, "GL_PREVIOUS" },
-    { 0, NULL },
+static const gl_names source_names = {
+    { "GL_TEXTURE", "GL_CONSTANT", "GL_PRIMARY_COLOR", "GL_PREVIOUS", NULL },
+    { GL_TEXTURE, GL_CONSTANT, GL_PRIMARY_COLOR, GL_PREVIOUS },
 };
-static const gl_name operand_rgb_names[] = {
-    { GL_SRC_COLOR, "GL_SRC_COLOR" },   { GL_ONE_MINUS_SRC_COLOR, "GL_ONE_MINUS_SRC_COLOR" },
-    { GL_SRC_ALPHA, "GL_SRC_ALPHA" },   { GL_ONE_MINUS_SRC_ALPHA, "GL_ONE_MINUS_SRC_ALPHA" },
-    { 0, NULL },
+static const gl_names operand_rgb_names = {
+    { "GL_SRC_COLOR", "GL_ONE_MINUS_SRC_COLOR", "GL_SRC_ALPHA", "GL_ONE_MINUS_SRC_ALPHA", NULL },
+    { GL_SRC_COLOR, GL_ONE_MINUS_SRC_COLOR, GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA },
 };
-static const gl_name operand_alpha_names[] = {
-    { GL_SRC_ALPHA, "GL_SRC_ALPHA" },   { GL_ONE_MINUS_SRC_ALPHA, "GL_ONE_MINUS_SRC_ALPHA" },
-    { 0, NULL },
+static const gl_names operand_alpha_names = {
+    { "GL_SRC_ALPHA", "GL_ONE_MINUS_SRC_ALPHA", NULL },
+    { GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA },
 };
-static const gl_name filter_names[] = {
-    { GL_LINEAR, "GL_LINEAR" }, { GL_NEAREST, "GL_NEAREST" }, { 0, NULL },
+static const gl_names filter_names = { { "GL_LINEAR", "GL_NEAREST", NULL }, { GL_LINEAR, GL_NEAREST } };
+static const gl_names wrap_names = {
+    { "GL_CLAMP_TO_EDGE", "GL_REPEAT", NULL }, { GL_CLAMP_TO_EDGE, GL_REPEAT },
 };
-static const gl_name wrap_names[] = {
-    { GL_CLAMP_TO_EDGE, "GL_CLAMP_TO_EDGE" }, { GL_REPEAT, "GL_REPEAT" }, { 0, NULL },
-};
-static const gl_name target_names[] = {
-    { GL_TEXTURE_2D, "2d" }, { GL_TEXTURE_3D, "3d" }, { 0, NULL },
-};
+static const gl_names target_names = { { "2d", "3d", NULL }, { GL_TEXTURE_2D, GL_TEXTURE_3D } };
 
-static const char *name_of(const gl_name *table, GLenum value) {
-    for (; table->name; table++)
-        if (table->value == value) return table->name;
+static const char *name_of(const gl_names *table, GLenum value) {
+    for (int i = 0; table->name[i]; i++)
+        if (table->value[i] == value) return table->name[i];
     return NULL;
 }
 
-static bool value_of(const gl_name *table, const char *name, GLenum *out) {
-    for (; table->name; table++)
-        if (strcmp(table->name, name) == 0) {
-            *out = table->value;
-            return true;
-        }
-    return false;
-}
-
-static const char *const model_names[] = { "scheuermann", "kajiya-kay" };
-static const char *const coords_names[] = { "uv", "cpu-dots", "texture-matrix" };
+static const char *const model_names[] = { "scheuermann", "kajiya-kay", NULL };
+static const char *const coords_names[] = { "uv", "cpu-dots", "texture-matrix", NULL };
 #define COORDS_COUNT 3
 
 static const GLenum default_source[3] = { GL_TEXTURE, GL_PREVIOUS, GL_CONSTANT };
@@ -139,23 +126,23 @@ static bool is_pow2(int n) { return n >= 1 && (n & (n - 1)) == 0; }
 
 static ht_result check_arguments(const ht_jctx *c, const char *stage_path, const char *what,
                                  GLenum combine, const GLenum source[3], const GLenum operand[3],
-                                 const gl_name *operand_table, const GLenum default_operand[3]) {
+                                 const gl_names *operand_table, const GLenum default_operand[3]) {
     char field[HT_JSON_PATH_MAX];
     int used = argument_count(combine);
     for (int i = 0; i < 3; i++) {
         snprintf(field, sizeof field, "%s.source_%s[%d]", stage_path, what, i);
-        if (i < used && !name_of(source_names, source[i]))
+        if (i < used && !name_of(&source_names, source[i]))
             return ht_json_fail(c, field, "0x%X is not a source ARB_texture_env_combine offers "
                         "(GL_TEXTURE, GL_CONSTANT, GL_PRIMARY_COLOR, GL_PREVIOUS)", source[i]);
         if (i >= used && source[i] != default_source[i])
             return ht_json_fail(c, field, "unused by %s, must keep GL's default %s",
-                        name_of(combine_names, combine), name_of(source_names, default_source[i]));
+                        name_of(&combine_names, combine), name_of(&source_names, default_source[i]));
         snprintf(field, sizeof field, "%s.operand_%s[%d]", stage_path, what, i);
         if (i < used && !name_of(operand_table, operand[i]))
             return ht_json_fail(c, field, "0x%X is not a valid %s operand", operand[i], what);
         if (i >= used && operand[i] != default_operand[i])
             return ht_json_fail(c, field, "unused by %s, must keep GL's default %s",
-                        name_of(combine_names, combine), name_of(operand_rgb_names, default_operand[i]));
+                        name_of(&combine_names, combine), name_of(&operand_rgb_names, default_operand[i]));
     }
     return HT_OK;
 }
@@ -169,10 +156,10 @@ static ht_result check_stage(const ht_jctx *c, const ht_combiner_program *p, int
         return ht_json_fail(c, FIELD("unit"), "%d: stage %d must be on unit %d (GL combines units in order)",
                     s->unit, index, index);
     if (!s->texture[0]) return ht_json_fail(c, FIELD("texture"), "empty texture name");
-    if (!name_of(target_names, s->target)) return ht_json_fail(c, FIELD("target"), "must be 2d or 3d");
-    if (!name_of(filter_names, s->filter))
+    if (!name_of(&target_names, s->target)) return ht_json_fail(c, FIELD("target"), "must be 2d or 3d");
+    if (!name_of(&filter_names, s->filter))
         return ht_json_fail(c, FIELD("filter"), "must be GL_LINEAR or GL_NEAREST");
-    if (!name_of(wrap_names, s->wrap))
+    if (!name_of(&wrap_names, s->wrap))
         return ht_json_fail(c, FIELD("wrap"), "must be GL_CLAMP_TO_EDGE or GL_REPEAT");
     if ((unsigned)s->coords >= COORDS_COUNT)
         return ht_json_fail(c, FIELD("coords"), "unknown rule %d", (int)s->coords);
@@ -187,7 +174,7 @@ static ht_result check_stage(const ht_jctx *c, const ht_combiner_program *p, int
         GLenum want = p->lut_size[2] > 1 ? GL_TEXTURE_3D : GL_TEXTURE_2D;
         if (s->target != want)
             return ht_json_fail(c, FIELD("target"), "the LUT of depth %d is %s", p->lut_size[2],
-                        name_of(target_names, want));
+                        name_of(&target_names, want));
     } else {
         if (s->coords != HT_COORDS_UV)
             return ht_json_fail(c, FIELD("coords"), "%s index the LUT \"%s\" only", coords_names[s->coords],
@@ -195,16 +182,16 @@ static ht_result check_stage(const ht_jctx *c, const ht_combiner_program *p, int
         if (s->target != GL_TEXTURE_2D)
             return ht_json_fail(c, FIELD("target"), "textures other than the LUT are 2d");
     }
-    if (!name_of(combine_names, s->combine_rgb))
+    if (!name_of(&combine_names, s->combine_rgb))
         return ht_json_fail(c, FIELD("combine_rgb"), "0x%X is not a GL 1.3 combiner function", s->combine_rgb);
-    if (!name_of(combine_names, s->combine_alpha))
+    if (!name_of(&combine_names, s->combine_alpha))
         return ht_json_fail(c, FIELD("combine_alpha"), "0x%X is not a GL 1.3 combiner function",
                     s->combine_alpha);
     ht_result r = check_arguments(c, path, "rgb", s->combine_rgb, s->source_rgb, s->operand_rgb,
-                                  operand_rgb_names, default_operand_rgb);
+                                  &operand_rgb_names, default_operand_rgb);
     if (r == HT_OK)
         r = check_arguments(c, path, "alpha", s->combine_alpha, s->source_alpha, s->operand_alpha,
-                            operand_alpha_names, default_operand_alpha);
+                            &operand_alpha_names, default_operand_alpha);
     if (r != HT_OK) return r;
     if (!is_scale(s->rgb_scale)) return ht_json_fail(c, FIELD("rgb_scale"), "%d is not 1, 2 or 4", s->rgb_scale);
     if (!is_scale(s->alpha_scale))
@@ -260,7 +247,7 @@ ht_result ht_combiner_validate(const ht_combiner_program *p, char *err, size_t e
 
 /* ---- write ---- */
 
-static cJSON *name_array(const gl_name *table, const GLenum *values, int n) {
+static cJSON *name_array(const gl_names *table, const GLenum *values, int n) {
     cJSON *a = cJSON_CreateArray();
     for (int i = 0; i < n; i++) cJSON_AddItemToArray(a, cJSON_CreateString(name_of(table, values[i])));
     return a;
@@ -270,18 +257,18 @@ static cJSON *stage_json(const ht_combiner_stage *s) {
     cJSON *o = cJSON_CreateObject();
     cJSON_AddNumberToObject(o, "unit", s->unit);
     cJSON_AddStringToObject(o, "texture", s->texture);
-    cJSON_AddStringToObject(o, "target", name_of(target_names, s->target));
-    cJSON_AddStringToObject(o, "filter", name_of(filter_names, s->filter));
-    cJSON_AddStringToObject(o, "wrap", name_of(wrap_names, s->wrap));
+    cJSON_AddStringToObject(o, "target", name_of(&target_names, s->target));
+    cJSON_AddStringToObject(o, "filter", name_of(&filter_names, s->filter));
+    cJSON_AddStringToObject(o, "wrap", name_of(&wrap_names, s->wrap));
     cJSON_AddStringToObject(o, "coords", coords_names[s->coords]);
     int n = argument_count(s->combine_rgb);
-    cJSON_AddStringToObject(o, "combine_rgb", name_of(combine_names, s->combine_rgb));
-    cJSON_AddItemToObject(o, "source_rgb", name_array(source_names, s->source_rgb, n));
-    cJSON_AddItemToObject(o, "operand_rgb", name_array(operand_rgb_names, s->operand_rgb, n));
+    cJSON_AddStringToObject(o, "combine_rgb", name_of(&combine_names, s->combine_rgb));
+    cJSON_AddItemToObject(o, "source_rgb", name_array(&source_names, s->source_rgb, n));
+    cJSON_AddItemToObject(o, "operand_rgb", name_array(&operand_rgb_names, s->operand_rgb, n));
     n = argument_count(s->combine_alpha);
-    cJSON_AddStringToObject(o, "combine_alpha", name_of(combine_names, s->combine_alpha));
-    cJSON_AddItemToObject(o, "source_alpha", name_array(source_names, s->source_alpha, n));
-    cJSON_AddItemToObject(o, "operand_alpha", name_array(operand_alpha_names, s->operand_alpha, n));
+    cJSON_AddStringToObject(o, "combine_alpha", name_of(&combine_names, s->combine_alpha));
+    cJSON_AddItemToObject(o, "source_alpha", name_array(&source_names, s->source_alpha, n));
+    cJSON_AddItemToObject(o, "operand_alpha", name_array(&operand_alpha_names, s->operand_alpha, n));
     cJSON_AddNumberToObject(o, "rgb_scale", s->rgb_scale);
     cJSON_AddNumberToObject(o, "alpha_scale", s->alpha_scale);
     cJSON *k = cJSON_AddArrayToObject(o, "constant");
@@ -336,126 +323,45 @@ ht_result ht_combiner_write(const ht_combiner_program *p, char **text, char *err
 
 /* ---- parse ---- */
 
-static ht_result check_keys(const ht_jctx *c, const cJSON *obj, const char *path, const char *const known[]) {
-    for (const cJSON *item = obj->child; item; item = item->next) {
-        bool ok = false;
-        for (int i = 0; known[i]; i++) ok = ok || strcmp(item->string, known[i]) == 0;
-        char field[HT_JSON_PATH_MAX];
-        ht_json_path_key(field, path, item->string);
-        if (!ok) return ht_json_fail(c, field, "unknown field");
-        for (const cJSON *other = item->next; other; other = other->next)
-            if (strcmp(other->string, item->string) == 0) return ht_json_fail(c, field, "appears twice");
-    }
-    return HT_OK;
-}
-
-/* The field `key` of obj, which must exist and have `type`. */
-static ht_result member(const ht_jctx *c, const cJSON *obj, const char *path, const char *key,
-                        int type, const char *type_name, const cJSON **out) {
-    char field[HT_JSON_PATH_MAX];
-    ht_json_path_key(field, path, key);
-    const cJSON *item = cJSON_GetObjectItemCaseSensitive(obj, key);
-    if (!item) return ht_json_fail(c, field, "missing");
-    if ((item->type & 0xFF) != type) return ht_json_fail(c, field, "must be %s", type_name);
-    *out = item;
-    return HT_OK;
-}
-
-static ht_result int_item(const ht_jctx *c, const cJSON *item, const char *field, int lo, int hi, int *out) {
-    if (!cJSON_IsNumber(item)) return ht_json_fail(c, field, "must be a number");
-    double v = item->valuedouble;
-    if (!(v >= lo && v <= hi) || v != floor(v))
-        return ht_json_fail(c, field, "must be an integer in %d..%d", lo, hi);
-    *out = (int)v;
-    return HT_OK;
-}
-
-static ht_result get_int(const ht_jctx *c, const cJSON *obj, const char *path, const char *key,
-                         int lo, int hi, int *out) {
-    const cJSON *item = NULL;
-    ht_result r = member(c, obj, path, key, cJSON_Number, "a number", &item);
-    if (r != HT_OK) return r;
-    char field[HT_JSON_PATH_MAX];
-    ht_json_path_key(field, path, key);
-    return int_item(c, item, field, lo, hi, out);
-}
-
-static ht_result get_string(const ht_jctx *c, const cJSON *obj, const char *path, const char *key,
-                            char *out, size_t out_size) {
-    const cJSON *item = NULL;
-    ht_result r = member(c, obj, path, key, cJSON_String, "a string", &item);
-    if (r != HT_OK) return r;
-    char field[HT_JSON_PATH_MAX];
-    ht_json_path_key(field, path, key);
-    size_t len = strlen(item->valuestring);
-    if (len == 0 || len >= out_size)
-        return ht_json_fail(c, field, "must be 1..%zu characters", out_size - 1);
-    memcpy(out, item->valuestring, len + 1);
-    return HT_OK;
-}
-
-static ht_result get_choice(const ht_jctx *c, const cJSON *obj, const char *path, const char *key,
-                            const char *const names[], int count, int *out) {
-    const cJSON *item = NULL;
-    ht_result r = member(c, obj, path, key, cJSON_String, "a string", &item);
-    if (r != HT_OK) return r;
-    for (int i = 0; i < count; i++)
-        if (strcmp(item->valuestring, names[i]) == 0) {
-            *out = i;
-            return HT_OK;
-        }
-    char field[HT_JSON_PATH_MAX], expected[160] = "";
-    ht_json_path_key(field, path, key);
-    for (int i = 0; i < count; i++)
-        snprintf(expected + strlen(expected), sizeof expected - strlen(expected), "%s\"%s\"",
-                 i ? ", " : "", names[i]);
-    return ht_json_fail(c, field, "\"%.40s\" is unknown, expected one of %s", item->valuestring, expected);
-}
-
-static ht_result gl_item(const ht_jctx *c, const cJSON *item, const char *field, const gl_name *table,
-                         const char *what, GLenum *out) {
-    if (!cJSON_IsString(item)) return ht_json_fail(c, field, "must be a string naming a GL enum");
-    if (value_of(table, item->valuestring, out)) return HT_OK;
-    char expected[200] = "";
-    for (int i = 0; table[i].name; i++)
-        snprintf(expected + strlen(expected), sizeof expected - strlen(expected), "%s%s",
-                 i ? ", " : "", table[i].name);
-    return ht_json_fail(c, field, "\"%.40s\" is not a %s (expected %s)", item->valuestring, what, expected);
+/* A GL enum named in the file: the array element `item` at `field`, or the
+   field `key` of obj. */
+static ht_result gl_item(const ht_jctx *c, const cJSON *item, const char *field, const gl_names *table,
+                         GLenum *out) {
+    int i = 0;
+    ht_result r = ht_json_enum_item(c, item, field, table->name, &i);
+    if (r == HT_OK) *out = table->value[i];
+    return r;
 }
 
 static ht_result get_gl(const ht_jctx *c, const cJSON *obj, const char *path, const char *key,
-                        const gl_name *table, const char *what, GLenum *out) {
-    const cJSON *item = NULL;
-    ht_result r = member(c, obj, path, key, cJSON_String, "a string naming a GL enum", &item);
-    if (r != HT_OK) return r;
-    char field[HT_JSON_PATH_MAX];
-    ht_json_path_key(field, path, key);
-    return gl_item(c, item, field, table, what, out);
+                        const gl_names *table, GLenum *out) {
+    int i = 0;
+    ht_result r = ht_json_enum(c, obj, path, key, -1, table->name, &i);
+    if (r == HT_OK) *out = table->value[i];
+    return r;
 }
 
 /* source_WHAT / operand_WHAT: as many entries as the function reads. */
 static ht_result get_arguments(const ht_jctx *c, const cJSON *obj, const char *path, const char *what,
-                               GLenum combine, const gl_name *operand_table,
+                               GLenum combine, const gl_names *operand_table,
                                GLenum source[3], GLenum operand[3]) {
-    char key[32], field[HT_JSON_PATH_MAX];
+    char key[32], field[HT_JSON_PATH_MAX], item_field[HT_JSON_PATH_MAX];
     const int used = argument_count(combine);
-    const gl_name *tables[2] = { source_names, operand_table };
+    const gl_names *tables[2] = { &source_names, operand_table };
     const char *kinds[2] = { "source", "operand" };
-    const char *descr[2] = { "combiner source", "combiner operand" };
     GLenum *outs[2] = { source, operand };
     for (int k = 0; k < 2; k++) {
         snprintf(key, sizeof key, "%s_%s", kinds[k], what);
-        const cJSON *arr = NULL;
-        ht_result r = member(c, obj, path, key, cJSON_Array, "an array", &arr);
-        if (r != HT_OK) return r;
         ht_json_path_key(field, path, key);
-        int n = cJSON_GetArraySize(arr);
+        const cJSON *arr = NULL;
+        int n = 0;
+        ht_result r = ht_json_array(c, obj, path, key, true, 0, 3, &arr, &n);
+        if (r != HT_OK) return r;
         if (n != used)
-            return ht_json_fail(c, field, "%d entries, %s reads %d", n, name_of(combine_names, combine), used);
+            return ht_json_fail(c, field, "%d entries, %s reads %d", n, name_of(&combine_names, combine), used);
         for (int i = 0; i < n; i++) {
-            char item_field[HT_JSON_PATH_MAX];
             ht_json_path_index(item_field, field, i);
-            r = gl_item(c, cJSON_GetArrayItem(arr, i), item_field, tables[k], descr[k], &outs[k][i]);
+            r = gl_item(c, cJSON_GetArrayItem(arr, i), item_field, tables[k], &outs[k][i]);
             if (r != HT_OK) return r;
         }
     }
@@ -482,90 +388,61 @@ static ht_result parse_stage(const ht_jctx *c, const cJSON *o, int index, ht_com
         "operand_rgb", "combine_alpha", "source_alpha", "operand_alpha", "rgb_scale",
         "alpha_scale", "constant", NULL,
     };
-    char path[32];
-    snprintf(path, sizeof path, "stages[%d]", index);
-    if (!cJSON_IsObject(o)) return ht_json_fail(c, path, "must be an object");
+    char path[HT_JSON_PATH_MAX];
+    ht_json_path_index(path, "stages", index);
     ht_combiner_stage_defaults(s, index);
     int coords = 0;
-    ht_result r = check_keys(c, o, path, keys);
-    if (r == HT_OK) r = get_int(c, o, path, "unit", 0, HT_COMBINER_MAX_STAGES - 1, &s->unit);
-    if (r == HT_OK) r = get_string(c, o, path, "texture", s->texture, sizeof s->texture);
-    if (r == HT_OK) r = get_gl(c, o, path, "target", target_names, "texture target", &s->target);
-    if (r == HT_OK) r = get_gl(c, o, path, "filter", filter_names, "filter", &s->filter);
-    if (r == HT_OK) r = get_gl(c, o, path, "wrap", wrap_names, "wrap mode", &s->wrap);
-    if (r == HT_OK) r = get_choice(c, o, path, "coords", coords_names, COORDS_COUNT, &coords);
+    double constant[4] = { 0 };
+    ht_result r = ht_json_keys(c, o, path, keys);
+    if (r == HT_OK) r = ht_json_int32(c, o, path, "unit", NULL, 0, HT_COMBINER_MAX_STAGES - 1, &s->unit);
+    if (r == HT_OK) r = ht_json_string(c, o, path, "texture", NULL, s->texture, sizeof s->texture);
+    if (r == HT_OK) r = get_gl(c, o, path, "target", &target_names, &s->target);
+    if (r == HT_OK) r = get_gl(c, o, path, "filter", &filter_names, &s->filter);
+    if (r == HT_OK) r = get_gl(c, o, path, "wrap", &wrap_names, &s->wrap);
+    if (r == HT_OK) r = ht_json_enum(c, o, path, "coords", -1, coords_names, &coords);
     s->coords = (ht_combiner_coords)coords;
+    if (r == HT_OK) r = get_gl(c, o, path, "combine_rgb", &combine_names, &s->combine_rgb);
     if (r == HT_OK)
-        r = get_gl(c, o, path, "combine_rgb", combine_names, "GL 1.3 combiner function", &s->combine_rgb);
-    if (r == HT_OK)
-        r = get_arguments(c, o, path, "rgb", s->combine_rgb, operand_rgb_names, s->source_rgb,
+        r = get_arguments(c, o, path, "rgb", s->combine_rgb, &operand_rgb_names, s->source_rgb,
                           s->operand_rgb);
+    if (r == HT_OK) r = get_gl(c, o, path, "combine_alpha", &combine_names, &s->combine_alpha);
     if (r == HT_OK)
-        r = get_gl(c, o, path, "combine_alpha", combine_names, "GL 1.3 combiner function",
-                   &s->combine_alpha);
-    if (r == HT_OK)
-        r = get_arguments(c, o, path, "alpha", s->combine_alpha, operand_alpha_names, s->source_alpha,
+        r = get_arguments(c, o, path, "alpha", s->combine_alpha, &operand_alpha_names, s->source_alpha,
                           s->operand_alpha);
-    if (r == HT_OK) r = get_int(c, o, path, "rgb_scale", 1, 4, &s->rgb_scale);
-    if (r == HT_OK) r = get_int(c, o, path, "alpha_scale", 1, 4, &s->alpha_scale);
-    const cJSON *k = NULL;
-    if (r == HT_OK) r = member(c, o, path, "constant", cJSON_Array, "an array of 4 numbers", &k);
-    if (r == HT_OK && cJSON_GetArraySize(k) != 4) {
-        char field[64];
-        snprintf(field, sizeof field, "%s.constant", path);
-        r = ht_json_fail(c, field, "must hold 4 numbers");
-    }
-    for (int i = 0; r == HT_OK && i < 4; i++) {
-        const cJSON *v = cJSON_GetArrayItem(k, i);
-        if (!cJSON_IsNumber(v) || !(v->valuedouble >= 0.0 && v->valuedouble <= 1.0)) {
-            char field[64];
-            snprintf(field, sizeof field, "%s.constant[%d]", path, i);
-            r = ht_json_fail(c, field, "must be a number in [0,1]");
-        } else {
-            s->constant[i] = (float)v->valuedouble;
-        }
-    }
+    if (r == HT_OK) r = ht_json_int32(c, o, path, "rgb_scale", NULL, 1, 4, &s->rgb_scale);
+    if (r == HT_OK) r = ht_json_int32(c, o, path, "alpha_scale", NULL, 1, 4, &s->alpha_scale);
+    if (r == HT_OK) r = ht_json_vec(c, o, path, "constant", NULL, 4, HT_JRANGE(0, 1), constant);
+    for (int i = 0; i < 4; i++) s->constant[i] = (float)constant[i];
     return r;
 }
 
 ht_result ht_combiner_parse(const char *json_text, const char *file_name, ht_combiner_program *out,
                             char *err, size_t err_size) {
-    ht_jctx c = { file_name ? file_name : "<program>", err, err_size };
-    if (!json_text || !out) return fail_argument(&c, "program", "NULL argument");
-    memset(out, 0, sizeof *out);
-    cJSON *root = cJSON_Parse(json_text);
-    if (!root) {
-        const char *at = cJSON_GetErrorPtr();
-        int line = 1;
-        for (const char *q = json_text; at && q < at && *q; q++) line += *q == '\n';
-        char where[32];
-        snprintf(where, sizeof where, "line %d", line);
-        return ht_json_fail(&c, where, "malformed JSON near \"%.20s\"", at ? at : "");
-    }
     static const char *const keys[] = { "format", "model", "primary_color", "dots", "shifts",
                                         "lut", "stages", NULL };
     static const char *const lut_keys[] = { "texture", "size", "scale", "centres", NULL };
-    ht_result r = HT_OK;
-    const cJSON *item = NULL;
+    ht_jctx c = { file_name ? file_name : "<program>", err, err_size };
+    cJSON *root = NULL;
+    ht_result r = ht_json_parse_entry(&c, json_text, out, &root);
+    if (r != HT_OK) return r;
+    memset(out, 0, sizeof *out);
+    const cJSON *item = NULL, *lut = NULL, *stages = NULL;
+    int model = 0, n = 0;
     char text[48];
-    if (!cJSON_IsObject(root)) r = ht_json_fail(&c, "(root)", "must be an object");
-    if (r == HT_OK) r = check_keys(&c, root, "", keys);
-    if (r == HT_OK) r = get_string(&c, root, "", "format", text, sizeof text);
-    if (r == HT_OK && strcmp(text, HT_COMBINER_FORMAT) != 0)
-        r = ht_json_fail(&c, "format", "\"%s\", expected \"%s\"", text, HT_COMBINER_FORMAT);
-    int model = 0;
-    if (r == HT_OK) r = get_choice(&c, root, "", "model", model_names, 2, &model);
+    r = ht_json_keys(&c, root, "", keys);
+    if (r == HT_OK) r = ht_json_format(&c, root, HT_COMBINER_FORMAT, "combiner program");
+    if (r == HT_OK) r = ht_json_enum(&c, root, "", "model", -1, model_names, &model);
     out->model = (ht_model_kind)model;
 
-    if (r == HT_OK) r = get_string(&c, root, "", "primary_color", text, sizeof text);
+    if (r == HT_OK) r = ht_json_string(&c, root, "", "primary_color", NULL, text, sizeof text);
     if (r == HT_OK && !primary_rule(text, &out->light, &out->ao))
         r = ht_json_fail(&c, "primary_color", "\"%s\", expected \"lightN.color*ao\" or \"lightN.color\"", text);
 
     const char *want[3];
     int want_count = ht_combiner_dot_names(out->model, want);
-    if (r == HT_OK) r = member(&c, root, "", "dots", cJSON_Array, "an array of strings", &item);
+    if (r == HT_OK) r = ht_json_array(&c, root, "", "dots", true, 0, 3, &item, &n);
     if (r == HT_OK) {
-        bool same = cJSON_GetArraySize(item) == want_count;
+        bool same = n == want_count;
         for (int i = 0; same && i < want_count; i++) {
             const cJSON *d = cJSON_GetArrayItem(item, i);
             same = cJSON_IsString(d) && strcmp(d->valuestring, want[i]) == 0;
@@ -575,44 +452,27 @@ ht_result ht_combiner_parse(const char *json_text, const char *file_name, ht_com
                      want_count > 2 ? ", \"" : "", want_count > 2 ? want[2] : "",
                      want_count > 2 ? "\"" : "", model_names[out->model]);
     }
-    if (r == HT_OK) r = member(&c, root, "", "shifts", cJSON_Array, "an array of 2 numbers", &item);
-    if (r == HT_OK && cJSON_GetArraySize(item) != 2) r = ht_json_fail(&c, "shifts", "must hold 2 numbers");
-    for (int i = 0; r == HT_OK && i < 2; i++) {
-        const cJSON *v = cJSON_GetArrayItem(item, i);
-        if (!cJSON_IsNumber(v) || !(fabs(v->valuedouble) <= 100.0)) {
-            char field[32];
-            snprintf(field, sizeof field, "shifts[%d]", i);
-            r = ht_json_fail(&c, field, "must be a number in [-100,100]");
-        } else {
-            out->shift[i] = v->valuedouble;
-        }
-    }
+    if (r == HT_OK) r = ht_json_vec(&c, root, "", "shifts", NULL, 2, HT_JRANGE(-100, 100), out->shift);
 
-    const cJSON *lut = NULL;
-    if (r == HT_OK) r = member(&c, root, "", "lut", cJSON_Object, "an object", &lut);
-    if (r == HT_OK) r = check_keys(&c, lut, "lut", lut_keys);
-    if (r == HT_OK) r = get_string(&c, lut, "lut", "texture", out->lut_texture, sizeof out->lut_texture);
-    if (r == HT_OK) r = member(&c, lut, "lut", "size", cJSON_Array, "an array of 3 integers", &item);
-    if (r == HT_OK && cJSON_GetArraySize(item) != 3) r = ht_json_fail(&c, "lut.size", "must hold 3 integers");
+    if (r == HT_OK) r = ht_json_object(&c, root, "", "lut", true, &lut);
+    if (r == HT_OK) r = ht_json_keys(&c, lut, "lut", lut_keys);
+    if (r == HT_OK) r = ht_json_string(&c, lut, "lut", "texture", NULL, out->lut_texture, sizeof out->lut_texture);
+    if (r == HT_OK) r = ht_json_array(&c, lut, "lut", "size", true, 3, 3, &item, &n);
     for (int i = 0; r == HT_OK && i < 3; i++) {
-        char field[32];
-        snprintf(field, sizeof field, "lut.size[%d]", i);
-        r = int_item(&c, cJSON_GetArrayItem(item, i), field, 1, HT_COMBINER_MAX_LUT_SIZE, &out->lut_size[i]);
+        char field[HT_JSON_PATH_MAX];
+        int64_t size = 0;
+        ht_json_path_index(field, "lut.size", i);
+        r = ht_json_int_item(&c, cJSON_GetArrayItem(item, i), field, 1, HT_COMBINER_MAX_LUT_SIZE, &size);
+        out->lut_size[i] = (int)size;
     }
-    if (r == HT_OK) r = get_int(&c, lut, "lut", "scale", 1, 4, &out->lut_scale);
-    if (r == HT_OK) r = get_string(&c, lut, "lut", "centres", text, sizeof text);
+    if (r == HT_OK) r = ht_json_int32(&c, lut, "lut", "scale", NULL, 1, 4, &out->lut_scale);
+    if (r == HT_OK) r = ht_json_string(&c, lut, "lut", "centres", NULL, text, sizeof text);
     if (r == HT_OK && strcmp(text, "endpoints") != 0)
         r = ht_json_fail(&c, "lut.centres", "\"%s\", expected \"endpoints\" (texel centres from d = -1 to d = 1)",
                  text);
 
-    const cJSON *stages = NULL;
-    if (r == HT_OK) r = member(&c, root, "", "stages", cJSON_Array, "an array", &stages);
-    if (r == HT_OK) {
-        int n = cJSON_GetArraySize(stages);
-        if (n < 1 || n > HT_COMBINER_MAX_STAGES)
-            r = ht_json_fail(&c, "stages", "%d stages, expected 1..%d", n, HT_COMBINER_MAX_STAGES);
-        out->stage_count = n;
-    }
+    if (r == HT_OK) r = ht_json_array(&c, root, "", "stages", true, 1, HT_COMBINER_MAX_STAGES, &stages, &n);
+    if (r == HT_OK) out->stage_count = n;
     for (int i = 0; r == HT_OK && i < out->stage_count; i++)
         r = parse_stage(&c, cJSON_GetArrayItem(stages, i), i, &out->stages[i]);
     cJSON_Delete(root);

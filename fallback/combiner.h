@@ -148,8 +148,10 @@ ht_result ht_combiner_validate(const ht_combiner_program *p, char *err, size_t e
    on an invalid program. Same program, byte-identical text. */
 ht_result ht_combiner_write(const ht_combiner_program *p, char **text, char *err, size_t err_size);
 
-/* Parses fixed.json. Errors are "FILE: FIELD: what is wrong", FIELD a JSON
-   path ("stages[1].source_rgb[0]"). */
+/* Parses fixed.json through runtime/json_check.h. Errors are one line
+   "FILE: FIELD: what is wrong", FIELD a JSON path ("stages[1].source_rgb[0]"),
+   or "FILE: line N: malformed JSON at column C near ..."; a NULL text or
+   out is HT_ERR_INVALID_ARGUMENT. */
 ht_result ht_combiner_parse(const char *json_text, const char *file_name,
                             ht_combiner_program *out, char *err, size_t err_size);
 

@@ -604,22 +604,28 @@ ht_result ht_json_vec3f(const ht_jctx *c, const cJSON *obj, const char *path,
     return HT_OK;
 }
 
+ht_result ht_json_enum_item(const ht_jctx *c, const cJSON *item, const char *path,
+                            const char *const names[], int *out) {
+    char got[ECHO_MAX + 48], q[ECHO_MAX + 8], list[256];
+    name_list(list, sizeof list, names);
+    if (!cJSON_IsString(item))
+        return ht_json_fail(c, path, "expected one of %s, got %s", list, describe(got, item));
+    for (int i = 0; names[i]; i++)
+        if (strcmp(names[i], item->valuestring) == 0) { *out = i; return HT_OK; }
+    const char *near = nearest(item->valuestring, names);
+    if (near)
+        return ht_json_fail(c, path, "unknown value %s (did you mean \"%s\"?)", quoted(q, item->valuestring), near);
+    return ht_json_fail(c, path, "unknown value %s (expected one of %s)", quoted(q, item->valuestring), list);
+}
+
 ht_result ht_json_enum(const ht_jctx *c, const cJSON *obj, const char *path,
                        const char *key, int def, const char *const names[], int *out) {
-    char field[HT_JSON_PATH_MAX], got[ECHO_MAX + 48], q[ECHO_MAX + 8], list[256];
+    char field[HT_JSON_PATH_MAX];
     const cJSON *it;
     ht_result res = lookup(c, obj, path, key, def < 0, "string", &it, field);
     if (res != HT_OK) return res;
     if (!it) { *out = def; return HT_OK; }
-    name_list(list, sizeof list, names);
-    if (!cJSON_IsString(it))
-        return ht_json_fail(c, field, "expected one of %s, got %s", list, describe(got, it));
-    for (int i = 0; names[i]; i++)
-        if (strcmp(names[i], it->valuestring) == 0) { *out = i; return HT_OK; }
-    const char *near = nearest(it->valuestring, names);
-    if (near)
-        return ht_json_fail(c, field, "unknown value %s (did you mean \"%s\"?)", quoted(q, it->valuestring), near);
-    return ht_json_fail(c, field, "unknown value %s (expected one of %s)", quoted(q, it->valuestring), list);
+    return ht_json_enum_item(c, it, field, names, out);
 }
 
 ht_result ht_json_string(const ht_jctx *c, const cJSON *obj, const char *path,

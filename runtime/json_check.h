@@ -96,6 +96,9 @@ ht_result ht_json_float_item(const ht_jctx *c, const cJSON *item, const char *pa
                              ht_jrange r, float *out);
 ht_result ht_json_int_item(const ht_jctx *c, const cJSON *item, const char *path,
                            int64_t lo, int64_t hi, int64_t *out);
+/* One of `names` (NULL-terminated); *out is its index. */
+ht_result ht_json_enum_item(const ht_jctx *c, const cJSON *item, const char *path,
+                            const char *const names[], int *out);
 /* An array of exactly n (1..8) numbers, each in r. */
 ht_result ht_json_vec_item(const ht_jctx *c, const cJSON *item, const char *path,
                            int n, ht_jrange r, double *out);

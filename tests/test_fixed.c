@@ -354,7 +354,7 @@ static void test_program_round_trips_through_json(void **state) {
 typedef struct mutation {
     const char *path;     /* where to change the emitted program: "lut.scale" */
     const char *json;     /* the new value (JSON), NULL removes the field */
-    const char *field;    /* what the error must name */
+    const char *field;    /* what the error must start with */
 } mutation;
 
 /* Finds "a.b[2].c" in root; returns the parent and the last key / index. */
@@ -381,6 +381,44 @@ static cJSON *parent_of(cJSON *root, const char *path, char *key, int *index) {
     return parent;
 }
 
+/* Parses `program` changed by m (or with m's field added) and checks the
+   error starts with m->field. */
+static void expect_mutation(const char *program, const mutation *m, bool add) {
+    cJSON *root = cJSON_Parse(program);
+    char key[64];
+    int index = -1;
+    cJSON *parent;
+    if (add) { /* "a.b[1].new": parent a.b[1], key "new" */
+        char where[64];
+        snprintf(where, sizeof where, "%s", m->path);
+        char *dot = strrchr(where, '.');
+        parent = root;
+        if (dot) {
+            *dot = '\0';
+            cJSON *up = parent_of(root, where, key, &index);
+            parent = index >= 0 ? cJSON_GetArrayItem(up, index) : cJSON_GetObjectItem(up, key);
+        }
+        snprintf(key, sizeof key, "%s", dot ? dot + 1 : where);
+        index = -1;
+    } else {
+        parent = parent_of(root, m->path, key, &index);
+    }
+    cJSON *value = m->json ? cJSON_Parse(m->json) : NULL;
+    if (add) cJSON_AddItemToObject(parent, key, value);
+    else if (!value) cJSON_DeleteItemFromObjectCaseSensitive(parent, key);
+    else if (index >= 0) cJSON_ReplaceItemInArray(parent, index, value);
+    else cJSON_ReplaceItemInObjectCaseSensitive(parent, key, value);
+    char *text = cJSON_Print(root);
+    cJSON_Delete(root);
+    ht_combiner_program q;
+    char err[512] = "";
+    ht_result r = ht_combiner_parse(text, "fixed.json", &q, err, sizeof err);
+    cJSON_free(text);
+    if (r != HT_ERR_PARSE || strncmp(err, m->field, strlen(m->field)) != 0)
+        fail_msg("%s %s %s: got %d \"%s\", want \"%s...\"", m->path, add ? "+=" : "=",
+                 m->json ? m->json : "(removed)", r, err, m->field);
+}
+
 static void test_malformed_program_errors_name_the_field(void **state) {
     (void)state;
     ht_plan plan = simple_plan(HT_MODEL_SCHEUERMANN, true);
@@ -388,69 +426,62 @@ static void test_malformed_program_errors_name_the_field(void **state) {
     ht_combiner_program p;
     emit(&plan, &out, &p);
     const mutation cases[] = {
-        { "format", "\"hairtier-combiner/2\"", "fixed.json: format:" },
-        { "model", "\"marschner\"", "fixed.json: model:" },
+        { "format", "\"hairtier-combiner/2\"",
+          "fixed.json: format: expected \"hairtier-combiner/1\" (a combiner program), got \"hairtier-combiner/2\"" },
+        { "model", "\"marschner\"", "fixed.json: model: unknown value \"marschner\" (expected one of" },
         { "primary_color", "\"light0.colour\"", "fixed.json: primary_color:" },
         { "dots", "[\"T.L\", \"T.H\"]", "fixed.json: dots:" },
-        { "shifts[1]", "1e300", "fixed.json: shifts[1]:" },
-        { "lut.scale", NULL, "fixed.json: lut.scale: missing" },
+        { "shifts[1]", "1e300", "fixed.json: shifts[1]: must be in [-100, 100]" },
+        { "lut.scale", NULL, "fixed.json: lut.scale: missing required integer" },
         { "lut.scale", "3", "fixed.json: lut.scale:" },
         { "lut.size[1]", "100", "fixed.json: lut.size[1]:" },
-        { "lut.size[2]", "64.5", "fixed.json: lut.size[2]:" },
+        { "lut.size[2]", "64.5", "fixed.json: lut.size[2]: must be an integer, got 64.5" },
         { "lut.centres", "\"half-texel\"", "fixed.json: lut.centres:" },
-        { "stages", "[]", "fixed.json: stages:" },
+        { "stages", "[]", "fixed.json: stages: expected 1 to 4 elements, got 0" },
+        { "stages[1]", "5", "fixed.json: stages[1]: expected an object, got number 5" },
         { "stages[0].unit", "1", "fixed.json: stages[0].unit:" },
         { "stages[0].coords", "\"uv\"", "fixed.json: stages[0].coords:" },
         { "stages[0].target", "\"2d\"", "fixed.json: stages[0].target:" },
-        { "stages[0].wrap", "\"GL_CLAMP\"", "fixed.json: stages[0].wrap:" },
-        { "stages[1].combine_rgb", "\"GL_DOT3_RGB\"", "fixed.json: stages[1].combine_rgb:" },
-        { "stages[1].source_rgb[0]", "\"GL_TEXTURE0\"", "fixed.json: stages[1].source_rgb[0]:" },
-        { "stages[1].operand_rgb", "[\"GL_SRC_COLOR\"]", "fixed.json: stages[1].operand_rgb:" },
-        { "stages[1].operand_alpha[0]", "\"GL_SRC_COLOR\"", "fixed.json: stages[1].operand_alpha[0]:" },
+        { "stages[0].wrap", "\"GL_CLAMP\"",
+          "fixed.json: stages[0].wrap: unknown value \"GL_CLAMP\" (did you mean \"GL_CLAMP_TO_EDGE\"?)" },
+        { "stages[1].combine_rgb", "\"GL_DOT3_RGB\"",
+          "fixed.json: stages[1].combine_rgb: unknown value \"GL_DOT3_RGB\" (expected one of \"GL_REPLACE\"," },
+        { "stages[1].source_rgb[0]", "\"GL_TEXTURE0\"",
+          "fixed.json: stages[1].source_rgb[0]: unknown value \"GL_TEXTURE0\" (did you mean \"GL_TEXTURE\"?)" },
+        { "stages[1].source_rgb[1]", "7", "fixed.json: stages[1].source_rgb[1]: expected one of \"GL_TEXTURE\"," },
+        { "stages[1].operand_rgb", "[\"GL_SRC_COLOR\"]",
+          "fixed.json: stages[1].operand_rgb: 1 entries, GL_MODULATE reads 2" },
+        { "stages[1].operand_alpha[0]", "\"GL_SRC_COLOR\"", "fixed.json: stages[1].operand_alpha[0]: unknown value" },
         { "stages[1].rgb_scale", "3", "fixed.json: stages[1].rgb_scale:" },
-        { "stages[1].constant[2]", "-0.5", "fixed.json: stages[1].constant[2]:" },
-        { "stages[1].texture", NULL, "fixed.json: stages[1].texture: missing" },
+        { "stages[1].constant[2]", "-0.5", "fixed.json: stages[1].constant[2]: must be in [0, 1], got -0.5" },
+        { "stages[1].texture", NULL, "fixed.json: stages[1].texture: missing required string" },
         { "stages[1].coords", "\"cpu-dots\"", "fixed.json: stages[1].coords:" },
         /* Scheuermann's shifted tangents: no texture matrix */
         { "stages[0].coords", "\"texture-matrix\"", "fixed.json: stages[0].coords: texture-matrix needs kajiya-kay" },
         { "stages[1].coords", "\"texture-matrix\"", "fixed.json: stages[1].coords:" },
-        { "stages[0].coords", "\"texture matrix\"", "fixed.json: stages[0].coords:" },
-        { "stages[1].colour", "1", "fixed.json: stages[1].colour: unknown field" },
+        { "stages[0].coords", "\"texture matrix\"",
+          "fixed.json: stages[0].coords: unknown value \"texture matrix\" (did you mean \"texture-matrix\"?)" },
     };
-    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
-        cJSON *root = cJSON_Parse(out.texts[0].text);
-        char key[64];
-        int index = -1;
-        const bool adding = cases[k].json && strstr(cases[k].path, "colour");
-        cJSON *parent;
-        if (adding) {
-            parent = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "stages"), 1);
-            strcpy(key, "colour");
-            index = -1;
-        } else {
-            parent = parent_of(root, cases[k].path, key, &index);
-        }
-        cJSON *value = cases[k].json ? cJSON_Parse(cases[k].json) : NULL;
-        if (adding) cJSON_AddItemToObject(parent, key, value);
-        else if (!value) cJSON_DeleteItemFromObjectCaseSensitive(parent, key);
-        else if (index >= 0) cJSON_ReplaceItemInArray(parent, index, value);
-        else cJSON_ReplaceItemInObjectCaseSensitive(parent, key, value);
-        char *text = cJSON_Print(root);
-        cJSON_Delete(root);
-        ht_combiner_program q;
-        char err[512] = "";
-        ht_result r = ht_combiner_parse(text, "fixed.json", &q, err, sizeof err);
-        cJSON_free(text);
-        if (r != HT_ERR_PARSE || strncmp(err, cases[k].field, strlen(cases[k].field)) != 0)
-            fail_msg("%s = %s: got %d \"%s\", want \"%s...\"", cases[k].path,
-                     cases[k].json ? cases[k].json : "(removed)", r, err, cases[k].field);
-    }
-    /* broken JSON names its line */
+    /* fields added: "a.b[1].new" adds "new" to a.b[1] */
+    const mutation added[] = {
+        { "stages[1].colour", "1", "fixed.json: stages[1].colour: unknown key \"colour\" (known keys: \"unit\"," },
+        { "stages[1].textur", "1", "fixed.json: stages[1].textur: unknown key \"textur\" (did you mean \"texture\"?)" },
+        { "stages[1].unit", "1", "fixed.json: stages[1].unit: duplicate key \"unit\"" },
+        { "modle", "1", "fixed.json: modle: unknown key \"modle\" (did you mean \"model\"?)" },
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) expect_mutation(out.texts[0].text, &cases[k], false);
+    for (size_t k = 0; k < sizeof added / sizeof added[0]; k++) expect_mutation(out.texts[0].text, &added[k], true);
+    /* broken JSON names its line (and column), like every other format */
     char err[256] = "";
     ht_combiner_program q;
     assert_int_equal(ht_combiner_parse("{\n\"format\": \n", "fixed.json", &q, err, sizeof err), HT_ERR_PARSE);
-    assert_non_null(strstr(err, "fixed.json: line"));
+    assert_string_equal(err, "fixed.json: line 3: malformed JSON: unexpected end of file (truncated?)");
+    assert_int_equal(ht_combiner_parse("{\n  \"format\": x\n}", "fixed.json", &q, err, sizeof err), HT_ERR_PARSE);
+    assert_string_equal(err, "fixed.json: line 2: malformed JSON at column 13 near 'x'");
     assert_int_equal(ht_combiner_parse("[1]", "fixed.json", &q, err, sizeof err), HT_ERR_PARSE);
+    assert_string_equal(err, "fixed.json: (root): expected a JSON object, got an array");
+    assert_int_equal(ht_combiner_parse(NULL, "fixed.json", &q, err, sizeof err), HT_ERR_INVALID_ARGUMENT);
+    assert_string_equal(err, "fixed.json: (call): no text or no output");
     ht_tier_output_free(&out);
 }
 
