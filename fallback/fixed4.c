@@ -527,6 +527,8 @@ static void end_frame(void *state) {
     gl->Color4f(1, 1, 1, 1);
 }
 
+static uint64_t cpu_vertices(void *state) { return ((const fixed4_state *)state)->cpu_vertices; }
+
 const ht_tier_backend ht_tier_fixed4_backend = {
     .tier = HT_TIER_FIXED4,
     .create = create,
@@ -536,4 +538,5 @@ const ht_tier_backend ht_tier_fixed4_backend = {
     .set_arrays = set_arrays,
     .end_frame = end_frame,
     .destroy = destroy,
+    .cpu_vertices = cpu_vertices,
 };

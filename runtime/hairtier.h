@@ -286,6 +286,18 @@ ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *frame);
 const ht_trace *ht_renderer_trace(const ht_renderer *r);
 /* What the renderer saw of the device, after the desc's profile. */
 const ht_caps *ht_renderer_caps(const ht_renderer *r);
+
+/* What the renderer has done so far: frames drawn, and the CPU work per
+   vertex it did for them (a tier whose coordinates or colours the CPU
+   computes counts every vertex each time it recomputes them; a device
+   rule such as fixed4's texture matrices counts none). Tests and the
+   benchmark read it to prove a frame costs the CPU nothing per vertex. */
+typedef struct ht_renderer_stats {
+    uint64_t frames;
+    uint64_t cpu_vertices;
+} ht_renderer_stats;
+
+ht_renderer_stats ht_renderer_get_stats(const ht_renderer *r);
 void ht_renderer_destroy(ht_renderer *r);
 
 #ifdef __cplusplus

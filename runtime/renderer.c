@@ -151,6 +151,14 @@ const char *ht_renderer_reason(const ht_renderer *r) { return r ? r->reason : ""
 const ht_trace *ht_renderer_trace(const ht_renderer *r) { return r ? &r->trace : NULL; }
 const ht_caps *ht_renderer_caps(const ht_renderer *r) { return r ? &r->caps : NULL; }
 
+ht_renderer_stats ht_renderer_get_stats(const ht_renderer *r) {
+    ht_renderer_stats st = { 0 };
+    if (!r) return st;
+    st.frames = r->frames;
+    if (r->backend && r->backend->cpu_vertices) st.cpu_vertices = r->backend->cpu_vertices(r->backend_state);
+    return st;
+}
+
 void ht_renderer_destroy(ht_renderer *r) {
     if (!r) return;
     if (r->backend && r->backend->destroy) r->backend->destroy(r->backend_state);
@@ -193,5 +201,6 @@ ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
     ht_gl_state_set_baseline(r);
     result = draw_frame(r, f, &tf);
     ht_gl_state_restore(r, &saved);
+    if (result == HT_OK) r->frames++;
     return result;
 }

@@ -17,6 +17,7 @@
 
 struct ht_renderer {
     ht_gl gl;
+    uint64_t frames;                  /* drawn, for ht_renderer_get_stats */
     ht_caps caps;
     char *extensions;                 /* the device's whole list, after the profile (caps.h) */
     ht_manifest bundle;

@@ -74,6 +74,8 @@ typedef struct ht_tier_backend {
     bool (*set_arrays)(void *state, ht_pass pass, int sub_pass);
     void (*end_frame)(void *state);
     void (*destroy)(void *state);
+    /* Optional: vertices whose data the CPU computed so far (NULL: none). */
+    uint64_t (*cpu_vertices)(void *state);
 } ht_tier_backend;
 
 extern const ht_tier_backend ht_tier_glsl_full_backend;
