@@ -34,6 +34,7 @@
 #include "errfmt.h"
 #include "fixed.h"
 #include "fixed_coords.h"
+#include "fixed_soa.h"
 #include "gl_texture.h"
 #include "image.h"
 #include "vecmath.h"
@@ -54,6 +55,11 @@ typedef struct fixed_state {
     float *colors;                            /* 4 per vertex: primary colour */
     bool colors_valid;                        /* colors hold color_key's light */
     float color_key[4];                       /* lit (0/1), light colour rgb */
+    ht_fixed_soa soa;                         /* "cpu-dots": the static part, float, per mesh */
+    bool coords_valid;                        /* coords hold coords_key's eye and light */
+    float coords_key[8];                      /* eye, light vector, lit (0/1), point (0/1) */
+    GLuint coord_buffer, color_buffer;        /* where the device reads them (VBOs, when it has them) */
+    uint64_t cpu_vertices;                    /* per-vertex CPU work so far */
     ht_log_fn log;
     void *log_user;
 } fixed_state;
@@ -97,6 +103,9 @@ static void destroy(void *state) {
     free(s->vertices);
     free(s->coords);
     free(s->colors);
+    ht_fixed_soa_free(&s->soa);
+    if (s->coord_buffer) s->gl->DeleteBuffers(1, &s->coord_buffer);
+    if (s->color_buffer) s->gl->DeleteBuffers(1, &s->color_buffer);
     free(s);
 }
 
@@ -287,6 +296,16 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     }
     if (n) memcpy(v, mesh->vertices, n * sizeof *v);
     if (s->matrix_rule) normalize_tangents(v, n);
+    ht_fixed_soa soa = { 0 };
+    if (!s->matrix_rule && ht_fixed_soa_make(&s->program, mesh->vertices, n, &soa) != HT_OK) {
+        free(v);
+        free(coords);
+        free(colors);
+        return HT_ERR_OUT_OF_MEMORY;
+    }
+    ht_fixed_soa_free(&s->soa);
+    s->soa = soa;
+    s->coords_valid = false;
     free(s->vertices);
     free(s->coords);
     free(s->colors);
@@ -318,6 +337,32 @@ static void load_texture_matrix(const fixed_state *s, int unit, const float *m) 
     gl->MatrixMode((GLenum)mode);
 }
 
+/* Copies what the CPU made into a buffer object the draws read, once per
+   change (not once per pass); client memory when the device has no VBOs. */
+static void upload(fixed_state *s, GLuint *buffer, const float *data, size_t floats) {
+    const ht_gl *gl = s->gl;
+    if (!s->caps->has_vbo || !gl->GenBuffers) return;
+    if (!*buffer) gl->GenBuffers(1, buffer);
+    gl->BindBuffer(GL_ARRAY_BUFFER, *buffer);
+    gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(floats * sizeof(float)), data, GL_DYNAMIC_DRAW);
+    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
+/* "cpu-dots": the LUT coordinates, only when the eye or the light moved
+   (float, structure of arrays: fixed_soa.h). */
+static void update_coords(fixed_state *s, const ht_tier_frame *f) {
+    const ht_light *light = s->program.light < f->light_count ? &f->lights[s->program.light] : NULL;
+    const float key[8] = { f->eye[0], f->eye[1], f->eye[2], light ? light->vector[0] : 0.0f,
+                           light ? light->vector[1] : 0.0f, light ? light->vector[2] : 0.0f, light ? 1.0f : 0.0f,
+                           light && light->type == HT_LIGHT_POINT ? 1.0f : 0.0f };
+    if (s->coords_valid && memcmp(key, s->coords_key, sizeof key) == 0) return;
+    ht_fixed_soa_coords(&s->program, &s->soa, light, f->eye, s->coords);
+    memcpy(s->coords_key, key, sizeof key);
+    s->coords_valid = true;
+    s->cpu_vertices += s->vertex_count;
+    upload(s, &s->coord_buffer, s->coords, (size_t)s->vertex_count * 3);
+}
+
 /* Primary colours for the "texture-matrix" rule: per vertex, but only when
    what they depend on (is the light there, its colour) changed. */
 static void update_colors(fixed_state *s, const ht_tier_frame *f) {
@@ -333,6 +378,8 @@ static void update_colors(fixed_state *s, const ht_tier_frame *f) {
     }
     memcpy(s->color_key, key, sizeof key);
     s->colors_valid = true;
+    s->cpu_vertices += s->vertex_count;
+    upload(s, &s->color_buffer, s->colors, (size_t)s->vertex_count * 4);
 }
 
 static void begin_frame(void *state, const ht_tier_frame *f) {
@@ -356,16 +403,15 @@ static void begin_frame(void *state, const ht_tier_frame *f) {
             ht_log_linef(s->log, s->log_user, "hairtier: fixed: %s: CPU coordinates for such frames", err);
         s->point_light_logged = true;
         if (!s->coords) s->coords = malloc(s->vertex_count ? (size_t)s->vertex_count * 3 * sizeof *s->coords : 1);
-        if (!s->coords) {
+        if (!s->coords || (!s->soa.px && ht_fixed_soa_make(&s->program, s->vertices, s->vertex_count, &s->soa) != HT_OK)) {
             ht_log_linef(s->log, s->log_user, "hairtier: fixed: out of memory for CPU coordinates: hair not drawn");
+            free(s->coords);
+            s->coords = NULL;
             return;
         }
     }
-    s->colors_valid = false;
-    if (ht_fixed_coords_compute(&s->program, s->vertices, s->vertex_count, f->lights, f->light_count, f->eye,
-                                s->coords, s->colors, err, sizeof err) != HT_OK) {
-        ht_log_linef(s->log, s->log_user, "hairtier: fixed: %s", err);
-    }
+    update_colors(s, f);
+    update_coords(s, f);
 }
 
 /* One stage's texture environment, exactly as the program states it. */
@@ -433,16 +479,20 @@ static bool point_stage_arrays(void *state, ht_pass pass, int sub_pass) {
         const ht_combiner_stage *st = &s->program.stages[i];
         if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)st->unit);
         gl->EnableClientState(GL_TEXTURE_COORD_ARRAY);
-        if (st->coords == HT_COORDS_TEXTURE_MATRIX && s->frame_matrix)
+        if (st->coords == HT_COORDS_TEXTURE_MATRIX && s->frame_matrix) {
             gl->TexCoordPointer(3, GL_FLOAT, stride, (const char *)s->vertices + offsetof(ht_vertex, tangent));
-        else if (st->coords != HT_COORDS_UV)
-            gl->TexCoordPointer(3, GL_FLOAT, 0, s->coords);
-        else
+        } else if (st->coords != HT_COORDS_UV) {
+            if (s->coord_buffer) gl->BindBuffer(GL_ARRAY_BUFFER, s->coord_buffer);
+            gl->TexCoordPointer(3, GL_FLOAT, 0, s->coord_buffer ? NULL : s->coords);
+            if (s->coord_buffer) gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+        } else
             gl->TexCoordPointer(2, GL_FLOAT, stride, (const char *)s->vertices + offsetof(ht_vertex, uv));
     }
     if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0);
     gl->EnableClientState(GL_COLOR_ARRAY);
-    gl->ColorPointer(4, GL_FLOAT, 0, s->colors);
+    if (s->color_buffer) gl->BindBuffer(GL_ARRAY_BUFFER, s->color_buffer);
+    gl->ColorPointer(4, GL_FLOAT, 0, s->color_buffer ? NULL : s->colors);
+    if (s->color_buffer) gl->BindBuffer(GL_ARRAY_BUFFER, 0);
     if (gl->BindBuffer) gl->BindBuffer(GL_ARRAY_BUFFER, (GLuint)bound);
     return true;
 }
@@ -471,6 +521,8 @@ static void end_frame(void *state) {
     gl->Color4f(1, 1, 1, 1);
 }
 
+static uint64_t cpu_vertices(void *state) { return ((const fixed_state *)state)->cpu_vertices; }
+
 const ht_tier_backend ht_tier_fixed_backend = {
     .tier = HT_TIER_FIXED,
     .create = create,
@@ -480,4 +532,5 @@ const ht_tier_backend ht_tier_fixed_backend = {
     .set_arrays = point_stage_arrays,
     .end_frame = end_frame,
     .destroy = destroy,
+    .cpu_vertices = cpu_vertices,
 };

@@ -149,6 +149,35 @@ static void *as_data(void (*f)(void)) {
     return p;
 }
 
+/* The colour array may live in a buffer object (the tier uploads what the
+   CPU made once per change): then the pointer is an offset, and the test
+   reads a copy of the buffer instead. */
+static float *color_copies[MAX_DRAWS];
+
+static void read_back_colors(draw_state *d, int index) {
+    GLint buffer = 0;
+    glGetIntegerv(GL_COLOR_ARRAY_BUFFER_BINDING, &buffer);
+    if (!buffer) return;
+    void (*get_sub_data)(GLenum, GLintptr, GLsizeiptr, void *);
+    void *f = ht_test_getproc("glGetBufferSubData");
+    memcpy(&get_sub_data, &f, sizeof f);
+    GLint bound = 0, size = 0;
+    glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
+    void (*bind)(GLenum, GLuint);
+    f = ht_test_getproc("glBindBuffer");
+    memcpy(&bind, &f, sizeof f);
+    void (*get_param)(GLenum, GLenum, GLint *);
+    f = ht_test_getproc("glGetBufferParameteriv");
+    memcpy(&get_param, &f, sizeof f);
+    bind(GL_ARRAY_BUFFER, (GLuint)buffer);
+    get_param(GL_ARRAY_BUFFER, GL_BUFFER_SIZE, &size);
+    free(color_copies[index]);
+    color_copies[index] = malloc(size > 0 ? (size_t)size : 1);
+    if (color_copies[index] && size > 0) get_sub_data(GL_ARRAY_BUFFER, (GLintptr)(uintptr_t)d->color_pointer, size, color_copies[index]);
+    bind(GL_ARRAY_BUFFER, (GLuint)bound);
+    d->color_pointer = color_copies[index];
+}
+
 static void APIENTRY watch_draw_elements(GLenum mode, GLsizei count, GLenum type, const void *indices) {
     if (draw_count < MAX_DRAWS) {
         draw_state *d = &draws[draw_count++];
@@ -174,6 +203,7 @@ static void APIENTRY watch_draw_elements(GLenum mode, GLsizei count, GLenum type
         glGetIntegerv(GL_TEXTURE_COORD_ARRAY_STRIDE, &d->coord_stride);
         glGetPointerv(GL_TEXTURE_COORD_ARRAY_POINTER, &d->coord_pointer);
         glGetPointerv(GL_COLOR_ARRAY_POINTER, &d->color_pointer);
+        read_back_colors(d, draw_count - 1);
         client_active_texture((GLenum)client);
         glGetIntegerv(GL_CURRENT_PROGRAM, &d->program);
     }
