@@ -136,8 +136,24 @@ static const char *scene_for_driver(const char *scene_path, char *out, size_t ou
     return out;
 }
 
+/* The bundle's tiers, best first (the first is full). */
+static int bundle_tiers(const char *bundle, char names[HT_TIER_COUNT][16]) {
+    cJSON *root = cJSON_Parse(ht_test_read_file(bundle, "manifest.json"));
+    assert_non_null(root);
+    int n = 0;
+    const cJSON *t;
+    cJSON_ArrayForEach(t, cJSON_GetObjectItem(root, "tiers")) {
+        if (n == HT_TIER_COUNT) break;
+        snprintf(names[n++], 16, "%s", cJSON_GetObjectItem(t, "name")->valuestring);
+    }
+    cJSON_Delete(root);
+    assert_true(n >= 2);
+    assert_string_equal(names[0], "full");
+    return n;
+}
+
 static void check_scene(const char *material, const char *shipped_scene) {
-    char err[2048], bundle[256], cmd[4096], png[3][256], scene_copy[256];
+    char err[2048], bundle[256], cmd[4096], png[HT_TIER_COUNT][256], scene_copy[256];
     const char *scene_path = scene_for_driver(shipped_scene, scene_copy, sizeof scene_copy);
     ht_scene scene;
     assert_int_equal(ht_scene_load(scene_path, &scene, err, sizeof err), HT_OK);
@@ -145,9 +161,12 @@ static void check_scene(const char *material, const char *shipped_scene) {
     snprintf(cmd, sizeof cmd, "%s/hairgen %s --scene %s -o %s >/dev/null", build_dir(), material, scene_path, bundle);
     run(cmd);
 
-    const char *tiers[3] = { "full", "vertex", "fixed" };
-    ht_image img[3];
-    for (int t = 0; t < 3; t++) {
+    char names[HT_TIER_COUNT][16];
+    const int count = bundle_tiers(bundle, names);
+    ht_image img[HT_TIER_COUNT];
+    const char *tiers[HT_TIER_COUNT];
+    for (int t = 0; t < count; t++) tiers[t] = names[t];
+    for (int t = 0; t < count; t++) {
         snprintf(png[t], sizeof png[t], "%s/%s.png", work, tiers[t]);
         snprintf(cmd, sizeof cmd, "%s/hairview --bundle %s --scene %s --tier %s --strict --frames 1 -o %s >/dev/null 2>&1",
                  build_dir(), bundle, scene_path, tiers[t], png[t]);
@@ -165,13 +184,13 @@ static void check_scene(const char *material, const char *shipped_scene) {
         assert_true(s.luminance_stddev > 4.0);             /* not one flat colour */
         assert_true(s.luminance_p99 > s.luminance_median + 20.0); /* highlights */
     }
-    for (int t = 1; t < 3; t++) {
+    for (int t = 1; t < count; t++) {
         double d = mean_difference(&img[0], &img[t], scene.background);
         printf("%s %dx%d %s %-6s: mean difference from full %.2f/255\n", shipped_scene, scene.width,
                scene.height, material, tiers[t], d);
         assert_true(d < MAX_MEAN_TIER_DIFFERENCE);
     }
-    for (int t = 0; t < 3; t++) ht_image_free(&img[t]);
+    for (int t = 0; t < count; t++) ht_image_free(&img[t]);
 }
 
 static void test_furball_scene_renders_hair_in_every_tier(void **state) {
@@ -189,11 +208,130 @@ static void test_blond_patches_render_hair_in_every_tier(void **state) {
     check_scene("materials/blond.json", "scenes/patches.json");
 }
 
+/* ---- the speed-for-accuracy trade: every tier against full ---- */
+
+/* Whole-frame PSNR (RGB, 8 bit) of b against a. */
+static double psnr(const ht_image *a, const ht_image *b) {
+    double se = 0;
+    size_t n = (size_t)a->width * a->height;
+    for (size_t i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++) {
+            double d = (double)a->pixels[i * a->channels + c] - (double)b->pixels[i * b->channels + c];
+            se += d * d;
+        }
+    double mse = se / (3.0 * (double)n);
+    return mse > 0 ? 10.0 * log10(255.0 * 255.0 / mse) : 99.0;
+}
+
+/* The accuracy sweep's frames (all pairs x all tiers, llvmpipe): the
+   shipped scenes at this side, the fur ball with this many hairs, so the
+   forty frames stay a few seconds of `make test`. */
+#define ACCURACY_SIZE 256
+#define ACCURACY_HAIRS 2000
+
+/* The measured PSNR of each tier against full, whole frame, at
+   ACCURACY_SIZE² on llvmpipe (the sweep prints the numbers): a pin is the
+   measured value less 0.3 dB, so a regression fails and noise does not. */
+typedef struct accuracy_pin {
+    const char *material, *scene, *tier;
+    double min_db;
+} accuracy_pin;
+
+static const accuracy_pin pins[] = {
+#include "data/accuracy_pins.h"
+};
+
+static double pinned(const char *material, const char *scene, const char *tier) {
+    for (size_t i = 0; i < sizeof pins / sizeof pins[0]; i++)
+        if (strcmp(pins[i].material, material) == 0 && strcmp(pins[i].scene, scene) == 0 &&
+            strcmp(pins[i].tier, tier) == 0)
+            return pins[i].min_db;
+    return -1.0;
+}
+
+static int json_files(const char *dir, char names[][64], int max) {
+    char cmd[256];
+    snprintf(cmd, sizeof cmd, "ls %s/*.json", dir);
+    FILE *ls = popen(cmd, "r");
+    assert_non_null(ls);
+    int n = 0;
+    char line[256];
+    while (n < max && fgets(line, sizeof line, ls)) {
+        line[strcspn(line, "\n")] = '\0';
+        const char *base = strrchr(line, '/') ? strrchr(line, '/') + 1 : line;
+        snprintf(names[n++], 64, "%.*s", (int)(strcspn(base, ".")), base);
+    }
+    pclose(ls);
+    return n;
+}
+
+static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(void **state) {
+    (void)state;
+    if (on_softpipe()) {
+        printf("accuracy sweep: pinned on llvmpipe only\n");
+        return;
+    }
+    char materials[16][64], scenes[8][64];
+    int mn = json_files("materials", materials, 16), sn = json_files("scenes", scenes, 8);
+    assert_true(mn >= 4 && sn >= 2);
+    int failures = 0;
+    for (int m = 0; m < mn; m++)
+        for (int sc = 0; sc < sn; sc++) {
+            char path[600], cmd[4096], bundle[256], err[1024], png[256];
+            snprintf(path, sizeof path, "scenes/%s.json", scenes[sc]);
+            cJSON *root = cJSON_Parse(ht_test_read_file(".", path));
+            assert_non_null(root);
+            cJSON_ReplaceItemInObjectCaseSensitive(root, "resolution",
+                cJSON_CreateIntArray((const int[]){ ACCURACY_SIZE, ACCURACY_SIZE }, 2));
+            cJSON *geometry = cJSON_GetObjectItem(root, "geometry");
+            if (cJSON_GetObjectItem(geometry, "hairs"))
+                cJSON_ReplaceItemInObjectCaseSensitive(geometry, "hairs", cJSON_CreateNumber(ACCURACY_HAIRS));
+            char *small = cJSON_Print(root);
+            cJSON_Delete(root);
+            ht_test_write_file(work, "sweep.json", small);
+            cJSON_free(small);
+            snprintf(path, sizeof path, "%s/sweep.json", work);
+            snprintf(bundle, sizeof bundle, "%s/sweep-bundle", work);
+            snprintf(cmd, sizeof cmd, "%s/hairgen materials/%s.json --scene %s -o %s >/dev/null", build_dir(),
+                     materials[m], path, bundle);
+            run(cmd);
+            char names[HT_TIER_COUNT][16];
+            int count = bundle_tiers(bundle, names);
+            ht_image full = { 0 };
+            for (int t = 0; t < count; t++) {
+                ht_image img;
+                snprintf(png, sizeof png, "%s/sweep-%s.png", work, names[t]);
+                snprintf(cmd, sizeof cmd, "%s/hairview --bundle %s --scene %s --tier %s --strict -o %s >/dev/null 2>&1",
+                         build_dir(), bundle, path, names[t], png);
+                run(cmd);
+                assert_int_equal(ht_image_read_png(png, &img, err, sizeof err), HT_OK);
+                if (t == 0) {
+                    full = img;
+                    continue;
+                }
+                double db = psnr(&full, &img), pin = pinned(materials[m], scenes[sc], names[t]);
+                printf("accuracy %-14s x %-8s %-7s %6.2f dB (pinned at %.2f)\n", materials[m], scenes[sc], names[t],
+                       db, pin);
+                if (pin < 0) {
+                    printf("  no pin for this pair and tier\n");
+                    failures++;
+                } else if (db < pin) {
+                    printf("  below its pin\n");
+                    failures++;
+                }
+                ht_image_free(&img);
+            }
+            ht_image_free(&full);
+        }
+    assert_int_equal(failures, 0);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_furball_scene_renders_hair_in_every_tier),
         cmocka_unit_test(test_patches_scene_renders_hair_in_every_tier),
         cmocka_unit_test(test_blond_patches_render_hair_in_every_tier),
+        cmocka_unit_test(test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
