@@ -1,11 +1,16 @@
 /* bench_frame — the frame cost of each tier against the geometry floor,
    measured side by side in one run on the same context:
-   the fur ball of 10 000 hairs x 16 joints at 512 x 512, dark-brown,
-   the fur-ball scene's camera and lights. The floor is the same mesh drawn
-   in the same four passes with a flat colour and no textures or shaders
-   (ht_renderer_desc.flat). Prints the median frame time of each and the
-   ratio tier / floor; frames are taken round-robin. Run: make bench (GALLIUM_DRIVER=softpipe for the
+   the fur ball of 10 000 hairs x 16 joints at 512 x 512 (--hairs, --size,
+   --frames change that), dark-brown, the fur-ball scene's camera and
+   lights. The floor is the same mesh drawn in the same four passes with a
+   flat colour and no textures or shaders (ht_renderer_desc.flat). Prints
+   the median frame time of each, the ratios tier / floor and tier / full,
+   and the per-vertex CPU work per frame (ht_renderer_get_stats) with the
+   camera still and with it orbiting; frames are taken round-robin.
+   Run: make bench (which also runs it on GALLIUM_DRIVER=softpipe, the
    interpreter, a stand-in for a slow fragment unit). */
+#include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,16 +21,17 @@
 #include "tempdir.h"
 #include "timing.h"
 
-#define WIDTH 512
-#define HEIGHT 512
-#define FRAMES 9
+#define MAX_FRAMES 64
+
+static int WIDTH = 512, HEIGHT = 512, FRAMES = 9, HAIRS = 10000;
 
 static void quiet(void *user, const char *line) { (void)user, (void)line; }
 
 typedef struct contender {
     const char *name;
     ht_renderer *renderer;   /* NULL: the tier does not run here */
-    double samples[FRAMES];
+    double samples[MAX_FRAMES];
+    uint64_t cpu_still, cpu_orbit;   /* per-vertex CPU work over the timed frames */
 } contender;
 
 static ht_renderer *create(const char *bundle, ht_tier tier, bool flat, const ht_mesh *mesh) {
@@ -45,9 +51,11 @@ static ht_renderer *create(const char *bundle, ht_tier tier, bool flat, const ht
 static bool time_round_robin(contender *c, int count, const ht_scene *scene) {
     ht_frame_desc frame = { .camera = scene->camera, .lights = scene->lights,
                             .light_count = scene->light_count };
+    uint64_t before[8] = { 0 };
     for (int i = -1; i < FRAMES; i++) { /* frame -1 warms up */
         for (int k = 0; k < count; k++) {
             if (!c[k].renderer) continue;
+            if (i == 0) before[k] = ht_renderer_get_stats(c[k].renderer).cpu_vertices;
             glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
             double t0 = now_ms();
             if (ht_renderer_draw(c[k].renderer, &frame) != HT_OK) return false;
@@ -55,7 +63,28 @@ static bool time_round_robin(contender *c, int count, const ht_scene *scene) {
             if (i >= 0) c[k].samples[i] = now_ms() - t0;
         }
     }
+    for (int k = 0; k < count; k++)
+        if (c[k].renderer) c[k].cpu_still = ht_renderer_get_stats(c[k].renderer).cpu_vertices - before[k];
     return true;
+}
+
+/* The camera orbiting the ball, one step per frame (untimed): what per-vertex
+   CPU work a moving camera costs each tier. */
+static void count_orbit(contender *c, int count, const ht_scene *scene) {
+    for (int k = 0; k < count; k++) {
+        if (!c[k].renderer) continue;
+        uint64_t before = ht_renderer_get_stats(c[k].renderer).cpu_vertices;
+        for (int i = 0; i < 4; i++) {
+            ht_frame_desc frame = { .camera = scene->camera, .lights = scene->lights,
+                                    .light_count = scene->light_count };
+            float a = 0.2f * (float)(i + 1), x = frame.camera.eye[0], z = frame.camera.eye[2];
+            frame.camera.eye[0] = x * cosf(a) - z * sinf(a);
+            frame.camera.eye[2] = x * sinf(a) + z * cosf(a);
+            glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+            ht_renderer_draw(c[k].renderer, &frame);
+        }
+        c[k].cpu_orbit = ht_renderer_get_stats(c[k].renderer).cpu_vertices - before;
+    }
 }
 
 /* Everything but the scratch directory, which main removes whatever this
@@ -81,7 +110,7 @@ static int run(const char *work) {
 
     int status = 1;
     ht_furball_desc fur = scene.furball;
-    fur.hairs = 10000;
+    fur.hairs = HAIRS;
     fur.joints = 16;
     ht_mesh mesh;
     if (ht_mesh_build_furball(&fur, &mesh) != HT_OK) {
@@ -92,28 +121,33 @@ static int run(const char *work) {
 
     printf("fur ball %d hairs x %d joints (%u triangles), %dx%d, %s, median of %d frames\n", fur.hairs,
            fur.joints, mesh.index_count / 3, WIDTH, HEIGHT, (const char *)glGetString(GL_RENDERER), FRAMES);
-    contender c[4] = {
-        { "geometry floor", create(dir, HT_TIER_AUTO, true, &mesh), { 0 } },
-        { "full", create(dir, HT_TIER_FULL, false, &mesh), { 0 } },
-        { "vertex", create(dir, HT_TIER_VERTEX, false, &mesh), { 0 } },
-        { "fixed", create(dir, HT_TIER_FIXED, false, &mesh), { 0 } },
-    };
-    if (!c[0].renderer || !c[1].renderer || !time_round_robin(c, 4, &scene)) {
+    /* Best first, as the bundle lists them; a tier this build lacks is skipped. */
+    const char *names[] = { "full", "vertex", "fixed4", "fixed", "gl11" };
+    enum { TIERS = sizeof names / sizeof names[0] };
+    contender c[TIERS + 1] = { { "geometry floor", create(dir, HT_TIER_AUTO, true, &mesh), { 0 }, 0, 0 } };
+    for (int k = 0; k < TIERS; k++) {
+        ht_tier t = ht_tier_from_name(names[k]);
+        c[k + 1] = (contender){ names[k], t == HT_TIER_COUNT ? NULL : create(dir, t, false, &mesh), { 0 }, 0, 0 };
+    }
+    if (!c[0].renderer || !c[1].renderer || !time_round_robin(c, TIERS + 1, &scene)) {
         fprintf(stderr, "bench_frame: the geometry floor or the full tier did not render\n");
     } else {
-        double floor_ms = median(c[0].samples, FRAMES);
-        printf("  %-14s %8.2f ms\n", c[0].name, floor_ms);
-        for (int k = 1; k < 4; k++) {
+        count_orbit(c, TIERS + 1, &scene);
+        double floor_ms = median(c[0].samples, FRAMES), full_ms = median(c[1].samples, FRAMES);
+        printf("  %-14s %9s %11s %10s %22s\n", "", "median", "/ floor", "/ full", "CPU vertices per frame");
+        printf("  %-14s %9s %11s %10s %11s %10s\n", "", "", "", "", "still", "orbiting");
+        for (int k = 0; k <= TIERS; k++) {
             if (!c[k].renderer) {
-                printf("  %-14s      n/a (does not run here)\n", c[k].name);
+                printf("  %-14s       n/a (does not run here)\n", c[k].name);
                 continue;
             }
             double ms = median(c[k].samples, FRAMES);
-            printf("  %-14s %8.2f ms   %.2fx the floor\n", c[k].name, ms, ms / floor_ms);
+            printf("  %-14s %8.2f ms %10.2fx %9.2fx %11.0f %10.0f\n", c[k].name, ms, ms / floor_ms, ms / full_ms,
+                   (double)c[k].cpu_still / FRAMES, (double)c[k].cpu_orbit / 4);
         }
         status = 0;
     }
-    for (int k = 0; k < 4; k++)
+    for (int k = 0; k <= TIERS; k++)
         if (c[k].renderer) ht_renderer_destroy(c[k].renderer);
     ht_mesh_free(&mesh);
 close_context:
@@ -122,7 +156,28 @@ close_context:
     return status;
 }
 
-int main(void) {
+static bool option(int argc, char **argv, int *i, const char *name, int lo, int hi, int *out) {
+    if (strcmp(argv[*i], name) != 0) return false;
+    if (*i + 1 >= argc || (*out = atoi(argv[*i + 1])) < lo || *out > hi) {
+        fprintf(stderr, "bench_frame: %s takes a number in [%d, %d]\n", name, lo, hi);
+        exit(2);
+    }
+    (*i)++;
+    return true;
+}
+
+int main(int argc, char **argv) {
+    for (int i = 1; i < argc; i++) {
+        if (option(argc, argv, &i, "--hairs", 1, 200000, &HAIRS) || option(argc, argv, &i, "--frames", 1, MAX_FRAMES, &FRAMES))
+            continue;
+        int size = 0;
+        if (option(argc, argv, &i, "--size", 16, 4096, &size)) {
+            WIDTH = HEIGHT = size;
+            continue;
+        }
+        fprintf(stderr, "usage: bench_frame [--hairs N] [--size S] [--frames F]\n");
+        return 2;
+    }
     char work[] = "/tmp/hairtier-bench-frame-XXXXXX";
     if (!mkdtemp(work)) {
         perror("mkdtemp");

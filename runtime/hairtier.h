@@ -25,7 +25,7 @@
                       .lights = lights, .light_count = 1 });
        5. ht_renderer_destroy(r); ht_mesh_free(&mesh);
 
-   Environment: HAIRTIER_TIER=full|vertex|fixed forces a tier like
+   Environment: HAIRTIER_TIER=full|vertex|fixed4|fixed forces a tier like
    ht_renderer_desc.tier does (the desc wins when both are set).
 
    Errors: functions return ht_result; the log callback (or the message
