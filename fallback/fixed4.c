@@ -21,6 +21,7 @@
 #include "errfmt.h"
 #include "fixed4.h"
 #include "fixed4_program.h"
+#include "gl_error.h"
 #include "gl_texture.h"
 #include "image.h"
 
@@ -267,9 +268,7 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     }
     gl->BindBuffer(GL_ARRAY_BUFFER, 0);
     GLenum e = gl->GetError();
-    if (e != GL_NO_ERROR) {
-        ht_log_linef(s->log, s->log_user, "hairtier: fixed4: glBufferData: %s: hair not drawn",
-                     e == GL_OUT_OF_MEMORY ? "GL_OUT_OF_MEMORY" : "GL error");
+    if (e != GL_NO_ERROR) { /* the renderer logs the one line */
         s->have_mesh = false;
         return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
     }
@@ -298,7 +297,17 @@ static void update_local_coords(fixed4_state *s, const float eye[3]) {
         gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(s->soa.count * 2 * sizeof(float)), s->coords[k],
                        GL_DYNAMIC_DRAW);
     }
-    if (s->coord_buffers[0]) gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    if (s->coord_buffers[0]) {
+        gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+        /* set_arrays draws nothing until an upload succeeds */
+        GLenum e = gl->GetError();
+        if (e != GL_NO_ERROR) {
+            ht_log_linef(s->log, s->log_user, "hairtier: fixed4: glBufferData: %s: hair not drawn",
+                         ht_gl_error_name(e));
+            s->coords_valid = false;
+            return;
+        }
+    }
     memcpy(s->coords_key, key, sizeof key);
     s->coords_valid = true;
 }
