@@ -51,7 +51,7 @@ static int parse_args(int argc, char **argv, options *o) {
         else if (strcmp(a, "-o") == 0 && has_value) o->out = argv[++i];
         else if (strcmp(a, "--tier") == 0 && has_value) {
             o->tier = ht_tier_from_name(argv[++i]);
-            if (o->tier == HT_TIER_COUNT) return usage("--tier: expected auto, full, vertex or fixed");
+            if (o->tier == HT_TIER_COUNT) return usage("--tier: expected auto, full, vertex, fixed4, fixed or gl11");
         } else if (strcmp(a, "--frames") == 0 && has_value) {
             char *end;
             long n = strtol(argv[++i], &end, 10);

@@ -35,6 +35,9 @@ typedef struct ht_plan {
        tiers that cannot sample the mask scale the secondary highlight by it
        instead of leaving it unmasked. */
     double sparkle_mean;
+    /* Brightest rgb channel of the packed albedo in [0, 1] (1 until
+       generate.c measures it): the gl11 tier's headroom (gl11_program.h). */
+    double albedo_max;
     ht_plan_texture textures[HT_MAX_UNITS];  /* GLSL tiers' texture units */
     int texture_count;
     char notes[HT_MAX_NOTES][160];           /* what was dropped and why */
