@@ -121,6 +121,12 @@ static ht_result load_albedo(fixed4_state *s, const ht_tier_context *ctx, char *
             return ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", t->file);
         ht_result r = ht_image_read_png(path, &img, err, err_size);
         if (r != HT_OK) return r;
+        if (img.width != t->width || img.height != t->height) {
+            snprintf(err, err_size, "%s: %dx%d, manifest says %dx%d", path, img.width, img.height, t->width,
+                     t->height);
+            ht_image_free(&img);
+            return HT_ERR_PARSE;
+        }
     } else {
         /* no albedo: a white texel keeps the final stage's scale and alpha 1 */
         img = (ht_image){ .width = 1, .height = 1, .channels = 4, .pixels = (uint8_t *)white };

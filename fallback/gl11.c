@@ -93,6 +93,12 @@ static ht_result load_albedo(gl11_state *s, const ht_tier_context *ctx, char *er
             return ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", t->file);
         ht_result r = ht_image_read_png(path, &img, err, err_size);
         if (r != HT_OK) return r;
+        if (img.width != t->width || img.height != t->height) {
+            snprintf(err, err_size, "%s: %dx%d, manifest says %dx%d", path, img.width, img.height, t->width,
+                     t->height);
+            ht_image_free(&img);
+            return HT_ERR_PARSE;
+        }
         s->albedo_scale = s->program.albedo_scale;
         const int rgb = img.channels >= 3 ? 3 : (img.channels == 2 ? 1 : img.channels);
         const size_t n = (size_t)img.width * (size_t)img.height;

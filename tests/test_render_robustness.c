@@ -44,7 +44,8 @@ static ht_test_furball fx;
 static OSMesaContext float_context;
 static float float_buffer[SIZE * SIZE * 4];
 
-static const ht_tier every_tier[3] = { HT_TIER_FULL, HT_TIER_VERTEX, HT_TIER_FIXED };
+static const ht_tier every_tier[5] = { HT_TIER_FULL, HT_TIER_VERTEX, HT_TIER_FIXED4, HT_TIER_FIXED, HT_TIER_GL11 };
+#define EVERY_TIER (int)(sizeof every_tier / sizeof every_tier[0])
 
 /* ---- fixture ---- */
 
@@ -237,7 +238,7 @@ static void expect_albedo_fails_every_tier(const char *name, const void *bytes, 
     snprintf(want, sizeof want, "hairtier: %s/manifest.json: tiers: none runs here: ", dir);
     const char *line = logged_once(want);
     size_t len = strcspn(line, "\n");
-    for (int t = 0; t < 3; t++) {
+    for (int t = 0; t < EVERY_TIER; t++) {
         snprintf(want, sizeof want, "%s: %s: ", ht_tier_name(every_tier[t]), path);
         const char *at = strstr(line, want);
         if (!at || (size_t)(at - line) > len) fail_msg("%s: no \"%s\" in: %.*s", name, want, (int)len, line);
@@ -427,7 +428,7 @@ static void expect_frame_rejected(ht_renderer *r, const ht_frame_desc *f, const 
 static void test_draw_refuses_non_finite_and_degenerate_cameras_naming_the_field(void **state) {
     (void)state;
     const float nan = NAN, inf = INFINITY;
-    for (int t = 0; t < 3; t++) {
+    for (int t = 0; t < EVERY_TIER; t++) {
         ht_renderer *r = create_tier(every_tier[t]);
         ht_frame_desc f = frame();
         f.camera.eye[1] = nan;
@@ -533,7 +534,7 @@ static void test_draw_refuses_bad_lights_naming_the_field(void **state) {
 static void test_degenerate_lights_draw_finite_pixels_in_every_tier(void **state) {
     (void)state;
     static float reference[SIZE * SIZE * 4];
-    for (int t = 0; t < 3; t++) {
+    for (int t = 0; t < EVERY_TIER; t++) {
         ht_renderer *r = create_tier(every_tier[t]);
         const ht_frame_desc base = frame();
         ht_light lights[2] = { base.lights[0], base.lights[0] };
@@ -574,7 +575,7 @@ static void test_lights_beyond_the_plan_are_ignored_with_one_log_line(void **sta
         lights[i].vector[0] = -lights[i].vector[0];
         lights[i].color[0] = lights[i].color[1] = lights[i].color[2] = 4;
     }
-    for (int t = 0; t < 3; t++) {
+    for (int t = 0; t < EVERY_TIER; t++) {
         ht_renderer *r = create_tier(every_tier[t]);
         ht_frame_desc f = base;
         f.lights = lights;
@@ -681,7 +682,7 @@ static void test_degenerate_meshes_draw_finite_pixels_in_every_tier(void **state
     (void)state;
     static float reference[SIZE * SIZE * 4];
     ht_frame_desc f = frame();
-    for (int t = 0; t < 3; t++) {
+    for (int t = 0; t < EVERY_TIER; t++) {
         ht_renderer *r = create_tier(every_tier[t]);
         draw(r, &f, HT_OK);
         snapshot(reference);
