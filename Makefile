@@ -39,7 +39,7 @@ PROGRAMS  := $(patsubst examples/%.c,$(BUILD)/%,$(EXAMPLE_SRC))
 TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 # Tests that render and so run a second time on softpipe (GALLIUM_DRIVER=
 # softpipe), Mesa's second driver; every test runs on llvmpipe.
-SOFTPIPE_TESTS := test_render_app_state test_render_fixed test_render_fixed4 test_render_glsl_compile \
+SOFTPIPE_TESTS := test_render_app_state test_render_fixed test_render_fixed4 test_render_gl11 test_render_glsl_compile \
                   test_render_passes test_render_probe test_render_robustness test_render_scenes
 $(foreach t,$(filter-out $(notdir $(TESTS)),$(SOFTPIPE_TESTS)),$(error SOFTPIPE_TESTS: no tests/$(t).c))
 DEPS_STAMP := $(BUILD)/.deps-installed
@@ -65,6 +65,11 @@ $(DEPS_STAMP):
 $(BUILD)/obj/%.o: %.c | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+
+# The gl11 tier's per-vertex shading loops: sqrtf inline and selects
+# if-converted, so GCC's -O2 vectoriser takes them (neither flag changes a
+# result; fallback/gl11_program.c says why).
+$(BUILD)/obj/fallback/gl11_program.o: CFLAGS += -fno-math-errno -fno-trapping-math
 
 $(LIB): $(call obj,$(RUNTIME_SRC))
 	@rm -f $@

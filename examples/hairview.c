@@ -1,6 +1,6 @@
 /* hairview — renders a scene with a hairgen bundle on OSMesa and writes a PNG.
 
-   build/hairview --bundle DIR --scene SCENE.json [--tier auto|full|vertex|fixed]
+   build/hairview --bundle DIR --scene SCENE.json [--tier auto|full|vertex|fixed4|fixed|gl11]
                   [--strict] [--flat] [--frames N] -o OUT.png
 
    Prints `tier=NAME reason=...` then `frame_ms=...` (the mean of N timed
@@ -37,7 +37,7 @@ static void log_line(void *user, const char *line) {
 
 static int usage(const char *why) {
     fprintf(stderr, "hairview: %s\nusage: hairview --bundle DIR --scene SCENE.json "
-                    "[--tier auto|full|vertex|fixed] [--strict] [--flat] [--frames N] -o OUT.png\n", why);
+                    "[--tier auto|full|vertex|fixed4|fixed|gl11] [--strict] [--flat] [--frames N] -o OUT.png\n", why);
     return 2;
 }
 
@@ -51,7 +51,7 @@ static int parse_args(int argc, char **argv, options *o) {
         else if (strcmp(a, "-o") == 0 && has_value) o->out = argv[++i];
         else if (strcmp(a, "--tier") == 0 && has_value) {
             o->tier = ht_tier_from_name(argv[++i]);
-            if (o->tier == HT_TIER_COUNT) return usage("--tier: expected auto, full, vertex or fixed");
+            if (o->tier == HT_TIER_COUNT) return usage("--tier: expected auto, full, vertex, fixed4, fixed or gl11");
         } else if (strcmp(a, "--frames") == 0 && has_value) {
             char *end;
             long n = strtol(argv[++i], &end, 10);

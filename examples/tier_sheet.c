@@ -3,7 +3,7 @@
 
    build/tier_sheet --bundle DIR --scene SCENE.json [--frames N] -o SHEET.png
 
-   Panels, left to right: full, vertex, fixed4, fixed. Top row: the tier's image
+   Panels, left to right: full, vertex, fixed4, fixed, gl11. Top row: the tier's image
    (forced tier, strict: no silent downgrade; a tier the device cannot run
    is a grey panel with the reason). Bottom row: per-pixel max channel
    difference from full's image through a ramp (black 0, red, yellow, white
@@ -28,13 +28,13 @@
 #include "offscreen.h"
 #include "timing.h"
 
-#define TIERS 4          /* full, vertex, fixed4, fixed: the sheet's columns */
+#define TIERS 5          /* full, vertex, fixed4, fixed, gl11: the sheet's columns */
 #define GAP 4            /* pixels between panels */
 #define HEAT_FULL 64     /* difference (/255) the ramp reaches white at */
 #define FONT_SCALE 2
 #define MAX_FRAMES 1000
 
-static const ht_tier columns[TIERS] = { HT_TIER_FULL, HT_TIER_VERTEX, HT_TIER_FIXED4, HT_TIER_FIXED };
+static const ht_tier columns[TIERS] = { HT_TIER_FULL, HT_TIER_VERTEX, HT_TIER_FIXED4, HT_TIER_FIXED, HT_TIER_GL11 };
 
 typedef struct options {
     const char *bundle, *scene, *out;
@@ -291,7 +291,7 @@ static void compose(ht_image *sheet, const ht_scene *s, const panel *panels) {
 }
 
 static void print_table(const panel *panels) {
-    printf("panels left to right: full, vertex, fixed4, fixed; top: image, bottom: error vs full "
+    printf("panels left to right: full, vertex, fixed4, fixed, gl11; top: image, bottom: error vs full "
            "(black 0, white >= %d/255)\n", HEAT_FULL);
     printf("%-7s %9s %9s %7s\n", "tier", "frame_ms", "mean_err", "max_err");
     for (int t = 0; t < TIERS; t++) {
@@ -309,7 +309,7 @@ static void print_help(FILE *f) {
     fprintf(f,
             "usage: tier_sheet --bundle DIR --scene SCENE.json [--frames N] -o SHEET.png\n"
             "Renders SCENE with every tier of the bundle (forced, strict) side by side.\n"
-            "Panels left to right: full, vertex, fixed4, fixed. Top row: the tier's image, or a grey\n"
+            "Panels left to right: full, vertex, fixed4, fixed, gl11. Top row: the tier's image, or a grey\n"
             "panel with the reason it cannot run here. Bottom row: per-pixel max channel\n"
             "difference from full (black 0, then red, yellow, white at %d/255 and above).\n"
             "Prints tier, frame ms (median of N frames, default 5, each ended by glFinish),\n"

@@ -5,6 +5,7 @@
 
 #include "fixed.h"
 #include "fixed4.h"
+#include "gl11.h"
 #include "tier.h"
 
 static const ht_tier_backend *const backends[] = {
@@ -12,6 +13,7 @@ static const ht_tier_backend *const backends[] = {
     &ht_tier_glsl_vertex_backend,
     &ht_tier_fixed_backend,
     &ht_tier_fixed4_backend,
+    &ht_tier_gl11_backend,
 };
 
 const ht_tier_backend *ht_tier_backend_find(ht_tier tier) {

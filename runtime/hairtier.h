@@ -9,7 +9,7 @@
    strands are sorted inside to outside once, at load time.
 
    Usage:
-       1. Make a GL context current (any GL 1.3+ compatibility context).
+       1. Make a GL context current (any GL 1.1+ compatibility context).
        2. Build the hair mesh once:
               ht_mesh mesh;
               ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 10000 }, &mesh);
@@ -25,8 +25,9 @@
                       .lights = lights, .light_count = 1 });
        5. ht_renderer_destroy(r); ht_mesh_free(&mesh);
 
-   Environment: HAIRTIER_TIER=full|vertex|fixed4|fixed forces a tier like
-   ht_renderer_desc.tier does (the desc wins when both are set).
+   Environment: HAIRTIER_TIER=full|vertex|fixed4|fixed|gl11 forces a tier
+   like ht_renderer_desc.tier does (the desc wins when both are set); gl11,
+   the last resort, runs on any GL 1.1 context with one texture unit.
 
    Errors: functions return ht_result; the log callback (or the message
    buffer a function takes) says what failed and where. Nothing here exits. */
@@ -61,6 +62,7 @@ typedef enum ht_tier {
     HT_TIER_VERTEX,    /* per-vertex GLSL lighting, fixed-function fragment */
     HT_TIER_FIXED,     /* GL 1.3 texture combiners + lookup textures, 2 units */
     HT_TIER_FIXED4,    /* GL 1.3 combiners on 4 units, every coordinate made by the device */
+    HT_TIER_GL11,      /* GL 1.1, one unit: the model per vertex on the CPU x the albedo */
     HT_TIER_COUNT
 } ht_tier;
 

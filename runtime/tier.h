@@ -20,7 +20,8 @@
    state and may leave what it touched: the renderer restores the app's.
 
    The backends: ht_tier_glsl_full_backend and ht_tier_glsl_vertex_backend
-   (tier_glsl.c, declared below), ht_tier_fixed_backend (fallback/fixed.h);
+   (tier_glsl.c, declared below), ht_tier_fixed_backend (fallback/fixed.h),
+   ht_tier_fixed4_backend (fallback/fixed4.h), ht_tier_gl11_backend (fallback/gl11.h);
    backends.c is their table, and the only runtime file that names
    fallback/. The renderer knows a tier only through its backend's fields. */
 #ifndef HT_TIER_H

@@ -66,6 +66,8 @@ ht_result ht_emit_fixed(const ht_plan *plan, ht_tier_output *out, char *err, siz
    cannot do on the device (a point light among the two it lights): the
    generator then leaves the tier out of the bundle. */
 ht_result ht_emit_fixed4(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
+/* The last resort: GL 1.1, one unit, the model per vertex on the CPU. */
+ht_result ht_emit_gl11(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
 
 /* Texels a LUT axis holding a highlight of exponent e needs, before the
    [16, 256] clamp: next power of two of 8 sqrt(e) (emit_fixed.c). */

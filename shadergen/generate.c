@@ -155,6 +155,18 @@ static double channel_mean(const ht_image *img, int channel) {
     return n ? (double)sum / (255.0 * (double)n) : 1.0;
 }
 
+/* Brightest rgb channel in [0,1]. */
+static double rgb_max(const ht_image *img) {
+    size_t n = (size_t)img->width * (size_t)img->height;
+    int most = 0;
+    for (size_t i = 0; i < n; i++)
+        for (int c = 0; c < 3 && c < img->channels; c++) {
+            int v = img->pixels[i * (size_t)img->channels + (size_t)c];
+            most = v > most ? v : most;
+        }
+    return (double)most / 255.0;
+}
+
 static const char *light_type_name(ht_light_type t) {
     return t == HT_LIGHT_POINT ? "point" : "directional";
 }
@@ -348,15 +360,16 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
     ht_plan_make(m, scene, &plan);
 
     /* Best first: the order the runtime walks. */
-    enum { EMITTERS = 4 };
+    enum { EMITTERS = 5 };
     ht_tier_output tiers[EMITTERS];
     memset(tiers, 0, sizeof tiers);
     ht_image albedo = { 0 }, detail = { 0 };
     ht_result (*const emitters[EMITTERS])(const ht_plan *, ht_tier_output *, char *, size_t) = {
-        ht_emit_full, ht_emit_vertex, ht_emit_fixed4, ht_emit_fixed
+        ht_emit_full, ht_emit_vertex, ht_emit_fixed4, ht_emit_fixed, ht_emit_gl11
     };
     r = ht_textures_pack(m, &plan, &albedo, &detail, err, err_size);
     if (r == HT_OK && plan.sparkle) plan.sparkle_mean = channel_mean(&detail, 1);
+    if (r == HT_OK && plan.base) plan.albedo_max = rgb_max(&albedo);
     int tier_count = 0;
     for (int i = 0; i < EMITTERS && r == HT_OK; i++) {
         r = emitters[i](&plan, &tiers[tier_count], err, err_size);

@@ -41,6 +41,9 @@ typedef struct ht_plan {
        highlight by more than a quarter of its width (1/sqrt(e)). */
     double viewer_spread;
     bool local_viewer;
+    /* Brightest rgb channel of the packed albedo in [0, 1] (1 until
+       generate.c measures it): the gl11 tier's headroom (gl11_program.h). */
+    double albedo_max;
     ht_plan_texture textures[HT_MAX_UNITS];  /* GLSL tiers' texture units */
     int texture_count;
     char notes[HT_MAX_NOTES][160];           /* what was dropped and why */

@@ -74,6 +74,7 @@ void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out) {
     out->secondary = !kajiya_kay;
     out->ao = true; /* every mesh carries per-vertex ao */
     out->sparkle_mean = 1.0;
+    out->albedo_max = 1.0;
     /* The material parser enforces (0,1]; a hand-built material may leave 0. */
     out->opaque_cutoff = m->opaque_cutoff > 0.0 && m->opaque_cutoff <= 1.0 ? m->opaque_cutoff
                                                                             : DEFAULT_OPAQUE_CUTOFF;

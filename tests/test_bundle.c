@@ -82,9 +82,9 @@ static void test_bundle_lists_every_tier_best_first_with_existing_files(void **s
     cJSON *m = load_manifest(dir);
     assert_string_equal(cJSON_GetObjectItem(m, "format")->valuestring, "hairtier-bundle/1");
     cJSON *tiers = cJSON_GetObjectItem(m, "tiers");
-    const char *expected[] = { "full", "vertex", "fixed4", "fixed" };
-    assert_int_equal(cJSON_GetArraySize(tiers), 4);
-    for (int i = 0; i < 4; i++) {
+    const char *expected[] = { "full", "vertex", "fixed4", "fixed", "gl11" };
+    assert_int_equal(cJSON_GetArraySize(tiers), 5);
+    for (int i = 0; i < 5; i++) {
         cJSON *t = cJSON_GetArrayItem(tiers, i);
         assert_string_equal(cJSON_GetObjectItem(t, "name")->valuestring, expected[i]);
         assert_non_null(cJSON_GetObjectItem(cJSON_GetObjectItem(t, "requires"), "texture_units"));

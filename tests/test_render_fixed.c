@@ -26,7 +26,9 @@
      naming the file.
    - No shader call at all, the prime-Z pass binds no LUT, no GL error after
      any pass, and after a frame the texture environment and texture
-     matrices are GL's initial ones: the next tier's frame is the same bytes as before. */
+     matrices are GL's initial ones: the next tier's frame is the same bytes as before.
+   The fixture's bundle keeps full, vertex and fixed only (fixed4 and gl11,
+   which also run at GL 1.3, have their own tests). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -252,9 +254,30 @@ static void *watching_getproc(const char *name) {
 
 /* ---- fixtures ---- */
 
+/* The fixture's bundle without the tiers after vertex other than fixed
+   (fixed4, gl11: their own tests), so that GL 1.3 leaves fixed the only
+   candidate, as the refusal tests below rely on. */
+static bool keep_only_fixed_below_vertex(const char *dir) {
+    cJSON *root = cJSON_Parse(ht_test_read_file(dir, "manifest.json"));
+    if (!root) return false;
+    cJSON *tiers = cJSON_GetObjectItem(root, "tiers");
+    for (int i = cJSON_GetArraySize(tiers) - 1; i >= 0; i--) {
+        const char *name = cJSON_GetObjectItem(cJSON_GetArrayItem(tiers, i), "name")->valuestring;
+        if (strcmp(name, "full") != 0 && strcmp(name, "vertex") != 0 && strcmp(name, "fixed") != 0)
+            cJSON_DeleteItemFromArray(tiers, i);
+    }
+    char *text = cJSON_Print(root);
+    cJSON_Delete(root);
+    if (!text) return false;
+    ht_test_write_file(dir, "manifest.json", text);
+    free(text);
+    return true;
+}
+
 static int setup(void **state) {
     (void)state;
     if (!ht_test_furball_setup(&fx, "fixed", SIZE)) return -1;
+    if (!keep_only_fixed_below_vertex(fx.bundle_dir)) return -1;
     void *p = ht_test_getproc("glActiveTexture");
     memcpy(&active_texture, &p, sizeof p);
     p = ht_test_getproc("glClientActiveTexture");

@@ -44,7 +44,7 @@ static ht_test_furball fx;
 static OSMesaContext float_context;
 static float float_buffer[SIZE * SIZE * 4];
 
-static const ht_tier every_tier[] = { HT_TIER_FULL, HT_TIER_VERTEX, HT_TIER_FIXED4, HT_TIER_FIXED };
+static const ht_tier every_tier[] = { HT_TIER_FULL, HT_TIER_VERTEX, HT_TIER_FIXED4, HT_TIER_FIXED, HT_TIER_GL11 };
 #define EVERY_TIER (int)(sizeof every_tier / sizeof every_tier[0])
 
 /* ---- fixture ---- */
@@ -936,7 +936,7 @@ static void test_hairview_fails_cleanly_on_bad_input(void **state) {
 
     /* The command line. */
     snprintf(args, sizeof args, "%s --scene '%s' --tier bogus", bundle_arg, scene);
-    expect_hairview_fails(args, png, 2, "hairview: --tier: ", "auto, full, vertex or fixed");
+    expect_hairview_fails(args, png, 2, "hairview: --tier: ", "auto, full, vertex, fixed4, fixed or gl11");
     const char *frames[] = { "0", "-1", "ten", "100001" };
     for (int i = 0; i < 4; i++) {
         snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames %s", fx.bundle_dir, scene, frames[i]);

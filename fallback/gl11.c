@@ -1,0 +1,237 @@
+/* gl11.c — the `gl11` tier's backend (gl11_program.h has the model and
+   the why). GL 1.1 only: one texture unit, GL_MODULATE, client arrays; no
+   multitexture, combiner, buffer object or shader call anywhere.
+
+   Create: the program (gl11.json) and the albedo, its rgb uploaded x
+   albedo_scale (a 1x1 white texel, scale 1, when the bundle has none).
+   Per mesh (set_mesh): the structure-of-arrays inputs and the colour array
+   (4 floats per vertex, client memory: GL 1.1 has no buffer objects).
+   Per frame (begin_frame): the colours recomputed on the CPU only when the
+   eye, a light's type, vector or colour, or the light count changed since
+   they were made (the cache key); counted in ht_gl11_cpu_vertices.
+   Per pass: every pass points the colour array at the same memory; the
+   prime-Z pass draws the albedo's alpha with a constant white colour (no
+   array), the others albedo x colour. */
+#include <math.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "errfmt.h"
+#include "gl11.h"
+#include "gl11_program.h"
+#include "gl_texture.h"
+#include "image.h"
+
+static _Atomic uint64_t cpu_vertices_total;
+
+uint64_t ht_gl11_cpu_vertices(void) { return atomic_load_explicit(&cpu_vertices_total, memory_order_relaxed); }
+
+/* What the colours were made for: compared bytewise (padding zeroed). */
+typedef struct shade_key {
+    float eye[3];
+    int light_count;
+    struct {
+        int type;
+        float vector[3], color[3];
+    } lights[HT_MAX_LIGHTS];
+} shade_key;
+
+typedef struct gl11_state {
+    const ht_gl *gl;
+    ht_gl11_program program;
+    double albedo_scale;      /* the program's; 1 with the white texel */
+    GLuint albedo;
+    ht_gl11_soa soa;
+    float *colors;            /* 4 x soa.padded */
+    bool have_mesh;
+    bool colors_valid;
+    shade_key key;
+    ht_log_fn log;
+    void *log_user;
+} gl11_state;
+
+static void destroy(void *state) {
+    gl11_state *s = state;
+    if (!s) return;
+    if (s->albedo) s->gl->DeleteTextures(1, &s->albedo);
+    ht_gl11_soa_free(&s->soa);
+    free(s->colors);
+    free(s);
+}
+
+static ht_result load_program(gl11_state *s, const ht_tier_context *ctx, char *err, size_t err_size) {
+    const ht_manifest *b = ctx->bundle;
+    const char *file = ht_manifest_tier_file(ctx->tier, "program");
+    if (!file) {
+        snprintf(err, err_size, "%s/manifest.json: tiers.%s.files: needs \"program\"", b->dir, ctx->tier->name);
+        return HT_ERR_PARSE;
+    }
+    char path[1200];
+    if (!ht_manifest_path(b, file, path, sizeof path)) {
+        snprintf(err, err_size, "%s: path too long", file);
+        return HT_ERR_IO;
+    }
+    char *text = ht_manifest_read_text(b, file, err, err_size);
+    if (!text) return HT_ERR_IO;
+    ht_result r = ht_gl11_parse(text, path, &s->program, err, err_size);
+    free(text);
+    return r;
+}
+
+/* The albedo with its rgb x albedo_scale (the colours are / albedo_scale),
+   alpha untouched; texels the scale would push past 1 saturate. */
+static ht_result load_albedo(gl11_state *s, const ht_tier_context *ctx, char *err, size_t err_size) {
+    const ht_manifest *b = ctx->bundle;
+    const ht_manifest_texture *t = ht_manifest_find_texture(b, ctx->tier, "albedo");
+    ht_image img = { 0 };
+    char path[1200] = "white albedo";
+    static const unsigned char white[4] = { 255, 255, 255, 255 };
+    if (t) {
+        if (!ht_manifest_path(b, t->file, path, sizeof path))
+            return ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", t->file);
+        ht_result r = ht_image_read_png(path, &img, err, err_size);
+        if (r != HT_OK) return r;
+        if (img.width != t->width || img.height != t->height) {
+            snprintf(err, err_size, "%s: %dx%d, manifest says %dx%d", path, img.width, img.height, t->width,
+                     t->height);
+            ht_image_free(&img);
+            return HT_ERR_PARSE;
+        }
+        s->albedo_scale = s->program.albedo_scale;
+        const int rgb = img.channels >= 3 ? 3 : (img.channels == 2 ? 1 : img.channels);
+        const size_t n = (size_t)img.width * (size_t)img.height;
+        for (size_t i = 0; s->albedo_scale != 1.0 && i < n; i++)
+            for (int c = 0; c < rgb; c++) {
+                uint8_t *px = &img.pixels[i * (size_t)img.channels + (size_t)c];
+                double v = (double)*px * s->albedo_scale;
+                *px = v >= 255.0 ? 255 : (uint8_t)lround(v);
+            }
+    } else {
+        img = (ht_image){ .width = 1, .height = 1, .channels = 4, .pixels = (uint8_t *)white };
+        s->albedo_scale = 1.0;
+    }
+    ht_result r = ht_gl_texture_upload(s->gl, &(ht_gl_texture_desc){ .target = GL_TEXTURE_2D, .image = &img,
+                                                                     .filter = GL_LINEAR, .wrap = GL_REPEAT,
+                                                                     .name = path },
+                                       &s->albedo, err, err_size);
+    if (t) ht_image_free(&img);
+    return r;
+}
+
+static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_t err_size) {
+    *out = NULL;
+    gl11_state *s = calloc(1, sizeof *s);
+    if (!s) return HT_ERR_OUT_OF_MEMORY;
+    s->gl = ctx->gl;
+    s->log = ctx->log;
+    s->log_user = ctx->log_user;
+    ht_result r = load_program(s, ctx, err, err_size);
+    if (r == HT_OK) r = load_albedo(s, ctx, err, err_size);
+    if (r != HT_OK) {
+        destroy(s);
+        return r;
+    }
+    /* the program's albedo_scale is for the albedo it was made with */
+    s->program.albedo_scale = s->albedo_scale;
+    ht_log_linef(s->log, s->log_user, "hairtier: gl11: 1 unit (albedo x %.3g, GL_MODULATE), %s per vertex on the "
+                 "CPU for %d light%s, local viewer", s->albedo_scale,
+                 s->program.shading.model == HT_MODEL_KAJIYA_KAY ? "kajiya-kay" : "scheuermann", s->program.lights,
+                 s->program.lights == 1 ? "" : "s");
+    *out = s;
+    return HT_OK;
+}
+
+static ht_result set_mesh(void *state, const ht_mesh *mesh) {
+    gl11_state *s = state;
+    ht_gl11_soa soa;
+    if (ht_gl11_soa_make(&s->program, mesh->vertices, mesh->vertex_count, &soa) != HT_OK)
+        return HT_ERR_OUT_OF_MEMORY;
+    float *colors = calloc(4 * soa.padded, sizeof(float));
+    if (!colors) {
+        ht_gl11_soa_free(&soa);
+        return HT_ERR_OUT_OF_MEMORY;
+    }
+    ht_gl11_soa_free(&s->soa);
+    free(s->colors);
+    s->soa = soa;
+    s->colors = colors;
+    s->have_mesh = true;
+    s->colors_valid = false;
+    return HT_OK;
+}
+
+static void begin_frame(void *state, const ht_tier_frame *f) {
+    gl11_state *s = state;
+    if (!s->have_mesh) return;
+    shade_key key;
+    memset(&key, 0, sizeof key);
+    memcpy(key.eye, f->eye, sizeof key.eye);
+    key.light_count = f->light_count < s->program.lights ? f->light_count : s->program.lights;
+    for (int l = 0; l < key.light_count; l++) {
+        key.lights[l].type = (int)f->lights[l].type;
+        memcpy(key.lights[l].vector, f->lights[l].vector, sizeof key.lights[l].vector);
+        memcpy(key.lights[l].color, f->lights[l].color, sizeof key.lights[l].color);
+    }
+    if (s->colors_valid && memcmp(&key, &s->key, sizeof key) == 0) return;
+    ht_gl11_shade(&s->program, &s->soa, f->lights, key.light_count, f->eye, s->colors);
+    atomic_fetch_add_explicit(&cpu_vertices_total, (uint64_t)s->soa.count, memory_order_relaxed);
+    s->key = key;
+    s->colors_valid = true;
+}
+
+static void bind_pass(void *state, ht_pass pass, int sub_pass) {
+    (void)pass;
+    (void)sub_pass;
+    gl11_state *s = state;
+    const ht_gl *gl = s->gl;
+    /* unit 0 is the active one (the baseline leaves it so; GL 1.1 has no other) */
+    gl->BindTexture(GL_TEXTURE_2D, s->albedo);
+    gl->Enable(GL_TEXTURE_2D);
+    gl->TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+}
+
+static bool set_arrays(void *state, ht_pass pass, int sub_pass) {
+    (void)sub_pass;
+    gl11_state *s = state;
+    const ht_gl *gl = s->gl;
+    if (!s->have_mesh || !s->colors_valid) return false;
+    if (pass == HT_PASS_PRIME_Z) {
+        /* alpha only: white x the albedo's alpha */
+        gl->DisableClientState(GL_COLOR_ARRAY);
+        gl->Color4f(1, 1, 1, 1);
+        return true;
+    }
+    /* client memory: no buffer may be bound to GL_ARRAY_BUFFER (the
+       renderer binds its own where the device has them) */
+    GLint bound = 0;
+    if (gl->BindBuffer) {
+        gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
+        gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    }
+    gl->EnableClientState(GL_COLOR_ARRAY);
+    gl->ColorPointer(4, GL_FLOAT, 0, s->colors);
+    if (gl->BindBuffer) gl->BindBuffer(GL_ARRAY_BUFFER, (GLuint)bound);
+    return true;
+}
+
+static void end_frame(void *state) {
+    gl11_state *s = state;
+    const ht_gl *gl = s->gl;
+    gl->BindTexture(GL_TEXTURE_2D, 0);
+    gl->Disable(GL_TEXTURE_2D);
+    gl->DisableClientState(GL_COLOR_ARRAY);
+    gl->Color4f(1, 1, 1, 1);
+}
+
+const ht_tier_backend ht_tier_gl11_backend = {
+    .tier = HT_TIER_GL11,
+    .create = create,
+    .set_mesh = set_mesh,
+    .begin_frame = begin_frame,
+    .bind_pass = bind_pass,
+    .set_arrays = set_arrays,
+    .end_frame = end_frame,
+    .destroy = destroy,
+};
