@@ -50,6 +50,7 @@ typedef struct gl11_state {
     shade_key key;
     ht_log_fn log;
     void *log_user;
+    uint64_t cpu_vertices;     /* this renderer's share, for ht_renderer_get_stats */
 } gl11_state;
 
 static void destroy(void *state) {
@@ -177,6 +178,7 @@ static void begin_frame(void *state, const ht_tier_frame *f) {
     if (s->colors_valid && memcmp(&key, &s->key, sizeof key) == 0) return;
     ht_gl11_shade(&s->program, &s->soa, f->lights, key.light_count, f->eye, s->colors);
     atomic_fetch_add_explicit(&cpu_vertices_total, (uint64_t)s->soa.count, memory_order_relaxed);
+    s->cpu_vertices += s->soa.count;
     s->key = key;
     s->colors_valid = true;
 }
@@ -225,6 +227,8 @@ static void end_frame(void *state) {
     gl->Color4f(1, 1, 1, 1);
 }
 
+static uint64_t cpu_vertices(void *state) { return ((const gl11_state *)state)->cpu_vertices; }
+
 const ht_tier_backend ht_tier_gl11_backend = {
     .tier = HT_TIER_GL11,
     .create = create,
@@ -234,4 +238,5 @@ const ht_tier_backend ht_tier_gl11_backend = {
     .set_arrays = set_arrays,
     .end_frame = end_frame,
     .destroy = destroy,
+    .cpu_vertices = cpu_vertices,
 };
