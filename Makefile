@@ -69,7 +69,11 @@ $(BUILD)/obj/%.o: %.c | $(DEPS_STAMP)
 # The gl11 tier's per-vertex shading loops: sqrtf inline and selects
 # if-converted, so GCC's -O2 vectoriser takes them (neither flag changes a
 # result; fallback/gl11_program.c says why).
+# The per-vertex loops of the tiers that do CPU work (structure of arrays)
+# vectorise only without errno from sqrtf and at -O3's cost model; neither
+# flag changes a result.
 $(BUILD)/obj/fallback/gl11_program.o: CFLAGS += -fno-math-errno -fno-trapping-math
+$(BUILD)/obj/fallback/fixed_soa.o $(BUILD)/obj/fallback/fixed4_program.o: CFLAGS += -O3 -fno-math-errno -fno-trapping-math
 
 $(LIB): $(call obj,$(RUNTIME_SRC))
 	@rm -f $@

@@ -80,6 +80,60 @@ static axis_map axis(int n) {
 
 static inline float clamp_unit(float d) { return d > 1.0f ? 1.0f : (d < -1.0f ? -1.0f : d); }
 
+/* d[i] = dot(vec_i, H_i) with H = normalize(L + V), V = normalize(eye -
+   position), L one direction (directional) or per vertex (point, pl != NULL:
+   the light's position). Zero where H has no direction; the caller maps.
+   Branch-free over plain float arrays, so the loop vectorises. */
+static void dot_half_vector(const ht_fixed_soa *s, float *const restrict vec[3], const float L[3],
+                            const float *pl, const float eye[3], float *restrict d, float *restrict has_h) {
+    const size_t n = s->count;
+    const float *restrict px = s->px, *restrict py = s->py, *restrict pz = s->pz;
+    const float *restrict vx_ = vec[0], *restrict vy_ = vec[1], *restrict vz_ = vec[2];
+    const float wp = pl ? 1.0f : 0.0f, p0 = pl ? pl[0] : 0.0f, p1 = pl ? pl[1] : 0.0f, p2 = pl ? pl[2] : 0.0f;
+    for (size_t i = 0; i < n; i++) {
+        /* directional: L (unit or zero); point: towards the light, made
+           unit here. One formula for both keeps the loop branch-free. */
+        float lx = L[0] + wp * (p0 - px[i]), ly = L[1] + wp * (p1 - py[i]), lz = L[2] + wp * (p2 - pz[i]);
+        float l2 = lx * lx + ly * ly + lz * lz;
+        float il = l2 > 1e-12f ? 1.0f / sqrtf(l2) : 0.0f;
+        lx *= il;
+        ly *= il;
+        lz *= il;
+        float vx = eye[0] - px[i], vy = eye[1] - py[i], vz = eye[2] - pz[i];
+        float v2 = vx * vx + vy * vy + vz * vz;
+        float iv = v2 > 1e-12f ? 1.0f / sqrtf(v2) : 0.0f;
+        float hx = lx + vx * iv, hy = ly + vy * iv, hz = lz + vz * iv;
+        float h2 = hx * hx + hy * hy + hz * hz;
+        float ih = h2 > 1e-12f ? 1.0f / sqrtf(h2) : 0.0f;
+        d[i] = (vx_[i] * hx + vy_[i] * hy + vz_[i] * hz) * ih;
+        has_h[i] = h2 > 1e-12f ? 1.0f : 0.0f;
+    }
+}
+
+/* d[i] = dot(vec_i, L_i), L directional or per vertex towards pl;
+   has_l[i] = 1 where L_i has a direction. */
+static void dot_light(const ht_fixed_soa *s, float *const restrict vec[3], const float L[3], const float *pl,
+                      float *restrict d, float *restrict has_l) {
+    const size_t n = s->count;
+    const float *restrict px = s->px, *restrict py = s->py, *restrict pz = s->pz;
+    const float *restrict vx_ = vec[0], *restrict vy_ = vec[1], *restrict vz_ = vec[2];
+    const float wp = pl ? 1.0f : 0.0f, p0 = pl ? pl[0] : 0.0f, p1 = pl ? pl[1] : 0.0f, p2 = pl ? pl[2] : 0.0f;
+    for (size_t i = 0; i < n; i++) {
+        /* directional: L (unit or zero); point: towards the light, made
+           unit here. One formula for both keeps the loop branch-free. */
+        float lx = L[0] + wp * (p0 - px[i]), ly = L[1] + wp * (p1 - py[i]), lz = L[2] + wp * (p2 - pz[i]);
+        float l2 = lx * lx + ly * ly + lz * lz;
+        float il = l2 > 1e-12f ? 1.0f / sqrtf(l2) : 0.0f;
+        lx *= il;
+        ly *= il;
+        lz *= il;
+        d[i] = vx_[i] * lx + vy_[i] * ly + vz_[i] * lz;
+        has_l[i] = l2 > 1e-12f ? 1.0f : 0.0f;
+    }
+}
+
+static float length2(float *const v[3], size_t i) { return v[0][i] * v[0][i] + v[1][i] * v[1][i] + v[2][i] * v[2][i]; }
+
 void ht_fixed_soa_coords(const ht_combiner_program *p, const ht_fixed_soa *s, const ht_light *light,
                          const float eye[3], float *coords) {
     const bool kajiya_kay = p->model == HT_MODEL_KAJIYA_KAY;
@@ -89,58 +143,45 @@ void ht_fixed_soa_coords(const ht_combiner_program *p, const ht_fixed_soa *s, co
         for (int j = 0; j < 3; j++) lv[j] = isfinite(light->vector[j]) ? light->vector[j] : 0.0f;
     /* a directional light's L is the same for every vertex: normalize once */
     float dir_l[3] = { 0, 0, 0 };
-    bool dir_has_l = false;
     if (!point) {
         double raw[3] = { lv[0], lv[1], lv[2] }, L[3];
-        dir_has_l = ht_vec3_direction(L, raw);
+        ht_vec3_direction(L, raw);
         for (int j = 0; j < 3; j++) dir_l[j] = (float)L[j];
     }
+    const float *pl = point ? lv : NULL; /* dir_l stays zero for a point light */
+    const size_t n = s->count;
+    /* the scratch rows: d0, d1, d2, and whether H has a direction */
+    float *scratch = malloc((n ? n : 1) * 5 * sizeof(float));
+    if (!scratch) {
+        /* out of memory: read as unlit, inside the LUT (the model's answers without directions) */
+        for (size_t i = 0; i < 3 * n; i++) coords[i] = ht_combiner_lut_coord(-1.0, p->lut_size[i % 3]);
+        return;
+    }
+    float *d0 = scratch, *d1 = scratch + n, *d2 = scratch + 2 * n, *hh = scratch + 3 * n, *hl = scratch + 4 * n;
+    dot_light(s, (float *const *)s->a, dir_l, pl, d0, hl);
+    dot_half_vector(s, (float *const *)s->b, dir_l, pl, eye, d1, hh);
+    if (!kajiya_kay) dot_half_vector(s, (float *const *)s->c, dir_l, pl, eye, d2, hh);
+
     const axis_map m0 = axis(p->lut_size[0]), m1 = axis(p->lut_size[1]), m2 = axis(p->lut_size[2]);
     const float none_a = ht_combiner_lut_coord(kajiya_kay ? 1.0 : 0.0, p->lut_size[0]);
     const float none_h = ht_combiner_lut_coord(-1.0, p->lut_size[1]), none_h2 = ht_combiner_lut_coord(-1.0, p->lut_size[2]);
     const float third = kajiya_kay ? ht_combiner_lut_coord(0.0, p->lut_size[2]) : 0.0f;
-    const float tiny = 1e-12f;
-    for (size_t i = 0; i < s->count; i++) {
-        float lx = dir_l[0], ly = dir_l[1], lz = dir_l[2];
-        bool has_l = dir_has_l;
-        if (point) {
-            lx = lv[0] - s->px[i];
-            ly = lv[1] - s->py[i];
-            lz = lv[2] - s->pz[i];
-            float l2 = lx * lx + ly * ly + lz * lz;
-            has_l = l2 > tiny;
-            float il = has_l ? 1.0f / sqrtf(l2) : 0.0f;
-            lx *= il;
-            ly *= il;
-            lz *= il;
-        }
-        float vx = eye[0] - s->px[i], vy = eye[1] - s->py[i], vz = eye[2] - s->pz[i];
-        float v2 = vx * vx + vy * vy + vz * vz;
-        float iv = v2 > tiny ? 1.0f / sqrtf(v2) : 0.0f;
-        float hx = lx + vx * iv, hy = ly + vy * iv, hz = lz + vz * iv;
-        float h2 = hx * hx + hy * hy + hz * hz;
-        bool has_h = h2 > tiny;
-        float ih = has_h ? 1.0f / sqrtf(h2) : 0.0f;
-        hx *= ih;
-        hy *= ih;
-        hz *= ih;
-        /* a vector stored as zero has no direction (no strand, no normal) */
-        float a2 = s->a[0][i] * s->a[0][i] + s->a[1][i] * s->a[1][i] + s->a[2][i] * s->a[2][i];
-        float b2 = s->b[0][i] * s->b[0][i] + s->b[1][i] * s->b[1][i] + s->b[2][i] * s->b[2][i];
-        float c2 = s->c[0][i] * s->c[0][i] + s->c[1][i] * s->c[1][i] + s->c[2][i] * s->c[2][i];
-        float da = clamp_unit(s->a[0][i] * lx + s->a[1][i] * ly + s->a[2][i] * lz);
-        float db = clamp_unit(s->b[0][i] * hx + s->b[1][i] * hy + s->b[2][i] * hz);
-        float dc = clamp_unit(s->c[0][i] * hx + s->c[1][i] * hy + s->c[2][i] * hz);
+    for (size_t i = 0; i < n; i++) {
+        /* a vector stored as zero has no direction (no strand, no normal);
+           a point light on the vertex has none either */
+        bool a_ok = length2(s->a, i) > 0.5f, b_ok = length2(s->b, i) > 0.5f, c_ok = length2(s->c, i) > 0.5f;
+        bool h_ok = hh[i] > 0.5f;
         float *out = coords + 3 * i;
         if (kajiya_kay) {
-            out[0] = a2 > 0.5f && has_l ? da * m0.k + m0.o : none_a;
-            out[1] = b2 > 0.5f && has_h ? db * m1.k + m1.o : none_h;
+            out[0] = a_ok && hl[i] > 0.5f ? clamp_unit(d0[i]) * m0.k + m0.o : none_a;
+            out[1] = b_ok && h_ok ? clamp_unit(d1[i]) * m1.k + m1.o : none_h;
             out[2] = third;
         } else {
             /* a zero N gives N.L = 0 (model.c) */
-            out[0] = a2 > 0.5f ? da * m0.k + m0.o : none_a;
-            out[1] = b2 > 0.5f && has_h ? db * m1.k + m1.o : none_h;
-            out[2] = c2 > 0.5f && has_h ? dc * m2.k + m2.o : none_h2;
+            out[0] = a_ok ? clamp_unit(d0[i]) * m0.k + m0.o : none_a;
+            out[1] = b_ok && h_ok ? clamp_unit(d1[i]) * m1.k + m1.o : none_h;
+            out[2] = c_ok && h_ok ? clamp_unit(d2[i]) * m2.k + m2.o : none_h2;
         }
     }
+    free(scratch);
 }

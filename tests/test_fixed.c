@@ -20,6 +20,7 @@
 #include "combiner.h"
 #include "emit.h"
 #include "fixed_coords.h"
+#include "fixed_soa.h"
 #include "hairgen_internal.h"
 #include "rng.h"
 #include "support_combiner_eval.h"
@@ -1088,8 +1089,56 @@ static void test_degenerate_vertices_give_the_models_answer(void **state) {
     ht_tier_output_free(&out);
 }
 
+/* The float structure-of-arrays path the tier draws with gives the double
+   reference's coordinates: within float rounding of the dot products, and
+   the same constants where a direction is missing (zero tangent, zero
+   normal, a point light on the vertex, the eye on the vertex). */
+static void test_float_soa_coordinates_match_the_double_reference(void **state) {
+    (void)state;
+    enum { N = 400 };
+    ht_rng rng = ht_rng_seed(5);
+    ht_vertex v[N];
+    for (int i = 0; i < N; i++) {
+        for (int k = 0; k < 3; k++) {
+            v[i].position[k] = (float)ht_rng_range(&rng, -1, 1);
+            v[i].tangent[k] = (float)ht_rng_range(&rng, -1, 1);
+            v[i].normal[k] = (float)ht_rng_range(&rng, -1, 1);
+        }
+        v[i].ao = (float)ht_rng_unit(&rng);
+    }
+    memset(v[1].tangent, 0, sizeof v[1].tangent);
+    memset(v[2].normal, 0, sizeof v[2].normal);
+    const float eye[3] = { 0.3f, 0.5f, 3.0f };
+    memcpy(v[3].position, eye, sizeof eye);
+    ht_light lights[2] = { { HT_LIGHT_DIRECTIONAL, { 0.6f, 0.8f, 0.7f }, { 1, 1, 1 } },
+                           { HT_LIGHT_POINT, { 0.2f, 1.5f, 0.4f }, { 1, 1, 1 } } };
+    memcpy(v[4].position, lights[1].vector, sizeof eye);
+    const ht_model_kind models[2] = { HT_MODEL_SCHEUERMANN, HT_MODEL_KAJIYA_KAY };
+    for (int m = 0; m < 2; m++)
+        for (int l = 0; l < 2; l++) {
+            ht_plan plan = simple_plan(models[m], true);
+            ht_tier_output out;
+            ht_combiner_program p;
+            emit(&plan, &out, &p);
+            ht_tier_output_free(&out);
+            ht_fixed_soa soa;
+            assert_int_equal(ht_fixed_soa_make(&p, v, N, &soa), HT_OK);
+            static float want[3 * N], got[3 * N], colors[4 * N];
+            char err[128];
+            assert_int_equal(ht_fixed_coords_compute(&p, v, N, &lights[l], 1, eye, want, colors, err, sizeof err), HT_OK);
+            ht_fixed_soa_coords(&p, &soa, &lights[l], eye, got);
+            for (int i = 0; i < 3 * N; i++) {
+                if (fabsf(got[i] - want[i]) > 2e-5f)
+                    fail_msg("model %d light %d vertex %d axis %d: float %.6f, double %.6f", m, l, i / 3, i % 3,
+                             got[i], want[i]);
+            }
+            ht_fixed_soa_free(&soa);
+        }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_float_soa_coordinates_match_the_double_reference),
         cmocka_unit_test(test_lut_mapping_puts_first_and_last_texel_centres_on_plus_minus_one),
         cmocka_unit_test(test_lut_texels_equal_dot_terms_at_texel_centres),
         cmocka_unit_test(test_highlight_axis_grows_with_exponent_and_resolves_the_lobe),
