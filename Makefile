@@ -154,7 +154,7 @@ fuzz-build: deps
 fuzz-seeds: $(HAIRGEN)
 	@rm -rf $(FUZZ_BUILD)/seeds && mkdir -p $(FUZZ_BUILD)/seeds/fuzz_material $(FUZZ_BUILD)/seeds/fuzz_scene \
 	  $(FUZZ_BUILD)/seeds/fuzz_manifest $(FUZZ_BUILD)/seeds/fuzz_combiner $(FUZZ_BUILD)/seeds/fuzz_png \
-	  $(FUZZ_BUILD)/seeds/fuzz_json $(FUZZ_BUILD)/seeds/fuzz_fixed4
+	  $(FUZZ_BUILD)/seeds/fuzz_json $(FUZZ_BUILD)/seeds/fuzz_fixed4 $(FUZZ_BUILD)/seeds/fuzz_gl11
 	@$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json -o $(FUZZ_BUILD)/seed-bundle >/dev/null
 	@$(HAIRGEN) materials/kajiya-kay.json -o $(FUZZ_BUILD)/seed-bundle-kk >/dev/null
 	@cp materials/*.json $(FUZZ_BUILD)/seeds/fuzz_material/
@@ -165,6 +165,8 @@ fuzz-seeds: $(HAIRGEN)
 	@cp $(FUZZ_BUILD)/seed-bundle-kk/fixed.json $(FUZZ_BUILD)/seeds/fuzz_combiner/b.json
 	@cp $(FUZZ_BUILD)/seed-bundle/fixed4.json $(FUZZ_BUILD)/seeds/fuzz_fixed4/a.json
 	@cp $(FUZZ_BUILD)/seed-bundle-kk/fixed4.json $(FUZZ_BUILD)/seeds/fuzz_fixed4/b.json
+	@cp $(FUZZ_BUILD)/seed-bundle/gl11.json $(FUZZ_BUILD)/seeds/fuzz_gl11/a.json
+	@cp $(FUZZ_BUILD)/seed-bundle-kk/gl11.json $(FUZZ_BUILD)/seeds/fuzz_gl11/b.json
 	@cp $(FUZZ_BUILD)/seed-bundle/detail.png $(FUZZ_BUILD)/seeds/fuzz_png/detail.png
 	@find tests/data -name '*.png' -size -64k -exec cp {} $(FUZZ_BUILD)/seeds/fuzz_png/ \; 2>/dev/null || true
 	@cp materials/*.json scenes/*.json $(FUZZ_BUILD)/seed-bundle/*.json $(FUZZ_BUILD)/seeds/fuzz_json/
