@@ -40,6 +40,10 @@ ht_result ht_fixed4_stages_load_albedo(ht_fixed4_stages *st, const ht_tier_conte
     if (t) {
         if (!ht_manifest_path(b, t->file, path, sizeof path))
             return ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", t->file);
+        uint32_t hw, hh;
+        if (ht_image_png_header_size(path, &hw, &hh) && (hw != (uint32_t)t->width || hh != (uint32_t)t->height))
+            return ht_fail(err, err_size, HT_ERR_PARSE, "%s: %ux%u, manifest says %dx%d", path, hw, hh, t->width,
+                           t->height);
         ht_result r = ht_image_read_png(path, &img, err, err_size);
         if (r != HT_OK) return r;
         if (img.width != t->width || img.height != t->height) {

@@ -164,26 +164,6 @@ static ht_result build_program(glsl_state *s, const ht_tier_context *ctx, const 
     return HT_OK;
 }
 
-/* The size a PNG's header declares, read before decoding: a corrupt or
-   hostile header must not make us allocate what it claims. False when the
-   file does not start like a PNG (the decoder then says why). */
-static bool png_header_size(const char *path, uint32_t *width, uint32_t *height) {
-    static const unsigned char signature[8] = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n' };
-    unsigned char h[24];
-    FILE *f;
-    char ignored[8];
-    /* Regular files only: fopen on a FIFO would wait for a writer forever;
-       ht_image_read_png then says what the file is. */
-    if (ht_file_open_regular(path, HT_FILE_MAX_PNG, &f, NULL, ignored, sizeof ignored) != HT_OK) return false;
-    size_t n = fread(h, 1, sizeof h, f);
-    fclose(f);
-    if (n != sizeof h || memcmp(h, signature, sizeof signature) != 0 || memcmp(h + 12, "IHDR", 4) != 0)
-        return false;
-    *width = (uint32_t)h[16] << 24 | (uint32_t)h[17] << 16 | (uint32_t)h[18] << 8 | h[19];
-    *height = (uint32_t)h[20] << 24 | (uint32_t)h[21] << 16 | (uint32_t)h[22] << 8 | h[23];
-    return true;
-}
-
 static ht_result upload_texture(glsl_state *s, const ht_manifest *b, const ht_manifest_texture *t,
                                 GLuint *out, char *err, size_t err_size) {
     char path[HT_LIMIT_BUNDLE_FILE_PATH], ierr[512];
@@ -197,7 +177,7 @@ static ht_result upload_texture(glsl_state *s, const ht_manifest *b, const ht_ma
         return HT_ERR_PARSE;
     }
     uint32_t hw, hh;
-    if (png_header_size(path, &hw, &hh) && (hw != (uint32_t)t->width || hh != (uint32_t)t->height)) {
+    if (ht_image_png_header_size(path, &hw, &hh) && (hw != (uint32_t)t->width || hh != (uint32_t)t->height)) {
         snprintf(err, err_size, "%s: %ux%u, manifest says %dx%d", path, hw, hh, t->width, t->height);
         return HT_ERR_PARSE;
     }
@@ -253,6 +233,12 @@ static ht_result load_vertex_stages(glsl_state *s, const ht_tier_context *ctx, i
     free(text);
     if (r != HT_OK) return r;
     ht_fixed4_stages_init(&s->stages, s->gl, &s->luts, "vertex");
+    /* The albedo sits after the LUTs (fixed4_program.h's table). */
+    for (int i = 0; i < ctx->tier->sampler_count; i++)
+        if (ctx->tier->samplers[i].unit != s->stages.luts)
+            return ht_fail(err, err_size, HT_ERR_PARSE, "%s/manifest.json: tiers[%d].samplers[%d].unit: %d, the "
+                           "vertex tier's albedo unit is %d (after its LUTs)", b->dir, index, i,
+                           ctx->tier->samplers[i].unit, s->stages.luts);
     if (s->stages.units > ctx->caps->texture_units)
         return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "needs %d texture units, have %d", s->stages.units,
                        ctx->caps->texture_units);
