@@ -21,9 +21,8 @@
 #include "errfmt.h"
 #include "fixed4.h"
 #include "fixed4_program.h"
+#include "fixed4_stages.h"
 #include "gl_error.h"
-#include "gl_texture.h"
-#include "image.h"
 
 enum { MAX_UNITS = HT_FIXED4_MAX_LUTS + 2 };
 
@@ -34,9 +33,7 @@ typedef struct fixed4_state {
     const ht_caps *caps;
     ht_fixed4_program program;
     int luts, units;
-    GLuint lut_textures[HT_FIXED4_MAX_LUTS];
-    GLuint albedo;
-    bool albedo_is_white;
+    ht_fixed4_stages stages; /* the LUT textures, the albedo, the combiner stages */
     /* static per-vertex arrays: client memory, or offsets into buffers */
     float *arrays[ARRAY_COUNT];
     GLuint buffers[ARRAY_COUNT];
@@ -49,9 +46,6 @@ typedef struct fixed4_state {
     bool coords_valid;
     float coords_key[3 + 3 * HT_FIXED4_MAX_LIGHTS];
     uint64_t cpu_vertices;
-    /* what the LUTs were baked for */
-    bool baked;
-    float baked_colors[HT_FIXED4_MAX_LIGHTS][3];
     int scale;
     /* this frame */
     float matrices[HT_FIXED4_MAX_LUTS][16];
@@ -65,9 +59,7 @@ typedef struct fixed4_state {
 static void destroy(void *state) {
     fixed4_state *s = state;
     if (!s) return;
-    for (int i = 0; i < HT_FIXED4_MAX_LUTS; i++)
-        if (s->lut_textures[i]) s->gl->DeleteTextures(1, &s->lut_textures[i]);
-    if (s->albedo) s->gl->DeleteTextures(1, &s->albedo);
+    ht_fixed4_stages_release(&s->stages);
     for (int i = 0; i < ARRAY_COUNT; i++) {
         free(s->arrays[i]);
         if (s->buffers[i]) s->gl->DeleteBuffers(1, &s->buffers[i]);
@@ -111,63 +103,6 @@ static ht_result check_device(const fixed4_state *s, const ht_tier_context *ctx,
     return HT_OK;
 }
 
-static ht_result load_albedo(fixed4_state *s, const ht_tier_context *ctx, char *err, size_t err_size) {
-    const ht_manifest *b = ctx->bundle;
-    const ht_manifest_texture *t = ht_manifest_find_texture(b, ctx->tier, "albedo");
-    ht_image img = { 0 };
-    char path[HT_LIMIT_BUNDLE_FILE_PATH] = "white albedo";
-    static const unsigned char white[4] = { 255, 255, 255, 255 };
-    if (t) {
-        if (!ht_manifest_path(b, t->file, path, sizeof path))
-            return ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", t->file);
-        ht_result r = ht_image_read_png(path, &img, err, err_size);
-        if (r != HT_OK) return r;
-        if (img.width != t->width || img.height != t->height) {
-            snprintf(err, err_size, "%s: %dx%d, manifest says %dx%d", path, img.width, img.height, t->width,
-                     t->height);
-            ht_image_free(&img);
-            return HT_ERR_PARSE;
-        }
-        r = ht_gl_texture_check_size(ctx->caps, img.width, img.height, 1, path, err, err_size);
-        if (r != HT_OK) {
-            ht_image_free(&img);
-            return r;
-        }
-    } else {
-        /* no albedo: a white texel keeps the final stage's scale and alpha 1 */
-        img = (ht_image){ .width = 1, .height = 1, .channels = 4, .pixels = (uint8_t *)white };
-        s->albedo_is_white = true;
-    }
-    ht_result r = ht_gl_texture_upload(s->gl, &(ht_gl_texture_desc){ .target = GL_TEXTURE_2D, .image = &img,
-                                                                     .filter = GL_LINEAR, .wrap = GL_REPEAT,
-                                                                     .name = path },
-                                       &s->albedo, err, err_size);
-    if (t) ht_image_free(&img);
-    return r;
-}
-
-/* Bakes and uploads every LUT for the frame's light colours and scale. */
-static ht_result bake_luts(fixed4_state *s, char *err, size_t err_size) {
-    for (int k = 0; k < s->luts; k++) {
-        ht_image img = { 0 };
-        ht_result r = ht_fixed4_bake_lut(&s->program, k, (const float(*)[3])s->light_colors, s->scale, &img);
-        if (r != HT_OK) return ht_fail(err, err_size, r, "fixed4: LUT %d: out of memory", k);
-        if (s->lut_textures[k]) s->gl->DeleteTextures(1, &s->lut_textures[k]);
-        s->lut_textures[k] = 0;
-        char name[32];
-        snprintf(name, sizeof name, "fixed4 LUT %d", k);
-        r = ht_gl_texture_upload(s->gl, &(ht_gl_texture_desc){ .target = GL_TEXTURE_2D, .image = &img,
-                                                               .filter = GL_LINEAR, .wrap = GL_CLAMP_TO_EDGE,
-                                                               .name = name },
-                                 &s->lut_textures[k], err, err_size);
-        ht_image_free(&img);
-        if (r != HT_OK) return r;
-    }
-    memcpy(s->baked_colors, s->light_colors, sizeof s->baked_colors);
-    s->baked = true;
-    return HT_OK;
-}
-
 static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_t err_size) {
     *out = NULL;
     fixed4_state *s = calloc(1, sizeof *s);
@@ -180,16 +115,17 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
     if (r == HT_OK) {
         s->luts = ht_fixed4_lut_count(&s->program);
         s->units = ht_fixed4_units(&s->program);
+        ht_fixed4_stages_init(&s->stages, s->gl, &s->program, "fixed4");
         r = check_device(s, ctx, err, err_size);
     }
-    if (r == HT_OK) r = load_albedo(s, ctx, err, err_size);
+    if (r == HT_OK) r = ht_fixed4_stages_load_albedo(&s->stages, ctx, err, err_size);
     /* LUTs for white lights until the first frame says otherwise: a bake
        that cannot succeed fails here, where the tier can still drop. */
     for (int l = 0; r == HT_OK && l < HT_FIXED4_MAX_LIGHTS; l++)
         s->light_colors[l][0] = s->light_colors[l][1] = s->light_colors[l][2] = l < s->program.lights ? 1.0f : 0.0f;
     if (r == HT_OK) {
         s->scale = ht_fixed4_scale(&s->program, (const float(*)[3])s->light_colors);
-        r = bake_luts(s, err, err_size);
+        r = ht_fixed4_stages_bake(&s->stages, (const float(*)[3])s->light_colors, s->scale, err, err_size);
     }
     if (r != HT_OK) {
         destroy(s);
@@ -329,59 +265,11 @@ static void begin_frame(void *state, const ht_tier_frame *f) {
     else
         for (int k = 0; k < s->luts; k++)
             ht_fixed4_texture_matrix(p, k, (const float(*)[3])s->light_dirs, view_dir, s->matrices[k]);
-    int scale = ht_fixed4_scale(p, (const float(*)[3])s->light_colors);
-    if (!s->baked || scale != s->scale || memcmp(s->baked_colors, s->light_colors, sizeof s->baked_colors) != 0) {
-        s->scale = scale;
-        char err[256];
-        if (bake_luts(s, err, sizeof err) != HT_OK) {
-            s->baked = false;
-            ht_log_linef(s->log, s->log_user, "hairtier: fixed4: %s", err);
-        }
-    }
+    s->scale = ht_fixed4_scale(p, (const float(*)[3])s->light_colors);
+    ht_fixed4_stages_update(&s->stages, (const float(*)[3])s->light_colors, s->scale, s->log, s->log_user);
 }
 
 static void active_unit(const fixed4_state *s, int unit) { s->gl->ActiveTexture(GL_TEXTURE0 + (GLenum)unit); }
-
-typedef struct env {
-    GLenum rgb, alpha;
-    GLenum src_rgb[3], op_rgb[3];
-    GLenum src_alpha[1], op_alpha[1];
-    int scale;
-} env;
-
-static void apply_env(const ht_gl *gl, const env *e) {
-    gl->TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
-    gl->TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, (GLint)e->rgb);
-    gl->TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, (GLint)e->alpha);
-    static const GLenum src_rgb[3] = { GL_SOURCE0_RGB, GL_SOURCE1_RGB, GL_SOURCE2_RGB };
-    static const GLenum op_rgb[3] = { GL_OPERAND0_RGB, GL_OPERAND1_RGB, GL_OPERAND2_RGB };
-    for (int a = 0; a < 2; a++) {
-        gl->TexEnvi(GL_TEXTURE_ENV, src_rgb[a], (GLint)e->src_rgb[a]);
-        gl->TexEnvi(GL_TEXTURE_ENV, op_rgb[a], (GLint)e->op_rgb[a]);
-    }
-    gl->TexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA, (GLint)e->src_alpha[0]);
-    gl->TexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_ALPHA, (GLint)e->op_alpha[0]);
-    gl->TexEnvf(GL_TEXTURE_ENV, GL_RGB_SCALE, (GLfloat)e->scale);
-    gl->TexEnvf(GL_TEXTURE_ENV, GL_ALPHA_SCALE, 1.0f);
-}
-
-/* The stage of `unit` (fixed4_program.h's table). */
-static env stage_env(const fixed4_state *s, int unit) {
-    const int albedo_unit = s->luts, final_unit = s->luts + 1;
-    if (unit < s->luts) {
-        /* first LUT: + primary (Scheuermann's diffuse; Kajiya-Kay's is black) */
-        GLenum other = unit == 0 ? GL_PRIMARY_COLOR : GL_PREVIOUS;
-        return (env){ GL_ADD, GL_REPLACE, { GL_TEXTURE, other }, { GL_SRC_COLOR, GL_SRC_COLOR },
-                      { other }, { GL_SRC_ALPHA }, 1 };
-    }
-    if (unit == albedo_unit)
-        return (env){ GL_MODULATE, GL_REPLACE, { GL_TEXTURE, GL_PREVIOUS }, { GL_SRC_COLOR, GL_SRC_COLOR },
-                      { GL_PREVIOUS }, { GL_SRC_ALPHA }, 1 };
-    (void)final_unit;
-    /* final: rgb x ao (carried in alpha) x scale; alpha = the albedo's coverage */
-    return (env){ GL_MODULATE, GL_REPLACE, { GL_PREVIOUS, GL_PREVIOUS }, { GL_SRC_COLOR, GL_SRC_ALPHA },
-                  { GL_TEXTURE }, { GL_SRC_ALPHA }, s->scale };
-}
 
 static void load_texture_matrix(const fixed4_state *s, int unit, const float *m) {
     const ht_gl *gl = s->gl;
@@ -460,19 +348,10 @@ static void clear_lighting(const fixed4_state *s) {
 static void bind_pass(void *state, ht_pass pass, int sub_pass) {
     (void)sub_pass;
     fixed4_state *s = state;
-    const ht_gl *gl = s->gl;
     const bool prime = pass == HT_PASS_PRIME_Z;
-    const int final_unit = s->units - 1;
-    for (int u = 0; u < s->units; u++) {
-        active_unit(s, u);
-        gl->Disable(GL_TEXTURE_2D);
-        if (prime && u != final_unit) continue;
-        gl->BindTexture(GL_TEXTURE_2D, u < s->luts ? s->lut_textures[u] : s->albedo);
-        gl->Enable(GL_TEXTURE_2D);
-        env e = stage_env(s, u);
-        apply_env(gl, &e);
-        if (u < s->luts && s->program.viewer == HT_FIXED4_VIEWER_INFINITE) load_texture_matrix(s, u, s->matrices[u]);
-    }
+    ht_fixed4_stages_bind(&s->stages, prime);
+    for (int u = 0; !prime && u < s->luts && s->program.viewer == HT_FIXED4_VIEWER_INFINITE; u++)
+        load_texture_matrix(s, u, s->matrices[u]);
     active_unit(s, 0);
     if (!prime && s->program.shading.model == HT_MODEL_SCHEUERMANN) set_lighting(s);
     else clear_lighting(s);
@@ -492,7 +371,7 @@ static bool set_arrays(void *state, ht_pass pass, int sub_pass) {
     (void)sub_pass;
     fixed4_state *s = state;
     const ht_gl *gl = s->gl;
-    if (!s->have_mesh || !s->baked) return false;
+    if (!s->have_mesh || !ht_fixed4_stages_ready(&s->stages)) return false;
     if (s->program.viewer == HT_FIXED4_VIEWER_LOCAL && !s->coords_valid) return false;
     GLint bound = 0;
     if (gl->BindBuffer) gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
@@ -519,12 +398,8 @@ static bool set_arrays(void *state, ht_pass pass, int sub_pass) {
 static void end_frame(void *state) {
     fixed4_state *s = state;
     const ht_gl *gl = s->gl;
+    ht_fixed4_stages_unbind(&s->stages);
     for (int u = s->units - 1; u >= 0; u--) {
-        active_unit(s, u);
-        gl->TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
-        gl->TexEnvf(GL_TEXTURE_ENV, GL_RGB_SCALE, 1.0f);
-        gl->BindTexture(GL_TEXTURE_2D, 0);
-        gl->Disable(GL_TEXTURE_2D);
         if (u < s->luts) load_texture_matrix(s, u, NULL);
         gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)u);
         gl->DisableClientState(GL_TEXTURE_COORD_ARRAY);

@@ -184,11 +184,15 @@ ht_result ht_fixed4_parse(const char *json_text, const char *file_name, ht_fixed
 /* ---- what the device is fed ---- */
 
 int ht_fixed4_scale(const ht_fixed4_program *p, const float light_colors[][3]) {
+    return ht_fixed4_scale_lights(p, light_colors, p->lights);
+}
+
+int ht_fixed4_scale_lights(const ht_fixed4_program *p, const float light_colors[][3], int light_count) {
     const ht_shading *s = &p->shading;
     double worst = 0.0;
     for (int ch = 0; ch < 3; ch++) {
         double sum_lc = 0.0;
-        for (int l = 0; l < p->lights; l++) sum_lc += light_colors ? fmax(0.0, (double)light_colors[l][ch]) : 0.0;
+        for (int l = 0; l < light_count; l++) sum_lc += light_colors ? fmax(0.0, (double)light_colors[l][ch]) : 0.0;
         double terms = s->diffuse_color[ch] + s->primary.color[ch] +
                        (kajiya_kay(p) ? 0.0 : s->secondary.color[ch]);
         double v = sum_lc * terms;

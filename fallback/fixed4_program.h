@@ -88,6 +88,9 @@ ht_result ht_fixed4_parse(const char *json_text, const char *file_name, ht_fixed
 /* The scale for these light colours (lights x 3, NULL rows count as black):
    1, 2 or 4; 4 also when the colours need more (the excess clamps). */
 int ht_fixed4_scale(const ht_fixed4_program *p, const float light_colors[][3]);
+/* The same over light_count rows (the vertex tier adds the lights after
+   the program's into its primary colour, which the scale also divides). */
+int ht_fixed4_scale_lights(const ht_fixed4_program *p, const float light_colors[][3], int light_count);
 
 /* Bakes LUT k for the light colours and scale into out (RGB8, allocated). */
 ht_result ht_fixed4_bake_lut(const ht_fixed4_program *p, int k, const float light_colors[][3], int scale,

@@ -98,6 +98,7 @@
     X(shaders, void, UseProgram, (GLuint program)) \
     X(shaders, GLint, GetUniformLocation, (GLuint program, const GLchar *name)) \
     X(shaders, void, Uniform1i, (GLint location, GLint v0)) \
+    X(shaders, void, Uniform1f, (GLint location, GLfloat v0)) \
     X(shaders, void, Uniform3fv, (GLint location, GLsizei count, const GLfloat *value)) \
     X(shaders, void, Uniform4fv, (GLint location, GLsizei count, const GLfloat *value)) \
     X(shaders, void, VertexAttribPointer, (GLuint index, GLint size, GLenum type, GLboolean normalized, GLsizei stride, const void *ptr)) \

@@ -286,3 +286,23 @@ done:
     if (result != HT_OK) ht_set_error(err, err_size, "%s: %s", path, s.message);
     return result;
 }
+
+/* The size a PNG's header declares, read before decoding: a corrupt or
+   hostile header must not make us allocate what it claims. False when the
+   file does not start like a PNG (the decoder then says why). */
+bool ht_image_png_header_size(const char *path, uint32_t *width, uint32_t *height) {
+    static const unsigned char signature[8] = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n' };
+    unsigned char h[24];
+    FILE *f;
+    char ignored[8];
+    /* Regular files only: fopen on a FIFO would wait for a writer forever;
+       ht_image_read_png then says what the file is. */
+    if (ht_file_open_regular(path, HT_FILE_MAX_PNG, &f, NULL, ignored, sizeof ignored) != HT_OK) return false;
+    size_t n = fread(h, 1, sizeof h, f);
+    fclose(f);
+    if (n != sizeof h || memcmp(h, signature, sizeof signature) != 0 || memcmp(h + 12, "IHDR", 4) != 0)
+        return false;
+    *width = (uint32_t)h[16] << 24 | (uint32_t)h[17] << 16 | (uint32_t)h[18] << 8 | h[19];
+    *height = (uint32_t)h[20] << 24 | (uint32_t)h[21] << 16 | (uint32_t)h[22] << 8 | h[23];
+    return true;
+}

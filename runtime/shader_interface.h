@@ -29,6 +29,9 @@
 #define HT_U_EYE            "u_eye"          /* vec3 */
 #define HT_U_LIGHT_VECTOR   "u_light_vector" /* vec4[n]: w=0 direction towards the light, w=1 position */
 #define HT_U_LIGHT_COLOR    "u_light_color"  /* vec3[n] */
+/* The vertex tier's: the final combiner stage's GL_RGB_SCALE (1, 2 or 4),
+   which its primary colour is divided by. */
+#define HT_U_LUT_SCALE      "u_lut_scale"    /* float */
 
 /* Samplers: names the manifest lists with their unit. */
 #define HT_U_ALBEDO         "u_albedo"       /* rgb = base, a = alpha */

@@ -1,8 +1,10 @@
 /* tier_glsl.c — the GLSL tier backends: `full` (vertex + fragment program,
    per-pixel shading) and `vertex` (vertex program, fixed-function fragment:
-   unit 0 = albedo, GL_COMBINE MODULATE(texture, primary) with RGB_SCALE 2,
-   alpha MODULATE; docs/bundle.md). Both transform with ftransform(), so depth
-   matches the fixed-function head and every pass bit for bit. */
+   fixed4's combiner stages over LUTs baked here for the frame's light
+   colours, fallback/fixed4_stages.h; the vertex shader makes the LUT
+   coordinates and the diffuse; docs/bundle.md). Both transform with
+   ftransform(), so depth matches the fixed-function head and every pass bit
+   for bit. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +12,7 @@
 #include "gl_error.h"
 #include "errfmt.h"
 #include "file_open.h"
+#include "fixed4_stages.h"
 #include "gl_texture.h"
 #include "image.h"
 #include "shader_interface.h"
@@ -17,13 +20,12 @@
 
 typedef struct glsl_program {
     GLuint id;
-    GLint u_eye, u_light_vector, u_light_color;
+    GLint u_eye, u_light_vector, u_light_color, u_lut_scale;
 } glsl_program;
 
 typedef struct glsl_texture {
     GLuint id;
     int unit;
-    bool albedo;      /* the vertex tier's fixed-function unit 0 */
 } glsl_texture;
 
 typedef struct glsl_state {
@@ -34,8 +36,13 @@ typedef struct glsl_state {
     int light_count;                         /* the manifest's: the size of the uniform arrays */
     glsl_program main, prime;
     bool has_prime;
-    glsl_texture textures[HT_MANIFEST_MAX_SAMPLERS + 1];
+    glsl_texture textures[HT_MANIFEST_MAX_SAMPLERS];
     int texture_count;
+    /* the vertex tier's fragment stages: the program its LUTs are baked
+       from, the stages, this frame's scale */
+    ht_fixed4_program luts;
+    ht_fixed4_stages stages;
+    int scale;
 } glsl_state;
 
 /* The first non-empty line of a driver's info log. */
@@ -146,6 +153,7 @@ static ht_result build_program(glsl_state *s, const ht_tier_context *ctx, const 
     out->u_eye = gl->GetUniformLocation(prog, HT_U_EYE);
     out->u_light_vector = gl->GetUniformLocation(prog, HT_U_LIGHT_VECTOR);
     out->u_light_color = gl->GetUniformLocation(prog, HT_U_LIGHT_COLOR);
+    out->u_lut_scale = gl->GetUniformLocation(prog, HT_U_LUT_SCALE);
     /* Samplers are fixed for the program's life: bind them to units once. */
     gl->UseProgram(prog);
     for (int i = 0; i < ctx->tier->sampler_count; i++) {
@@ -154,26 +162,6 @@ static ht_result build_program(glsl_state *s, const ht_tier_context *ctx, const 
     }
     gl->UseProgram(0);
     return HT_OK;
-}
-
-/* The size a PNG's header declares, read before decoding: a corrupt or
-   hostile header must not make us allocate what it claims. False when the
-   file does not start like a PNG (the decoder then says why). */
-static bool png_header_size(const char *path, uint32_t *width, uint32_t *height) {
-    static const unsigned char signature[8] = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n' };
-    unsigned char h[24];
-    FILE *f;
-    char ignored[8];
-    /* Regular files only: fopen on a FIFO would wait for a writer forever;
-       ht_image_read_png then says what the file is. */
-    if (ht_file_open_regular(path, HT_FILE_MAX_PNG, &f, NULL, ignored, sizeof ignored) != HT_OK) return false;
-    size_t n = fread(h, 1, sizeof h, f);
-    fclose(f);
-    if (n != sizeof h || memcmp(h, signature, sizeof signature) != 0 || memcmp(h + 12, "IHDR", 4) != 0)
-        return false;
-    *width = (uint32_t)h[16] << 24 | (uint32_t)h[17] << 16 | (uint32_t)h[18] << 8 | h[19];
-    *height = (uint32_t)h[20] << 24 | (uint32_t)h[21] << 16 | (uint32_t)h[22] << 8 | h[23];
-    return true;
 }
 
 static ht_result upload_texture(glsl_state *s, const ht_manifest *b, const ht_manifest_texture *t,
@@ -189,7 +177,7 @@ static ht_result upload_texture(glsl_state *s, const ht_manifest *b, const ht_ma
         return HT_ERR_PARSE;
     }
     uint32_t hw, hh;
-    if (png_header_size(path, &hw, &hh) && (hw != (uint32_t)t->width || hh != (uint32_t)t->height)) {
+    if (ht_image_png_header_size(path, &hw, &hh) && (hw != (uint32_t)t->width || hh != (uint32_t)t->height)) {
         snprintf(err, err_size, "%s: %ux%u, manifest says %dx%d", path, hw, hh, t->width, t->height);
         return HT_ERR_PARSE;
     }
@@ -221,7 +209,48 @@ static void destroy(void *state) {
     if (s->prime.id && s->prime.id != s->main.id) gl->DeleteProgram(s->prime.id);
     for (int i = 0; i < s->texture_count; i++)
         if (s->textures[i].id) gl->DeleteTextures(1, &s->textures[i].id);
+    ht_fixed4_stages_release(&s->stages);
     free(s);
+}
+
+/* The vertex tier's fragment stages: the program ("program", fixed4's
+   format), the unit count, the albedo and LUTs baked for white lights until
+   the first frame says otherwise (a bake that cannot succeed fails here,
+   where the tier can still drop). */
+static ht_result load_vertex_stages(glsl_state *s, const ht_tier_context *ctx, int index, char *err,
+                                    size_t err_size) {
+    const ht_manifest *b = ctx->bundle;
+    const char *file = ht_manifest_tier_file(ctx->tier, "program");
+    char path[HT_LIMIT_BUNDLE_FILE_PATH];
+    if (!file)
+        return ht_fail(err, err_size, HT_ERR_PARSE, "%s/manifest.json: tiers[%d].files: needs \"program\"", b->dir,
+                       index);
+    if (!ht_manifest_path(b, file, path, sizeof path))
+        return ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", file);
+    char *text = ht_manifest_read_text(b, file, err, err_size);
+    if (!text) return HT_ERR_IO;
+    ht_result r = ht_fixed4_parse(text, path, &s->luts, err, err_size);
+    free(text);
+    if (r != HT_OK) return r;
+    ht_fixed4_stages_init(&s->stages, s->gl, &s->luts, "vertex");
+    /* The albedo sits after the LUTs (fixed4_program.h's table). */
+    for (int i = 0; i < ctx->tier->sampler_count; i++)
+        if (ctx->tier->samplers[i].unit != s->stages.luts)
+            return ht_fail(err, err_size, HT_ERR_PARSE, "%s/manifest.json: tiers[%d].samplers[%d].unit: %d, the "
+                           "vertex tier's albedo unit is %d (after its LUTs)", b->dir, index, i,
+                           ctx->tier->samplers[i].unit, s->stages.luts);
+    if (s->stages.units > ctx->caps->texture_units)
+        return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "needs %d texture units, have %d", s->stages.units,
+                       ctx->caps->texture_units);
+    if ((r = ht_fixed4_stages_load_albedo(&s->stages, ctx, err, err_size)) != HT_OK) return r;
+    float white[HT_FIXED4_MAX_LIGHTS][3] = { { 0 } };
+    float all[HT_MAX_LIGHTS][3] = { { 0 } };
+    for (int l = 0; l < s->light_count && l < HT_MAX_LIGHTS; l++) {
+        for (int i = 0; i < 3; i++) all[l][i] = 1.0f;
+        if (l < HT_FIXED4_MAX_LIGHTS) memcpy(white[l], all[l], sizeof white[l]);
+    }
+    s->scale = ht_fixed4_scale_lights(&s->luts, (const float(*)[3])all, s->light_count);
+    return ht_fixed4_stages_bake(&s->stages, (const float(*)[3])white, s->scale, err, err_size);
 }
 
 static ht_result create(const ht_tier_context *ctx, bool vertex_only, void **out, char *err, size_t err_size) {
@@ -236,7 +265,7 @@ static ht_result create(const ht_tier_context *ctx, bool vertex_only, void **out
         snprintf(err, err_size, "needs GL_ARB_texture_env_combine");
         return HT_ERR_UNSUPPORTED;
     }
-    if (vertex_only && !ctx->gl->has_multitexture && ctx->tier->sampler_count > 1) {
+    if (vertex_only && (!ctx->gl->has_multitexture || !ctx->gl->ActiveTexture)) {
         snprintf(err, err_size, "no glActiveTexture");
         return HT_ERR_UNSUPPORTED;
     }
@@ -267,13 +296,16 @@ static ht_result create(const ht_tier_context *ctx, bool vertex_only, void **out
         if ((r = build_program(s, ctx, pvert, pfrag, &s->prime, err, err_size)) != HT_OK) goto fail;
         s->has_prime = true;
     }
+    if (vertex_only) {
+        if ((r = load_vertex_stages(s, ctx, index, err, err_size)) != HT_OK) goto fail;
+        *out = s;
+        return HT_OK;
+    }
     for (int i = 0; i < t->sampler_count; i++) {
         const ht_manifest_sampler *smp = &t->samplers[i];
         const ht_manifest_texture *bt = ht_manifest_find_texture(ctx->bundle, t, smp->texture);
         glsl_texture *gt = &s->textures[s->texture_count];
         gt->unit = smp->unit;
-        gt->albedo = strcmp(smp->texture, "albedo") == 0;
-        if (vertex_only && !gt->albedo) continue; /* fixed-function fragment reads only albedo */
         if (!bt) {
             snprintf(err, err_size, "%s/manifest.json: tiers[%d].samplers[%d].texture: \"%s\" is not listed in textures",
                      ctx->bundle->dir, index, i, smp->texture);
@@ -286,32 +318,8 @@ static ht_result create(const ht_tier_context *ctx, bool vertex_only, void **out
             r = HT_ERR_UNSUPPORTED;
             goto fail;
         }
-        if (vertex_only && gt->unit != 0) {
-            snprintf(err, err_size, "%s/manifest.json: tiers[%d].samplers[%d].unit: %d, the vertex tier's "
-                     "fixed-function fragment stage reads albedo from unit 0", ctx->bundle->dir, index, i, gt->unit);
-            r = HT_ERR_PARSE;
-            goto fail;
-        }
         s->texture_count++;
         if ((r = upload_texture(s, ctx->bundle, bt, &gt->id, err, err_size)) != HT_OK) goto fail;
-    }
-    if (vertex_only) {
-        /* The fragment stage is MODULATE(texture, primary) x 2: without an
-           albedo texture a white one keeps the lighting's scale. */
-        bool have_albedo = false;
-        for (int i = 0; i < s->texture_count; i++) have_albedo |= s->textures[i].albedo && s->textures[i].unit == 0;
-        if (!have_albedo) {
-            static const unsigned char white[4] = { 255, 255, 255, 255 };
-            glsl_texture *gt = &s->textures[s->texture_count++];
-            gt->unit = 0;
-            gt->albedo = true;
-            const ht_image one = { .width = 1, .height = 1, .channels = 4, .pixels = (uint8_t *)white };
-            r = ht_gl_texture_upload(s->gl, &(ht_gl_texture_desc){ .target = GL_TEXTURE_2D, .image = &one,
-                                                                   .filter = GL_NEAREST, .wrap = GL_REPEAT,
-                                                                   .name = "white albedo" },
-                                     &gt->id, err, err_size);
-            if (r != HT_OK) goto fail;
-        }
     }
     *out = s;
     return HT_OK;
@@ -345,32 +353,28 @@ static void set_uniforms(const glsl_state *s, const glsl_program *p, const ht_ti
     if (p->u_eye >= 0) gl->Uniform3fv(p->u_eye, 1, f->eye);
     if (p->u_light_vector >= 0) gl->Uniform4fv(p->u_light_vector, n, vectors);
     if (p->u_light_color >= 0) gl->Uniform3fv(p->u_light_color, n, colors);
+    if (p->u_lut_scale >= 0) gl->Uniform1f(p->u_lut_scale, (float)s->scale);
+}
+
+/* The vertex tier's scale (over every planned light: those after the LUTs'
+   two add into the primary colour) and LUTs for this frame's colours. */
+static void update_vertex_stages(glsl_state *s, const ht_tier_frame *f) {
+    float colors[HT_MAX_LIGHTS][3] = { { 0 } };
+    for (int l = 0; l < s->light_count && l < f->light_count && l < HT_MAX_LIGHTS; l++)
+        memcpy(colors[l], f->lights[l].color, sizeof colors[l]);
+    s->scale = ht_fixed4_scale_lights(&s->luts, (const float(*)[3])colors, s->light_count);
+    ht_fixed4_stages_update(&s->stages, (const float(*)[3])colors, s->scale, s->log, s->log_user);
 }
 
 static void begin_frame(void *state, const ht_tier_frame *f) {
     glsl_state *s = state;
+    if (s->vertex_only) update_vertex_stages(s, f);
     set_uniforms(s, &s->main, f);
     if (s->has_prime) set_uniforms(s, &s->prime, f);
     const ht_gl *gl = s->gl;
     for (int i = 0; i < s->texture_count; i++) {
         if (gl->ActiveTexture) gl->ActiveTexture(GL_TEXTURE0 + (GLenum)s->textures[i].unit);
         gl->BindTexture(GL_TEXTURE_2D, s->textures[i].id);
-        if (s->vertex_only && s->textures[i].unit == 0) {
-            gl->Enable(GL_TEXTURE_2D);
-            gl->TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
-            gl->TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, GL_MODULATE);
-            gl->TexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_RGB, GL_TEXTURE);
-            gl->TexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_RGB, GL_SRC_COLOR);
-            gl->TexEnvi(GL_TEXTURE_ENV, GL_SOURCE1_RGB, GL_PRIMARY_COLOR);
-            gl->TexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_RGB, GL_SRC_COLOR);
-            gl->TexEnvf(GL_TEXTURE_ENV, GL_RGB_SCALE, 2.0f);
-            gl->TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, GL_MODULATE);
-            gl->TexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA, GL_TEXTURE);
-            gl->TexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_ALPHA, GL_SRC_ALPHA);
-            gl->TexEnvi(GL_TEXTURE_ENV, GL_SOURCE1_ALPHA, GL_PRIMARY_COLOR);
-            gl->TexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_ALPHA, GL_SRC_ALPHA);
-            gl->TexEnvf(GL_TEXTURE_ENV, GL_ALPHA_SCALE, 1.0f);
-        }
     }
     if (gl->ActiveTexture) gl->ActiveTexture(GL_TEXTURE0);
 }
@@ -379,6 +383,14 @@ static void bind_pass(void *state, ht_pass pass, int sub_pass) {
     (void)sub_pass;
     glsl_state *s = state;
     s->gl->UseProgram(pass == HT_PASS_PRIME_Z ? s->prime.id : s->main.id);
+    if (s->vertex_only) ht_fixed4_stages_bind(&s->stages, pass == HT_PASS_PRIME_Z);
+}
+
+/* The vertex tier draws nothing until its LUTs are baked. */
+static bool set_arrays(void *state, ht_pass pass, int sub_pass) {
+    (void)pass;
+    (void)sub_pass;
+    return ht_fixed4_stages_ready(&((glsl_state *)state)->stages);
 }
 
 static void end_frame(void *state) {
@@ -388,13 +400,9 @@ static void end_frame(void *state) {
     for (int i = s->texture_count - 1; i >= 0; i--) {
         if (gl->ActiveTexture) gl->ActiveTexture(GL_TEXTURE0 + (GLenum)s->textures[i].unit);
         gl->BindTexture(GL_TEXTURE_2D, 0);
-        if (s->vertex_only && s->textures[i].unit == 0) {
-            gl->TexEnvf(GL_TEXTURE_ENV, GL_RGB_SCALE, 1.0f);
-            gl->TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
-            gl->Disable(GL_TEXTURE_2D);
-        }
     }
     if (gl->ActiveTexture) gl->ActiveTexture(GL_TEXTURE0);
+    if (s->vertex_only) ht_fixed4_stages_unbind(&s->stages);
 }
 
 const ht_tier_backend ht_tier_glsl_full_backend = {
@@ -413,6 +421,7 @@ const ht_tier_backend ht_tier_glsl_vertex_backend = {
     .create = create_vertex,
     .begin_frame = begin_frame,
     .bind_pass = bind_pass,
+    .set_arrays = set_arrays,
     .end_frame = end_frame,
     .destroy = destroy,
 };

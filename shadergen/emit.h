@@ -69,6 +69,12 @@ ht_result ht_emit_fixed4(const ht_plan *plan, ht_tier_output *out, char *err, si
 /* The last resort: GL 1.1, one unit, the model per vertex on the CPU. */
 ht_result ht_emit_gl11(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
 
+/* The fixed4 program of a plan (emit_fixed4.c): unmasked shading, the
+   first two lights, LUT axes from the exponents, infinite viewer. The
+   vertex tier writes the same program for the runtime to bake its LUTs. */
+struct ht_fixed4_program;
+void ht_fixed4_program_from_plan(const ht_plan *plan, struct ht_fixed4_program *p);
+
 /* Texels a LUT axis holding a highlight of exponent e needs, before the
    [16, 256] clamp: next power of two of 8 sqrt(e) (emit_fixed.c). */
 int ht_lut_highlight_texels(double e);

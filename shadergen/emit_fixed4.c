@@ -23,6 +23,20 @@ static int axis_for(double exponent, const double color[3]) {
     return n < 16 ? 16 : (n > HT_FIXED4_MAX_AXIS ? HT_FIXED4_MAX_AXIS : n);
 }
 
+void ht_fixed4_program_from_plan(const ht_plan *plan, ht_fixed4_program *p) {
+    memset(p, 0, sizeof *p);
+    p->shading = ht_plan_unmasked_shading(plan);
+    p->lights = plan->light_count < HT_FIXED4_MAX_LIGHTS ? plan->light_count : HT_FIXED4_MAX_LIGHTS;
+    p->ao = plan->ao;
+    if (p->shading.model == HT_MODEL_KAJIYA_KAY) {
+        p->lut_axis[0] = HT_FIXED4_MAX_AXIS;
+        p->lut_axis[1] = axis_for(p->shading.primary.exponent, p->shading.primary.color);
+    } else {
+        p->lut_axis[0] = axis_for(p->shading.primary.exponent, p->shading.primary.color);
+        p->lut_axis[1] = axis_for(p->shading.secondary.exponent, p->shading.secondary.color);
+    }
+}
+
 static void list(const ht_plan *plan, const ht_fixed4_program *p, ht_tier_output *out) {
     char line[160];
     const bool kk = p->shading.model == HT_MODEL_KAJIYA_KAY;
@@ -75,23 +89,13 @@ ht_result ht_emit_fixed4(const ht_plan *plan, ht_tier_output *out, char *err, si
     out->tier = HT_TIER_FIXED4;
     if (!plan) return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "fixed4: NULL plan");
     ht_fixed4_program p;
-    memset(&p, 0, sizeof p);
-    p.shading = ht_plan_unmasked_shading(plan);
-    p.lights = plan->light_count < HT_FIXED4_MAX_LIGHTS ? plan->light_count : HT_FIXED4_MAX_LIGHTS;
+    ht_fixed4_program_from_plan(plan, &p);
     if (p.lights < 1) return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "fixed4: no light to shade");
     for (int l = 0; l < p.lights; l++)
         if (plan->light_types[l] != HT_LIGHT_DIRECTIONAL)
             return ht_fail(err, err_size, HT_ERR_UNSUPPORTED,
                            "fixed4: light %d is a point light (a texture matrix holds one L per frame)", l);
-    p.ao = plan->ao;
     p.viewer = plan->local_viewer ? HT_FIXED4_VIEWER_LOCAL : HT_FIXED4_VIEWER_INFINITE;
-    if (p.shading.model == HT_MODEL_KAJIYA_KAY) {
-        p.lut_axis[0] = HT_FIXED4_MAX_AXIS;
-        p.lut_axis[1] = axis_for(p.shading.primary.exponent, p.shading.primary.color);
-    } else {
-        p.lut_axis[0] = axis_for(p.shading.primary.exponent, p.shading.primary.color);
-        p.lut_axis[1] = axis_for(p.shading.secondary.exponent, p.shading.secondary.color);
-    }
 
     snprintf(out->requires.gl, sizeof out->requires.gl, "1.2"); /* GL_CLAMP_TO_EDGE */
     snprintf(out->requires.extensions[out->requires.extension_count++], sizeof out->requires.extensions[0],

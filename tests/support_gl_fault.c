@@ -80,6 +80,7 @@
 #define ARGS_UseProgram program
 #define ARGS_GetUniformLocation program, name
 #define ARGS_Uniform1i location, v0
+#define ARGS_Uniform1f location, v0
 #define ARGS_Uniform3fv location, count, value
 #define ARGS_Uniform4fv location, count, value
 #define ARGS_VertexAttribPointer index, size, type, normalized, stride, ptr

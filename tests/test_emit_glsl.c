@@ -16,6 +16,7 @@
 #include <cmocka.h>
 
 #include "emit.h"
+#include "fixed4_program.h"
 #include "shader_interface.h"
 #include "strbuf.h"
 
@@ -98,7 +99,7 @@ static bool any_text_contains(const emitted *e, const char *needle) {
     const ht_tier_output *tiers[] = { &e->full, &e->vertex };
     for (int t = 0; t < 2; t++)
         for (int i = 0; i < tiers[t]->text_count; i++)
-            if (strstr(tiers[t]->texts[i].text, needle)) return true;
+            if (tiers[t]->texts[i].stage != HT_STAGE_NONE && strstr(tiers[t]->texts[i].text, needle)) return true;
     return false;
 }
 
@@ -108,13 +109,22 @@ static bool has_string(const char (*list)[64], int count, const char *s) {
     return false;
 }
 
-/* What every emitted set must satisfy, whatever the plan. */
+/* What every emitted set must satisfy, whatever the plan (GLSL texts; the
+   vertex tier's LUT program is checked by parsing it). */
 static void check_output(const ht_plan *p, const emitted *e) {
     const ht_tier_output *tiers[] = { &e->full, &e->vertex };
     for (int t = 0; t < 2; t++) {
         for (int i = 0; i < tiers[t]->text_count; i++) {
             const ht_out_text *x = &tiers[t]->texts[i];
             char log[4096];
+            if (x->stage == HT_STAGE_NONE) {
+                /* the vertex tier's LUT program, in fixed4's format */
+                ht_fixed4_program prog;
+                if (ht_fixed4_parse(x->text, x->file, &prog, log, sizeof log) != HT_OK)
+                    fail_msg("%s: %s", x->file, log);
+                assert_int_equal(prog.shading.model, p->shading.model);
+                continue;
+            }
             if (ht_glsl_validate(x->text, x->stage, x->glsl_version, x->es, log, sizeof log) != HT_OK)
                 fail_msg("%s does not validate: %s\n%s", x->file, log, x->text);
             char first[32];
@@ -153,10 +163,10 @@ static void check_output(const ht_plan *p, const emitted *e) {
     assert_int_equal(text_of(&e->full, "full-es.frag")->glsl_version, 100);
 
     assert_int_equal(e->vertex.tier, HT_TIER_VERTEX);
-    assert_int_equal(e->vertex.text_count, 2);
+    assert_int_equal(e->vertex.text_count, 3); /* two vertex shaders and the LUT program */
     assert_string_equal(e->vertex.requires.gl, "2.0");
     assert_string_equal(e->vertex.requires.glsl, "1.10");
-    /* Its fragment stage is GL_COMBINE with GL_RGB_SCALE. */
+    /* Its fragment stage is fixed4's GL_COMBINE stages. */
     assert_int_equal(e->vertex.requires.extension_count, 1);
     assert_string_equal(e->vertex.requires.extensions[0], "GL_ARB_texture_env_combine");
     assert_int_equal(e->full.requires.extension_count, 0);
@@ -168,14 +178,29 @@ static void check_output(const ht_plan *p, const emitted *e) {
         assert_int_equal(count_of(x->text, "attribute float " HT_ATTR_AO ";"), p->ao ? 1 : 0);
     }
     const bool albedo = p->base || p->alpha;
-    assert_int_equal(e->vertex.requires.texture_units, 1); /* albedo, or the runtime's white texel */
+    /* fixed4's units: the LUTs (Scheuermann two, Kajiya-Kay one per light),
+       the albedo, the final stage; the albedo after the LUTs. */
+    const bool kk = p->shading.model == HT_MODEL_KAJIYA_KAY;
+    const int lights = p->light_count < 2 ? p->light_count : 2, luts = kk ? lights : 2;
+    assert_int_equal(e->vertex.requires.texture_units, luts + 2);
     assert_int_equal(e->vertex.sampler_count, albedo ? 1 : 0);
-    assert_int_equal(e->vertex.sampler_count, albedo ? 1 : 0);
-    if (albedo) assert_int_equal(e->vertex.samplers[0].unit, 0);
+    if (albedo) assert_int_equal(e->vertex.samplers[0].unit, luts);
     assert_string_equal(text_of(&e->vertex, "vertex.vert")->role, "vertex");
     assert_string_equal(text_of(&e->vertex, "vertex-prime.vert")->role, "prime_vertex");
-    assert_non_null(strstr(text_of(&e->vertex, "vertex.vert")->text, "gl_FrontColor = vec4(rgb * 0.5, 1.0);"));
-    assert_int_equal(e->vertex.dropped_count, (int)p->shift + (int)p->sparkle + 1); /* + the clamp at 2 */
+    assert_string_equal(text_of(&e->vertex, "vertex-luts.json")->role, "program");
+    assert_int_equal(text_of(&e->vertex, "vertex-luts.json")->stage, HT_STAGE_NONE);
+    const char *vv = text_of(&e->vertex, "vertex.vert")->text;
+    /* One coordinate set per LUT and two uv sets; the primary colour is
+       divided by the runtime's scale and carries ao in alpha. */
+    for (int k = 0; k < luts + 2; k++) {
+        char set[32];
+        snprintf(set, sizeof set, "gl_TexCoord[%d] = ", k);
+        assert_int_equal(count_of(vv, set), 1);
+    }
+    assert_non_null(strstr(vv, "gl_FrontColor = vec4(rgb / " HT_U_LUT_SCALE ", "));
+    assert_non_null(strstr(text_of(&e->vertex, "vertex-prime.vert")->text, "gl_TexCoord[") );
+    assert_int_equal(e->vertex.dropped_count,
+                     (int)p->shift + (int)p->sparkle + (p->light_count > 2) + 2); /* + colour clamp, 8-bit LUT */
 
     const char *model = p->shading.model == HT_MODEL_KAJIYA_KAY ? "kajiya-kay" : "scheuermann";
     assert_string_equal(e->full.features[0], model);
@@ -454,10 +479,11 @@ static void test_vertex_tier_drops_shift_and_sparkle_with_reasons(void **state) 
     ht_plan p = plan_of(&m, 1, 0);
     emitted e;
     emit_both(&p, &e);
-    assert_int_equal(e.vertex.dropped_count, 3);
+    assert_int_equal(e.vertex.dropped_count, 4);
     assert_true(strncmp(e.vertex.dropped[0], "shift: ", 7) == 0);
     assert_true(strncmp(e.vertex.dropped[1], "sparkle: ", 9) == 0);
-    assert_true(strncmp(e.vertex.dropped[2], "lighting: clamps at 2", 21) == 0);
+    assert_true(strncmp(e.vertex.dropped[2], "light colours: ", 15) == 0);
+    assert_true(strncmp(e.vertex.dropped[3], "LUT: 8-bit", 10) == 0);
     assert_int_equal(e.full.dropped_count, 0);
     assert_true(has_string(e.full.features, e.full.feature_count, "1 directional light"));
     free_both(&e);
@@ -466,6 +492,9 @@ static void test_vertex_tier_drops_shift_and_sparkle_with_reasons(void **state) 
     emit_both(&p, &e);
     assert_true(has_string(e.vertex.features, e.vertex.feature_count, "1 directional light"));
     assert_true(has_string(e.vertex.features, e.vertex.feature_count, "2 point lights"));
+    /* Two lights per pixel through the LUTs, the third per vertex. */
+    assert_true(strncmp(e.vertex.dropped[2], "lights: 2 of 3 per pixel", 24) == 0);
+    assert_non_null(strstr(text_of(&e.vertex, "vertex.vert")->text, "rgb += hair_light(L2, "));
     free_both(&e);
 }
 

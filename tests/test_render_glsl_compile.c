@@ -18,12 +18,15 @@
 #include <GL/glext.h>
 
 #include "emit.h"
+#include "fixed4_stages.h"
+#include "gl_api.h"
 #include "rng.h"
 #include "shader_interface.h"
 #include "support_osmesa.h"
 
 #define W 64
 #define H 4
+#define VERTEX_TOLERANCE 3
 
 /* <GL/gl.h> declares GL 1.3 itself, so glext.h leaves this out. */
 typedef void (APIENTRYP multitexcoord2f_fn)(GLenum, GLfloat, GLfloat);
@@ -45,6 +48,7 @@ typedef struct gl2 {
     PFNGLDELETEPROGRAMPROC DeleteProgram;
     PFNGLGETUNIFORMLOCATIONPROC GetUniformLocation;
     PFNGLUNIFORM1IPROC Uniform1i;
+    PFNGLUNIFORM1FPROC Uniform1f;
     PFNGLUNIFORM3FVPROC Uniform3fv;
     PFNGLUNIFORM4FVPROC Uniform4fv;
     PFNGLACTIVETEXTUREPROC ActiveTexture;
@@ -105,6 +109,7 @@ static int setup(void **state) {
     LOAD(f, DeleteProgram);
     LOAD(f, GetUniformLocation);
     LOAD(f, Uniform1i);
+    LOAD(f, Uniform1f);
     LOAD(f, Uniform3fv);
     LOAD(f, Uniform4fv);
     LOAD(f, ActiveTexture);
@@ -237,7 +242,17 @@ static void test_every_desktop_program_links_and_exposes_the_runtime_uniforms(vo
                 gl->DeleteProgram(prime);
 
                 GLuint lit = link_program(gl, text_of(&vertex, "vertex.vert"), NULL);
-                assert_true(gl->GetUniformLocation(lit, HT_U_LIGHT_COLOR) >= 0);
+                assert_true(gl->GetUniformLocation(lit, HT_U_EYE) >= 0);
+                snprintf(name, sizeof name, "%s[0]", HT_U_LIGHT_VECTOR);
+                assert_true(gl->GetUniformLocation(lit, name) >= 0);
+                /* Kajiya-Kay's first two lights are wholly in the LUTs: colour
+                   and scale matter to the shader only through lights after
+                   them (a driver may keep or drop them otherwise). */
+                const bool per_vertex_colour = model == HT_MODEL_SCHEUERMANN || p.light_count > 2;
+                if (per_vertex_colour) {
+                    assert_true(gl->GetUniformLocation(lit, HT_U_LIGHT_COLOR) >= 0);
+                    assert_true(gl->GetUniformLocation(lit, HT_U_LUT_SCALE) >= 0);
+                }
                 gl->DeleteProgram(lit);
                 gl->DeleteProgram(link_program(gl, text_of(&vertex, "vertex-prime.vert"), NULL));
                 assert_int_equal(glGetError(), GL_NO_ERROR);
@@ -339,18 +354,21 @@ static void check_parity(fixture *f, const ht_plan *p, bool full_tier) {
         gl->Uniform1i(gl->GetUniformLocation(program, tier->samplers[i].sampler), tier->samplers[i].unit);
     }
     gl->ActiveTexture(GL_TEXTURE0);
+    /* The vertex tier's fragment stages are the runtime's own
+       (fallback/fixed4_stages.h) over the bundle's LUT program, with the
+       test's albedo (or a white texel) on the albedo and final units. */
+    ht_gl htgl;
+    ht_fixed4_program luts;
+    ht_fixed4_stages stages;
+    memset(&stages, 0, sizeof stages);
     if (!full_tier) {
-        /* The vertex tier's fragment state (docs/bundle.md). Without an
-           albedo a white texel stands in: a unit without a complete
-           texture is disabled, and RGB_SCALE with it. */
-        if (tier->sampler_count == 0) glBindTexture(GL_TEXTURE_2D, f->white_tex);
-        glEnable(GL_TEXTURE_2D);
-        glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
-        glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, GL_MODULATE);
-        glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_RGB, GL_TEXTURE);
-        glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE1_RGB, GL_PRIMARY_COLOR);
-        glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, GL_MODULATE);
-        glTexEnvf(GL_TEXTURE_ENV, GL_RGB_SCALE, 2.0f);
+        char err[512];
+        if (ht_gl_load(&htgl, ht_test_getproc, err, sizeof err) != HT_OK) fail_msg("ht_gl_load: %s", err);
+        if (ht_fixed4_parse(text_of(&vertex, "vertex-luts.json")->text, "vertex-luts.json", &luts, err,
+                            sizeof err) != HT_OK)
+            fail_msg("%s", err);
+        ht_fixed4_stages_init(&stages, &htgl, &luts, "vertex");
+        stages.albedo = tier->sampler_count ? f->albedo_tex : f->white_tex;
     }
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT);
@@ -364,6 +382,17 @@ static void check_parity(fixture *f, const ht_plan *p, bool full_tier) {
         positions[i][2] = 0.0f;
         make_case(&r, i, p, positions[i], &cases[i]);
         set_light_uniforms(gl, program, p, &cases[i]);
+        if (!full_tier) {
+            /* LUTs and scale for this case's light colours, as begin_frame does. */
+            float colors[HT_MAX_LIGHTS][3] = { { 0 } };
+            for (int l = 0; l < p->light_count; l++) memcpy(colors[l], cases[i].lights[l].color, sizeof colors[l]);
+            int scale = ht_fixed4_scale_lights(&luts, (const float(*)[3])colors, p->light_count);
+            char err[256];
+            if (ht_fixed4_stages_bake(&stages, (const float(*)[3])colors, scale, err, sizeof err) != HT_OK)
+                fail_msg("%s", err);
+            ht_fixed4_stages_bind(&stages, false);
+            gl->Uniform1f(gl->GetUniformLocation(program, HT_U_LUT_SCALE), (float)scale);
+        }
         glBegin(GL_POINTS);
         glNormal3f((float)cases[i].N[0], (float)cases[i].N[1], (float)cases[i].N[2]);
         gl->MultiTexCoord2f(GL_TEXTURE0, 0.5f, 0.5f);
@@ -376,21 +405,29 @@ static void check_parity(fixture *f, const ht_plan *p, bool full_tier) {
     uint8_t pixels[W * H * 4];
     glReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
     assert_int_equal(glGetError(), GL_NO_ERROR);
-    /* The vertex tier halves, clamps and rescales: one more rounding. */
-    const int tolerance = full_tier ? 2 : 3;
+    /* The vertex tier reads 8-bit LUTs (up to 0.5/255 x scale each, and
+       bilinear between texels) and rounds its primary colour. */
+    const int tolerance = full_tier ? 2 : VERTEX_TOLERANCE;
+    int worst = 0;
     for (int i = 0; i < W; i++) {
         uint8_t want[3];
         expected_rgb(p, &cases[i], positions[i], full_tier, want);
         const uint8_t *got = &pixels[(1 * W + i) * 4];
-        for (int k = 0; k < 3; k++)
+        for (int k = 0; k < 3; k++) {
+            if (abs((int)got[k] - (int)want[k]) > worst) worst = abs((int)got[k] - (int)want[k]);
             if (abs((int)got[k] - (int)want[k]) > tolerance)
                 fail_msg("%s tier, case %d, channel %d: got %d, model %d", full_tier ? "full" : "vertex", i, k,
                          got[k], want[k]);
+        }
         if (full_tier) assert_int_equal(got[3], p->alpha ? albedo_texel[3] : 255);
     }
-    glDisable(GL_TEXTURE_2D);
-    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
-    glTexEnvf(GL_TEXTURE_ENV, GL_RGB_SCALE, 1.0f);
+    printf("%s tier, %d light%s: worst %d/255 (bound %d)\n", full_tier ? "full" : "vertex", p->light_count,
+           p->light_count == 1 ? "" : "s", worst, tolerance);
+    if (!full_tier) {
+        ht_fixed4_stages_unbind(&stages);
+        stages.albedo = 0; /* the fixture's */
+        ht_fixed4_stages_release(&stages);
+    }
     gl->UseProgram(0);
     gl->DeleteProgram(program);
     ht_tier_output_free(&full);
@@ -434,12 +471,115 @@ static void test_vertex_tier_shades_what_the_model_computes_without_detail(void 
     }
 }
 
+/* A narrow highlight that falls between two vertices: one quad across the
+   viewport whose tangent turns from t.H = -0.6 on the left edge to +0.6
+   on the right, exponent 400. At the vertices the highlight is black, so
+   colours computed per vertex (the old vertex tier) interpolate to the
+   diffuse alone; the vertex tier interpolates the LUT coordinates and
+   looks the highlight up per pixel, so the middle of the quad lights up as
+   the model says. */
+static void test_vertex_tier_keeps_a_highlight_that_falls_between_vertices(void **state) {
+    fixture *f = *state;
+    const gl2 *gl = &f->gl;
+    ht_material m = hand_material(HT_MODEL_SCHEUERMANN, 0x0);
+    m.shading.diffuse_color[0] = m.shading.diffuse_color[1] = m.shading.diffuse_color[2] = 0.05;
+    m.shading.wrap = 0.0;
+    m.shading.primary = (ht_lobe){ .color = { 0.8, 0.8, 0.8 }, .exponent = 400.0, .shift = 0.0 };
+    m.shading.secondary = (ht_lobe){ .color = { 0, 0, 0 }, .exponent = 1.0, .shift = 0.0 };
+    ht_plan p = plan_for(&m, 1, 0x0);
+    ht_tier_output full, vertex;
+    emit(&p, &full, &vertex);
+    GLuint program = link_program(gl, text_of(&vertex, "vertex.vert"), NULL);
+    gl->UseProgram(program);
+
+    /* H at the quad's centre; tangents either side of the plane t.H = 0. */
+    shading_case c;
+    memset(&c, 0, sizeof c);
+    c.N[2] = 1.0;
+    c.ao = 1.0;
+    c.lights[0] = (ht_light){ .type = HT_LIGHT_DIRECTIONAL, .vector = { 0, 0, 1 }, .color = { 1, 1, 1 } };
+    double hv[3] = { eye[0], eye[1], eye[2] + sqrt(eye[0] * eye[0] + eye[1] * eye[1] + eye[2] * eye[2]) };
+    double h = sqrt(hv[0] * hv[0] + hv[1] * hv[1] + hv[2] * hv[2]);
+    for (int k = 0; k < 3; k++) hv[k] /= h;
+    double u[3] = { hv[2], 0.0, -hv[0] }; /* H x (0, 1, 0), perpendicular to H */
+    double ul = sqrt(u[0] * u[0] + u[2] * u[2]);
+    float tangent[2][3];
+    for (int side = 0; side < 2; side++)
+        for (int k = 0; k < 3; k++) tangent[side][k] = (float)(u[k] / ul + (side ? 0.6 : -0.6) * hv[k]);
+    set_light_uniforms(gl, program, &p, &c);
+
+    char err[512];
+    ht_gl htgl;
+    ht_fixed4_program luts;
+    ht_fixed4_stages stages;
+    if (ht_gl_load(&htgl, ht_test_getproc, err, sizeof err) != HT_OK) fail_msg("ht_gl_load: %s", err);
+    if (ht_fixed4_parse(text_of(&vertex, "vertex-luts.json")->text, "vertex-luts.json", &luts, err, sizeof err) !=
+        HT_OK)
+        fail_msg("%s", err);
+    ht_fixed4_stages_init(&stages, &htgl, &luts, "vertex");
+    stages.albedo = f->white_tex;
+    const float colors[1][3] = { { 1, 1, 1 } };
+    int scale = ht_fixed4_scale(&luts, colors);
+    if (ht_fixed4_stages_bake(&stages, colors, scale, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    ht_fixed4_stages_bind(&stages, false);
+    gl->Uniform1f(gl->GetUniformLocation(program, HT_U_LUT_SCALE), (float)scale);
+
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT);
+    const float corners[4][2] = { { -1, -1 }, { 1, -1 }, { 1, 1 }, { -1, 1 } };
+    glBegin(GL_QUADS);
+    for (int i = 0; i < 4; i++) {
+        const float *t = tangent[corners[i][0] > 0];
+        glNormal3f(0, 0, 1);
+        gl->MultiTexCoord2f(GL_TEXTURE0, 0.5f, 0.5f);
+        gl->VertexAttrib3f(HT_ATTR_TANGENT_LOCATION, t[0], t[1], t[2]);
+        gl->VertexAttrib1f(HT_ATTR_AO_LOCATION, 1.0f);
+        glVertex3f(corners[i][0], corners[i][1], 0.0f);
+    }
+    glEnd();
+    uint8_t pixels[W * H * 4];
+    glReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
+    assert_int_equal(glGetError(), GL_NO_ERROR);
+
+    /* The model at the vertices (what per-vertex colours interpolate) and
+       at the middle pixel (the tangent interpolated there). */
+    int at_vertices = 0;
+    for (int i = 0; i < 4; i++) {
+        const float pos[3] = { corners[i][0], corners[i][1], 0.0f };
+        for (int k = 0; k < 3; k++) c.T[k] = tangent[corners[i][0] > 0][k];
+        uint8_t want[3];
+        expected_rgb(&p, &c, pos, false, want);
+        for (int k = 0; k < 3; k++) at_vertices = want[k] > at_vertices ? want[k] : at_vertices;
+    }
+    const int x = W / 2, y = 1;
+    const float pos[3] = { 2.0f * ((float)x + 0.5f) / W - 1.0f, 2.0f * ((float)y + 0.5f) / H - 1.0f, 0.0f };
+    const double a = (pos[0] + 1.0) / 2.0;
+    for (int k = 0; k < 3; k++) c.T[k] = (1.0 - a) * tangent[0][k] + a * tangent[1][k];
+    uint8_t want[3];
+    expected_rgb(&p, &c, pos, false, want);
+    const uint8_t *got = &pixels[(y * W + x) * 4];
+    printf("highlight between vertices: vertex tier %d, model %d, brightest vertex %d\n", got[0], want[0],
+           at_vertices);
+    assert_true(at_vertices < 40);    /* per-vertex colours could reach no more */
+    assert_true(want[0] > 150);       /* the highlight the model has there */
+    for (int k = 0; k < 3; k++) assert_true(abs((int)got[k] - (int)want[k]) <= 12);
+
+    ht_fixed4_stages_unbind(&stages);
+    stages.albedo = 0; /* the fixture's */
+    ht_fixed4_stages_release(&stages);
+    gl->UseProgram(0);
+    gl->DeleteProgram(program);
+    ht_tier_output_free(&full);
+    ht_tier_output_free(&vertex);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_desktop_program_links_and_exposes_the_runtime_uniforms),
         cmocka_unit_test(test_full_tier_shades_what_the_model_computes),
         cmocka_unit_test(test_full_tier_matches_the_model_at_extremes),
         cmocka_unit_test(test_vertex_tier_shades_what_the_model_computes_without_detail),
+        cmocka_unit_test(test_vertex_tier_keeps_a_highlight_that_falls_between_vertices),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -384,12 +384,12 @@ static void test_sampler_units_the_device_lacks_drop_the_tier(void **state) {
 
     /* A manifest understating the units a tier needs: the device's own
        count (here a profile's) still refuses the sampler. */
-    copy_with_manifest_value("understated-units", "tiers/0/requires/texture_units", "1", dir, sizeof dir);
-    r = create((ht_renderer_desc){ .profile = { .texture_units = 1 } }, dir, HT_OK);
+    copy_with_manifest_value("understated-units", "tiers/0/samplers/1/unit", "4", dir, sizeof dir);
+    r = create((ht_renderer_desc){ .profile = { .texture_units = 4 } }, dir, HT_OK);
     assert_int_equal(ht_renderer_tier(r), HT_TIER_VERTEX);
-    snprintf(want, sizeof want, "hairtier: skipped full: %s/manifest.json: tiers[0].samplers[1].unit: 1, device has 1 units", dir);
+    snprintf(want, sizeof want, "hairtier: skipped full: %s/manifest.json: tiers[0].samplers[1].unit: 4, device has 4 units", dir);
     logged_once(want);
-    /* The tier it falls to draws on one unit what it draws on all of them:
+    /* The tier it falls to draws on its four units what it draws on all of them:
        lit hair, not the black of an ao or tangent read from a coordinate
        set the device does not have. */
     static float all_units[SIZE * SIZE * 4];
@@ -401,14 +401,14 @@ static void test_sampler_units_the_device_lacks_drop_the_tier(void **state) {
     ht_renderer_destroy(every_unit);
     assert_true(draw(r, &f, HT_OK) > SIZE * SIZE / 20);
     if (memcmp(all_units, float_buffer, sizeof all_units) != 0)
-        fail_msg("vertex tier on one unit: %d pixels brighter than the background, %d on every unit",
+        fail_msg("vertex tier on four units: %d pixels brighter than the background, %d on every unit",
                  brighter_than_background(float_buffer), brighter_than_background(all_units));
     ht_renderer_destroy(r);
 
-    /* The vertex tier's fixed-function fragment stage reads unit 0 only. */
-    copy_with_manifest_value("vertex-unit-2", "tiers/1/samplers/0/unit", "2", dir, sizeof dir);
+    /* The vertex tier's combiner stages read the albedo after the LUTs (unit 2). */
+    copy_with_manifest_value("vertex-unit-0", "tiers/1/samplers/0/unit", "0", dir, sizeof dir);
     assert_null(create((ht_renderer_desc){ .tier = HT_TIER_VERTEX, .strict = true }, dir, HT_ERR_UNSUPPORTED));
-    snprintf(want, sizeof want, "hairtier: vertex: %s/manifest.json: tiers[1].samplers[0].unit: 2, the vertex tier's", dir);
+    snprintf(want, sizeof want, "hairtier: vertex: %s/manifest.json: tiers[1].samplers[0].unit: 0, the vertex tier's", dir);
     logged_once(want);
 }
 

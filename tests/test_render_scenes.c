@@ -32,6 +32,10 @@
    printed lines; same bound for both sizes); without the
    sparkle-mean stand-in it was 19 to 31. */
 #define MAX_MEAN_TIER_DIFFERENCE 14.0
+/* The vertex tier looks its highlights up per pixel in fixed4's LUTs:
+   measured 5.35 to 7.90 on llvmpipe at 512² (6.6 to 8.5 when it lit per
+   vertex), so it holds a tighter bound. */
+#define MAX_MEAN_VERTEX_DIFFERENCE 9.0
 /* Side of the softpipe run (see the top). */
 #define SOFTPIPE_SIZE 256
 
@@ -188,7 +192,7 @@ static void check_scene(const char *material, const char *shipped_scene) {
         double d = mean_difference(&img[0], &img[t], scene.background);
         printf("%s %dx%d %s %-6s: mean difference from full %.2f/255\n", shipped_scene, scene.width,
                scene.height, material, tiers[t], d);
-        assert_true(d < MAX_MEAN_TIER_DIFFERENCE);
+        assert_true(d < (t == 1 ? MAX_MEAN_VERTEX_DIFFERENCE : MAX_MEAN_TIER_DIFFERENCE));
     }
     for (int t = 0; t < count; t++) ht_image_free(&img[t]);
 }
