@@ -1,4 +1,6 @@
-/* fixed.c — the `fixed` tier's backend: a GL 1.3 texture-combiner program
+/* fixed.c — the `fixed` tier's backend (about 530 lines, one job: applying
+   a combiner program and feeding its stages; the CPU coordinates live in
+   fixed_soa.c, the texture matrix in fixed_coords.c): a GL 1.3 texture-combiner program
    (fixed.json, combiner.h) applied as data, over a lookup texture of the
    model's dot products (Heidrich-Seidel). No shader object anywhere: only
    glTexEnv, textures and client arrays.

@@ -5,12 +5,13 @@
 
 #include "fixed.h"
 #include "fixed4.h"
+#include "vertex.h"
 #include "gl11.h"
 #include "tier.h"
 
 static const ht_tier_backend *const backends[] = {
     &ht_tier_glsl_full_backend,
-    &ht_tier_glsl_vertex_backend,
+    &ht_tier_vertex_backend,
     &ht_tier_fixed_backend,
     &ht_tier_fixed4_backend,
     &ht_tier_gl11_backend,

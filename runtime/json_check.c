@@ -1,5 +1,8 @@
-/* json_check.c — checked field access shared by the material and scene
-   parsers (see json_check.h). */
+/* json_check.c — checked field access shared by every JSON reader (see
+   json_check.h). Over 500 lines but one job: the strict parse (syntax,
+   nesting, RFC 8259 numbers and strings), the typed getters and their one
+   error style belong together; split, each half would re-derive the
+   other's paths and messages. */
 #include "json_check.h"
 
 #include "file_open.h"

@@ -19,9 +19,11 @@
    program; no client arrays but its own), so a backend starts from known
    state and may leave what it touched: the renderer restores the app's.
 
-   The backends: ht_tier_glsl_full_backend and ht_tier_glsl_vertex_backend
-   (tier_glsl.c, declared below), ht_tier_fixed_backend (fallback/fixed.h),
-   ht_tier_fixed4_backend (fallback/fixed4.h), ht_tier_gl11_backend (fallback/gl11.h);
+   The backends: ht_tier_glsl_full_backend (tier_glsl.c, declared below;
+   glsl_program.h holds what the GLSL tiers share), ht_tier_vertex_backend
+   (fallback/vertex.h: a vertex program in front of fixed4's combiner stages),
+   ht_tier_fixed4_backend (fallback/fixed4.h), ht_tier_fixed_backend
+   (fallback/fixed.h), ht_tier_gl11_backend (fallback/gl11.h);
    backends.c is their table, and the only runtime file that names
    fallback/. The renderer knows a tier only through its backend's fields. */
 #ifndef HT_TIER_H
@@ -80,7 +82,6 @@ typedef struct ht_tier_backend {
 } ht_tier_backend;
 
 extern const ht_tier_backend ht_tier_glsl_full_backend;
-extern const ht_tier_backend ht_tier_glsl_vertex_backend;
 
 /* The backend of a tier (backends.c); NULL for one this runtime lacks. */
 const ht_tier_backend *ht_tier_backend_find(ht_tier tier);
