@@ -11,6 +11,7 @@
 #include "combiner.h"
 #include "errfmt.h"
 #include "json_check.h"
+#include "program_json.h"
 #include "vecmath.h"
 
 static bool kajiya_kay(const ht_fixed4_program *p) { return p->shading.model == HT_MODEL_KAJIYA_KAY; }
@@ -65,18 +66,6 @@ ht_result ht_fixed4_validate(const ht_fixed4_program *p, char *err, size_t err_s
 
 /* ---- JSON ---- */
 
-static void add_vec3(cJSON *obj, const char *key, const double v[3]) {
-    cJSON *a = cJSON_AddArrayToObject(obj, key);
-    for (int i = 0; i < 3; i++) cJSON_AddItemToArray(a, cJSON_CreateNumber(v[i]));
-}
-
-static void add_lobe(cJSON *root, const char *key, const ht_lobe *l) {
-    cJSON *o = cJSON_AddObjectToObject(root, key);
-    add_vec3(o, "color", l->color);
-    cJSON_AddNumberToObject(o, "exponent", l->exponent);
-    cJSON_AddNumberToObject(o, "shift", l->shift);
-}
-
 ht_result ht_fixed4_write(const ht_fixed4_program *p, char **text, char *err, size_t err_size) {
     *text = NULL;
     ht_result r = ht_fixed4_validate(p, err, err_size);
@@ -88,38 +77,10 @@ ht_result ht_fixed4_write(const ht_fixed4_program *p, char **text, char *err, si
     cJSON_AddNumberToObject(root, "lights", p->lights);
     cJSON_AddBoolToObject(root, "ao", p->ao);
     cJSON_AddStringToObject(root, "viewer", p->viewer == HT_FIXED4_VIEWER_LOCAL ? "local" : "infinite");
-    cJSON *d = cJSON_AddObjectToObject(root, "diffuse");
-    add_vec3(d, "color", p->shading.diffuse_color);
-    cJSON_AddNumberToObject(d, "wrap", p->shading.wrap);
-    add_lobe(root, "primary", &p->shading.primary);
-    if (!kajiya_kay(p)) add_lobe(root, "secondary", &p->shading.secondary);
+    ht_program_json_add_shading(root, &p->shading);
     cJSON *axes = cJSON_AddArrayToObject(root, "lut_axis");
     for (int i = 0; i < 2; i++) cJSON_AddItemToArray(axes, cJSON_CreateNumber(p->lut_axis[i]));
-    char *printed = cJSON_Print(root);
-    cJSON_Delete(root);
-    if (!printed) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "fixed4.json: out of memory");
-    size_t n = strlen(printed);
-    *text = malloc(n + 2);
-    if (!*text) {
-        cJSON_free(printed);
-        return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "fixed4.json: out of memory");
-    }
-    memcpy(*text, printed, n);
-    (*text)[n] = '\n';
-    (*text)[n + 1] = '\0';
-    cJSON_free(printed);
-    return HT_OK;
-}
-
-static ht_result parse_lobe(const ht_jctx *c, const cJSON *root, const char *key, ht_lobe *l) {
-    static const char *const keys[] = { "color", "exponent", "shift", NULL };
-    const cJSON *o = NULL;
-    ht_result r = ht_json_object(c, root, "", key, true, &o);
-    if (r == HT_OK) r = ht_json_keys(c, o, key, keys);
-    if (r == HT_OK) r = ht_json_vec(c, o, key, "color", NULL, 3, HT_JRANGE(0, 1), l->color);
-    if (r == HT_OK) r = ht_json_number(c, o, key, "exponent", NULL, HT_JRANGE(0, 10000), &l->exponent);
-    if (r == HT_OK) r = ht_json_number(c, o, key, "shift", NULL, HT_JRANGE(-100, 100), &l->shift);
-    return r;
+    return ht_program_json_print(root, "fixed4.json", text, err, err_size);
 }
 
 static ht_result parse_program(const ht_jctx *c, const cJSON *root, ht_fixed4_program *p) {
@@ -127,7 +88,6 @@ static ht_result parse_program(const ht_jctx *c, const cJSON *root, ht_fixed4_pr
                                         "secondary", "lut_axis", NULL };
     static const char *const viewers[] = { "infinite", "local", NULL };
     static const char *const models[] = { "scheuermann", "kajiya-kay", NULL };
-    static const char *const diffuse_keys[] = { "color", "wrap", NULL };
     ht_result r = ht_json_keys(c, root, "", keys);
     if (r == HT_OK) r = ht_json_format(c, root, HT_FIXED4_FORMAT, "a fixed4 tier program");
     int model = 0;
@@ -144,16 +104,7 @@ static ht_result parse_program(const ht_jctx *c, const cJSON *root, ht_fixed4_pr
     int viewer = 0;
     if (r == HT_OK) r = ht_json_enum(c, root, "", "viewer", -1, viewers, &viewer);
     p->viewer = viewer == 1 ? HT_FIXED4_VIEWER_LOCAL : HT_FIXED4_VIEWER_INFINITE;
-    const cJSON *d = NULL;
-    if (r == HT_OK) r = ht_json_object(c, root, "", "diffuse", true, &d);
-    if (r == HT_OK) r = ht_json_keys(c, d, "diffuse", diffuse_keys);
-    if (r == HT_OK) r = ht_json_vec(c, d, "diffuse", "color", NULL, 3, HT_JRANGE(0, 1), p->shading.diffuse_color);
-    if (r == HT_OK) r = ht_json_number(c, d, "diffuse", "wrap", NULL, HT_JRANGE(0, 1), &p->shading.wrap);
-    if (r == HT_OK) r = parse_lobe(c, root, "primary", &p->shading.primary);
-    if (r == HT_OK && p->shading.model == HT_MODEL_SCHEUERMANN)
-        r = parse_lobe(c, root, "secondary", &p->shading.secondary);
-    if (r == HT_OK && p->shading.model == HT_MODEL_KAJIYA_KAY)
-        r = ht_json_forbid(c, root, "", "secondary", "Kajiya-Kay has one lobe");
+    if (r == HT_OK) r = ht_program_json_parse_shading(c, root, &p->shading);
     double axes[2] = { 0, 0 };
     if (r == HT_OK) r = ht_json_vec(c, root, "", "lut_axis", NULL, 2, HT_JRANGE(2, HT_FIXED4_MAX_AXIS), axes);
     for (int i = 0; r == HT_OK && i < 2; i++) {

@@ -20,6 +20,7 @@
 
 #include "errfmt.h"
 #include "json_check.h"
+#include "program_json.h"
 #include "vecmath.h"
 
 static bool kajiya_kay(const ht_gl11_program *p) { return p->shading.model == HT_MODEL_KAJIYA_KAY; }
@@ -62,18 +63,6 @@ double ht_gl11_albedo_scale(double max_rgb) {
 
 /* ---- JSON ---- */
 
-static void add_vec3(cJSON *obj, const char *key, const double v[3]) {
-    cJSON *a = cJSON_AddArrayToObject(obj, key);
-    for (int i = 0; i < 3; i++) cJSON_AddItemToArray(a, cJSON_CreateNumber(v[i]));
-}
-
-static void add_lobe(cJSON *root, const char *key, const ht_lobe *l) {
-    cJSON *o = cJSON_AddObjectToObject(root, key);
-    add_vec3(o, "color", l->color);
-    cJSON_AddNumberToObject(o, "exponent", l->exponent);
-    cJSON_AddNumberToObject(o, "shift", l->shift);
-}
-
 ht_result ht_gl11_write(const ht_gl11_program *p, char **text, char *err, size_t err_size) {
     *text = NULL;
     ht_result r = ht_gl11_validate(p, err, err_size);
@@ -85,43 +74,14 @@ ht_result ht_gl11_write(const ht_gl11_program *p, char **text, char *err, size_t
     cJSON_AddNumberToObject(root, "lights", p->lights);
     cJSON_AddBoolToObject(root, "ao", p->ao);
     cJSON_AddNumberToObject(root, "albedo_scale", p->albedo_scale);
-    cJSON *d = cJSON_AddObjectToObject(root, "diffuse");
-    add_vec3(d, "color", p->shading.diffuse_color);
-    cJSON_AddNumberToObject(d, "wrap", p->shading.wrap);
-    add_lobe(root, "primary", &p->shading.primary);
-    if (!kajiya_kay(p)) add_lobe(root, "secondary", &p->shading.secondary);
-    char *printed = cJSON_Print(root);
-    cJSON_Delete(root);
-    if (!printed) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "gl11.json: out of memory");
-    size_t n = strlen(printed);
-    *text = malloc(n + 2);
-    if (!*text) {
-        cJSON_free(printed);
-        return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "gl11.json: out of memory");
-    }
-    memcpy(*text, printed, n);
-    (*text)[n] = '\n';
-    (*text)[n + 1] = '\0';
-    cJSON_free(printed);
-    return HT_OK;
-}
-
-static ht_result parse_lobe(const ht_jctx *c, const cJSON *root, const char *key, ht_lobe *l) {
-    static const char *const keys[] = { "color", "exponent", "shift", NULL };
-    const cJSON *o = NULL;
-    ht_result r = ht_json_object(c, root, "", key, true, &o);
-    if (r == HT_OK) r = ht_json_keys(c, o, key, keys);
-    if (r == HT_OK) r = ht_json_vec(c, o, key, "color", NULL, 3, HT_JRANGE(0, 1), l->color);
-    if (r == HT_OK) r = ht_json_number(c, o, key, "exponent", NULL, HT_JRANGE(0, 10000), &l->exponent);
-    if (r == HT_OK) r = ht_json_number(c, o, key, "shift", NULL, HT_JRANGE(-100, 100), &l->shift);
-    return r;
+    ht_program_json_add_shading(root, &p->shading);
+    return ht_program_json_print(root, "gl11.json", text, err, err_size);
 }
 
 static ht_result parse_program(const ht_jctx *c, const cJSON *root, ht_gl11_program *p) {
     static const char *const keys[] = { "format", "model", "lights", "ao", "albedo_scale", "diffuse", "primary",
                                         "secondary", NULL };
     static const char *const models[] = { "scheuermann", "kajiya-kay", NULL };
-    static const char *const diffuse_keys[] = { "color", "wrap", NULL };
     ht_result r = ht_json_keys(c, root, "", keys);
     if (r == HT_OK) r = ht_json_format(c, root, HT_GL11_FORMAT, "a gl11 tier program");
     int model = 0;
@@ -137,16 +97,7 @@ static ht_result parse_program(const ht_jctx *c, const cJSON *root, ht_gl11_prog
     }
     if (r == HT_OK)
         r = ht_json_number(c, root, "", "albedo_scale", NULL, HT_JRANGE(1, HT_GL11_MAX_SCALE), &p->albedo_scale);
-    const cJSON *d = NULL;
-    if (r == HT_OK) r = ht_json_object(c, root, "", "diffuse", true, &d);
-    if (r == HT_OK) r = ht_json_keys(c, d, "diffuse", diffuse_keys);
-    if (r == HT_OK) r = ht_json_vec(c, d, "diffuse", "color", NULL, 3, HT_JRANGE(0, 1), p->shading.diffuse_color);
-    if (r == HT_OK) r = ht_json_number(c, d, "diffuse", "wrap", NULL, HT_JRANGE(0, 1), &p->shading.wrap);
-    if (r == HT_OK) r = parse_lobe(c, root, "primary", &p->shading.primary);
-    if (r == HT_OK && p->shading.model == HT_MODEL_SCHEUERMANN)
-        r = parse_lobe(c, root, "secondary", &p->shading.secondary);
-    if (r == HT_OK && p->shading.model == HT_MODEL_KAJIYA_KAY)
-        r = ht_json_forbid(c, root, "", "secondary", "Kajiya-Kay has one lobe");
+    if (r == HT_OK) r = ht_program_json_parse_shading(c, root, &p->shading);
     return r;
 }
 
