@@ -51,15 +51,20 @@ DEPS_STAMP := $(BUILD)/.deps-installed
 
 all: $(LIB) $(HAIRGEN) $(PROGRAMS)
 
-deps: $(DEPS_STAMP)
-$(DEPS_STAMP):
-	@missing=""; for p in $(DEB_PACKAGES); do \
+# Installs the Debian packages of $(1) that are missing (apt-get, as root).
+define install_missing
+	@missing=""; for p in $(1); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
 	  echo "make: installing Debian packages:$$missing"; \
 	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null || exit 1; \
 	fi
+endef
+
+deps: $(DEPS_STAMP)
+$(DEPS_STAMP):
+	$(call install_missing,$(DEB_PACKAGES))
 	@mkdir -p $(dir $@) && touch $@
 
 $(BUILD)/obj/%.o: %.c | $(DEPS_STAMP)
@@ -145,7 +150,11 @@ $(BUILD)/fuzz/%: $(BUILD)/obj/fuzz/%.o $(GENLIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) -fsanitize=fuzzer $^ $(LDLIBS) -o $@
 
+# libFuzzer needs clang and its runtime (compiler-rt), installed like the rest.
+FUZZ_DEB_PACKAGES := clang libclang-rt-14-dev
+
 fuzz-build: deps
+	$(call install_missing,$(FUZZ_DEB_PACKAGES))
 	$(MAKE) BUILD=$(FUZZ_BUILD) CC=clang OPT="-O1 -g -fno-omit-frame-pointer" SAN="$(FUZZ_SAN)" \
 	  $(patsubst %,$(FUZZ_BUILD)/fuzz/%,$(FUZZ_TARGETS))
 
