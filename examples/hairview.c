@@ -1,13 +1,15 @@
 /* hairview — renders a scene with a hairgen bundle on OSMesa and writes a PNG.
 
    build/hairview --bundle DIR --scene SCENE.json [--tier auto|full|vertex|fixed4|fixed|gl11]
-                  [--strict] [--flat] [--frames N] -o OUT.png
+                  [--policy best|fastest|error:DB|frame:MS] [--strict] [--flat] [--frames N] -o OUT.png
 
    Prints `tier=NAME reason=...` then `frame_ms=...` (the mean of N timed
    frames after one warm-up, each ended by glFinish) on stdout; every skipped
    tier's reason goes to stderr. On any failure: one line naming the file or
    field on stderr, exit status 1, and no PNG. HAIRTIER_TIER is honoured
-   unless --tier is given. */
+   unless --tier is given, HAIRTIER_POLICY unless --policy is. With
+   frame:MS the scene's mesh and frame are timed on every tier the device
+   runs (ht_renderer_choose_by_frame_time) before the timed frames. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,6 +23,7 @@
 typedef struct options {
     const char *bundle, *scene, *out;
     ht_tier tier;
+    const char *policy;   /* NULL → HAIRTIER_POLICY */
     bool strict, flat;
     int frames;
 } options;
@@ -37,7 +40,7 @@ static void log_line(void *user, const char *line) {
 
 static int usage(const char *why) {
     fprintf(stderr, "hairview: %s\nusage: hairview --bundle DIR --scene SCENE.json "
-                    "[--tier auto|full|vertex|fixed4|fixed|gl11] [--strict] [--flat] [--frames N] -o OUT.png\n", why);
+                    "[--tier auto|full|vertex|fixed4|fixed|gl11] [--policy best|fastest|error:DB|frame:MS] [--strict] [--flat] [--frames N] -o OUT.png\n", why);
     return 2;
 }
 
@@ -52,6 +55,14 @@ static int parse_args(int argc, char **argv, options *o) {
         else if (strcmp(a, "--tier") == 0 && has_value) {
             o->tier = ht_tier_from_name(argv[++i]);
             if (o->tier == HT_TIER_COUNT) return usage("--tier: expected auto, full, vertex, fixed4, fixed or gl11");
+        } else if (strcmp(a, "--policy") == 0 && has_value) {
+            o->policy = argv[++i];
+            ht_policy p;
+            char err[200], why[240];
+            if (ht_policy_parse(o->policy, &p, err, sizeof err) != HT_OK) {
+                snprintf(why, sizeof why, "--%s", err);
+                return usage(why);
+            }
         } else if (strcmp(a, "--frames") == 0 && has_value) {
             char *end;
             long n = strtol(argv[++i], &end, 10);
@@ -122,7 +133,8 @@ static int run(const options *o, view *v) {
        none from an earlier call may stand in for it. */
     last_log[0] = '\0';
     r = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->bundle, .tier = o->tier,
-                                                .strict = o->strict, .log = log_line, .flat = o->flat },
+                                                .strict = o->strict, .log = log_line, .flat = o->flat,
+                                                .policy = o->policy },
                            &v->renderer);
     if (r != HT_OK) {
         fprintf(stderr, "hairview: %s\n", last_log[0] ? last_log : ht_result_string(r));
@@ -137,6 +149,16 @@ static int run(const options *o, view *v) {
     ht_frame_desc frame = { .camera = scene.camera, .lights = scene.lights, .light_count = scene.light_count,
                             .aspect = (float)scene.width / (float)scene.height,
                             .opaque = v->head.index_count ? &v->head : NULL };
+    const char *policy_text = o->policy ? o->policy : getenv("HAIRTIER_POLICY");
+    ht_policy policy;
+    if (!o->flat && ht_policy_parse(policy_text && policy_text[0] ? policy_text : NULL, &policy, err, sizeof err) == HT_OK &&
+        policy.kind == HT_POLICY_FRAME) {
+        last_log[0] = '\0';
+        if ((r = ht_renderer_choose_by_frame_time(v->renderer, &v->hair, &frame, 0)) != HT_OK) {
+            fprintf(stderr, "hairview: %s\n", last_log[0] ? last_log : ht_result_string(r));
+            return 1;
+        }
+    }
     ht_result fr = HT_OK;
     last_log[0] = '\0';
     draw_frame(&scene, v, &frame, &fr); /* warm-up: shader variants, texture uploads */

@@ -33,6 +33,7 @@
     X(core, void, GetFloatv, (GLenum pname, GLfloat *data)) \
     X(core, void, GetBooleanv, (GLenum pname, GLboolean *data)) \
     X(core, GLenum, GetError, (void)) \
+    X(core, void, Finish, (void)) \
     X(core, void, Enable, (GLenum cap)) \
     X(core, void, Disable, (GLenum cap)) \
     X(core, GLboolean, IsEnabled, (GLenum cap)) \

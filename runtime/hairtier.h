@@ -28,6 +28,29 @@
    Environment: HAIRTIER_TIER=full|vertex|fixed4|fixed|gl11 forces a tier
    like ht_renderer_desc.tier does (the desc wins when both are set); gl11,
    the last resort, runs on any GL 1.1 context with one texture unit.
+   HAIRTIER_POLICY=best|fastest|error:DB|frame:MS picks among the tiers the
+   device runs like ht_renderer_desc.policy (the desc wins; a forced tier
+   wins over both).
+
+   Policies, the speed-for-accuracy dial (every choice is logged with its
+   reason and numbers, e.g. "tier fixed (error:30: 31.2 dB >= 30 dB, cost
+   0.4x full)"):
+       best        the best tier the device runs (the default)
+       fastest     the cheapest tier the device runs: the least measured
+                   cost_ratio when every such tier has one, else the last
+                   in the bundle's order
+       error:DB    the cheapest tier the device runs whose measured PSNR
+                   against full is at least DB; needs the bundle's per-tier
+                   "measured" numbers (hairgen --measure), HT_ERR_INVALID_ARGUMENT
+                   without them; when none reaches DB, the most accurate one
+       frame:MS    the best tier whose frame time on this device is within
+                   MS. Timing needs a mesh and a frame, which come after
+                   create: create picks the best tier (or times with
+                   desc.time_tier when set), and the app calls
+                       ht_renderer_set_mesh(r, &mesh);
+                       ht_renderer_choose_by_frame_time(r, &mesh, &frame, 0);
+                   which draws each tier the device runs for a few frames,
+                   logs every timing, and keeps the chosen tier's backend.
 
    Errors: functions return ht_result; the log callback (or the message
    buffer a function takes) says what failed and where. Nothing here exits. */
@@ -227,6 +250,28 @@ typedef struct ht_trace {
     int count;
 } ht_trace;
 
+/* ---- policies (the header comment above says what each does) ---- */
+
+typedef enum ht_policy_kind {
+    HT_POLICY_BEST = 0,
+    HT_POLICY_FASTEST,
+    HT_POLICY_ERROR,       /* value: the least PSNR in dB */
+    HT_POLICY_FRAME,       /* value: the frame budget in ms */
+} ht_policy_kind;
+
+typedef struct ht_policy {
+    ht_policy_kind kind;
+    double value;
+} ht_policy;
+
+/* "best", "fastest", "error:<dB>" (a finite number >= 0), "frame:<ms>" (> 0)
+   into a policy; HT_ERR_INVALID_ARGUMENT with one line in err otherwise. */
+ht_result ht_policy_parse(const char *text, ht_policy *out, char *err, size_t err_size);
+
+/* Mean milliseconds a frame of `tier` takes; tests and apps with their own
+   timer provide it (frame:MS policy). A value <= 0 or not finite: not timed. */
+typedef double (*ht_time_tier_fn)(void *user, ht_tier tier);
+
 typedef struct ht_renderer_desc {
     ht_getproc_fn getproc;   /* required */
     const char *bundle_dir;  /* required: a directory written by hairgen */
@@ -238,6 +283,10 @@ typedef struct ht_renderer_desc {
     float flat_color[3];     /* used only when flat is set; {0,0,0} → 0.5 grey */
     bool flat;               /* false; true → geometry floor: same passes, flat colour, no textures */
     ht_device_profile profile; /* zero → use everything the context offers */
+    const char *policy;      /* NULL → HAIRTIER_POLICY, else "best"; "fastest", "error:30", "frame:16.7" */
+    ht_time_tier_fn time_tier; /* NULL → frame:MS times by drawing (ht_renderer_choose_by_frame_time);
+                                  set → create and choose_by_frame_time ask it instead of drawing */
+    void *time_tier_user;
 } ht_renderer_desc;
 
 typedef struct ht_renderer ht_renderer;
@@ -286,6 +335,17 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh);
    GL_ELEMENT_ARRAY_BUFFER bound to 0, and clear glGetError. */
 ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *frame);
 const ht_trace *ht_renderer_trace(const ht_renderer *r);
+#define HT_FRAME_TIMING_FRAMES 5
+/* The frame:MS policy's step after set_mesh: draws every tier the device
+   runs for HT_FRAME_TIMING_FRAMES frames of `mesh` and `frame` after one
+   warm-up frame, timed with glFinish and the monotonic clock (or asks
+   desc.time_tier), logs each timing, and keeps the best tier whose mean is
+   within budget_ms (0 → the policy's budget; HT_ERR_INVALID_ARGUMENT when
+   neither is set), else the fastest. The mesh is uploaded again for each
+   tier and stays set. A tier whose backend fails to create is skipped with
+   its reason. */
+ht_result ht_renderer_choose_by_frame_time(ht_renderer *r, const ht_mesh *mesh, const ht_frame_desc *frame,
+                                           double budget_ms);
 /* What the renderer saw of the device, after the desc's profile. */
 const ht_caps *ht_renderer_caps(const ht_renderer *r);
 

@@ -66,6 +66,21 @@ _Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader r
 #define HT_MANIFEST_KEY_UNIT "unit"
 #define HT_MANIFEST_KEY_FEATURES "features"
 #define HT_MANIFEST_KEY_DROPPED "dropped"
+/* a tier's optional "measured" object: how the tier compares with full on
+   one scene, measured offline (hairgen --measure; runtime/metrics.h has the
+   definitions). psnr_db null means identical (infinite). */
+#define HT_MANIFEST_KEY_MEASURED "measured"
+#define HT_MANIFEST_KEY_PSNR_DB "psnr_db"
+#define HT_MANIFEST_KEY_SSIM "ssim"
+#define HT_MANIFEST_KEY_DELTA_E00_MEAN "delta_e00_mean"
+#define HT_MANIFEST_KEY_DELTA_E00_P95 "delta_e00_p95"
+#define HT_MANIFEST_KEY_COST_RATIO "cost_ratio"
+#define HT_MANIFEST_KEY_SCENE "scene"
+#define HT_MANIFEST_KEY_DRIVER "driver"
+/* Limits of a measured object's numbers. */
+#define HT_MANIFEST_MAX_PSNR_DB 1000.0
+#define HT_MANIFEST_MAX_DELTA_E 1000.0
+#define HT_MANIFEST_MAX_COST_RATIO 1.0e6
 
 #define HT_MANIFEST_MAX_TIERS HT_LIMIT_TIERS
 #define HT_MANIFEST_MAX_FILES HT_LIMIT_TIER_FILES
@@ -91,6 +106,18 @@ typedef struct ht_manifest_sampler {
     int unit;
 } ht_manifest_sampler;
 
+/* A tier's "measured" object (all its numbers are required when it is
+   present; scene and driver are optional labels). */
+typedef struct ht_manifest_measured {
+    bool present;                  /* false when the tier has no "measured" */
+    double psnr_db;                /* [0, 1000], INFINITY for null (identical to full) */
+    double ssim;                   /* [-1, 1] */
+    double delta_e00_mean, delta_e00_p95; /* [0, 1000] */
+    double cost_ratio;             /* (0, 1e6]: frame time / full's */
+    char scene[64];                /* "" when absent */
+    char driver[128];              /* "" when absent */
+} ht_manifest_measured;
+
 typedef struct ht_manifest_tier {
     char name[16];
     ht_tier tier;                  /* HT_TIER_COUNT: a tier this runtime does not know */
@@ -105,6 +132,7 @@ typedef struct ht_manifest_tier {
     int sampler_count;
     ht_manifest_texture textures[HT_MANIFEST_MAX_TEXTURES]; /* the tier's own ("fixed-lut") */
     int texture_count;
+    ht_manifest_measured measured;   /* optional */
 } ht_manifest_tier;
 
 typedef struct ht_manifest {

@@ -84,6 +84,37 @@ static ht_result parse_version_field(const ht_jctx *c, const cJSON *req, const c
     return HT_OK;
 }
 
+/* The optional per-tier "measured" object (manifest.h). */
+static ht_result parse_measured(const ht_jctx *c, const cJSON *t, const char *base, ht_manifest_measured *out) {
+    static const char *const known[] = { K(PSNR_DB), K(SSIM), K(DELTA_E00_MEAN), K(DELTA_E00_P95), K(COST_RATIO),
+                                         K(SCENE), K(DRIVER), NULL };
+    char path[HT_JSON_PATH_MAX];
+    ht_json_path_key(path, base, K(MEASURED));
+    const cJSON *m;
+    ht_result r = ht_json_object(c, t, base, K(MEASURED), false, &m);
+    if (r != HT_OK || !m) return r;
+    if ((r = ht_json_keys(c, m, path, known)) != HT_OK) return r;
+    out->present = true;
+    const cJSON *psnr = cJSON_GetObjectItemCaseSensitive(m, K(PSNR_DB));
+    if (cJSON_IsNull(psnr)) {
+        out->psnr_db = INFINITY;
+    } else if ((r = ht_json_number(c, m, path, K(PSNR_DB), NULL, HT_JRANGE(0, HT_MANIFEST_MAX_PSNR_DB),
+                                   &out->psnr_db)) != HT_OK) {
+        return r;
+    }
+    if ((r = ht_json_number(c, m, path, K(SSIM), NULL, HT_JRANGE(-1, 1), &out->ssim)) != HT_OK ||
+        (r = ht_json_number(c, m, path, K(DELTA_E00_MEAN), NULL, HT_JRANGE(0, HT_MANIFEST_MAX_DELTA_E),
+                            &out->delta_e00_mean)) != HT_OK ||
+        (r = ht_json_number(c, m, path, K(DELTA_E00_P95), NULL, HT_JRANGE(0, HT_MANIFEST_MAX_DELTA_E),
+                            &out->delta_e00_p95)) != HT_OK ||
+        (r = ht_json_number(c, m, path, K(COST_RATIO), NULL, HT_JRANGE_LO_OPEN(0, HT_MANIFEST_MAX_COST_RATIO),
+                            &out->cost_ratio)) != HT_OK ||
+        (r = ht_json_string_or_null(c, m, path, K(SCENE), out->scene, sizeof out->scene)) != HT_OK ||
+        (r = ht_json_string_or_null(c, m, path, K(DRIVER), out->driver, sizeof out->driver)) != HT_OK)
+        return r;
+    return HT_OK;
+}
+
 static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_manifest_tier *out) {
     char base[64], field[HT_JSON_PATH_MAX];
     snprintf(base, sizeof base, K(TIERS) "[%d]", index);
@@ -171,7 +202,7 @@ static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_mani
             }
         out->sampler_count++;
     }
-    return HT_OK;
+    return parse_measured(c, t, base, &out->measured);
 }
 
 ht_result ht_manifest_parse(const char *json_text, const char *dir, const char *file_name,

@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "caps.h"
 #include "errfmt.h"
@@ -30,12 +31,15 @@ static void copy_text(char *dst, size_t size, const char *src) {
 
 static int clamp_int(int v, int lo, int hi) { return v < lo ? lo : v > hi ? hi : v; }
 
-static ht_result create_backend(ht_renderer *r, const ht_renderer_desc *desc) {
+/* Selects a tier (requested tier, policy, timings, the tiers already
+   failed) and creates its backend, falling to the next tier on failure. */
+static ht_result create_backend(ht_renderer *r) {
     char failed_text[HT_MANIFEST_MAX_TIERS][HT_SELECT_REASON];
     ht_select_desc sd = {
-        .caps = &r->caps, .extensions = r->extensions, .bundle = &r->bundle, .requested = desc->tier,
-        .env_tier = getenv("HAIRTIER_TIER"), .strict = desc->strict,
+        .caps = &r->caps, .extensions = r->extensions, .bundle = &r->bundle, .requested = r->requested,
+        .env_tier = getenv("HAIRTIER_TIER"), .strict = r->strict, .policy = r->policy,
     };
+    memcpy(sd.frame_ms, r->frame_ms, sizeof sd.frame_ms);
     char err[1024];
     /* Each round's skipped list extends the previous round's (tiers are
        walked best first, a failed one joins the list): log only what is new. */
@@ -74,6 +78,25 @@ static ht_result create_backend(ht_renderer *r, const ht_renderer_desc *desc) {
     }
 }
 
+/* Asks the app's timer for every tier the device runs (frame:MS with
+   desc.time_tier), logging each answer. */
+static void time_tiers_by_hook(ht_renderer *r) {
+    char why[HT_SELECT_REASON];
+    for (int i = 0; i < r->bundle.tier_count; i++) {
+        const ht_manifest_tier *t = &r->bundle.tiers[i];
+        r->frame_ms[i] = 0.0;
+        if (!ht_tier_backend_find(t->tier) || !ht_select_check_requirements(&r->caps, r->extensions, t, why, sizeof why))
+            continue;
+        double ms = r->time_tier(r->time_tier_user, t->tier);
+        if (ms > 0.0 && isfinite(ms)) {
+            r->frame_ms[i] = ms;
+            ht_log_linef(r->log, r->log_user, "hairtier: timed %s: %.3f ms a frame (desc.time_tier)", t->name, ms);
+        } else {
+            ht_log_linef(r->log, r->log_user, "hairtier: timed %s: no time (desc.time_tier)", t->name);
+        }
+    }
+}
+
 ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
     if (!out) return HT_ERR_INVALID_ARGUMENT;
     *out = NULL;
@@ -94,9 +117,19 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
     r->record_trace = desc->record_trace;
     r->flat = desc->flat;
     r->tier = HT_TIER_COUNT;
+    r->requested = desc->tier;
+    r->strict = desc->strict;
+    r->time_tier = desc->time_tier;
+    r->time_tier_user = desc->time_tier_user;
 
     char err[1024];
-    ht_result res = ht_gl_load(&r->gl, desc->getproc, err, sizeof err);
+    const char *policy = desc->policy ? desc->policy : getenv("HAIRTIER_POLICY");
+    ht_result res = ht_policy_parse(policy && policy[0] ? policy : NULL, &r->policy, err, sizeof err);
+    if (res != HT_OK) {
+        ht_log_linef(r->log, r->log_user, "hairtier: %s%s", desc->policy ? "ht_renderer_desc: " : "HAIRTIER_POLICY: ", err);
+        goto fail;
+    }
+    res = ht_gl_load(&r->gl, desc->getproc, err, sizeof err);
     if (res != HT_OK) {
         ht_log_linef(r->log, r->log_user, "hairtier: %s", err);
         goto fail;
@@ -136,8 +169,9 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
         }
         snprintf(r->reason, sizeof r->reason, "flat: geometry floor, one colour, no textures or shaders");
         ht_log_linef(r->log, r->log_user, "hairtier: %s", r->reason);
-    } else if ((res = create_backend(r, desc)) != HT_OK) {
-        goto fail;
+    } else {
+        if (r->policy.kind == HT_POLICY_FRAME && r->time_tier && r->requested == HT_TIER_AUTO) time_tiers_by_hook(r);
+        if ((res = create_backend(r)) != HT_OK) goto fail;
     }
     *out = r;
     return HT_OK;
@@ -167,6 +201,82 @@ void ht_renderer_destroy(ht_renderer *r) {
     free(r);
 }
 
+/* ---- the frame:MS policy's timing ---- */
+
+static void destroy_backend(ht_renderer *r) {
+    if (r->backend && r->backend->destroy) r->backend->destroy(r->backend_state);
+    r->backend = NULL;
+    r->backend_state = NULL;
+    r->tier = HT_TIER_COUNT;
+}
+
+static double now_ms(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec / 1e6;
+}
+
+/* Draws bundle tier i for HT_FRAME_TIMING_FRAMES frames after a warm-up
+   one; 0 when its backend, the mesh upload or a draw fails (logged). */
+static double time_tier_by_drawing(ht_renderer *r, int i, const ht_mesh *mesh, const ht_frame_desc *frame) {
+    const ht_manifest_tier *t = &r->bundle.tiers[i];
+    const ht_tier_backend *be = ht_tier_backend_find(t->tier);
+    char err[1024];
+    destroy_backend(r);
+    ht_tier_context ctx = { .gl = &r->gl, .caps = &r->caps, .bundle = &r->bundle, .tier = t,
+                            .log = r->log, .log_user = r->log_user };
+    void *state = NULL;
+    while (r->gl.GetError() != GL_NO_ERROR) {}
+    if (be->create(&ctx, &state, err, sizeof err) != HT_OK) {
+        ht_log_linef(r->log, r->log_user, "hairtier: timing %s: %s", t->name, err);
+        return 0.0;
+    }
+    r->backend = be;
+    r->backend_state = state;
+    r->tier = t->tier;
+    if (ht_renderer_set_mesh(r, mesh) != HT_OK || ht_renderer_draw(r, frame) != HT_OK) return 0.0;
+    r->gl.Finish();
+    double start = now_ms();
+    for (int f = 0; f < HT_FRAME_TIMING_FRAMES; f++)
+        if (ht_renderer_draw(r, frame) != HT_OK) return 0.0;
+    r->gl.Finish();
+    double ms = (now_ms() - start) / HT_FRAME_TIMING_FRAMES;
+    ht_log_linef(r->log, r->log_user, "hairtier: timed %s: %.3f ms a frame (mean of %d)", t->name, ms,
+                 HT_FRAME_TIMING_FRAMES);
+    return ms > 0.0 ? ms : 1e-6;
+}
+
+ht_result ht_renderer_choose_by_frame_time(ht_renderer *r, const ht_mesh *mesh, const ht_frame_desc *frame,
+                                           double budget_ms) {
+    static const char what[] = "ht_renderer_choose_by_frame_time";
+    if (!r) return HT_ERR_INVALID_ARGUMENT;
+    if (r->flat || !r->have_bundle) return ht_renderer_reject(r, what, "renderer", "flat: no tiers to choose from");
+    if (!mesh) return ht_renderer_reject(r, what, "mesh", "NULL");
+    if (!frame && !r->time_tier) return ht_renderer_reject(r, what, "frame", "NULL");
+    double budget = budget_ms != 0.0 ? budget_ms : r->policy.kind == HT_POLICY_FRAME ? r->policy.value : 0.0;
+    if (!(budget > 0.0) || !isfinite(budget))
+        return ht_renderer_reject(r, what, "budget_ms", "%g: needs a budget > 0 ms, or the frame:MS policy", budget_ms);
+    if (r->requested != HT_TIER_AUTO)
+        ht_log_linef(r->log, r->log_user, "hairtier: %s: tier %s is forced; the timings do not change it", what,
+                     ht_tier_name(r->requested));
+    if (r->time_tier) {
+        time_tiers_by_hook(r);
+    } else {
+        char why[HT_SELECT_REASON];
+        for (int i = 0; i < r->bundle.tier_count; i++) {
+            const ht_manifest_tier *t = &r->bundle.tiers[i];
+            r->frame_ms[i] = 0.0;
+            if (ht_tier_backend_find(t->tier) && ht_select_check_requirements(&r->caps, r->extensions, t, why, sizeof why))
+                r->frame_ms[i] = time_tier_by_drawing(r, i, mesh, frame);
+        }
+    }
+    destroy_backend(r);
+    r->policy = (ht_policy){ HT_POLICY_FRAME, budget };
+    ht_result res = create_backend(r);
+    if (res == HT_OK) res = ht_renderer_set_mesh(r, mesh);
+    return res;
+}
+
 /* ---- drawing ---- */
 
 /* The frame proper, between saving and restoring the app's state. */
@@ -186,6 +296,8 @@ static ht_result draw_frame(ht_renderer *r, const ht_frame_desc *f, const ht_tie
 ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
     if (!r) return HT_ERR_INVALID_ARGUMENT;
     if (!f) return ht_renderer_reject(r, "ht_renderer_draw", "frame", "NULL");
+    if (!r->flat && !r->backend)
+        return ht_renderer_reject(r, "ht_renderer_draw", "renderer", "no tier (ht_renderer_choose_by_frame_time found none)");
     ht_tier_frame tf = { 0 };
     ht_result checked = ht_renderer_check_frame(r, f, &tf);
     if (checked != HT_OK) return checked;

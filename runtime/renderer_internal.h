@@ -40,6 +40,13 @@ struct ht_renderer {
     int vertex_attribs;               /* GL_MAX_VERTEX_ATTRIBS (capped), 0 without shaders */
     int max_lights;                   /* GL_MAX_LIGHTS (capped): the head turns off the ones it does not use */
     unsigned warned;                  /* frame warnings already logged once (validate.c) */
+    /* what selection reads again when frame:MS re-chooses (renderer.c) */
+    ht_tier requested;
+    bool strict;
+    ht_policy policy;
+    ht_time_tier_fn time_tier;
+    void *time_tier_user;
+    double frame_ms[HT_MANIFEST_MAX_TIERS]; /* per bundle tier, 0 → not timed */
     ht_trace trace;
 };
 

@@ -1,6 +1,9 @@
 /* select.c — which tier of a bundle runs on a device, and why the others
    do not. Pure: see select.h. */
+#include <errno.h>
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "select.h"
@@ -70,6 +73,147 @@ static void join_skips(const ht_selection *s, char *out, size_t size) {
     }
 }
 
+ht_result ht_policy_parse(const char *text, ht_policy *out, char *err, size_t err_size) {
+    if (!out) return HT_ERR_INVALID_ARGUMENT;
+    *out = (ht_policy){ HT_POLICY_BEST, 0.0 };
+    if (!text || strcmp(text, "best") == 0) return HT_OK;
+    if (strcmp(text, "fastest") == 0) {
+        out->kind = HT_POLICY_FASTEST;
+        return HT_OK;
+    }
+    bool error = strncmp(text, "error:", 6) == 0, frame = strncmp(text, "frame:", 6) == 0;
+    if (error || frame) {
+        const char *num = text + 6;
+        char *end;
+        errno = 0;
+        double v = strtod(num, &end);
+        bool ok = *num && *end == '\0' && errno == 0 && isfinite(v) && (error ? v >= 0.0 : v > 0.0);
+        if (ok) {
+            *out = (ht_policy){ error ? HT_POLICY_ERROR : HT_POLICY_FRAME, v };
+            return HT_OK;
+        }
+        snprintf(err, err_size, "policy: \"%.40s\": %s", text,
+                 error ? "error: needs a number of dB >= 0, like error:30" : "frame: needs a number of ms > 0, like frame:16.7");
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    snprintf(err, err_size, "policy: \"%.40s\" is not best, fastest, error:DB or frame:MS", text);
+    return HT_ERR_INVALID_ARGUMENT;
+}
+
+/* "cost 0.4x full" or "" when the tier has no measured cost. */
+static void cost_text(const ht_manifest_tier *t, char *out, size_t size) {
+    if (t->measured.present) snprintf(out, size, ", cost %.2gx full", t->measured.cost_ratio);
+    else out[0] = '\0';
+}
+
+static void psnr_text(double db, char *out, size_t size) {
+    if (isinf(db)) snprintf(out, size, "identical to full");
+    else snprintf(out, size, "%.1f dB", db);
+}
+
+/* The policy's pick among the tiers that run (ok[i]); HT_OK with out->index
+   and out->reason set. */
+static ht_result pick_by_policy(const ht_select_desc *d, const bool ok[], ht_selection *out, char *err,
+                                size_t err_size) {
+    const ht_manifest *b = d->bundle;
+    const ht_policy *p = &d->policy;
+    char line[HT_SELECT_REASON], cost[48], db[32];
+    int first = -1, last = -1;
+    for (int i = 0; i < b->tier_count; i++)
+        if (ok[i]) {
+            if (first < 0) first = i;
+            last = i;
+        }
+    switch (p->kind) {
+    case HT_POLICY_FASTEST: {
+        int pick = -1;
+        bool all_measured = true;
+        for (int i = 0; i < b->tier_count; i++)
+            if (ok[i] && !b->tiers[i].measured.present) all_measured = false;
+        if (all_measured) {
+            for (int i = 0; i < b->tier_count; i++)
+                if (ok[i] && (pick < 0 || b->tiers[i].measured.cost_ratio < b->tiers[pick].measured.cost_ratio))
+                    pick = i;
+            cost_text(&b->tiers[pick], cost, sizeof cost);
+            snprintf(out->reason, sizeof out->reason, "fastest: the least measured cost of the tiers that run%s", cost);
+        } else {
+            pick = last;
+            snprintf(out->reason, sizeof out->reason,
+                     "fastest: the cheapest that runs, by the bundle's order (not every tier that runs is measured)");
+        }
+        out->index = pick;
+        return HT_OK;
+    }
+    case HT_POLICY_ERROR: {
+        bool any = false;
+        for (int i = 0; i < b->tier_count; i++) any = any || b->tiers[i].measured.present;
+        if (!any) {
+            snprintf(err, err_size, "%s/manifest.json: policy error:%g: no tier has measured numbers (hairgen --measure writes them)",
+                     b->dir, p->value);
+            return HT_ERR_INVALID_ARGUMENT;
+        }
+        int pick = -1, most_accurate = -1;
+        for (int i = 0; i < b->tier_count; i++) {
+            if (!ok[i]) continue;
+            const ht_manifest_measured *m = &b->tiers[i].measured;
+            if (!m->present) {
+                snprintf(line, sizeof line, "%s: no measured numbers (policy error:%g)", b->tiers[i].name, p->value);
+                add_skip(out, line);
+                continue;
+            }
+            if (most_accurate < 0 || m->psnr_db > b->tiers[most_accurate].measured.psnr_db) most_accurate = i;
+            if (m->psnr_db >= p->value && (pick < 0 || m->cost_ratio < b->tiers[pick].measured.cost_ratio)) pick = i;
+        }
+        if (pick >= 0) {
+            psnr_text(b->tiers[pick].measured.psnr_db, db, sizeof db);
+            cost_text(&b->tiers[pick], cost, sizeof cost);
+            snprintf(out->reason, sizeof out->reason, "error:%g: %s >= %g dB%s, the cheapest that runs and reaches it",
+                     p->value, db, p->value, cost);
+        } else if (most_accurate >= 0) {
+            pick = most_accurate;
+            psnr_text(b->tiers[pick].measured.psnr_db, db, sizeof db);
+            cost_text(&b->tiers[pick], cost, sizeof cost);
+            snprintf(out->reason, sizeof out->reason, "error:%g: no tier that runs reaches %g dB; the most accurate: %s%s",
+                     p->value, p->value, db, cost);
+        } else {
+            snprintf(err, err_size, "%s/manifest.json: policy error:%g: no tier that runs here has measured numbers",
+                     b->dir, p->value);
+            return HT_ERR_INVALID_ARGUMENT;
+        }
+        out->index = pick;
+        return HT_OK;
+    }
+    case HT_POLICY_FRAME: {
+        int pick = -1, fastest = -1;
+        for (int i = 0; i < b->tier_count; i++) {
+            double ms = d->frame_ms[i];
+            if (!ok[i] || !(ms > 0.0) || !isfinite(ms)) continue;
+            if (fastest < 0 || ms < d->frame_ms[fastest]) fastest = i;
+            if (pick < 0 && ms <= p->value) pick = i;
+        }
+        if (pick >= 0) {
+            snprintf(out->reason, sizeof out->reason, "frame:%g: %.2f ms <= %g ms, the best that runs within budget",
+                     p->value, d->frame_ms[pick], p->value);
+        } else if (fastest >= 0) {
+            pick = fastest;
+            snprintf(out->reason, sizeof out->reason, "frame:%g: no tier within %g ms; the fastest timed: %.2f ms",
+                     p->value, p->value, d->frame_ms[pick]);
+        } else {
+            pick = first;
+            snprintf(out->reason, sizeof out->reason,
+                     "frame:%g: not timed yet, best supported (ht_renderer_choose_by_frame_time times the tiers)", p->value);
+        }
+        out->index = pick;
+        return HT_OK;
+    }
+    case HT_POLICY_BEST:
+    default:
+        out->index = first;
+        snprintf(out->reason, sizeof out->reason, "best supported");
+        return HT_OK;
+    }
+}
+
 ht_result ht_select_tier(const ht_select_desc *d, ht_selection *out, char *err, size_t err_size) {
     memset(out, 0, sizeof *out);
     out->index = -1;
@@ -118,6 +262,29 @@ ht_result ht_select_tier(const ht_select_desc *d, ht_selection *out, char *err, 
         }
     }
 
+    if (out->forced == HT_TIER_AUTO) {
+        bool ok[HT_MANIFEST_MAX_TIERS] = { false };
+        bool any = false;
+        for (int i = 0; i < b->tier_count; i++) {
+            if (tier_blocked(d, i, line, sizeof line)) add_skip(out, line);
+            else ok[i] = any = true;
+        }
+        if (any) {
+            ht_result r = pick_by_policy(d, ok, out, err, err_size);
+            if (r != HT_OK) {
+                out->index = -1;
+                return r;
+            }
+            out->tier = b->tiers[out->index].tier;
+            if (out->skipped_count) {
+                snprintf(out->reason + strlen(out->reason), sizeof out->reason - strlen(out->reason), "; skipped ");
+                join_skips(out, out->reason, sizeof out->reason);
+            }
+            return HT_OK;
+        }
+        start = b->tier_count;
+    }
+
     for (int i = start; i < b->tier_count; i++) {
         if (tier_blocked(d, i, line, sizeof line)) {
             add_skip(out, line);
@@ -129,13 +296,7 @@ ht_result ht_select_tier(const ht_select_desc *d, ht_selection *out, char *err, 
         }
         out->index = i;
         out->tier = b->tiers[i].tier;
-        if (out->forced == HT_TIER_AUTO) {
-            snprintf(out->reason, sizeof out->reason, "best supported");
-            if (out->skipped_count) {
-                snprintf(out->reason + strlen(out->reason), sizeof out->reason - strlen(out->reason), "; skipped ");
-                join_skips(out, out->reason, sizeof out->reason);
-            }
-        } else if (out->tier == out->forced) {
+        if (out->tier == out->forced) {
             snprintf(out->reason, sizeof out->reason, "forced by %s", source);
         } else {
             snprintf(out->reason, sizeof out->reason, "%s forced by %s could not run, fell back; ",

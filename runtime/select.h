@@ -15,7 +15,16 @@
    version, extensions, texture units) and it has not failed at runtime
    (`failed`, e.g. "compile failed: ..."). An extension is met by the
    extension string or by the core GL version it entered. desc.tier forces a tier, else HAIRTIER_TIER does; a forced tier
-   that cannot run drops to the next one that can, unless strict. */
+   that cannot run drops to the next one that can, unless strict.
+   Without a forced tier the policy picks among the tiers that run
+   (hairtier.h lists them): best = the first; fastest = the least measured
+   cost_ratio when every runnable tier has one (ties: the earlier), else
+   the last; error:DB = the least cost_ratio among runnable tiers measured
+   at >= DB (ties: the earlier; a runnable tier without numbers is skipped
+   with a line), none → the highest PSNR, a bundle with no measured tier →
+   HT_ERR_INVALID_ARGUMENT; frame:MS = the
+   first runnable tier timed within MS, none → the fastest timed, no
+   timings yet → best. */
 #ifndef HT_SELECT_H
 #define HT_SELECT_H
 
@@ -36,6 +45,8 @@ typedef struct ht_select_desc {
     const char *env_tier;                       /* HAIRTIER_TIER's value, NULL when unset */
     bool strict;                                /* a forced tier that cannot run is an error */
     const char *failed[HT_MANIFEST_MAX_TIERS];    /* per bundle tier: why it failed at runtime, or NULL */
+    ht_policy policy;                           /* zero → best */
+    double frame_ms[HT_MANIFEST_MAX_TIERS];     /* per bundle tier: ms a frame on this device; 0 → not timed */
 } ht_select_desc;
 
 typedef struct ht_selection {
