@@ -15,6 +15,7 @@
 #define ARGS_GetFloatv pname, data
 #define ARGS_GetBooleanv pname, data
 #define ARGS_GetError
+#define ARGS_Finish
 #define ARGS_Enable cap
 #define ARGS_Disable cap
 #define ARGS_IsEnabled cap

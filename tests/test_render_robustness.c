@@ -896,6 +896,21 @@ static void test_hairview_fails_cleanly_on_bad_input(void **state) {
     assert_true(exists(png));
     assert_int_equal(unlink(png), 0);
 
+    /* --policy: the choice and its reason are logged; frame:MS times every
+       tier (no time is asserted); error:DB without measured numbers fails. */
+    snprintf(args, sizeof args, "%s --policy fastest --scene '%s' -o '%s'", bundle_arg, scene, png);
+    if (run_program("hairview", args, err, sizeof err) != 0) fail_msg("hairview %s failed:\n%s", args, err);
+    if (!strstr(err, "hairtier: tier gl11 (fastest: ")) fail_msg("hairview %s:\n%s", args, err);
+    snprintf(args, sizeof args, "%s --policy frame:100000 --scene '%s' -o '%s'", bundle_arg, scene, png);
+    if (run_program("hairview", args, err, sizeof err) != 0) fail_msg("hairview %s failed:\n%s", args, err);
+    if (!strstr(err, "hairtier: timed gl11: ") || !strstr(err, "hairtier: tier full (frame:100000: "))
+        fail_msg("hairview %s:\n%s", args, err);
+    assert_int_equal(unlink(png), 0);
+    snprintf(args, sizeof args, "%s --policy error:30 --scene '%s'", bundle_arg, scene);
+    expect_hairview_fails(args, png, 1, "hairview: ", "no tier has measured numbers");
+    snprintf(args, sizeof args, "%s --policy soon --scene '%s'", bundle_arg, scene);
+    expect_hairview_fails(args, png, 2, "hairview: ", "--policy");
+
     /* The scene: missing, malformed, a field out of range. */
     snprintf(args, sizeof args, "%s --scene '%s/no-scene.json'", bundle_arg, fx.work);
     expect_hairview_fails(args, png, 1, "hairview: ", "no-scene.json");
