@@ -87,20 +87,13 @@ static ht_result parse_program(const ht_jctx *c, const cJSON *root, ht_fixed4_pr
     static const char *const keys[] = { "format", "model", "lights", "ao", "viewer", "diffuse", "primary",
                                         "secondary", "lut_axis", NULL };
     static const char *const viewers[] = { "infinite", "local", NULL };
-    static const char *const models[] = { "scheuermann", "kajiya-kay", NULL };
     ht_result r = ht_json_keys(c, root, "", keys);
     if (r == HT_OK) r = ht_json_format(c, root, HT_FIXED4_FORMAT, "a fixed4 tier program");
-    int model = 0;
-    if (r == HT_OK) r = ht_json_enum(c, root, "", "model", -1, models, &model);
-    p->shading.model = model == 1 ? HT_MODEL_KAJIYA_KAY : HT_MODEL_SCHEUERMANN;
+    if (r == HT_OK) r = ht_program_json_parse_model(c, root, &p->shading.model);
     int64_t lights = 0;
     if (r == HT_OK) r = ht_json_int(c, root, "", "lights", NULL, 1, HT_FIXED4_MAX_LIGHTS, &lights);
     p->lights = (int)lights;
-    if (r == HT_OK) {
-        const cJSON *ao = cJSON_GetObjectItemCaseSensitive(root, "ao");
-        if (!cJSON_IsBool(ao)) r = ht_json_fail(c, "ao", "expected true or false");
-        else p->ao = cJSON_IsTrue(ao);
-    }
+    if (r == HT_OK) r = ht_json_bool(c, root, "", "ao", NULL, &p->ao);
     int viewer = 0;
     if (r == HT_OK) r = ht_json_enum(c, root, "", "viewer", -1, viewers, &viewer);
     p->viewer = viewer == 1 ? HT_FIXED4_VIEWER_LOCAL : HT_FIXED4_VIEWER_INFINITE;

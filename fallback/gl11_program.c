@@ -81,20 +81,13 @@ ht_result ht_gl11_write(const ht_gl11_program *p, char **text, char *err, size_t
 static ht_result parse_program(const ht_jctx *c, const cJSON *root, ht_gl11_program *p) {
     static const char *const keys[] = { "format", "model", "lights", "ao", "albedo_scale", "diffuse", "primary",
                                         "secondary", NULL };
-    static const char *const models[] = { "scheuermann", "kajiya-kay", NULL };
     ht_result r = ht_json_keys(c, root, "", keys);
     if (r == HT_OK) r = ht_json_format(c, root, HT_GL11_FORMAT, "a gl11 tier program");
-    int model = 0;
-    if (r == HT_OK) r = ht_json_enum(c, root, "", "model", -1, models, &model);
-    p->shading.model = model == 1 ? HT_MODEL_KAJIYA_KAY : HT_MODEL_SCHEUERMANN;
+    if (r == HT_OK) r = ht_program_json_parse_model(c, root, &p->shading.model);
     int64_t lights = 0;
     if (r == HT_OK) r = ht_json_int(c, root, "", "lights", NULL, 0, HT_MAX_LIGHTS, &lights);
     p->lights = (int)lights;
-    if (r == HT_OK) {
-        const cJSON *ao = cJSON_GetObjectItemCaseSensitive(root, "ao");
-        if (!cJSON_IsBool(ao)) r = ht_json_fail(c, "ao", "expected true or false");
-        else p->ao = cJSON_IsTrue(ao);
-    }
+    if (r == HT_OK) r = ht_json_bool(c, root, "", "ao", NULL, &p->ao);
     if (r == HT_OK)
         r = ht_json_number(c, root, "", "albedo_scale", NULL, HT_JRANGE(1, HT_GL11_MAX_SCALE), &p->albedo_scale);
     if (r == HT_OK) r = ht_program_json_parse_shading(c, root, &p->shading);

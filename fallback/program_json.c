@@ -56,6 +56,14 @@ static ht_result parse_lobe(const ht_jctx *c, const cJSON *root, const char *key
     return r;
 }
 
+ht_result ht_program_json_parse_model(const ht_jctx *c, const cJSON *root, ht_model_kind *out) {
+    static const char *const models[] = { "scheuermann", "kajiya-kay", NULL };
+    int model = 0;
+    ht_result r = ht_json_enum(c, root, "", "model", -1, models, &model);
+    *out = model == 1 ? HT_MODEL_KAJIYA_KAY : HT_MODEL_SCHEUERMANN;
+    return r;
+}
+
 ht_result ht_program_json_parse_shading(const ht_jctx *c, const cJSON *root, ht_shading *s) {
     static const char *const diffuse_keys[] = { "color", "wrap", NULL };
     const cJSON *d = NULL;

@@ -17,13 +17,17 @@
 #include "json_check.h"
 #include "model.h"
 
-/* "model", "diffuse": {color, wrap}, "primary" and (Scheuermann) "secondary":
-   {color, exponent, shift}. */
+/* "diffuse": {color, wrap}, "primary" and (Scheuermann) "secondary":
+   {color, exponent, shift}; the caller writes "model" where its format
+   puts it. */
 void ht_program_json_add_shading(cJSON *root, const ht_shading *s);
 
 /* Prints root (and deletes it) as *text with a final newline (malloc'd);
    an out-of-memory error names file. */
 ht_result ht_program_json_print(cJSON *root, const char *file, char **text, char *err, size_t err_size);
+
+/* "model": "scheuermann" or "kajiya-kay", required. */
+ht_result ht_program_json_parse_model(const ht_jctx *c, const cJSON *root, ht_model_kind *out);
 
 /* Reads what ht_program_json_add_shading writes, checking every range; a
    Kajiya-Kay program may not carry "secondary". Errors name the field. */

@@ -631,6 +631,21 @@ ht_result ht_json_enum(const ht_jctx *c, const cJSON *obj, const char *path,
     return ht_json_enum_item(c, it, field, names, out);
 }
 
+ht_result ht_json_bool(const ht_jctx *c, const cJSON *obj, const char *path, const char *key, const bool *def,
+                       bool *out) {
+    char field[HT_JSON_PATH_MAX], got[ECHO_MAX + 48];
+    const cJSON *it;
+    ht_result res = lookup(c, obj, path, key, !def, "boolean", &it, field);
+    if (res != HT_OK) return res;
+    if (!it) {
+        *out = *def;
+        return HT_OK;
+    }
+    if (!cJSON_IsBool(it)) return ht_json_fail(c, field, "expected true or false, got %s", describe(got, it));
+    *out = cJSON_IsTrue(it);
+    return HT_OK;
+}
+
 ht_result ht_json_string(const ht_jctx *c, const cJSON *obj, const char *path,
                          const char *key, const char *def, char *out, size_t out_size) {
     char field[HT_JSON_PATH_MAX], got[ECHO_MAX + 48];

@@ -129,6 +129,9 @@ ht_result ht_json_int32(const ht_jctx *c, const cJSON *obj, const char *path,
 /* One of `names` (NULL-terminated); *out is its index. def < 0: required. */
 ht_result ht_json_enum(const ht_jctx *c, const cJSON *obj, const char *path,
                        const char *key, int def, const char *const names[], int *out);
+/* true or false; required when def is NULL. */
+ht_result ht_json_bool(const ht_jctx *c, const cJSON *obj, const char *path, const char *key, const bool *def,
+                       bool *out);
 /* A string of 1..out_size-1 bytes; required when def is NULL. */
 ht_result ht_json_string(const ht_jctx *c, const cJSON *obj, const char *path,
                          const char *key, const char *def, char *out, size_t out_size);
