@@ -132,3 +132,25 @@ bool ht_test_child_renderer(const char *bundle_dir, int size, ht_test_gl *gl, ht
     if (res != HT_OK) *r = NULL;
     return true;
 }
+
+int ht_test_child_select_only(const char *bundle_dir) {
+    ht_test_gl gl;
+    ht_renderer *r;
+    if (!ht_test_child_renderer(bundle_dir, 16, &gl, &r)) return 1;
+    ht_renderer_destroy(r);
+    ht_test_gl_destroy(&gl);
+    return 0;
+}
+
+void ht_test_format_trace(const ht_trace *t, char *out, size_t size) {
+    out[0] = '\0';
+    for (int i = 0; i < t->count; i++) {
+        const ht_trace_entry *e = &t->entries[i];
+        size_t used = strlen(out);
+        snprintf(out + used, size - used,
+                 "trace pass %d.%d cull %d/0x%04x depth 0x%04x/%d color %d blend %d alpha %d/0x%04x/%.6f "
+                 "range %u+%u error 0x%04x\n", (int)e->pass, e->sub_pass, e->cull, e->cull_face, e->depth_func,
+                 e->depth_write, e->color_write, e->blend, e->alpha_test, e->alpha_func, (double)e->alpha_ref,
+                 e->first_index, e->index_count, e->gl_error);
+    }
+}

@@ -56,6 +56,13 @@ ht_test_pixel_stats ht_test_pixel_stats_of(const ht_image *img, const float back
    the parent to read. *r is NULL unless the result is HT_OK. False when no
    context could be made (the reason printed). */
 bool ht_test_child_renderer(const char *bundle_dir, int size, ht_test_gl *gl, ht_renderer **r);
+/* The whole child side when a test only needs the selection: a 16 x 16
+   context and a renderer (ht_test_child_renderer), then nothing. The exit
+   status for main. */
+int ht_test_child_select_only(const char *bundle_dir);
+/* One line per trace entry ("trace pass P.S cull ... range F+N error E"),
+   so traces of two tiers or two processes compare as text. */
+void ht_test_format_trace(const ht_trace *t, char *out, size_t size);
 /* Runs this test binary as `EXE --child BUNDLE_DIR` with
    MESA_GL_VERSION_OVERRIDE=version (Mesa reads it once per process);
    out receives its stdout and stderr. The child must exit 0. */

@@ -303,19 +303,6 @@ static void render(ht_renderer *r, const ht_frame_desc *f, ht_image *img) {
 static ht_test_pixel_stats stats(const ht_image *img) { return ht_test_pixel_stats_of(img, ht_test_background); }
 
 /* One line per trace entry: what the tiers must agree on. */
-static void format_trace(const ht_trace *t, char *out, size_t size) {
-    out[0] = '\0';
-    for (int i = 0; i < t->count; i++) {
-        const ht_trace_entry *e = &t->entries[i];
-        size_t used = strlen(out);
-        snprintf(out + used, size - used,
-                 "trace pass %d.%d cull %d/0x%04x depth 0x%04x/%d color %d blend %d alpha %d/0x%04x/%.6f "
-                 "range %u+%u error 0x%04x\n", (int)e->pass, e->sub_pass, e->cull, e->cull_face, e->depth_func,
-                 e->depth_write, e->color_write, e->blend, e->alpha_test, e->alpha_func, (double)e->alpha_ref,
-                 e->first_index, e->index_count, e->gl_error);
-    }
-}
-
 static void full_tier_trace(char *out, size_t size) {
     ht_renderer *r = create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true }, HT_OK);
     assert_int_equal(ht_renderer_set_mesh(r, &fx.mesh), HT_OK);
@@ -323,7 +310,7 @@ static void full_tier_trace(char *out, size_t size) {
     ht_frame_desc f = furball_frame();
     render(r, &f, &img);
     ht_image_free(&img);
-    format_trace(ht_renderer_trace(r), out, size);
+    ht_test_format_trace(ht_renderer_trace(r), out, size);
     ht_renderer_destroy(r);
 }
 
@@ -367,7 +354,7 @@ static void test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes(void
         assert_int_equal(ht_renderer_set_mesh(r, &fx.mesh), HT_OK);
         ht_image img;
         render(r, &f, &img);
-        format_trace(ht_renderer_trace(r), fixed_trace, sizeof fixed_trace);
+        ht_test_format_trace(ht_renderer_trace(r), fixed_trace, sizeof fixed_trace);
         assert_int_equal(ht_renderer_trace(r)->count, HT_PASS_COUNT);
         for (int i = 0; i < HT_PASS_COUNT; i++)
             assert_int_equal(ht_renderer_trace(r)->entries[i].gl_error, GL_NO_ERROR);
@@ -418,7 +405,7 @@ static int child_main(const char *bundle) {
             ht_image_free(&img);
         }
         static char trace[4096];
-        format_trace(ht_renderer_trace(r), trace, sizeof trace);
+        ht_test_format_trace(ht_renderer_trace(r), trace, sizeof trace);
         fputs(trace, stdout);
     }
     ht_renderer_destroy(r);

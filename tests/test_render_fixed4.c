@@ -166,16 +166,6 @@ static void test_fixed4_needs_four_units_and_says_so(void **state) {
     assert_true(ht_test_logged("fixed4: needs GL_ARB_texture_env_combine"));
 }
 
-/* Child mode: argv = exe --child BUNDLE; MESA_GL_VERSION_OVERRIDE is set. */
-static int child_main(const char *bundle) {
-    ht_test_gl cgl;
-    ht_renderer *r;
-    if (!ht_test_child_renderer(bundle, 16, &cgl, &r)) return 1;
-    ht_renderer_destroy(r);
-    ht_test_gl_destroy(&cgl);
-    return 0;
-}
-
 static void test_mesa_gl13_override_picks_fixed4(void **state) {
     (void)state;
     char out[8192];
@@ -187,7 +177,7 @@ static void test_mesa_gl13_override_picks_fixed4(void **state) {
 }
 
 int main(int argc, char **argv) {
-    if (argc == 3 && strcmp(argv[1], "--child") == 0) return child_main(argv[2]);
+    if (argc == 3 && strcmp(argv[1], "--child") == 0) return ht_test_child_select_only(argv[2]); /* under MESA_GL_VERSION_OVERRIDE */
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fixed4_draws_the_full_tiers_passes_over_the_same_ranges),
         cmocka_unit_test(test_fixed4_local_viewer_works_only_when_the_eye_moves),

@@ -52,19 +52,6 @@ static ht_frame_desc furball_frame(void) { return ht_test_furball_frame(2.0f); }
 
 static ht_test_pixel_stats stats(const ht_image *img) { return ht_test_pixel_stats_of(img, ht_test_background); }
 
-static void format_trace(const ht_trace *t, char *out, size_t size) {
-    out[0] = '\0';
-    for (int i = 0; i < t->count; i++) {
-        const ht_trace_entry *e = &t->entries[i];
-        size_t used = strlen(out);
-        snprintf(out + used, size - used,
-                 "trace pass %d.%d cull %d/0x%04x depth 0x%04x/%d color %d blend %d alpha %d/0x%04x/%.6f "
-                 "range %u+%u error 0x%04x\n", (int)e->pass, e->sub_pass, e->cull, e->cull_face, e->depth_func,
-                 e->depth_write, e->color_write, e->blend, e->alpha_test, e->alpha_func, (double)e->alpha_ref,
-                 e->first_index, e->index_count, e->gl_error);
-    }
-}
-
 /* The full tier's trace and image of the fur-ball frame. */
 static void full_tier(char *trace, size_t size, ht_image *img) {
     ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true },
@@ -72,7 +59,7 @@ static void full_tier(char *trace, size_t size, ht_image *img) {
     assert_int_equal(ht_renderer_set_mesh(r, &fx.mesh), HT_OK);
     ht_frame_desc f = furball_frame();
     ht_test_draw(&fx.gl, r, &f, ht_test_background, img);
-    format_trace(ht_renderer_trace(r), trace, size);
+    ht_test_format_trace(ht_renderer_trace(r), trace, size);
     ht_renderer_destroy(r);
 }
 
@@ -88,7 +75,7 @@ static void test_forced_gl11_draws_the_full_tiers_passes(void **state) {
     assert_int_equal(ht_renderer_set_mesh(r, &fx.mesh), HT_OK);
     ht_frame_desc f = furball_frame();
     ht_test_draw(&fx.gl, r, &f, ht_test_background, &img);
-    format_trace(ht_renderer_trace(r), trace, sizeof trace);
+    ht_test_format_trace(ht_renderer_trace(r), trace, sizeof trace);
     assert_string_equal(trace, full_trace);
     ht_test_pixel_stats s = stats(&img), sf = stats(&full_img);
     assert_int_equal(s.magenta, 0);
@@ -217,7 +204,7 @@ static int child_main(const char *bundle) {
             ht_image_free(&img);
         }
         static char trace[4096];
-        format_trace(ht_renderer_trace(r), trace, sizeof trace);
+        ht_test_format_trace(ht_renderer_trace(r), trace, sizeof trace);
         fputs(trace, stdout);
     }
     ht_renderer_destroy(r);

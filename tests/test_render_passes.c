@@ -415,16 +415,6 @@ static void test_render_rejects_degenerate_cameras(void **state) {
 
 /* ---- Mesa's own version override, in a fresh process ---- */
 
-/* Child mode: argv = exe --child BUNDLE; MESA_GL_VERSION_OVERRIDE is set. */
-static int child_main(const char *bundle) {
-    ht_test_gl cgl;
-    ht_renderer *r;
-    if (!ht_test_child_renderer(bundle, 16, &cgl, &r)) return 1;
-    ht_renderer_destroy(r);
-    ht_test_gl_destroy(&cgl);
-    return 0;
-}
-
 static void test_render_mesa_gl20_override_picks_vertex(void **state) {
     (void)state;
     char out[8192];
@@ -446,7 +436,7 @@ static void test_render_mesa_gl13_override_skips_glsl_tiers(void **state) {
 }
 
 int main(int argc, char **argv) {
-    if (argc == 3 && strcmp(argv[1], "--child") == 0) return child_main(argv[2]);
+    if (argc == 3 && strcmp(argv[1], "--child") == 0) return ht_test_child_select_only(argv[2]); /* under MESA_GL_VERSION_OVERRIDE */
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_render_flat_mode_draws_the_four_passes_in_order),
         cmocka_unit_test(test_render_glsl_tiers_share_the_flat_pass_list),
