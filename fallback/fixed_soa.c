@@ -80,19 +80,23 @@ static axis_map axis(int n) {
 
 static inline float clamp_unit(float d) { return d > 1.0f ? 1.0f : (d < -1.0f ? -1.0f : d); }
 
-/* d[i] = dot(vec_i, H_i) with H = normalize(L + V), V = normalize(eye -
-   position), L one direction (directional) or per vertex (point, pl != NULL:
-   the light's position). Zero where H has no direction; the caller maps.
-   Branch-free over plain float arrays, so the loop vectorises. */
-static void dot_half_vector(const ht_fixed_soa *s, float *const restrict vec[3], const float L[3],
-                            const float *pl, const float eye[3], float *restrict d, float *restrict has_h) {
+/* Per vertex, L (directional: L, unit or zero; point: towards pl, made unit
+   here), V = normalize(eye - position) and H = normalize(L + V) once, and the
+   program's three dot products from them: d0 = a.L, d1 = b.H, d2 = c.H
+   (zero where a direction is missing: the caller maps), has_l and has_h
+   1 where L and H have a direction. One branch-free loop over plain float
+   rows, so it vectorises. */
+static void dot_products(const ht_fixed_soa *s, const float L[3], const float *pl, const float eye[3],
+                         float *restrict d0, float *restrict d1, float *restrict d2, float *restrict has_l,
+                         float *restrict has_h) {
     const size_t n = s->count;
     const float *restrict px = s->px, *restrict py = s->py, *restrict pz = s->pz;
-    const float *restrict vx_ = vec[0], *restrict vy_ = vec[1], *restrict vz_ = vec[2];
+    const float *restrict ax = s->a[0], *restrict ay = s->a[1], *restrict az = s->a[2];
+    const float *restrict bx = s->b[0], *restrict by = s->b[1], *restrict bz = s->b[2];
+    const float *restrict cx = s->c[0], *restrict cy = s->c[1], *restrict cz = s->c[2];
     const float wp = pl ? 1.0f : 0.0f, p0 = pl ? pl[0] : 0.0f, p1 = pl ? pl[1] : 0.0f, p2 = pl ? pl[2] : 0.0f;
     for (size_t i = 0; i < n; i++) {
-        /* directional: L (unit or zero); point: towards the light, made
-           unit here. One formula for both keeps the loop branch-free. */
+        /* one formula for directional and point lights keeps the loop branch-free */
         float lx = L[0] + wp * (p0 - px[i]), ly = L[1] + wp * (p1 - py[i]), lz = L[2] + wp * (p2 - pz[i]);
         float l2 = lx * lx + ly * ly + lz * lz;
         float il = l2 > 1e-12f ? 1.0f / sqrtf(l2) : 0.0f;
@@ -105,30 +109,11 @@ static void dot_half_vector(const ht_fixed_soa *s, float *const restrict vec[3],
         float hx = lx + vx * iv, hy = ly + vy * iv, hz = lz + vz * iv;
         float h2 = hx * hx + hy * hy + hz * hz;
         float ih = h2 > 1e-12f ? 1.0f / sqrtf(h2) : 0.0f;
-        d[i] = (vx_[i] * hx + vy_[i] * hy + vz_[i] * hz) * ih;
-        has_h[i] = h2 > 1e-12f ? 1.0f : 0.0f;
-    }
-}
-
-/* d[i] = dot(vec_i, L_i), L directional or per vertex towards pl;
-   has_l[i] = 1 where L_i has a direction. */
-static void dot_light(const ht_fixed_soa *s, float *const restrict vec[3], const float L[3], const float *pl,
-                      float *restrict d, float *restrict has_l) {
-    const size_t n = s->count;
-    const float *restrict px = s->px, *restrict py = s->py, *restrict pz = s->pz;
-    const float *restrict vx_ = vec[0], *restrict vy_ = vec[1], *restrict vz_ = vec[2];
-    const float wp = pl ? 1.0f : 0.0f, p0 = pl ? pl[0] : 0.0f, p1 = pl ? pl[1] : 0.0f, p2 = pl ? pl[2] : 0.0f;
-    for (size_t i = 0; i < n; i++) {
-        /* directional: L (unit or zero); point: towards the light, made
-           unit here. One formula for both keeps the loop branch-free. */
-        float lx = L[0] + wp * (p0 - px[i]), ly = L[1] + wp * (p1 - py[i]), lz = L[2] + wp * (p2 - pz[i]);
-        float l2 = lx * lx + ly * ly + lz * lz;
-        float il = l2 > 1e-12f ? 1.0f / sqrtf(l2) : 0.0f;
-        lx *= il;
-        ly *= il;
-        lz *= il;
-        d[i] = vx_[i] * lx + vy_[i] * ly + vz_[i] * lz;
+        d0[i] = ax[i] * lx + ay[i] * ly + az[i] * lz;
+        d1[i] = (bx[i] * hx + by[i] * hy + bz[i] * hz) * ih;
+        d2[i] = (cx[i] * hx + cy[i] * hy + cz[i] * hz) * ih;
         has_l[i] = l2 > 1e-12f ? 1.0f : 0.0f;
+        has_h[i] = h2 > 1e-12f ? 1.0f : 0.0f;
     }
 }
 
@@ -158,9 +143,7 @@ void ht_fixed_soa_coords(const ht_combiner_program *p, const ht_fixed_soa *s, co
         return;
     }
     float *d0 = scratch, *d1 = scratch + n, *d2 = scratch + 2 * n, *hh = scratch + 3 * n, *hl = scratch + 4 * n;
-    dot_light(s, (float *const *)s->a, dir_l, pl, d0, hl);
-    dot_half_vector(s, (float *const *)s->b, dir_l, pl, eye, d1, hh);
-    if (!kajiya_kay) dot_half_vector(s, (float *const *)s->c, dir_l, pl, eye, d2, hh);
+    dot_products(s, dir_l, pl, eye, d0, d1, d2, hl, hh);
 
     const axis_map m0 = axis(p->lut_size[0]), m1 = axis(p->lut_size[1]), m2 = axis(p->lut_size[2]);
     const float none_a = ht_combiner_lut_coord(kajiya_kay ? 1.0 : 0.0, p->lut_size[0]);
