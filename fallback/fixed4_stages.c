@@ -38,20 +38,8 @@ ht_result ht_fixed4_stages_load_albedo(ht_fixed4_stages *st, const ht_tier_conte
     char path[HT_LIMIT_BUNDLE_FILE_PATH] = "white albedo";
     static const unsigned char white[4] = { 255, 255, 255, 255 };
     if (t) {
-        if (!ht_manifest_path(b, t->file, path, sizeof path))
-            return ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", t->file);
-        uint32_t hw, hh;
-        if (ht_image_png_header_size(path, &hw, &hh) && (hw != (uint32_t)t->width || hh != (uint32_t)t->height))
-            return ht_fail(err, err_size, HT_ERR_PARSE, "%s: %ux%u, manifest says %dx%d", path, hw, hh, t->width,
-                           t->height);
-        ht_result r = ht_image_read_png(path, &img, err, err_size);
+        ht_result r = ht_manifest_read_texture(b, t, &img, path, sizeof path, err, err_size);
         if (r != HT_OK) return r;
-        if (img.width != t->width || img.height != t->height) {
-            snprintf(err, err_size, "%s: %dx%d, manifest says %dx%d", path, img.width, img.height, t->width,
-                     t->height);
-            ht_image_free(&img);
-            return HT_ERR_PARSE;
-        }
         r = ht_gl_texture_check_size(ctx->caps, img.width, img.height, 1, path, err, err_size);
         if (r != HT_OK) {
             ht_image_free(&img);

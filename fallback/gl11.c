@@ -69,7 +69,7 @@ static ht_result load_program(gl11_state *s, const ht_tier_context *ctx, char *e
         snprintf(err, err_size, "%s/manifest.json: tiers.%s.files: needs \"program\"", b->dir, ctx->tier->name);
         return HT_ERR_PARSE;
     }
-    char path[1200];
+    char path[HT_LIMIT_BUNDLE_FILE_PATH];
     if (!ht_manifest_path(b, file, path, sizeof path)) {
         snprintf(err, err_size, "%s: path too long", file);
         return HT_ERR_IO;
@@ -87,19 +87,11 @@ static ht_result load_albedo(gl11_state *s, const ht_tier_context *ctx, char *er
     const ht_manifest *b = ctx->bundle;
     const ht_manifest_texture *t = ht_manifest_find_texture(b, ctx->tier, "albedo");
     ht_image img = { 0 };
-    char path[1200] = "white albedo";
+    char path[HT_LIMIT_BUNDLE_FILE_PATH] = "white albedo";
     static const unsigned char white[4] = { 255, 255, 255, 255 };
     if (t) {
-        if (!ht_manifest_path(b, t->file, path, sizeof path))
-            return ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", t->file);
-        ht_result r = ht_image_read_png(path, &img, err, err_size);
+        ht_result r = ht_manifest_read_texture(b, t, &img, path, sizeof path, err, err_size);
         if (r != HT_OK) return r;
-        if (img.width != t->width || img.height != t->height) {
-            snprintf(err, err_size, "%s: %dx%d, manifest says %dx%d", path, img.width, img.height, t->width,
-                     t->height);
-            ht_image_free(&img);
-            return HT_ERR_PARSE;
-        }
         s->albedo_scale = s->program.albedo_scale;
         const int rgb = img.channels >= 3 ? 3 : (img.channels == 2 ? 1 : img.channels);
         const size_t n = (size_t)img.width * (size_t)img.height;

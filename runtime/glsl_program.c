@@ -133,36 +133,19 @@ ht_result ht_glsl_program_build(const ht_tier_context *ctx, const char *vert, co
 
 ht_result ht_glsl_texture_upload(const ht_gl *gl, const ht_manifest *b, const ht_manifest_texture *t, GLuint *out,
                                  char *err, size_t err_size) {
-    char path[HT_LIMIT_BUNDLE_FILE_PATH], ierr[512];
-    if (!ht_manifest_path(b, t->file, path, sizeof path)) {
-        snprintf(err, err_size, "%s: path too long", t->file);
-        return HT_ERR_IO;
-    }
     if (t->depth != 1) {
         snprintf(err, err_size, "%s/manifest.json: textures.%s.depth: %d, GLSL tiers sample 2D textures",
                  b->dir, t->name, t->depth);
         return HT_ERR_PARSE;
     }
-    uint32_t hw, hh;
-    if (ht_image_png_header_size(path, &hw, &hh) && (hw != (uint32_t)t->width || hh != (uint32_t)t->height)) {
-        snprintf(err, err_size, "%s: %ux%u, manifest says %dx%d", path, hw, hh, t->width, t->height);
-        return HT_ERR_PARSE;
-    }
-    ht_image img = { 0 };
-    ht_result r = ht_image_read_png(path, &img, ierr, sizeof ierr);
-    if (r != HT_OK) {
-        snprintf(err, err_size, "%s", ierr);
-        return r;
-    }
-    if (img.width != t->width || img.height != t->height) {
-        snprintf(err, err_size, "%s: %dx%d, manifest says %dx%d", path, img.width, img.height, t->width, t->height);
-        ht_image_free(&img);
-        return HT_ERR_PARSE;
-    }
+    char path[HT_LIMIT_BUNDLE_FILE_PATH];
+    ht_image img;
+    ht_result r = ht_manifest_read_texture(b, t, &img, path, sizeof path, err, err_size);
+    if (r != HT_OK) return r;
     /* uv wraps (REPEAT); no mipmaps: the textures are stretched along
        strands, where mip blending smears the alpha. */
     r = ht_gl_texture_upload(gl, &(ht_gl_texture_desc){ .target = GL_TEXTURE_2D, .image = &img,
-                                                           .filter = GL_LINEAR, .wrap = GL_REPEAT, .name = path },
+                                                        .filter = GL_LINEAR, .wrap = GL_REPEAT, .name = path },
                              out, err, err_size);
     ht_image_free(&img);
     return r;

@@ -164,5 +164,12 @@ bool ht_manifest_path(const ht_manifest *b, const char *file, char *out, size_t 
 /* Reads a text file of the bundle (malloc'd, NUL-terminated) or NULL with
    "DIR/FILE: why" in err. */
 char *ht_manifest_read_text(const ht_manifest *b, const char *file, char *err, size_t err_size);
+/* Reads a 2D texture of the bundle held to its manifest entry: the size the
+   PNG header declares is checked before decoding (a hostile header must
+   not make us allocate what it claims), then the decoded size. path
+   receives DIR/FILE for the caller's own messages. Errors are one line
+   naming the file: "DIR/FILE: 8x8, manifest says 256x256". */
+ht_result ht_manifest_read_texture(const ht_manifest *b, const ht_manifest_texture *t, ht_image *img, char *path,
+                                   size_t path_size, char *err, size_t err_size);
 
 #endif

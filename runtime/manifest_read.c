@@ -336,3 +336,23 @@ char *ht_manifest_read_text(const ht_manifest *b, const char *file, char *err, s
     }
     return read_file(path, err, err_size);
 }
+
+ht_result ht_manifest_read_texture(const ht_manifest *b, const ht_manifest_texture *t, ht_image *img, char *path,
+                                   size_t path_size, char *err, size_t err_size) {
+    *img = (ht_image){ 0 };
+    if (!ht_manifest_path(b, t->file, path, path_size))
+        return ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", t->file);
+    uint32_t hw, hh;
+    if (ht_image_png_header_size(path, &hw, &hh) && (hw != (uint32_t)t->width || hh != (uint32_t)t->height))
+        return ht_fail(err, err_size, HT_ERR_PARSE, "%s: %ux%u, manifest says %dx%d", path, hw, hh, t->width,
+                       t->height);
+    ht_result r = ht_image_read_png(path, img, err, err_size);
+    if (r != HT_OK) return r;
+    if (img->width != t->width || img->height != t->height) {
+        ht_set_error(err, err_size, "%s: %dx%d, manifest says %dx%d", path, img->width, img->height, t->width,
+                     t->height);
+        ht_image_free(img);
+        return HT_ERR_PARSE;
+    }
+    return HT_OK;
+}
