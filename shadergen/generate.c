@@ -502,8 +502,9 @@ static ht_result write_bundle(const char *tmp, const ht_generated *g, char *err,
     return r;
 }
 
-static ht_result generate_bundle(const char *material_path, const char *scene_path,
-                                 const char *out_dir, FILE *summary, char *err, size_t err_size) {
+static ht_result generate_bundle(const char *material_path, const char *scene_path, const char *out_dir,
+                                 FILE *summary, ht_bundle_step_fn step, void *step_user, char *err,
+                                 size_t err_size) {
     ht_result r = check_target(out_dir, err, err_size);
     if (r != HT_OK) return r;
     ht_material material;
@@ -550,8 +551,10 @@ static ht_result generate_bundle(const char *material_path, const char *scene_pa
     }
     if (r == HT_OK) {
         r = write_bundle(tmp, &g, err, err_size);
+        if (r == HT_OK && step) r = step(step_user, tmp, &scene, err, err_size);
         /* The temporary directory is removed below: name the bundle's own
-           path for the file that failed (a full disk), not the temporary's. */
+           path for the file that failed (a full disk, a step), not the
+           temporary's. */
         size_t tl = strlen(tmp);
         if (r != HT_OK && err && strncmp(err, tmp, tl) == 0) {
             char why[1200];
@@ -571,6 +574,12 @@ static ht_result generate_bundle(const char *material_path, const char *scene_pa
 
 ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
                              const char *out_dir, FILE *summary, char *err, size_t err_size) {
+    return ht_generate_bundle_then(material_path, scene_path, out_dir, summary, NULL, NULL, err, err_size);
+}
+
+ht_result ht_generate_bundle_then(const char *material_path, const char *scene_path, const char *out_dir,
+                                  FILE *summary, ht_bundle_step_fn step, void *step_user, char *err,
+                                  size_t err_size) {
     /* "dir/" and "dir" are the same bundle; the temporary sibling needs the
        name without the slash. */
     char dir[4096];
@@ -586,7 +595,7 @@ ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
     dir[len] = '\0';
 
     c_locale_scope loc = c_locale_enter();
-    ht_result r = generate_bundle(material_path, scene_path, dir, summary, err, err_size);
+    ht_result r = generate_bundle(material_path, scene_path, dir, summary, step, step_user, err, err_size);
     c_locale_leave(loc);
     return r;
 }

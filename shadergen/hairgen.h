@@ -2,8 +2,9 @@
    and a scene in, every tier's shader texts, the combiner program, the
    lookup textures and the manifest out, in memory (ht_generate) or written
    as a bundle directory (ht_generate_bundle, what `hairgen` runs). No GL
-   context anywhere in shadergen/; the output is a pure function of the
-   input: same input, byte-identical output.
+   context in the generator (only measure.h, `hairgen --measure`, renders
+   a finished bundle); the output is a pure function of the input: same
+   input, byte-identical output.
 
    Usage (in memory):
        ht_material m;
@@ -138,5 +139,19 @@ const ht_generated_file *ht_generated_find(const ht_generated *g, const char *na
    receives the human-readable table. */
 ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
                              const char *out_dir, FILE *summary, char *err, size_t err_size);
+
+/* A step over the finished bundle before it is published: dir is the
+   temporary directory holding every file, scene the scene the bundle was
+   planned for (the default one when no scene file was given). It may
+   rewrite files in dir. A failure (err: one line) removes the temporary
+   directory and leaves out_dir as it was. */
+typedef ht_result (*ht_bundle_step_fn)(void *user, const char *dir, const ht_scene *scene, char *err,
+                                       size_t err_size);
+/* ht_generate_bundle with step (NULL: none, exactly ht_generate_bundle) run
+   between writing and publishing; `hairgen --measure` passes
+   ht_measure_step (shadergen/measure.h). */
+ht_result ht_generate_bundle_then(const char *material_path, const char *scene_path, const char *out_dir,
+                                  FILE *summary, ht_bundle_step_fn step, void *step_user, char *err,
+                                  size_t err_size);
 
 #endif
