@@ -76,9 +76,14 @@ static ht_result start_tier(tier_run *t, const char *dir, const ht_scene *s, con
         t->last_log[0] = '\0';
         r = ht_renderer_set_mesh(t->renderer, hair);
     }
-    if (r != HT_OK)
-        return ht_fail(err, err_size, r, "measure: %s: cannot run here: %s", t->entry->name,
-                       t->last_log[0] ? t->last_log : ht_result_string(r));
+    if (r != HT_OK) {
+        /* The runtime's line names the tier already ("full: needs GL 2.1, ..."). */
+        const char *why = t->last_log[0] ? t->last_log : ht_result_string(r);
+        size_t n = strlen(t->entry->name);
+        bool named = strncmp(why, t->entry->name, n) == 0 && why[n] == ':';
+        return ht_fail(err, err_size, r, "measure: a tier cannot run here: %s%s%s", named ? "" : t->entry->name,
+                       named ? "" : ": ", why);
+    }
     return HT_OK;
 }
 
