@@ -80,9 +80,6 @@ $(BUILD)/obj/%.o: %.c | $(DEPS_STAMP)
 $(BUILD)/obj/fallback/gl11_program.o: CFLAGS += -fno-math-errno -fno-trapping-math
 $(BUILD)/obj/fallback/fixed_soa.o $(BUILD)/obj/fallback/fixed4_program.o: CFLAGS += -O3 -fno-math-errno -fno-trapping-math
 
-# hairgen --measure draws into the OSMesa context the example programs share.
-$(BUILD)/obj/shadergen/measure.o: CPPFLAGS += -Iexamples
-
 $(LIB): $(call obj,$(RUNTIME_SRC))
 	@rm -f $@
 	ar rcs $@ $^

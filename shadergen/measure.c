@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <GL/osmesa.h>
@@ -15,10 +16,50 @@
 #include "errfmt.h"
 #include "json_check.h"
 #include "measure.h"
-#include "offscreen.h" /* examples/: the OSMesa context every program of the project draws into */
-#include "timing.h"
 
 #define FRAMES (HT_MEASURE_WARMUP_FRAMES + HT_MEASURE_TIMED_FRAMES)
+
+/* ---- the offscreen context, the clock (what examples/offscreen.h and
+   timing.h give the programs; shadergen/ does not reach up into examples/) ---- */
+
+static void *offscreen_getproc(const char *name) {
+    OSMESAproc p = OSMesaGetProcAddress(name);
+    void *out;
+    memcpy(&out, &p, sizeof out); /* function to data pointer: same size on POSIX */
+    return out;
+}
+
+/* RGBA8 with a 24-bit depth buffer over rgba, current; NULL when Mesa refuses. */
+static OSMesaContext offscreen_create(unsigned char *rgba, int width, int height) {
+    static const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
+                                   OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0 };
+    OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, NULL);
+    if (ctx && !OSMesaMakeCurrent(ctx, rgba, GL_UNSIGNED_BYTE, width, height)) {
+        OSMesaDestroyContext(ctx);
+        return NULL;
+    }
+    if (ctx) glViewport(0, 0, width, height);
+    return ctx;
+}
+
+static double now_ms(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec / 1e6;
+}
+
+static int compare_doubles(const void *pa, const void *pb) {
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return (a > b) - (a < b);
+}
+
+/* The median of v[0..n-1], n >= 1 (v is sorted in place). */
+static double median(double *v, int n) {
+    qsort(v, (size_t)n, sizeof *v, compare_doubles);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* ---- measuring ---- */
 
 /* One tier's context, renderer and timings. A context per tier keeps one
    tier's GL state from leaking into the next, as tier_sheet does. */

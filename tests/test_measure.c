@@ -340,8 +340,9 @@ static int count_temporaries(void) {
     return n;
 }
 
-/* A driver that cannot run full (GL 1.3): one line naming the tier and why,
-   exit 1, no bundle and no temporary; an existing bundle stays as it was. */
+/* A driver that cannot run full (GL 1.3), or a frame too small for SSIM:
+   one line naming the tier and why, exit 1, no bundle and no temporary; an
+   existing bundle stays as it was. */
 static void test_a_failed_measurement_writes_nothing(void **state) {
     (void)state;
     char dir[256], args[700];
@@ -351,6 +352,27 @@ static void test_a_failed_measurement_writes_nothing(void **state) {
     char *err = work_file("err.txt");
     assert_string_equal(err, "hairgen: measure: a tier cannot run here: full: needs GL 2.1, have 1.3 "
                              "(forced by desc.tier, strict)\n");
+    free(err);
+    assert_false(exists(dir));
+    assert_int_equal(count_temporaries(), 0);
+
+    /* No NaN ever reaches a manifest. */
+    char tiny[256];
+    snprintf(tiny, sizeof tiny, "%s/tiny.json", work);
+    char *text = read_all(scene, NULL);
+    char *size = strstr(text, "[96, 96]");
+    assert_non_null(size);
+    memcpy(size, "[ 8,  8]", 8);
+    FILE *f = fopen(tiny, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+    free(text);
+    snprintf(args, sizeof args, "materials/dark-brown.json --scene %s --measure -o %s", tiny, dir);
+    assert_int_equal(run_hairgen(NULL, args), 1);
+    err = work_file("err.txt");
+    assert_string_equal(err, "hairgen: measure: vertex: ssim: nan is outside [-1, 1] "
+                             "(a frame under 11x11 pixels has no SSIM window)\n");
     free(err);
     assert_false(exists(dir));
     assert_int_equal(count_temporaries(), 0);
