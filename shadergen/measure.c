@@ -409,6 +409,12 @@ static void replace_all(char *s, size_t size, const char *from, const char *to) 
 
 ht_result ht_measure_step(void *user, const char *dir, const ht_scene *scene, char *err, size_t err_size) {
     ht_measure_job *job = user;
+    /* The runtime reads the unpublished bundle at its temporary path, which
+       is longer than out_dir by the suffix. */
+    if (strlen(dir) > HT_LIMIT_DIR_PATH)
+        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: %.200s...: the bundle's temporary "
+                       "directory path is %zu bytes, more than the %d the runtime reads; use a shorter -o",
+                       job->out_dir ? job->out_dir : dir, strlen(dir), HT_LIMIT_DIR_PATH);
     char label[64];
     ht_measure_scene_label(job->scene_path, label);
     ht_result r = ht_measure_bundle(dir, scene, label, &job->result, err, err_size);

@@ -392,6 +392,40 @@ static void test_a_failed_measurement_writes_nothing(void **state) {
     assert_int_equal(count_temporaries(), 0);
 }
 
+/* An -o the generator accepts (at most 1023 bytes) whose temporary sibling
+   the runtime could not read: refused with one line, nothing left. */
+static void test_an_output_path_too_long_to_measure_is_refused(void **state) {
+    (void)state;
+    char dir[1100];
+    snprintf(dir, sizeof dir, "%s", work);
+    while (strlen(dir) < 900) {
+        size_t n = strlen(dir);
+        dir[n] = '/';
+        memset(dir + n + 1, 'd', 100);
+        dir[n + 101] = '\0';
+        assert_true(mkdir(dir, 0700) == 0);
+    }
+    size_t n = strlen(dir);
+    dir[n] = '/';
+    memset(dir + n + 1, 'b', 1020 - n - 1);
+    dir[1020] = '\0';
+    char args[1400];
+    snprintf(args, sizeof args, "materials/dark-brown.json --scene %s --measure -o %s", scene, dir);
+    assert_int_equal(run_hairgen(NULL, args), 1);
+    char *err = work_file("err.txt");
+    if (!strstr(err, "the bundle's temporary directory path is 1031 bytes, more than the 1023 the runtime reads"))
+        fail_msg("%s", err);
+    assert_ptr_equal(strchr(err, '\n'), err + strlen(err) - 1);
+    free(err);
+    assert_false(exists(dir));
+    dir[n] = '\0';
+    DIR *d = opendir(dir);
+    assert_non_null(d);
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) assert_true(e->d_name[0] == '.');
+    closedir(d);
+}
+
 static void test_without_a_scene_the_built_in_one_is_measured(void **state) {
     (void)state;
     char dir[256];
@@ -491,6 +525,7 @@ int main(void) {
         cmocka_unit_test(test_hairview_error_30_says_which_tier_and_why),
         cmocka_unit_test(test_a_failed_measurement_writes_nothing),
         cmocka_unit_test(test_write_manifest_refuses_numbers_out_of_range),
+        cmocka_unit_test(test_an_output_path_too_long_to_measure_is_refused),
         cmocka_unit_test(test_without_a_scene_the_built_in_one_is_measured),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
