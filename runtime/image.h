@@ -1,5 +1,7 @@
 /* image.h — 8-bit images and PNG files (libpng), shared by hairgen (textures,
-   LUTs), the runtime (loading a bundle) and hairview (writing frames). */
+   LUTs), the runtime (loading a bundle) and hairview (writing frames).
+   Public: installed beside hairtier.h (hairgen.h's generated files hold
+   ht_images); it includes only hairtier.h. */
 #ifndef HT_IMAGE_H
 #define HT_IMAGE_H
 
