@@ -25,7 +25,9 @@
 
    Errors are one line "FILE: FIELD: what is wrong" written to err.
    Internal interfaces (plan, emitters, texture baking) are in
-   hairgen_internal.h. */
+   hairgen_internal.h. Installed (make install) with the public headers it
+   includes, hairtier.h, model.h, scene.h and image.h, under
+   include/hairtier/; `pkg-config --cflags --libs --static hairgen`. */
 #ifndef HT_HAIRGEN_H
 #define HT_HAIRGEN_H
 
