@@ -102,6 +102,22 @@ $(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(GENLI
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcmocka -o $@
 
+# The bundle as one C header (hairgen --emit-header) of the render tests'
+# fixture (dark-brown x furball), compiled into test_render_bundle_memory and
+# checked to build warning-free as C99 and as C++ (tests/data/header_use.c).
+GEN_HEADER := $(BUILD)/gen/dark_brown_furball.h
+$(GEN_HEADER): $(HAIRGEN) materials/dark-brown.json scenes/furball.json
+	@mkdir -p $(dir $@)
+	$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json --emit-header $@ \
+	  --header-symbol dark_brown_furball >/dev/null
+$(BUILD)/gen/header_use_c99.o: tests/data/header_use.c $(GEN_HEADER)
+	$(CC) -std=c99 -Wall -Wextra -pedantic -Werror -Iruntime -I$(BUILD)/gen -c $< -o $@
+$(BUILD)/gen/header_use_cxx.o: tests/data/header_use.c $(GEN_HEADER)
+	$(CXX) -x c++ -Wall -Wextra -pedantic -Werror -Iruntime -I$(BUILD)/gen -c $< -o $@
+$(BUILD)/obj/tests/test_render_bundle_memory.o: CPPFLAGS += -I$(BUILD)/gen
+$(BUILD)/obj/tests/test_render_bundle_memory.o: $(GEN_HEADER) $(BUILD)/gen/header_use_c99.o \
+                                                $(BUILD)/gen/header_use_cxx.o
+
 # Every test binary runs from the repository root, on llvmpipe; those in
 # SOFTPIPE_TESTS run again on softpipe. Then the test scripts (make install
 # into a temporary prefix and programs built against it).
