@@ -7,8 +7,10 @@
 #   2. A real prefix: make install PREFIX=T/prefix; the installed hairgen
 #      writes a bundle, the installed hairview renders it, and two programs
 #      built with nothing but `pkg-config --cflags --libs --static` (hairtier,
-#      hairgen) against that prefix run: one draws a frame through OSMesa,
-#      one generates a material in memory. Then make uninstall, checked again.
+#      hairgen) against that prefix run: one draws a frame through OSMesa
+#      (from the directory, then from the header the installed hairgen
+#      --emit-header wrote), one generates a material in memory. Then make
+#      uninstall, checked again.
 set -eu
 BUILD=${BUILD:-build}
 CC=${CC:-cc}
@@ -58,6 +60,12 @@ case "$flags" in *-I"$PWD"*|*-Iruntime*|*-Ishadergen*) fail "pkg-config hairtier
 $CC -std=c11 -Wall -Wextra -Werror $SAN tests/data/install_smoke.c $flags -lOSMesa -o "$tmp/smoke" ||
   fail "install_smoke.c does not build with: $flags -lOSMesa"
 "$tmp/smoke" "$tmp/bundle" || fail "install_smoke failed"
+# The same bundle as a header the installed hairgen writes, compiled in.
+"$prefix/bin/hairgen" materials/dark-brown.json --scene tests/data/valgrind-scene.json \
+  --emit-header "$tmp/smoke_bundle.h" --header-symbol smoke_bundle >/dev/null || fail "installed hairgen --emit-header failed"
+$CC -std=c11 -Wall -Wextra -Werror $SAN -DSMOKE_HEADER='"smoke_bundle.h"' -DSMOKE_ENTRY=smoke_bundle -I"$tmp" \
+  tests/data/install_smoke.c $flags -lOSMesa -o "$tmp/smoke_header" || fail "install_smoke.c with the header does not build"
+"$tmp/smoke_header" || fail "install_smoke from the header failed"
 gflags=$(pkg-config --cflags --libs --static hairgen) || fail "pkg-config hairgen"
 $CC -std=c11 -Wall -Wextra -Werror $SAN tests/data/install_smoke_gen.c $gflags -o "$tmp/smoke_gen" ||
   fail "install_smoke_gen.c does not build with: $gflags"

@@ -3,8 +3,11 @@
    hairtier` (and -lOSMesa, its own context's library), no path into the
    source tree. It draws one frame of a bundle through OSMesa and exits 0
    only when the renderer picked a tier and hair covers part of the frame.
+   Built with -DSMOKE_HEADER='"H.h"' -DSMOKE_ENTRY=SYMBOL it draws the bundle
+   a `hairgen --emit-header H.h --header-symbol SYMBOL` compiled in instead.
 
-   usage: install_smoke BUNDLE_DIR */
+   usage: install_smoke BUNDLE_DIR
+          install_smoke            (built with SMOKE_HEADER) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,6 +15,9 @@
 #include <GL/osmesa.h>
 
 #include "hairtier.h"
+#ifdef SMOKE_HEADER
+#include SMOKE_HEADER
+#endif
 
 enum { SIZE = 64 };
 
@@ -28,8 +34,16 @@ static int fail(const char *what, ht_result r) {
 }
 
 int main(int argc, char **argv) {
-    if (argc != 2) {
-        fprintf(stderr, "usage: install_smoke BUNDLE_DIR\n");
+#ifdef SMOKE_HEADER
+    const ht_renderer_desc source = { .bundle_memory = &SMOKE_ENTRY };
+    const int args = 1;
+    (void)argv;
+#else
+    const ht_renderer_desc source = { .bundle_dir = argc > 1 ? argv[1] : NULL };
+    const int args = 2;
+#endif
+    if (argc != args) {
+        fprintf(stderr, "usage: %s\n", args == 1 ? "install_smoke" : "install_smoke BUNDLE_DIR");
         return 2;
     }
     static const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
@@ -48,7 +62,9 @@ int main(int argc, char **argv) {
     if (r != HT_OK) return fail("ht_mesh_build_furball", r);
     ht_mesh_sort_inside_out(&mesh);
     ht_renderer *renderer;
-    r = ht_renderer_create(&(ht_renderer_desc){ .getproc = getproc, .bundle_dir = argv[1] }, &renderer);
+    ht_renderer_desc desc = source;
+    desc.getproc = getproc;
+    r = ht_renderer_create(&desc, &renderer);
     if (r != HT_OK) return fail("ht_renderer_create", r);
     if ((r = ht_renderer_set_mesh(renderer, &mesh)) != HT_OK) return fail("ht_renderer_set_mesh", r);
 
