@@ -60,8 +60,9 @@ int main(int argc, char **argv) {
         return 2;
     }
     char err[2048] = "";
-    ht_result r = HT_OK;
-    if (out_dir) r = ht_generate_bundle(material, scene, out_dir, stdout, err, sizeof err);
+    /* A bad symbol is refused before DIR is written. */
+    ht_result r = symbol ? ht_header_symbol_check(symbol, err, sizeof err) : HT_OK;
+    if (r == HT_OK && out_dir) r = ht_generate_bundle(material, scene, out_dir, stdout, err, sizeof err);
     /* The header's generation repeats the directory's (same input, same
        bytes): the two outputs stay independent steps. */
     if (r == HT_OK && header) r = ht_generate_header(material, scene, header, symbol, stdout, err, sizeof err);

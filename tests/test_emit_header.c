@@ -148,9 +148,13 @@ static void test_bad_symbol_or_material_writes_nothing_and_keeps_the_old_header(
     assert_int_equal(run_hairgen(args), 1);
     assert_one_line_error("hairgen: --header-symbol: \"2fast\": not a C identifier");
     assert_false(exists(header));
-    snprintf(args, sizeof args, "materials/dark-brown.json --emit-header %s --header-symbol struct", header);
+    char dir[128];
+    snprintf(dir, sizeof dir, "%s/not-written", work);
+    snprintf(args, sizeof args, "materials/dark-brown.json -o %s --emit-header %s --header-symbol struct", dir,
+             header);
     assert_int_equal(run_hairgen(args), 1);
     assert_one_line_error("\"struct\": a C or C++ keyword");
+    assert_false(exists(dir)); /* refused before the directory too */
 
     snprintf(args, sizeof args, "materials/dark-brown.json --emit-header %s", header);
     assert_int_equal(run_hairgen(args), 0);
