@@ -12,8 +12,9 @@ OPT     ?= -O2 -g
 SAN     ?=
 WERROR  ?= -Werror
 
+# g++: the bundle header's C++ compile check (tests/data/header_use.c).
 DEB_PACKAGES := libosmesa6-dev glslang-dev glslang-tools libcjson-dev libpng-dev \
-                libcmocka-dev pkg-config
+                libcmocka-dev pkg-config g++
 
 CPPFLAGS += -Iruntime -Ishadergen -Ifallback -I/usr/include/cjson -I/usr/include/libpng16
 CFLAGS   += -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra $(WERROR) $(OPT) $(SAN) -MMD -MP
