@@ -12,8 +12,9 @@ OPT     ?= -O2 -g
 SAN     ?=
 WERROR  ?= -Werror
 
+# g++: the bundle header's C++ compile check (tests/data/header_use.c).
 DEB_PACKAGES := libosmesa6-dev glslang-dev glslang-tools libcjson-dev libpng-dev \
-                libcmocka-dev pkg-config
+                libcmocka-dev pkg-config g++
 
 CPPFLAGS += -Iruntime -Ishadergen -Ifallback -I/usr/include/cjson -I/usr/include/libpng16
 CFLAGS   += -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra $(WERROR) $(OPT) $(SAN) -MMD -MP
@@ -44,7 +45,7 @@ SOFTPIPE_TESTS := test_render_app_state test_render_fixed test_render_fixed4 tes
 $(foreach t,$(filter-out $(notdir $(TESTS)),$(SOFTPIPE_TESTS)),$(error SOFTPIPE_TESTS: no tests/$(t).c))
 DEPS_STAMP := $(BUILD)/.deps-installed
 
-.PHONY: all deps test asan bench demo clean fuzz fuzz-build fuzz-seeds fuzz-smoke check-valgrind
+.PHONY: all deps test asan bench demo clean fuzz fuzz-build fuzz-seeds fuzz-smoke check-valgrind install uninstall
 # Keep objects that pattern rules build on the way (tests, examples).
 .SECONDARY:
 .DEFAULT_GOAL := all
@@ -102,8 +103,26 @@ $(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(GENLI
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcmocka -o $@
 
+# The bundle as one C header (hairgen --emit-header) of the render tests'
+# fixture (dark-brown x furball), compiled into test_render_bundle_memory and
+# checked to build warning-free as C99 and as C++ (tests/data/header_use.c).
+GEN_HEADER := $(BUILD)/gen/dark_brown_furball.h
+$(GEN_HEADER): $(HAIRGEN) materials/dark-brown.json scenes/furball.json
+	@mkdir -p $(dir $@)
+	$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json --emit-header $@ \
+	  --header-symbol dark_brown_furball >/dev/null
+$(BUILD)/gen/header_use_c99.o: tests/data/header_use.c $(GEN_HEADER)
+	$(CC) -std=c99 -Wall -Wextra -pedantic -Werror -Iruntime -I$(BUILD)/gen -c $< -o $@
+$(BUILD)/gen/header_use_cxx.o: tests/data/header_use.c $(GEN_HEADER)
+	$(CXX) -x c++ -Wall -Wextra -pedantic -Werror -Iruntime -I$(BUILD)/gen -c $< -o $@
+$(BUILD)/obj/tests/test_render_bundle_memory.o: CPPFLAGS += -I$(BUILD)/gen
+$(BUILD)/obj/tests/test_render_bundle_memory.o: $(GEN_HEADER) $(BUILD)/gen/header_use_c99.o \
+                                                $(BUILD)/gen/header_use_cxx.o
+
 # Every test binary runs from the repository root, on llvmpipe; those in
-# SOFTPIPE_TESTS run again on softpipe.
+# SOFTPIPE_TESTS run again on softpipe. Then the test scripts (make install
+# into a temporary prefix and programs built against it).
+TEST_SCRIPTS := tests/install_test.sh
 test: all $(TESTS)
 	@pass=0; fail=0; failed=""; \
 	for t in $(TESTS); do \
@@ -113,6 +132,11 @@ test: all $(TESTS)
 	    if GALLIUM_DRIVER=$$driver HAIRTIER_BUILD=$(BUILD) $$t; then pass=$$((pass+1)); \
 	    else fail=$$((fail+1)); failed="$$failed $$t($$driver)"; fi; \
 	  done; \
+	done; \
+	for s in $(TEST_SCRIPTS); do \
+	  echo "== $$s"; \
+	  if BUILD=$(BUILD) CC="$(CC)" SAN="$(SAN)" sh $$s; then pass=$$((pass+1)); \
+	  else fail=$$((fail+1)); failed="$$failed $$s"; fi; \
 	done; \
 	echo; [ -z "$$failed" ] || echo "failed:$$failed"; \
 	echo "binaries: $$pass passed, $$fail failed"; \
@@ -139,6 +163,38 @@ demo: all
 	  $(BUILD)/hairview --bundle out/$$scene-bundle --scene scenes/$$scene.json -o out/$$scene.png || exit 1; \
 	done
 	@echo "demo: wrote out/furball.png and out/patches.png (bundles in out/furball-bundle, out/patches-bundle)"
+
+# ---- install: make install PREFIX=/usr/local DESTDIR= ; make uninstall ----
+# The libraries, the public headers (hairtier.h; hairgen.h and the three it
+# includes, which include nothing else of ours) under include/hairtier/, the
+# two programs and a pkg-config file per library. tests/install_test.sh
+# installs into a temporary prefix and builds against it with pkg-config only.
+PREFIX  ?= /usr/local
+DESTDIR ?=
+VERSION := 0.1
+PUBLIC_HEADERS := runtime/hairtier.h shadergen/hairgen.h runtime/model.h runtime/scene.h runtime/image.h
+INSTALL_BIN := $(DESTDIR)$(PREFIX)/bin
+INSTALL_LIB := $(DESTDIR)$(PREFIX)/lib
+INSTALL_INC := $(DESTDIR)$(PREFIX)/include/hairtier
+INSTALL_PC  := $(INSTALL_LIB)/pkgconfig
+PC_FILES    := runtime/hairtier.pc.in shadergen/hairgen.pc.in
+
+install: $(LIB) $(GENLIB) $(HAIRGEN) $(BUILD)/hairview
+	install -d $(INSTALL_BIN) $(INSTALL_LIB) $(INSTALL_INC) $(INSTALL_PC)
+	install -m 755 $(HAIRGEN) $(BUILD)/hairview $(INSTALL_BIN)/
+	install -m 644 $(LIB) $(GENLIB) $(INSTALL_LIB)/
+	install -m 644 $(PUBLIC_HEADERS) $(INSTALL_INC)/
+	@for pc in $(PC_FILES); do \
+	  out=$(INSTALL_PC)/$$(basename $$pc .in); echo "write $$out"; \
+	  sed -e 's|@PREFIX@|$(PREFIX)|g' -e 's|@VERSION@|$(VERSION)|g' $$pc > $$out.tmp && mv $$out.tmp $$out || exit 1; \
+	done
+
+uninstall:
+	rm -f $(INSTALL_BIN)/hairgen $(INSTALL_BIN)/hairview
+	rm -f $(INSTALL_LIB)/$(notdir $(LIB)) $(INSTALL_LIB)/$(notdir $(GENLIB))
+	rm -f $(addprefix $(INSTALL_INC)/,$(notdir $(PUBLIC_HEADERS)))
+	rm -f $(addprefix $(INSTALL_PC)/,$(basename $(notdir $(PC_FILES))))
+	@rmdir $(INSTALL_INC) 2>/dev/null || true
 
 # ---- fuzzing (docs/robustness.md records the runs) ----
 FUZZ_BUILD   ?= build-fuzz

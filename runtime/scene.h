@@ -12,7 +12,10 @@
        ht_mesh hair;
        if (s.geometry == HT_GEOMETRY_FURBALL) ht_mesh_build_furball(&s.furball, &hair);
 
-   Errors are one line "FILE: FIELD: what is wrong". */
+   Errors are one line "FILE: FIELD: what is wrong".
+
+   Public: installed beside hairtier.h (hairgen.h plans for an ht_scene);
+   it includes only hairtier.h. */
 #ifndef HT_SCENE_H
 #define HT_SCENE_H
 
