@@ -198,27 +198,29 @@ static void test_plot_puts_each_compared_tier_at_its_cost_and_error(void **state
     capture c;
     report_write_plot(capture_open(&c), &r);
     char *svg = capture_close(&c);
-    expect_in(svg, "<svg class=\"plot\" width=\"640\" height=\"400\"");
+    expect_in(svg, "<svg class=\"plot\" width=\"720\" height=\"400\"");
     assert_int_equal(count_of(svg, "<circle"), 3); /* full, vertex, gl11; fixed did not run */
-    /* axes: x to 1.31 x 1.08 -> 1.6, y to 0.7204 x 1.1 -> 0.8; plot area x 72..612, y 330..20 */
+    /* axes: x to 1.31 x 1.15 -> 1.6, y to 0.7204 x 1.1 -> 0.8; plot area x 72..692, y 330..20 */
     expect_in(svg, ">1.6</text>");
     expect_in(svg, ">0.8</text>");
     expect_in(svg, "cost: frame time / full&#8217;s");
     expect_in(svg, "&#916;E00 mean against full (lower is better)");
     double cx, cy;
-    circle_after(svg, ">vertex  0.53\xC3\x97, 0.52</text>", &cx, &cy);
-    assert_true(fabs(cx - (72 + 540 * 0.525 / 1.6)) < 0.06 && fabs(cy - (330 - 310 * 0.5249 / 0.8)) < 0.06);
-    circle_after(svg, ">gl11  1.31\xC3\x97, 0.72</text>", &cx, &cy);
-    assert_true(fabs(cx - (72 + 540 * 1.31 / 1.6)) < 0.06 && fabs(cy - (330 - 310 * 0.7204 / 0.8)) < 0.06);
-    circle_after(svg, ">full  1.00\xC3\x97, 0.00</text>", &cx, &cy);
-    assert_true(fabs(cx - (72 + 540 / 1.6)) < 0.06 && fabs(cy - 330) < 0.06);
+    expect_in(svg, "<title>vertex: cost 0.53&#215; full, &#916;E00 mean 0.52</title>");
+    circle_after(svg, ">vertex</text>", &cx, &cy);
+    assert_true(fabs(cx - (72 + 620 * 0.525 / 1.6)) < 0.06 && fabs(cy - (330 - 310 * 0.5249 / 0.8)) < 0.06);
+    circle_after(svg, ">gl11</text>", &cx, &cy);
+    assert_true(fabs(cx - (72 + 620 * 1.31 / 1.6)) < 0.06 && fabs(cy - (330 - 310 * 0.7204 / 0.8)) < 0.06);
+    circle_after(svg, ">full</text>", &cx, &cy);
+    assert_true(fabs(cx - (72 + 620 / 1.6)) < 0.06 && fabs(cy - 330) < 0.06);
     free(svg);
 
     /* Names from the manifest are escaped in labels too. */
     snprintf(r.tiers[1].name, sizeof r.tiers[1].name, "v<x>");
     report_write_plot(capture_open(&c), &r);
     svg = capture_close(&c);
-    expect_in(svg, ">v&lt;x&gt;  0.53");
+    expect_in(svg, ">v&lt;x&gt;</text>");
+    expect_in(svg, "<title>v&lt;x&gt;: cost");
     free(svg);
 
     /* Nothing compared: a sentence, no picture. */
@@ -234,15 +236,20 @@ static void test_plot_puts_each_compared_tier_at_its_cost_and_error(void **state
 static void test_labels_that_would_overlap_are_stacked_below(void **state) {
     (void)state;
     /* a and b at nearly the same height and overlapping in x; c far away. */
-    double x[3] = { 100, 140, 400 }, y[3] = { 200, 205, 203 }, w[3] = { 80, 80, 80 }, ly[3];
-    plot_place_labels(x, y, w, 3, ly);
+    double px[3] = { 90, 80, 390 }, py[3] = { 200, 205, 203 }, x[3] = { 100, 90, 400 }, w[3] = { 80, 80, 80 }, ly[3];
+    plot_place_labels(px, py, x, w, 3, ly);
     assert_true(ly[0] == 204);           /* the higher point keeps its place */
     assert_true(ly[1] == ly[0] + 16);    /* b goes under a */
     assert_true(ly[2] == 207);           /* c overlaps nothing */
     /* a third label on the same spot goes under the second */
-    double x2[3] = { 100, 100, 100 }, y2[3] = { 50, 50, 50 }, ly2[3];
-    plot_place_labels(x2, y2, w, 3, ly2);
+    double px2[3] = { 90, 90, 90 }, py2[3] = { 50, 50, 50 }, x2[3] = { 100, 100, 100 }, ly2[3];
+    plot_place_labels(px2, py2, x2, w, 3, ly2);
     assert_true(ly2[0] == 54 && ly2[1] == 70 && ly2[2] == 86);
+    /* a label drawn left of its point across another point moves below that point */
+    double px3[2] = { 300, 200 }, py3[2] = { 100, 102 }, x3[2] = { 190, 210 }, w3[2] = { 100, 60 }, ly3[2];
+    plot_place_labels(px3, py3, x3, w3, 2, ly3);
+    assert_true(ly3[0] == 102 + 6 + 14); /* from 104: it covered the point at (200, 102) */
+    assert_true(ly3[1] == 106);          /* right of its point: clear of the first label, now lower */
 }
 
 /* ---- the heatmap ---- */

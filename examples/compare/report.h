@@ -100,12 +100,13 @@ plot_axis plot_axis_fit(double max_value);
 /* value on [0, hi] to [px0, px1] (px1 < px0 for an upward y axis). */
 double plot_map(const plot_axis *a, double value, double px0, double px1);
 
-/* Label baselines for points at (x, y) whose labels are w wide: each at
-   its point unless that overlaps a label placed before it (points higher
-   up first), else stacked below that one. */
-void plot_place_labels(const double *x, const double *y, const double *w, int n, double *label_y);
+/* Label baselines for points (px, py) whose labels start at x and are w
+   wide: each beside its point unless that covers a label placed before it
+   (points higher up first) or another point, else moved down below it. */
+void plot_place_labels(const double *px, const double *py, const double *x, const double *w, int n,
+                       double *label_y);
 
-#define PLOT_W 640
+#define PLOT_W 720
 #define PLOT_H 400
 
 /* The SVG (PLOT_W x PLOT_H) of ΔE00 mean against cost ratio, one labelled

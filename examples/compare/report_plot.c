@@ -12,7 +12,9 @@
 #define PLOT_BOTTOM 58
 #define PLOT_INSET 12       /* px between the x axis line and y = 0, so a point at 0 clears the axis */
 #define LABEL_LINE 16       /* px between stacked labels */
-#define LABEL_CHAR_W 7.5    /* a label character's width at 13 px, generous */
+#define LABEL_CHAR_W 8.5    /* a bold label character's width at 13 px, generous */
+#define LABEL_PAD 4         /* px kept clear between two labels side by side */
+#define POINT_R 6
 
 plot_axis plot_axis_fit(double max_value) {
     if (!(max_value > 0.0) || !isfinite(max_value)) max_value = 1.0;
@@ -41,32 +43,40 @@ static int decimals(double step) {
     return d < 0 ? 0 : d;
 }
 
-/* Label i's box: [x, x + w] x [y - 12, y + 3]. */
-static bool overlaps(double x0, double w0, double y0, double x1, double w1, double y1) {
-    return x0 < x1 + w1 && x1 < x0 + w0 && fabs(y0 - y1) < LABEL_LINE - 1;
+/* A label's box: [x, x + w] x [y - 12, y + 3] around its baseline y. */
+static bool label_overlaps_label(double x0, double w0, double y0, double x1, double w1, double y1) {
+    return x0 < x1 + w1 + LABEL_PAD && x1 < x0 + w0 + LABEL_PAD && fabs(y0 - y1) < LABEL_LINE - 1;
 }
 
-void plot_place_labels(const double *x, const double *y, const double *w, int n, double *label_y) {
+static bool label_overlaps_point(double x, double w, double y, double px, double py) {
+    const double r = POINT_R + 2;
+    return x < px + r && px - r < x + w && y - 12 < py + r && py - r < y + 3;
+}
+
+void plot_place_labels(const double *px, const double *py, const double *x, const double *w, int n, double *label_y) {
     int order[REPORT_MAX_TIERS];
     for (int i = 0; i < n; i++) order[i] = i;
     for (int i = 1; i < n; i++) /* by point height, top first; ties keep table order */
-        for (int j = i; j > 0 && y[order[j]] < y[order[j - 1]]; j--) {
+        for (int j = i; j > 0 && py[order[j]] < py[order[j - 1]]; j--) {
             int t = order[j];
             order[j] = order[j - 1];
             order[j - 1] = t;
         }
     for (int k = 0; k < n; k++) {
         int i = order[k];
-        label_y[i] = y[i] + 4.0;
-        for (bool moved = true; moved;) {
-            moved = false;
+        label_y[i] = py[i] + 4.0;
+        /* Down past whatever it covers: labels placed before it, other
+           points. Bounded: each step moves below one obstacle. */
+        for (int step = 0; step < 4 * REPORT_MAX_TIERS; step++) {
+            double below = -1.0;
             for (int m = 0; m < k; m++) {
                 int j = order[m];
-                if (overlaps(x[i], w[i], label_y[i], x[j], w[j], label_y[j])) {
-                    label_y[i] = label_y[j] + LABEL_LINE;
-                    moved = true;
-                }
+                if (label_overlaps_label(x[i], w[i], label_y[i], x[j], w[j], label_y[j])) below = label_y[j] + LABEL_LINE;
             }
+            for (int j = 0; j < n && below < 0.0; j++)
+                if (j != i && label_overlaps_point(x[i], w[i], label_y[i], px[j], py[j])) below = py[j] + POINT_R + 14;
+            if (below < 0.0) break;
+            label_y[i] = below;
         }
     }
 }
@@ -108,7 +118,7 @@ void report_write_plot(FILE *f, const report *r) {
               "against it.</p>\n", f);
         return;
     }
-    plot_axis ax = plot_axis_fit(max_cost * 1.08), ay = plot_axis_fit(max_err * 1.1);
+    plot_axis ax = plot_axis_fit(max_cost * 1.15), ay = plot_axis_fit(max_err * 1.1);
     fprintf(f, "<svg class=\"plot\" width=\"%d\" height=\"%d\" viewBox=\"0 0 %d %d\" "
                "xmlns=\"http://www.w3.org/2000/svg\" font-size=\"13\" fill=\"#ddd\" role=\"img\" "
                "aria-label=\"error against cost, one point per tier\">\n",
@@ -127,24 +137,27 @@ void report_write_plot(FILE *f, const report *r) {
 
     double px[REPORT_MAX_TIERS], py[REPORT_MAX_TIERS], lx[REPORT_MAX_TIERS], lw[REPORT_MAX_TIERS],
         ly[REPORT_MAX_TIERS];
-    char label[REPORT_MAX_TIERS][96];
+    char label[REPORT_MAX_TIERS][sizeof r->tiers[0].name];
     for (int k = 0; k < n; k++) {
         const report_tier *p = &r->tiers[idx[k]];
         px[k] = plot_map(&ax, p->cost_ratio, x0, x1);
         py[k] = plot_map(&ay, p->whole.delta_e00_mean, y0, y1);
-        snprintf(label[k], sizeof label[k], "%s  %.2f\xC3\x97, %.2f", p->name, p->cost_ratio,
-                 p->whole.delta_e00_mean);
+        snprintf(label[k], sizeof label[k], "%s", p->name); /* the numbers are the table's */
         lw[k] = LABEL_CHAR_W * (double)strlen(label[k]);
         lx[k] = px[k] + lw[k] + 10 > x1 ? px[k] - 10 - lw[k] : px[k] + 10;
     }
-    plot_place_labels(lx, py, lw, n, ly);
+    plot_place_labels(px, py, lx, lw, n, ly);
     for (int k = 0; k < n; k++) {
         const char *c = colours[idx[k] % (int)(sizeof colours / sizeof colours[0])];
-        fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"6\" fill=\"%s\" stroke=\"#111\"/>\n", px[k], py[k], c);
+        fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"%d\" fill=\"%s\" stroke=\"#111\"><title>", px[k], py[k],
+                POINT_R, c);
+        report_escape(f, label[k]);
+        fprintf(f, ": cost %.2f&#215; full, &#916;E00 mean %.2f</title></circle>\n", r->tiers[idx[k]].cost_ratio,
+                r->tiers[idx[k]].whole.delta_e00_mean);
         if (fabs(ly[k] - (py[k] + 4.0)) > 0.5) /* moved off its point: a leader line */
             fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" stroke-width=\"0.8\"/>\n",
                     px[k], py[k], lx[k] < px[k] ? lx[k] + lw[k] : lx[k], ly[k] - 4.0, c);
-        fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" fill=\"%s\">", lx[k], ly[k], c);
+        fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" fill=\"%s\" font-weight=\"600\">", lx[k], ly[k], c);
         report_escape(f, label[k]);
         fputs("</text>\n", f);
     }
