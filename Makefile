@@ -3,7 +3,8 @@
 # `make asan` runs the tests under AddressSanitizer + UBSan; `make bench`;
 # `make fuzz` builds the libFuzzer targets (fuzz/, clang, ASan + UBSan) and
 # runs each for FUZZ_SECONDS (60); `make fuzz-smoke` runs each for 5 s (CI);
-# `make check-valgrind` runs make demo's programs under memcheck.
+# `make check-valgrind` runs make demo's programs under memcheck;
+# `make report-check` opens haircompare's report in headless Chromium.
 # Missing Debian packages are installed first (apt-get, as root).
 
 CC      ?= cc
@@ -30,11 +31,15 @@ GEN_SRC     := $(filter-out shadergen/hairgen.c,$(wildcard shadergen/*.c))
 TEST_SRC    := $(wildcard tests/test_*.c)
 TEST_SUPPORT_SRC := $(wildcard tests/support_*.c)
 EXAMPLE_SRC := $(wildcard examples/*.c)
+# What the example programs share (tier rendering, the report's pieces):
+# one archive they and the tests link.
+COMPARE_SRC := $(wildcard examples/compare/*.c)
 
 obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 
 LIB       := $(BUILD)/libhairtier.a
 GENLIB    := $(BUILD)/libhairgen.a
+COMPARELIB := $(BUILD)/libcompare.a
 HAIRGEN   := $(BUILD)/hairgen
 PROGRAMS  := $(patsubst examples/%.c,$(BUILD)/%,$(EXAMPLE_SRC))
 TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
@@ -45,7 +50,7 @@ SOFTPIPE_TESTS := test_render_app_state test_render_fixed test_render_fixed4 tes
 $(foreach t,$(filter-out $(notdir $(TESTS)),$(SOFTPIPE_TESTS)),$(error SOFTPIPE_TESTS: no tests/$(t).c))
 DEPS_STAMP := $(BUILD)/.deps-installed
 
-.PHONY: all deps test asan bench demo clean fuzz fuzz-build fuzz-seeds fuzz-smoke check-valgrind install uninstall
+.PHONY: all deps test asan bench demo clean fuzz fuzz-build fuzz-seeds fuzz-smoke check-valgrind install uninstall report-check
 # Keep objects that pattern rules build on the way (tests, examples).
 .SECONDARY:
 .DEFAULT_GOAL := all
@@ -89,6 +94,10 @@ $(GENLIB): $(call obj,$(GEN_SRC))
 	@rm -f $@
 	ar rcs $@ $^
 
+$(COMPARELIB): $(call obj,$(COMPARE_SRC))
+	@rm -f $@
+	ar rcs $@ $^
+
 $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
@@ -96,10 +105,10 @@ $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
 $(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(LIB)
 	$(CC) $(LDFLAGS) $^ $(RUNTIME_LIBS) -o $@
 
-$(BUILD)/%: $(BUILD)/obj/examples/%.o $(GENLIB) $(LIB)
+$(BUILD)/%: $(BUILD)/obj/examples/%.o $(COMPARELIB) $(GENLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
-$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(GENLIB) $(LIB)
+$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(COMPARELIB) $(GENLIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcmocka -o $@
 
@@ -260,6 +269,37 @@ check-valgrind: all
 	MESA_SHADER_CACHE_DISABLE=true $(VALGRIND) $(BUILD)/hairview --bundle out/valgrind/bundle \
 	  --scene tests/data/valgrind-scene.json -o out/valgrind/furball.png
 	@echo "check-valgrind: clean"
+
+# ---- haircompare's report in a real browser ----
+# Debian's chromium is installed here only (it is big, and nothing else
+# needs it). The report of the fur ball's five 512² tiers is 2672 px wide;
+# every <img> of it must be found, full size, in the screenshot
+# (tests/report_screenshot_check.c). Then the checker must fail on a
+# screenshot of the same page with one image deleted, so it can fail.
+REPORT_CHECK := out/report-check
+CHROMIUM := chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
+            --disable-background-networking --disable-component-update --disable-sync \
+            --force-device-scale-factor=1 --force-color-profile=srgb --hide-scrollbars --window-size=2800,1400
+# $(1): page, $(2): screenshot; Chromium's chatter goes to a log shown on failure.
+define screenshot
+	@profile=$$(mktemp -d) && $(CHROMIUM) --user-data-dir=$$profile --screenshot=$(CURDIR)/$(2) \
+	  file://$(CURDIR)/$(1) >$(REPORT_CHECK)/chromium.log 2>&1; rc=$$?; rm -rf $$profile; \
+	[ $$rc -eq 0 ] && [ -s $(2) ] || { cat $(REPORT_CHECK)/chromium.log; echo "report-check: chromium failed"; exit 1; }
+endef
+
+report-check: all $(BUILD)/tests/report_screenshot_check
+	$(call install_missing,chromium)
+	@rm -rf $(REPORT_CHECK) && mkdir -p $(REPORT_CHECK)
+	$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json -o $(REPORT_CHECK)/bundle >/dev/null
+	$(BUILD)/haircompare --bundle $(REPORT_CHECK)/bundle --scene scenes/furball.json --frames 3 -o $(REPORT_CHECK)/report
+	$(call screenshot,$(REPORT_CHECK)/report/index.html,$(REPORT_CHECK)/screenshot.png)
+	$(BUILD)/tests/report_screenshot_check $(REPORT_CHECK)/screenshot.png $(REPORT_CHECK)/report
+	@cp -r $(REPORT_CHECK)/report $(REPORT_CHECK)/broken && rm $(REPORT_CHECK)/broken/vertex-error.png
+	$(call screenshot,$(REPORT_CHECK)/broken/index.html,$(REPORT_CHECK)/broken.png)
+	@if $(BUILD)/tests/report_screenshot_check $(REPORT_CHECK)/broken.png $(REPORT_CHECK)/report >/dev/null 2>&1; then \
+	  echo "report-check: the checker found an image the page could not load"; exit 1; fi
+	@echo "report-check: every image of $(REPORT_CHECK)/report/index.html loaded in Chromium" \
+	  "(screenshot $(REPORT_CHECK)/screenshot.png); a missing one is caught"
 
 clean:
 	rm -rf build build-asan build-fuzz out
