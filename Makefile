@@ -1,6 +1,7 @@
 # hairtier — `make` builds build/hairgen, build/hairview and build/libhairtier.a;
 # `make test` runs every test; `make demo` renders the default scenes to out/;
-# `make asan` runs the tests under AddressSanitizer + UBSan; `make bench`;
+# `make asan` runs the tests under AddressSanitizer + UBSan; `make bench`
+# writes bench/results.{csv,md,svg} and bench/scaling.svg;
 # `make fuzz` builds the libFuzzer targets (fuzz/, clang, ASan + UBSan) and
 # runs each for FUZZ_SECONDS (60); `make fuzz-smoke` runs each for 5 s (CI);
 # `make check-valgrind` runs make demo's programs under memcheck.
@@ -28,12 +29,16 @@ RUNTIME_SRC := $(wildcard runtime/*.c fallback/*.c)
 GEN_SRC     := $(filter-out shadergen/hairgen.c,$(wildcard shadergen/*.c))
 TEST_SRC    := $(wildcard tests/test_*.c)
 TEST_SUPPORT_SRC := $(wildcard tests/support_*.c)
-EXAMPLE_SRC := $(wildcard examples/*.c)
+# examples/support_*.c are the benchmarks' shared modules (results files,
+# plots, progress), not programs; libexamples.a holds them.
+EXAMPLE_SRC := $(filter-out examples/support_%,$(wildcard examples/*.c))
+EXAMPLE_SUPPORT_SRC := $(wildcard examples/support_*.c)
 
 obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 
 LIB       := $(BUILD)/libhairtier.a
 GENLIB    := $(BUILD)/libhairgen.a
+EXLIB     := $(BUILD)/libexamples.a
 HAIRGEN   := $(BUILD)/hairgen
 PROGRAMS  := $(patsubst examples/%.c,$(BUILD)/%,$(EXAMPLE_SRC))
 TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
@@ -88,6 +93,10 @@ $(GENLIB): $(call obj,$(GEN_SRC))
 	@rm -f $@
 	ar rcs $@ $^
 
+$(EXLIB): $(call obj,$(EXAMPLE_SUPPORT_SRC))
+	@rm -f $@
+	ar rcs $@ $^
+
 $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
@@ -95,10 +104,13 @@ $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
 $(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(LIB)
 	$(CC) $(LDFLAGS) $^ $(RUNTIME_LIBS) -o $@
 
-$(BUILD)/%: $(BUILD)/obj/examples/%.o $(GENLIB) $(LIB)
+$(BUILD)/%: $(BUILD)/obj/examples/%.o $(EXLIB) $(GENLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
-$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(GENLIB) $(LIB)
+# The benchmarks' modules are tested like the library's (tests/test_bench_*.c).
+$(BUILD)/obj/tests/test_bench%.o: CPPFLAGS += -Iexamples
+
+$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(EXLIB) $(GENLIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcmocka -o $@
 
@@ -123,12 +135,12 @@ asan:
 	$(MAKE) BUILD=build-asan OPT="-O1 -g -fno-omit-frame-pointer" \
 	  SAN="-fsanitize=address,undefined -fno-sanitize-recover=undefined" test
 
-# Every benchmark on llvmpipe, then the frame benchmark again on softpipe
-# (an interpreter: a stand-in for a slow fragment unit), smaller so it ends.
+# Every benchmark through build/bench_suite: the generator and mesh figures,
+# the frame benchmark per scene on llvmpipe and on softpipe (an interpreter:
+# a stand-in for a slow fragment unit, smaller so it ends), the fur-ball
+# scaling series; then bench/results.csv, results.md, results.svg, scaling.svg.
 bench: all
-	@for b in $(filter $(BUILD)/bench_%,$(PROGRAMS)); do echo "== $$b (llvmpipe)"; $$b || exit 1; done
-	@echo "== $(BUILD)/bench_frame --hairs 2000 --size 256 --frames 3 (softpipe)"
-	@GALLIUM_DRIVER=softpipe $(BUILD)/bench_frame --hairs 2000 --size 256 --frames 3
+	@$(BUILD)/bench_suite -o bench
 
 demo: all
 	@mkdir -p out
