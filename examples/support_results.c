@@ -130,7 +130,7 @@ static const char *parse_record(const char **p, record *rec) {
     const char *s = *p;
     rec->count = 0;
     for (;;) {
-        if (rec->count == COLUMNS + 1) return "more fields than the header";
+        if (rec->count == COLUMNS + 1) return "wrong number of fields";
         char *out = rec->field[rec->count++];
         size_t n = 0;
         if (*s == '"') {

@@ -48,7 +48,8 @@ double bench_nice_axis(double *lo, double *hi, int max_ticks) {
         double pad = *lo == 0 ? 1 : fabs(*lo) * 0.1;
         *lo -= pad, *hi += pad;
     }
-    if (max_ticks < 2) max_ticks = 2;
+    /* Two ticks cannot span a range across zero with multiples of a step; three always can. */
+    if (max_ticks < 3) max_ticks = 3;
     double rough = (*hi - *lo) / (max_ticks - 1);
     double base = pow(10, floor(log10(rough)));
     static const double steps[] = { 1, 2, 5, 10 };

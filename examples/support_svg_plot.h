@@ -43,7 +43,7 @@ bool bench_svg_draw(FILE *f, const bench_svg_plot *plot, double x, double y, dou
 bool bench_svg_end(FILE *f);
 
 /* Widens [*lo, *hi] to multiples of a step of 1, 2 or 5 × 10^k giving at
-   most max_ticks ticks (max_ticks ≥ 2) and returns the step; an empty or
+   most max_ticks ticks (fewer than 3 counts as 3) and returns the step; an empty or
    non-finite range becomes [0, 1]; lo == hi is widened around the value. */
 double bench_nice_axis(double *lo, double *hi, int max_ticks);
 
