@@ -41,13 +41,16 @@
 /* The matrix: every scene here runs on every driver below (one line adds a scene). */
 static const char *const scenes[] = { "scenes/furball.json", "scenes/patches.json" };
 
-/* softpipe interprets every fragment: smaller and fewer frames so it ends. */
+/* softpipe interprets every fragment: smaller and fewer frames so it ends.
+   frame_s predicts, for the ETA only, the seconds of one contender's frame
+   of the fur ball at 10k hairs, 512²: fitted to a `make bench` run on the
+   2-core development machine under load (docs/DESIGN.md "Benchmark"). */
 typedef struct driver {
     const char *name;
     int size, frames, furball_hairs;
-    double frame_cost;   /* predicted ms per frame of a 512², 10k-hair fur ball, for the ETA */
+    double frame_s;
 } driver;
-static const driver drivers[] = { { "llvmpipe", 512, 9, 10000, 200 }, { "softpipe", 256, 3, 2000, 2500 } };
+static const driver drivers[] = { { "llvmpipe", 512, 9, 10000, 1.75 }, { "softpipe", 256, 3, 2000, 35 } };
 
 /* The scaling series: the fur ball on the first driver; its 10k point is the matrix run's. */
 static const int scaling_hairs[] = { 1000, 5000, 20000, 40000 };
@@ -69,21 +72,23 @@ typedef struct step {
     int size, frames;
     bool orbit;
     const char *series;
-    double weight;           /* predicted cost, arbitrary units (ms) */
+    double weight;           /* predicted seconds; only their proportions matter */
 } step;
 
-/* A frame step's predicted ms: frames × contenders × a frame's cost, which
-   grows with pixels and hairs (the patches scene counts as 8k hairs). */
-static double frame_weight(const driver *d, int hairs, int size, int frames, bool orbit) {
+/* A frame step's predicted seconds: frames × contenders × a frame's cost,
+   which grows with pixels and, on the fur ball, with hairs (the same run's
+   fit: a 1k-hair frame costs 0.35 of a 10k one); the patches scene costs
+   0.13 of the 10k fur ball. */
+static double frame_weight(const driver *d, bool furball, int hairs, int size, int frames, bool orbit) {
     double pixels = (double)size * size / (512.0 * 512.0);
-    double per_frame = d->frame_cost * (0.3 * pixels + 0.7 * pixels * (hairs ? hairs : 8000) / 10000.0);
+    double per_frame = d->frame_s * pixels * (furball ? 0.27 + 0.73 * hairs / 10000.0 : 0.13);
     return CONTENDERS * (frames + WARM_UP + (orbit ? ORBIT : 0)) * per_frame;
 }
 
 static int plan(step *s, bool quick) {
     int n = 0;
-    s[n++] = (step){ .kind = FIGURES, .program = "bench_hairgen", .series = "generator", .weight = 15000 };
-    s[n++] = (step){ .kind = PRINT_ONLY, .program = "bench_mesh", .weight = 2000 };
+    s[n++] = (step){ .kind = FIGURES, .program = "bench_hairgen", .series = "generator", .weight = 180 };
+    s[n++] = (step){ .kind = PRINT_ONLY, .program = "bench_mesh", .weight = 15 };
     for (size_t d = 0; d < sizeof drivers / sizeof drivers[0]; d++)
         for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; k++) {
             const driver *dr = &drivers[d];
@@ -94,7 +99,7 @@ static int plan(step *s, bool quick) {
             bool orbit = d == 0;
             s[n++] = (step){ .kind = FRAME, .program = "bench_frame", .driver = dr->name, .scene = scenes[k],
                              .hairs = hairs, .size = size, .frames = frames, .orbit = orbit, .series = "matrix",
-                             .weight = frame_weight(dr, hairs, size, frames, orbit) };
+                             .weight = frame_weight(dr, furball, hairs, size, frames, orbit) };
         }
     for (size_t i = 0; i < sizeof scaling_hairs / sizeof scaling_hairs[0]; i++) {
         const driver *dr = &drivers[0];
@@ -102,7 +107,7 @@ static int plan(step *s, bool quick) {
         int hairs = quick ? scaling_hairs[i] / 10 : scaling_hairs[i];
         s[n++] = (step){ .kind = FRAME, .program = "bench_frame", .driver = dr->name, .scene = "scenes/furball.json",
                          .hairs = hairs, .size = size, .frames = frames, .orbit = false, .series = "scaling",
-                         .weight = frame_weight(dr, hairs, size, frames, false) };
+                         .weight = frame_weight(dr, true, hairs, size, frames, false) };
     }
     return n;
 }
