@@ -235,8 +235,12 @@ static int run(const char *work) {
         scene.furball.hairs = HAIRS;
         scene.furball.joints = 16;
         built = ht_mesh_build_furball(&scene.furball, &mesh);
-    } else {
+    } else if (scene.geometry == HT_GEOMETRY_PATCHES) {
         built = ht_mesh_build_patches(&scene.patches, &mesh, &head);
+    } else {
+        /* A geometry kind added to scene.h needs its mesh built here too. */
+        fprintf(stderr, "bench_frame: %s: geometry: a kind bench_frame does not build\n", SCENE);
+        goto close_context;
     }
     if (built != HT_OK) {
         fprintf(stderr, "bench_frame: %s: cannot build the mesh: %s\n", SCENE, ht_result_string(built));

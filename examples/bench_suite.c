@@ -258,11 +258,19 @@ static bool write_md(FILE *f, void *c) {
 static bool write_cost(FILE *f, void *c) { return bench_write_cost_svg(f, ((report_ctx *)c)->rows); }
 static bool write_scaling(FILE *f, void *c) { return bench_write_scaling_svg(f, ((report_ctx *)c)->rows); }
 
+/* The results directory, made before any measurement so a bad -o fails at once. */
+static bool make_out_dir(const char *dir) {
+    struct stat st;
+    const char *why = NULL;
+    if (mkdir(dir, 0755) != 0 && errno != EEXIST) why = strerror(errno);
+    else if (stat(dir, &st) != 0) why = strerror(errno);
+    else if (!S_ISDIR(st.st_mode)) why = "not a directory";
+    else if (access(dir, W_OK) != 0) why = strerror(errno);
+    if (why) fprintf(stderr, "bench_suite: %s: cannot make or write the results directory: %s\n", dir, why);
+    return why == NULL;
+}
+
 static int write_report(const char *dir, const bench_rows *rows, const machine *m) {
-    if (mkdir(dir, 0755) != 0 && errno != EEXIST) {
-        fprintf(stderr, "bench_suite: %s: cannot create the directory: %s\n", dir, strerror(errno));
-        return 1;
-    }
     char text[2048];
     preamble(m, text, sizeof text);
     report_ctx ctx = { rows, text };
@@ -354,6 +362,7 @@ int main(int argc, char **argv) {
     if (slash) *slash = '\0';
     else snprintf(bindir, sizeof bindir, ".");
 
+    if (!make_out_dir(out_dir)) return 1;
     char work[] = "/tmp/hairtier-bench-suite-XXXXXX";
     if (!mkdtemp(work)) {
         perror("mkdtemp");
