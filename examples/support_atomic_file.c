@@ -34,7 +34,8 @@ bool bench_write_atomic(const char *path, bench_writer_fn fn, void *ctx, char *e
         close(fd);
         goto done;
     }
-    if (!fn(f, ctx)) {
+    errno = 0; /* a writer that fails without a system error leaves 0: no reason invented */
+    if (!fn(f, ctx) || ferror(f)) {
         saved = errno;
         why = "write failed";
         goto done;

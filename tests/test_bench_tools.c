@@ -152,7 +152,7 @@ static void test_a_failed_write_leaves_the_old_file_and_no_temporary(void **stat
     ht_test_write_file(work, "keep.txt", "old\n");
     int before = files_in_work();
     assert_false(bench_write_atomic(path, write_half_then_fail, NULL, err, sizeof err));
-    assert_non_null(strstr(err, "keep.txt: write failed"));
+    assert_string_equal(strstr(err, "keep.txt: "), "keep.txt: write failed"); /* no system error to name */
     assert_string_equal(ht_test_read_file(work, "keep.txt"), "old\n");
     assert_int_equal(files_in_work(), before);
 
