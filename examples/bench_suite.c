@@ -233,15 +233,15 @@ static double load_average(void) {
 static void preamble(const machine *m, char *out, size_t size) {
     bool busy = m->load_start > m->cores || m->load_end > m->cores;
     snprintf(out, size,
-             "Made by `make bench` (`%s`)%s on %s: %s, %ld cores, "
+             "Made by `make bench` (`%s`) on %s: %s, %ld cores, "
              "%.1f minutes in all. Load average %.1f at the start, %.1f at the end%s. "
              "Frame times are wall-clock medians; each ratio comes from one run whose tiers took their frames "
              "round-robin, so a change in load falls on every tier alike, but the absolute milliseconds "
-             "move with the machine's load%s.",
-             m->command, m->quick ? ", tiny sizes to try the pipeline: not numbers to quote" : "", m->date, m->cpu,
-             m->cores, m->minutes, m->load_start, m->load_end,
+             "move with the machine's load%s.%s",
+             m->command, m->date, m->cpu, m->cores, m->minutes, m->load_start, m->load_end,
              busy ? " (above the core count: other processes ran during the measurements)" : "",
-             busy ? ", and here they were measured on a busy machine" : "");
+             busy ? ", and here they were measured on a busy machine" : "",
+             m->quick ? " A --quick run: tiny sizes to try the pipeline, not numbers to quote." : "");
 }
 
 typedef struct report_ctx {
