@@ -1,6 +1,7 @@
 # hairtier — `make` builds build/hairgen, build/hairview and build/libhairtier.a;
 # `make test` runs every test; `make demo` renders the default scenes to out/;
-# `make asan` runs the tests under AddressSanitizer + UBSan; `make bench`;
+# `make asan` runs the tests under AddressSanitizer + UBSan; `make bench`
+# writes bench/results.{csv,md,svg} and bench/scaling.svg;
 # `make fuzz` builds the libFuzzer targets (fuzz/, clang, ASan + UBSan) and
 # runs each for FUZZ_SECONDS (60); `make fuzz-smoke` runs each for 5 s (CI);
 # `make check-valgrind` runs make demo's programs under memcheck;
@@ -31,15 +32,16 @@ GEN_SRC     := $(filter-out shadergen/hairgen.c,$(wildcard shadergen/*.c))
 TEST_SRC    := $(wildcard tests/test_*.c)
 TEST_SUPPORT_SRC := $(wildcard tests/support_*.c)
 EXAMPLE_SRC := $(wildcard examples/*.c)
-# What the example programs share (tier rendering, the report's pieces):
-# one archive they and the tests link.
-COMPARE_SRC := $(wildcard examples/compare/*.c)
+# What the example programs share (tier rendering, the report's pieces in
+# examples/compare/; the benchmarks' results files, plots and progress in
+# examples/bench/): one archive they and the tests link.
+EXAMPLE_LIB_SRC := $(wildcard examples/compare/*.c examples/bench/*.c)
 
 obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 
 LIB       := $(BUILD)/libhairtier.a
 GENLIB    := $(BUILD)/libhairgen.a
-COMPARELIB := $(BUILD)/libcompare.a
+EXLIB     := $(BUILD)/libexamples.a
 HAIRGEN   := $(BUILD)/hairgen
 PROGRAMS  := $(patsubst examples/%.c,$(BUILD)/%,$(EXAMPLE_SRC))
 TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
@@ -94,7 +96,7 @@ $(GENLIB): $(call obj,$(GEN_SRC))
 	@rm -f $@
 	ar rcs $@ $^
 
-$(COMPARELIB): $(call obj,$(COMPARE_SRC))
+$(EXLIB): $(call obj,$(EXAMPLE_LIB_SRC))
 	@rm -f $@
 	ar rcs $@ $^
 
@@ -105,10 +107,13 @@ $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
 $(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(LIB)
 	$(CC) $(LDFLAGS) $^ $(RUNTIME_LIBS) -o $@
 
-$(BUILD)/%: $(BUILD)/obj/examples/%.o $(COMPARELIB) $(GENLIB) $(LIB)
+$(BUILD)/%: $(BUILD)/obj/examples/%.o $(EXLIB) $(GENLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
-$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(COMPARELIB) $(GENLIB) $(LIB)
+# The benchmarks' modules are tested like the library's (tests/test_bench_*.c).
+$(BUILD)/obj/tests/test_bench%.o: CPPFLAGS += -Iexamples -Iexamples/bench
+
+$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(EXLIB) $(GENLIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcmocka -o $@
 
@@ -156,12 +161,12 @@ asan:
 	$(MAKE) BUILD=build-asan OPT="-O1 -g -fno-omit-frame-pointer" \
 	  SAN="-fsanitize=address,undefined -fno-sanitize-recover=undefined" test
 
-# Every benchmark on llvmpipe, then the frame benchmark again on softpipe
-# (an interpreter: a stand-in for a slow fragment unit), smaller so it ends.
+# Every benchmark through build/bench_suite: the generator and mesh figures,
+# the frame benchmark per scene on llvmpipe and on softpipe (an interpreter:
+# a stand-in for a slow fragment unit, smaller so it ends), the fur-ball
+# scaling series; then bench/results.csv, results.md, results.svg, scaling.svg.
 bench: all
-	@for b in $(filter $(BUILD)/bench_%,$(PROGRAMS)); do echo "== $$b (llvmpipe)"; $$b || exit 1; done
-	@echo "== $(BUILD)/bench_frame --hairs 2000 --size 256 --frames 3 (softpipe)"
-	@GALLIUM_DRIVER=softpipe $(BUILD)/bench_frame --hairs 2000 --size 256 --frames 3
+	@$(BUILD)/bench_suite -o bench
 
 demo: all
 	@mkdir -p out
