@@ -60,9 +60,7 @@
    runs straight from crown to tip, through the head); every vertex is
    still outside the head.
 
-   The head is a UV sphere of HEAD_SLICES × HEAD_STACKS, normals radial,
-   tangent the azimuth direction, uv = (φ / 2π, θ / π), ao = 1, one
-   component. Triangles are counter-clockwise seen from outside.
+   The head is mesh_head.c's sphere of radius R at the origin.
 
    Limits (else HT_ERR_INVALID_ARGUMENT, after defaults): head_radius in
    [1e-4, 1e4], 1 <= layers <= 256, 1 <= strips <= 2^20,
@@ -81,8 +79,6 @@
 #define PATCHES_MAX_LAYERS 256
 #define PATCHES_MAX_STRIPS (1 << 20)
 #define PATCHES_MAX_SEGMENTS 4096
-#define HEAD_SLICES 48
-#define HEAD_STACKS 24
 
 #define SHELL_BASE 0.02  /* inner layer's height above the head / R */
 #define SHELL_STEP 0.03  /* between layers / R */
@@ -228,38 +224,6 @@ static void build_strip(const ht_patches_desc *d, const strip_params *p, double 
     }
 }
 
-static void build_head(float radius, ht_vertex *v, uint32_t *idx) {
-    for (int i = 0; i <= HEAD_STACKS; i++) {
-        const double theta = M_PI * i / HEAD_STACKS;
-        for (int j = 0; j <= HEAD_SLICES; j++) {
-            const double phi = 2.0 * M_PI * j / HEAD_SLICES;
-            double n[3], e[3], pos[3];
-            sphere_point(n, 1.0, theta, phi);
-            azimuth_direction(e, phi);
-            ht_vec3_mad(pos, (const double[3]){ 0, 0, 0 }, radius, n);
-            ht_vertex *vx = &v[i * (HEAD_SLICES + 1) + j];
-            ht_vec3_store(vx->position, pos);
-            ht_vec3_store(vx->normal, n);
-            ht_vec3_store(vx->tangent, e);
-            vx->uv[0] = (float)j / HEAD_SLICES;
-            vx->uv[1] = (float)i / HEAD_STACKS;
-            vx->ao = 1.0f;
-        }
-    }
-    /* Quads between rows i and i + 1; at the poles one triangle of each
-       quad would have zero area and is left out. */
-    uint32_t k = 0;
-    for (uint32_t i = 0; i < HEAD_STACKS; i++)
-        for (uint32_t j = 0; j < HEAD_SLICES; j++) {
-            const uint32_t a = i * (HEAD_SLICES + 1) + j, b = a + HEAD_SLICES + 1;
-            if (i != 0) { idx[k++] = a; idx[k++] = b; idx[k++] = a + 1; }
-            if (i != HEAD_STACKS - 1) { idx[k++] = a + 1; idx[k++] = b; idx[k++] = b + 1; }
-        }
-}
-
-#define HEAD_VERTICES ((HEAD_STACKS + 1) * (HEAD_SLICES + 1))
-#define HEAD_INDICES (6 * HEAD_SLICES * (HEAD_STACKS - 1))
-
 ht_result ht_mesh_build_patches(const ht_patches_desc *desc, ht_mesh *out, ht_mesh *head) {
     if (!out) return HT_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
@@ -280,10 +244,8 @@ ht_result ht_mesh_build_patches(const ht_patches_desc *desc, ht_mesh *out, ht_me
         goto fail;
     }
     if (head) {
-        res = ht_mesh_alloc(head, HEAD_VERTICES, HEAD_INDICES, 1);
+        res = ht_mesh_build_head_sphere(d.head_radius, (const float[3]){ 0, 0, 0 }, head);
         if (res != HT_OK) goto fail;
-        build_head(d.head_radius, head->vertices, head->indices);
-        head->components[0] = (ht_component){ 0, HEAD_INDICES, 0.0f };
     }
 
     ht_rng rng = ht_rng_seed(d.seed);
