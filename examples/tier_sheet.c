@@ -363,13 +363,10 @@ int main(int argc, char **argv) {
         return 1;
     }
     ht_mesh hair = { 0 }, head = { 0 };
-    ht_result r = scene.geometry == HT_GEOMETRY_PATCHES ? ht_mesh_build_patches(&scene.patches, &hair, &head)
-                                                        : ht_mesh_build_furball(&scene.furball, &hair);
-    if (r != HT_OK) {
-        fprintf(stderr, "tier_sheet: %s: geometry: cannot build the mesh: %s\n", o.scene, ht_result_string(r));
+    if (ht_scene_build_meshes(&scene, o.scene, &hair, &head, err, sizeof err) != HT_OK) {
+        fprintf(stderr, "tier_sheet: %s\n", err);
         return 1;
     }
-    ht_mesh_sort_inside_out(&hair);
 
     panel panels[TIERS] = { 0 };
     for (int t = 0; t < TIERS; t++) render_tier(&o, &scene, &hair, &head, columns[t], &panels[t]);

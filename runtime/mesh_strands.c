@@ -10,7 +10,8 @@
               files) takes the direction of the nearest real one before it,
               else after it; a strand with no length at all points away from
               the head. Always unit.
-     facing   o = the unit direction from the head centre to the point.
+     facing   o = the unit direction from the head centre to the point
+              (or the desc's facing direction when it is not zero).
               Widening axis w = o x t / |o x t|, normal n = t x w: the part
               of o across the strand, so every ribbon faces away from the
               head and the static sort and the tiers see the same ribbon
@@ -161,7 +162,9 @@ static void build_strand(const ht_strands *st, uint32_t strand, const ht_strands
     }
     const double length = s->arc[n - 1];
 
-    double prev_w[3] = { 0, 0, 0 };
+    double prev_w[3] = { 0, 0, 0 }, facing_dir[3];
+    ht_vec3_from_float(facing_dir, d->facing);
+    const bool facing = ht_vec3_normalize(facing_dir);
     for (uint32_t i = 0; i < n; i++) {
         double t[3], w[3], nrm[3];
         if (i == 0) ht_vec3_copy(t, s->segment[0]);
@@ -172,6 +175,7 @@ static void build_strand(const ht_strands *st, uint32_t strand, const ht_strands
             if (!(ht_vec3_length(t) > 1e-6 && ht_vec3_normalize(t))) ht_vec3_copy(t, s->segment[i]);
         }
         outward_from_head(d, s->p[i], o);
+        if (facing) ht_vec3_copy(o, facing_dir);
         ht_vec3_cross(w, o, t);
         if (!(ht_vec3_length(w) >= STANDING_OUT && ht_vec3_normalize(w))) {
             ht_vec3_copy(w, prev_w);
@@ -210,7 +214,7 @@ static ht_result check_desc(const ht_strands *s, const ht_strands_ribbon_desc *d
     if (!(d->scale >= MIN_SCALE && d->scale <= MAX_SCALE))
         return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "scale: %g, must be %g to %g", (double)d->scale,
                        (double)MIN_SCALE, (double)MAX_SCALE);
-    if (!ht_all_finite(d->center, 3) || !ht_all_finite(d->head_center, 3))
+    if (!ht_all_finite(d->center, 3) || !ht_all_finite(d->head_center, 3) || !ht_all_finite(d->facing, 3))
         return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "center: not finite");
     if (d->use_thickness && !s->thickness)
         return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "thickness: the strand file carries none");

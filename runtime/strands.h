@@ -54,6 +54,7 @@ typedef struct ht_strands_ribbon_desc {
     bool use_thickness;     /* width = the file's thickness x scale instead */
     float ao;               /* occlusion per typical cell of hair above a vertex, >= 0 (0: none) */
     float head_center[3];   /* scene units: ribbons face away from it, the sort measures from it */
+    float facing[3];        /* not zero: ribbons face this way instead (a crest seen side-on) */
 } ht_strands_ribbon_desc;
 
 /* One ribbon per strand, sorted inside out (mesh_strands.c says how).
