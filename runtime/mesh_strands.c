@@ -24,14 +24,16 @@
      uv       u = 0 on the -w edge, 1 on the +w edge; v = arc length from
               the root / the strand's length (the point's index / (n - 1)
               for a strand of no length).
-     ao       exp(-ao x τ), τ the hair above the point: a grid of
+     ao       0.25 + 0.75 exp(-ao x τ) (the floor of the other builders:
+              light still scatters into the densest hair), τ the hair
+              above the point: a grid of
               AO_GRID cells along the longest side of the hair's box counts
               the points in each cell; τ sums, along the ray from the point
               away from the head centre (one cell a step, the point's own
               cell left out), each cell's count over the mean count of the
               occupied cells. O(points x AO_GRID) and one pass to fill the
               grid: outer hair 1, hair under k typical cells of hair
-              exp(-ao k).
+              0.25 + 0.75 exp(-ao k); ao 0: 1 everywhere.
    Sort key: distance of the strand's vertex centroid from the head centre
    (ht_mesh.center), so inner strands draw first.
    Vertices of point i: 2 i + {0: -w, 1: +w} from the strand's first;
@@ -44,6 +46,7 @@
 #include "strands.h"
 
 #define AO_GRID 64
+#define AO_FLOOR 0.25
 #define STANDING_OUT 0.05 /* |o x t| below: the ribbon keeps the previous point's axis */
 #define MAX_SCALE 1e4f
 #define MIN_SCALE 1e-6f
@@ -174,23 +177,25 @@ static void build_strand(const ht_strands *st, uint32_t strand, const ht_strands
             /* A strand that turns right round: follow the outgoing segment. */
             if (!(ht_vec3_length(t) > 1e-6 && ht_vec3_normalize(t))) ht_vec3_copy(t, s->segment[i]);
         }
+        double away[3]; /* faced by the ribbon; o stays the AO ray's direction */
         outward_from_head(d, s->p[i], o);
-        if (facing) ht_vec3_copy(o, facing_dir);
-        ht_vec3_cross(w, o, t);
+        ht_vec3_copy(away, facing ? facing_dir : o);
+        ht_vec3_cross(w, away, t);
         if (!(ht_vec3_length(w) >= STANDING_OUT && ht_vec3_normalize(w))) {
             ht_vec3_copy(w, prev_w);
             if (i == 0 || !ht_vec3_orthonormalize(w, t)) ht_vec3_any_perpendicular(w, t);
         }
         ht_vec3_cross(nrm, t, w);
         ht_vec3_normalize(nrm);
-        if (ht_vec3_dot(nrm, o) < 0)
+        if (ht_vec3_dot(nrm, away) < 0)
             for (int k = 0; k < 3; k++) { nrm[k] = -nrm[k]; w[k] = -w[k]; }
         ht_vec3_copy(prev_w, w);
 
         const double v = length > 0 ? s->arc[i] / length : (double)i / (n - 1);
         const double width = d->use_thickness ? (double)st->thickness[first + i] * d->scale
                                               : d->width * (1.0 - (1.0 - d->tip_width) * v);
-        const float ao = d->ao > 0 ? (float)exp(-d->ao * hair_above(g, s->p[i], o)) : 1.0f;
+        const float ao =
+            d->ao > 0 ? (float)(AO_FLOOR + (1.0 - AO_FLOOR) * exp(-d->ao * hair_above(g, s->p[i], o))) : 1.0f;
         for (int side = 0; side < 2; side++) {
             ht_vertex *vx = &out[2 * i + side];
             double pos[3];
