@@ -21,8 +21,9 @@ ht_result ht_mesh_alloc(ht_mesh *m, uint64_t vertex_count, uint64_t index_count,
    vertices contiguously, so this is the component's vertex centroid. */
 float ht_mesh_centroid_distance(const ht_mesh *m, uint32_t first_vertex, uint32_t count);
 
-/* The opaque head (mesh_head.c): a sphere of radius around center, one
-   component. HT_ERR_OUT_OF_MEMORY leaves *out zeroed. */
-ht_result ht_mesh_build_head_sphere(float radius, const float center[3], ht_mesh *out);
+/* The opaque head (mesh_head.c): a sphere of radius around center, with a
+   neck under it when asked, one component. HT_ERR_OUT_OF_MEMORY leaves
+   *out zeroed. */
+ht_result ht_mesh_build_head(float radius, const float center[3], bool neck, ht_mesh *out);
 
 #endif

@@ -17,7 +17,7 @@ static ht_result build_strands(const ht_scene *s, const char *scene_file, ht_mes
     if (r != HT_OK)
         return ht_fail(err, err_size, r, "%s: geometry.%s (strand file %s)", scene_file, why, s->strands.file);
     if (head && s->strands.head_radius > 0) {
-        r = ht_mesh_build_head_sphere(s->strands.head_radius, s->strands.ribbon.head_center, head);
+        r = ht_mesh_build_head(s->strands.head_radius, s->strands.ribbon.head_center, false, head);
         if (r != HT_OK) {
             ht_mesh_free(hair);
             return ht_fail(err, err_size, r, "%s: geometry.head: %s", scene_file, ht_result_string(r));
