@@ -6,7 +6,7 @@
    Usage:
        ht_strands s;
        char err[512];
-       if (ht_strands_load("data/ratboy-mohawk.tfx", &s, err, sizeof err) != HT_OK) puts(err);
+       if (ht_strands_load("scenes/ratboy-mohawk.tfx", &s, err, sizeof err) != HT_OK) puts(err);
        ... s.points[s.first_point[i] .. s.first_point[i + 1]) is strand i, root first ...
        ht_strands_free(&s);
 

@@ -277,7 +277,7 @@ static void test_shipped_scene_builds_the_mohawk_and_a_head(void **state) {
     char err[512];
     assert_int_equal(ht_scene_load("scenes/ratboy.json", &scene, err, sizeof err), HT_OK);
     assert_int_equal(scene.geometry, HT_GEOMETRY_STRANDS);
-    assert_string_equal(scene.strands.file, "scenes/../data/ratboy-mohawk.tfx");
+    assert_string_equal(scene.strands.file, "scenes/ratboy-mohawk.tfx");
     assert_int_equal(ht_scene_build_meshes(&scene, "scenes/ratboy.json", &hair, &head, err, sizeof err), HT_OK);
     assert_int_equal(hair.component_count, 2226);
     assert_int_equal(hair.vertex_count, 2 * 2226 * 32);

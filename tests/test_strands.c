@@ -487,7 +487,7 @@ static void test_ratboy_mohawk_reads_as_its_readme_says(void **state) {
     (void)state;
     ht_strands s;
     char err[512];
-    assert_int_equal(ht_strands_load("data/ratboy-mohawk.tfx", &s, err, sizeof err), HT_OK);
+    assert_int_equal(ht_strands_load("scenes/ratboy-mohawk.tfx", &s, err, sizeof err), HT_OK);
     assert_int_equal(s.strand_count, 2226);
     assert_int_equal(s.point_count, 2226 * 32);
     assert_null(s.thickness);
