@@ -2,7 +2,9 @@
    root to tip (repeated points and strands of no length included), normals
    facing away from the head centre (or the given facing), widths, uv, AO in
    [0, 1] darker under hair than over it, the inside-out order, bad descs
-   refused; and the shipped mohawk and scene build finite meshes. */
+   refused; the scene's "strands" geometry reads and checks every field and
+   resolves its file against the scene's folder; and the shipped mohawk and
+   scene build finite meshes. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -301,6 +303,85 @@ static void test_shipped_scene_builds_the_mohawk_and_a_head(void **state) {
     assert_null(head.vertices);
 }
 
+static ht_result parse_geometry(const char *geometry, const char *file_name, ht_scene *s, char *err, size_t size) {
+    char text[2048];
+    snprintf(text, sizeof text,
+             "{\"format\": \"hairtier-scene/1\", \"resolution\": [64, 64],"
+             " \"camera\": {\"eye\": [0, 0, 3], \"target\": [0, 0, 0]},"
+             " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 1, 1]}],"
+             " \"geometry\": %s}",
+             geometry);
+    return ht_scene_parse(text, file_name, s, err, size);
+}
+
+static void test_scene_strands_fields_are_read_and_checked(void **state) {
+    (void)state;
+    ht_scene s;
+    char err[512];
+    assert_int_equal(parse_geometry("{\"type\": \"strands\", \"file\": \"hair/a.tfx\"}", "dir/s.json", &s, err,
+                                    sizeof err),
+                     HT_OK);
+    assert_int_equal(s.geometry, HT_GEOMETRY_STRANDS);
+    assert_string_equal(s.strands.file, "dir/hair/a.tfx");
+    assert_true(s.strands.ribbon.scale == 1 && s.strands.ribbon.width == 0.01f && s.strands.ribbon.tip_width == 0.25f);
+    assert_true(s.strands.ribbon.ao == 0.3f && !s.strands.ribbon.use_thickness && s.strands.head_radius == 0);
+    assert_true(ht_scene_memory_estimate(&s) <= (4ull << 30));
+
+    assert_int_equal(parse_geometry("{\"type\": \"strands\", \"file\": \"/abs/a.hair\", \"scale\": 0.5,"
+                                    " \"center\": [1, 2, 3], \"width\": 0.02, \"tip_width\": 1,"
+                                    " \"thickness\": true, \"ao\": 0, \"facing\": [1, 0, 0],"
+                                    " \"head\": {\"radius\": 0.9, \"center\": [0, 0.1, 0]}}",
+                                    "dir/s.json", &s, err, sizeof err),
+                     HT_OK);
+    assert_string_equal(s.strands.file, "/abs/a.hair");
+    assert_true(s.strands.ribbon.scale == 0.5f && s.strands.ribbon.center[2] == 3 && s.strands.ribbon.width == 0.02f);
+    assert_true(s.strands.ribbon.tip_width == 1 && s.strands.ribbon.use_thickness && s.strands.ribbon.ao == 0);
+    assert_true(s.strands.ribbon.facing[0] == 1 && s.strands.head_radius == 0.9f);
+    assert_true(s.strands.ribbon.head_center[1] == 0.1f);
+
+    const struct {
+        const char *geometry, *field;
+    } bad[] = {
+        { "{\"type\": \"strands\"}", "geometry.file" },
+        { "{\"type\": \"strands\", \"file\": \"\"}", "geometry.file" },
+        { "{\"type\": \"strands\", \"file\": 3}", "geometry.file" },
+        { "{\"type\": \"strands\", \"file\": \"a.tfx\", \"scale\": 0}", "geometry.scale" },
+        { "{\"type\": \"strands\", \"file\": \"a.tfx\", \"center\": [1e8, 0, 0]}", "geometry.center" },
+        { "{\"type\": \"strands\", \"file\": \"a.tfx\", \"width\": 2}", "geometry.width" },
+        { "{\"type\": \"strands\", \"file\": \"a.tfx\", \"tip_width\": 1.5}", "geometry.tip_width" },
+        { "{\"type\": \"strands\", \"file\": \"a.tfx\", \"thickness\": 1}", "geometry.thickness" },
+        { "{\"type\": \"strands\", \"file\": \"a.tfx\", \"ao\": -1}", "geometry.ao" },
+        { "{\"type\": \"strands\", \"file\": \"a.tfx\", \"facing\": [2, 0, 0]}", "geometry.facing" },
+        { "{\"type\": \"strands\", \"file\": \"a.tfx\", \"head\": {\"radius\": -1}}", "geometry.head.radius" },
+        { "{\"type\": \"strands\", \"file\": \"a.tfx\", \"head\": {\"centre\": [0, 0, 0]}}",
+          "geometry.head.centre" },
+        { "{\"type\": \"strands\", \"file\": \"a.tfx\", \"hairs\": 10}", "geometry.hairs" },
+        { "{\"type\": \"strands\", \"file\": \"a.tfx\", \"layers\": 2}", "geometry.layers" },
+        { "{\"type\": \"furball\", \"file\": \"a.tfx\"}", "geometry.file" },
+        { "{\"type\": \"patches\", \"ao\": 1}", "geometry.ao" },
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        ht_result r = parse_geometry(bad[i].geometry, "s.json", &s, err, sizeof err);
+        if (r != HT_ERR_PARSE || !strstr(err, bad[i].field)) fail_msg("%s: got %d: %s", bad[i].geometry, (int)r, err);
+    }
+    /* A key of another type says which type it belongs to. */
+    assert_int_equal(parse_geometry("{\"type\": \"strands\", \"file\": \"a.tfx\", \"hairs\": 10}", "s.json", &s,
+                                    err, sizeof err),
+                     HT_ERR_PARSE);
+    assert_non_null(strstr(err, "belongs to \"type\": \"furball\""));
+    /* A path too long once resolved. */
+    char geometry[1400], scene_name[700];
+    memset(scene_name, 'd', 600);
+    strcpy(scene_name + 600, "/s.json");
+    char long_file[500];
+    memset(long_file, 'f', 450);
+    strcpy(long_file + 450, ".tfx");
+    snprintf(geometry, sizeof geometry, "{\"type\": \"strands\", \"file\": \"%s\"}", long_file);
+    char long_err[2048]; /* the scene's 600-byte name comes first */
+    assert_int_equal(parse_geometry(geometry, scene_name, &s, long_err, sizeof long_err), HT_ERR_PARSE);
+    assert_non_null(strstr(long_err, "geometry.file: path longer than 1023"));
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_ribbons_have_unit_tangents_root_to_tip_and_face_away_from_the_head),
@@ -309,6 +390,7 @@ int main(void) {
         cmocka_unit_test(test_ao_is_darker_under_hair_and_off_at_zero),
         cmocka_unit_test(test_components_are_sorted_inside_out_from_the_head_centre),
         cmocka_unit_test(test_thickness_gives_the_width_and_bad_descs_are_refused),
+        cmocka_unit_test(test_scene_strands_fields_are_read_and_checked),
         cmocka_unit_test(test_shipped_scene_builds_the_mohawk_and_a_head),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
