@@ -1,5 +1,5 @@
 # hairtier — `make` builds build/hairgen, build/hairview and build/libhairtier.a;
-# `make test` runs every test; `make demo` renders the default scenes to out/;
+# `make test` runs every test; `make demo` renders the shipped scenes to out/;
 # `make asan` runs the tests under AddressSanitizer + UBSan; `make bench`
 # writes bench/results.{csv,md,svg} and bench/scaling.svg;
 # `make fuzz` builds the libFuzzer targets (fuzz/, clang, ASan + UBSan) and
@@ -170,13 +170,13 @@ bench: all
 
 demo: all
 	@mkdir -p out
-	@for scene in furball patches; do \
+	@for scene in furball patches ratboy; do \
 	  echo "== $$scene: hairgen materials/dark-brown.json --scene scenes/$$scene.json -o out/$$scene-bundle"; \
 	  $(HAIRGEN) materials/dark-brown.json --scene scenes/$$scene.json -o out/$$scene-bundle || exit 1; \
 	  echo "== $$scene: hairview --bundle out/$$scene-bundle --scene scenes/$$scene.json -o out/$$scene.png"; \
 	  $(BUILD)/hairview --bundle out/$$scene-bundle --scene scenes/$$scene.json -o out/$$scene.png || exit 1; \
 	done
-	@echo "demo: wrote out/furball.png and out/patches.png (bundles in out/furball-bundle, out/patches-bundle)"
+	@echo "demo: wrote out/furball.png, out/patches.png and out/ratboy.png (bundles in out/SCENE-bundle)"
 
 # ---- install: make install PREFIX=/usr/local DESTDIR= ; make uninstall ----
 # The libraries, the public headers (hairtier.h; hairgen.h and the three it
@@ -229,11 +229,12 @@ fuzz-build: deps
 	  $(patsubst %,$(FUZZ_BUILD)/fuzz/%,$(FUZZ_TARGETS))
 
 # Seeds: the shipped materials and scenes, a generated bundle's manifest,
-# combiner program and PNGs; each target's corpus grows in $(FUZZ_BUILD)/corpus.
+# combiner program and PNGs, the small strand files of tests/data/strands; each target's corpus grows in $(FUZZ_BUILD)/corpus.
 fuzz-seeds: $(HAIRGEN)
 	@rm -rf $(FUZZ_BUILD)/seeds && mkdir -p $(FUZZ_BUILD)/seeds/fuzz_material $(FUZZ_BUILD)/seeds/fuzz_scene \
 	  $(FUZZ_BUILD)/seeds/fuzz_manifest $(FUZZ_BUILD)/seeds/fuzz_combiner $(FUZZ_BUILD)/seeds/fuzz_png \
-	  $(FUZZ_BUILD)/seeds/fuzz_json $(FUZZ_BUILD)/seeds/fuzz_fixed4 $(FUZZ_BUILD)/seeds/fuzz_gl11
+	  $(FUZZ_BUILD)/seeds/fuzz_json $(FUZZ_BUILD)/seeds/fuzz_fixed4 $(FUZZ_BUILD)/seeds/fuzz_gl11 \
+	  $(FUZZ_BUILD)/seeds/fuzz_strands_tfx $(FUZZ_BUILD)/seeds/fuzz_strands_hair
 	@$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json -o $(FUZZ_BUILD)/seed-bundle >/dev/null
 	@$(HAIRGEN) materials/kajiya-kay.json -o $(FUZZ_BUILD)/seed-bundle-kk >/dev/null
 	@cp materials/*.json $(FUZZ_BUILD)/seeds/fuzz_material/
@@ -249,6 +250,8 @@ fuzz-seeds: $(HAIRGEN)
 	@cp $(FUZZ_BUILD)/seed-bundle/detail.png $(FUZZ_BUILD)/seeds/fuzz_png/detail.png
 	@find tests/data -name '*.png' -size -64k -exec cp {} $(FUZZ_BUILD)/seeds/fuzz_png/ \; 2>/dev/null || true
 	@cp materials/*.json scenes/*.json $(FUZZ_BUILD)/seed-bundle/*.json $(FUZZ_BUILD)/seeds/fuzz_json/
+	@cp tests/data/strands/*.tfx $(FUZZ_BUILD)/seeds/fuzz_strands_tfx/
+	@cp tests/data/strands/*.hair $(FUZZ_BUILD)/seeds/fuzz_strands_hair/
 
 # Each target for FUZZ_SECONDS; its last lines (runs, coverage, any crash)
 # go to $(FUZZ_BUILD)/TARGET.log, a summary line per target to stdout.

@@ -230,30 +230,23 @@ static int run(const char *work) {
 
     int status = 1;
     ht_mesh mesh = { 0 }, head = { 0 };
-    ht_result built;
     if (scene.geometry == HT_GEOMETRY_FURBALL) {
         scene.furball.hairs = HAIRS;
         scene.furball.joints = 16;
-        built = ht_mesh_build_furball(&scene.furball, &mesh);
-    } else if (scene.geometry == HT_GEOMETRY_PATCHES) {
-        built = ht_mesh_build_patches(&scene.patches, &mesh, &head);
-    } else {
-        /* A geometry kind added to scene.h needs its mesh built here too. */
-        fprintf(stderr, "bench_frame: %s: geometry: a kind bench_frame does not build\n", SCENE);
+    }
+    if (ht_scene_build_meshes(&scene, SCENE, &mesh, &head, err, sizeof err) != HT_OK) {
+        fprintf(stderr, "bench_frame: %s\n", err);
         goto close_context;
     }
-    if (built != HT_OK) {
-        fprintf(stderr, "bench_frame: %s: cannot build the mesh: %s\n", SCENE, ht_result_string(built));
-        goto close_context;
-    }
-    ht_mesh_sort_inside_out(&mesh);
 
     if (scene.geometry == HT_GEOMETRY_FURBALL)
         printf("fur ball %d hairs x %d joints (%u triangles)", scene.furball.hairs, scene.furball.joints,
                mesh.index_count / 3);
-    else
+    else if (scene.geometry == HT_GEOMETRY_PATCHES)
         printf("%s: patches %d layers x %d strips x %d segments (%u triangles) on a head", SCENE,
                scene.patches.layers, scene.patches.strips, scene.patches.segments, mesh.index_count / 3);
+    else
+        printf("%s: strands (%u triangles)%s", SCENE, mesh.index_count / 3, head.index_count ? " on a head" : "");
     printf(", %dx%d, %s, median of %d frames\n", WIDTH, HEIGHT, (const char *)glGetString(GL_RENDERER), FRAMES);
     /* Best first, as the bundle lists them; a tier this build lacks is skipped. */
     const char *names[] = { "full", "vertex", "fixed4", "fixed", "gl11" };

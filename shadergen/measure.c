@@ -160,16 +160,15 @@ static void stop_tier(tier_run *t, const ht_scene *s) {
 }
 
 static ht_result measure_all(tier_run *runs, int count, int full, const char *dir, const ht_scene *s,
-                             const char *scene_label, ht_measure_result *out, char *err, size_t err_size) {
+                             const char *scene_file, const char *scene_label, ht_measure_result *out, char *err,
+                             size_t err_size) {
     ht_mesh hair = { 0 }, head = { 0 };
-    ht_result r = s->geometry == HT_GEOMETRY_PATCHES ? ht_mesh_build_patches(&s->patches, &hair, &head)
-                                                     : ht_mesh_build_furball(&s->furball, &hair);
+    char why[1024];
+    ht_result r = ht_scene_build_meshes(s, scene_file ? scene_file : scene_label, &hair, &head, why, sizeof why);
     if (r != HT_OK) {
-        ht_set_error(err, err_size, "measure: %s: geometry: cannot build the mesh: %s", scene_label,
-                     ht_result_string(r));
+        ht_set_error(err, err_size, "measure: %s", why);
         goto done;
     }
-    ht_mesh_sort_inside_out(&hair);
     for (int i = 0; i < count && r == HT_OK; i++) r = start_tier(&runs[i], dir, s, &hair, err, err_size);
 
     ht_frame_desc frame = { .camera = s->camera, .lights = s->lights, .light_count = s->light_count,
@@ -205,8 +204,8 @@ done:
     return r;
 }
 
-ht_result ht_measure_bundle(const char *dir, const ht_scene *scene, const char *scene_label,
-                            ht_measure_result *out, char *err, size_t err_size) {
+ht_result ht_measure_bundle(const char *dir, const ht_scene *scene, const char *scene_file,
+                            const char *scene_label, ht_measure_result *out, char *err, size_t err_size) {
     if (!dir || !scene || !scene_label || !out)
         return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: bundle, scene, label and output are required");
     memset(out, 0, sizeof *out);
@@ -233,7 +232,7 @@ ht_result ht_measure_bundle(const char *dir, const ht_scene *scene, const char *
         r = ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: %s/%s: tiers: no full tier to measure against",
                     dir, HT_MANIFEST_FILE);
     if (r == HT_OK)
-        r = measure_all(runs, count, full, dir, scene, scene_label, out, err, err_size);
+        r = measure_all(runs, count, full, dir, scene, scene_file, scene_label, out, err, err_size);
     for (int i = 0; i < count; i++) stop_tier(&runs[i], scene);
     free(runs);
     free(bundle);
@@ -417,7 +416,7 @@ ht_result ht_measure_step(void *user, const char *dir, const ht_scene *scene, ch
                        job->out_dir ? job->out_dir : dir, strlen(dir), HT_LIMIT_DIR_PATH);
     char label[64];
     ht_measure_scene_label(job->scene_path, label);
-    ht_result r = ht_measure_bundle(dir, scene, label, &job->result, err, err_size);
+    ht_result r = ht_measure_bundle(dir, scene, job->scene_path, label, &job->result, err, err_size);
     if (r == HT_OK) r = ht_measure_write_manifest(dir, &job->result, err, err_size);
     /* The temporary directory is removed on failure: name the bundle. */
     if (r != HT_OK && job->out_dir) replace_all(err, err_size, dir, job->out_dir);

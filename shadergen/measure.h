@@ -52,9 +52,10 @@ void ht_measure_scene_label(const char *scene_path, char out[64]);
 /* Renders `scene` with every tier of the bundle in dir and measures each
    against full. Fails when the bundle has no full tier, when any tier
    cannot run on this driver (forced, strict: the line says why) or when a
-   number is not finite or out of the manifest's range. */
-ht_result ht_measure_bundle(const char *dir, const ht_scene *scene, const char *scene_label,
-                            ht_measure_result *out, char *err, size_t err_size);
+   number is not finite or out of the manifest's range. scene_file (NULL
+   for the built-in scene) is where a strands scene's file is resolved. */
+ht_result ht_measure_bundle(const char *dir, const ht_scene *scene, const char *scene_file,
+                            const char *scene_label, ht_measure_result *out, char *err, size_t err_size);
 
 /* Adds each tier's `measured` object to dir/manifest.json (a temporary
    file renamed over it), then reads the manifest back with the runtime's

@@ -11,15 +11,9 @@ ht_result tier_scene_load(const char *path, tier_scene *out, char *err, size_t e
     memset(out, 0, sizeof *out);
     ht_result r = ht_scene_load(path, &out->scene, err, err_size);
     if (r != HT_OK) return r;
-    r = out->scene.geometry == HT_GEOMETRY_PATCHES ? ht_mesh_build_patches(&out->scene.patches, &out->hair, &out->head)
-                                                   : ht_mesh_build_furball(&out->scene.furball, &out->hair);
-    if (r != HT_OK) {
-        snprintf(err, err_size, "%s: geometry: cannot build the mesh: %s", path, ht_result_string(r));
-        tier_scene_free(out);
-        return r;
-    }
-    ht_mesh_sort_inside_out(&out->hair);
-    return HT_OK;
+    r = ht_scene_build_meshes(&out->scene, path, &out->hair, &out->head, err, err_size);
+    if (r != HT_OK) tier_scene_free(out);
+    return r;
 }
 
 void tier_scene_free(tier_scene *s) {
