@@ -179,14 +179,15 @@ demo: all
 	@echo "demo: wrote out/furball.png, out/patches.png and out/ratboy.png (bundles in out/SCENE-bundle)"
 
 # ---- install: make install PREFIX=/usr/local DESTDIR= ; make uninstall ----
-# The libraries, the public headers (hairtier.h; hairgen.h and the three it
-# includes, which include nothing else of ours) under include/hairtier/, the
+# The libraries, the public headers (hairtier.h; hairgen.h and the headers
+# it includes, which include nothing else of ours) under include/hairtier/, the
 # two programs and a pkg-config file per library. tests/install_test.sh
 # installs into a temporary prefix and builds against it with pkg-config only.
 PREFIX  ?= /usr/local
 DESTDIR ?=
 VERSION := 0.1
-PUBLIC_HEADERS := runtime/hairtier.h shadergen/hairgen.h runtime/model.h runtime/scene.h runtime/image.h
+PUBLIC_HEADERS := runtime/hairtier.h shadergen/hairgen.h runtime/model.h runtime/scene.h runtime/image.h \
+                  runtime/strands.h runtime/ht_limits.h
 INSTALL_BIN := $(DESTDIR)$(PREFIX)/bin
 INSTALL_LIB := $(DESTDIR)$(PREFIX)/lib
 INSTALL_INC := $(DESTDIR)$(PREFIX)/include/hairtier
