@@ -12,7 +12,7 @@ OPT     ?= -O2 -g
 SAN     ?=
 WERROR  ?= -Werror
 
-DEB_PACKAGES := libosmesa6-dev glslang-dev glslang-tools libcjson-dev libpng-dev \
+DEB_PACKAGES := libosmesa6-dev libegl-dev libegl-mesa0 glslang-dev glslang-tools libcjson-dev libpng-dev \
                 libcmocka-dev pkg-config
 
 CPPFLAGS += -Iruntime -Ishadergen -Ifallback -I/usr/include/cjson -I/usr/include/libpng16
@@ -21,14 +21,19 @@ LDFLAGS  += $(SAN)
 # glslang's static libraries are C++; its pkg-config file is read lazily,
 # after the packages are installed.
 GLSLANG_LIBS = $(shell pkg-config --libs glslang) -lglslang-default-resource-limits -lstdc++
-RUNTIME_LIBS = -lOSMesa -lcjson -lpng16 -lz -lpthread -lm
+CORE_LIBS    = -lcjson -lpng16 -lz -lpthread -lm
+RUNTIME_LIBS = -lOSMesa $(CORE_LIBS)
+# The offscreen context module (examples/offscreen.h): EGL linked, OSMesa
+# loaded with dlopen, so its programs start where there is no OSMesa.
+OFFSCREEN_LIBS = -lEGL -ldl
 LDLIBS   = $(GLSLANG_LIBS) $(RUNTIME_LIBS)
 
 RUNTIME_SRC := $(wildcard runtime/*.c fallback/*.c)
 GEN_SRC     := $(filter-out shadergen/hairgen.c,$(wildcard shadergen/*.c))
 TEST_SRC    := $(wildcard tests/test_*.c)
 TEST_SUPPORT_SRC := $(wildcard tests/support_*.c)
-EXAMPLE_SRC := $(wildcard examples/*.c)
+OFFSCREEN_SRC := examples/offscreen.c examples/offscreen_osmesa.c examples/offscreen_egl.c
+EXAMPLE_SRC := $(filter-out $(OFFSCREEN_SRC),$(wildcard examples/*.c))
 
 obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 
@@ -36,6 +41,11 @@ LIB       := $(BUILD)/libhairtier.a
 GENLIB    := $(BUILD)/libhairgen.a
 HAIRGEN   := $(BUILD)/hairgen
 PROGRAMS  := $(patsubst examples/%.c,$(BUILD)/%,$(EXAMPLE_SRC))
+OFFSCREEN_OBJ := $(call obj,$(OFFSCREEN_SRC))
+# The programs that draw (they include offscreen.h) link the context module
+# instead of libOSMesa; hairview has its own rule (no generator).
+OFFSCREEN_PROGRAMS := $(filter-out $(BUILD)/hairview,$(patsubst examples/%.c,$(BUILD)/%,\
+                        $(shell grep -l '"offscreen.h"' $(EXAMPLE_SRC))))
 TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 # Tests that render and so run a second time on softpipe (GALLIUM_DRIVER=
 # softpipe), Mesa's second driver; every test runs on llvmpipe.
@@ -92,15 +102,21 @@ $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 # hairview draws a bundle: the runtime only, no generator, no glslang.
-$(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(LIB)
-	$(CC) $(LDFLAGS) $^ $(RUNTIME_LIBS) -o $@
+$(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(OFFSCREEN_OBJ) $(LIB)
+	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) $(OFFSCREEN_LIBS) -o $@
+
+$(OFFSCREEN_PROGRAMS): $(BUILD)/%: $(BUILD)/obj/examples/%.o $(OFFSCREEN_OBJ) $(GENLIB) $(LIB)
+	$(CC) $(LDFLAGS) $^ $(GLSLANG_LIBS) $(CORE_LIBS) $(OFFSCREEN_LIBS) -o $@
 
 $(BUILD)/%: $(BUILD)/obj/examples/%.o $(GENLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
-$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(GENLIB) $(LIB)
+# Tests make their contexts with the programs' module (tests/support_osmesa.c).
+$(BUILD)/obj/tests/%.o: CPPFLAGS += -Iexamples
+
+$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(OFFSCREEN_OBJ) $(GENLIB) $(LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcmocka -o $@
+	$(CC) $(LDFLAGS) $^ $(LDLIBS) $(OFFSCREEN_LIBS) -lcmocka -o $@
 
 # Every test binary runs from the repository root, on llvmpipe; those in
 # SOFTPIPE_TESTS run again on softpipe.

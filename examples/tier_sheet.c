@@ -1,7 +1,8 @@
 /* tier_sheet — the technical artist's contact sheet: one scene rendered with
    every tier of a bundle side by side, each with its error against `full`.
 
-   build/tier_sheet --bundle DIR --scene SCENE.json [--frames N] -o SHEET.png
+   build/tier_sheet --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl]
+                    [--egl-device N] -o SHEET.png
 
    Panels, left to right: full, vertex, fixed4, fixed, gl11. Top row: the tier's image
    (forced tier, strict: no silent downgrade; a tier the device cannot run
@@ -14,6 +15,8 @@
    warm-up, each ended by glFinish), mean and max error vs full in /255. The
    mean is over the pixels hair or head covers in either image (pixels that
    differ from the background), so an empty border does not dilute it.
+   --context and --egl-device pick the GL context as hairview's do
+   (examples/offscreen.h); each tier gets a fresh one.
    Exit status 0 when the sheet is written (some tiers may not have run),
    1 when no tier ran or on any other failure (one line on stderr, no
    sheet), 2 on usage. */
@@ -39,6 +42,8 @@ static const ht_tier columns[TIERS] = { HT_TIER_FULL, HT_TIER_VERTEX, HT_TIER_FI
 typedef struct options {
     const char *bundle, *scene, *out;
     int frames;
+    offscreen_kind context;
+    int egl_device;       /* -1: the default display */
 } options;
 
 typedef struct panel {
@@ -142,12 +147,13 @@ static void log_line(void *user, const char *line) {
     snprintf(last_log, sizeof last_log, "%s", strncmp(line, prefix, strlen(prefix)) == 0 ? line + strlen(prefix) : line);
 }
 
-static void draw_frame(const ht_scene *s, ht_renderer *r, const ht_frame_desc *f, ht_result *res) {
-    glClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+static void draw_frame(const offscreen *gl, const ht_scene *s, ht_renderer *r, const ht_frame_desc *f,
+                       ht_result *res) {
+    gl->gl.ClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
+    gl->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     ht_result fr = ht_renderer_draw(r, f);
     if (fr != HT_OK && *res == HT_OK) *res = fr;
-    glFinish();
+    gl->gl.Finish();
 }
 
 /* A fresh context per tier: no GL state leaks from one tier into the next. */
@@ -155,10 +161,11 @@ static void render_tier(const options *o, const ht_scene *s, const ht_mesh *hair
                         ht_tier tier, panel *p) {
     ht_renderer *r = NULL;
     double *times = NULL;
-    p->rgba = malloc((size_t)s->width * (size_t)s->height * 4);
-    OSMesaContext ctx = offscreen_create(p->rgba, s->width, s->height);
-    if (!ctx) {
-        snprintf(p->reason, sizeof p->reason, "cannot create a %dx%d OSMesa context", s->width, s->height);
+    char err[512];
+    offscreen *gl = offscreen_open(&(offscreen_desc){ .kind = o->context, .width = s->width, .height = s->height,
+                                                      .egl_device = o->egl_device }, err, sizeof err);
+    if (!gl) {
+        snprintf(p->reason, sizeof p->reason, "%s", err);
         goto done;
     }
     last_log[0] = '\0';
@@ -182,23 +189,29 @@ static void render_tier(const options *o, const ht_scene *s, const ht_mesh *hair
         goto done;
     }
     last_log[0] = '\0';
-    draw_frame(s, r, &frame, &res); /* warm-up: shader variants, texture uploads */
+    draw_frame(gl, s, r, &frame, &res); /* warm-up: shader variants, texture uploads */
     for (int i = 0; i < o->frames; i++) {
         double t0 = now_ms();
-        draw_frame(s, r, &frame, &res);
+        draw_frame(gl, s, r, &frame, &res);
         times[i] = now_ms() - t0;
     }
     if (res != HT_OK) {
         snprintf(p->reason, sizeof p->reason, "%s", last_log[0] ? last_log : ht_result_string(res));
         goto done;
     }
+    size_t bytes = (size_t)s->width * (size_t)s->height * 4;
+    if (!(p->rgba = malloc(bytes))) {
+        snprintf(p->reason, sizeof p->reason, "out of memory");
+        goto done;
+    }
+    memcpy(p->rgba, offscreen_read(gl), bytes);
     p->frame_ms = median(times, o->frames);
     snprintf(p->reason, sizeof p->reason, "%s", ht_renderer_reason(r));
     p->ran = true;
 done:
     free(times);
     ht_renderer_destroy(r);
-    if (ctx) OSMesaDestroyContext(ctx);
+    offscreen_close(gl);
 }
 
 /* ---- comparing and composing ---- */
@@ -307,13 +320,16 @@ static void print_table(const panel *panels) {
 
 static void print_help(FILE *f) {
     fprintf(f,
-            "usage: tier_sheet --bundle DIR --scene SCENE.json [--frames N] -o SHEET.png\n"
+            "usage: tier_sheet --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl] [--egl-device N]\n"
+            "                  -o SHEET.png\n"
             "Renders SCENE with every tier of the bundle (forced, strict) side by side.\n"
             "Panels left to right: full, vertex, fixed4, fixed, gl11. Top row: the tier's image, or a grey\n"
             "panel with the reason it cannot run here. Bottom row: per-pixel max channel\n"
             "difference from full (black 0, then red, yellow, white at %d/255 and above).\n"
             "Prints tier, frame ms (median of N frames, default 5, each ended by glFinish),\n"
-            "mean error (over pixels covered in either image) and max error, in /255.\n",
+            "mean error (over pixels covered in either image) and max error, in /255.\n"
+            "--context: how the GL context is made (default HAIRTIER_CONTEXT, else osmesa where\n"
+            "libOSMesa loads, else egl); --egl-device N: EGL device N (EGL_EXT_platform_device).\n",
             HEAT_FULL);
 }
 
@@ -324,7 +340,7 @@ static int usage(const char *why) {
 }
 
 static int parse_args(int argc, char **argv, options *o) {
-    *o = (options){ .frames = 5 };
+    *o = (options){ .frames = 5, .egl_device = -1 };
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         bool has_value = i + 1 < argc;
@@ -339,6 +355,13 @@ static int parse_args(int argc, char **argv, options *o) {
             long n = strtol(argv[++i], &end, 10);
             if (*end || n < 1 || n > MAX_FRAMES) return usage("--frames: expected an integer in 1..1000");
             o->frames = (int)n;
+        } else if (strcmp(a, "--context") == 0 && has_value) {
+            if (!offscreen_kind_parse(argv[++i], &o->context)) return usage("--context: expected osmesa or egl");
+        } else if (strcmp(a, "--egl-device") == 0 && has_value) {
+            char *end;
+            long n = strtol(argv[++i], &end, 10);
+            if (*end || end == argv[i] || n < 0 || n > 255) return usage("--egl-device: expected an integer in 0..255");
+            o->egl_device = (int)n;
         } else {
             char why[300];
             snprintf(why, sizeof why, "%s: unknown option or missing value", a);
@@ -348,6 +371,8 @@ static int parse_args(int argc, char **argv, options *o) {
     if (!o->bundle) return usage("--bundle: required");
     if (!o->scene) return usage("--scene: required");
     if (!o->out) return usage("-o: required");
+    if (o->egl_device >= 0 && o->context == OFFSCREEN_OSMESA) return usage("--egl-device: needs --context egl");
+    if (o->egl_device >= 0) o->context = OFFSCREEN_EGL;
     return 0;
 }
 
