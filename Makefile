@@ -52,6 +52,12 @@ TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 SOFTPIPE_TESTS := test_render_app_state test_render_fixed test_render_fixed4 test_render_gl11 test_render_glsl_compile \
                   test_render_passes test_render_probe test_render_robustness test_render_scenes
 $(foreach t,$(filter-out $(notdir $(TESTS)),$(SOFTPIPE_TESTS)),$(error SOFTPIPE_TESTS: no tests/$(t).c))
+# Render tests that run once more on llvmpipe through EGL (a pbuffer on
+# Mesa's surfaceless platform) instead of OSMesa: HAIRTIER_CONTEXT=egl
+# (tests/support_osmesa.h). A representative set, about 20 s: both GLSL
+# tiers and the profiles (passes), the oracle probe, fixed4 and gl11.
+EGL_TESTS := test_render_passes test_render_probe test_render_fixed4 test_render_gl11
+$(foreach t,$(filter-out $(notdir $(TESTS)),$(EGL_TESTS)),$(error EGL_TESTS: no tests/$(t).c))
 DEPS_STAMP := $(BUILD)/.deps-installed
 
 .PHONY: all deps test asan bench demo clean fuzz fuzz-build fuzz-seeds fuzz-smoke check-valgrind
@@ -118,16 +124,20 @@ $(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(OFFSC
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) $(OFFSCREEN_LIBS) -lcmocka -o $@
 
-# Every test binary runs from the repository root, on llvmpipe; those in
-# SOFTPIPE_TESTS run again on softpipe.
+# Every test binary runs from the repository root, on llvmpipe through
+# OSMesa; those in SOFTPIPE_TESTS run again on softpipe, those in EGL_TESTS
+# again on llvmpipe through EGL.
 test: all $(TESTS)
 	@pass=0; fail=0; failed=""; \
 	for t in $(TESTS); do \
-	  for driver in llvmpipe softpipe; do \
-	    case " $(SOFTPIPE_TESTS) " in *" $$(basename $$t) "*) ;; *) [ $$driver = softpipe ] && continue;; esac; \
-	    echo "== $$t ($$driver)"; \
-	    if GALLIUM_DRIVER=$$driver HAIRTIER_BUILD=$(BUILD) $$t; then pass=$$((pass+1)); \
-	    else fail=$$((fail+1)); failed="$$failed $$t($$driver)"; fi; \
+	  for run in llvmpipe softpipe egl; do \
+	    case $$run in softpipe) list="$(SOFTPIPE_TESTS)";; egl) list="$(EGL_TESTS)";; *) list=$$(basename $$t);; esac; \
+	    case " $$list " in *" $$(basename $$t) "*) ;; *) continue;; esac; \
+	    driver=$$run; context=osmesa; [ $$run = egl ] && driver=llvmpipe context=egl; \
+	    echo "== $$t ($$driver, $$context)"; \
+	    if GALLIUM_DRIVER=$$driver HAIRTIER_CONTEXT=$$context EGL_PLATFORM=surfaceless HAIRTIER_BUILD=$(BUILD) $$t; \
+	    then pass=$$((pass+1)); \
+	    else fail=$$((fail+1)); failed="$$failed $$t($$driver,$$context)"; fi; \
 	  done; \
 	done; \
 	echo; [ -z "$$failed" ] || echo "failed:$$failed"; \

@@ -25,6 +25,9 @@ bool ht_test_gl_create(ht_test_gl *out, int width, int height, const char *gl_ve
                             .height = height, .egl_device = -1 };
     out->context = offscreen_open(&desc, err, err_size);
     if (!out->context) return false;
+    static bool said;   /* which context this process draws on, once (make test runs some on both) */
+    if (!said) fprintf(stderr, "context: %s\n", out->context->display);
+    said = true;
     out->width = width;
     out->height = height;
     return true;
