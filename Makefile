@@ -111,6 +111,11 @@ $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
 $(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(OFFSCREEN_OBJ) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) $(OFFSCREEN_LIBS) -o $@
 
+# png_metrics compares two PNGs: the runtime's metrics, no GL (it runs on a
+# device machine beside hairview).
+$(BUILD)/png_metrics: $(BUILD)/obj/examples/png_metrics.o $(LIB)
+	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) -o $@
+
 $(OFFSCREEN_PROGRAMS): $(BUILD)/%: $(BUILD)/obj/examples/%.o $(OFFSCREEN_OBJ) $(GENLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(GLSLANG_LIBS) $(CORE_LIBS) $(OFFSCREEN_LIBS) -o $@
 
