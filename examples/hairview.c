@@ -135,6 +135,7 @@ static int run(const options *o, view *v) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
+    fprintf(stderr, "hairview: context %s\n", v->gl->display);
 
     ht_result r = scene.geometry == HT_GEOMETRY_PATCHES
                       ? ht_mesh_build_patches(&scene.patches, &v->hair, &v->head)
