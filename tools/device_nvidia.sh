@@ -175,6 +175,7 @@ case "${1:-}" in
         [ "$what" = images ] || bench
         cat "$WORK"/images.md "$WORK"/bench.md >"$OUT/summary.md" 2>/dev/null || true
         for f in "$DEV"/ref/*.png; do cp "$f" "$WORK/$(basename "$f" .png)-llvmpipe.png"; done
+        rm -f "$WORK/probe.png"
         (cd "$WORK" && find . -name '*.png' | sort | tar -czf "../images.tar.gz" -T -)
         rm -rf "$WORK"
         echo "device_nvidia: wrote $OUT/summary.md, $OUT/run.log, $OUT/images.tar.gz"
