@@ -15,19 +15,17 @@
 
 #define MAX_DEVICES 16
 
+/* A display stays initialised for the life of the process (no
+   eglTerminate): terminating unloads Mesa's driver, whose per-thread
+   allocations then live on with no library to name them (leak checkers
+   can no longer tell them from ours, tests/lsan.supp), and the next context
+   would load the driver again. eglInitialize on an initialised display is
+   a no-op. */
 typedef struct egl_state {
     EGLDisplay display;
     EGLSurface surface;
     EGLContext context;
 } egl_state;
-
-/* Contexts open per display: the display is terminated when its last one
-   closes (eglInitialize does not count, eglTerminate would end them all). */
-typedef struct display_users {
-    EGLDisplay display;
-    int users;
-} display_users;
-static display_users displays[4];
 
 static const char *egl_error_name(EGLint e) {
     switch (e) {
@@ -127,22 +125,6 @@ static EGLDisplay any_display(char *how, size_t how_size, char *err, size_t err_
     return EGL_NO_DISPLAY;
 }
 
-static void display_use(EGLDisplay d, int delta) {
-    int free_slot = -1;
-    for (int i = 0; i < (int)(sizeof displays / sizeof displays[0]); i++) {
-        if (displays[i].users > 0 && displays[i].display == d) {
-            if ((displays[i].users += delta) == 0) {
-                eglTerminate(d);
-                eglReleaseThread();
-            }
-            return;
-        }
-        if (displays[i].users == 0 && free_slot < 0) free_slot = i;
-    }
-    if (delta > 0 && free_slot >= 0) displays[free_slot] = (display_users){ d, delta };
-    /* More than four displays at once: that one is simply never terminated. */
-}
-
 /* Exactly RGBA8, depth 24 (else the least above), no multisampling:
    eglChooseConfig sorts deeper colour first, so pick by hand. */
 static bool choose_config(EGLDisplay d, EGLConfig *out) {
@@ -187,7 +169,6 @@ static bool egl_open(offscreen *o, int egl_device, char *err, size_t err_size) {
         free(s);
         return false;
     }
-    display_use(s->display, +1);
     EGLConfig config;
     const char *failed = NULL;
     if (!eglBindAPI(EGL_OPENGL_API)) failed = "eglBindAPI(EGL_OPENGL_API)";
@@ -219,7 +200,6 @@ static void egl_close(offscreen *o) {
     eglMakeCurrent(s->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (s->context != EGL_NO_CONTEXT) eglDestroyContext(s->display, s->context);
     if (s->surface != EGL_NO_SURFACE) eglDestroySurface(s->display, s->surface);
-    display_use(s->display, -1);
     free(s);
     o->backend = NULL;
 }
