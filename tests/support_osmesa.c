@@ -8,12 +8,6 @@
 
 void *ht_test_getproc(const char *name) { return offscreen_getproc(name); }
 
-const char *ht_test_gl_kind(void) {
-    const char *env = getenv("HAIRTIER_CONTEXT");
-    offscreen_kind kind;
-    return env && offscreen_kind_parse(env, &kind) ? offscreen_kind_name(kind) : "osmesa";
-}
-
 bool ht_test_gl_create(ht_test_gl *out, int width, int height, const char *gl_version,
                        char *err, size_t err_size) {
     memset(out, 0, sizeof *out);

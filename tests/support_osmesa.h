@@ -42,7 +42,5 @@ void ht_test_gl_destroy(ht_test_gl *gl);
 void *ht_test_getproc(const char *name);
 /* glFinish, then the colour buffer as an RGBA image, rows top to bottom. */
 ht_result ht_test_gl_read(const ht_test_gl *gl, ht_image *out);
-/* "osmesa" or "egl": what ht_test_gl_create makes in this process. */
-const char *ht_test_gl_kind(void);
 
 #endif
