@@ -1,9 +1,11 @@
 # hairtier — `make` builds build/hairgen, build/hairview and build/libhairtier.a;
-# `make test` runs every test; `make demo` renders the default scenes to out/;
-# `make asan` runs the tests under AddressSanitizer + UBSan; `make bench`;
+# `make test` runs every test; `make demo` renders the shipped scenes to out/;
+# `make asan` runs the tests under AddressSanitizer + UBSan; `make bench`
+# writes bench/results.{csv,md,svg} and bench/scaling.svg;
 # `make fuzz` builds the libFuzzer targets (fuzz/, clang, ASan + UBSan) and
 # runs each for FUZZ_SECONDS (60); `make fuzz-smoke` runs each for 5 s (CI);
-# `make check-valgrind` runs make demo's programs under memcheck.
+# `make check-valgrind` runs make demo's programs under memcheck;
+# `make report-check` opens haircompare's report in headless Chromium.
 # Missing Debian packages are installed first (apt-get, as root).
 
 CC      ?= cc
@@ -12,8 +14,9 @@ OPT     ?= -O2 -g
 SAN     ?=
 WERROR  ?= -Werror
 
+# g++: the bundle header's C++ compile check (tests/data/header_use.c).
 DEB_PACKAGES := libosmesa6-dev libegl-dev libegl-mesa0 glslang-dev glslang-tools libcjson-dev libpng-dev \
-                libcmocka-dev pkg-config
+                libcmocka-dev pkg-config g++
 
 CPPFLAGS += -Iruntime -Ishadergen -Ifallback -I/usr/include/cjson -I/usr/include/libpng16
 CFLAGS   += -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra $(WERROR) $(OPT) $(SAN) -MMD -MP
@@ -34,18 +37,19 @@ TEST_SRC    := $(wildcard tests/test_*.c)
 TEST_SUPPORT_SRC := $(wildcard tests/support_*.c)
 OFFSCREEN_SRC := examples/offscreen.c examples/offscreen_osmesa.c examples/offscreen_egl.c
 EXAMPLE_SRC := $(filter-out $(OFFSCREEN_SRC),$(wildcard examples/*.c))
+# What the example programs share (tier rendering, the report's pieces in
+# examples/compare/; the benchmarks' results files, plots and progress in
+# examples/bench/; the offscreen context module): one archive they and the
+# tests link.
+EXAMPLE_LIB_SRC := $(wildcard examples/compare/*.c examples/bench/*.c) $(OFFSCREEN_SRC)
 
 obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 
 LIB       := $(BUILD)/libhairtier.a
 GENLIB    := $(BUILD)/libhairgen.a
+EXLIB     := $(BUILD)/libexamples.a
 HAIRGEN   := $(BUILD)/hairgen
 PROGRAMS  := $(patsubst examples/%.c,$(BUILD)/%,$(EXAMPLE_SRC))
-OFFSCREEN_OBJ := $(call obj,$(OFFSCREEN_SRC))
-# The programs that draw (they include offscreen.h) link the context module
-# instead of libOSMesa; hairview has its own rule (no generator).
-OFFSCREEN_PROGRAMS := $(filter-out $(BUILD)/hairview,$(patsubst examples/%.c,$(BUILD)/%,\
-                        $(shell grep -l '"offscreen.h"' $(EXAMPLE_SRC))))
 TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 # Tests that render and so run a second time on softpipe (GALLIUM_DRIVER=
 # softpipe), Mesa's second driver; every test runs on llvmpipe.
@@ -60,7 +64,7 @@ EGL_TESTS := test_render_passes test_render_probe test_render_fixed4 test_render
 $(foreach t,$(filter-out $(notdir $(TESTS)),$(EGL_TESTS)),$(error EGL_TESTS: no tests/$(t).c))
 DEPS_STAMP := $(BUILD)/.deps-installed
 
-.PHONY: all deps test asan bench demo clean fuzz fuzz-build fuzz-seeds fuzz-smoke check-valgrind
+.PHONY: all deps test asan bench demo clean fuzz fuzz-build fuzz-seeds fuzz-smoke check-valgrind install uninstall report-check
 # Keep objects that pattern rules build on the way (tests, examples).
 .SECONDARY:
 .DEFAULT_GOAL := all
@@ -104,11 +108,15 @@ $(GENLIB): $(call obj,$(GEN_SRC))
 	@rm -f $@
 	ar rcs $@ $^
 
+$(EXLIB): $(call obj,$(EXAMPLE_LIB_SRC))
+	@rm -f $@
+	ar rcs $@ $^
+
 $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 # hairview draws a bundle: the runtime only, no generator, no glslang.
-$(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(OFFSCREEN_OBJ) $(LIB)
+$(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(EXLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) $(OFFSCREEN_LIBS) -o $@
 
 # png_metrics compares two PNGs: the runtime's metrics, no GL (it runs on a
@@ -116,22 +124,42 @@ $(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(OFFSCREEN_OBJ) $(LIB)
 $(BUILD)/png_metrics: $(BUILD)/obj/examples/png_metrics.o $(LIB)
 	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) -o $@
 
-$(OFFSCREEN_PROGRAMS): $(BUILD)/%: $(BUILD)/obj/examples/%.o $(OFFSCREEN_OBJ) $(GENLIB) $(LIB)
-	$(CC) $(LDFLAGS) $^ $(GLSLANG_LIBS) $(CORE_LIBS) $(OFFSCREEN_LIBS) -o $@
+# The programs that draw get the context module from EXLIB: OSMesa by
+# dlopen, EGL linked; libOSMesa stays off their NEEDED list (--as-needed,
+# GCC's default here), so they start where there is no OSMesa.
+$(BUILD)/%: $(BUILD)/obj/examples/%.o $(EXLIB) $(GENLIB) $(LIB)
+	$(CC) $(LDFLAGS) $^ $(LDLIBS) $(OFFSCREEN_LIBS) -o $@
 
-$(BUILD)/%: $(BUILD)/obj/examples/%.o $(GENLIB) $(LIB)
-	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
-
-# Tests make their contexts with the programs' module (tests/support_osmesa.c).
+# The benchmarks' modules are tested like the library's (tests/test_bench_*.c);
+# tests make their contexts with the programs' module (tests/support_osmesa.c).
 $(BUILD)/obj/tests/%.o: CPPFLAGS += -Iexamples
+$(BUILD)/obj/tests/test_bench%.o: CPPFLAGS += -Iexamples/bench
 
-$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(OFFSCREEN_OBJ) $(GENLIB) $(LIB)
+$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(EXLIB) $(GENLIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) $(OFFSCREEN_LIBS) -lcmocka -o $@
 
+# The bundle as one C header (hairgen --emit-header) of the render tests'
+# fixture (dark-brown x furball), compiled into test_render_bundle_memory and
+# checked to build warning-free as C99 and as C++ (tests/data/header_use.c).
+GEN_HEADER := $(BUILD)/gen/dark_brown_furball.h
+$(GEN_HEADER): $(HAIRGEN) materials/dark-brown.json scenes/furball.json
+	@mkdir -p $(dir $@)
+	$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json --emit-header $@ \
+	  --header-symbol dark_brown_furball >/dev/null
+$(BUILD)/gen/header_use_c99.o: tests/data/header_use.c $(GEN_HEADER)
+	$(CC) -std=c99 -Wall -Wextra -pedantic -Werror -Iruntime -I$(BUILD)/gen -c $< -o $@
+$(BUILD)/gen/header_use_cxx.o: tests/data/header_use.c $(GEN_HEADER)
+	$(CXX) -x c++ -Wall -Wextra -pedantic -Werror -Iruntime -I$(BUILD)/gen -c $< -o $@
+$(BUILD)/obj/tests/test_render_bundle_memory.o: CPPFLAGS += -I$(BUILD)/gen
+$(BUILD)/obj/tests/test_render_bundle_memory.o: $(GEN_HEADER) $(BUILD)/gen/header_use_c99.o \
+                                                $(BUILD)/gen/header_use_cxx.o
+
 # Every test binary runs from the repository root, on llvmpipe through
 # OSMesa; those in SOFTPIPE_TESTS run again on softpipe, those in EGL_TESTS
-# again on llvmpipe through EGL.
+# again on llvmpipe through EGL. Then the test scripts (make install into a
+# temporary prefix and programs built against it).
+TEST_SCRIPTS := tests/install_test.sh
 test: all $(TESTS)
 	@pass=0; fail=0; failed=""; \
 	for t in $(TESTS); do \
@@ -145,6 +173,11 @@ test: all $(TESTS)
 	    else fail=$$((fail+1)); failed="$$failed $$t($$driver,$$context)"; fi; \
 	  done; \
 	done; \
+	for s in $(TEST_SCRIPTS); do \
+	  echo "== $$s"; \
+	  if BUILD=$(BUILD) CC="$(CC)" SAN="$(SAN)" sh $$s; then pass=$$((pass+1)); \
+	  else fail=$$((fail+1)); failed="$$failed $$s"; fi; \
+	done; \
 	echo; [ -z "$$failed" ] || echo "failed:$$failed"; \
 	echo "binaries: $$pass passed, $$fail failed"; \
 	[ $$fail -eq 0 ]
@@ -154,22 +187,54 @@ asan:
 	$(MAKE) BUILD=build-asan OPT="-O1 -g -fno-omit-frame-pointer" \
 	  SAN="-fsanitize=address,undefined -fno-sanitize-recover=undefined" test
 
-# Every benchmark on llvmpipe, then the frame benchmark again on softpipe
-# (an interpreter: a stand-in for a slow fragment unit), smaller so it ends.
+# Every benchmark through build/bench_suite: the generator and mesh figures,
+# the frame benchmark per scene on llvmpipe and on softpipe (an interpreter:
+# a stand-in for a slow fragment unit, smaller so it ends), the fur-ball
+# scaling series; then bench/results.csv, results.md, results.svg, scaling.svg.
 bench: all
-	@for b in $(filter $(BUILD)/bench_%,$(PROGRAMS)); do echo "== $$b (llvmpipe)"; $$b || exit 1; done
-	@echo "== $(BUILD)/bench_frame --hairs 2000 --size 256 --frames 3 (softpipe)"
-	@GALLIUM_DRIVER=softpipe $(BUILD)/bench_frame --hairs 2000 --size 256 --frames 3
+	@$(BUILD)/bench_suite -o bench
 
 demo: all
 	@mkdir -p out
-	@for scene in furball patches; do \
+	@for scene in furball patches ratboy; do \
 	  echo "== $$scene: hairgen materials/dark-brown.json --scene scenes/$$scene.json -o out/$$scene-bundle"; \
 	  $(HAIRGEN) materials/dark-brown.json --scene scenes/$$scene.json -o out/$$scene-bundle || exit 1; \
 	  echo "== $$scene: hairview --bundle out/$$scene-bundle --scene scenes/$$scene.json -o out/$$scene.png"; \
 	  $(BUILD)/hairview --bundle out/$$scene-bundle --scene scenes/$$scene.json -o out/$$scene.png || exit 1; \
 	done
-	@echo "demo: wrote out/furball.png and out/patches.png (bundles in out/furball-bundle, out/patches-bundle)"
+	@echo "demo: wrote out/furball.png, out/patches.png and out/ratboy.png (bundles in out/SCENE-bundle)"
+
+# ---- install: make install PREFIX=/usr/local DESTDIR= ; make uninstall ----
+# The libraries, the public headers (hairtier.h; hairgen.h and the three it
+# includes, which include nothing else of ours) under include/hairtier/, the
+# two programs and a pkg-config file per library. tests/install_test.sh
+# installs into a temporary prefix and builds against it with pkg-config only.
+PREFIX  ?= /usr/local
+DESTDIR ?=
+VERSION := 0.1
+PUBLIC_HEADERS := runtime/hairtier.h shadergen/hairgen.h runtime/model.h runtime/scene.h runtime/image.h
+INSTALL_BIN := $(DESTDIR)$(PREFIX)/bin
+INSTALL_LIB := $(DESTDIR)$(PREFIX)/lib
+INSTALL_INC := $(DESTDIR)$(PREFIX)/include/hairtier
+INSTALL_PC  := $(INSTALL_LIB)/pkgconfig
+PC_FILES    := runtime/hairtier.pc.in shadergen/hairgen.pc.in
+
+install: $(LIB) $(GENLIB) $(HAIRGEN) $(BUILD)/hairview
+	install -d $(INSTALL_BIN) $(INSTALL_LIB) $(INSTALL_INC) $(INSTALL_PC)
+	install -m 755 $(HAIRGEN) $(BUILD)/hairview $(INSTALL_BIN)/
+	install -m 644 $(LIB) $(GENLIB) $(INSTALL_LIB)/
+	install -m 644 $(PUBLIC_HEADERS) $(INSTALL_INC)/
+	@for pc in $(PC_FILES); do \
+	  out=$(INSTALL_PC)/$$(basename $$pc .in); echo "write $$out"; \
+	  sed -e 's|@PREFIX@|$(PREFIX)|g' -e 's|@VERSION@|$(VERSION)|g' $$pc > $$out.tmp && mv $$out.tmp $$out || exit 1; \
+	done
+
+uninstall:
+	rm -f $(INSTALL_BIN)/hairgen $(INSTALL_BIN)/hairview
+	rm -f $(INSTALL_LIB)/$(notdir $(LIB)) $(INSTALL_LIB)/$(notdir $(GENLIB))
+	rm -f $(addprefix $(INSTALL_INC)/,$(notdir $(PUBLIC_HEADERS)))
+	rm -f $(addprefix $(INSTALL_PC)/,$(basename $(notdir $(PC_FILES))))
+	@rmdir $(INSTALL_INC) 2>/dev/null || true
 
 # ---- fuzzing (docs/robustness.md records the runs) ----
 FUZZ_BUILD   ?= build-fuzz
@@ -190,11 +255,12 @@ fuzz-build: deps
 	  $(patsubst %,$(FUZZ_BUILD)/fuzz/%,$(FUZZ_TARGETS))
 
 # Seeds: the shipped materials and scenes, a generated bundle's manifest,
-# combiner program and PNGs; each target's corpus grows in $(FUZZ_BUILD)/corpus.
+# combiner program and PNGs, the small strand files of tests/data/strands; each target's corpus grows in $(FUZZ_BUILD)/corpus.
 fuzz-seeds: $(HAIRGEN)
 	@rm -rf $(FUZZ_BUILD)/seeds && mkdir -p $(FUZZ_BUILD)/seeds/fuzz_material $(FUZZ_BUILD)/seeds/fuzz_scene \
 	  $(FUZZ_BUILD)/seeds/fuzz_manifest $(FUZZ_BUILD)/seeds/fuzz_combiner $(FUZZ_BUILD)/seeds/fuzz_png \
-	  $(FUZZ_BUILD)/seeds/fuzz_json $(FUZZ_BUILD)/seeds/fuzz_fixed4 $(FUZZ_BUILD)/seeds/fuzz_gl11
+	  $(FUZZ_BUILD)/seeds/fuzz_json $(FUZZ_BUILD)/seeds/fuzz_fixed4 $(FUZZ_BUILD)/seeds/fuzz_gl11 \
+	  $(FUZZ_BUILD)/seeds/fuzz_strands_tfx $(FUZZ_BUILD)/seeds/fuzz_strands_hair
 	@$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json -o $(FUZZ_BUILD)/seed-bundle >/dev/null
 	@$(HAIRGEN) materials/kajiya-kay.json -o $(FUZZ_BUILD)/seed-bundle-kk >/dev/null
 	@cp materials/*.json $(FUZZ_BUILD)/seeds/fuzz_material/
@@ -210,6 +276,8 @@ fuzz-seeds: $(HAIRGEN)
 	@cp $(FUZZ_BUILD)/seed-bundle/detail.png $(FUZZ_BUILD)/seeds/fuzz_png/detail.png
 	@find tests/data -name '*.png' -size -64k -exec cp {} $(FUZZ_BUILD)/seeds/fuzz_png/ \; 2>/dev/null || true
 	@cp materials/*.json scenes/*.json $(FUZZ_BUILD)/seed-bundle/*.json $(FUZZ_BUILD)/seeds/fuzz_json/
+	@cp tests/data/strands/*.tfx $(FUZZ_BUILD)/seeds/fuzz_strands_tfx/
+	@cp tests/data/strands/*.hair $(FUZZ_BUILD)/seeds/fuzz_strands_hair/
 
 # Each target for FUZZ_SECONDS; its last lines (runs, coverage, any crash)
 # go to $(FUZZ_BUILD)/TARGET.log, a summary line per target to stdout.
@@ -235,6 +303,37 @@ check-valgrind: all
 	MESA_SHADER_CACHE_DISABLE=true $(VALGRIND) $(BUILD)/hairview --bundle out/valgrind/bundle \
 	  --scene tests/data/valgrind-scene.json -o out/valgrind/furball.png
 	@echo "check-valgrind: clean"
+
+# ---- haircompare's report in a real browser ----
+# Debian's chromium is installed here only (it is big, and nothing else
+# needs it). The report of the fur ball's five 512² tiers is 2672 px wide;
+# every <img> of it must be found, full size, in the screenshot
+# (tests/report_screenshot_check.c). Then the checker must fail on a
+# screenshot of the same page with one image deleted, so it can fail.
+REPORT_CHECK := out/report-check
+CHROMIUM := chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
+            --disable-background-networking --disable-component-update --disable-sync \
+            --force-device-scale-factor=1 --force-color-profile=srgb --hide-scrollbars --window-size=2800,1400
+# $(1): page, $(2): screenshot; Chromium's chatter goes to a log shown on failure.
+define screenshot
+	@profile=$$(mktemp -d) && $(CHROMIUM) --user-data-dir=$$profile --screenshot=$(CURDIR)/$(2) \
+	  file://$(CURDIR)/$(1) >$(REPORT_CHECK)/chromium.log 2>&1; rc=$$?; rm -rf $$profile; \
+	[ $$rc -eq 0 ] && [ -s $(2) ] || { cat $(REPORT_CHECK)/chromium.log; echo "report-check: chromium failed"; exit 1; }
+endef
+
+report-check: all $(BUILD)/tests/report_screenshot_check
+	$(call install_missing,chromium)
+	@rm -rf $(REPORT_CHECK) && mkdir -p $(REPORT_CHECK)
+	$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json -o $(REPORT_CHECK)/bundle >/dev/null
+	$(BUILD)/haircompare --bundle $(REPORT_CHECK)/bundle --scene scenes/furball.json --frames 3 -o $(REPORT_CHECK)/report
+	$(call screenshot,$(REPORT_CHECK)/report/index.html,$(REPORT_CHECK)/screenshot.png)
+	$(BUILD)/tests/report_screenshot_check $(REPORT_CHECK)/screenshot.png $(REPORT_CHECK)/report
+	@cp -r $(REPORT_CHECK)/report $(REPORT_CHECK)/broken && rm $(REPORT_CHECK)/broken/vertex-error.png
+	$(call screenshot,$(REPORT_CHECK)/broken/index.html,$(REPORT_CHECK)/broken.png)
+	@if $(BUILD)/tests/report_screenshot_check $(REPORT_CHECK)/broken.png $(REPORT_CHECK)/report >/dev/null 2>&1; then \
+	  echo "report-check: the checker found an image the page could not load"; exit 1; fi
+	@echo "report-check: every image of $(REPORT_CHECK)/report/index.html loaded in Chromium" \
+	  "(screenshot $(REPORT_CHECK)/screenshot.png); a missing one is caught"
 
 clean:
 	rm -rf build build-asan build-fuzz out

@@ -1,17 +1,21 @@
 /* bench_frame — the frame cost of each tier against the geometry floor,
-   measured side by side in one run on the same context:
-   the fur ball of 10 000 hairs x 16 joints at 512 x 512 (--hairs, --size,
-   --frames change that), dark-brown, the fur-ball scene's camera and
-   lights. The floor is the same mesh drawn in the same four passes with a
-   flat colour and no textures or shaders (ht_renderer_desc.flat). Prints
-   the median frame time of each, the ratios tier / floor and tier / full,
-   and the per-vertex CPU work per frame (ht_renderer_get_stats) with the
-   camera still and with it orbiting; frames are taken round-robin.
-   Run: make bench (which also runs it on GALLIUM_DRIVER=softpipe, the
-   interpreter, a stand-in for a slow fragment unit). --context osmesa|egl
-   and --egl-device N pick the GL context as hairview's do
-   (examples/offscreen.h); --hairs goes to 1 000 000 (32 M vertices at 16
-   joints, about 2 GB of mesh: a real GPU's size, not llvmpipe's). */
+   measured side by side in one run on the same context, and each tier's
+   error against the full tier's image of that run:
+   a scene (--scene, default the fur ball; its camera, lights, background
+   and, for patches, the head), dark-brown, at 512 x 512 (--size), median of
+   9 frames (--frames) after one warm-up; a fur ball gets 10 000 hairs x 16
+   joints (--hairs). The floor is the same mesh drawn in the same four passes
+   with a flat colour and no textures or shaders (ht_renderer_desc.flat).
+   Prints the median frame time of each, the ratios tier / floor and
+   tier / full, PSNR against full (runtime/metrics.h, whole frame) and the
+   per-vertex CPU work per frame (ht_renderer_get_stats) with the camera
+   still and with it orbiting (--no-orbit skips that); frames are taken
+   round-robin. --csv FILE also writes the rows (support_results.h) with
+   series NAME (--series, default "matrix"), atomically.
+   Run: make bench (build/bench_suite runs it per scene and driver).
+   --context osmesa|egl and --egl-device N pick the GL context as hairview's
+   do (examples/offscreen.h); --hairs goes to 1 000 000 (32 M vertices at
+   16 joints: a real GPU's size, not llvmpipe's). */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -20,27 +24,54 @@
 
 #include "hairgen.h"
 #include "hairtier.h"
+#include "metrics.h"
 #include "offscreen.h"
+#include "scene.h"
+#include "bench/support_atomic_file.h"
+#include "bench/support_results.h"
 #include "tempdir.h"
 #include "timing.h"
 
 #define MAX_FRAMES 64
-
-#define MAX_HAIRS 1000000
+#define ORBIT_FRAMES 4
 
 static int WIDTH = 512, HEIGHT = 512, FRAMES = 9, HAIRS = 10000;
+#define MAX_HAIRS 1000000
+
+static bool HAIRS_GIVEN = false, ORBIT = true;
 static offscreen_kind CONTEXT = OFFSCREEN_AUTO;
 static int EGL_DEVICE = -1;
 static offscreen *gl;   /* the one context every contender draws in */
+static const char *SCENE = "scenes/furball.json", *CSV = NULL, *SERIES = "matrix";
 
 static void quiet(void *user, const char *line) { (void)user, (void)line; }
 
 typedef struct contender {
-    const char *name;
+    const char *name;        /* as printed */
+    const char *tier;        /* as recorded: "floor", "full", ... */
     ht_renderer *renderer;   /* NULL: the tier does not run here */
     double samples[MAX_FRAMES];
     uint64_t cpu_still, cpu_orbit;   /* per-vertex CPU work over the timed frames */
+    unsigned char *image;    /* the last timed frame, GL rows; what the metrics compare */
+    ht_metrics whole, hair;  /* against full's image */
 } contender;
+
+/* What every frame of the run draws: the scene's view, lights and head. */
+typedef struct stage {
+    const ht_scene *scene;
+    const ht_mesh *head;     /* NULL: none */
+} stage;
+
+static ht_frame_desc frame_of(const stage *st) {
+    const ht_scene *s = st->scene;
+    return (ht_frame_desc){ .camera = s->camera, .lights = s->lights, .light_count = s->light_count,
+                            .aspect = (float)WIDTH / (float)HEIGHT, .opaque = st->head };
+}
+
+static void clear(const ht_scene *s) {
+    gl->gl.ClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
+    gl->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+}
 
 static ht_renderer *create(const char *bundle, ht_tier tier, bool flat, const ht_mesh *mesh) {
     ht_renderer *r = NULL;
@@ -56,19 +87,19 @@ static ht_renderer *create(const char *bundle, ht_tier tier, bool flat, const ht
 
 /* Frames are taken round-robin (floor, full, vertex, fixed, floor, ...), so
    a change in machine load during the run falls on every contender alike. */
-static bool time_round_robin(contender *c, int count, const ht_scene *scene) {
-    ht_frame_desc frame = { .camera = scene->camera, .lights = scene->lights,
-                            .light_count = scene->light_count };
+static bool time_round_robin(contender *c, int count, const stage *st) {
+    ht_frame_desc frame = frame_of(st);
     uint64_t before[8] = { 0 };
     for (int i = -1; i < FRAMES; i++) { /* frame -1 warms up */
         for (int k = 0; k < count; k++) {
             if (!c[k].renderer) continue;
             if (i == 0) before[k] = ht_renderer_get_stats(c[k].renderer).cpu_vertices;
-            gl->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+            clear(st->scene);
             double t0 = now_ms();
             if (ht_renderer_draw(c[k].renderer, &frame) != HT_OK) return false;
             gl->gl.Finish();
             if (i >= 0) c[k].samples[i] = now_ms() - t0;
+            if (i == FRAMES - 1) memcpy(c[k].image, offscreen_read(gl), (size_t)WIDTH * HEIGHT * 4);
         }
     }
     for (int k = 0; k < count; k++)
@@ -78,20 +109,104 @@ static bool time_round_robin(contender *c, int count, const ht_scene *scene) {
 
 /* The camera orbiting the ball, one step per frame (untimed): what per-vertex
    CPU work a moving camera costs each tier. */
-static void count_orbit(contender *c, int count, const ht_scene *scene) {
+static void count_orbit(contender *c, int count, const stage *st) {
     for (int k = 0; k < count; k++) {
         if (!c[k].renderer) continue;
         uint64_t before = ht_renderer_get_stats(c[k].renderer).cpu_vertices;
-        for (int i = 0; i < 4; i++) {
-            ht_frame_desc frame = { .camera = scene->camera, .lights = scene->lights,
-                                    .light_count = scene->light_count };
+        for (int i = 0; i < ORBIT_FRAMES; i++) {
+            ht_frame_desc frame = frame_of(st);
             float a = 0.2f * (float)(i + 1), x = frame.camera.eye[0], z = frame.camera.eye[2];
             frame.camera.eye[0] = x * cosf(a) - z * sinf(a);
             frame.camera.eye[2] = x * sinf(a) + z * cosf(a);
-            gl->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+            clear(st->scene);
             ht_renderer_draw(c[k].renderer, &frame);
         }
         c[k].cpu_orbit = ht_renderer_get_stats(c[k].renderer).cpu_vertices - before;
+    }
+}
+
+/* Each tier's error against full's image of this run. */
+static bool measure_errors(contender *c, int count) {
+    char err[256];
+    for (int k = 0; k < count; k++) {
+        if (!c[k].renderer) continue;
+        if (ht_metrics_compare(&(ht_metrics_desc){ .reference = c[1].image, .test = c[k].image, .width = WIDTH,
+                                                   .height = HEIGHT },
+                               &c[k].whole, &c[k].hair, err, sizeof err) != HT_OK) {
+            fprintf(stderr, "bench_frame: %s: %s\n", c[k].name, err);
+            return false;
+        }
+    }
+    return true;
+}
+
+/* "scenes/furball.json" -> "furball". */
+static void scene_name(const char *path, char *out, size_t size) {
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    size_t n = strcspn(base, ".");
+    snprintf(out, size, "%.*s", (int)n, base);
+}
+
+/* The median of c's timed frames (its samples stay in frame order). */
+static double median_ms(const contender *c) {
+    double samples[MAX_FRAMES];
+    memcpy(samples, c->samples, sizeof samples);
+    return median(samples, FRAMES);
+}
+
+static bool write_rows(FILE *f, void *rows) { return bench_rows_write_csv(f, rows); }
+
+/* The run's rows, in the benchmark's CSV (support_results.h). */
+static bool write_csv(const contender *c, int count, const ht_scene *scene, uint32_t triangles) {
+    bench_rows rows = { 0 };
+    const double floor_ms = median_ms(&c[0]), full_ms = median_ms(&c[1]);
+    bool ok = true;
+    for (int k = 0; k < count && ok; k++) {
+        bench_row *r = bench_rows_add(&rows);
+        if (!r) {
+            ok = false;
+            break;
+        }
+        snprintf(r->series, sizeof r->series, "%s", SERIES);
+        scene_name(SCENE, r->scene, sizeof r->scene);
+        const char *renderer = (const char *)gl->gl.GetString(GL_RENDERER);
+        snprintf(r->renderer, sizeof r->renderer, "%s", renderer ? renderer : "unknown");
+        snprintf(r->driver, sizeof r->driver, "%.*s", (int)strcspn(r->renderer, " "), r->renderer);
+        r->hairs = scene->geometry == HT_GEOMETRY_FURBALL ? HAIRS : -1;
+        r->triangles = triangles, r->width = WIDTH, r->height = HEIGHT, r->frames = FRAMES;
+        snprintf(r->tier, sizeof r->tier, "%s", c[k].tier);
+        r->ran = c[k].renderer != NULL;
+        if (!r->ran) continue;
+        r->median_ms = median_ms(&c[k]);
+        r->per_floor = r->median_ms / floor_ms;
+        r->per_full = r->median_ms / full_ms;
+        r->whole = c[k].whole, r->hair = c[k].hair;
+        r->cpu_still = (double)c[k].cpu_still / FRAMES;
+        r->cpu_orbit = ORBIT ? (double)c[k].cpu_orbit / ORBIT_FRAMES : NAN;
+    }
+    char err[512] = "out of memory";
+    if (ok) ok = bench_write_atomic(CSV, write_rows, &rows, err, sizeof err);
+    if (!ok) fprintf(stderr, "bench_frame: %s\n", err);
+    bench_rows_free(&rows);
+    return ok;
+}
+
+static void print_table(const contender *c, int count) {
+    const double floor_ms = median_ms(&c[0]), full_ms = median_ms(&c[1]);
+    printf("  %-14s %9s %11s %10s %22s %9s\n", "", "median", "/ floor", "/ full", "CPU vertices per frame",
+           "PSNR dB");
+    printf("  %-14s %9s %11s %10s %11s %10s %9s\n", "", "", "", "", "still", "orbiting", "vs full");
+    for (int k = 0; k < count; k++) {
+        if (!c[k].renderer) {
+            printf("  %-14s       n/a (does not run here)\n", c[k].name);
+            continue;
+        }
+        double ms = median_ms(&c[k]);
+        char orbit[32] = "-";
+        if (ORBIT) snprintf(orbit, sizeof orbit, "%.0f", (double)c[k].cpu_orbit / ORBIT_FRAMES);
+        printf("  %-14s %8.2f ms %10.2fx %9.2fx %11.0f %10s %9.1f\n", c[k].name, ms, ms / floor_ms, ms / full_ms,
+               (double)c[k].cpu_still / FRAMES, orbit, c[k].whole.psnr_db);
     }
 }
 
@@ -102,10 +217,14 @@ static int run(const char *work) {
     char dir[128];
     snprintf(dir, sizeof dir, "%s/bundle", work);
     ht_scene scene;
-    if (ht_scene_load("scenes/furball.json", &scene, err, sizeof err) != HT_OK ||
-        ht_generate_bundle("materials/dark-brown.json", "scenes/furball.json", dir, NULL, err, sizeof err) != HT_OK) {
+    if (ht_scene_load(SCENE, &scene, err, sizeof err) != HT_OK ||
+        ht_generate_bundle("materials/dark-brown.json", SCENE, dir, NULL, err, sizeof err) != HT_OK) {
         fprintf(stderr, "bench_frame: %s\n", err);
         return 1;
+    }
+    if (HAIRS_GIVEN && scene.geometry != HT_GEOMETRY_FURBALL) {
+        fprintf(stderr, "bench_frame: --hairs: %s is not a fur-ball scene\n", SCENE);
+        return 2;
     }
 
     gl = offscreen_open(&(offscreen_desc){ .kind = CONTEXT, .width = WIDTH, .height = HEIGHT,
@@ -116,49 +235,56 @@ static int run(const char *work) {
     }
 
     int status = 1;
-    ht_furball_desc fur = scene.furball;
-    fur.hairs = HAIRS;
-    fur.joints = 16;
-    ht_mesh mesh;
-    if (ht_mesh_build_furball(&fur, &mesh) != HT_OK) {
-        fprintf(stderr, "bench_frame: cannot build the fur ball\n");
+    ht_mesh mesh = { 0 }, head = { 0 };
+    if (scene.geometry == HT_GEOMETRY_FURBALL) {
+        scene.furball.hairs = HAIRS;
+        scene.furball.joints = 16;
+    }
+    if (ht_scene_build_meshes(&scene, SCENE, &mesh, &head, err, sizeof err) != HT_OK) {
+        fprintf(stderr, "bench_frame: %s\n", err);
         goto close_context;
     }
-    ht_mesh_sort_inside_out(&mesh);
 
-    printf("fur ball %d hairs x %d joints (%u triangles), %dx%d, %s (%s), median of %d frames\n", fur.hairs,
-           fur.joints, mesh.index_count / 3, WIDTH, HEIGHT, (const char *)gl->gl.GetString(GL_RENDERER), gl->display,
-           FRAMES);
+    if (scene.geometry == HT_GEOMETRY_FURBALL)
+        printf("fur ball %d hairs x %d joints (%u triangles)", scene.furball.hairs, scene.furball.joints,
+               mesh.index_count / 3);
+    else if (scene.geometry == HT_GEOMETRY_PATCHES)
+        printf("%s: patches %d layers x %d strips x %d segments (%u triangles) on a head", SCENE,
+               scene.patches.layers, scene.patches.strips, scene.patches.segments, mesh.index_count / 3);
+    else
+        printf("%s: strands (%u triangles)%s", SCENE, mesh.index_count / 3, head.index_count ? " on a head" : "");
+    printf(", %dx%d, %s (%s), median of %d frames\n", WIDTH, HEIGHT, (const char *)gl->gl.GetString(GL_RENDERER),
+           gl->display, FRAMES);
     /* Best first, as the bundle lists them; a tier this build lacks is skipped. */
     const char *names[] = { "full", "vertex", "fixed4", "fixed", "gl11" };
     enum { TIERS = sizeof names / sizeof names[0] };
-    contender c[TIERS + 1] = { { "geometry floor", create(dir, HT_TIER_AUTO, true, &mesh), { 0 }, 0, 0 } };
+    contender c[TIERS + 1] = { { .name = "geometry floor", .tier = "floor",
+                                 .renderer = create(dir, HT_TIER_AUTO, true, &mesh) } };
     for (int k = 0; k < TIERS; k++) {
         ht_tier t = ht_tier_from_name(names[k]);
-        c[k + 1] = (contender){ names[k], t == HT_TIER_COUNT ? NULL : create(dir, t, false, &mesh), { 0 }, 0, 0 };
+        c[k + 1] = (contender){ .name = names[k], .tier = names[k],
+                                .renderer = t == HT_TIER_COUNT ? NULL : create(dir, t, false, &mesh) };
     }
-    if (!c[0].renderer || !c[1].renderer || !time_round_robin(c, TIERS + 1, &scene)) {
-        fprintf(stderr, "bench_frame: the geometry floor or the full tier did not render\n");
-    } else {
-        count_orbit(c, TIERS + 1, &scene);
-        double floor_ms = median(c[0].samples, FRAMES), full_ms = median(c[1].samples, FRAMES);
-        printf("  %-14s %9s %11s %10s %22s\n", "", "median", "/ floor", "/ full", "CPU vertices per frame");
-        printf("  %-14s %9s %11s %10s %11s %10s\n", "", "", "", "", "still", "orbiting");
-        for (int k = 0; k <= TIERS; k++) {
-            if (!c[k].renderer) {
-                printf("  %-14s       n/a (does not run here)\n", c[k].name);
-                continue;
-            }
-            double ms = median(c[k].samples, FRAMES);
-            printf("  %-14s %8.2f ms %10.2fx %9.2fx %11.0f %10.0f\n", c[k].name, ms, ms / floor_ms, ms / full_ms,
-                   (double)c[k].cpu_still / FRAMES, (double)c[k].cpu_orbit / 4);
-        }
-        status = 0;
-    }
+    bool images = true;
     for (int k = 0; k <= TIERS; k++)
+        if (c[k].renderer && !(c[k].image = malloc((size_t)WIDTH * HEIGHT * 4))) images = false;
+    stage st = { &scene, head.index_count ? &head : NULL };
+    if (!images) {
+        fprintf(stderr, "bench_frame: out of memory for the tiers' images\n");
+    } else if (!c[0].renderer || !c[1].renderer || !time_round_robin(c, TIERS + 1, &st)) {
+        fprintf(stderr, "bench_frame: the geometry floor or the full tier did not render\n");
+    } else if (measure_errors(c, TIERS + 1)) {
+        if (ORBIT) count_orbit(c, TIERS + 1, &st);
+        print_table(c, TIERS + 1);
+        status = CSV && !write_csv(c, TIERS + 1, &scene, mesh.index_count / 3) ? 1 : 0;
+    }
+    for (int k = 0; k <= TIERS; k++) {
         if (c[k].renderer) ht_renderer_destroy(c[k].renderer);
-    ht_mesh_free(&mesh);
+        free(c[k].image);
+    }
 close_context:
+    ht_mesh_free(&mesh);
+    ht_mesh_free(&head);
     offscreen_close(gl);
     gl = NULL;
     return status;
@@ -174,10 +300,25 @@ static bool option(int argc, char **argv, int *i, const char *name, int lo, int 
     return true;
 }
 
+/* --NAME VALUE: true and *out set when argv[*i] is NAME. */
+static bool text_option(int argc, char **argv, int *i, const char *name, const char **out) {
+    if (strcmp(argv[*i], name) != 0) return false;
+    if (*i + 1 >= argc || !argv[*i + 1][0]) {
+        fprintf(stderr, "bench_frame: %s takes a value\n", name);
+        exit(2);
+    }
+    *out = argv[++*i];
+    return true;
+}
+
 int main(int argc, char **argv) {
     for (int i = 1; i < argc; i++) {
-        if (option(argc, argv, &i, "--hairs", 1, MAX_HAIRS, &HAIRS) ||
-            option(argc, argv, &i, "--frames", 1, MAX_FRAMES, &FRAMES) ||
+        if (option(argc, argv, &i, "--hairs", 1, MAX_HAIRS, &HAIRS)) {
+            HAIRS_GIVEN = true;
+            continue;
+        }
+        if (option(argc, argv, &i, "--frames", 1, MAX_FRAMES, &FRAMES) || text_option(argc, argv, &i, "--scene", &SCENE) ||
+            text_option(argc, argv, &i, "--csv", &CSV) || text_option(argc, argv, &i, "--series", &SERIES) ||
             option(argc, argv, &i, "--egl-device", 0, 255, &EGL_DEVICE))
             continue;
         if (strcmp(argv[i], "--context") == 0) {
@@ -188,12 +329,17 @@ int main(int argc, char **argv) {
             i++;
             continue;
         }
+        if (strcmp(argv[i], "--no-orbit") == 0) {
+            ORBIT = false;
+            continue;
+        }
         int size = 0;
         if (option(argc, argv, &i, "--size", 16, 4096, &size)) {
             WIDTH = HEIGHT = size;
             continue;
         }
-        fprintf(stderr, "usage: bench_frame [--hairs N] [--size S] [--frames F] [--context osmesa|egl] [--egl-device N]\n");
+        fprintf(stderr, "usage: bench_frame [--scene SCENE.json] [--hairs N] [--size S] [--frames F] [--no-orbit]\n"
+                        "                   [--csv FILE [--series NAME]] [--context osmesa|egl] [--egl-device N]\n");
         return 2;
     }
     if (EGL_DEVICE >= 0 && CONTEXT == OFFSCREEN_OSMESA) {

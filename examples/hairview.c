@@ -137,14 +137,11 @@ static int run(const options *o, view *v) {
     }
     fprintf(stderr, "hairview: context %s\n", v->gl->display);
 
-    ht_result r = scene.geometry == HT_GEOMETRY_PATCHES
-                      ? ht_mesh_build_patches(&scene.patches, &v->hair, &v->head)
-                      : ht_mesh_build_furball(&scene.furball, &v->hair);
+    ht_result r = ht_scene_build_meshes(&scene, o->scene, &v->hair, &v->head, err, sizeof err);
     if (r != HT_OK) {
-        fprintf(stderr, "hairview: %s: geometry: cannot build the mesh: %s\n", o->scene, ht_result_string(r));
+        fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
-    ht_mesh_sort_inside_out(&v->hair);
 
     /* The error line is the library's last line after the failing call, so
        none from an earlier call may stand in for it. */

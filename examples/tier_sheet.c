@@ -29,7 +29,7 @@
 #include "hairtier.h"
 #include "image.h"
 #include "offscreen.h"
-#include "timing.h"
+#include "compare/tier_render.h"
 
 #define TIERS 5          /* full, vertex, fixed4, fixed, gl11: the sheet's columns */
 #define GAP 4            /* pixels between panels */
@@ -47,10 +47,7 @@ typedef struct options {
 } options;
 
 typedef struct panel {
-    bool ran;
-    char reason[512];      /* why it did not run, or the renderer's reason */
-    unsigned char *rgba;   /* width * height * 4, GL rows (bottom-up) */
-    double frame_ms;
+    tier_frame frame;      /* the image (NULL when the tier did not run), reason, frame ms */
     double mean_err;
     int max_err;
     bool compared;
@@ -137,83 +134,6 @@ static void draw_wrapped(ht_image *img, int x, int y, const char *text, int max_
     }
 }
 
-/* ---- rendering one tier ---- */
-
-static char last_log[512];
-
-static void log_line(void *user, const char *line) {
-    (void)user;
-    const char *prefix = "hairtier: ";
-    snprintf(last_log, sizeof last_log, "%s", strncmp(line, prefix, strlen(prefix)) == 0 ? line + strlen(prefix) : line);
-}
-
-static void draw_frame(const offscreen *gl, const ht_scene *s, ht_renderer *r, const ht_frame_desc *f,
-                       ht_result *res) {
-    gl->gl.ClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
-    gl->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    ht_result fr = ht_renderer_draw(r, f);
-    if (fr != HT_OK && *res == HT_OK) *res = fr;
-    gl->gl.Finish();
-}
-
-/* A fresh context per tier: no GL state leaks from one tier into the next. */
-static void render_tier(const options *o, const ht_scene *s, const ht_mesh *hair, const ht_mesh *head,
-                        ht_tier tier, panel *p) {
-    ht_renderer *r = NULL;
-    double *times = NULL;
-    char err[512];
-    offscreen *gl = offscreen_open(&(offscreen_desc){ .kind = o->context, .width = s->width, .height = s->height,
-                                                      .egl_device = o->egl_device }, err, sizeof err);
-    if (!gl) {
-        snprintf(p->reason, sizeof p->reason, "%s", err);
-        goto done;
-    }
-    last_log[0] = '\0';
-    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->bundle,
-                                                            .tier = tier, .strict = true, .log = log_line },
-                                       &r);
-    if (res == HT_OK) {
-        last_log[0] = '\0'; /* not the creation's "tier ..." line */
-        res = ht_renderer_set_mesh(r, hair);
-    }
-    if (res != HT_OK) {
-        snprintf(p->reason, sizeof p->reason, "%s", last_log[0] ? last_log : ht_result_string(res));
-        goto done;
-    }
-    ht_frame_desc frame = { .camera = s->camera, .lights = s->lights, .light_count = s->light_count,
-                            .aspect = (float)s->width / (float)s->height,
-                            .opaque = head->index_count ? head : NULL };
-    times = malloc(sizeof *times * (size_t)o->frames);
-    if (!times) {
-        snprintf(p->reason, sizeof p->reason, "out of memory");
-        goto done;
-    }
-    last_log[0] = '\0';
-    draw_frame(gl, s, r, &frame, &res); /* warm-up: shader variants, texture uploads */
-    for (int i = 0; i < o->frames; i++) {
-        double t0 = now_ms();
-        draw_frame(gl, s, r, &frame, &res);
-        times[i] = now_ms() - t0;
-    }
-    if (res != HT_OK) {
-        snprintf(p->reason, sizeof p->reason, "%s", last_log[0] ? last_log : ht_result_string(res));
-        goto done;
-    }
-    size_t bytes = (size_t)s->width * (size_t)s->height * 4;
-    if (!(p->rgba = malloc(bytes))) {
-        snprintf(p->reason, sizeof p->reason, "out of memory");
-        goto done;
-    }
-    memcpy(p->rgba, offscreen_read(gl), bytes);
-    p->frame_ms = median(times, o->frames);
-    snprintf(p->reason, sizeof p->reason, "%s", ht_renderer_reason(r));
-    p->ran = true;
-done:
-    free(times);
-    ht_renderer_destroy(r);
-    offscreen_close(gl);
-}
-
 /* ---- comparing and composing ---- */
 
 static int max_channel_diff(const unsigned char *a, const unsigned char *b) {
@@ -237,7 +157,7 @@ static void compare(const ht_scene *s, const panel *full, panel *p) {
     double sum = 0;
     int max = 0;
     for (size_t i = 0; i < n; i++) {
-        const unsigned char *a = full->rgba + 4 * i, *b = p->rgba + 4 * i;
+        const unsigned char *a = full->frame.rgba + 4 * i, *b = p->frame.rgba + 4 * i;
         int d = max_channel_diff(a, b);
         if (d > max) max = d;
         if (covered(a, bg) || covered(b, bg)) {
@@ -282,22 +202,22 @@ static void compose(ht_image *sheet, const ht_scene *s, const panel *panels) {
         const panel *p = &panels[t];
         const int x = t * (s->width + GAP), y = s->height + GAP, pad = 2 * FONT_SCALE;
         char text[700];
-        if (p->ran) {
-            blit(sheet, x, 0, s, p->rgba, NULL);
-            snprintf(text, sizeof text, "%s  %.1f ms", ht_tier_name(columns[t]), p->frame_ms);
+        if (p->frame.ran) {
+            blit(sheet, x, 0, s, p->frame.rgba, NULL);
+            snprintf(text, sizeof text, "%s  %.1f ms", ht_tier_name(columns[t]), p->frame.frame_ms);
             draw_text(sheet, x + pad, pad, text, chars);
         } else {
             fill_rect(sheet, x, 0, s->width, s->height, grey);
             snprintf(text, sizeof text, "%s: not run", ht_tier_name(columns[t]));
             draw_text(sheet, x + pad, pad, text, chars);
-            draw_wrapped(sheet, x + pad, pad + LINE, p->reason, chars, lines);
+            draw_wrapped(sheet, x + pad, pad + LINE, p->frame.reason, chars, lines);
         }
         if (p->compared) {
-            blit(sheet, x, y, s, p->rgba, full->rgba);
+            blit(sheet, x, y, s, p->frame.rgba, full->frame.rgba);
             snprintf(text, sizeof text, "vs full: mean %.2f  max %d /255", p->mean_err, p->max_err);
         } else {
             fill_rect(sheet, x, y, s->width, s->height, grey);
-            snprintf(text, sizeof text, "%s", p->ran ? "no full image to compare with" : "no image");
+            snprintf(text, sizeof text, "%s", p->frame.ran ? "no full image to compare with" : "no image");
         }
         draw_text(sheet, x + pad, y + pad, text, chars);
     }
@@ -310,9 +230,9 @@ static void print_table(const panel *panels) {
     for (int t = 0; t < TIERS; t++) {
         const panel *p = &panels[t];
         const char *name = ht_tier_name(columns[t]);
-        if (!p->ran) printf("%-7s %9s %9s %7s  not run: %s\n", name, "-", "-", "-", p->reason);
-        else if (!p->compared) printf("%-7s %9.3f %9s %7s\n", name, p->frame_ms, "-", "-");
-        else printf("%-7s %9.3f %9.2f %7d\n", name, p->frame_ms, p->mean_err, p->max_err);
+        if (!p->frame.ran) printf("%-7s %9s %9s %7s  not run: %s\n", name, "-", "-", "-", p->frame.reason);
+        else if (!p->compared) printf("%-7s %9.3f %9s %7s\n", name, p->frame.frame_ms, "-", "-");
+        else printf("%-7s %9.3f %9.2f %7d\n", name, p->frame.frame_ms, p->mean_err, p->max_err);
     }
 }
 
@@ -382,35 +302,28 @@ int main(int argc, char **argv) {
     if (rc) return rc < 0 ? 0 : rc;
 
     char err[1024];
-    ht_scene scene;
-    if (ht_scene_load(o.scene, &scene, err, sizeof err) != HT_OK) {
+    tier_scene ts;
+    if (tier_scene_load(o.scene, &ts, err, sizeof err) != HT_OK) {
         fprintf(stderr, "tier_sheet: %s\n", err);
         return 1;
     }
-    ht_mesh hair = { 0 }, head = { 0 };
-    ht_result r = scene.geometry == HT_GEOMETRY_PATCHES ? ht_mesh_build_patches(&scene.patches, &hair, &head)
-                                                        : ht_mesh_build_furball(&scene.furball, &hair);
-    if (r != HT_OK) {
-        fprintf(stderr, "tier_sheet: %s: geometry: cannot build the mesh: %s\n", o.scene, ht_result_string(r));
-        return 1;
-    }
-    ht_mesh_sort_inside_out(&hair);
+    const ht_scene scene = ts.scene;
 
     panel panels[TIERS] = { 0 };
-    for (int t = 0; t < TIERS; t++) render_tier(&o, &scene, &hair, &head, columns[t], &panels[t]);
+    tier_render_use_context(o.context, o.egl_device);
+    for (int t = 0; t < TIERS; t++) tier_render(o.bundle, &ts, columns[t], o.frames, &panels[t].frame);
     bool any = false;
-    for (int t = 0; t < TIERS; t++) any = any || panels[t].ran;
+    for (int t = 0; t < TIERS; t++) any = any || panels[t].frame.ran;
     if (!any) {
         /* A bad bundle fails every tier the same way: one line, no sheet. */
-        fprintf(stderr, "tier_sheet: no tier ran: %s\n", panels[0].reason);
-        for (int t = 0; t < TIERS; t++) free(panels[t].rgba);
-        ht_mesh_free(&hair);
-        ht_mesh_free(&head);
+        fprintf(stderr, "tier_sheet: no tier ran: %s\n", panels[0].frame.reason);
+        for (int t = 0; t < TIERS; t++) tier_frame_free(&panels[t].frame);
+        tier_scene_free(&ts);
         return 1;
     }
-    if (panels[0].ran)
+    if (panels[0].frame.ran)
         for (int t = 0; t < TIERS; t++)
-            if (panels[t].ran) compare(&scene, &panels[0], &panels[t]);
+            if (panels[t].frame.ran) compare(&scene, &panels[0], &panels[t]);
 
     ht_image sheet = { 0 };
     rc = 0;
@@ -427,8 +340,7 @@ int main(int argc, char **argv) {
         }
     }
     ht_image_free(&sheet);
-    for (int t = 0; t < TIERS; t++) free(panels[t].rgba);
-    ht_mesh_free(&hair);
-    ht_mesh_free(&head);
+    for (int t = 0; t < TIERS; t++) tier_frame_free(&panels[t].frame);
+    tier_scene_free(&ts);
     return rc;
 }

@@ -189,10 +189,6 @@ static ht_result read_stage_image(const fixed_state *s, const ht_tier_context *c
                  "not listed", b->dir, ctx->tier->name, st->texture, stage);
         return HT_ERR_PARSE;
     }
-    if (!ht_manifest_path(b, t->file, path, path_size)) {
-        snprintf(err, err_size, "%s: path too long", t->file);
-        return HT_ERR_IO;
-    }
     const bool is_lut = strcmp(st->texture, s->program.lut_texture) == 0;
     const int *n = s->program.lut_size;
     if (is_lut && (t->width != n[0] || t->height != n[1] || t->depth != n[2])) {
@@ -205,14 +201,10 @@ static ht_result read_stage_image(const fixed_state *s, const ht_tier_context *c
                  t->name, t->depth, stage, st->target == GL_TEXTURE_2D ? "2D" : "3D");
         return HT_ERR_PARSE;
     }
-    ht_result r = ht_image_read_png(path, img, err, err_size);
+    /* A 3D texture's slices are stacked: height x depth rows. */
+    ht_result r = ht_bundle_read_png(ht_manifest_source(b), t->file, t->width, t->height * t->depth, img, path,
+                                     path_size, err, err_size);
     if (r != HT_OK) return r;
-    if (img->width != t->width || img->height != t->height * t->depth) {
-        snprintf(err, err_size, "%s: %dx%d, manifest says %dx%d (%d slices of %d rows)", path, img->width,
-                 img->height, t->width, t->height * t->depth, t->depth, t->height);
-        ht_image_free(img);
-        return HT_ERR_PARSE;
-    }
     ht_result npot = ht_gl_texture_check_size(ctx->caps, img->width, img->height / t->depth, t->depth, path, err,
                                               err_size);
     if (npot != HT_OK) {

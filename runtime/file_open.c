@@ -20,6 +20,28 @@ static const char *kind_of(mode_t mode) {
     return "a special file";
 }
 
+ht_result ht_file_check_size(const char *path, uint64_t size, uint64_t max_bytes, char *err, size_t err_size) {
+    if (size <= max_bytes) return HT_OK;
+    ht_set_error(err, err_size, "%s: file is %llu bytes, more than the %llu this kind of file may have", path,
+                 (unsigned long long)size, (unsigned long long)max_bytes);
+    return HT_ERR_IO;
+}
+
+char *ht_text_from_bytes(const char *path, const void *data, size_t size, char *err, size_t err_size) {
+    if (memchr(data, '\0', size)) {
+        ht_set_error(err, err_size, "%s: NUL byte in a text file", path);
+        return NULL;
+    }
+    char *text = malloc(size + 1);
+    if (!text) {
+        ht_set_error(err, err_size, "%s: out of memory (%llu bytes)", path, (unsigned long long)size);
+        return NULL;
+    }
+    if (size) memcpy(text, data, size);
+    text[size] = '\0';
+    return text;
+}
+
 ht_result ht_file_open_regular(const char *path, uint64_t max_bytes, FILE **out, uint64_t *size,
                                char *err, size_t err_size) {
     *out = NULL;
@@ -42,9 +64,7 @@ ht_result ht_file_open_regular(const char *path, uint64_t max_bytes, FILE **out,
         close(fd);
         return HT_ERR_IO;
     }
-    if ((uint64_t)st.st_size > max_bytes) {
-        ht_set_error(err, err_size, "%s: file is %llu bytes, more than the %llu this kind of file may have",
-                     path, (unsigned long long)st.st_size, (unsigned long long)max_bytes);
+    if (ht_file_check_size(path, (uint64_t)st.st_size, max_bytes, err, err_size) != HT_OK) {
         close(fd);
         return HT_ERR_IO;
     }
@@ -86,11 +106,8 @@ char *ht_file_read_text(const char *path, uint64_t max_bytes, char *err, size_t 
         else ht_set_error(err, err_size, "%s: grew while being read", path);
         return NULL;
     }
-    text[got] = '\0';
-    if (strlen(text) != got) {
-        free(text);
-        ht_set_error(err, err_size, "%s: NUL byte in a text file", path);
-        return NULL;
-    }
-    return text;
+    /* One check for files and memory bundles (bundle_source.c). */
+    char *checked = ht_text_from_bytes(path, text, got, err, err_size);
+    free(text);
+    return checked;
 }

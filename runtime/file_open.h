@@ -35,6 +35,15 @@
 ht_result ht_file_open_regular(const char *path, uint64_t max_bytes, FILE **out, uint64_t *size,
                                char *err, size_t err_size);
 
+/* "PATH: file is N bytes, more than the M this kind of file may have"
+   (HT_ERR_IO) when size > max_bytes: the cap ht_file_open_regular applies,
+   for bytes that come from elsewhere (a bundle in memory). */
+ht_result ht_file_check_size(const char *path, uint64_t size, uint64_t max_bytes, char *err, size_t err_size);
+
+/* size bytes as a malloc'd NUL-terminated text, or NULL with "PATH: NUL
+   byte in a text file" (or out of memory) in err. */
+char *ht_text_from_bytes(const char *path, const void *data, size_t size, char *err, size_t err_size);
+
 /* The whole of a regular text file of at most max_bytes, malloc'd and
    NUL-terminated, or NULL with "PATH: why" in err (what
    ht_file_open_regular refuses, a read error, a NUL byte, out of memory). */

@@ -6,7 +6,6 @@
 #include <string.h>
 
 #include "errfmt.h"
-#include "file_open.h"
 #include "gl_error.h"
 #include "gl_texture.h"
 #include "image.h"
@@ -36,11 +35,7 @@ static GLuint compile(const ht_tier_context *ctx, const char *file, GLenum stage
     const ht_gl *gl = ctx->gl;
     const ht_manifest *b = ctx->bundle;
     char rerr[512];
-    char path[HT_LIMIT_BUNDLE_FILE_PATH];
-    char *text = NULL;
-    if (!file) ht_set_error(rerr, sizeof rerr, "%s/manifest.json: files: role missing", b->dir);
-    else if (!ht_manifest_path(b, file, path, sizeof path)) ht_set_error(rerr, sizeof rerr, "%s: path too long", file);
-    else text = ht_file_read_text(path, HT_FILE_MAX_SHADER, rerr, sizeof rerr); /* regular files, 1 MiB */
+    char *text = ht_manifest_read_shader(b, file, rerr, sizeof rerr); /* regular files or memory, 1 MiB */
     if (!text) {
         snprintf(err, err_size, "compile failed: %s", rerr);
         return 0;

@@ -3,7 +3,8 @@
 
    The one public header of libhairtier.a. A bundle is a directory written
    offline by `hairgen` (manifest.json, the shaders of every tier, the
-   fixed-function combiner program and its textures); this library probes
+   fixed-function combiner program and its textures), or the same files
+   compiled in (`hairgen --emit-header`); this library probes
    the GL context it is handed, picks a tier, logs why it skipped the
    others, and draws hair in Scheuermann's four passes over a mesh whose
    strands are sorted inside to outside once, at load time.
@@ -19,6 +20,9 @@
               if (ht_renderer_create(&(ht_renderer_desc){
                       .getproc = my_getproc, .bundle_dir = "out/bundle",
                       .log = my_log }, &r) != HT_OK) { ... }
+          or from a header written by `hairgen --emit-header bundle.h`:
+              #include "bundle.h"   (static const ht_bundle_memory dark_brown_bundle)
+              ... .bundle_memory = &dark_brown_bundle ...
               ht_renderer_set_mesh(r, &mesh);
        4. Every frame:
               ht_renderer_draw(r, &(ht_frame_desc){ .camera = cam,
@@ -280,13 +284,37 @@ typedef struct ht_policy {
    into a policy; HT_ERR_INVALID_ARGUMENT with one line in err otherwise. */
 ht_result ht_policy_parse(const char *text, ht_policy *out, char *err, size_t err_size);
 
+/* ---- a bundle held in memory (hairgen --emit-header writes one) ---- */
+
+/* One file of a bundle: its name in the bundle directory and its bytes,
+   exactly what hairgen writes to disk (PNG files stay PNG). */
+typedef struct ht_bundle_file {
+    const char *name;            /* "manifest.json", "full.frag", "albedo.png": a plain file name */
+    const unsigned char *data;   /* size bytes; may be NULL only when size is 0 */
+    size_t size;
+} ht_bundle_file;
+
+/* A whole bundle in memory, read with the same checks and the same one-line
+   messages as a directory, NAME standing where the directory path would
+   ("NAME/full.frag: cannot read: No such file or directory"). Nothing is
+   copied: the files must outlive the renderer (the arrays hairgen
+   --emit-header writes are static). */
+typedef struct ht_bundle_memory {
+    const char *name;            /* labels messages; NULL or "" → "memory" */
+    const ht_bundle_file *files;
+    int file_count;              /* 1..HT_BUNDLE_MEMORY_MAX_FILES; names unique */
+} ht_bundle_memory;
+
+#define HT_BUNDLE_MEMORY_MAX_FILES 64
+
 /* Mean milliseconds a frame of `tier` takes; tests and apps with their own
    timer provide it (frame:MS policy). A value <= 0 or not finite: not timed. */
 typedef double (*ht_time_tier_fn)(void *user, ht_tier tier);
 
 typedef struct ht_renderer_desc {
     ht_getproc_fn getproc;   /* required */
-    const char *bundle_dir;  /* required: a directory written by hairgen */
+    const char *bundle_dir;  /* a directory written by hairgen; this or bundle_memory is required */
+    const ht_bundle_memory *bundle_memory; /* NULL; else the bundle, in memory, instead of bundle_dir */
     ht_tier tier;            /* HT_TIER_AUTO → best supported (or HAIRTIER_TIER) */
     bool strict;             /* false: a forced tier that fails drops to the next */
     ht_log_fn log;           /* NULL → stderr */

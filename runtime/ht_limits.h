@@ -16,6 +16,10 @@
 #define HT_LIMIT_FILE_JSON    (16u << 20)   /* materials, scenes, manifests, combiner programs */
 #define HT_LIMIT_FILE_SHADER  (1u << 20)    /* one GLSL source */
 #define HT_LIMIT_FILE_PNG     (512u << 20)  /* a PNG: 64 Mi RGBA pixels stored, with room for poor compression */
+/* A strand file (.tfx, .hair): the most points below take at most 4 + 4 + 4
+   + 4 + 12 bytes each in a .hair file (points, thickness, transparency,
+   colours) or 16 + 8 + 16 in a .tfx (positions, uvs, colours). */
+#define HT_LIMIT_FILE_STRANDS (256u << 20)
 
 /* ---- paths ---- */
 /* A bundle directory path, in bytes (without the NUL): the manifest keeps
@@ -27,6 +31,8 @@
 #define HT_LIMIT_BUNDLE_FILE_PATH (HT_LIMIT_DIR_PATH + 1 + HT_LIMIT_BUNDLE_NAME + 1)
 /* A material's texture path (resolved against the material's folder). */
 #define HT_LIMIT_TEXTURE_PATH 1023
+/* A scene's strand file path (resolved against the scene's folder). */
+#define HT_LIMIT_STRANDS_PATH 1023
 
 /* ---- textures (the PNG reader's cap is the texel cap) ---- */
 #define HT_LIMIT_TEXTURE_SIDE 16384               /* per side */
@@ -52,5 +58,18 @@
    arrays (48 + 12 + 16); 3 copies of a 4-byte index. */
 #define HT_LIMIT_SCENE_BYTES_PER_VERTEX (3u * 48u + 76u)
 #define HT_LIMIT_SCENE_BYTES_PER_INDEX (3u * 4u)
+
+/* ---- strand files (strands.h) ---- */
+/* Strands, and points in all the strands of one file: 4 Mi points make 8 Mi
+   ribbon vertices, about 2 GB by the estimate above, so every strand file
+   the readers accept fits HT_LIMIT_SCENE_BYTES (scene_budget.c asserts it).
+   A strand has 2..HT_LIMIT_STRAND_POINTS points (a .hair segment count is a
+   uint16: at most 65 536 points). */
+#define HT_LIMIT_STRANDS (1u << 20)
+#define HT_LIMIT_STRANDS_POINTS (4u << 20)
+#define HT_LIMIT_STRAND_POINTS 65536u
+/* |coordinate| and thickness in a strand file, in the file's units: beyond,
+   the ribbon builder's float arithmetic loses the hair's width. */
+#define HT_LIMIT_STRANDS_COORD 1e7
 
 #endif

@@ -155,17 +155,11 @@ static int read_body(png_session *s, ht_image *out) {
     return 0;
 }
 
-ht_result ht_image_read_png(const char *path, ht_image *out, char *err, size_t err_size) {
-    if (!path || !out) {
-        ht_set_error(err, err_size, "ht_image_read_png: path and out are required");
-        return HT_ERR_INVALID_ARGUMENT;
-    }
-    *out = (ht_image){ 0 };
-    png_session s = { 0 };
+/* Decodes the PNG `file` holds (a file or a memory stream) and closes it;
+   `name` labels the error line. */
+static ht_result read_png_stream(FILE *file, const char *name, ht_image *out, char *err, size_t err_size) {
+    png_session s = { .file = file };
     ht_result result = HT_ERR_IO;
-
-    if (ht_file_open_regular(path, HT_FILE_MAX_PNG, &s.file, NULL, err, err_size) != HT_OK)
-        return HT_ERR_IO;
     uint8_t signature[8];
     size_t got = fread(signature, 1, sizeof signature, s.file);
     if (got != sizeof signature || png_sig_cmp(signature, 0, sizeof signature) != 0) {
@@ -195,8 +189,42 @@ done:
     free(s.rows);
     free(s.pixels);
     fclose(s.file);
-    if (result != HT_OK) ht_set_error(err, err_size, "%s: %s", path, s.message);
+    if (result != HT_OK) ht_set_error(err, err_size, "%s: %s", name, s.message);
     return result;
+}
+
+ht_result ht_image_read_png(const char *path, ht_image *out, char *err, size_t err_size) {
+    if (!path || !out) {
+        ht_set_error(err, err_size, "ht_image_read_png: path and out are required");
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    *out = (ht_image){ 0 };
+    FILE *f;
+    if (ht_file_open_regular(path, HT_FILE_MAX_PNG, &f, NULL, err, err_size) != HT_OK) return HT_ERR_IO;
+    return read_png_stream(f, path, out, err, err_size);
+}
+
+ht_result ht_image_decode_png(const char *name, const void *data, size_t size, ht_image *out, char *err,
+                              size_t err_size) {
+    if (!name || !out || (!data && size)) {
+        ht_set_error(err, err_size, "ht_image_decode_png: name, out and the data are required");
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    *out = (ht_image){ 0 };
+    if (ht_file_check_size(name, size, HT_FILE_MAX_PNG, err, err_size) != HT_OK) return HT_ERR_IO;
+    if (size == 0) {
+        ht_set_error(err, err_size, "%s: file is empty", name);
+        return HT_ERR_IO;
+    }
+    /* A read-only stream over the bytes: the decoder, its limits and its
+       messages ("file is truncated") are the file reader's own. fmemopen
+       takes a non-const buffer but "rb" never writes to it. */
+    FILE *f = fmemopen((void *)(uintptr_t)data, size, "rb");
+    if (!f) {
+        ht_set_error(err, err_size, "%s: cannot read: %s", name, strerror(errno));
+        return HT_ERR_IO;
+    }
+    return read_png_stream(f, name, out, err, err_size);
 }
 
 /* ---- writing ---- */
@@ -287,11 +315,50 @@ done:
     return result;
 }
 
+ht_result ht_image_encode_png(const ht_image *img, unsigned char **data, size_t *size, char *err, size_t err_size) {
+    *data = NULL;
+    *size = 0;
+    if (!img || !img->pixels || image_bytes(img->width, img->height, img->channels) == 0) {
+        ht_set_error(err, err_size, "ht_image_encode_png: not a valid image to encode");
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    /* The file writer's body over a memory stream: the same bytes. */
+    char *buf = NULL;
+    size_t len = 0;
+    png_session s = { .file = open_memstream(&buf, &len) };
+    ht_result result = HT_ERR_OUT_OF_MEMORY;
+    if (!s.file) goto done;
+    s.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &s, on_png_error, on_png_warning);
+    if (s.png) s.info = png_create_info_struct(s.png);
+    if (!s.png || !s.info || write_body(&s, img) != 0) goto done;
+    result = HT_OK;
+done:
+    if (s.png) png_destroy_write_struct(&s.png, s.info ? &s.info : NULL);
+    if (s.file && fclose(s.file) != 0) result = HT_ERR_OUT_OF_MEMORY;
+    if (result == HT_OK) {
+        *data = (unsigned char *)buf;
+        *size = len;
+    } else {
+        free(buf);
+        ht_set_error(err, err_size, "ht_image_encode_png: %s", s.message[0] ? s.message : "out of memory");
+    }
+    return result;
+}
+
 /* The size a PNG's header declares, read before decoding: a corrupt or
    hostile header must not make us allocate what it claims. False when the
-   file does not start like a PNG (the decoder then says why). */
-bool ht_image_png_header_size(const char *path, uint32_t *width, uint32_t *height) {
+   bytes do not start like a PNG (the decoder then says why). */
+bool ht_image_png_header_size_bytes(const void *data, size_t size, uint32_t *width, uint32_t *height) {
     static const unsigned char signature[8] = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n' };
+    const unsigned char *h = data;
+    if (!h || size < 24 || memcmp(h, signature, sizeof signature) != 0 || memcmp(h + 12, "IHDR", 4) != 0)
+        return false;
+    *width = (uint32_t)h[16] << 24 | (uint32_t)h[17] << 16 | (uint32_t)h[18] << 8 | h[19];
+    *height = (uint32_t)h[20] << 24 | (uint32_t)h[21] << 16 | (uint32_t)h[22] << 8 | h[23];
+    return true;
+}
+
+bool ht_image_png_header_size(const char *path, uint32_t *width, uint32_t *height) {
     unsigned char h[24];
     FILE *f;
     char ignored[8];
@@ -300,9 +367,5 @@ bool ht_image_png_header_size(const char *path, uint32_t *width, uint32_t *heigh
     if (ht_file_open_regular(path, HT_FILE_MAX_PNG, &f, NULL, ignored, sizeof ignored) != HT_OK) return false;
     size_t n = fread(h, 1, sizeof h, f);
     fclose(f);
-    if (n != sizeof h || memcmp(h, signature, sizeof signature) != 0 || memcmp(h + 12, "IHDR", 4) != 0)
-        return false;
-    *width = (uint32_t)h[16] << 24 | (uint32_t)h[17] << 16 | (uint32_t)h[18] << 8 | h[19];
-    *height = (uint32_t)h[20] << 24 | (uint32_t)h[21] << 16 | (uint32_t)h[22] << 8 | h[23];
-    return true;
+    return ht_image_png_header_size_bytes(h, n, width, height);
 }

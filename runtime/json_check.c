@@ -104,6 +104,38 @@ void ht_json_path_index(char out[HT_JSON_PATH_MAX], const char *parent, int inde
 
 /* ---- files and documents ---- */
 
+/* A NUL byte inside a JSON text: "FILE: line N: NUL byte in a text file". */
+static ht_result check_no_nul(const ht_jctx *c, const char *buf, size_t len) {
+    const char *nul = memchr(buf, '\0', len);
+    if (!nul) return HT_OK;
+    int line = 1;
+    for (const char *p = buf; p < nul; p++) line += *p == '\n';
+    char field[32];
+    snprintf(field, sizeof field, "line %d", line);
+    return ht_json_fail(c, field, "NUL byte in a text file");
+}
+
+ht_result ht_json_text_from_bytes(const char *path, const void *data, size_t size, char **text, char *err,
+                                  size_t err_size) {
+    ht_jctx c = { path, err, err_size };
+    *text = NULL;
+    ht_result r = ht_file_check_size(path, size, MAX_FILE_BYTES, err, err_size);
+    if (r != HT_OK) {
+        if (err && err_size) one_line(err);
+        return r;
+    }
+    if ((r = check_no_nul(&c, data, size)) != HT_OK) return r;
+    char *buf = malloc(size + 1);
+    if (!buf) {
+        if (err && err_size) snprintf(err, err_size, "%s: out of memory", path);
+        return HT_ERR_OUT_OF_MEMORY;
+    }
+    if (size) memcpy(buf, data, size);
+    buf[size] = '\0';
+    *text = buf;
+    return HT_OK;
+}
+
 ht_result ht_json_read_file(const char *path, char **text, char *err, size_t err_size) {
     ht_jctx c = { path, err, err_size };
     *text = NULL;
@@ -141,14 +173,10 @@ ht_result ht_json_read_file(const char *path, char **text, char *err, size_t err
     }
     fclose(f);
     buf[len] = '\0';
-    size_t nul = strlen(buf);
-    if (nul != len) {
-        int line = 1;
-        for (size_t i = 0; i < nul; i++) line += buf[i] == '\n';
+    ht_result r = check_no_nul(&c, buf, len);
+    if (r != HT_OK) {
         free(buf);
-        char field[32];
-        snprintf(field, sizeof field, "line %d", line);
-        return ht_json_fail(&c, field, "NUL byte in a text file");
+        return r;
     }
     *text = buf;
     return HT_OK;

@@ -61,6 +61,10 @@ void ht_json_path_index(char out[HT_JSON_PATH_MAX], const char *parent, int inde
    cannot be read gives HT_ERR_IO and "FILE: cannot read: <strerror>"; a NUL
    byte inside or a file over 16 MiB gives HT_ERR_PARSE. */
 ht_result ht_json_read_file(const char *path, char **text, char *err, size_t err_size);
+/* The same checks (size cap, NUL byte) and messages for bytes already in
+   memory (a bundle compiled in), PATH naming them. */
+ht_result ht_json_text_from_bytes(const char *path, const void *data, size_t size, char **text, char *err,
+                                  size_t err_size);
 
 /* Parses text whose root must be an object. Syntax errors name the line:
    "FILE: line 3: malformed JSON at column 7 near ..." */

@@ -1,5 +1,6 @@
 /* manifest.h — a hairgen bundle's manifest.json read into plain structs (the
-   format is docs/bundle.md). Internal to libhairtier.
+   format is docs/bundle.md), from a directory or a bundle in memory; the
+   readers of the bundle's other files. Internal to libhairtier.
 
    Usage:
        ht_manifest b;
@@ -18,6 +19,7 @@
 #include <stddef.h>
 
 #include "hairtier.h"
+#include "bundle_source.h"
 #include "image.h"
 #include "ht_limits.h"
 
@@ -136,7 +138,8 @@ typedef struct ht_manifest_tier {
 } ht_manifest_tier;
 
 typedef struct ht_manifest {
-    char dir[HT_LIMIT_DIR_PATH + 1]; /* a longer path is refused, never cut */
+    char dir[HT_LIMIT_DIR_PATH + 1]; /* a longer path is refused, never cut; a memory bundle's name */
+    const ht_bundle_memory *memory;  /* NULL: the files are in dir; else the caller's memory bundle */
     char material[64];
     char model[32];
     ht_light_type lights[HT_MAX_LIGHTS];
@@ -149,6 +152,9 @@ typedef struct ht_manifest {
 } ht_manifest;
 
 ht_result ht_manifest_load(const char *dir, ht_manifest *out, char *err, size_t err_size);
+/* The same from a bundle in memory (checked with ht_bundle_memory_check
+   first); every message names NAME/FILE where a directory's names DIR/FILE. */
+ht_result ht_manifest_load_memory(const ht_bundle_memory *m, ht_manifest *out, char *err, size_t err_size);
 /* Parses manifest text; file_name only labels errors. */
 ht_result ht_manifest_parse(const char *json_text, const char *dir, const char *file_name,
                           ht_manifest *out, char *err, size_t err_size);
@@ -159,11 +165,15 @@ const char *ht_manifest_tier_file(const ht_manifest_tier *t, const char *role);
 /* A texture by key: the tier's own first, then the bundle's; NULL if neither. */
 const ht_manifest_texture *ht_manifest_find_texture(const ht_manifest *b, const ht_manifest_tier *t,
                                                 const char *name);
-/* DIR/file into out; false when it does not fit. */
+/* Where the bundle's files come from (bundle_source.h). */
+ht_bundle_source ht_manifest_source(const ht_manifest *b);
+/* DIR/file into out (what messages name); false when it does not fit. */
 bool ht_manifest_path(const ht_manifest *b, const char *file, char *out, size_t out_size);
-/* Reads a text file of the bundle (malloc'd, NUL-terminated) or NULL with
-   "DIR/FILE: why" in err. */
+/* Reads a JSON file of the bundle (malloc'd, NUL-terminated) or NULL with
+   "DIR/FILE: why" in err; file NULL (a role the tier lacks) is an error too. */
 char *ht_manifest_read_text(const ht_manifest *b, const char *file, char *err, size_t err_size);
+/* The same for a GLSL source (its own size cap). */
+char *ht_manifest_read_shader(const ht_manifest *b, const char *file, char *err, size_t err_size);
 /* Reads a 2D texture of the bundle held to its manifest entry: the size the
    PNG header declares is checked before decoding (a hostile header must
    not make us allocate what it claims), then the decoded size. path

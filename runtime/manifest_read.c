@@ -1,5 +1,6 @@
 /* manifest_read.c — reads DIR/manifest.json (docs/bundle.md) with
-   json_check.h's checked getters; the keys are manifest.h's. Only the
+   json_check.h's checked getters; the keys are manifest.h's. The bundle's
+   files come through bundle_source.h (a directory or memory). Only the
    documented fields are read; anything else is ignored so newer generators
    can add information. */
 #include <errno.h>
@@ -11,6 +12,7 @@
 #include <cJSON.h>
 
 #include "manifest.h"
+#include "bundle_source.h"
 #include "json_check.h"
 #include "caps.h"
 #include "errfmt.h"
@@ -273,11 +275,22 @@ done:
     return r;
 }
 
-/* The whole file, or NULL with one line in err (json_check.h's reader:
-   unreadable, over its size cap, or holding a NUL byte). */
-static char *read_file(const char *path, char *err, size_t err_size) {
-    char *text = NULL;
-    return ht_json_read_file(path, &text, err, err_size) == HT_OK ? text : NULL;
+/* manifest.json from the source, parsed; on success out reads its other
+   files from the same source. */
+static ht_result load(ht_bundle_source src, ht_manifest *out, char *err, size_t err_size) {
+    char path[HT_LIMIT_BUNDLE_FILE_PATH];
+    if (strlen(src.label) > HT_LIMIT_DIR_PATH || !ht_bundle_path(src, HT_MANIFEST_FILE, path, sizeof path)) {
+        snprintf(err, err_size, "%.200s...: bundle directory path is %zu bytes, more than %d", src.label,
+                 strlen(src.label), HT_LIMIT_DIR_PATH);
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    char *text;
+    ht_result r = ht_bundle_read_json(src, HT_MANIFEST_FILE, &text, err, err_size);
+    if (r != HT_OK) return HT_ERR_IO;
+    r = ht_manifest_parse(text, src.label, path, out, err, err_size);
+    free(text);
+    out->memory = src.memory;
+    return r;
 }
 
 ht_result ht_manifest_load(const char *dir, ht_manifest *out, char *err, size_t err_size) {
@@ -285,18 +298,17 @@ ht_result ht_manifest_load(const char *dir, ht_manifest *out, char *err, size_t 
         snprintf(err, err_size, "bundle: bundle_dir: required");
         return HT_ERR_INVALID_ARGUMENT;
     }
-    char path[HT_LIMIT_BUNDLE_FILE_PATH];
-    if (strlen(dir) > HT_LIMIT_DIR_PATH ||
-        (size_t)snprintf(path, sizeof path, "%s/" HT_MANIFEST_FILE, dir) >= sizeof path) {
-        snprintf(err, err_size, "%.200s...: bundle directory path is %zu bytes, more than %d", dir, strlen(dir),
-                 HT_LIMIT_DIR_PATH);
+    return load((ht_bundle_source){ .label = dir }, out, err, err_size);
+}
+
+ht_result ht_manifest_load_memory(const ht_bundle_memory *m, ht_manifest *out, char *err, size_t err_size) {
+    if (!out) {
+        snprintf(err, err_size, "bundle: bundle_memory: no output");
         return HT_ERR_INVALID_ARGUMENT;
     }
-    char *text = read_file(path, err, err_size);
-    if (!text) return HT_ERR_IO;
-    ht_result r = ht_manifest_parse(text, dir, path, out, err, err_size);
-    free(text);
-    return r;
+    ht_result r = ht_bundle_memory_check(m, err, err_size);
+    if (r != HT_OK) return r;
+    return load((ht_bundle_source){ .label = ht_bundle_memory_label(m), .memory = m }, out, err, err_size);
 }
 
 const ht_manifest_tier *ht_manifest_find_tier(const ht_manifest *b, ht_tier tier) {
@@ -320,39 +332,33 @@ const ht_manifest_texture *ht_manifest_find_texture(const ht_manifest *b, const 
     return NULL;
 }
 
+ht_bundle_source ht_manifest_source(const ht_manifest *b) {
+    return (ht_bundle_source){ .label = b->dir, .memory = b->memory };
+}
+
 bool ht_manifest_path(const ht_manifest *b, const char *file, char *out, size_t out_size) {
-    return (size_t)snprintf(out, out_size, "%s/%s", b->dir, file) < out_size;
+    return ht_bundle_path(ht_manifest_source(b), file, out, out_size);
+}
+
+/* A role the tier does not list: one line naming the manifest. */
+static bool role_listed(const ht_manifest *b, const char *file, char *err, size_t err_size) {
+    if (!file) snprintf(err, err_size, "%s/" HT_MANIFEST_FILE ": " K(FILES) ": role missing", b->dir);
+    return file != NULL;
 }
 
 char *ht_manifest_read_text(const ht_manifest *b, const char *file, char *err, size_t err_size) {
-    char path[HT_LIMIT_BUNDLE_FILE_PATH];
-    if (!file) {
-        snprintf(err, err_size, "%s/" HT_MANIFEST_FILE ": " K(FILES) ": role missing", b->dir);
-        return NULL;
-    }
-    if (!ht_manifest_path(b, file, path, sizeof path)) {
-        snprintf(err, err_size, "%s: path too long", file);
-        return NULL;
-    }
-    return read_file(path, err, err_size);
+    char *text = NULL;
+    if (role_listed(b, file, err, err_size)) ht_bundle_read_json(ht_manifest_source(b), file, &text, err, err_size);
+    return text;
+}
+
+char *ht_manifest_read_shader(const ht_manifest *b, const char *file, char *err, size_t err_size) {
+    return role_listed(b, file, err, err_size) ? ht_bundle_read_shader(ht_manifest_source(b), file, err, err_size)
+                                               : NULL;
 }
 
 ht_result ht_manifest_read_texture(const ht_manifest *b, const ht_manifest_texture *t, ht_image *img, char *path,
                                    size_t path_size, char *err, size_t err_size) {
-    *img = (ht_image){ 0 };
-    if (!ht_manifest_path(b, t->file, path, path_size))
-        return ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", t->file);
-    uint32_t hw, hh;
-    if (ht_image_png_header_size(path, &hw, &hh) && (hw != (uint32_t)t->width || hh != (uint32_t)t->height))
-        return ht_fail(err, err_size, HT_ERR_PARSE, "%s: %ux%u, manifest says %dx%d", path, hw, hh, t->width,
-                       t->height);
-    ht_result r = ht_image_read_png(path, img, err, err_size);
-    if (r != HT_OK) return r;
-    if (img->width != t->width || img->height != t->height) {
-        ht_set_error(err, err_size, "%s: %dx%d, manifest says %dx%d", path, img->width, img->height, t->width,
-                     t->height);
-        ht_image_free(img);
-        return HT_ERR_PARSE;
-    }
-    return HT_OK;
+    return ht_bundle_read_png(ht_manifest_source(b), t->file, t->width, t->height, img, path, path_size, err,
+                              err_size);
 }

@@ -27,13 +27,20 @@
               centre is the sphere point of radius r (fringe: r (1 + 0.012
               x²), its tip lifted off the hair below) at θ = θ0 + (θ1 - θ0)
               x, φ + d sin(πx), d in ±0.3 min(Δ, 0.25) (MAX_DRIFT = 0.075) a
-              seeded sideways drift that is 0 at both ends.
-     hang     length S2 = R (0.8 + 0.5 b + 0.04 l + k), b = (1 - cos φ) / 2
-              (0 at the face, 1 at the back), k in [0, 0.2): back hair
-              longest, outer layers a little longer so they cover the inner
-              tips. At u in [0, 1] down it the centre is
-              ρ h + A u sin(2π f u + ψ) e + (0, -u S2, 0), h = (sin φ, 0, cos φ),
-              e = (cos φ, 0, -sin φ), ρ = r + R F u² (F in [0.04, 0.14): the
+              seeded sideways drift that is 0 at both ends, + w x² with w
+              = ±0.6 (1 - smoothstep((|φ| - FACE - m) / 0.45)) away from
+              the face (0 for fringes): the long strips beside the face
+              sweep back towards the ears, so their front edge runs from
+              the hairline diagonally back, not down a meridian.
+     hang     length S2 = R (0.55 + (L - 0.55) g), L = 0.8 + 0.5 b + 0.04 l
+              + k, b = (1 - cos φ) / 2 (0 at the face, 1 at the back), k in
+              [0, 0.2): back hair longest, outer layers a little longer so
+              they cover the inner tips; g = smoothstep((|φ| - FACE - m) /
+              0.8) frames the face: the strips beside it hang 0.55 R and
+              lengthen over 0.8 radians to L, so the hair's edge beside the
+              face runs diagonally back instead of down in one hard line. At u in [0, 1] down it the centre is
+              ρ h + A u sin(2π f u + ψ) e + (0, -u S2, 0), h = (sin φ', 0,
+              cos φ'), e = (cos φ', 0, -sin φ'), φ' = φ + w (the swept azimuth), ρ = r + R F u² (F in [0.04, 0.14): the
               tips fan out), A in [0.02, 0.05) R (WAVE = 0.05), f in
               [0.5, 1.2), ψ in [0, 2π): a seeded wave across the strip.
               It continues the scalp path at the equator, where the
@@ -60,9 +67,8 @@
    runs straight from crown to tip, through the head); every vertex is
    still outside the head.
 
-   The head is a UV sphere of HEAD_SLICES × HEAD_STACKS, normals radial,
-   tangent the azimuth direction, uv = (φ / 2π, θ / π), ao = 1, one
-   component. Triangles are counter-clockwise seen from outside.
+   The head is mesh_head.c's sphere of radius R at the origin with a neck
+   under it.
 
    Limits (else HT_ERR_INVALID_ARGUMENT, after defaults): head_radius in
    [1e-4, 1e4], 1 <= layers <= 256, 1 <= strips <= 2^20,
@@ -81,8 +87,6 @@
 #define PATCHES_MAX_LAYERS 256
 #define PATCHES_MAX_STRIPS (1 << 20)
 #define PATCHES_MAX_SEGMENTS 4096
-#define HEAD_SLICES 48
-#define HEAD_STACKS 24
 
 #define SHELL_BASE 0.02  /* inner layer's height above the head / R */
 #define SHELL_STEP 0.03  /* between layers / R */
@@ -92,6 +96,15 @@
 #define WAVE 0.05         /* largest sideways wave of hanging hair / R */
 #define MAX_DRIFT 0.075   /* 0.3 × 0.25, the largest scalp drift, radians */
 #define MAX_FAN 0.14      /* largest outward spread of a tip / R */
+#define FRAME_MIN 0.55    /* hang / R of the long strips beside the face */
+#define FRAME_RAMP 0.8    /* radians over which they lengthen to the rest */
+#define SWEEP 0.6         /* radians the strips beside the face sweep back by the equator */
+#define SWEEP_RAMP 0.45   /* radians from the face over which the sweep fades */
+
+static double smoothstep01(double x) {
+    x = ht_clamp01(x);
+    return x * x * (3.0 - 2.0 * x);
+}
 
 static ht_result resolve(const ht_patches_desc *in, ht_patches_desc *d) {
     if (!in) return HT_ERR_INVALID_ARGUMENT;
@@ -120,7 +133,7 @@ static void azimuth_direction(double e[3], double phi) { ht_vec3_set(e, cos(phi)
 static double half_angle(int strips) { return fmin(1.5 * M_PI / strips, 0.6); }
 
 typedef struct strip_params {
-    double phi, drift, theta0, theta1, r;             /* scalp */
+    double phi, drift, sweep, theta0, theta1, r;      /* scalp */
     double hang, fan, wave, wave_freq, wave_phase;    /* hanging; hang 0: a fringe */
     double scalp_length;
 } strip_params;
@@ -143,10 +156,15 @@ static strip_params draw_strip(const ht_patches_desc *d, ht_rng *rng, int layer,
     p.wave_phase = ht_rng_range(rng, 0.0, 2.0 * M_PI);
     p.r = R * (1.0 + SHELL_BASE + SHELL_STEP * layer + lift);
 
-    const int fringe = fabs(p.phi) < FACE + half_angle(d->strips) + WAVE + MAX_DRIFT;
+    const double face_edge = FACE + half_angle(d->strips) + WAVE + MAX_DRIFT;
+    const int fringe = fabs(p.phi) < face_edge;
     p.theta1 = fringe ? hairline : 0.5 * M_PI;
     const double back = 0.5 * (1.0 - cos(p.phi));
-    p.hang = fringe ? 0.0 : R * (0.8 + 0.5 * back + 0.04 * layer + length_jitter);
+    const double frame = smoothstep01((fabs(p.phi) - face_edge) / FRAME_RAMP);
+    const double full = 0.8 + 0.5 * back + 0.04 * layer + length_jitter;
+    p.hang = fringe ? 0.0 : R * (FRAME_MIN + (full - FRAME_MIN) * frame);
+    const double sweep = 1.0 - smoothstep01((fabs(p.phi) - face_edge) / SWEEP_RAMP);
+    p.sweep = fringe ? 0.0 : copysign(SWEEP * sweep, p.phi);
     p.scalp_length = p.r * (p.theta1 - p.theta0);
     return p;
 }
@@ -158,7 +176,8 @@ static void centre_point(const strip_params *p, double v, double c[3], double ou
     if (s <= p->scalp_length || p->hang <= 0) {
         const double x = fmin(s / p->scalp_length, 1.0);
         const double r = p->hang > 0 ? p->r : p->r * (1.0 + FRINGE_LIFT * x * x);
-        sphere_point(c, r, p->theta0 + (p->theta1 - p->theta0) * x, p->phi + p->drift * sin(M_PI * x));
+        sphere_point(c, r, p->theta0 + (p->theta1 - p->theta0) * x,
+                     p->phi + p->drift * sin(M_PI * x) + p->sweep * x * x);
         ht_vec3_copy(out, c);
         ht_vec3_normalize(out);
         return;
@@ -167,8 +186,9 @@ static void centre_point(const strip_params *p, double v, double c[3], double ou
     const double rho = p->r + p->fan * u * u;
     const double side = p->wave * u * sin(2.0 * M_PI * p->wave_freq * u + p->wave_phase);
     double h[3], e[3];
-    ht_vec3_set(h, sin(p->phi), 0.0, cos(p->phi));
-    azimuth_direction(e, p->phi);
+    const double phi = p->phi + p->sweep;
+    ht_vec3_set(h, sin(phi), 0.0, cos(phi));
+    azimuth_direction(e, phi);
     ht_vec3_set(c, rho * h[0] + side * e[0], -u * p->hang, rho * h[2] + side * e[2]);
     ht_vec3_set(out, c[0], 0.0, c[2]);
     ht_vec3_normalize(out);
@@ -228,38 +248,6 @@ static void build_strip(const ht_patches_desc *d, const strip_params *p, double 
     }
 }
 
-static void build_head(float radius, ht_vertex *v, uint32_t *idx) {
-    for (int i = 0; i <= HEAD_STACKS; i++) {
-        const double theta = M_PI * i / HEAD_STACKS;
-        for (int j = 0; j <= HEAD_SLICES; j++) {
-            const double phi = 2.0 * M_PI * j / HEAD_SLICES;
-            double n[3], e[3], pos[3];
-            sphere_point(n, 1.0, theta, phi);
-            azimuth_direction(e, phi);
-            ht_vec3_mad(pos, (const double[3]){ 0, 0, 0 }, radius, n);
-            ht_vertex *vx = &v[i * (HEAD_SLICES + 1) + j];
-            ht_vec3_store(vx->position, pos);
-            ht_vec3_store(vx->normal, n);
-            ht_vec3_store(vx->tangent, e);
-            vx->uv[0] = (float)j / HEAD_SLICES;
-            vx->uv[1] = (float)i / HEAD_STACKS;
-            vx->ao = 1.0f;
-        }
-    }
-    /* Quads between rows i and i + 1; at the poles one triangle of each
-       quad would have zero area and is left out. */
-    uint32_t k = 0;
-    for (uint32_t i = 0; i < HEAD_STACKS; i++)
-        for (uint32_t j = 0; j < HEAD_SLICES; j++) {
-            const uint32_t a = i * (HEAD_SLICES + 1) + j, b = a + HEAD_SLICES + 1;
-            if (i != 0) { idx[k++] = a; idx[k++] = b; idx[k++] = a + 1; }
-            if (i != HEAD_STACKS - 1) { idx[k++] = a + 1; idx[k++] = b; idx[k++] = b + 1; }
-        }
-}
-
-#define HEAD_VERTICES ((HEAD_STACKS + 1) * (HEAD_SLICES + 1))
-#define HEAD_INDICES (6 * HEAD_SLICES * (HEAD_STACKS - 1))
-
 ht_result ht_mesh_build_patches(const ht_patches_desc *desc, ht_mesh *out, ht_mesh *head) {
     if (!out) return HT_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
@@ -280,10 +268,8 @@ ht_result ht_mesh_build_patches(const ht_patches_desc *desc, ht_mesh *out, ht_me
         goto fail;
     }
     if (head) {
-        res = ht_mesh_alloc(head, HEAD_VERTICES, HEAD_INDICES, 1);
+        res = ht_mesh_build_head(d.head_radius, (const float[3]){ 0, 0, 0 }, true, head);
         if (res != HT_OK) goto fail;
-        build_head(d.head_radius, head->vertices, head->indices);
-        head->components[0] = (ht_component){ 0, HEAD_INDICES, 0.0f };
     }
 
     ht_rng rng = ht_rng_seed(d.seed);

@@ -148,17 +148,44 @@ static void ssim_filter(const double *in, double *tmp, double *out, int w, int h
     }
 }
 
-ht_result ht_metrics_compare(const ht_metrics_desc *d, ht_metrics *whole, ht_metrics *hair, char *err,
-                             size_t err_size) {
+double ht_metrics_delta_e00_pixel(const uint8_t a[3], const uint8_t b[3]) {
+    if (memcmp(a, b, 3) == 0) return 0.0;
+    double la[3], lb[3];
+    ht_metrics_srgb_to_lab(a, la);
+    ht_metrics_srgb_to_lab(b, lb);
+    return ht_metrics_ciede2000(la, lb);
+}
+
+/* The images and size every entry point needs; `who` names it in err. */
+static ht_result check_desc(const ht_metrics_desc *d, const char *who, char *err, size_t err_size) {
     if (!d || !d->reference || !d->test) {
-        snprintf(err, err_size, "ht_metrics_compare: reference and test images are required");
+        snprintf(err, err_size, "%s: reference and test images are required", who);
         return HT_ERR_INVALID_ARGUMENT;
     }
     if (d->width < 1 || d->height < 1 || (long long)d->width * d->height > (1LL << 26)) {
-        snprintf(err, err_size, "ht_metrics_compare: %d x %d: width and height must be 1 or more, 64 Mi pixels at most",
+        snprintf(err, err_size, "%s: %d x %d: width and height must be 1 or more, 64 Mi pixels at most", who,
                  d->width, d->height);
         return HT_ERR_INVALID_ARGUMENT;
     }
+    return HT_OK;
+}
+
+ht_result ht_metrics_delta_e00_map(const ht_metrics_desc *d, double *map, char *err, size_t err_size) {
+    ht_result r = check_desc(d, "ht_metrics_delta_e00_map", err, err_size);
+    if (r != HT_OK) return r;
+    if (!map) {
+        snprintf(err, err_size, "ht_metrics_delta_e00_map: no output map");
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    size_t n = (size_t)d->width * (size_t)d->height;
+    for (size_t i = 0; i < n; i++) map[i] = ht_metrics_delta_e00_pixel(d->reference + 4 * i, d->test + 4 * i);
+    return HT_OK;
+}
+
+ht_result ht_metrics_compare(const ht_metrics_desc *d, ht_metrics *whole, ht_metrics *hair, char *err,
+                             size_t err_size) {
+    ht_result r = check_desc(d, "ht_metrics_compare", err, err_size);
+    if (r != HT_OK) return r;
     int w = d->width, h = d->height;
     size_t n = (size_t)w * (size_t)h;
     const uint8_t *bg = d->background ? d->background : d->reference;
@@ -185,10 +212,7 @@ ht_result ht_metrics_compare(const ht_metrics_desc *d, ht_metrics *whole, ht_met
         for (int c = 0; c < 3; c++) se += ((double)a[c] - b[c]) * ((double)a[c] - b[c]);
         if (se) identical = false;
         is_hair[i] = memcmp(a, bg, 3) != 0 || memcmp(b, bg, 3) != 0;
-        double la[3], lb[3];
-        ht_metrics_srgb_to_lab(a, la);
-        ht_metrics_srgb_to_lab(b, lb);
-        double de = se ? ht_metrics_ciede2000(la, lb) : 0.0;
+        double de = ht_metrics_delta_e00_pixel(a, b);
         all.squared_error += se;
         all.delta_e[all.pixels++] = de;
         if (is_hair[i]) {

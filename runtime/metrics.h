@@ -60,5 +60,13 @@ ht_result ht_metrics_compare(const ht_metrics_desc *desc, ht_metrics *whole, ht_
 void ht_metrics_srgb_to_lab(const uint8_t rgb[3], double lab[3]);
 /* CIEDE2000 between two CIELAB colours (kL = kC = kH = 1); symmetric. */
 double ht_metrics_ciede2000(const double lab1[3], const double lab2[3]);
+/* CIEDE2000 between two 8-bit sRGB colours: the per-pixel value whose mean
+   and 95th percentile ht_metrics_compare reports (0 for equal colours). */
+double ht_metrics_delta_e00_pixel(const uint8_t a[3], const uint8_t b[3]);
+/* The per-pixel CIEDE2000 of test against reference into map (width ×
+   height values, the images' row order): what an error heatmap shows.
+   The same argument checks as ht_metrics_compare, and a NULL map is
+   HT_ERR_INVALID_ARGUMENT. */
+ht_result ht_metrics_delta_e00_map(const ht_metrics_desc *desc, double *map, char *err, size_t err_size);
 
 #endif

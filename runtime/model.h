@@ -17,7 +17,10 @@
    the _d functions are the truth, the _f ones mirror what a GPU does in
    32-bit float. Every undefined point has a finite documented answer, listed
    in model.c and docs/DESIGN.md; no function here returns NaN or Inf for
-   finite inputs. */
+   finite inputs.
+
+   Public: installed beside hairtier.h because hairgen.h's materials carry
+   an ht_shading; it includes nothing of ours. */
 #ifndef HT_MODEL_H
 #define HT_MODEL_H
 

@@ -106,8 +106,13 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
         log(log_user, "hairtier: ht_renderer_desc: getproc: required");
         return HT_ERR_INVALID_ARGUMENT;
     }
-    if (!desc->flat && (!desc->bundle_dir || !desc->bundle_dir[0])) {
-        log(log_user, "hairtier: ht_renderer_desc: bundle_dir: required");
+    const bool has_dir = desc->bundle_dir && desc->bundle_dir[0];
+    if (!desc->flat && !has_dir && !desc->bundle_memory) {
+        log(log_user, "hairtier: ht_renderer_desc: bundle_dir: required (or bundle_memory)");
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    if (has_dir && desc->bundle_memory) {
+        log(log_user, "hairtier: ht_renderer_desc: bundle_dir and bundle_memory: give one, not both");
         return HT_ERR_INVALID_ARGUMENT;
     }
     ht_renderer *r = calloc(1, sizeof *r);
@@ -162,8 +167,10 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
                  r->caps.gl_major, r->caps.gl_minor, r->caps.glsl_major, r->caps.glsl_minor, r->caps.texture_units,
                  r->caps.renderer, r->caps.has_vbo ? "" : ", no VBOs");
 
-    if (desc->bundle_dir && desc->bundle_dir[0]) {
-        if ((res = ht_manifest_load(desc->bundle_dir, &r->bundle, err, sizeof err)) != HT_OK) {
+    if (has_dir || desc->bundle_memory) {
+        res = has_dir ? ht_manifest_load(desc->bundle_dir, &r->bundle, err, sizeof err)
+                      : ht_manifest_load_memory(desc->bundle_memory, &r->bundle, err, sizeof err);
+        if (res != HT_OK) {
             ht_log_linef(r->log, r->log_user, "hairtier: %s", err);
             goto fail;
         }

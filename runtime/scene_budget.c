@@ -8,8 +8,18 @@
 #include "ht_limits.h"
 #include "scene.h"
 
+/* Every strand file the readers accept fits: two vertices per point, at
+   most six indices per point. */
+_Static_assert((uint64_t)HT_LIMIT_STRANDS_POINTS * 2 * HT_LIMIT_SCENE_BYTES_PER_VERTEX +
+                       (uint64_t)HT_LIMIT_STRANDS_POINTS * 6 * HT_LIMIT_SCENE_BYTES_PER_INDEX <=
+                   HT_LIMIT_SCENE_BYTES,
+               "a strand file at HT_LIMIT_STRANDS_POINTS must fit HT_LIMIT_SCENE_BYTES");
+
 static void counts(const ht_scene *s, uint64_t *vertices, uint64_t *indices) {
-    if (s->geometry == HT_GEOMETRY_PATCHES) {
+    if (s->geometry == HT_GEOMETRY_STRANDS) {
+        *vertices = (uint64_t)HT_LIMIT_STRANDS_POINTS * 2;
+        *indices = (uint64_t)HT_LIMIT_STRANDS_POINTS * 6;
+    } else if (s->geometry == HT_GEOMETRY_PATCHES) {
         const uint64_t strips = (uint64_t)s->patches.layers * (uint64_t)s->patches.strips;
         *vertices = strips * ((uint64_t)s->patches.segments + 1) * 2;
         *indices = strips * (uint64_t)s->patches.segments * 6;

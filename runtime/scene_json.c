@@ -2,6 +2,7 @@
    default scene. Every rule is listed in docs/materials.md; keep the two in
    step. Geometry defaults are written out (not left 0) so a parsed scene
    says exactly what will be built. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -21,6 +22,9 @@ static const ht_furball_desc furball_defaults = {
 static const ht_patches_desc patches_defaults = {
     .head_radius = 1.0f, .layers = 3, .strips = 64, .segments = 12,
 };
+static const ht_strands_scene strands_defaults = {
+    .ribbon = { .scale = 1.0f, .width = 0.01f, .tip_width = 0.25f, .ao = 0.3f },
+};
 
 void ht_scene_default(ht_scene *out) {
     memset(out, 0, sizeof *out);
@@ -39,6 +43,7 @@ void ht_scene_default(ht_scene *out) {
     out->geometry = HT_GEOMETRY_FURBALL;
     out->furball = furball_defaults;
     out->patches = patches_defaults;
+    out->strands = strands_defaults;
 }
 
 static double length2(const float v[3]) {
@@ -157,12 +162,17 @@ static const char *const furball_keys[] = {
 static const char *const patches_keys[] = {
     "type", "head_radius", "layers", "strips", "segments", "seed", NULL,
 };
+static const char *const strands_keys[] = {
+    "type", "file", "scale", "center", "width", "tip_width", "thickness", "ao", "facing", "head", NULL,
+};
 
 static ht_result parse_furball(const ht_jctx *c, const cJSON *g, ht_furball_desc *f) {
     const ht_furball_desc *d = &furball_defaults;
     int64_t hairs, joints, seed;
     ht_result r = other_kind_keys(c, g, furball_keys, patches_keys,
                                   "belongs to \"type\": \"patches\", not \"furball\"");
+    if (r == HT_OK)
+        r = other_kind_keys(c, g, furball_keys, strands_keys, "belongs to \"type\": \"strands\", not \"furball\"");
     if (r == HT_OK) r = ht_json_keys(c, g, "geometry", furball_keys);
     if (r == HT_OK) r = ht_json_int(c, g, "geometry", "hairs", &(int64_t){ d->hairs }, 1, 1000000, &hairs);
     if (r == HT_OK) r = ht_json_int(c, g, "geometry", "joints", &(int64_t){ d->joints }, 2, 64, &joints);
@@ -183,6 +193,8 @@ static ht_result parse_patches(const ht_jctx *c, const cJSON *g, ht_patches_desc
     int64_t layers, strips, segments, seed;
     ht_result r = other_kind_keys(c, g, patches_keys, furball_keys,
                                   "belongs to \"type\": \"furball\", not \"patches\"");
+    if (r == HT_OK)
+        r = other_kind_keys(c, g, patches_keys, strands_keys, "belongs to \"type\": \"strands\", not \"patches\"");
     if (r == HT_OK) r = ht_json_keys(c, g, "geometry", patches_keys);
     if (r == HT_OK)
         r = ht_json_float(c, g, "geometry", "head_radius", &d->head_radius, HT_JRANGE(0.001, 100), &p->head_radius);
@@ -198,15 +210,66 @@ static ht_result parse_patches(const ht_jctx *c, const cJSON *g, ht_patches_desc
     return HT_OK;
 }
 
+/* The strand file's path: the scene file's folder + rel, unless rel is
+   absolute or the scene has no folder. */
+static ht_result resolve_strands_path(const ht_jctx *c, const char *rel, char out[HT_LIMIT_STRANDS_PATH + 1]) {
+    size_t dir_len = 0;
+    if (rel[0] != '/' && c->file) {
+        const char *slash = strrchr(c->file, '/');
+        if (slash) dir_len = (size_t)(slash - c->file) + 1;
+    }
+    int n = snprintf(out, HT_LIMIT_STRANDS_PATH + 1, "%.*s%s", (int)dir_len, c->file ? c->file : "", rel);
+    if (n < 0 || n > HT_LIMIT_STRANDS_PATH)
+        return ht_json_fail(c, "geometry.file", "path longer than %d bytes once resolved", HT_LIMIT_STRANDS_PATH);
+    return HT_OK;
+}
+
+static ht_result parse_strands(const ht_jctx *c, const cJSON *g, ht_strands_scene *st) {
+    const ht_strands_ribbon_desc *d = &strands_defaults.ribbon;
+    static const char *const head_keys[] = { "radius", "center", NULL };
+    static const ht_jrange FILE_COORD_RANGE = { -1e7, 1e7, false, false }; /* HT_LIMIT_STRANDS_COORD */
+    char rel[HT_LIMIT_STRANDS_PATH + 1];
+    const cJSON *head = NULL;
+    ht_strands_ribbon_desc *rb = &st->ribbon;
+    ht_result r = other_kind_keys(c, g, strands_keys, furball_keys,
+                                  "belongs to \"type\": \"furball\", not \"strands\"");
+    if (r == HT_OK)
+        r = other_kind_keys(c, g, strands_keys, patches_keys, "belongs to \"type\": \"patches\", not \"strands\"");
+    if (r == HT_OK) r = ht_json_keys(c, g, "geometry", strands_keys);
+    if (r == HT_OK) r = ht_json_string(c, g, "geometry", "file", NULL, rel, sizeof rel);
+    if (r == HT_OK) r = resolve_strands_path(c, rel, st->file);
+    if (r == HT_OK) r = ht_json_float(c, g, "geometry", "scale", &d->scale, HT_JRANGE(1e-6, 1e4), &rb->scale);
+    if (r == HT_OK) r = ht_json_vec3f(c, g, "geometry", "center", d->center, FILE_COORD_RANGE, rb->center);
+    if (r == HT_OK) r = ht_json_float(c, g, "geometry", "width", &d->width, HT_JRANGE(0.00001, 1), &rb->width);
+    if (r == HT_OK)
+        r = ht_json_float(c, g, "geometry", "tip_width", &d->tip_width, HT_JRANGE(0, 1), &rb->tip_width);
+    if (r == HT_OK) r = ht_json_bool(c, g, "geometry", "thickness", &d->use_thickness, &rb->use_thickness);
+    if (r == HT_OK) r = ht_json_float(c, g, "geometry", "ao", &d->ao, HT_JRANGE(0, 10), &rb->ao);
+    if (r == HT_OK) r = ht_json_vec3f(c, g, "geometry", "facing", d->facing, HT_JRANGE(-1, 1), rb->facing);
+    if (r == HT_OK) r = ht_json_object(c, g, "geometry", "head", false, &head);
+    if (r != HT_OK) return r;
+    st->head_radius = 0;
+    memset(rb->head_center, 0, sizeof rb->head_center);
+    if (!head) return HT_OK;
+    r = ht_json_keys(c, head, "geometry.head", head_keys);
+    if (r == HT_OK)
+        r = ht_json_float(c, head, "geometry.head", "radius", &(float){ 0 }, HT_JRANGE(0, 100), &st->head_radius);
+    if (r == HT_OK)
+        r = ht_json_vec3f(c, head, "geometry.head", "center", (const float[3]){ 0, 0, 0 }, COORD_RANGE,
+                          rb->head_center);
+    return r;
+}
+
 static ht_result parse_geometry(const ht_jctx *c, const cJSON *root, ht_scene *s) {
-    static const char *const kinds[] = { "furball", "patches", NULL };
+    static const char *const kinds[] = { "furball", "patches", "strands", NULL };
     const cJSON *g;
     int kind = 0;
     ht_result r = ht_json_object(c, root, "", "geometry", true, &g);
     /* The type decides which keys are known, so it is read first. */
     if (r == HT_OK) r = ht_json_enum(c, g, "geometry", "type", -1, kinds, &kind);
     if (r != HT_OK) return r;
-    s->geometry = kind == 1 ? HT_GEOMETRY_PATCHES : HT_GEOMETRY_FURBALL;
+    s->geometry = kind == 2 ? HT_GEOMETRY_STRANDS : kind == 1 ? HT_GEOMETRY_PATCHES : HT_GEOMETRY_FURBALL;
+    if (kind == 2) return parse_strands(c, g, &s->strands);
     return kind == 1 ? parse_patches(c, g, &s->patches) : parse_furball(c, g, &s->furball);
 }
 
@@ -237,6 +300,7 @@ ht_result ht_scene_parse(const char *json_text, const char *file_name,
     memset(&s, 0, sizeof s);
     s.furball = furball_defaults;
     s.patches = patches_defaults;
+    s.strands = strands_defaults;
     r = parse_scene(&c, root, &s);
     cJSON_Delete(root);
     if (r == HT_OK) r = ht_scene_check_budget(&s, c.file, err, err_size);

@@ -502,13 +502,15 @@ static ht_result write_bundle(const char *tmp, const ht_generated *g, char *err,
     return r;
 }
 
-static ht_result generate_bundle(const char *material_path, const char *scene_path,
-                                 const char *out_dir, FILE *summary, char *err, size_t err_size) {
-    ht_result r = check_target(out_dir, err, err_size);
-    if (r != HT_OK) return r;
+/* Load step: the material and scene files read and the bundle generated
+   in memory, keyed by the input files' bytes (what every hairgen output,
+   a directory or a header, is made from). */
+static ht_result generate_files(const char *material_path, const char *scene_path, ht_material *material_out,
+                                ht_scene *scene_out, ht_generated *out, char *err, size_t err_size) {
+    memset(out, 0, sizeof *out);
     ht_material material;
     ht_scene scene;
-    r = ht_material_load(material_path, &material, err, err_size);
+    ht_result r = ht_material_load(material_path, &material, err, err_size);
     if (r != HT_OK) return r;
     if (scene_path) {
         r = ht_scene_load(scene_path, &scene, err, err_size);
@@ -530,10 +532,34 @@ static ht_result generate_bundle(const char *material_path, const char *scene_pa
             r = hash_file(&hash, material.textures[i].path, HT_FILE_MAX_PNG, label, err, err_size);
         }
     if (r != HT_OK) return r;
+    if (material_out) *material_out = material;
+    if (scene_out) *scene_out = scene;
+    return ht_generate(&(ht_generate_desc){ .material = &material, .scene = &scene, .input_hash = hash.value },
+                       out, err, err_size);
+}
 
+ht_result ht_generate_files(const char *material_path, const char *scene_path, ht_material *material,
+                            ht_generated *out, char *err, size_t err_size) {
+    if (!out) return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "ht_generate_files: no output");
+    if (!material_path) {
+        memset(out, 0, sizeof *out);
+        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "ht_generate_files: material: required");
+    }
+    c_locale_scope loc = c_locale_enter();
+    ht_result r = generate_files(material_path, scene_path, material, NULL, out, err, err_size);
+    c_locale_leave(loc);
+    return r;
+}
+
+static ht_result generate_bundle(const char *material_path, const char *scene_path, const char *out_dir,
+                                 FILE *summary, ht_bundle_step_fn step, void *step_user, char *err,
+                                 size_t err_size) {
+    ht_result r = check_target(out_dir, err, err_size);
+    if (r != HT_OK) return r;
+    ht_material material;
+    ht_scene scene;
     ht_generated g;
-    r = ht_generate(&(ht_generate_desc){ .material = &material, .scene = &scene, .input_hash = hash.value },
-                    &g, err, err_size);
+    r = generate_files(material_path, scene_path, &material, &scene, &g, err, err_size);
     if (r != HT_OK) return r;
 
     char tmp[4096] = "";
@@ -550,8 +576,10 @@ static ht_result generate_bundle(const char *material_path, const char *scene_pa
     }
     if (r == HT_OK) {
         r = write_bundle(tmp, &g, err, err_size);
+        if (r == HT_OK && step) r = step(step_user, tmp, &scene, err, err_size);
         /* The temporary directory is removed below: name the bundle's own
-           path for the file that failed (a full disk), not the temporary's. */
+           path for the file that failed (a full disk, a step), not the
+           temporary's. */
         size_t tl = strlen(tmp);
         if (r != HT_OK && err && strncmp(err, tmp, tl) == 0) {
             char why[1200];
@@ -571,6 +599,12 @@ static ht_result generate_bundle(const char *material_path, const char *scene_pa
 
 ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
                              const char *out_dir, FILE *summary, char *err, size_t err_size) {
+    return ht_generate_bundle_then(material_path, scene_path, out_dir, summary, NULL, NULL, err, err_size);
+}
+
+ht_result ht_generate_bundle_then(const char *material_path, const char *scene_path, const char *out_dir,
+                                  FILE *summary, ht_bundle_step_fn step, void *step_user, char *err,
+                                  size_t err_size) {
     /* "dir/" and "dir" are the same bundle; the temporary sibling needs the
        name without the slash. */
     char dir[4096];
@@ -586,7 +620,7 @@ ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
     dir[len] = '\0';
 
     c_locale_scope loc = c_locale_enter();
-    ht_result r = generate_bundle(material_path, scene_path, dir, summary, err, err_size);
+    ht_result r = generate_bundle(material_path, scene_path, dir, summary, step, step_user, err, err_size);
     c_locale_leave(loc);
     return r;
 }

@@ -2,8 +2,9 @@
    and a scene in, every tier's shader texts, the combiner program, the
    lookup textures and the manifest out, in memory (ht_generate) or written
    as a bundle directory (ht_generate_bundle, what `hairgen` runs). No GL
-   context anywhere in shadergen/; the output is a pure function of the
-   input: same input, byte-identical output.
+   context in the generator (only measure.h, `hairgen --measure`, renders
+   a finished bundle); the output is a pure function of the input: same
+   input, byte-identical output.
 
    Usage (in memory):
        ht_material m;
@@ -25,7 +26,9 @@
 
    Errors are one line "FILE: FIELD: what is wrong" written to err.
    Internal interfaces (plan, emitters, texture baking) are in
-   hairgen_internal.h. */
+   hairgen_internal.h. Installed (make install) with the public headers it
+   includes, hairtier.h, model.h, scene.h and image.h, under
+   include/hairtier/; `pkg-config --cflags --libs --static hairgen`. */
 #ifndef HT_HAIRGEN_H
 #define HT_HAIRGEN_H
 
@@ -131,6 +134,18 @@ void ht_generated_free(ht_generated *g);
 /* The file named `name`, or NULL. */
 const ht_generated_file *ht_generated_find(const ht_generated *g, const char *name);
 
+/* Loads the material (and scene; scene_path may be NULL: ht_scene_default)
+   and runs ht_generate keyed by the files' bytes: in memory, the bundle
+   ht_generate_bundle writes. material, when not NULL, receives the material
+   read. On failure *out is empty and err holds one line. */
+ht_result ht_generate_files(const char *material_path, const char *scene_path, ht_material *material,
+                            ht_generated *out, char *err, size_t err_size);
+
+/* The bytes `f` has in a bundle directory (a text as it is, an image as the
+   PNG ht_image_write_png writes), malloc'd into *data (free()). */
+ht_result ht_generated_file_bytes(const ht_generated_file *f, unsigned char **data, size_t *size, char *err,
+                                  size_t err_size);
+
 /* Loads the material (and scene; scene_path may be NULL: ht_scene_default),
    runs ht_generate and writes DIR atomically (a temporary sibling renamed
    into place; an existing DIR is replaced only after the new one is
@@ -138,5 +153,47 @@ const ht_generated_file *ht_generated_find(const ht_generated *g, const char *na
    receives the human-readable table. */
 ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
                              const char *out_dir, FILE *summary, char *err, size_t err_size);
+
+/* A step over the finished bundle before it is published: dir is the
+   temporary directory holding every file, scene the scene the bundle was
+   planned for (the default one when no scene file was given). It may
+   rewrite files in dir. A failure (err: one line) removes the temporary
+   directory and leaves out_dir as it was. */
+typedef ht_result (*ht_bundle_step_fn)(void *user, const char *dir, const ht_scene *scene, char *err,
+                                       size_t err_size);
+/* ht_generate_bundle with step (NULL: none, exactly ht_generate_bundle) run
+   between writing and publishing; `hairgen --measure` passes
+   ht_measure_step (shadergen/measure.h). */
+ht_result ht_generate_bundle_then(const char *material_path, const char *scene_path, const char *out_dir,
+                                  FILE *summary, ht_bundle_step_fn step, void *step_user, char *err,
+                                  size_t err_size);
+
+/* ---- the bundle as one C header (shadergen/emit_header.c) ---- */
+
+/* The longest header symbol: room for the suffixes of its arrays within the
+   63 significant characters C99 promises. */
+#define HT_HEADER_SYMBOL_MAX 48
+
+/* Writes g as one C header at path (a temporary sibling renamed into
+   place): every file's bytes as a static const array and one entry,
+   `static const ht_bundle_memory SYMBOL`, for ht_renderer_desc.bundle_memory.
+   symbol NULL: from the material name (ht_header_symbol_default). The text
+   depends only on g and symbol (same bundle, same bytes) and compiles
+   warning-free as C99 and C++ with -Wall -Wextra -pedantic. */
+ht_result ht_bundle_header_write(const ht_generated *g, const char *material_name, const char *symbol,
+                                 const char *path, char *err, size_t err_size);
+/* The same text in memory, malloc'd into *text (free()). */
+ht_result ht_bundle_header_text(const ht_generated *g, const char *material_name, const char *symbol,
+                                char **text, char *err, size_t err_size);
+/* "dark-brown" → "dark_brown_bundle": letters, digits and _ kept, any other
+   byte _, "_bundle" appended, cut to fit HT_HEADER_SYMBOL_MAX. */
+void ht_header_symbol_default(const char *material_name, char out[HT_HEADER_SYMBOL_MAX + 1]);
+/* A usable symbol: a C identifier of 1..HT_HEADER_SYMBOL_MAX bytes, not
+   starting with _ (reserved), not a C or C++ keyword; else one line. */
+ht_result ht_header_symbol_check(const char *symbol, char *err, size_t err_size);
+/* What hairgen --emit-header runs: ht_generate_files, then the header at
+   path; summary, when not NULL, receives hairgen's table. */
+ht_result ht_generate_header(const char *material_path, const char *scene_path, const char *path,
+                             const char *symbol, FILE *summary, char *err, size_t err_size);
 
 #endif

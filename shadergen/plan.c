@@ -33,8 +33,11 @@ static bool has(const ht_material *m, ht_texture_slot s) {
 
 /* A sphere around the origin holding the scene's hair: both builders grow
    hair from there (fur ball: strands of (joints - 1) segments, bent by
-   gravity; patches: a head of head_radius with strips hanging below it). */
+   gravity; patches: a head of head_radius with strips hanging below it).
+   A strand file's extent is not known until it is read: its hair is taken
+   to fill the view (the near-viewer plan, never wrong, only more work). */
 static double hair_radius(const ht_scene *s) {
+    if (s->geometry == HT_GEOMETRY_STRANDS) return INFINITY;
     if (s->geometry == HT_GEOMETRY_PATCHES) {
         double r = s->patches.head_radius > 0 ? s->patches.head_radius : 1.0;
         return 2.0 * r;

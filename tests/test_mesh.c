@@ -446,21 +446,34 @@ static void test_patches_fill_head_sphere(void **state) {
     assert_int_equal(head.components[0].first_index, 0);
     assert_int_equal(head.components[0].index_count, head.index_count);
     assert_mesh_well_formed(&head);
+    /* The sphere, and under it the neck: a vertical cylinder of 0.42 R
+       from inside the sphere (y = -0.7 R) down to y = -2.2 R. */
+    uint32_t neck = 0;
     for (uint32_t i = 0; i < head.vertex_count; i++) {
         const ht_vertex *v = &head.vertices[i];
-        assert_true(fabs(len3(v->position) - radius) < 1e-5);
-        assert_true(dot3(v->normal, v->position) > radius * 0.9999);
+        const float horizontal[3] = { v->position[0], 0, v->position[2] };
+        if (fabs(len3(horizontal) - 0.42 * radius) < 1e-5 && v->position[1] <= -0.7 * radius + 1e-5) {
+            neck++;
+            assert_true(v->position[1] >= -2.2 * radius - 1e-5);
+            assert_true(dot3(v->normal, horizontal) > 0.42 * radius * 0.9999 && v->normal[1] == 0);
+        } else {
+            assert_true(fabs(len3(v->position) - radius) < 1e-5);
+            assert_true(dot3(v->normal, v->position) > radius * 0.9999);
+        }
         assert_true(v->ao == 1.0f);
     }
-    /* Outward winding and no zero-area triangle. */
+    assert_true(neck > 0);
+    /* Outward winding (from the axis, for the neck) and no zero-area triangle. */
     for (uint32_t t = 0; t < head.index_count; t += 3) {
         const float *a = head.vertices[head.indices[t]].position;
         const float *b = head.vertices[head.indices[t + 1]].position;
         const float *c = head.vertices[head.indices[t + 2]].position;
         float e1[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] }, e2[3] = { c[0] - a[0], c[1] - a[1], c[2] - a[2] };
         float n[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0] };
+        const bool on_neck = a[1] < -radius + 1e-4f && b[1] < -radius + 1e-4f && c[1] < -radius + 1e-4f;
+        const float out[3] = { a[0], on_neck ? 0 : a[1], a[2] };
         assert_true(len3(n) > 1e-8);
-        assert_true(dot3(n, a) > 0);
+        assert_true(dot3(n, out) > 0);
     }
     ht_mesh_free(&m);
     ht_mesh_free(&head);
@@ -611,6 +624,38 @@ static void test_patches_back_hair_falls_behind_side_hair_beside_front_hair_stop
         if (strips >= 24) assert_true(back > 0 && side > 0 && front > 0);
         ht_mesh_free(&m);
     }
+}
+
+/* Beside the face the long strips frame it: they sweep back (their tips
+   are farther round from the face than their roots) and hang shorter than
+   the strips at the sides, so the hair's edge runs diagonally back from
+   the hairline instead of straight down one meridian. */
+static void test_patches_strips_beside_the_face_sweep_back_and_hang_shorter(void **state) {
+    (void)state;
+    const ht_patches_desc d = { .layers = 3, .strips = 48, .segments = 12, .seed = 5 };
+    ht_mesh m;
+    assert_int_equal(ht_mesh_build_patches(&d, &m, NULL), HT_OK);
+    int beside = 0;
+    double beside_tip = 0, side_tip = 0;
+    int side = 0;
+    for (uint32_t s = 0; s < m.component_count; s++) {
+        double root[3], tip[3];
+        row_centre(&m, s, 13, 0, root);
+        row_centre(&m, s, 13, 12, tip);
+        if (tip[1] >= 0) continue; /* a fringe */
+        const double phi = fabs(atan2(root[0], root[2])), tip_phi = fabs(atan2(tip[0], tip[2]));
+        if (phi < 1.1) {
+            beside++;
+            assert_true(tip_phi > phi + 0.2);
+            beside_tip += tip[1];
+        } else if (fabs(phi - M_PI / 2) < 0.2) {
+            side++;
+            side_tip += tip[1];
+        }
+    }
+    assert_true(beside > 0 && side > 0);
+    assert_true(beside_tip / beside > side_tip / side + 0.15); /* tips higher: shorter hair */
+    ht_mesh_free(&m);
 }
 
 /* Points spread over a triangle: its corners, edge midpoints and inner
@@ -994,6 +1039,7 @@ int main(void) {
         cmocka_unit_test(test_patches_long_strips_follow_the_scalp_then_hang_down),
         cmocka_unit_test(test_patches_back_hair_falls_behind_side_hair_beside_front_hair_stops_above),
         cmocka_unit_test(test_patches_leave_the_face_bare),
+        cmocka_unit_test(test_patches_strips_beside_the_face_sweep_back_and_hang_shorter),
         cmocka_unit_test(test_patches_triangles_clear_the_head_with_enough_segments),
         cmocka_unit_test(test_sort_keys_are_centroid_distances),
         cmocka_unit_test(test_sort_orders_components_inside_out_keeping_triangles),

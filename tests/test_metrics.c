@@ -214,6 +214,65 @@ static void test_compare_refuses_missing_images_and_bad_sizes(void **state) {
     assert_non_null(strstr(err, "0 x 1"));
 }
 
+/* The heatmap's values are the pixels the summary is made of: each one the
+   formula on that pixel's Lab pair, their mean and nearest-rank p95 those
+   ht_metrics_compare reports, in the images' own order. */
+static int compare_doubles(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static void test_delta_e00_map_is_the_per_pixel_formula_behind_the_mean_and_p95(void **state) {
+    (void)state;
+    static uint8_t ref[W * H * 4], test[W * H * 4];
+    static double map[W * H], sorted[W * H];
+    noise_pair(ref, test);
+    char err[128];
+    const ht_metrics_desc d = { .reference = ref, .test = test, .width = W, .height = H };
+    assert_int_equal(ht_metrics_delta_e00_map(&d, map, err, sizeof err), HT_OK);
+    double sum = 0.0;
+    int zero = 0;
+    for (int i = 0; i < W * H; i++) {
+        double la[3], lb[3];
+        ht_metrics_srgb_to_lab(ref + 4 * i, la);
+        ht_metrics_srgb_to_lab(test + 4 * i, lb);
+        double want = memcmp(ref + 4 * i, test + 4 * i, 3) == 0 ? 0.0 : ht_metrics_ciede2000(la, lb);
+        if (map[i] != want) fail_msg("pixel %d: map %.12f, formula %.12f", i, map[i], want);
+        assert_true(map[i] == ht_metrics_delta_e00_pixel(test + 4 * i, ref + 4 * i)); /* symmetric */
+        zero += map[i] == 0.0;
+        sum += map[i];
+    }
+    assert_true(zero < W * H / 4); /* the noise moves most pixels */
+    ht_metrics whole;
+    assert_int_equal(ht_metrics_compare(&d, &whole, NULL, err, sizeof err), HT_OK);
+    assert_true(fabs(sum / (W * H) - whole.delta_e00_mean) < 1e-12);
+    memcpy(sorted, map, sizeof map);
+    qsort(sorted, W * H, sizeof sorted[0], compare_doubles);
+    assert_true(sorted[(int)ceil(0.95 * W * H) - 1] == whole.delta_e00_p95);
+    /* a pixel changed in the test image shows at that pixel only */
+    memcpy(test, ref, sizeof ref);
+    test[4 * (3 * W + 5) + 1] ^= 0x40;
+    assert_int_equal(ht_metrics_delta_e00_map(&d, map, err, sizeof err), HT_OK);
+    for (int i = 0; i < W * H; i++)
+        if ((map[i] > 0.0) != (i == 3 * W + 5)) fail_msg("pixel %d: %.6f", i, map[i]);
+}
+
+static void test_delta_e00_map_refuses_missing_images_output_and_bad_sizes(void **state) {
+    (void)state;
+    uint8_t px[4] = { 0 };
+    double map[1];
+    char err[160];
+    assert_int_equal(ht_metrics_delta_e00_map(&(ht_metrics_desc){ .test = px, .width = 1, .height = 1 }, map, err,
+                                              sizeof err), HT_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err, "ht_metrics_delta_e00_map: reference and test images are required"));
+    assert_int_equal(ht_metrics_delta_e00_map(&(ht_metrics_desc){ .reference = px, .test = px, .width = 1, .height = 1 },
+                                              NULL, err, sizeof err), HT_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err, "no output map"));
+    assert_int_equal(ht_metrics_delta_e00_map(&(ht_metrics_desc){ .reference = px, .test = px, .width = 1, .height = -2 },
+                                              map, err, sizeof err), HT_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err, "1 x -2"));
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_ciede2000_matches_the_34_sharma_wu_dalal_pairs_both_ways),
@@ -225,6 +284,8 @@ int main(void) {
         cmocka_unit_test(test_hair_pixels_and_the_95th_percentile),
         cmocka_unit_test(test_hair_ssim_counts_only_windows_centred_on_hair),
         cmocka_unit_test(test_compare_refuses_missing_images_and_bad_sizes),
+        cmocka_unit_test(test_delta_e00_map_is_the_per_pixel_formula_behind_the_mean_and_p95),
+        cmocka_unit_test(test_delta_e00_map_refuses_missing_images_output_and_bad_sizes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

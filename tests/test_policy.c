@@ -258,7 +258,8 @@ static int render_teardown(void **state) {
 }
 
 /* A copy of the fixture's bundle whose every tier carries measured numbers
-   (what hairgen --measure will write), edited with cJSON. */
+   (the shape hairgen --measure writes, with numbers chosen for the test),
+   edited with cJSON. */
 static void write_measured_copy(char *dir, size_t size) {
     static const struct { const char *tier; double psnr, cost; } numbers[] = {
         { "vertex", 32.1, 0.6 }, { "fixed4", 31.2, 0.4 }, { "fixed", 27.0, 0.5 }, { "gl11", 29.0, 0.45 } };

@@ -18,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <limits.h>
 #include <sys/wait.h>
 
 #include <cJSON.h>
@@ -27,13 +28,15 @@
 #include "support_scratch.h"
 
 /* The tiers' mean difference from the full tier over hair pixels, in /255:
-   what their documented drops cost on the demo scenes. Measured 5.4 to 10.3
-   on llvmpipe and softpipe at 512², 5.3 to 10.1 on softpipe at 256² (the
-   printed lines; same bound for both sizes); without the
+   what their documented drops cost on the demo scenes. Measured 2.0 to 10.3
+   on llvmpipe at 512² with the mohawk and the reframed patches head (the
+   printed lines); before them 5.4 to 10.3 on llvmpipe and softpipe at 512²,
+   5.3 to 10.1 on softpipe at 256² (same bound for both sizes); without the
    sparkle-mean stand-in it was 19 to 31. */
 #define MAX_MEAN_TIER_DIFFERENCE 14.0
 /* The vertex tier looks its highlights up per pixel in fixed4's LUTs:
-   measured 5.35 to 7.90 on llvmpipe at 512² (6.6 to 8.5 when it lit per
+   measured 2.00 to 6.75 on llvmpipe at 512² (5.35 to 7.90 before the
+   mohawk and the reframed patches head) (6.6 to 8.5 when it lit per
    vertex), so it holds a tighter bound. */
 #define MAX_MEAN_VERTEX_DIFFERENCE 9.0
 /* Side of the softpipe run (see the top). */
@@ -123,21 +126,44 @@ static bool on_softpipe(void) {
     return d && strcmp(d, "softpipe") == 0;
 }
 
+/* A strand file path in a scene copied elsewhere: made absolute against
+   the shipped scene's folder, so the copy draws the same file. */
+static void keep_strand_file(cJSON *root, const char *shipped_scene) {
+    cJSON *file = cJSON_GetObjectItem(cJSON_GetObjectItem(root, "geometry"), "file");
+    if (!cJSON_IsString(file) || file->valuestring[0] == '/') return;
+    char joined[1024], resolved[PATH_MAX];
+    const char *slash = strrchr(shipped_scene, '/');
+    snprintf(joined, sizeof joined, "%.*s%s", slash ? (int)(slash - shipped_scene) + 1 : 0, shipped_scene,
+             file->valuestring);
+    assert_non_null(realpath(joined, resolved));
+    cJSON_ReplaceItemInObjectCaseSensitive(cJSON_GetObjectItem(root, "geometry"), "file",
+                                           cJSON_CreateString(resolved));
+}
+
+/* The shipped scene copied to WORK/NAME at side² (0: as shipped), its
+   strand file kept, without its head when asked. */
+static const char *scene_copy(const char *shipped_scene, const char *name, int side, bool no_head, char *out,
+                              size_t out_size) {
+    cJSON *root = cJSON_Parse(ht_test_read_file(".", shipped_scene));
+    assert_non_null(root);
+    if (side > 0)
+        cJSON_ReplaceItemInObjectCaseSensitive(root, "resolution", cJSON_CreateIntArray((const int[]){ side, side }, 2));
+    keep_strand_file(root, shipped_scene);
+    if (no_head) cJSON_DeleteItemFromObjectCaseSensitive(cJSON_GetObjectItem(root, "geometry"), "head");
+    char *text = cJSON_Print(root);
+    cJSON_Delete(root);
+    ht_test_write_file(work, name, text);
+    cJSON_free(text);
+    snprintf(out, out_size, "%s/%s", work, name);
+    return out;
+}
+
 /* The scene as shipped, or on softpipe a copy at SOFTPIPE_SIZE² in the
    work directory (everything else unchanged). */
 static const char *scene_for_driver(const char *scene_path, char *out, size_t out_size) {
-    if (!on_softpipe()) return scene_path;
-    char *text = ht_test_read_file(".", scene_path);
-    cJSON *root = cJSON_Parse(text);
-    assert_non_null(root);
-    cJSON_ReplaceItemInObjectCaseSensitive(root, "resolution",
-                                           cJSON_CreateIntArray((const int[]){ SOFTPIPE_SIZE, SOFTPIPE_SIZE }, 2));
-    char *small = cJSON_Print(root);
-    cJSON_Delete(root);
-    ht_test_write_file(work, "scene.json", small);
-    cJSON_free(small);
-    snprintf(out, out_size, "%s/scene.json", work);
-    return out;
+    /* A copy made here is already at its size. */
+    if (!on_softpipe() || strncmp(scene_path, work, strlen(work)) == 0) return scene_path;
+    return scene_copy(scene_path, "scene.json", SOFTPIPE_SIZE, false, out, out_size);
 }
 
 /* The bundle's tiers, best first (the first is full). */
@@ -156,7 +182,10 @@ static int bundle_tiers(const char *bundle, char names[HT_TIER_COUNT][16]) {
     return n;
 }
 
-static void check_scene(const char *material, const char *shipped_scene) {
+/* min_hair: the least fraction of the frame that is not background;
+   compare_tiers: hold every tier to the bounds on its difference from full
+   (the shipped demo frames). */
+static void render_every_tier(const char *material, const char *shipped_scene, double min_hair, bool compare_tiers) {
     char err[2048], bundle[256], cmd[4096], png[HT_TIER_COUNT][256], scene_copy[256];
     const char *scene_path = scene_for_driver(shipped_scene, scene_copy, sizeof scene_copy);
     ht_scene scene;
@@ -184,7 +213,7 @@ static void check_scene(const char *material, const char *shipped_scene) {
                shipped_scene, scene.width, scene.height, material, tiers[t], 100 * s.hair_fraction, s.luminance_median, s.luminance_p99,
                s.luminance_stddev);
         assert_int_equal(s.magenta, 0);
-        assert_true(s.hair_fraction > 0.05);               /* not blank */
+        assert_true(s.hair_fraction > min_hair);           /* not blank */
         assert_true(s.luminance_stddev > 4.0);             /* not one flat colour */
         assert_true(s.luminance_p99 > s.luminance_median + 20.0); /* highlights */
     }
@@ -192,9 +221,13 @@ static void check_scene(const char *material, const char *shipped_scene) {
         double d = mean_difference(&img[0], &img[t], scene.background);
         printf("%s %dx%d %s %-6s: mean difference from full %.2f/255\n", shipped_scene, scene.width,
                scene.height, material, tiers[t], d);
-        assert_true(d < (t == 1 ? MAX_MEAN_VERTEX_DIFFERENCE : MAX_MEAN_TIER_DIFFERENCE));
+        if (compare_tiers) assert_true(d < (t == 1 ? MAX_MEAN_VERTEX_DIFFERENCE : MAX_MEAN_TIER_DIFFERENCE));
     }
     for (int t = 0; t < count; t++) ht_image_free(&img[t]);
+}
+
+static void check_scene(const char *material, const char *shipped_scene) {
+    render_every_tier(material, shipped_scene, 0.05, true);
 }
 
 static void test_furball_scene_renders_hair_in_every_tier(void **state) {
@@ -210,6 +243,26 @@ static void test_patches_scene_renders_hair_in_every_tier(void **state) {
 static void test_blond_patches_render_hair_in_every_tier(void **state) {
     (void)state;
     check_scene("materials/blond.json", "scenes/patches.json");
+}
+
+static void test_ratboy_scene_renders_hair_in_every_tier(void **state) {
+    (void)state;
+    check_scene("materials/dark-brown.json", "scenes/ratboy.json");
+}
+
+/* The mohawk without its head: every pixel not background is hair, so the
+   hair's own coverage is what is measured: 12.6% of the frame in every tier
+   on llvmpipe at 512² (printed), held above 10%. The tiers' difference
+   from full over these pixels is printed, not bounded (vertex 9.8/255: the
+   bounds above are for the shipped frames, where the head is most of the
+   pixels). */
+static void test_ratboy_hair_alone_covers_the_crest_in_every_tier(void **state) {
+    (void)state;
+    char path[256];
+    render_every_tier("materials/dark-brown.json",
+                      scene_copy("scenes/ratboy.json", "ratboy-hair.json", on_softpipe() ? SOFTPIPE_SIZE : 0, true,
+                                 path, sizeof path),
+                      0.10, false);
 }
 
 /* ---- the speed-for-accuracy trade: every tier against full ---- */
@@ -293,6 +346,7 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
             assert_non_null(root);
             cJSON_ReplaceItemInObjectCaseSensitive(root, "resolution",
                 cJSON_CreateIntArray((const int[]){ ACCURACY_SIZE, ACCURACY_SIZE }, 2));
+            keep_strand_file(root, path);
             cJSON *geometry = cJSON_GetObjectItem(root, "geometry");
             if (cJSON_GetObjectItem(geometry, "hairs"))
                 cJSON_ReplaceItemInObjectCaseSensitive(geometry, "hairs", cJSON_CreateNumber(ACCURACY_HAIRS));
@@ -341,6 +395,8 @@ int main(void) {
         cmocka_unit_test(test_furball_scene_renders_hair_in_every_tier),
         cmocka_unit_test(test_patches_scene_renders_hair_in_every_tier),
         cmocka_unit_test(test_blond_patches_render_hair_in_every_tier),
+        cmocka_unit_test(test_ratboy_scene_renders_hair_in_every_tier),
+        cmocka_unit_test(test_ratboy_hair_alone_covers_the_crest_in_every_tier),
         cmocka_unit_test(test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

@@ -1,0 +1,266 @@
+/* haircompare — the speed-for-accuracy report a person opens: one scene
+   rendered with every tier of a bundle the device runs, written as a
+   directory with index.html (plain HTML and SVG, no script, relative
+   links) and the PNGs beside it.
+
+   build/haircompare --bundle DIR --scene SCENE.json [--frames N] -o REPORT_DIR
+
+   For each tier of the manifest, best first: the tier forced and strict on
+   its own offscreen context (examples/compare/tier_render.h, as tier_sheet),
+   its image at full size, its per-pixel CIEDE2000 against full as a
+   heatmap (examples/compare/heatmap.h), and a table row: needs, frame ms,
+   cost ratio to full, PSNR, SSIM, ΔE00 mean and p95 (runtime/metrics.h),
+   and the features the manifest says the tier drops; then an SVG plot of
+   error against cost. Why not grow tier_sheet: its one PNG is the quick
+   look on a terminal and in docs; a report is a directory written whole
+   (temporary sibling, renamed at the end) with a table and plot that a PNG
+   cannot carry. Both share the rendering (tier_render.c).
+
+   Exit status 0 when the report is written (some tiers may not have run),
+   1 when no tier ran or on any other failure (one line on stderr, no
+   report, REPORT_DIR as it was), 2 on usage. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "compare/heatmap.h"
+#include "compare/report.h"
+#include "compare/report_dir.h"
+#include "compare/tier_render.h"
+#include "image.h"
+#include "offscreen.h"
+
+#define MAX_FRAMES 1000
+
+typedef struct options {
+    const char *bundle, *scene;
+    char out[4096];  /* without trailing slashes: its temporary sibling sits beside it */
+    int frames;
+    offscreen_kind context;
+    int egl_device;       /* -1: the default display */
+} options;
+
+static void print_help(FILE *f) {
+    fprintf(f, "usage: haircompare --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl] [--egl-device N]\n"
+               "                   -o REPORT_DIR\n"
+               "Renders SCENE with every tier of the bundle the device runs (forced, strict) and writes\n"
+               "REPORT_DIR/index.html: the tier images side by side, each tier's per-pixel CIEDE2000\n"
+               "against full as a heatmap (0 black to %g white, cubehelix), a table (needs, frame ms,\n"
+               "cost ratio to full, PSNR, SSIM, dE00 mean and p95, features dropped) and a plot of error\n"
+               "against cost. Frame ms: median of N frames (default 5) after a warm-up, each ended by\n"
+               "glFinish. The report is written whole or not at all; an existing REPORT_DIR is replaced\n"
+               "only when it is empty or an earlier report. --context, --egl-device: the GL context,\n"
+               "as hairview's (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl).\n",
+            REPORT_HEAT_MAX);
+}
+
+static int usage(const char *why) {
+    fprintf(stderr, "haircompare: %s\n", why);
+    print_help(stderr);
+    return 2;
+}
+
+static int parse_args(int argc, char **argv, options *o) {
+    *o = (options){ .frames = 5, .egl_device = -1 };
+    const char *out = NULL;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        bool has_value = i + 1 < argc;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            print_help(stdout);
+            return -1;
+        } else if (strcmp(a, "--bundle") == 0 && has_value) o->bundle = argv[++i];
+        else if (strcmp(a, "--scene") == 0 && has_value) o->scene = argv[++i];
+        else if (strcmp(a, "-o") == 0 && has_value) out = argv[++i];
+        else if (strcmp(a, "--frames") == 0 && has_value) {
+            char *end;
+            long n = strtol(argv[++i], &end, 10);
+            if (*end || n < 1 || n > MAX_FRAMES) return usage("--frames: expected an integer in 1..1000");
+            o->frames = (int)n;
+        } else if (strcmp(a, "--context") == 0 && has_value) {
+            if (!offscreen_kind_parse(argv[++i], &o->context)) return usage("--context: expected osmesa or egl");
+        } else if (strcmp(a, "--egl-device") == 0 && has_value) {
+            char *end;
+            long n = strtol(argv[++i], &end, 10);
+            if (*end || end == argv[i] || n < 0 || n > 255) return usage("--egl-device: expected an integer in 0..255");
+            o->egl_device = (int)n;
+        } else {
+            char why[300];
+            snprintf(why, sizeof why, "%s: unknown option or missing value", a);
+            return usage(why);
+        }
+    }
+    if (!o->bundle) return usage("--bundle: required");
+    if (!o->scene) return usage("--scene: required");
+    if (!out) return usage("-o: required");
+    if (o->egl_device >= 0 && o->context == OFFSCREEN_OSMESA) return usage("--egl-device: needs --context egl");
+    if (o->egl_device >= 0) o->context = OFFSCREEN_EGL;
+    size_t len = strlen(out);
+    while (len > 1 && out[len - 1] == '/') len--;
+    if (len == 0 || len >= sizeof o->out || (len == 1 && out[0] == '/')) return usage("-o: not a usable directory");
+    memcpy(o->out, out, len);
+    o->out[len] = '\0';
+    return 0;
+}
+
+/* A GL (bottom-up RGBA) frame as a top-down RGB PNG. */
+static ht_result write_frame(const char *path, const unsigned char *rgba, int w, int h, char *err, size_t err_size) {
+    ht_image img = { 0 };
+    ht_result r = ht_image_alloc(&img, w, h, 3);
+    if (r != HT_OK) {
+        snprintf(err, err_size, "%s: out of memory", path);
+        return r;
+    }
+    for (int y = 0; y < h; y++) {
+        const unsigned char *src = offscreen_row(rgba, w, h, y);
+        unsigned char *dst = img.pixels + (size_t)y * (size_t)w * 3;
+        for (int x = 0; x < w; x++) memcpy(dst + 3 * x, src + 4 * x, 3);
+    }
+    r = ht_image_write_png(path, &img, err, err_size);
+    ht_image_free(&img);
+    return r;
+}
+
+/* Metrics, cost and heatmap of tier t against the reference frame. */
+static ht_result compare_tier(const options *o, const char *tmp, const tier_scene *ts, const tier_frame *ref,
+                              const tier_frame *frame, bool is_reference, report_tier *p, char *err, size_t err_size) {
+    const ht_scene *s = &ts->scene;
+    uint8_t bg[3];
+    for (int c = 0; c < 3; c++) bg[c] = (uint8_t)(s->background[c] * 255.0f + 0.5f);
+    const ht_metrics_desc d = { .reference = ref->rgba, .test = frame->rgba, .width = s->width, .height = s->height,
+                                .background = bg };
+    ht_result r = ht_metrics_compare(&d, &p->whole, &p->hair, err, err_size);
+    if (r != HT_OK) return r;
+    p->cost_ratio = frame->frame_ms / ref->frame_ms;
+    p->compared = true;
+    if (is_reference) return HT_OK;
+    double *map = malloc(sizeof *map * (size_t)s->width * (size_t)s->height);
+    ht_image img = { 0 };
+    if (!map) r = HT_ERR_OUT_OF_MEMORY;
+    if (r == HT_OK) r = ht_metrics_delta_e00_map(&d, map, err, err_size);
+    if (r == HT_OK) r = heatmap_image(map, s->width, s->height, true, REPORT_HEAT_MAX, &img);
+    if (r == HT_OK) {
+        char path[4300];
+        snprintf(p->heatmap, sizeof p->heatmap, "%s-error.png", p->name);
+        snprintf(path, sizeof path, "%s/%s", tmp, p->heatmap);
+        r = ht_image_write_png(path, &img, err, err_size);
+    } else if (r == HT_ERR_OUT_OF_MEMORY) {
+        snprintf(err, err_size, "%s: out of memory for the %s heatmap", o->out, p->name);
+    }
+    ht_image_free(&img);
+    free(map);
+    return r;
+}
+
+static void print_table(const report *r) {
+    printf("%-7s %9s %6s %7s %7s %7s %7s\n", "tier", "frame_ms", "cost", "psnr_db", "ssim", "de_mean", "de_p95");
+    for (int t = 0; t < r->tier_count; t++) {
+        const report_tier *p = &r->tiers[t];
+        if (!p->ran) printf("%-7s not run: %s\n", p->name, p->reason);
+        else if (!p->compared) printf("%-7s %9.2f\n", p->name, p->frame_ms);
+        else
+            printf("%-7s %9.2f %6.2f %7.2f %7.4f %7.3f %7.3f\n", p->name, p->frame_ms, p->cost_ratio, p->whole.psnr_db,
+                   p->whole.ssim, p->whole.delta_e00_mean, p->whole.delta_e00_p95);
+    }
+}
+
+/* Renders, measures and writes every file into tmp; 0 or 1. */
+static int build(const options *o, const char *tmp, const tier_scene *ts, report *rep, char *err, size_t err_size) {
+    tier_frame frames[REPORT_MAX_TIERS] = { 0 };
+    int full = -1, rc = 1;
+    bool any = false;
+    tier_render_use_context(o->context, o->egl_device);
+    for (int t = 0; t < rep->tier_count; t++) {
+        report_tier *p = &rep->tiers[t];
+        ht_tier tier = ht_tier_from_name(p->name);
+        if (!p->known || tier == HT_TIER_COUNT) {
+            snprintf(p->reason, sizeof p->reason, "a tier this runtime does not know");
+            continue;
+        }
+        fprintf(stderr, "haircompare: rendering %s\n", p->name);
+        tier_render(o->bundle, ts, tier, o->frames, &frames[t]);
+        p->ran = frames[t].ran;
+        p->frame_ms = frames[t].frame_ms;
+        snprintf(p->reason, sizeof p->reason, "%s", frames[t].reason);
+        if (!rep->driver[0]) snprintf(rep->driver, sizeof rep->driver, "%s", frames[t].driver);
+        if (!p->ran) continue;
+        any = true;
+        if (tier == HT_TIER_FULL) full = t;
+        char path[4300];
+        snprintf(p->image, sizeof p->image, "%s.png", p->name);
+        snprintf(path, sizeof path, "%s/%s", tmp, p->image);
+        if (write_frame(path, frames[t].rgba, ts->scene.width, ts->scene.height, err, err_size) != HT_OK) goto done;
+    }
+    if (!any) {
+        snprintf(err, err_size, "no tier ran: %s", rep->tier_count ? rep->tiers[0].reason : "the bundle lists none");
+        goto done;
+    }
+    for (int t = 0; full >= 0 && t < rep->tier_count; t++)
+        if (rep->tiers[t].ran &&
+            compare_tier(o, tmp, ts, &frames[full], &frames[t], t == full, &rep->tiers[t], err, err_size) != HT_OK)
+            goto done;
+
+    char path[4300];
+    snprintf(path, sizeof path, "%s/index.html", tmp);
+    FILE *f = fopen(path, "wb");
+    if (!f) {
+        snprintf(err, err_size, "%s/index.html: cannot write: %s", o->out, strerror(errno));
+        goto done;
+    }
+    int written = report_write_page(f, rep);
+    if (fclose(f) != 0 || written != 0) {
+        snprintf(err, err_size, "%s/index.html: write failed", o->out);
+        goto done;
+    }
+    rc = 0;
+done:
+    for (int t = 0; t < rep->tier_count; t++) tier_frame_free(&frames[t]);
+    return rc;
+}
+
+int main(int argc, char **argv) {
+    options o;
+    int rc = parse_args(argc, argv, &o);
+    if (rc) return rc < 0 ? 0 : rc;
+
+    char err[8192], tmp[4200];
+    report rep;
+    report_init(&rep);
+    rep.bundle = o.bundle;
+    rep.scene = o.scene;
+    rep.frames = o.frames;
+    tier_scene ts = { 0 };
+    if (report_read_bundle(&rep, o.bundle, err, sizeof err) != HT_OK ||
+        tier_scene_load(o.scene, &ts, err, sizeof err) != HT_OK) {
+        fprintf(stderr, "haircompare: %s\n", err);
+        report_free(&rep);
+        return 1;
+    }
+    rep.width = ts.scene.width;
+    rep.height = ts.scene.height;
+    if (report_dir_begin(o.out, tmp, sizeof tmp, err, sizeof err) != HT_OK) {
+        fprintf(stderr, "haircompare: %s\n", err);
+        rc = 1;
+    } else {
+        rc = build(&o, tmp, &ts, &rep, err, sizeof err);
+        if (rc == 0 && report_dir_publish(tmp, o.out, err, sizeof err) != HT_OK) rc = 1;
+        if (rc != 0) {
+            report_dir_remove(tmp);
+            /* Name the report's own path, not the temporary one that is gone. */
+            size_t tl = strlen(tmp);
+            if (strncmp(err, tmp, tl) == 0) {
+                char why[4000];
+                snprintf(why, sizeof why, "%s", err + tl);
+                snprintf(err, sizeof err, "%s%s", o.out, why);
+            }
+            fprintf(stderr, "haircompare: %s (nothing written)\n", err);
+        } else {
+            print_table(&rep);
+            printf("haircompare: wrote %s/index.html\n", o.out);
+        }
+    }
+    tier_scene_free(&ts);
+    report_free(&rep);
+    return rc;
+}

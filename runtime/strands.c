@@ -1,0 +1,89 @@
+/* strands.c — what the two strand file readers share: the bounded read of
+   a whole file, allocation, the coordinate check, errors; and the loader
+   that picks a reader by extension. */
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <strings.h>
+
+#include "errfmt.h"
+#include "file_open.h"
+#include "ht_limits.h"
+#include "strands_internal.h"
+
+uint8_t *ht_strands_read_file(const char *path, size_t *size, char *err, size_t err_size) {
+    FILE *f;
+    uint64_t file_size;
+    if (ht_file_open_regular(path, HT_LIMIT_FILE_STRANDS, &f, &file_size, err, err_size) != HT_OK) return NULL;
+    /* One byte more than fstat saw, to notice a file that grew. */
+    uint8_t *data = malloc((size_t)file_size + 1);
+    if (!data) {
+        fclose(f);
+        ht_set_error(err, err_size, "%s: out of memory (%llu bytes)", path, (unsigned long long)file_size);
+        return NULL;
+    }
+    size_t got = fread(data, 1, (size_t)file_size + 1, f);
+    bool bad = ferror(f) != 0;
+    int e = errno;
+    fclose(f);
+    if (bad || got != file_size) {
+        free(data);
+        if (bad) ht_set_error(err, err_size, "%s: cannot read: %s", path, strerror(e));
+        else ht_set_error(err, err_size, "%s: changed size while being read", path);
+        return NULL;
+    }
+    *size = got;
+    return data;
+}
+
+ht_result ht_strands_fail(char *err, size_t err_size, const char *file, const char *field, const char *fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    ht_set_field_error_v(err, err_size, file, field, fmt, ap);
+    va_end(ap);
+    return HT_ERR_PARSE;
+}
+
+ht_result ht_strands_alloc(ht_strands *out, uint32_t strands, uint32_t points, bool with_thickness,
+                           const char *file, char *err, size_t err_size) {
+    memset(out, 0, sizeof *out);
+    out->first_point = malloc(sizeof *out->first_point * ((size_t)strands + 1));
+    out->points = malloc(sizeof *out->points * (size_t)points);
+    out->thickness = with_thickness ? malloc(sizeof *out->thickness * (size_t)points) : NULL;
+    if (!out->first_point || !out->points || (with_thickness && !out->thickness)) {
+        ht_strands_free(out);
+        ht_set_error(err, err_size, "%s: out of memory for %u strands of %u points", file, strands, points);
+        return HT_ERR_OUT_OF_MEMORY;
+    }
+    out->strand_count = strands;
+    out->point_count = points;
+    return HT_OK;
+}
+
+bool ht_strands_coord_ok(const float p[3]) {
+    for (int k = 0; k < 3; k++)
+        if (!isfinite(p[k]) || fabsf(p[k]) > (float)HT_LIMIT_STRANDS_COORD) return false;
+    return true;
+}
+
+void ht_strands_free(ht_strands *s) {
+    if (!s) return;
+    free(s->first_point);
+    free(s->points);
+    free(s->thickness);
+    memset(s, 0, sizeof *s);
+}
+
+static bool has_extension(const char *path, const char *ext) {
+    size_t n = strlen(path), e = strlen(ext);
+    return n > e && strcasecmp(path + n - e, ext) == 0;
+}
+
+ht_result ht_strands_load(const char *path, ht_strands *out, char *err, size_t err_size) {
+    memset(out, 0, sizeof *out);
+    if (has_extension(path, ".tfx")) return ht_strands_load_tfx(path, out, err, err_size);
+    if (has_extension(path, ".hair")) return ht_strands_load_hair(path, out, err, err_size);
+    ht_set_error(err, err_size, "%s: not a strand file: the name must end in .tfx (TressFX 4.0) or .hair", path);
+    return HT_ERR_PARSE;
+}

@@ -1,0 +1,184 @@
+/* test_emit_header.c — hairgen --emit-header on the command line: beside
+   or instead of -o DIR; the header holds every bundle file under one entry;
+   usage errors exit 2, a bad symbol or material exits 1 with one line and
+   writes nothing, and a failed run leaves an existing header as it was.
+   (Drawing from a header, and its bytes against the directory's, are
+   test_render_bundle_memory's.) */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "support_scratch.h"
+
+static char work[64];
+
+static int setup(void **state) {
+    (void)state;
+    return ht_test_scratch_create(work, sizeof work, "emit-header") ? 0 : -1;
+}
+
+static int teardown(void **state) {
+    (void)state;
+    return ht_test_scratch_remove(work);
+}
+
+/* hairgen ARGS, stdout to work/stdout.txt, stderr to work/stderr.txt; the
+   exit status. */
+static int run_hairgen(const char *args) {
+    const char *build = getenv("HAIRTIER_BUILD");
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "%s/hairgen %s >%s/stdout.txt 2>%s/stderr.txt", build && build[0] ? build : "build",
+             args, work, work);
+    int status = system(cmd);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+static char *read_text(const char *path) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *buf = malloc((size_t)n + 1);
+    assert_non_null(buf);
+    assert_int_equal(fread(buf, 1, (size_t)n, f), (size_t)n);
+    buf[n] = '\0';
+    fclose(f);
+    return buf;
+}
+
+static bool exists(const char *path) {
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+/* Files in work whose name holds ".tmp-": what a failed write leaves. */
+static int count_temporaries(void) {
+    DIR *d = opendir(work);
+    assert_non_null(d);
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d))) n += strstr(e->d_name, ".tmp-") != NULL;
+    closedir(d);
+    return n;
+}
+
+/* stderr held exactly one line containing what. */
+static void assert_one_line_error(const char *what) {
+    char path[128];
+    snprintf(path, sizeof path, "%s/stderr.txt", work);
+    char *text = read_text(path);
+    assert_non_null(text);
+    if (!strstr(text, what)) fail_msg("no \"%s\" in: %s", what, text);
+    assert_ptr_equal(strchr(text, '\n'), text + strlen(text) - 1);
+    free(text);
+}
+
+static void test_header_instead_of_a_directory_holds_every_file_under_one_entry(void **state) {
+    (void)state;
+    char args[512], header[128], dir[128];
+    snprintf(header, sizeof header, "%s/kk.h", work);
+    snprintf(args, sizeof args, "materials/kajiya-kay.json --emit-header %s", header);
+    assert_int_equal(run_hairgen(args), 0);
+    char *text = read_text(header);
+    assert_non_null(text);
+    assert_non_null(strstr(text, "static const ht_bundle_memory kajiya_kay_bundle = { \"kajiya_kay_bundle\", "
+                                 "kajiya_kay_bundle_files, "));
+    assert_non_null(strstr(text, "#include \"hairtier.h\""));
+    /* One array per file of the directory the same run writes with -o. */
+    snprintf(dir, sizeof dir, "%s/kk-bundle", work);
+    snprintf(args, sizeof args, "materials/kajiya-kay.json -o %s --emit-header %s/kk2.h --header-symbol kk", dir,
+             work);
+    assert_int_equal(run_hairgen(args), 0);
+    DIR *d = opendir(dir);
+    assert_non_null(d);
+    int files = 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (e->d_name[0] == '.') continue;
+        char entry[320];
+        snprintf(entry, sizeof entry, "    { \"%s\", kajiya_kay_bundle_f", e->d_name);
+        if (!strstr(text, entry)) fail_msg("%s: not in the header", e->d_name);
+        files++;
+    }
+    closedir(d);
+    char count[64];
+    snprintf(count, sizeof count, "kajiya_kay_bundle_files, %d };", files);
+    assert_non_null(strstr(text, count));
+    free(text);
+    /* The named symbol, and the summary names the header. */
+    snprintf(header, sizeof header, "%s/kk2.h", work);
+    text = read_text(header);
+    assert_non_null(strstr(text, "static const ht_bundle_memory kk = { \"kk\", kk_files, "));
+    free(text);
+    snprintf(header, sizeof header, "%s/stdout.txt", work);
+    text = read_text(header);
+    assert_non_null(strstr(text, "kk2.h"));
+    free(text);
+    assert_int_equal(count_temporaries(), 0);
+}
+
+static void test_usage_errors_exit_2(void **state) {
+    (void)state;
+    char args[512];
+    assert_int_equal(run_hairgen("materials/dark-brown.json"), 2); /* neither -o nor --emit-header */
+    snprintf(args, sizeof args, "materials/dark-brown.json -o %s/u --header-symbol x", work);
+    assert_int_equal(run_hairgen(args), 2); /* a symbol without a header */
+    assert_int_equal(run_hairgen("materials/dark-brown.json --emit-header ''"), 2);
+    snprintf(args, sizeof args, "materials/dark-brown.json --emit-header %s/a.h --emit-header %s/b.h", work, work);
+    assert_int_equal(run_hairgen(args), 2);
+    assert_false(exists("materials/a.h"));
+}
+
+static void test_bad_symbol_or_material_writes_nothing_and_keeps_the_old_header(void **state) {
+    (void)state;
+    char args[512], header[128];
+    snprintf(header, sizeof header, "%s/keep.h", work);
+    snprintf(args, sizeof args, "materials/dark-brown.json --emit-header %s --header-symbol 2fast", header);
+    assert_int_equal(run_hairgen(args), 1);
+    assert_one_line_error("hairgen: --header-symbol: \"2fast\": not a C identifier");
+    assert_false(exists(header));
+    char dir[128];
+    snprintf(dir, sizeof dir, "%s/not-written", work);
+    snprintf(args, sizeof args, "materials/dark-brown.json -o %s --emit-header %s --header-symbol struct", dir,
+             header);
+    assert_int_equal(run_hairgen(args), 1);
+    assert_one_line_error("\"struct\": a C or C++ keyword");
+    assert_false(exists(dir)); /* refused before the directory too */
+
+    snprintf(args, sizeof args, "materials/dark-brown.json --emit-header %s", header);
+    assert_int_equal(run_hairgen(args), 0);
+    char *before = read_text(header);
+    assert_non_null(before);
+    snprintf(args, sizeof args, "no-such-material.json --emit-header %s", header);
+    assert_int_equal(run_hairgen(args), 1);
+    assert_one_line_error("no-such-material.json");
+    char *after = read_text(header);
+    assert_string_equal(before, after);
+    free(before);
+    free(after);
+    /* A directory that does not exist: one line naming the header. */
+    snprintf(args, sizeof args, "materials/dark-brown.json --emit-header %s/no/such/dir/x.h", work);
+    assert_int_equal(run_hairgen(args), 1);
+    assert_one_line_error("/no/such/dir/x.h: cannot create a temporary file beside it");
+    assert_int_equal(count_temporaries(), 0);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_header_instead_of_a_directory_holds_every_file_under_one_entry),
+        cmocka_unit_test(test_usage_errors_exit_2),
+        cmocka_unit_test(test_bad_symbol_or_material_writes_nothing_and_keeps_the_old_header),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}

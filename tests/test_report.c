@@ -1,0 +1,476 @@
+/* test_report — haircompare's report pieces without a browser or GL
+   (examples/compare/): HTML escaping, the table's contents, the plot's
+   axes, point coordinates and labels, the heatmap colours, the manifest's
+   lists, and the report directory written whole or not at all. The page
+   in a real browser is `make report-check`. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+#include "../examples/compare/heatmap.h"
+#include "../examples/compare/report.h"
+#include "../examples/compare/report_dir.h"
+#include "hairgen.h"
+#include "support_scratch.h"
+
+/* What a writer wrote, as a string (free it). */
+typedef struct capture {
+    char *text;
+    size_t size;
+    FILE *f;
+} capture;
+
+static FILE *capture_open(capture *c) {
+    memset(c, 0, sizeof *c);
+    c->f = open_memstream(&c->text, &c->size);
+    assert_non_null(c->f);
+    return c->f;
+}
+
+static char *capture_close(capture *c) {
+    assert_int_equal(fclose(c->f), 0);
+    return c->text;
+}
+
+static void expect_in(const char *text, const char *what) {
+    if (!strstr(text, what)) fail_msg("\"%s\" not in:\n%.4000s", what, text);
+}
+
+static int count_of(const char *text, const char *what) {
+    int n = 0;
+    for (const char *p = strstr(text, what); p; p = strstr(p + 1, what)) n++;
+    return n;
+}
+
+/* ---- escaping ---- */
+
+static void test_escape_writes_every_markup_character_as_a_reference(void **state) {
+    (void)state;
+    capture c;
+    report_escape(capture_open(&c), "<img src=\"x\" onerror='a&&b'> ok");
+    report_escape(c.f, NULL);
+    char *s = capture_close(&c);
+    assert_string_equal(s, "&lt;img src=&quot;x&quot; onerror=&#39;a&amp;&amp;b&#39;&gt; ok");
+    free(s);
+}
+
+/* ---- a report as haircompare fills it ---- */
+
+static void add_dropped(report_tier *t, const char *text) {
+    t->dropped[t->dropped_count] = strdup(text);
+    assert_non_null(t->dropped[t->dropped_count]);
+    t->dropped_count++;
+}
+
+/* full (reference), vertex (compared), fixed (not run, a hostile reason),
+   gl11 (compared, the slowest). */
+static void sample_report(report *r) {
+    report_init(r);
+    snprintf(r->material, sizeof r->material, "dark<brown>");
+    r->bundle = "out/b&b";
+    r->scene = "scenes/furball.json";
+    snprintf(r->driver, sizeof r->driver, "llvmpipe (LLVM 15.0.6, 256 bits)");
+    r->width = r->height = 64;
+    r->frames = 5;
+    r->tier_count = 4;
+    report_tier *full = &r->tiers[0], *vertex = &r->tiers[1], *fixed = &r->tiers[2], *gl11 = &r->tiers[3];
+    *full = (report_tier){ .name = "full", .needs = "GL 2.1, GLSL 1.20", .known = true, .ran = true, .frame_ms = 10.0,
+                           .compared = true, .cost_ratio = 1.0, .image = "full.png" };
+    full->whole = full->hair = (ht_metrics){ .psnr_db = INFINITY, .ssim = 1.0 };
+    *vertex = (report_tier){ .name = "vertex", .needs = "GL 2.0, GLSL 1.10", .known = true, .ran = true,
+                             .frame_ms = 5.25, .compared = true, .cost_ratio = 0.525, .image = "vertex.png",
+                             .heatmap = "vertex-error.png" };
+    vertex->whole = (ht_metrics){ .psnr_db = 34.437, .ssim = 0.96891, .delta_e00_mean = 0.5249,
+                                  .delta_e00_p95 = 3.2204 };
+    vertex->hair = (ht_metrics){ .psnr_db = 25.0, .ssim = 0.8, .delta_e00_mean = 2.611, .delta_e00_p95 = 9.28 };
+    add_dropped(vertex, "sparkle: approximated by its mean <0.134> & more");
+    *fixed = (report_tier){ .name = "fixed", .needs = "GL 1.2, GL_ARB_multitexture", .known = true,
+                            .reason = "fixed: needs <script>alert(1)</script>" };
+    add_dropped(fixed, "light 2: dropped");
+    *gl11 = (report_tier){ .name = "gl11", .needs = "GL 1.1, 1 texture unit", .known = true, .ran = true,
+                           .frame_ms = 13.1, .compared = true, .cost_ratio = 1.31, .image = "gl11.png",
+                           .heatmap = "gl11-error.png" };
+    gl11->whole = (ht_metrics){ .psnr_db = 34.18, .ssim = 0.9667, .delta_e00_mean = 0.7204, .delta_e00_p95 = 3.53 };
+}
+
+/* The text of the table row whose header cell is `name` (in a static buffer). */
+static const char *row_of(const char *table, const char *name) {
+    static char row[4096];
+    char head[64];
+    snprintf(head, sizeof head, "<tr><th scope=\"row\">%s</th>", name);
+    const char *p = strstr(table, head);
+    if (!p) fail_msg("no row for %s", name);
+    size_t n = (size_t)(strstr(p, "</tr>") - p);
+    snprintf(row, sizeof row, "%.*s", (int)n, p);
+    return row;
+}
+
+static void test_table_has_a_row_per_tier_with_its_numbers_needs_and_drops(void **state) {
+    (void)state;
+    report r;
+    sample_report(&r);
+    capture c;
+    report_write_table(capture_open(&c), &r);
+    char *t = capture_close(&c);
+    assert_int_equal(count_of(t, "<tr><th scope=\"row\">"), 4);
+    const char *full = row_of(t, "full");
+    expect_in(full, "<td class=\"num\">10.0</td><td class=\"num\">1.00&times;</td><td class=\"num\">&infin;</td>"
+                    "<td class=\"num\">1.0000</td><td class=\"num\">0.00</td><td class=\"num\">0.00</td>");
+    expect_in(full, "<td class=\"dropped\">nothing</td>");
+    const char *vertex = row_of(t, "vertex");
+    expect_in(vertex, "<td class=\"needs\">GL 2.0, GLSL 1.10</td>");
+    expect_in(vertex, "<td class=\"num\">5.2</td><td class=\"num\">0.53&times;</td><td class=\"num\">34.4</td>"
+                      "<td class=\"num\">0.9689</td><td class=\"num\">0.52</td><td class=\"num\">3.22</td>"
+                      "<td class=\"num\">2.61 / 9.28</td>");
+    expect_in(vertex, "<li>sparkle: approximated by its mean &lt;0.134&gt; &amp; more</li>");
+    const char *fixed = row_of(t, "fixed");
+    expect_in(fixed, "<td colspan=\"7\" class=\"notrun\">not run: fixed: needs &lt;script&gt;alert(1)&lt;/script&gt;</td>");
+    expect_in(fixed, "<li>light 2: dropped</li>");
+    assert_null(strstr(t, "<script"));
+    free(t);
+    report_free(&r);
+}
+
+static void test_table_shows_dashes_where_full_did_not_run(void **state) {
+    (void)state;
+    report r;
+    sample_report(&r);
+    for (int i = 0; i < r.tier_count; i++) r.tiers[i].compared = false;
+    r.tiers[0].ran = false;
+    capture c;
+    report_write_table(capture_open(&c), &r);
+    char *t = capture_close(&c);
+    const char *vertex = row_of(t, "vertex");
+    expect_in(vertex, "<td class=\"num\">5.2</td><td class=\"num\">&ndash;</td><td class=\"num\">&ndash;</td>");
+    assert_null(strstr(vertex, "34.4"));
+    free(t);
+    report_free(&r);
+}
+
+/* ---- the plot ---- */
+
+static void test_axis_fits_round_steps_from_zero_to_at_or_above_the_maximum(void **state) {
+    (void)state;
+    static const struct { double max, hi, step; int ticks; } cases[] = {
+        { 0.72 * 1.1, 0.8, 0.1, 9 }, { 1.31 * 1.08, 1.6, 0.2, 9 }, { 1.0, 1.0, 0.1, 11 },
+        { 7.0, 7.0, 1.0, 8 },        { 23.0, 25.0, 5.0, 6 },        { 1e-3, 1e-3, 1e-4, 11 },
+        { 0.0, 1.0, 0.1, 11 },       { NAN, 1.0, 0.1, 11 },         { 480.0, 500.0, 50.0, 11 },
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        plot_axis a = plot_axis_fit(cases[i].max);
+        if (fabs(a.hi - cases[i].hi) > 1e-9 * cases[i].hi || fabs(a.step - cases[i].step) > 1e-9 * cases[i].step ||
+            a.ticks != cases[i].ticks)
+            fail_msg("max %g: hi %g step %g ticks %d, expected %g %g %d", cases[i].max, a.hi, a.step, a.ticks,
+                     cases[i].hi, cases[i].step, cases[i].ticks);
+        if (isfinite(cases[i].max)) assert_true(a.hi >= cases[i].max);
+        assert_true(a.ticks >= 5 && a.ticks <= 11);
+    }
+    plot_axis a = plot_axis_fit(0.8);
+    assert_true(plot_map(&a, 0.0, 72, 612) == 72);
+    assert_true(fabs(plot_map(&a, 0.4, 72, 612) - 342) < 1e-9);
+    assert_true(fabs(plot_map(&a, 0.8, 330, 20) - 20) < 1e-9); /* upward y */
+}
+
+/* A circle's centre, from the SVG text after `after`. */
+static void circle_after(const char *svg, const char *after, double *cx, double *cy) {
+    const char *p = strstr(svg, after);
+    assert_non_null(p);
+    const char *c = p;
+    const char *last = NULL;
+    for (const char *q = strstr(svg, "<circle"); q && q < c; q = strstr(q + 1, "<circle")) last = q;
+    assert_non_null(last);
+    assert_int_equal(sscanf(last, "<circle cx=\"%lf\" cy=\"%lf\"", cx, cy), 2);
+}
+
+static void test_plot_puts_each_compared_tier_at_its_cost_and_error(void **state) {
+    (void)state;
+    report r;
+    sample_report(&r);
+    capture c;
+    report_write_plot(capture_open(&c), &r);
+    char *svg = capture_close(&c);
+    expect_in(svg, "<svg class=\"plot\" width=\"720\" height=\"400\"");
+    assert_int_equal(count_of(svg, "<circle"), 3); /* full, vertex, gl11; fixed did not run */
+    /* axes: x to 1.31 x 1.15 -> 1.6, y to 0.7204 x 1.1 -> 0.8; plot area x 72..692, y 330..20 */
+    expect_in(svg, ">1.6</text>");
+    expect_in(svg, ">0.8</text>");
+    expect_in(svg, "cost: frame time / full&#8217;s");
+    expect_in(svg, "&#916;E00 mean against full (lower is better)");
+    double cx, cy;
+    expect_in(svg, "<title>vertex: cost 0.53&#215; full, &#916;E00 mean 0.52</title>");
+    circle_after(svg, ">vertex</text>", &cx, &cy);
+    assert_true(fabs(cx - (72 + 620 * 0.525 / 1.6)) < 0.06 && fabs(cy - (330 - 310 * 0.5249 / 0.8)) < 0.06);
+    circle_after(svg, ">gl11</text>", &cx, &cy);
+    assert_true(fabs(cx - (72 + 620 * 1.31 / 1.6)) < 0.06 && fabs(cy - (330 - 310 * 0.7204 / 0.8)) < 0.06);
+    circle_after(svg, ">full</text>", &cx, &cy);
+    assert_true(fabs(cx - (72 + 620 / 1.6)) < 0.06 && fabs(cy - 330) < 0.06);
+    free(svg);
+
+    /* Names from the manifest are escaped in labels too. */
+    snprintf(r.tiers[1].name, sizeof r.tiers[1].name, "v<x>");
+    report_write_plot(capture_open(&c), &r);
+    svg = capture_close(&c);
+    expect_in(svg, ">v&lt;x&gt;</text>");
+    expect_in(svg, "<title>v&lt;x&gt;: cost");
+    free(svg);
+
+    /* Nothing compared: a sentence, no picture. */
+    for (int i = 0; i < r.tier_count; i++) r.tiers[i].compared = false;
+    report_write_plot(capture_open(&c), &r);
+    svg = capture_close(&c);
+    assert_null(strstr(svg, "<svg"));
+    expect_in(svg, "the full tier did not run here");
+    free(svg);
+    report_free(&r);
+}
+
+static void test_labels_that_would_overlap_are_stacked_below(void **state) {
+    (void)state;
+    /* a and b at nearly the same height and overlapping in x; c far away. */
+    double px[3] = { 90, 80, 390 }, py[3] = { 200, 205, 203 }, x[3] = { 100, 90, 400 }, w[3] = { 80, 80, 80 }, ly[3];
+    plot_place_labels(px, py, x, w, 3, ly);
+    assert_true(ly[0] == 204);           /* the higher point keeps its place */
+    assert_true(ly[1] == ly[0] + 16);    /* b goes under a */
+    assert_true(ly[2] == 207);           /* c overlaps nothing */
+    /* a third label on the same spot goes under the second */
+    double px2[3] = { 90, 90, 90 }, py2[3] = { 50, 50, 50 }, x2[3] = { 100, 100, 100 }, ly2[3];
+    plot_place_labels(px2, py2, x2, w, 3, ly2);
+    assert_true(ly2[0] == 54 && ly2[1] == 70 && ly2[2] == 86);
+    /* a label drawn left of its point across another point moves below that point */
+    double px3[2] = { 300, 200 }, py3[2] = { 100, 102 }, x3[2] = { 190, 210 }, w3[2] = { 100, 60 }, ly3[2];
+    plot_place_labels(px3, py3, x3, w3, 2, ly3);
+    assert_true(ly3[0] == 102 + 6 + 14); /* from 104: it covered the point at (200, 102) */
+    assert_true(ly3[1] == 106);          /* right of its point: clear of the first label, now lower */
+}
+
+/* ---- the heatmap ---- */
+
+static void test_heatmap_runs_black_to_white_with_rising_luminance(void **state) {
+    (void)state;
+    uint8_t c[3], prev[3];
+    heatmap_colour(0.0, c);
+    assert_true(c[0] == 0 && c[1] == 0 && c[2] == 0);
+    heatmap_colour(1.0, c);
+    assert_true(c[0] == 255 && c[1] == 255 && c[2] == 255);
+    heatmap_colour(7.0, c);
+    assert_true(c[0] == 255 && c[1] == 255 && c[2] == 255);
+    heatmap_colour(-1.0, c);
+    assert_true(c[0] == 0 && c[1] == 0 && c[2] == 0);
+    heatmap_colour(NAN, c);
+    assert_true(c[0] == 0 && c[1] == 0 && c[2] == 0);
+    heatmap_colour(0.0, prev);
+    bool coloured = false;
+    for (int i = 1; i <= 64; i++) {
+        heatmap_colour(i / 64.0, c);
+        if (!(heatmap_luma(c) > heatmap_luma(prev))) fail_msg("luma falls at %d/64", i);
+        coloured = coloured || c[0] != c[1] || c[1] != c[2];
+        memcpy(prev, c, 3);
+    }
+    assert_true(coloured); /* a colour map, not a grey ramp */
+}
+
+static void test_heatmap_image_scales_and_flips_gl_rows(void **state) {
+    (void)state;
+    const double map[2 * 3] = { 0, 20, /* bottom row (GL first) */ 10, 10, 40, 5 /* top row */ };
+    ht_image img = { 0 };
+    assert_int_equal(heatmap_image(map, 2, 3, true, 20.0, &img), HT_OK);
+    assert_int_equal(img.channels, 3);
+    uint8_t mid[3], quarter[3];
+    heatmap_colour(0.5, mid);
+    heatmap_colour(0.25, quarter);
+    static const uint8_t white[3] = { 255, 255, 255 }, black[3] = { 0, 0, 0 };
+    assert_memory_equal(img.pixels, white, 3);  /* top-left: 40 / 20, clamped */
+    assert_memory_equal(img.pixels + 3, quarter, 3);
+    assert_memory_equal(img.pixels + 6, mid, 3);
+    assert_memory_equal(img.pixels + 12, black, 3);  /* bottom-left */
+    assert_memory_equal(img.pixels + 15, white, 3);
+    ht_image_free(&img);
+    assert_int_equal(heatmap_image(map, 2, 3, true, 0.0, &img), HT_ERR_INVALID_ARGUMENT);
+}
+
+/* ---- the page ---- */
+
+static void test_page_links_every_image_relatively_and_runs_no_script(void **state) {
+    (void)state;
+    report r;
+    sample_report(&r);
+    capture c;
+    assert_int_equal(report_write_page(capture_open(&c), &r), 0);
+    char *html = capture_close(&c);
+    expect_in(html, "<!DOCTYPE html>");
+    expect_in(html, REPORT_DIR_GENERATOR_MARK);
+    expect_in(html, "<title>hairtier tiers: dark&lt;brown&gt;</title>");
+    expect_in(html, "bundle <code>out/b&amp;b</code>");
+    for (const char *const *f = (const char *const[]){ "full.png", "vertex.png", "vertex-error.png", "gl11.png",
+                                                        "gl11-error.png", NULL };
+         *f; f++) {
+        char tag[64];
+        snprintf(tag, sizeof tag, "<img src=\"%s\"", *f);
+        assert_int_equal(count_of(html, tag), 1);
+    }
+    assert_int_equal(count_of(html, "<img "), 5);
+    assert_null(strstr(html, "<script"));
+    assert_null(strstr(html, "file:"));
+    assert_null(strstr(html, "src=\"/"));
+    expect_in(html, "this device cannot run this tier:<br>fixed: needs &lt;script&gt;");
+    expect_in(html, "<linearGradient id=\"heat\"");
+    expect_in(html, ">&#8805; 20</text>");
+    /* the layout the screenshot check relies on: fixed sizes */
+    expect_in(html, "img,.box{display:block;width:64px;height:64px}");
+    char css[64];
+    snprintf(css, sizeof css, "body{margin:0;padding:24px;width:%dpx;", report_page_width(&r) - 48);
+    expect_in(html, css);
+    report_rect rc = report_image_rect(&r, 3, 1);
+    assert_true(rc.x == 24 + 3 * (64 + 16) && rc.y == 24 + 120 + 32 + 64 + 32 && rc.w == 64 && rc.h == 64);
+    free(html);
+    report_free(&r);
+}
+
+/* ---- the manifest's lists ---- */
+
+static char scratch[64];
+
+static int setup_scratch(void **state) {
+    (void)state;
+    return ht_test_scratch_create(scratch, sizeof scratch, "report") ? 0 : -1;
+}
+
+static int teardown_scratch(void **state) {
+    (void)state;
+    return ht_test_scratch_remove(scratch);
+}
+
+static void test_bundle_gives_tiers_in_order_with_needs_and_drops(void **state) {
+    (void)state;
+    char bundle[128], err[1024];
+    snprintf(bundle, sizeof bundle, "%s/bundle", scratch);
+    assert_int_equal(ht_generate_bundle("materials/dark-brown.json", "scenes/furball.json", bundle, NULL, err,
+                                        sizeof err), HT_OK);
+    report r;
+    report_init(&r);
+    if (report_read_bundle(&r, bundle, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    assert_string_equal(r.material, "dark-brown");
+    assert_int_equal(r.tier_count, 5);
+    static const char *const names[] = { "full", "vertex", "fixed4", "fixed", "gl11" };
+    for (int i = 0; i < 5; i++) {
+        assert_string_equal(r.tiers[i].name, names[i]);
+        assert_true(r.tiers[i].known);
+    }
+    assert_string_equal(r.tiers[0].needs, "GL 2.1, GLSL 1.20, 2 texture units");
+    assert_string_equal(r.tiers[1].needs, "GL 2.0, GLSL 1.10, GL_ARB_texture_env_combine, 4 texture units");
+    assert_string_equal(r.tiers[4].needs, "GL 1.1, 1 texture unit");
+    assert_int_equal(r.tiers[0].dropped_count, 0);
+    assert_true(r.tiers[3].dropped_count >= 3);
+    bool second_light = false;
+    for (int i = 0; i < r.tiers[3].dropped_count; i++) second_light |= strncmp(r.tiers[3].dropped[i], "light 2", 7) == 0;
+    assert_true(second_light);
+    report_free(&r);
+
+    /* A list holding something else than strings is named by its field. */
+    char *text = ht_test_read_file(bundle, "manifest.json");
+    char *dropped = strstr(strstr(text, "\"name\":\t\"vertex\""), "\"dropped\":\t[");
+    assert_non_null(dropped);
+    dropped += strlen("\"dropped\":\t[");
+    memmove(dropped + 3, dropped, strlen(dropped) + 1);
+    memcpy(dropped, "7, ", 3);
+    ht_test_write_file(bundle, "manifest.json", text);
+    report_init(&r);
+    assert_int_equal(report_read_bundle(&r, bundle, err, sizeof err), HT_ERR_PARSE);
+    expect_in(err, "bundle/manifest.json: tiers[1].dropped[0]: expected a string");
+    report_free(&r);
+
+    snprintf(bundle, sizeof bundle, "%s/no-bundle", scratch);
+    report_init(&r);
+    assert_int_not_equal(report_read_bundle(&r, bundle, err, sizeof err), HT_OK);
+    expect_in(err, "no-bundle/manifest.json: cannot read");
+    report_free(&r);
+}
+
+/* ---- the report directory ---- */
+
+static bool is_dir(const char *path) {
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+static void test_report_dir_is_written_whole_and_replaces_only_a_report(void **state) {
+    (void)state;
+    char dir[128], tmp[4096], err[1024], path[4300];
+    snprintf(dir, sizeof dir, "%s/report", scratch);
+    /* new: the temporary sibling holds the files until published */
+    assert_int_equal(report_dir_begin(dir, tmp, sizeof tmp, err, sizeof err), HT_OK);
+    assert_true(strncmp(tmp, dir, strlen(dir)) == 0 && strstr(tmp, ".tmp-"));
+    ht_test_write_file(tmp, "index.html", "<head>" REPORT_DIR_GENERATOR_MARK "</head> first");
+    assert_false(is_dir(dir));
+    assert_int_equal(report_dir_publish(tmp, dir, err, sizeof err), HT_OK);
+    assert_false(is_dir(tmp));
+    expect_in(ht_test_read_file(dir, "index.html"), "first");
+
+    /* an earlier report is replaced whole: its other files go too */
+    ht_test_write_file(dir, "old.png", "x");
+    assert_int_equal(report_dir_begin(dir, tmp, sizeof tmp, err, sizeof err), HT_OK);
+    ht_test_write_file(tmp, "index.html", "<head>" REPORT_DIR_GENERATOR_MARK "</head> second");
+    assert_int_equal(report_dir_publish(tmp, dir, err, sizeof err), HT_OK);
+    expect_in(ht_test_read_file(dir, "index.html"), "second");
+    snprintf(path, sizeof path, "%s/old.png", dir);
+    assert_int_equal(access(path, F_OK), -1);
+    assert_false(is_dir(tmp));
+
+    /* a failed run: abandoned, nothing left, the report as it was */
+    assert_int_equal(report_dir_begin(dir, tmp, sizeof tmp, err, sizeof err), HT_OK);
+    ht_test_write_file(tmp, "half.png", "x");
+    report_dir_remove(tmp);
+    assert_false(is_dir(tmp));
+    expect_in(ht_test_read_file(dir, "index.html"), "second");
+
+    /* someone else's directory is refused and untouched */
+    char other[128];
+    snprintf(other, sizeof other, "%s/photos", scratch);
+    assert_int_equal(mkdir(other, 0755), 0);
+    ht_test_write_file(other, "index.html", "<html>my page</html>");
+    assert_int_equal(report_dir_begin(other, tmp, sizeof tmp, err, sizeof err), HT_ERR_IO);
+    expect_in(err, "photos: exists and is not a haircompare report");
+    expect_in(ht_test_read_file(other, "index.html"), "my page");
+
+    /* a file where the directory should be, or below a file */
+    ht_test_write_file(scratch, "a-file", "x");
+    snprintf(path, sizeof path, "%s/a-file", scratch);
+    assert_int_equal(report_dir_begin(path, tmp, sizeof tmp, err, sizeof err), HT_ERR_IO);
+    expect_in(err, "a-file: exists and is not a directory");
+    snprintf(path, sizeof path, "%s/a-file/report", scratch);
+    assert_int_equal(report_dir_begin(path, tmp, sizeof tmp, err, sizeof err), HT_ERR_IO);
+    expect_in(err, "a-file/report: cannot create a temporary directory beside it: Not a directory");
+    /* an empty directory is fine */
+    snprintf(path, sizeof path, "%s/empty", scratch);
+    assert_int_equal(mkdir(path, 0755), 0);
+    assert_int_equal(report_dir_begin(path, tmp, sizeof tmp, err, sizeof err), HT_OK);
+    assert_int_equal(report_dir_publish(tmp, path, err, sizeof err), HT_OK);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_escape_writes_every_markup_character_as_a_reference),
+        cmocka_unit_test(test_table_has_a_row_per_tier_with_its_numbers_needs_and_drops),
+        cmocka_unit_test(test_table_shows_dashes_where_full_did_not_run),
+        cmocka_unit_test(test_axis_fits_round_steps_from_zero_to_at_or_above_the_maximum),
+        cmocka_unit_test(test_plot_puts_each_compared_tier_at_its_cost_and_error),
+        cmocka_unit_test(test_labels_that_would_overlap_are_stacked_below),
+        cmocka_unit_test(test_heatmap_runs_black_to_white_with_rising_luminance),
+        cmocka_unit_test(test_heatmap_image_scales_and_flips_gl_rows),
+        cmocka_unit_test(test_page_links_every_image_relatively_and_runs_no_script),
+        cmocka_unit_test_setup_teardown(test_bundle_gives_tiers_in_order_with_needs_and_drops, setup_scratch,
+                                        teardown_scratch),
+        cmocka_unit_test_setup_teardown(test_report_dir_is_written_whole_and_replaces_only_a_report, setup_scratch,
+                                        teardown_scratch),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
