@@ -15,7 +15,7 @@ SAN     ?=
 WERROR  ?= -Werror
 
 # g++: the bundle header's C++ compile check (tests/data/header_use.c).
-DEB_PACKAGES := libosmesa6-dev glslang-dev glslang-tools libcjson-dev libpng-dev \
+DEB_PACKAGES := libosmesa6-dev libegl-dev libegl-mesa0 glslang-dev glslang-tools libcjson-dev libpng-dev \
                 libcmocka-dev pkg-config g++
 
 CPPFLAGS += -Iruntime -Ishadergen -Ifallback -I/usr/include/cjson -I/usr/include/libpng16
@@ -24,18 +24,24 @@ LDFLAGS  += $(SAN)
 # glslang's static libraries are C++; its pkg-config file is read lazily,
 # after the packages are installed.
 GLSLANG_LIBS = $(shell pkg-config --libs glslang) -lglslang-default-resource-limits -lstdc++
-RUNTIME_LIBS = -lOSMesa -lcjson -lpng16 -lz -lpthread -lm
+CORE_LIBS    = -lcjson -lpng16 -lz -lpthread -lm
+RUNTIME_LIBS = -lOSMesa $(CORE_LIBS)
+# The offscreen context module (examples/offscreen.h): EGL linked, OSMesa
+# loaded with dlopen, so its programs start where there is no OSMesa.
+OFFSCREEN_LIBS = -lEGL -ldl
 LDLIBS   = $(GLSLANG_LIBS) $(RUNTIME_LIBS)
 
 RUNTIME_SRC := $(wildcard runtime/*.c fallback/*.c)
 GEN_SRC     := $(filter-out shadergen/hairgen.c,$(wildcard shadergen/*.c))
 TEST_SRC    := $(wildcard tests/test_*.c)
 TEST_SUPPORT_SRC := $(wildcard tests/support_*.c)
-EXAMPLE_SRC := $(wildcard examples/*.c)
+OFFSCREEN_SRC := examples/offscreen.c examples/offscreen_osmesa.c examples/offscreen_egl.c
+EXAMPLE_SRC := $(filter-out $(OFFSCREEN_SRC),$(wildcard examples/*.c))
 # What the example programs share (tier rendering, the report's pieces in
 # examples/compare/; the benchmarks' results files, plots and progress in
-# examples/bench/): one archive they and the tests link.
-EXAMPLE_LIB_SRC := $(wildcard examples/compare/*.c examples/bench/*.c)
+# examples/bench/; the offscreen context module): one archive they and the
+# tests link.
+EXAMPLE_LIB_SRC := $(wildcard examples/compare/*.c examples/bench/*.c) $(OFFSCREEN_SRC)
 
 obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 
@@ -50,6 +56,12 @@ TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 SOFTPIPE_TESTS := test_render_app_state test_render_fixed test_render_fixed4 test_render_gl11 test_render_glsl_compile \
                   test_render_passes test_render_probe test_render_robustness test_render_scenes
 $(foreach t,$(filter-out $(notdir $(TESTS)),$(SOFTPIPE_TESTS)),$(error SOFTPIPE_TESTS: no tests/$(t).c))
+# Render tests that run once more on llvmpipe through EGL (a pbuffer on
+# Mesa's surfaceless platform) instead of OSMesa: HAIRTIER_CONTEXT=egl
+# (tests/support_osmesa.h). A representative set, about 20 s: both GLSL
+# tiers and the profiles (passes), the oracle probe, fixed4 and gl11.
+EGL_TESTS := test_render_passes test_render_probe test_render_fixed4 test_render_gl11
+$(foreach t,$(filter-out $(notdir $(TESTS)),$(EGL_TESTS)),$(error EGL_TESTS: no tests/$(t).c))
 DEPS_STAMP := $(BUILD)/.deps-installed
 
 .PHONY: all deps test asan bench demo clean fuzz fuzz-build fuzz-seeds fuzz-smoke check-valgrind install uninstall report-check
@@ -104,18 +116,28 @@ $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 # hairview draws a bundle: the runtime only, no generator, no glslang.
-$(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(LIB)
-	$(CC) $(LDFLAGS) $^ $(RUNTIME_LIBS) -o $@
+$(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(EXLIB) $(LIB)
+	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) $(OFFSCREEN_LIBS) -o $@
 
+# png_metrics compares two PNGs: the runtime's metrics, no GL (it runs on a
+# device machine beside hairview).
+$(BUILD)/png_metrics: $(BUILD)/obj/examples/png_metrics.o $(LIB)
+	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) -o $@
+
+# The programs that draw get the context module from EXLIB: OSMesa by
+# dlopen, EGL linked; libOSMesa stays off their NEEDED list (--as-needed,
+# GCC's default here), so they start where there is no OSMesa.
 $(BUILD)/%: $(BUILD)/obj/examples/%.o $(EXLIB) $(GENLIB) $(LIB)
-	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+	$(CC) $(LDFLAGS) $^ $(LDLIBS) $(OFFSCREEN_LIBS) -o $@
 
-# The benchmarks' modules are tested like the library's (tests/test_bench_*.c).
-$(BUILD)/obj/tests/test_bench%.o: CPPFLAGS += -Iexamples -Iexamples/bench
+# The benchmarks' modules are tested like the library's (tests/test_bench_*.c);
+# tests make their contexts with the programs' module (tests/support_osmesa.c).
+$(BUILD)/obj/tests/%.o: CPPFLAGS += -Iexamples
+$(BUILD)/obj/tests/test_bench%.o: CPPFLAGS += -Iexamples/bench
 
 $(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(EXLIB) $(GENLIB) $(LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcmocka -o $@
+	$(CC) $(LDFLAGS) $^ $(LDLIBS) $(OFFSCREEN_LIBS) -lcmocka -o $@
 
 # The bundle as one C header (hairgen --emit-header) of the render tests'
 # fixture (dark-brown x furball), compiled into test_render_bundle_memory and
@@ -133,18 +155,22 @@ $(BUILD)/obj/tests/test_render_bundle_memory.o: CPPFLAGS += -I$(BUILD)/gen
 $(BUILD)/obj/tests/test_render_bundle_memory.o: $(GEN_HEADER) $(BUILD)/gen/header_use_c99.o \
                                                 $(BUILD)/gen/header_use_cxx.o
 
-# Every test binary runs from the repository root, on llvmpipe; those in
-# SOFTPIPE_TESTS run again on softpipe. Then the test scripts (make install
-# into a temporary prefix and programs built against it).
+# Every test binary runs from the repository root, on llvmpipe through
+# OSMesa; those in SOFTPIPE_TESTS run again on softpipe, those in EGL_TESTS
+# again on llvmpipe through EGL. Then the test scripts (make install into a
+# temporary prefix and programs built against it).
 TEST_SCRIPTS := tests/install_test.sh
 test: all $(TESTS)
 	@pass=0; fail=0; failed=""; \
 	for t in $(TESTS); do \
-	  for driver in llvmpipe softpipe; do \
-	    case " $(SOFTPIPE_TESTS) " in *" $$(basename $$t) "*) ;; *) [ $$driver = softpipe ] && continue;; esac; \
-	    echo "== $$t ($$driver)"; \
-	    if GALLIUM_DRIVER=$$driver HAIRTIER_BUILD=$(BUILD) $$t; then pass=$$((pass+1)); \
-	    else fail=$$((fail+1)); failed="$$failed $$t($$driver)"; fi; \
+	  for run in llvmpipe softpipe egl; do \
+	    case $$run in softpipe) list="$(SOFTPIPE_TESTS)";; egl) list="$(EGL_TESTS)";; *) list=$$(basename $$t);; esac; \
+	    case " $$list " in *" $$(basename $$t) "*) ;; *) continue;; esac; \
+	    driver=$$run; context=osmesa; [ $$run = egl ] && driver=llvmpipe context=egl; \
+	    echo "== $$t ($$driver, $$context)"; \
+	    if GALLIUM_DRIVER=$$driver HAIRTIER_CONTEXT=$$context EGL_PLATFORM=surfaceless HAIRTIER_BUILD=$(BUILD) $$t; \
+	    then pass=$$((pass+1)); \
+	    else fail=$$((fail+1)); failed="$$failed $$t($$driver,$$context)"; fi; \
 	  done; \
 	done; \
 	for s in $(TEST_SCRIPTS); do \

@@ -6,7 +6,7 @@
    build/haircompare --bundle DIR --scene SCENE.json [--frames N] -o REPORT_DIR
 
    For each tier of the manifest, best first: the tier forced and strict on
-   its own OSMesa context (examples/compare/tier_render.h, as tier_sheet),
+   its own offscreen context (examples/compare/tier_render.h, as tier_sheet),
    its image at full size, its per-pixel CIEDE2000 against full as a
    heatmap (examples/compare/heatmap.h), and a table row: needs, frame ms,
    cost ratio to full, PSNR, SSIM, ΔE00 mean and p95 (runtime/metrics.h),
@@ -37,17 +37,21 @@ typedef struct options {
     const char *bundle, *scene;
     char out[4096];  /* without trailing slashes: its temporary sibling sits beside it */
     int frames;
+    offscreen_kind context;
+    int egl_device;       /* -1: the default display */
 } options;
 
 static void print_help(FILE *f) {
-    fprintf(f, "usage: haircompare --bundle DIR --scene SCENE.json [--frames N] -o REPORT_DIR\n"
+    fprintf(f, "usage: haircompare --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl] [--egl-device N]\n"
+               "                   -o REPORT_DIR\n"
                "Renders SCENE with every tier of the bundle the device runs (forced, strict) and writes\n"
                "REPORT_DIR/index.html: the tier images side by side, each tier's per-pixel CIEDE2000\n"
                "against full as a heatmap (0 black to %g white, cubehelix), a table (needs, frame ms,\n"
                "cost ratio to full, PSNR, SSIM, dE00 mean and p95, features dropped) and a plot of error\n"
                "against cost. Frame ms: median of N frames (default 5) after a warm-up, each ended by\n"
                "glFinish. The report is written whole or not at all; an existing REPORT_DIR is replaced\n"
-               "only when it is empty or an earlier report.\n",
+               "only when it is empty or an earlier report. --context, --egl-device: the GL context,\n"
+               "as hairview's (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl).\n",
             REPORT_HEAT_MAX);
 }
 
@@ -58,7 +62,7 @@ static int usage(const char *why) {
 }
 
 static int parse_args(int argc, char **argv, options *o) {
-    *o = (options){ .frames = 5 };
+    *o = (options){ .frames = 5, .egl_device = -1 };
     const char *out = NULL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -74,6 +78,13 @@ static int parse_args(int argc, char **argv, options *o) {
             long n = strtol(argv[++i], &end, 10);
             if (*end || n < 1 || n > MAX_FRAMES) return usage("--frames: expected an integer in 1..1000");
             o->frames = (int)n;
+        } else if (strcmp(a, "--context") == 0 && has_value) {
+            if (!offscreen_kind_parse(argv[++i], &o->context)) return usage("--context: expected osmesa or egl");
+        } else if (strcmp(a, "--egl-device") == 0 && has_value) {
+            char *end;
+            long n = strtol(argv[++i], &end, 10);
+            if (*end || end == argv[i] || n < 0 || n > 255) return usage("--egl-device: expected an integer in 0..255");
+            o->egl_device = (int)n;
         } else {
             char why[300];
             snprintf(why, sizeof why, "%s: unknown option or missing value", a);
@@ -83,6 +94,8 @@ static int parse_args(int argc, char **argv, options *o) {
     if (!o->bundle) return usage("--bundle: required");
     if (!o->scene) return usage("--scene: required");
     if (!out) return usage("-o: required");
+    if (o->egl_device >= 0 && o->context == OFFSCREEN_OSMESA) return usage("--egl-device: needs --context egl");
+    if (o->egl_device >= 0) o->context = OFFSCREEN_EGL;
     size_t len = strlen(out);
     while (len > 1 && out[len - 1] == '/') len--;
     if (len == 0 || len >= sizeof o->out || (len == 1 && out[0] == '/')) return usage("-o: not a usable directory");
@@ -157,6 +170,7 @@ static int build(const options *o, const char *tmp, const tier_scene *ts, report
     tier_frame frames[REPORT_MAX_TIERS] = { 0 };
     int full = -1, rc = 1;
     bool any = false;
+    tier_render_use_context(o->context, o->egl_device);
     for (int t = 0; t < rep->tier_count; t++) {
         report_tier *p = &rep->tiers[t];
         ht_tier tier = ht_tier_from_name(p->name);

@@ -1,7 +1,14 @@
-/* hairview — renders a scene with a hairgen bundle on OSMesa and writes a PNG.
+/* hairview — renders a scene with a hairgen bundle offscreen (OSMesa or
+   EGL) and writes a PNG.
 
    build/hairview --bundle DIR --scene SCENE.json [--tier auto|full|vertex|fixed4|fixed|gl11]
-                  [--policy best|fastest|error:DB|frame:MS] [--strict] [--flat] [--frames N] -o OUT.png
+                  [--policy best|fastest|error:DB|frame:MS] [--strict] [--flat] [--frames N]
+                  [--context osmesa|egl] [--egl-device N] -o OUT.png
+
+   --context picks how the GL context is made (examples/offscreen.h; default
+   HAIRTIER_CONTEXT, else osmesa where libOSMesa loads, else egl);
+   --egl-device N draws on EGL device N (EGL_EXT_platform_device) and implies
+   --context egl. A context that cannot be made is one line and exit 1.
 
    Prints `tier=NAME reason=...` then `frame_ms=...` (the mean of N timed
    frames after one warm-up, each ended by glFinish) on stdout; every skipped
@@ -26,6 +33,8 @@ typedef struct options {
     const char *policy;   /* NULL → HAIRTIER_POLICY */
     bool strict, flat;
     int frames;
+    offscreen_kind context;
+    int egl_device;       /* -1: the default display */
 } options;
 
 static char last_log[1024];
@@ -40,12 +49,13 @@ static void log_line(void *user, const char *line) {
 
 static int usage(const char *why) {
     fprintf(stderr, "hairview: %s\nusage: hairview --bundle DIR --scene SCENE.json "
-                    "[--tier auto|full|vertex|fixed4|fixed|gl11] [--policy best|fastest|error:DB|frame:MS] [--strict] [--flat] [--frames N] -o OUT.png\n", why);
+                    "[--tier auto|full|vertex|fixed4|fixed|gl11] [--policy best|fastest|error:DB|frame:MS] [--strict] [--flat] [--frames N] "
+                    "[--context osmesa|egl] [--egl-device N] -o OUT.png\n", why);
     return 2;
 }
 
 static int parse_args(int argc, char **argv, options *o) {
-    *o = (options){ .tier = HT_TIER_AUTO, .frames = 10 };
+    *o = (options){ .tier = HT_TIER_AUTO, .frames = 10, .egl_device = -1 };
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         bool has_value = i + 1 < argc;
@@ -68,6 +78,13 @@ static int parse_args(int argc, char **argv, options *o) {
             long n = strtol(argv[++i], &end, 10);
             if (*end || n < 1 || n > 100000) return usage("--frames: expected an integer in 1..100000");
             o->frames = (int)n;
+        } else if (strcmp(a, "--context") == 0 && has_value) {
+            if (!offscreen_kind_parse(argv[++i], &o->context)) return usage("--context: expected osmesa or egl");
+        } else if (strcmp(a, "--egl-device") == 0 && has_value) {
+            char *end;
+            long n = strtol(argv[++i], &end, 10);
+            if (*end || end == argv[i] || n < 0 || n > 255) return usage("--egl-device: expected an integer in 0..255");
+            o->egl_device = (int)n;
         } else if (strcmp(a, "--strict") == 0) o->strict = true;
         else if (strcmp(a, "--flat") == 0) o->flat = true;
         else {
@@ -79,12 +96,13 @@ static int parse_args(int argc, char **argv, options *o) {
     if (!o->scene) return usage("--scene: required");
     if (!o->out) return usage("-o: required");
     if (!o->bundle && !o->flat) return usage("--bundle: required (unless --flat)");
+    if (o->egl_device >= 0 && o->context == OFFSCREEN_OSMESA) return usage("--egl-device: needs --context egl");
+    if (o->egl_device >= 0) o->context = OFFSCREEN_EGL;
     return 0;
 }
 
 typedef struct view {
-    OSMesaContext ctx;
-    unsigned char *buffer;
+    offscreen *gl;
     ht_mesh hair, head;
     ht_renderer *renderer;
 } view;
@@ -93,16 +111,15 @@ static void view_free(view *v) {
     ht_renderer_destroy(v->renderer);
     ht_mesh_free(&v->hair);
     ht_mesh_free(&v->head);
-    if (v->ctx) OSMesaDestroyContext(v->ctx);
-    free(v->buffer);
+    offscreen_close(v->gl);
 }
 
 static void draw_frame(const ht_scene *s, const view *v, const ht_frame_desc *frame, ht_result *r) {
-    glClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    v->gl->gl.ClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
+    v->gl->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     ht_result fr = ht_renderer_draw(v->renderer, frame);
     if (fr != HT_OK && *r == HT_OK) *r = fr;
-    glFinish();
+    v->gl->gl.Finish();
 }
 
 static int run(const options *o, view *v) {
@@ -112,13 +129,13 @@ static int run(const options *o, view *v) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
-    v->buffer = malloc((size_t)scene.width * (size_t)scene.height * 4);
-    v->ctx = offscreen_create(v->buffer, scene.width, scene.height);
-    if (!v->ctx) {
-        fprintf(stderr, "hairview: %s: resolution: cannot create a %dx%d OSMesa context\n", o->scene,
-                scene.width, scene.height);
+    v->gl = offscreen_open(&(offscreen_desc){ .kind = o->context, .width = scene.width, .height = scene.height,
+                                              .egl_device = o->egl_device }, err, sizeof err);
+    if (!v->gl) {
+        fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
+    fprintf(stderr, "hairview: context %s\n", v->gl->display);
 
     ht_result r = ht_scene_build_meshes(&scene, o->scene, &v->hair, &v->head, err, sizeof err);
     if (r != HT_OK) {
@@ -172,8 +189,9 @@ static int run(const options *o, view *v) {
         fprintf(stderr, "hairview: %s: out of memory\n", o->out);
         return 1;
     }
+    const unsigned char *rgba = offscreen_read(v->gl);
     for (int y = 0; y < scene.height; y++) {
-        const unsigned char *src = offscreen_row(v->buffer, scene.width, scene.height, y);
+        const unsigned char *src = offscreen_row(rgba, scene.width, scene.height, y);
         unsigned char *dst = img.pixels + (size_t)y * (size_t)scene.width * 3;
         for (int x = 0; x < scene.width; x++) memcpy(dst + 3 * x, src + 4 * x, 3);
     }

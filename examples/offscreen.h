@@ -1,38 +1,93 @@
-/* offscreen.h — what the OSMesa examples share (header only: every
-   example .c file is a program of its own): an RGBA8 compatibility context
-   with a 24-bit depth buffer over the caller's pixels, the getproc
-   ht_renderer_desc wants, and the top-down rows of GL's bottom-up buffer. */
+/* offscreen.h — the one place the programs and the tests make a GL context:
+   an RGBA8 compatibility-profile context with a 24-bit depth buffer, a
+   given size, no window, through OSMesa or EGL.
+
+   Usage:
+       offscreen_kind kind;
+       if (!offscreen_kind_parse(arg_of_context, &kind)) usage();   // "osmesa" | "egl"
+       char err[512];
+       offscreen *o = offscreen_open(&(offscreen_desc){ .kind = kind, .width = 512, .height = 512,
+                                                        .egl_device = -1 }, err, sizeof err);
+       if (!o) { fprintf(stderr, "prog: %s\n", err); return 1; }   // one line, e.g. "egl: no display: ..."
+       ... ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, ... })
+       o->gl.ClearColor(0, 0, 0, 1); o->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+       ... ht_renderer_draw(...)
+       const unsigned char *rgba = offscreen_read(o);   // glFinish, rows bottom-up like GL
+       ... offscreen_row(rgba, o->width, o->height, y) is row y from the top
+       offscreen_close(o);
+
+   Backends (offscreen_osmesa.c, offscreen_egl.c): OSMesa is loaded at run
+   time (dlopen of libOSMesa.so.8), so a program runs where Mesa has no
+   OSMesa (removed in Mesa 25.1) or on another vendor's driver; EGL is
+   linked (libEGL, glvnd). OFFSCREEN_AUTO takes HAIRTIER_CONTEXT=osmesa|egl
+   when set, else OSMesa where it loads, else EGL. EGL: eglBindAPI(
+   EGL_OPENGL_API) and a context with no version or profile attributes (the
+   driver's compatibility profile, which MESA_GL_VERSION_OVERRIDE still
+   lowers), drawing into a pbuffer surface (a default framebuffer like
+   OSMesa's: no FBO, so GL 1.1 contexts work too). Display: with
+   egl_device >= 0 device N of EGL_EXT_device_enumeration through
+   EGL_EXT_platform_device; else the default display (EGL_PLATFORM=
+   surfaceless picks Mesa's headless platform), then
+   EGL_MESA_platform_surfaceless, then device 0, the first that
+   initialises.
+
+   Programs call GL only through the context (o->gl, offscreen_getproc):
+   they link neither libGL nor libOSMesa, so the same binary runs on either
+   backend. One context is current at a time: offscreen_getproc answers for
+   the one opened last. */
 #ifndef HT_EXAMPLES_OFFSCREEN_H
 #define HT_EXAMPLES_OFFSCREEN_H
 
+#include <stdbool.h>
 #include <stddef.h>
-#include <string.h>
 
-#include <GL/osmesa.h>
+#include <GL/gl.h>
 
-/* OSMesaGetProcAddress with the signature ht_renderer_desc.getproc wants. */
-static inline void *offscreen_getproc(const char *name) {
-    OSMESAproc p = OSMesaGetProcAddress(name);
-    void *out;
-    memcpy(&out, &p, sizeof out); /* function to data pointer: same size on POSIX */
-    return out;
-}
+typedef enum offscreen_kind {
+    OFFSCREEN_AUTO = 0,   /* HAIRTIER_CONTEXT, else osmesa where libOSMesa loads, else egl */
+    OFFSCREEN_OSMESA,
+    OFFSCREEN_EGL,
+} offscreen_kind;
 
-/* A context drawing into rgba (width * height * 4 bytes, rows bottom-up),
-   current, with the viewport covering it; NULL when rgba is NULL or Mesa
-   refuses. Destroy it with OSMesaDestroyContext; rgba stays the caller's. */
-static inline OSMesaContext offscreen_create(unsigned char *rgba, int width, int height) {
-    static const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
-                                   OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0 };
-    if (!rgba) return NULL;
-    OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, NULL);
-    if (ctx && !OSMesaMakeCurrent(ctx, rgba, GL_UNSIGNED_BYTE, width, height)) {
-        OSMesaDestroyContext(ctx);
-        return NULL;
-    }
-    if (ctx) glViewport(0, 0, width, height);
-    return ctx;
-}
+typedef struct offscreen_desc {
+    offscreen_kind kind;    /* OFFSCREEN_AUTO */
+    int width, height;      /* 1..8192 each */
+    int egl_device;         /* -1 → the default display chain above; N → EGL device N (egl only) */
+} offscreen_desc;
+
+/* The GL calls the programs make themselves, loaded through the context. */
+typedef struct offscreen_gl {
+    void (*ClearColor)(GLclampf r, GLclampf g, GLclampf b, GLclampf a);
+    void (*Clear)(GLbitfield mask);
+    void (*Finish)(void);
+    void (*Viewport)(GLint x, GLint y, GLsizei w, GLsizei h);
+    const GLubyte *(*GetString)(GLenum name);
+    void (*ReadPixels)(GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type, void *pixels);
+} offscreen_gl;
+
+typedef struct offscreen {
+    offscreen_kind kind;        /* OFFSCREEN_OSMESA or OFFSCREEN_EGL, never AUTO */
+    int width, height;
+    offscreen_gl gl;
+    char display[128];          /* how it was made: "osmesa", "egl: EGL_MESA_platform_surfaceless, Mesa Project" */
+    unsigned char *pixels;      /* width * height * 4, rows bottom-up; offscreen_read fills it */
+    void *backend;              /* the backend's own state */
+} offscreen;
+
+/* "osmesa" or "egl" into *out; false for anything else (NULL included). */
+bool offscreen_kind_parse(const char *text, offscreen_kind *out);
+const char *offscreen_kind_name(offscreen_kind kind);
+
+/* A current context with the viewport covering it; NULL with one line in
+   err ("egl: no display: ...", "osmesa: libOSMesa.so.8 not found: ...",
+   "HAIRTIER_CONTEXT: \"x\" is not osmesa or egl") when it cannot be made. */
+offscreen *offscreen_open(const offscreen_desc *desc, char *err, size_t err_size);
+void offscreen_close(offscreen *o);
+/* The current context's entry point for name (ht_renderer_desc.getproc). */
+void *offscreen_getproc(const char *name);
+/* glFinish, then the colour buffer: width * height * 4 bytes, bottom row
+   first (OSMesa draws into it; EGL reads it back with glReadPixels). */
+const unsigned char *offscreen_read(offscreen *o);
 
 /* Row y, counted from the top, of a width x height RGBA buffer GL filled
    bottom row first. */

@@ -1,7 +1,8 @@
 /* tier_sheet — the technical artist's contact sheet: one scene rendered with
    every tier of a bundle side by side, each with its error against `full`.
 
-   build/tier_sheet --bundle DIR --scene SCENE.json [--frames N] -o SHEET.png
+   build/tier_sheet --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl]
+                    [--egl-device N] -o SHEET.png
 
    Panels, left to right: full, vertex, fixed4, fixed, gl11. Top row: the tier's image
    (forced tier, strict: no silent downgrade; a tier the device cannot run
@@ -14,6 +15,8 @@
    warm-up, each ended by glFinish), mean and max error vs full in /255. The
    mean is over the pixels hair or head covers in either image (pixels that
    differ from the background), so an empty border does not dilute it.
+   --context and --egl-device pick the GL context as hairview's do
+   (examples/offscreen.h); each tier gets a fresh one.
    Exit status 0 when the sheet is written (some tiers may not have run),
    1 when no tier ran or on any other failure (one line on stderr, no
    sheet), 2 on usage. */
@@ -39,6 +42,8 @@ static const ht_tier columns[TIERS] = { HT_TIER_FULL, HT_TIER_VERTEX, HT_TIER_FI
 typedef struct options {
     const char *bundle, *scene, *out;
     int frames;
+    offscreen_kind context;
+    int egl_device;       /* -1: the default display */
 } options;
 
 typedef struct panel {
@@ -235,13 +240,16 @@ static void print_table(const panel *panels) {
 
 static void print_help(FILE *f) {
     fprintf(f,
-            "usage: tier_sheet --bundle DIR --scene SCENE.json [--frames N] -o SHEET.png\n"
+            "usage: tier_sheet --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl] [--egl-device N]\n"
+            "                  -o SHEET.png\n"
             "Renders SCENE with every tier of the bundle (forced, strict) side by side.\n"
             "Panels left to right: full, vertex, fixed4, fixed, gl11. Top row: the tier's image, or a grey\n"
             "panel with the reason it cannot run here. Bottom row: per-pixel max channel\n"
             "difference from full (black 0, then red, yellow, white at %d/255 and above).\n"
             "Prints tier, frame ms (median of N frames, default 5, each ended by glFinish),\n"
-            "mean error (over pixels covered in either image) and max error, in /255.\n",
+            "mean error (over pixels covered in either image) and max error, in /255.\n"
+            "--context: how the GL context is made (default HAIRTIER_CONTEXT, else osmesa where\n"
+            "libOSMesa loads, else egl); --egl-device N: EGL device N (EGL_EXT_platform_device).\n",
             HEAT_FULL);
 }
 
@@ -252,7 +260,7 @@ static int usage(const char *why) {
 }
 
 static int parse_args(int argc, char **argv, options *o) {
-    *o = (options){ .frames = 5 };
+    *o = (options){ .frames = 5, .egl_device = -1 };
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         bool has_value = i + 1 < argc;
@@ -267,6 +275,13 @@ static int parse_args(int argc, char **argv, options *o) {
             long n = strtol(argv[++i], &end, 10);
             if (*end || n < 1 || n > MAX_FRAMES) return usage("--frames: expected an integer in 1..1000");
             o->frames = (int)n;
+        } else if (strcmp(a, "--context") == 0 && has_value) {
+            if (!offscreen_kind_parse(argv[++i], &o->context)) return usage("--context: expected osmesa or egl");
+        } else if (strcmp(a, "--egl-device") == 0 && has_value) {
+            char *end;
+            long n = strtol(argv[++i], &end, 10);
+            if (*end || end == argv[i] || n < 0 || n > 255) return usage("--egl-device: expected an integer in 0..255");
+            o->egl_device = (int)n;
         } else {
             char why[300];
             snprintf(why, sizeof why, "%s: unknown option or missing value", a);
@@ -276,6 +291,8 @@ static int parse_args(int argc, char **argv, options *o) {
     if (!o->bundle) return usage("--bundle: required");
     if (!o->scene) return usage("--scene: required");
     if (!o->out) return usage("-o: required");
+    if (o->egl_device >= 0 && o->context == OFFSCREEN_OSMESA) return usage("--egl-device: needs --context egl");
+    if (o->egl_device >= 0) o->context = OFFSCREEN_EGL;
     return 0;
 }
 
@@ -293,6 +310,7 @@ int main(int argc, char **argv) {
     const ht_scene scene = ts.scene;
 
     panel panels[TIERS] = { 0 };
+    tier_render_use_context(o.context, o.egl_device);
     for (int t = 0; t < TIERS; t++) tier_render(o.bundle, &ts, columns[t], o.frames, &panels[t].frame);
     bool any = false;
     for (int t = 0; t < TIERS; t++) any = any || panels[t].frame.ran;

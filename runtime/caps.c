@@ -276,3 +276,34 @@ void ht_caps_apply_profile(ht_caps *c, const ht_device_profile *p) {
     if (!c->has_multitexture) c->texture_units = 1;
     if (!c->has_3d_textures) c->max_3d_texture_size = 0;
 }
+
+/* Named profiles (hairtier.h): what a GL 1.1, 1.3 or 2.0 device had. GL
+   1.3 and 2.0 cap the version as MESA_GL_VERSION_OVERRIDE does (the
+   driver's extensions and units stay); GL 1.1 also hides what made the
+   combiner tiers possible on 1.1 drivers. */
+static const struct { const char *name; ht_device_profile profile; } named_profiles[] = {
+    { "gl11", { .gl_major = 1, .gl_minor = 1, .texture_units = 1,
+                .hide_extensions = "GL_ARB_multitexture GL_ARB_texture_env_combine GL_EXT_texture_env_combine "
+                                   "GL_ARB_vertex_buffer_object GL_ARB_shader_objects GL_ARB_vertex_shader "
+                                   "GL_ARB_fragment_shader GL_EXT_texture3D" } },
+    { "gl13", { .gl_major = 1, .gl_minor = 3 } },
+    { "gl20", { .gl_major = 2, .gl_minor = 0, .glsl_major = 1, .glsl_minor = 10 } },
+};
+
+ht_result ht_device_profile_parse(const char *text, ht_device_profile *out, char *err, size_t err_size) {
+    *out = (ht_device_profile){ 0 };
+    if (!text || !text[0] || strcmp(text, "none") == 0) return HT_OK;
+    for (size_t i = 0; i < sizeof named_profiles / sizeof named_profiles[0]; i++)
+        if (strcmp(text, named_profiles[i].name) == 0) {
+            *out = named_profiles[i].profile;
+            return HT_OK;
+        }
+    snprintf(err, err_size, "\"%.40s\" is not none, gl11, gl13 or gl20", text);
+    return HT_ERR_INVALID_ARGUMENT;
+}
+
+bool ht_device_profile_is_zero(const ht_device_profile *p) {
+    return !p->gl_major && !p->gl_minor && !p->glsl_major && !p->glsl_minor && !p->texture_units &&
+           !p->max_3d_texture_size && !p->hide_extensions && !p->no_fragment_shaders && !p->no_shaders &&
+           !p->no_vbo;
+}

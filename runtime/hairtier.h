@@ -35,6 +35,9 @@
    HAIRTIER_POLICY=best|fastest|error:DB|frame:MS picks among the tiers the
    device runs like ht_renderer_desc.policy (the desc wins; a forced tier
    wins over both).
+   HAIRTIER_DEVICE_PROFILE=gl11|gl13|gl20 caps the device like
+   ht_renderer_desc.profile (ht_device_profile_parse; a non-zero desc
+   profile wins).
 
    Policies, the speed-for-accuracy dial (every choice is logged with its
    reason and numbers, e.g. "tier fixed (error:30: 31.2 dB >= 30 dB, cost
@@ -219,6 +222,15 @@ typedef struct ht_device_profile {
 ht_result ht_caps_probe(ht_getproc_fn getproc, ht_caps *out);
 /* Lowers caps to what the profile allows (NULL or all-zero: unchanged). */
 void ht_caps_apply_profile(ht_caps *caps, const ht_device_profile *profile);
+/* A named profile: "gl11" (GL 1.1, one unit, no multitexture, combine,
+   VBOs, shaders or 3D textures: the gl11 tier), "gl13" (GL 1.3, the
+   driver's units and extensions: what MESA_GL_VERSION_OVERRIDE=1.3 leaves),
+   "gl20" (GL 2.0, GLSL 1.10); NULL, "" or "none" → the zero profile. Other
+   text: HT_ERR_INVALID_ARGUMENT with one line in err. This is what
+   HAIRTIER_DEVICE_PROFILE names; it stands in for old hardware on any
+   driver, NVIDIA's too, where Mesa's overrides do not exist. */
+ht_result ht_device_profile_parse(const char *text, ht_device_profile *out, char *err, size_t err_size);
+bool ht_device_profile_is_zero(const ht_device_profile *profile);
 
 /* ---- the renderer ---- */
 
@@ -310,7 +322,7 @@ typedef struct ht_renderer_desc {
     bool record_trace;       /* false */
     float flat_color[3];     /* used only when flat is set; {0,0,0} → 0.5 grey */
     bool flat;               /* false; true → geometry floor: same passes, flat colour, no textures */
-    ht_device_profile profile; /* zero → use everything the context offers */
+    ht_device_profile profile; /* zero → HAIRTIER_DEVICE_PROFILE, else everything the context offers */
     const char *policy;      /* NULL → HAIRTIER_POLICY, else "best"; "fastest", "error:30", "frame:16.7" */
     ht_time_tier_fn time_tier; /* NULL → frame:MS times by drawing (ht_renderer_choose_by_frame_time);
                                   set → create and choose_by_frame_time ask it instead of drawing */

@@ -143,8 +143,17 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
         ht_log_linef(r->log, r->log_user, "hairtier: glGetString(GL_VERSION): no answer (is a GL context current?)");
         goto fail;
     }
-    ht_caps_apply_profile(&r->caps, &desc->profile);
-    ht_caps_hide_extensions(r->extensions, desc->profile.hide_extensions);
+    ht_device_profile profile = desc->profile;
+    const char *profile_env = getenv("HAIRTIER_DEVICE_PROFILE");
+    if (ht_device_profile_is_zero(&profile) && profile_env && profile_env[0]) {
+        if ((res = ht_device_profile_parse(profile_env, &profile, err, sizeof err)) != HT_OK) {
+            ht_log_linef(r->log, r->log_user, "hairtier: HAIRTIER_DEVICE_PROFILE: %s", err);
+            goto fail;
+        }
+        ht_log_linef(r->log, r->log_user, "hairtier: device profile %s (HAIRTIER_DEVICE_PROFILE)", profile_env);
+    }
+    ht_caps_apply_profile(&r->caps, &profile);
+    ht_caps_hide_extensions(r->extensions, profile.hide_extensions);
     /* The runtime itself must not call what the profile hides. */
     ht_gl_restrict(&r->gl, r->caps.has_3d_textures, r->caps.has_multitexture, r->caps.has_vbo,
                    r->caps.has_shaders);

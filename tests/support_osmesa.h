@@ -1,5 +1,8 @@
-/* support_osmesa.h — an offscreen GL compatibility context for tests and
-   tools: OSMesa, RGBA8 colour, 24-bit depth, a given size.
+/* support_osmesa.h — an offscreen GL compatibility context for tests:
+   RGBA8 colour, 24-bit depth, a given size, made by the one context module
+   the programs use too (examples/offscreen.h). OSMesa unless
+   HAIRTIER_CONTEXT=egl (then EGL + a pbuffer; `make test` runs a set of
+   render tests that way with EGL_PLATFORM=surfaceless).
 
    Usage:
        ht_test_gl gl;
@@ -14,8 +17,9 @@
    MESA_GL_VERSION_OVERRIDE before the context is created. Mesa reads that
    variable once per process, at the first context: a test that needs a
    second version runs in a fresh process (re-exec itself). The context is
-   created with OSMESA_COMPAT_PROFILE and no version attributes, which is
-   what lets the override (and MESA_EXTENSION_OVERRIDE) take effect. */
+   a compatibility context with no version attributes (OSMESA_COMPAT_PROFILE;
+   EGL without a profile mask), which is what lets the override (and
+   MESA_EXTENSION_OVERRIDE) take effect. */
 #ifndef HT_SUPPORT_OSMESA_H
 #define HT_SUPPORT_OSMESA_H
 
@@ -24,16 +28,17 @@
 
 #include "image.h"
 
+struct offscreen;
+
 typedef struct ht_test_gl {
-    void *context;           /* OSMesaContext */
-    unsigned char *buffer;   /* width * height * 4, bottom row first */
+    struct offscreen *context;   /* examples/offscreen.h */
     int width, height;
 } ht_test_gl;
 
 bool ht_test_gl_create(ht_test_gl *out, int width, int height, const char *gl_version,
                        char *err, size_t err_size);
 void ht_test_gl_destroy(ht_test_gl *gl);
-/* OSMesaGetProcAddress with the signature ht_renderer_desc.getproc wants. */
+/* The current context's entry points, as ht_renderer_desc.getproc wants. */
 void *ht_test_getproc(const char *name);
 /* glFinish, then the colour buffer as an RGBA image, rows top to bottom. */
 ht_result ht_test_gl_read(const ht_test_gl *gl, ht_image *out);

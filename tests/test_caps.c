@@ -110,6 +110,49 @@ static void test_caps_profile_lowering_the_version_keeps_listed_extensions(void 
     assert_false(c.has_shaders);
 }
 
+/* The names HAIRTIER_DEVICE_PROFILE takes: GL 1.1 leaves one unit and no
+   combiner, 1.3 the driver's units and list, 2.0 GLSL 1.10. */
+static void test_caps_named_profiles_lower_a_gl45_device_to_their_version(void **state) {
+    (void)state;
+    char err[128];
+    ht_device_profile p;
+    for (int i = 0; i < 3; i++) {
+        const char *zero[] = { NULL, "", "none" };
+        assert_int_equal(ht_device_profile_parse(zero[i], &p, err, sizeof err), HT_OK);
+        assert_true(ht_device_profile_is_zero(&p));
+    }
+    const char *list = "GL_ARB_multitexture GL_ARB_texture_env_combine GL_ARB_vertex_buffer_object";
+    ht_caps c = device(4, 5);
+    c.glsl_major = 4;
+    c.glsl_minor = 50;
+    ht_caps_note_extensions(&c, list);
+    assert_int_equal(ht_device_profile_parse("gl20", &p, err, sizeof err), HT_OK);
+    ht_caps_apply_profile(&c, &p);
+    assert_int_equal(c.gl_major * 10 + c.gl_minor, 20);
+    assert_int_equal(c.glsl_major * 100 + c.glsl_minor, 110);
+    assert_int_equal(c.texture_units, 4);
+    c = device(4, 5);
+    ht_caps_note_extensions(&c, list);
+    assert_int_equal(ht_device_profile_parse("gl13", &p, err, sizeof err), HT_OK);
+    ht_caps_apply_profile(&c, &p);
+    assert_int_equal(c.gl_major * 10 + c.gl_minor, 13);
+    assert_false(c.has_shaders);
+    assert_true(c.has_combine);
+    assert_int_equal(c.texture_units, 4);
+    c = device(4, 5);
+    ht_caps_note_extensions(&c, list);
+    assert_int_equal(ht_device_profile_parse("gl11", &p, err, sizeof err), HT_OK);
+    ht_caps_apply_profile(&c, &p);
+    assert_int_equal(c.gl_major * 10 + c.gl_minor, 11);
+    assert_false(c.has_combine);
+    assert_false(c.has_multitexture);
+    assert_false(c.has_vbo);
+    assert_int_equal(c.texture_units, 1);
+    assert_int_equal(ht_device_profile_parse("GL13", &p, err, sizeof err), HT_ERR_INVALID_ARGUMENT);
+    assert_string_equal(err, "\"GL13\" is not none, gl11, gl13 or gl20");
+    assert_true(ht_device_profile_is_zero(&p));
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_caps_parse_version_survives_driver_strings),
@@ -118,6 +161,7 @@ int main(void) {
         cmocka_unit_test(test_caps_notes_known_names_and_looks_others_up_in_the_list),
         cmocka_unit_test(test_caps_profile_hides_listed_extensions_from_bits_and_list),
         cmocka_unit_test(test_caps_profile_lowering_the_version_keeps_listed_extensions),
+        cmocka_unit_test(test_caps_named_profiles_lower_a_gl45_device_to_their_version),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -21,6 +21,15 @@ void tier_scene_free(tier_scene *s) {
     ht_mesh_free(&s->head);
 }
 
+/* How tier_render makes its contexts (tier_render_use_context). */
+static offscreen_kind context_kind = OFFSCREEN_AUTO;
+static int context_egl_device = -1;
+
+void tier_render_use_context(offscreen_kind kind, int egl_device) {
+    context_kind = kind;
+    context_egl_device = egl_device;
+}
+
 /* The renderer's last log line: why a strict tier did not run. */
 static char last_log[512];
 
@@ -30,12 +39,13 @@ static void log_line(void *user, const char *line) {
     snprintf(last_log, sizeof last_log, "%s", strncmp(line, prefix, strlen(prefix)) == 0 ? line + strlen(prefix) : line);
 }
 
-static void draw_frame(const ht_scene *s, ht_renderer *r, const ht_frame_desc *f, ht_result *res) {
-    glClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+static void draw_frame(const offscreen *gl, const ht_scene *s, ht_renderer *r, const ht_frame_desc *f,
+                       ht_result *res) {
+    gl->gl.ClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
+    gl->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     ht_result fr = ht_renderer_draw(r, f);
     if (fr != HT_OK && *res == HT_OK) *res = fr;
-    glFinish();
+    gl->gl.Finish();
 }
 
 /* A fresh context per tier: no GL state leaks from one tier into the next. */
@@ -44,13 +54,14 @@ void tier_render(const char *bundle, const tier_scene *ts, ht_tier tier, int fra
     const ht_scene *s = &ts->scene;
     ht_renderer *r = NULL;
     double *times = NULL;
-    out->rgba = malloc((size_t)s->width * (size_t)s->height * 4);
-    OSMesaContext ctx = offscreen_create(out->rgba, s->width, s->height);
-    if (!ctx) {
-        snprintf(out->reason, sizeof out->reason, "cannot create a %dx%d OSMesa context", s->width, s->height);
+    char err[512];
+    offscreen *gl = offscreen_open(&(offscreen_desc){ .kind = context_kind, .width = s->width, .height = s->height,
+                                                      .egl_device = context_egl_device }, err, sizeof err);
+    if (!gl) {
+        snprintf(out->reason, sizeof out->reason, "%s", err);
         goto done;
     }
-    const char *driver = (const char *)glGetString(GL_RENDERER);
+    const char *driver = (const char *)gl->gl.GetString(GL_RENDERER);
     snprintf(out->driver, sizeof out->driver, "%s", driver ? driver : "");
     last_log[0] = '\0';
     ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = bundle,
@@ -73,23 +84,29 @@ void tier_render(const char *bundle, const tier_scene *ts, ht_tier tier, int fra
         goto done;
     }
     last_log[0] = '\0';
-    draw_frame(s, r, &frame, &res); /* warm-up: shader variants, texture uploads */
+    draw_frame(gl, s, r, &frame, &res); /* warm-up: shader variants, texture uploads */
     for (int i = 0; i < frames; i++) {
         double t0 = now_ms();
-        draw_frame(s, r, &frame, &res);
+        draw_frame(gl, s, r, &frame, &res);
         times[i] = now_ms() - t0;
     }
     if (res != HT_OK) {
         snprintf(out->reason, sizeof out->reason, "%s", last_log[0] ? last_log : ht_result_string(res));
         goto done;
     }
+    size_t bytes = (size_t)s->width * (size_t)s->height * 4;
+    if (!(out->rgba = malloc(bytes))) {
+        snprintf(out->reason, sizeof out->reason, "out of memory");
+        goto done;
+    }
+    memcpy(out->rgba, offscreen_read(gl), bytes);
     out->frame_ms = median(times, frames);
     snprintf(out->reason, sizeof out->reason, "%s", ht_renderer_reason(r));
     out->ran = true;
 done:
     free(times);
     ht_renderer_destroy(r);
-    if (ctx) OSMesaDestroyContext(ctx);
+    offscreen_close(gl);
     if (!out->ran) {
         free(out->rgba);
         out->rgba = NULL;

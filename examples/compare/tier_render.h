@@ -19,6 +19,7 @@
 #include <stddef.h>
 
 #include "hairtier.h"
+#include "../offscreen.h"
 #include "scene.h"
 
 typedef struct tier_scene {
@@ -44,6 +45,9 @@ typedef struct tier_frame {
    timed ones. A tier the device cannot run (strict: no fall to the next)
    leaves ran false and the log's reason in `reason`. */
 void tier_render(const char *bundle, const tier_scene *s, ht_tier tier, int frames, tier_frame *out);
+/* How tier_render makes its contexts from now on (--context, --egl-device;
+   offscreen.h): OFFSCREEN_AUTO and -1 until a program says otherwise. */
+void tier_render_use_context(offscreen_kind kind, int egl_device);
 void tier_frame_free(tier_frame *f);
 
 #endif

@@ -1,0 +1,116 @@
+/* offscreen.c — see offscreen.h: picks the backend, owns the pixels and the
+   few GL calls the programs make, answers getproc for the current context. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "offscreen_backend.h"
+
+#define MAX_SIDE 8192
+
+static const offscreen_backend *current;   /* the backend of the context opened last */
+
+bool offscreen_kind_parse(const char *text, offscreen_kind *out) {
+    if (!text) return false;
+    if (strcmp(text, "osmesa") == 0) *out = OFFSCREEN_OSMESA;
+    else if (strcmp(text, "egl") == 0) *out = OFFSCREEN_EGL;
+    else return false;
+    return true;
+}
+
+const char *offscreen_kind_name(offscreen_kind kind) {
+    return kind == OFFSCREEN_OSMESA ? "osmesa" : kind == OFFSCREEN_EGL ? "egl" : "auto";
+}
+
+/* OFFSCREEN_AUTO: HAIRTIER_CONTEXT, else osmesa where it loads, else egl. */
+static bool resolve(offscreen_kind kind, offscreen_kind *out, char *err, size_t err_size) {
+    if (kind != OFFSCREEN_AUTO) {
+        *out = kind;
+        return true;
+    }
+    const char *env = getenv("HAIRTIER_CONTEXT");
+    if (env && env[0]) {
+        if (offscreen_kind_parse(env, out)) return true;
+        snprintf(err, err_size, "HAIRTIER_CONTEXT: \"%.40s\" is not osmesa or egl", env);
+        return false;
+    }
+    char why[256];
+    *out = offscreen_osmesa_available(why, sizeof why) ? OFFSCREEN_OSMESA : OFFSCREEN_EGL;
+    return true;
+}
+
+static const offscreen_backend *backend_of(offscreen_kind kind) {
+    return kind == OFFSCREEN_OSMESA ? &offscreen_osmesa_backend : &offscreen_egl_backend;
+}
+
+static void *load(const offscreen *o, const char *name, char *err, size_t err_size, bool *ok) {
+    void *p = current->getproc(name);
+    if (!p && *ok) {
+        snprintf(err, err_size, "%s: the context has no %s", offscreen_kind_name(o->kind), name);
+        *ok = false;
+    }
+    return p;
+}
+
+/* Function pointers from getproc's data pointers (same size on POSIX). */
+#define LOAD(field, name) \
+    do { void *p_ = load(o, name, err, err_size, &ok); memcpy(&o->gl.field, &p_, sizeof p_); } while (0)
+
+offscreen *offscreen_open(const offscreen_desc *desc, char *err, size_t err_size) {
+    offscreen_kind kind;
+    if (!resolve(desc->kind, &kind, err, err_size)) return NULL;
+    if (desc->width < 1 || desc->height < 1 || desc->width > MAX_SIDE || desc->height > MAX_SIDE) {
+        snprintf(err, err_size, "%s: size %dx%d outside 1..%d", offscreen_kind_name(kind), desc->width, desc->height,
+                 MAX_SIDE);
+        return NULL;
+    }
+    offscreen *o = calloc(1, sizeof *o);
+    if (o) o->pixels = malloc((size_t)desc->width * (size_t)desc->height * 4);
+    if (!o || !o->pixels) {
+        if (o) free(o);
+        snprintf(err, err_size, "%s: out of memory for a %dx%d buffer", offscreen_kind_name(kind), desc->width,
+                 desc->height);
+        return NULL;
+    }
+    o->kind = kind;
+    o->width = desc->width;
+    o->height = desc->height;
+    const offscreen_backend *b = backend_of(kind);
+    if (!b->open(o, desc->egl_device, err, err_size)) {
+        free(o->pixels);
+        free(o);
+        return NULL;
+    }
+    current = b;
+    bool ok = true;
+    LOAD(ClearColor, "glClearColor");
+    LOAD(Clear, "glClear");
+    LOAD(Finish, "glFinish");
+    LOAD(Viewport, "glViewport");
+    LOAD(GetString, "glGetString");
+    LOAD(ReadPixels, "glReadPixels");
+    if (!ok) {
+        offscreen_close(o);
+        return NULL;
+    }
+    o->gl.Viewport(0, 0, o->width, o->height);
+    return o;
+}
+
+void offscreen_close(offscreen *o) {
+    if (!o) return;
+    const offscreen_backend *b = backend_of(o->kind);
+    b->close(o);
+    if (current == b) current = NULL;
+    free(o->pixels);
+    free(o);
+}
+
+void *offscreen_getproc(const char *name) { return current ? current->getproc(name) : NULL; }
+
+const unsigned char *offscreen_read(offscreen *o) {
+    o->gl.Finish();
+    if (!backend_of(o->kind)->draws_into_pixels)
+        o->gl.ReadPixels(0, 0, o->width, o->height, GL_RGBA, GL_UNSIGNED_BYTE, o->pixels);
+    return o->pixels;
+}

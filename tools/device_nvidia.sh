@@ -1,0 +1,185 @@
+#!/bin/sh
+# tools/device_nvidia.sh — issue 10 part 4: the same runtime, bundles and
+# scenes on NVIDIA's GL driver through EGL (headless, no X), compared tier by
+# tier with llvmpipe. Two halves, run from the repository root:
+#
+#   tools/device_nvidia.sh prepare        here (Debian, with a package registry):
+#       builds, renders the llvmpipe reference images (OSMesa), and gathers
+#       into .device/ (ignored by git) what the device lacks: the programs,
+#       the shared libraries ldd names beyond glibc (cJSON, libpng, zlib,
+#       libstdc++), the glvnd packages (libegl1 libglvnd0 libopengl0 libgl1
+#       libglx0 libgles2), the bundles and the references.
+#   tools/device_nvidia.sh run [images|bench|all]   there (carry .device):
+#       images: every scene (furball, patches) with every tier forced
+#       (strict), auto selection, and the gl13 and gl20 device profiles
+#       (HAIRTIER_DEVICE_PROFILE: NVIDIA has no MESA_GL_VERSION_OVERRIDE),
+#       each image's PSNR against llvmpipe's of the same tier/profile, and
+#       a tier sheet; bench: bench_frame on the fur ball at 8 000, 200 000
+#       and 1 000 000 hairs (512x512). Writes to $OUT (default out/device):
+#       summary.md (the tables), run.log (everything printed) and
+#       images.tar.gz (every PNG, the references too): three files, within
+#       the device tool's eight.
+#
+# The device call, once prepared and committed code is in the tree:
+#   carry [".device"], command
+#   "sh tools/device_nvidia.sh run all"   (split into "run images" and
+#   "run bench" if ten minutes are not enough).
+set -eu
+
+DEV=.device
+SCENES="furball patches"
+TIERS="full vertex fixed4 fixed gl11"
+PROFILES="gl13 gl20"
+# Overridable to try the script on a small machine (Mesa's EGL works too).
+BENCH_HAIRS=${BENCH_HAIRS:-"8000 200000 1000000"}
+FRAMES=${FRAMES:-20}   # timed frames per image run
+
+die() { echo "device_nvidia: $*" >&2; exit 1; }
+
+if [ ! -f Makefile ] || [ ! -d scenes ]; then die "run from the repository root"; fi
+
+prepare() {
+    HAIRVIEW=build/hairview
+    make -j2 all >/dev/null || die "make failed"
+    exclude="$(git rev-parse --git-common-dir)/info/exclude"
+    grep -qx "/$DEV/" "$exclude" 2>/dev/null || echo "/$DEV/" >>"$exclude"
+    rm -rf "${DEV:?}/bin" "${DEV:?}/lib" "${DEV:?}/ref" "${DEV:?}/bundles"
+    mkdir -p "$DEV/bin" "$DEV/lib" "$DEV/gl" "$DEV/ref" "$DEV/bundles"
+    cp build/hairview build/bench_frame build/tier_sheet build/png_metrics "$DEV/bin/"
+    # Every library ldd names except glibc's own and glvnd's (from the
+    # packages below, or the device's): the device image has neither this
+    # Debian's cJSON nor necessarily its libpng.
+    for b in "$DEV"/bin/*; do ldd "$b"; done | awk '$3 ~ /^\// { print $3 }' | sort -u | while read -r lib; do
+        case "$(basename "$lib")" in
+            libc.so.*|libm.so.*|libdl.so.*|libpthread.so.*|librt.so.*|ld-linux*|libEGL.so.*|libGLdispatch.so.*) ;;
+            *) cp -L "$lib" "$DEV/lib/" ;;
+        esac
+    done
+    # glvnd's loaders, amd64, as the device README says (no registry there).
+    if ! ls "$DEV"/gl/libegl1_*.deb >/dev/null 2>&1; then
+        o='-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 -oDir::State::Lists=/tmp/amd64'
+        mkdir -p /tmp/amd64/partial
+        # shellcheck disable=SC2086
+        if ! apt-get $o update >/dev/null ||
+           ! (cd "$DEV/gl" && apt-get $o download libegl1 libglvnd0 libopengl0 libgl1 libglx0 libgles2 >/dev/null 2>&1); then
+            die "apt-get download of the glvnd packages failed"
+        fi
+    fi
+    for s in $SCENES; do
+        build/hairgen materials/dark-brown.json --scene "scenes/$s.json" -o "$DEV/bundles/$s" >/dev/null || die "hairgen $s"
+        for t in $TIERS auto $PROFILES; do
+            render osmesa "$s" "$t" "$DEV/ref/$s-$t.png" 1 >"$DEV/ref/$s-$t.txt" 2>&1 || die "llvmpipe $s $t: $(tail -1 "$DEV/ref/$s-$t.txt")"
+        done
+    done
+    du -sh "$DEV"
+    echo "device_nvidia: prepared $DEV (carry it; run: sh tools/device_nvidia.sh run all)"
+}
+
+# render CONTEXT SCENE TIER|auto|PROFILE OUT.png FRAMES: hairview, its stdout and stderr to ours.
+render() {
+    what=$3
+    set -- --context "$1" --bundle "$DEV/bundles/$2" --scene "scenes/$2.json" --frames "$5" -o "$4"
+    case " $PROFILES " in *" $what "*) HAIRTIER_DEVICE_PROFILE=$what "$HAIRVIEW" "$@"; return ;; esac
+    if [ "$what" = auto ]; then "$HAIRVIEW" "$@"; else "$HAIRVIEW" "$@" --tier "$what" --strict; fi
+}
+
+# The value of KEY=VALUE in a text (hairview's and png_metrics's lines).
+field() { tr ' ' '\n' <"$1" | sed -n "s/^$2=//p" | head -1; }
+
+setup_device() {
+    [ -d "$DEV/bin" ] || die "no $DEV/bin: run 'prepare' here first and carry $DEV"
+    # The loaders only where NVIDIA's driver is mounted (the device): a
+    # machine with its own glvnd keeps it (this lets the script be tried on Mesa).
+    if [ -d /usr/local/nvidia ] && ls "$DEV"/gl/*.deb >/dev/null 2>&1; then
+        for f in "$DEV"/gl/*.deb; do dpkg -x "$f" /; done
+        ldconfig
+    fi
+    export LD_LIBRARY_PATH="$PWD/$DEV/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+    HAIRVIEW="$DEV/bin/hairview"
+    OUT=${OUT:-out/device}
+    WORK="$OUT/work"
+    mkdir -p "$WORK"
+    LOG="$OUT/run.log"
+    # glvnd finds NVIDIA's EGL through its vendor file; where the image does
+    # not install one where glvnd looks, name the driver's own.
+    probe="$WORK/probe.png"
+    if ! render egl furball auto "$probe" 1 >"$WORK/probe.txt" 2>&1; then
+        nv=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+        [ -f "$nv" ] || die "EGL: $(grep -m1 'hairview:' "$WORK/probe.txt") (and no $nv)"
+        export __EGL_VENDOR_LIBRARY_FILENAMES="$nv"
+        render egl furball auto "$probe" 1 >"$WORK/probe.txt" 2>&1 ||
+            die "EGL with $nv: $(grep -m1 'hairview:' "$WORK/probe.txt")"
+    fi
+    {
+        echo "== device"
+        nvidia-smi -L 2>&1 || true
+        nvidia-smi --query-gpu=driver_version --format=csv,noheader 2>&1 || true
+        grep -E 'hairview: context|hairtier: device' "$WORK/probe.txt"
+        echo "__EGL_VENDOR_LIBRARY_FILENAMES=${__EGL_VENDOR_LIBRARY_FILENAMES:-}"
+    } >>"$LOG"
+}
+
+images() {
+    {
+        echo "## Images: NVIDIA (EGL) vs llvmpipe (OSMesa), same bundle, scene, tier"
+        echo
+        echo "$(grep -m1 'hairtier: device' "$WORK/probe.txt" | sed 's/^hairtier: //') vs $(grep -m1 'hairtier: device' "$DEV/ref/furball-full.txt" | sed 's/^hairtier: //')"
+        echo
+        echo "| scene | run | tier (NVIDIA) | tier (llvmpipe) | NVIDIA frame ms | PSNR dB | hair PSNR dB | SSIM | ΔE00 mean | max diff /255 |"
+        echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    } >"$WORK/images.md"
+    for s in $SCENES; do
+        for t in $TIERS auto $PROFILES; do
+            nvpng="$WORK/$s-$t-nvidia.png" txt="$WORK/$s-$t-nvidia.txt"
+            echo "== $s $t (NVIDIA)" >>"$LOG"
+            if render egl "$s" "$t" "$nvpng" "$FRAMES" >"$txt" 2>&1; then
+                "$DEV/bin/png_metrics" "$DEV/ref/$s-$t.png" "$nvpng" >"$WORK/$s-$t-metrics.txt" 2>&1 || true
+                m="$WORK/$s-$t-metrics.txt"
+                echo "| $s | $t | $(field "$txt" tier) | $(field "$DEV/ref/$s-$t.txt" tier) | $(field "$txt" frame_ms) |" \
+                     "$(field "$m" psnr_db) | $(field "$m" hair_psnr_db) | $(field "$m" ssim) | $(field "$m" de00_mean) |" \
+                     "$(field "$m" max_diff) |" >>"$WORK/images.md"
+            else
+                echo "| $s | $t | failed: $(tail -1 "$txt") | $(field "$DEV/ref/$s-$t.txt" tier) | | | | | | |" >>"$WORK/images.md"
+            fi
+            cat "$txt" "$WORK/$s-$t-metrics.txt" >>"$LOG" 2>/dev/null || true
+        done
+    done
+    echo "== tier_sheet furball (NVIDIA)" >>"$LOG"
+    "$DEV/bin/tier_sheet" --context egl --bundle "$DEV/bundles/furball" --scene scenes/furball.json --frames 5 \
+        -o "$WORK/furball-sheet-nvidia.png" >>"$LOG" 2>&1 || echo "tier_sheet failed" >>"$LOG"
+}
+
+bench() {
+    {
+        echo "## bench_frame on NVIDIA (EGL), fur ball x 16 joints, 512x512, median of 9 frames"
+        echo
+    } >"$WORK/bench.md"
+    for h in $BENCH_HAIRS; do
+        echo "== bench_frame --hairs $h (NVIDIA)" >>"$LOG"
+        if "$DEV/bin/bench_frame" --context egl --hairs "$h" --size 512 --frames 9 >"$WORK/bench-$h.txt" 2>&1; then
+            { echo '```'; cat "$WORK/bench-$h.txt"; echo '```'; echo; } >>"$WORK/bench.md"
+        else
+            echo "bench_frame --hairs $h failed: $(tail -1 "$WORK/bench-$h.txt")" >>"$WORK/bench.md"
+        fi
+        cat "$WORK/bench-$h.txt" >>"$LOG"
+    done
+}
+
+case "${1:-}" in
+    prepare) prepare ;;
+    run)
+        what=${2:-all}
+        case $what in images|bench|all) ;; *) die "run takes images, bench or all, not '$what'" ;; esac
+        setup_device
+        [ "$what" = bench ] || images
+        [ "$what" = images ] || bench
+        cat "$WORK"/images.md "$WORK"/bench.md >"$OUT/summary.md" 2>/dev/null || true
+        for f in "$DEV"/ref/*.png; do cp "$f" "$WORK/$(basename "$f" .png)-llvmpipe.png"; done
+        rm -f "$WORK/probe.png"
+        (cd "$WORK" && find . -name '*.png' | sort | tar -czf "../images.tar.gz" -T -)
+        rm -rf "$WORK"
+        echo "device_nvidia: wrote $OUT/summary.md, $OUT/run.log, $OUT/images.tar.gz"
+        cat "$OUT/summary.md"
+        ;;
+    *) echo "usage: tools/device_nvidia.sh prepare | run [images|bench|all]" >&2; exit 2 ;;
+esac
