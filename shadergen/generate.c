@@ -10,6 +10,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <locale.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -502,37 +503,86 @@ static ht_result write_bundle(const char *tmp, const ht_generated *g, char *err,
     return r;
 }
 
-static ht_result generate_bundle(const char *material_path, const char *scene_path,
-                                 const char *out_dir, FILE *summary, char *err, size_t err_size) {
+/* mkdtemp makes a directory owner-only; a bundle is as readable as any
+   file the caller creates. The umask is read once: reading it means
+   setting it, which must not race between a batch's threads. */
+static pthread_once_t umask_once = PTHREAD_ONCE_INIT;
+static mode_t process_umask;
+
+static void read_umask(void) {
+    process_umask = umask(0);
+    umask(process_umask);
+}
+
+/* The input_hash a bundle's manifest holds, as written ("fnv1a64:..."), into
+   out; false when dir has no readable manifest with one. */
+static bool bundle_hash_text(const char *dir, char *out, size_t out_size) {
+    char path[4096], why[256];
+    if (!join_path(path, sizeof path, dir, HT_MANIFEST_FILE)) return false;
+    char *text = ht_file_read_text(path, HT_FILE_MAX_JSON, why, sizeof why);
+    if (!text) return false;
+    cJSON *m = cJSON_Parse(text);
+    free(text);
+    const cJSON *h = cJSON_GetObjectItemCaseSensitive(m, HT_MANIFEST_KEY_INPUT_HASH);
+    bool ok = cJSON_IsString(h) && snprintf(out, out_size, "%s", h->valuestring) < (int)out_size;
+    cJSON_Delete(m);
+    return ok;
+}
+
+static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep, char *err, size_t err_size) {
+    const char *material_path = rq->material_path, *scene_path = rq->scene_path;
+    const char *out_dir = rq->out_dir;
     ht_result r = check_target(out_dir, err, err_size);
     if (r != HT_OK) return r;
     ht_material material;
-    ht_scene scene;
+    ht_scene loaded_scene;
+    const ht_scene *scene = rq->scene;
     r = ht_material_load(material_path, &material, err, err_size);
     if (r != HT_OK) return r;
-    if (scene_path) {
-        r = ht_scene_load(scene_path, &scene, err, err_size);
+    snprintf(rep->material_name, sizeof rep->material_name, "%s", material.name);
+    if (!scene) {
+        if (scene_path) r = ht_scene_load(scene_path, &loaded_scene, err, err_size);
+        else ht_scene_default(&loaded_scene);
         if (r != HT_OK) return r;
-    } else {
-        ht_scene_default(&scene);
+        scene = &loaded_scene;
     }
 
-    /* The bundle's key is its input files' bytes. */
+    /* The bundle's key is its input files' bytes; the files are the
+       bundle's dependencies. */
     input_hash hash = { 0xcbf29ce484222325ull };
     hash_bytes(&hash, GENERATOR_VERSION, sizeof GENERATOR_VERSION);
     r = hash_file(&hash, material_path, HT_FILE_MAX_JSON, NULL, err, err_size);
-    if (r == HT_OK && scene_path) r = hash_file(&hash, scene_path, HT_FILE_MAX_JSON, NULL, err, err_size);
+    snprintf(rep->inputs[rep->input_count++], sizeof rep->inputs[0], "%s", material_path);
+    if (r == HT_OK && scene_path) {
+        if (rq->scene_bytes) {
+            hash_bytes(&hash, rq->scene_bytes, rq->scene_size);
+            hash_bytes(&hash, "", 1); /* as hash_file separates files */
+        } else {
+            r = hash_file(&hash, scene_path, HT_FILE_MAX_JSON, NULL, err, err_size);
+        }
+        snprintf(rep->inputs[rep->input_count++], sizeof rep->inputs[0], "%s", scene_path);
+    }
     static const char *const slots[HT_TEX_COUNT] = { "base", "alpha", "shift", "sparkle" };
     for (int i = 0; i < HT_TEX_COUNT && r == HT_OK; i++)
         if (material.textures[i].origin == HT_TEXTURE_FILE) {
             char label[1200];
             snprintf(label, sizeof label, "%.1000s: textures.%s.file", material_path, slots[i]);
             r = hash_file(&hash, material.textures[i].path, HT_FILE_MAX_PNG, label, err, err_size);
+            snprintf(rep->inputs[rep->input_count++], sizeof rep->inputs[0], "%s", material.textures[i].path);
         }
     if (r != HT_OK) return r;
 
+    if (rq->skip_unchanged) {
+        char want[32], have[32];
+        snprintf(want, sizeof want, "fnv1a64:%016llx", (unsigned long long)hash.value);
+        if (bundle_hash_text(out_dir, have, sizeof have) && strcmp(have, want) == 0) {
+            rep->skipped = true;
+            return HT_OK;
+        }
+    }
+
     ht_generated g;
-    r = ht_generate(&(ht_generate_desc){ .material = &material, .scene = &scene, .input_hash = hash.value },
+    r = ht_generate(&(ht_generate_desc){ .material = &material, .scene = scene, .input_hash = hash.value },
                     &g, err, err_size);
     if (r != HT_OK) return r;
 
@@ -543,10 +593,8 @@ static ht_result generate_bundle(const char *material_path, const char *scene_pa
                     out_dir, strerror(errno));
         tmp[0] = '\0';
     } else {
-        /* mkdtemp makes it owner-only; a bundle is as readable as any file. */
-        mode_t mask = umask(0);
-        umask(mask);
-        chmod(tmp, 0777 & ~mask);
+        pthread_once(&umask_once, read_umask);
+        chmod(tmp, 0777 & ~process_umask);
     }
     if (r == HT_OK) {
         r = write_bundle(tmp, &g, err, err_size);
@@ -561,22 +609,20 @@ static ht_result generate_bundle(const char *material_path, const char *scene_pa
     }
     if (r == HT_OK) r = publish(tmp, out_dir, err, err_size);
     if (r != HT_OK && tmp[0]) remove_tree(tmp);
-    if (r == HT_OK && summary) {
-        fprintf(summary, "hairgen: %s -> %s\n", material.name, out_dir);
-        fputs(g.summary, summary);
+    if (r == HT_OK && rq->summary) {
+        fprintf(rq->summary, "hairgen: %s -> %s\n", material.name, out_dir);
+        fputs(g.summary, rq->summary);
     }
     ht_generated_free(&g);
     return r;
 }
 
-ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
-                             const char *out_dir, FILE *summary, char *err, size_t err_size) {
-    /* "dir/" and "dir" are the same bundle; the temporary sibling needs the
-       name without the slash. */
-    char dir[4096];
+/* "dir/" and "dir" are the same bundle; the temporary sibling needs the
+   name without the slash. */
+static ht_result bundle_dir_name(const char *out_dir, char *dir, size_t dir_size, char *err, size_t err_size) {
     size_t len = out_dir ? strlen(out_dir) : 0;
     while (len > 1 && out_dir[len - 1] == '/') len--;
-    if (len == 0 || len >= sizeof dir || (len == 1 && out_dir[0] == '/'))
+    if (len == 0 || len >= dir_size || (len == 1 && out_dir[0] == '/'))
         return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "%s: not a usable output directory",
                        out_dir ? out_dir : "(null)");
     if (len > HT_LIMIT_DIR_PATH)
@@ -584,9 +630,26 @@ ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
                        "the runtime reads bundles at paths of at most %d", out_dir, len, HT_LIMIT_DIR_PATH);
     memcpy(dir, out_dir, len);
     dir[len] = '\0';
+    return HT_OK;
+}
 
+ht_result ht_bundle_make(const ht_bundle_request *rq, ht_bundle_report *report, char *err, size_t err_size) {
+    memset(report, 0, sizeof *report);
+    char dir[4096];
+    ht_result r = bundle_dir_name(rq->out_dir, dir, sizeof dir, err, err_size);
+    if (r != HT_OK) return r;
+    ht_bundle_request in_dir = *rq;
+    in_dir.out_dir = dir;
     c_locale_scope loc = c_locale_enter();
-    ht_result r = generate_bundle(material_path, scene_path, dir, summary, err, err_size);
+    r = bundle_make(&in_dir, report, err, err_size);
     c_locale_leave(loc);
     return r;
+}
+
+ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
+                             const char *out_dir, FILE *summary, char *err, size_t err_size) {
+    ht_bundle_report report;
+    return ht_bundle_make(&(ht_bundle_request){ .material_path = material_path, .scene_path = scene_path,
+                                                .out_dir = out_dir, .summary = summary },
+                          &report, err, err_size);
 }

@@ -1,54 +1,182 @@
 /* hairgen — the offline generator's command line: one material (and the
-   scene it is for) in, a bundle directory with every tier out. */
+   scene it is for) in, a bundle directory with every tier out; or many
+   materials in one run, a bundle each, on every core (ht_generate_batch). */
+#include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "hairgen.h"
 
 static void usage(FILE *out) {
-    fputs("usage: hairgen MATERIAL.json [--scene SCENE.json] -o DIR\n"
+    fputs("usage: hairgen MATERIAL.json [--scene SCENE.json] -o DIR [-MD | -MF FILE] [-q]\n"
+          "       hairgen -o OUTDIR MATERIAL.json... [--scene SCENE.json] [-j N] [--force]\n"
+          "               [-MD | -MF FILE] [-q]\n"
           "\n"
-          "Generates every shader tier of one hair material for one scene and writes\n"
-          "DIR (manifest.json, GLSL files, the fixed-function combiner program, PNG\n"
-          "textures). Every GLSL file is validated with glslang; on any error nothing\n"
-          "is written and the exit status is 1 (2 for a usage error). DIR is replaced\n"
-          "whole if it is a bundle already; any other existing directory is refused.\n"
-          "Without --scene the material is planned for one white directional light.\n"
-          "See docs/bundle.md.\n", out);
+          "Generates every shader tier of a hair material for one scene and writes\n"
+          "a bundle directory (manifest.json, GLSL files, the fixed-function combiner\n"
+          "program, PNG textures). Every GLSL file is validated with glslang; on any\n"
+          "error nothing is written and the exit status is 1 (2 for a usage error).\n"
+          "A bundle directory is replaced whole if it is a bundle already; any other\n"
+          "existing directory is refused. Without --scene the material is planned for\n"
+          "one white directional light. See docs/bundle.md.\n"
+          "\n"
+          "One material: the bundle is DIR, always regenerated, and its tier table\n"
+          "printed. Two or more materials, or --batch: each bundle is OUTDIR/NAME\n"
+          "(NAME: the material's file name without .json), materials run on N threads\n"
+          "(default: every core), each distinct shader text is validated once, and a\n"
+          "material whose inputs (material, scene and texture bytes, generator\n"
+          "version) hash to its bundle's input_hash is skipped (--force regenerates).\n"
+          "A material that fails leaves its bundle as it was; the others still run.\n"
+          "\n"
+          "  --scene FILE  the scene every material is planned for\n"
+          "  -o DIR        the bundle (one material) or the folder of bundles (a batch)\n"
+          "  --batch       bundles in DIR/NAME even for one material (for globs)\n"
+          "  -j N          threads (default: every online core)\n"
+          "  --force       regenerate bundles that are up to date\n"
+          "  -MD           write a make/ninja depfile beside each bundle, BUNDLE.d\n"
+          "  -MF FILE      write the depfile (every bundle's rule) to FILE\n"
+          "  -q            quiet: no tier table, no progress; errors only\n", out);
+}
+
+typedef struct options {
+    const char *scene, *out_dir, *depfile, *jobs;
+    int batch, force, quiet, depfile_per_bundle, help;
+} options;
+
+/* Every option: its spelling, where its value goes (value options) or the
+   flag it sets. */
+typedef struct option_spec {
+    const char *name;
+    size_t value;   /* offsetof the const char * in options, or 0 */
+    size_t flag;    /* offsetof the int in options, or 0 */
+} option_spec;
+
+#define VALUE(field) offsetof(options, field), 0
+#define FLAG(field) 0, offsetof(options, field)
+
+static const option_spec option_table[] = {
+    { "--scene", VALUE(scene) },      { "-o", VALUE(out_dir) },     { "-MF", VALUE(depfile) },
+    { "-j", VALUE(jobs) },            { "--batch", FLAG(batch) },   { "--force", FLAG(force) },
+    { "-q", FLAG(quiet) },            { "-MD", FLAG(depfile_per_bundle) },
+    { "--help", FLAG(help) },         { "-h", FLAG(help) },
+};
+
+/* argv's options into *o and its materials (the other words) into
+   materials; 0, or 2 after a one-line error. */
+static int parse_args(int argc, char **argv, options *o, const char **materials, int *material_count) {
+    for (int i = 1; i < argc; i++) {
+        const char *arg = argv[i];
+        const option_spec *spec = NULL;
+        for (size_t k = 0; k < sizeof option_table / sizeof option_table[0]; k++)
+            if (strcmp(arg, option_table[k].name) == 0) spec = &option_table[k];
+        /* -jN as make spells it */
+        static const option_spec jobs_joined = { "-j", VALUE(jobs) };
+        const char *joined = NULL;
+        if (!spec && strncmp(arg, "-j", 2) == 0 && arg[2]) {
+            spec = &jobs_joined;
+            joined = arg + 2;
+        }
+        if (!spec) {
+            if (arg[0] == '-' && arg[1]) {
+                fprintf(stderr, "hairgen: %s: unknown option (see --help)\n", arg);
+                return 2;
+            }
+            materials[(*material_count)++] = arg;
+            continue;
+        }
+        if (spec->flag) {
+            *(int *)((char *)o + spec->flag) = 1;
+            continue;
+        }
+        const char **slot = (const char **)((char *)o + spec->value);
+        if (*slot) {
+            fprintf(stderr, "hairgen: %s: given twice (see --help)\n", arg);
+            return 2;
+        }
+        if (!joined && i + 1 >= argc) {
+            fprintf(stderr, "hairgen: %s: missing value (see --help)\n", arg);
+            return 2;
+        }
+        *slot = joined ? joined : argv[++i];
+    }
+    return 0;
+}
+
+static int parse_jobs(const char *text, int *jobs) {
+    *jobs = 0;
+    if (!text) return 0;
+    char *end;
+    long n = strtol(text, &end, 10);
+    if (end == text || *end || n < 1 || n > 256) {
+        fprintf(stderr, "hairgen: -j: %s: expected a thread count in 1..256\n", text);
+        return 2;
+    }
+    *jobs = (int)n;
+    return 0;
 }
 
 int main(int argc, char **argv) {
-    const char *material = NULL, *scene = NULL, *out_dir = NULL;
-    for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            usage(stdout);
-            return 0;
-        } else if ((strcmp(argv[i], "--scene") == 0 || strcmp(argv[i], "-o") == 0) && i + 1 < argc) {
-            const char **slot = argv[i][1] == 'o' ? &out_dir : &scene;
-            if (*slot) {
-                fprintf(stderr, "hairgen: %s: given twice (see --help)\n", argv[i]);
-                return 2;
-            }
-            *slot = argv[++i];
-        } else if (argv[i][0] == '-') {
-            fprintf(stderr, "hairgen: %s: unknown option or missing value (see --help)\n", argv[i]);
-            return 2;
-        } else if (!material) {
-            material = argv[i];
-        } else {
-            fprintf(stderr, "hairgen: %s: only one material per run\n", argv[i]);
-            return 2;
-        }
-    }
-    if (!material || !out_dir || !out_dir[0]) {
-        usage(stderr);
-        return 2;
-    }
-    char err[2048] = "";
-    ht_result r = ht_generate_bundle(material, scene, out_dir, stdout, err, sizeof err);
-    if (r != HT_OK) {
-        fprintf(stderr, "hairgen: %s\n", err[0] ? err : ht_result_string(r));
+    options o = { 0 };
+    const char **materials = calloc((size_t)argc, sizeof *materials);
+    int material_count = 0;
+    if (!materials) {
+        fputs("hairgen: out of memory\n", stderr);
         return 1;
     }
-    return 0;
+    int status = parse_args(argc, argv, &o, materials, &material_count);
+    int jobs = 0;
+    if (status == 0) status = parse_jobs(o.jobs, &jobs);
+    if (status == 0 && o.help) {
+        usage(stdout);
+        free(materials);
+        return 0;
+    }
+    if (status == 0 && (material_count == 0 || !o.out_dir || !o.out_dir[0])) {
+        usage(stderr);
+        status = 2;
+    }
+    if (status == 0 && o.depfile && o.depfile_per_bundle) {
+        fputs("hairgen: -MD and -MF: give one (see --help)\n", stderr);
+        status = 2;
+    }
+    if (status != 0) {
+        free(materials);
+        return status;
+    }
+
+    /* One material without --batch is the original form: the bundle is
+       DIR itself, always regenerated, the tier table printed. */
+    const bool single = material_count == 1 && !o.batch;
+    char depfile[4200];
+    if (single && o.depfile_per_bundle) {
+        size_t len = strlen(o.out_dir);
+        while (len > 1 && o.out_dir[len - 1] == '/') len--;
+        snprintf(depfile, sizeof depfile, "%.*s.d", (int)len, o.out_dir);
+        o.depfile = depfile;
+    }
+    ht_batch_desc desc = {
+        .materials = materials,
+        .material_count = material_count,
+        .scene = o.scene,
+        .out_dir = o.out_dir,
+        .in_place = single,
+        .jobs = jobs,
+        .force = single || o.force,
+        .depfile = o.depfile,
+        .depfile_per_bundle = o.depfile_per_bundle && !single,
+        .progress = single || o.quiet ? NULL : stdout,
+        .summary = single && !o.quiet ? stdout : NULL,
+        .errors = stderr,
+    };
+    char err[2048] = "";
+    ht_batch_result result;
+    ht_result r = ht_generate_batch(&desc, &result, err, sizeof err);
+    /* Each failed material has printed its own line; a batch says how many. */
+    if (r != HT_OK && (result.failed == 0 || !single))
+        fprintf(stderr, "hairgen: %s\n", err[0] ? err : ht_result_string(r));
+    else if (r == HT_OK && !single && !o.quiet)
+        printf("hairgen: %d generated, %d up to date, in %s\n", result.generated, result.skipped, o.out_dir);
+    free(materials);
+    return r == HT_OK ? 0 : 1;
 }
