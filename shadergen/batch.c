@@ -226,8 +226,6 @@ static ht_result plan_dirs(const ht_batch_desc *d, material_job *jobs, char *err
                                "%s and %s: both would be bundle %s (one bundle per material file name)",
                                d->materials[k], d->materials[i], jobs[i].dir);
     }
-    if (mkdir(d->out_dir, 0777) != 0 && errno != EEXIST)
-        return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot create: %s", d->out_dir, strerror(errno));
     return HT_OK;
 }
 
@@ -266,6 +264,9 @@ ht_result ht_generate_batch(const ht_batch_desc *d, ht_batch_result *result, cha
         b.scene_bytes = scene_text;
         b.scene_size = scene_text ? strlen(scene_text) : 0;
     }
+
+    if (r == HT_OK && !d->in_place && mkdir(d->out_dir, 0777) != 0 && errno != EEXIST)
+        r = ht_fail(err, err_size, HT_ERR_IO, "%s: cannot create: %s", d->out_dir, strerror(errno));
 
     if (r == HT_OK) {
         int threads = job_count(d);
