@@ -126,7 +126,7 @@ asan:
 # Every benchmark on llvmpipe, then the frame benchmark again on softpipe
 # (an interpreter: a stand-in for a slow fragment unit), smaller so it ends.
 bench: all
-	@for b in $(filter $(BUILD)/bench_%,$(PROGRAMS)); do echo "== $$b (llvmpipe)"; $$b || exit 1; done
+	@for b in $(filter $(BUILD)/bench_%,$(PROGRAMS)); do echo "== $$b (llvmpipe)"; HAIRTIER_BUILD=$(BUILD) $$b || exit 1; done
 	@echo "== $(BUILD)/bench_frame --hairs 2000 --size 256 --frames 3 (softpipe)"
 	@GALLIUM_DRIVER=softpipe $(BUILD)/bench_frame --hairs 2000 --size 256 --frames 3
 
