@@ -323,6 +323,12 @@ static ht_result hash_values(input_hash *h, const ht_material *m, const ht_scene
     return HT_OK;
 }
 
+static void *warm_glslang(void *unused) {
+    (void)unused;
+    ht_glsl_warm_up();
+    return NULL;
+}
+
 static char *summary_text(const ht_plan *plan, const ht_tier_output *tiers, int tier_count) {
     char *text = NULL;
     size_t size = 0;
@@ -368,7 +374,12 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
     ht_result (*const emitters[EMITTERS])(const ht_plan *, ht_tier_output *, char *, size_t) = {
         ht_emit_full, ht_emit_vertex, ht_emit_fixed4, ht_emit_fixed, ht_emit_gl11
     };
+    /* glslang's tables are built on a second thread while the textures
+       are made (once per process: later materials find them built). */
+    pthread_t warm_thread;
+    bool warming = !ht_glsl_is_warm() && pthread_create(&warm_thread, NULL, warm_glslang, NULL) == 0;
     r = ht_textures_pack(m, &plan, &albedo, &detail, err, err_size);
+    if (warming) pthread_join(warm_thread, NULL);
     if (r == HT_OK && plan.sparkle) plan.sparkle_mean = channel_mean(&detail, 1);
     if (r == HT_OK && plan.base) plan.albedo_max = rgb_max(&albedo);
     int tier_count = 0;
@@ -487,17 +498,52 @@ const ht_generated_file *ht_generated_find(const ht_generated *g, const char *na
 
 /* ---- write step: the generated files into a directory ---- */
 
-static ht_result write_bundle(const char *tmp, const ht_generated *g, char *err, size_t err_size) {
+/* One image file of a bundle, encoded on a thread of its own: PNG
+   encoding is most of a bundle's cost and the images are independent. */
+typedef struct image_write {
     char path[4096];
+    const ht_image *image;
+    ht_result result;
+    char err[1200];
+    pthread_t thread;
+    bool threaded;
+} image_write;
+
+static void *write_image(void *arg) {
+    image_write *w = arg;
+    w->result = ht_image_write_png(w->path, w->image, w->err, sizeof w->err);
+    return NULL;
+}
+
+/* Every file into tmp; on failure err names the first file (in bundle
+   order) that failed. */
+static ht_result write_bundle(const char *tmp, const ht_generated *g, char *err, size_t err_size) {
+    image_write images[HT_GENERATED_MAX_FILES];
+    int image_count = 0;
     ht_result r = HT_OK;
     for (int i = 0; i < g->file_count && r == HT_OK; i++) {
         const ht_generated_file *f = &g->files[i];
-        if (f->text) {
-            r = write_file(tmp, f->name, f->text, err, err_size);
-        } else {
-            r = join_path(path, sizeof path, tmp, f->name)
-                    ? ht_image_write_png(path, &f->image, err, err_size)
-                    : ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", tmp);
+        if (f->text) continue;
+        image_write *w = &images[image_count++];
+        w->image = &f->image;
+        w->result = HT_OK;
+        w->err[0] = '\0';
+        if (!join_path(w->path, sizeof w->path, tmp, f->name)) {
+            r = ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", tmp);
+            image_count--;
+            break;
+        }
+        w->threaded = pthread_create(&w->thread, NULL, write_image, w) == 0;
+    }
+    for (int i = 0; i < g->file_count && r == HT_OK; i++)
+        if (g->files[i].text) r = write_file(tmp, g->files[i].name, g->files[i].text, err, err_size);
+    for (int i = 0; i < image_count; i++) {
+        image_write *w = &images[i];
+        if (w->threaded) pthread_join(w->thread, NULL);
+        else write_image(w);  /* no thread to be had: here, in turn */
+        if (w->result != HT_OK && r == HT_OK) {
+            r = w->result;
+            ht_set_error(err, err_size, "%s", w->err);
         }
     }
     return r;
