@@ -265,8 +265,11 @@ ht_result ht_generate_batch(const ht_batch_desc *d, ht_batch_result *result, cha
         b.scene_size = scene_text ? strlen(scene_text) : 0;
     }
 
-    if (r == HT_OK && !d->in_place && mkdir(d->out_dir, 0777) != 0 && errno != EEXIST)
-        r = ht_fail(err, err_size, HT_ERR_IO, "%s: cannot create: %s", d->out_dir, strerror(errno));
+    struct stat st;
+    if (r == HT_OK && !d->in_place && mkdir(d->out_dir, 0777) != 0 &&
+        (errno != EEXIST || stat(d->out_dir, &st) != 0 || !S_ISDIR(st.st_mode)))
+        r = ht_fail(err, err_size, HT_ERR_IO, "%s: cannot create the bundles' folder: %s", d->out_dir,
+                    errno == EEXIST ? "exists and is not a directory" : strerror(errno));
 
     if (r == HT_OK) {
         int threads = job_count(d);

@@ -44,22 +44,25 @@ typedef struct options {
     int batch, force, quiet, depfile_per_bundle, help;
 } options;
 
-/* Every option: its spelling, where its value goes (value options) or the
-   flag it sets. */
+/* Every option: its spelling and the field of options it fills, a value
+   (the next word) or a flag. */
 typedef struct option_spec {
     const char *name;
-    size_t value;   /* offsetof the const char * in options, or 0 */
-    size_t flag;    /* offsetof the int in options, or 0 */
+    enum { VALUE, FLAG } kind;
+    size_t field;   /* offsetof the const char * (VALUE) or the int (FLAG) */
 } option_spec;
 
-#define VALUE(field) offsetof(options, field), 0
-#define FLAG(field) 0, offsetof(options, field)
-
 static const option_spec option_table[] = {
-    { "--scene", VALUE(scene) },      { "-o", VALUE(out_dir) },     { "-MF", VALUE(depfile) },
-    { "-j", VALUE(jobs) },            { "--batch", FLAG(batch) },   { "--force", FLAG(force) },
-    { "-q", FLAG(quiet) },            { "-MD", FLAG(depfile_per_bundle) },
-    { "--help", FLAG(help) },         { "-h", FLAG(help) },
+    { "--scene", VALUE, offsetof(options, scene) },
+    { "-o", VALUE, offsetof(options, out_dir) },
+    { "-MF", VALUE, offsetof(options, depfile) },
+    { "-j", VALUE, offsetof(options, jobs) },
+    { "--batch", FLAG, offsetof(options, batch) },
+    { "--force", FLAG, offsetof(options, force) },
+    { "-q", FLAG, offsetof(options, quiet) },
+    { "-MD", FLAG, offsetof(options, depfile_per_bundle) },
+    { "--help", FLAG, offsetof(options, help) },
+    { "-h", FLAG, offsetof(options, help) },
 };
 
 /* argv's options into *o and its materials (the other words) into
@@ -71,7 +74,7 @@ static int parse_args(int argc, char **argv, options *o, const char **materials,
         for (size_t k = 0; k < sizeof option_table / sizeof option_table[0]; k++)
             if (strcmp(arg, option_table[k].name) == 0) spec = &option_table[k];
         /* -jN as make spells it */
-        static const option_spec jobs_joined = { "-j", VALUE(jobs) };
+        static const option_spec jobs_joined = { "-j", VALUE, offsetof(options, jobs) };
         const char *joined = NULL;
         if (!spec && strncmp(arg, "-j", 2) == 0 && arg[2]) {
             spec = &jobs_joined;
@@ -85,11 +88,11 @@ static int parse_args(int argc, char **argv, options *o, const char **materials,
             materials[(*material_count)++] = arg;
             continue;
         }
-        if (spec->flag) {
-            *(int *)((char *)o + spec->flag) = 1;
+        if (spec->kind == FLAG) {
+            *(int *)((char *)o + spec->field) = 1;
             continue;
         }
-        const char **slot = (const char **)((char *)o + spec->value);
+        const char **slot = (const char **)((char *)o + spec->field);
         if (*slot) {
             fprintf(stderr, "hairgen: %s: given twice (see --help)\n", arg);
             return 2;

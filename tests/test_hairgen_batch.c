@@ -203,6 +203,16 @@ static void test_batch_writes_one_bundle_per_material_with_a_progress_line_each(
     assert_int_equal(count_lines(out, "/3] "), 3);
     assert_int_equal(count_lines(out, "3 generated, 0 up to date"), 1);
     free(out);
+    char *err;
+    /* thread counts are 1..256; the bundles' folder must be a folder */
+    assert_int_equal(run_hairgen("-o many blond.json -j 0"), 2);
+    assert_int_equal(run_hairgen("-o many blond.json -jx"), 2);
+    ht_test_write_file(work, "a-file", "not a folder\n");
+    assert_int_equal(run_hairgen("-o a-file blond.json kk.json"), 1);
+    err = scratch_text("err.txt");
+    assert_int_equal(count_lines(err, "a-file: cannot create the bundles' folder: exists and is not a directory"), 1);
+    assert_int_equal(count_lines(err, "hairgen:"), 1);
+    free(err);
     /* one material with --batch goes in DIR/NAME too */
     assert_int_equal(run_hairgen("--batch -o one blond.json -q"), 0);
     assert_true(scratch_exists("one/blond/manifest.json"));
@@ -212,7 +222,7 @@ static void test_batch_writes_one_bundle_per_material_with_a_progress_line_each(
     assert_int_equal(mkdir(sub, 0755), 0);
     copy_material("blond", "sub/blond.json");
     assert_int_equal(run_hairgen("-o clash blond.json sub/blond.json"), 1);
-    char *err = scratch_text("err.txt");
+    err = scratch_text("err.txt");
     assert_non_null(strstr(err, "both would be bundle clash/blond"));
     free(err);
     assert_false(scratch_exists("clash/blond"));
