@@ -578,7 +578,9 @@ static bool bundle_hash_text(const char *dir, char *out, size_t out_size) {
 static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep, char *err, size_t err_size) {
     const char *material_path = rq->material_path, *scene_path = rq->scene_path;
     const char *out_dir = rq->out_dir;
-    ht_result r = check_target(out_dir, err, err_size);
+    /* An up-to-date bundle is a bundle: a batch's re-run checks only its
+       hash; any other run checks the target first, as it always has. */
+    ht_result r = rq->skip_unchanged ? HT_OK : check_target(out_dir, err, err_size);
     if (r != HT_OK) return r;
     ht_material material;
     ht_scene loaded_scene;
@@ -625,6 +627,8 @@ static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep,
             rep->skipped = true;
             return HT_OK;
         }
+        r = check_target(out_dir, err, err_size);
+        if (r != HT_OK) return r;
     }
 
     ht_generated g;
