@@ -152,6 +152,13 @@ static void put_rule(FILE *f, const material_job *j) {
    path, through a temporary name renamed into place. */
 static ht_result write_depfile(const char *path, const material_job *jobs, int first, int count,
                                char *err, size_t err_size) {
+    /* make has no escape for a newline in a file name */
+    for (int i = first; i < first + count; i++)
+        for (int k = 0; jobs[i].result == HT_OK && k < jobs[i].report.input_count; k++)
+            if (strchr(jobs[i].report.inputs[k], '\n'))
+                return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT,
+                               "%s: cannot list %s: a file name with a newline has no make spelling", path,
+                               jobs[i].report.inputs[k]);
     char tmp[4200];
     int n = snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", path);
     int fd = n > 0 && (size_t)n < sizeof tmp ? mkstemp(tmp) : -1;

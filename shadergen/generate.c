@@ -20,6 +20,7 @@
 #include "emit.h"
 #include "errfmt.h"
 #include "file_open.h"
+#include "json_check.h"
 #include "hairgen_internal.h"
 #include "manifest.h"
 
@@ -595,8 +596,21 @@ static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep,
     ht_material material;
     ht_scene loaded_scene;
     const ht_scene *scene = rq->scene;
-    r = ht_material_load(material_path, &material, err, err_size);
+    /* Read once: parsed here, hashed below (ht_material_load's steps). */
+    char *material_text = NULL;
+    r = ht_json_read_file(material_path, &material_text, err, err_size);
+    if (r == HT_OK) r = ht_material_parse(material_text, material_path, &material, err, err_size);
+    /* The bundle's key is its input files' bytes; the files are the
+       bundle's dependencies. */
+    input_hash hash = { 0xcbf29ce484222325ull };
+    hash_bytes(&hash, GENERATOR_VERSION, sizeof GENERATOR_VERSION);
+    if (r == HT_OK) {
+        hash_bytes(&hash, material_text, strlen(material_text));
+        hash_bytes(&hash, "", 1); /* as hash_file separates files */
+    }
+    free(material_text);
     if (r != HT_OK) return r;
+    snprintf(rep->inputs[rep->input_count++], sizeof rep->inputs[0], "%s", material_path);
     snprintf(rep->material_name, sizeof rep->material_name, "%s", material.name);
     if (!scene) {
         if (scene_path) r = ht_scene_load(scene_path, &loaded_scene, err, err_size);
@@ -605,13 +619,7 @@ static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep,
         scene = &loaded_scene;
     }
 
-    /* The bundle's key is its input files' bytes; the files are the
-       bundle's dependencies. */
-    input_hash hash = { 0xcbf29ce484222325ull };
-    hash_bytes(&hash, GENERATOR_VERSION, sizeof GENERATOR_VERSION);
-    r = hash_file(&hash, material_path, HT_FILE_MAX_JSON, NULL, err, err_size);
-    snprintf(rep->inputs[rep->input_count++], sizeof rep->inputs[0], "%s", material_path);
-    if (r == HT_OK && scene_path) {
+    if (scene_path) {
         if (rq->scene_bytes) {
             hash_bytes(&hash, rq->scene_bytes, rq->scene_size);
             hash_bytes(&hash, "", 1); /* as hash_file separates files */
