@@ -275,6 +275,23 @@ static ht_result publish(const char *tmp, const char *dir, char *err, size_t err
     return HT_OK;
 }
 
+/* Every number the generator prints (GLSL literals, manifest, program,
+   error lines) must not depend on the caller's locale: same inputs, same
+   bytes. */
+typedef struct c_locale_scope { locale_t c, previous; } c_locale_scope;
+
+static c_locale_scope c_locale_enter(void) {
+    c_locale_scope s = { newlocale(LC_ALL_MASK, "C", (locale_t)0), (locale_t)0 };
+    if (s.c) s.previous = uselocale(s.c);
+    return s;
+}
+
+static void c_locale_leave(c_locale_scope s) {
+    if (!s.c) return;
+    uselocale(s.previous);
+    freelocale(s.c);
+}
+
 /* ---- build step: everything in memory ---- */
 
 /* Takes ownership of text or image (the tier output no longer frees it). */
@@ -322,6 +339,26 @@ static ht_result hash_values(input_hash *h, const ht_material *m, const ht_scene
     hash_int(h, scene->light_count);
     for (int i = 0; i < scene->light_count && i < HT_MAX_LIGHTS; i++) hash_int(h, scene->lights[i].type);
     return HT_OK;
+}
+
+/* One tier's emitter, run on its own thread; numbers printed in the C
+   locale there too (a thread does not inherit uselocale's). */
+typedef struct emit_job {
+    ht_result (*emit)(const ht_plan *, ht_tier_output *, char *, size_t);
+    const ht_plan *plan;
+    ht_tier_output out;
+    ht_result result;
+    char err[2048];
+    pthread_t thread;
+    bool threaded;
+} emit_job;
+
+static void *run_emitter(void *arg) {
+    emit_job *job = arg;
+    c_locale_scope loc = c_locale_enter();
+    job->result = job->emit(job->plan, &job->out, job->err, sizeof job->err);
+    c_locale_leave(loc);
+    return NULL;
 }
 
 static void *warm_glslang(void *unused) {
@@ -383,13 +420,34 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
     if (warming) pthread_join(warm_thread, NULL);
     if (r == HT_OK && plan.sparkle) plan.sparkle_mean = channel_mean(&detail, 1);
     if (r == HT_OK && plan.base) plan.albedo_max = rgb_max(&albedo);
+    /* The tiers are independent given the plan: each emitter on a thread
+       of its own, then kept in order. A tier the plan rules out (fixed4
+       under a point light) is left out of the bundle; the runtime then
+       never sees it. The first failure in tier order is the error, as
+       when they ran one after another. */
     int tier_count = 0;
-    for (int i = 0; i < EMITTERS && r == HT_OK; i++) {
-        r = emitters[i](&plan, &tiers[tier_count], err, err_size);
-        /* A tier the plan rules out (fixed4 under a point light) is left
-           out of the bundle; the runtime then never sees it. */
-        if (r == HT_ERR_UNSUPPORTED) r = HT_OK;
-        else if (r == HT_OK) tier_count++;
+    if (r == HT_OK) {
+        emit_job jobs[EMITTERS];
+        for (int i = 0; i < EMITTERS; i++) {
+            jobs[i] = (emit_job){ .emit = emitters[i], .plan = &plan };
+            jobs[i].threaded = i > 0 && pthread_create(&jobs[i].thread, NULL, run_emitter, &jobs[i]) == 0;
+        }
+        run_emitter(&jobs[0]);
+        for (int i = 0; i < EMITTERS; i++) {
+            if (i > 0 && jobs[i].threaded) pthread_join(jobs[i].thread, NULL);
+            else if (i > 0) run_emitter(&jobs[i]); /* no thread to be had */
+        }
+        for (int i = 0; i < EMITTERS; i++) {
+            if (jobs[i].result == HT_OK && r == HT_OK) {
+                tiers[tier_count++] = jobs[i].out;
+                continue;
+            }
+            if (jobs[i].result != HT_ERR_UNSUPPORTED && r == HT_OK) {
+                r = jobs[i].result;
+                ht_set_error(err, err_size, "%s", jobs[i].err);
+            }
+            ht_tier_output_free(&jobs[i].out);
+        }
     }
 
     char *manifest = NULL;
@@ -450,23 +508,6 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
     ht_image_free(&albedo);
     ht_image_free(&detail);
     return r;
-}
-
-/* Every number the generator prints (GLSL literals, manifest, program,
-   error lines) must not depend on the caller's locale: same inputs, same
-   bytes. */
-typedef struct c_locale_scope { locale_t c, previous; } c_locale_scope;
-
-static c_locale_scope c_locale_enter(void) {
-    c_locale_scope s = { newlocale(LC_ALL_MASK, "C", (locale_t)0), (locale_t)0 };
-    if (s.c) s.previous = uselocale(s.c);
-    return s;
-}
-
-static void c_locale_leave(c_locale_scope s) {
-    if (!s.c) return;
-    uselocale(s.previous);
-    freelocale(s.c);
 }
 
 ht_result ht_generate(const ht_generate_desc *desc, ht_generated *out, char *err, size_t err_size) {
