@@ -23,6 +23,14 @@
        ht_generate_bundle("materials/blond.json", "scenes/furball.json", "out/bundle",
                           stdout, err, sizeof err);
 
+   Usage (many materials, what `hairgen -o DIR A.json B.json` does):
+       const char *files[] = { "materials/blond.json", "materials/dark-brown.json" };
+       ht_batch_result res;
+       ht_generate_batch(&(ht_batch_desc){ .materials = files, .material_count = 2,
+                                           .scene = "scenes/furball.json", .out_dir = "out",
+                                           .progress = stdout }, &res, err, sizeof err);
+       // out/blond/, out/dark-brown/; a re-run skips both (res.skipped == 2)
+
    Errors are one line "FILE: FIELD: what is wrong" written to err.
    Internal interfaces (plan, emitters, texture baking) are in
    hairgen_internal.h. */
