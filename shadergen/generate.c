@@ -560,7 +560,9 @@ static void *write_image(void *arg) {
 /* Every file into tmp; on failure err names the first file (in bundle
    order) that failed. */
 static ht_result write_bundle(const char *tmp, const ht_generated *g, char *err, size_t err_size) {
-    image_write images[HT_GENERATED_MAX_FILES];
+    /* On the heap: 40 paths are too much for a caller's thread stack. */
+    image_write *images = calloc(HT_GENERATED_MAX_FILES, sizeof *images);
+    if (!images) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", tmp);
     int image_count = 0;
     ht_result r = HT_OK;
     for (int i = 0; i < g->file_count && r == HT_OK; i++) {
@@ -588,6 +590,7 @@ static ht_result write_bundle(const char *tmp, const ht_generated *g, char *err,
             ht_set_error(err, err_size, "%s", w->err);
         }
     }
+    free(images);
     return r;
 }
 
