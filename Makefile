@@ -192,7 +192,7 @@ asan:
 # a stand-in for a slow fragment unit, smaller so it ends), the fur-ball
 # scaling series; then bench/results.csv, results.md, results.svg, scaling.svg.
 bench: all
-	@$(BUILD)/bench_suite -o bench
+	@HAIRTIER_BUILD=$(BUILD) $(BUILD)/bench_suite -o bench
 
 demo: all
 	@mkdir -p out

@@ -238,6 +238,12 @@ static int write_body(png_session *s, const ht_image *img) {
     png_set_IHDR(s->png, s->info, (png_uint_32)img->width, (png_uint_32)img->height, 8,
                  color_types[img->channels], PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    /* Speed over size: zlib level 1 with the "up" filter alone encodes a
+       bundle's textures about 3.5x faster than level 6 with adaptive
+       filters (hairgen's largest cost); the files grow, the texels are the
+       same (lossless either way). */
+    png_set_compression_level(s->png, 1);
+    png_set_filter(s->png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
     png_write_info(s->png, s->info);
     size_t row_bytes = (size_t)img->width * (size_t)img->channels;
     for (int y = 0; y < img->height; y++)

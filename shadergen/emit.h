@@ -80,9 +80,21 @@ void ht_fixed4_program_from_plan(const ht_plan *plan, struct ht_fixed4_program *
 int ht_lut_highlight_texels(double e);
 
 /* glslang's C API, in process: preprocess + parse at exactly this version
-   and profile (es → ESSL). log receives glslang's info log on failure. */
+   and profile (es → ESSL), once per distinct text per process (a text that
+   passed is remembered). log receives glslang's info log on failure.
+   Thread-safe. */
 ht_result ht_glsl_validate(const char *source, ht_stage stage, int version, bool es,
                            char *log, size_t log_size);
+/* How many ht_glsl_validate calls in this process parsed their text and
+   how many found it validated already (the same text, stage, version and
+   profile): a batch parses each distinct text once. */
+void ht_glsl_validate_counts(unsigned long *parsed, unsigned long *reused);
+/* Builds glslang's tables for every version and profile the emitters use,
+   once per process (later calls return at once); ht_glsl_is_warm says
+   whether that is done. The generator runs it on a second thread while it
+   makes textures. */
+void ht_glsl_warm_up(void);
+bool ht_glsl_is_warm(void);
 
 /* The textures the GLSL tiers sample, packed as the plan says:
    "albedo" = base.rgb + alpha.a, "detail" = shift.r + sparkle.g. An image

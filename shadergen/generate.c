@@ -10,6 +10,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <locale.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,13 +20,14 @@
 #include "emit.h"
 #include "errfmt.h"
 #include "file_open.h"
+#include "json_check.h"
 #include "hairgen_internal.h"
 #include "manifest.h"
 
 /* Hashed into input_hash and written to the manifest: a new generator
    invalidates caches keyed on the hash. Bump it with any change to what a
    bundle holds. */
-#define GENERATOR_VERSION "hairgen 1"
+#define GENERATOR_VERSION "hairgen 2"
 
 /* FNV-1a 64 over every input file's bytes: the key a build cache can use. */
 typedef struct input_hash { uint64_t value; } input_hash;
@@ -273,6 +275,23 @@ static ht_result publish(const char *tmp, const char *dir, char *err, size_t err
     return HT_OK;
 }
 
+/* Every number the generator prints (GLSL literals, manifest, program,
+   error lines) must not depend on the caller's locale: same inputs, same
+   bytes. */
+typedef struct c_locale_scope { locale_t c, previous; } c_locale_scope;
+
+static c_locale_scope c_locale_enter(void) {
+    c_locale_scope s = { newlocale(LC_ALL_MASK, "C", (locale_t)0), (locale_t)0 };
+    if (s.c) s.previous = uselocale(s.c);
+    return s;
+}
+
+static void c_locale_leave(c_locale_scope s) {
+    if (!s.c) return;
+    uselocale(s.previous);
+    freelocale(s.c);
+}
+
 /* ---- build step: everything in memory ---- */
 
 /* Takes ownership of text or image (the tier output no longer frees it). */
@@ -322,6 +341,32 @@ static ht_result hash_values(input_hash *h, const ht_material *m, const ht_scene
     return HT_OK;
 }
 
+/* One tier's emitter, run on its own thread; numbers printed in the C
+   locale there too (a thread does not inherit uselocale's). */
+typedef struct emit_job {
+    ht_result (*emit)(const ht_plan *, ht_tier_output *, char *, size_t);
+    const ht_plan *plan;
+    ht_tier_output out;
+    ht_result result;
+    char err[2048];
+    pthread_t thread;
+    bool threaded;
+} emit_job;
+
+static void *run_emitter(void *arg) {
+    emit_job *job = arg;
+    c_locale_scope loc = c_locale_enter();
+    job->result = job->emit(job->plan, &job->out, job->err, sizeof job->err);
+    c_locale_leave(loc);
+    return NULL;
+}
+
+static void *warm_glslang(void *unused) {
+    (void)unused;
+    ht_glsl_warm_up();
+    return NULL;
+}
+
 static char *summary_text(const ht_plan *plan, const ht_tier_output *tiers, int tier_count) {
     char *text = NULL;
     size_t size = 0;
@@ -367,16 +412,42 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
     ht_result (*const emitters[EMITTERS])(const ht_plan *, ht_tier_output *, char *, size_t) = {
         ht_emit_full, ht_emit_vertex, ht_emit_fixed4, ht_emit_fixed, ht_emit_gl11
     };
+    /* glslang's tables are built on a second thread while the textures
+       are made (once per process: later materials find them built). */
+    pthread_t warm_thread;
+    bool warming = !ht_glsl_is_warm() && pthread_create(&warm_thread, NULL, warm_glslang, NULL) == 0;
     r = ht_textures_pack(m, &plan, &albedo, &detail, err, err_size);
+    if (warming) pthread_join(warm_thread, NULL);
     if (r == HT_OK && plan.sparkle) plan.sparkle_mean = channel_mean(&detail, 1);
     if (r == HT_OK && plan.base) plan.albedo_max = rgb_max(&albedo);
+    /* The tiers are independent given the plan: each emitter on a thread
+       of its own, then kept in order. A tier the plan rules out (fixed4
+       under a point light) is left out of the bundle; the runtime then
+       never sees it. The first failure in tier order is the error, as
+       when they ran one after another. */
     int tier_count = 0;
-    for (int i = 0; i < EMITTERS && r == HT_OK; i++) {
-        r = emitters[i](&plan, &tiers[tier_count], err, err_size);
-        /* A tier the plan rules out (fixed4 under a point light) is left
-           out of the bundle; the runtime then never sees it. */
-        if (r == HT_ERR_UNSUPPORTED) r = HT_OK;
-        else if (r == HT_OK) tier_count++;
+    if (r == HT_OK) {
+        emit_job jobs[EMITTERS];
+        for (int i = 0; i < EMITTERS; i++) {
+            jobs[i] = (emit_job){ .emit = emitters[i], .plan = &plan };
+            jobs[i].threaded = i > 0 && pthread_create(&jobs[i].thread, NULL, run_emitter, &jobs[i]) == 0;
+        }
+        run_emitter(&jobs[0]);
+        for (int i = 0; i < EMITTERS; i++) {
+            if (i > 0 && jobs[i].threaded) pthread_join(jobs[i].thread, NULL);
+            else if (i > 0) run_emitter(&jobs[i]); /* no thread to be had */
+        }
+        for (int i = 0; i < EMITTERS; i++) {
+            if (jobs[i].result == HT_OK && r == HT_OK) {
+                tiers[tier_count++] = jobs[i].out;
+                continue;
+            }
+            if (jobs[i].result != HT_ERR_UNSUPPORTED && r == HT_OK) {
+                r = jobs[i].result;
+                ht_set_error(err, err_size, "%s", jobs[i].err);
+            }
+            ht_tier_output_free(&jobs[i].out);
+        }
     }
 
     char *manifest = NULL;
@@ -439,23 +510,6 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
     return r;
 }
 
-/* Every number the generator prints (GLSL literals, manifest, program,
-   error lines) must not depend on the caller's locale: same inputs, same
-   bytes. */
-typedef struct c_locale_scope { locale_t c, previous; } c_locale_scope;
-
-static c_locale_scope c_locale_enter(void) {
-    c_locale_scope s = { newlocale(LC_ALL_MASK, "C", (locale_t)0), (locale_t)0 };
-    if (s.c) s.previous = uselocale(s.c);
-    return s;
-}
-
-static void c_locale_leave(c_locale_scope s) {
-    if (!s.c) return;
-    uselocale(s.previous);
-    freelocale(s.c);
-}
-
 ht_result ht_generate(const ht_generate_desc *desc, ht_generated *out, char *err, size_t err_size) {
     if (!out) return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "ht_generate: no output");
     memset(out, 0, sizeof *out);
@@ -486,80 +540,213 @@ const ht_generated_file *ht_generated_find(const ht_generated *g, const char *na
 
 /* ---- write step: the generated files into a directory ---- */
 
-static ht_result write_bundle(const char *tmp, const ht_generated *g, char *err, size_t err_size) {
+/* One image file of a bundle, encoded on a thread of its own: PNG
+   encoding is most of a bundle's cost and the images are independent. */
+typedef struct image_write {
     char path[4096];
+    const ht_image *image;
+    ht_result result;
+    char err[1200];
+    pthread_t thread;
+    bool threaded;
+} image_write;
+
+static void *write_image(void *arg) {
+    image_write *w = arg;
+    w->result = ht_image_write_png(w->path, w->image, w->err, sizeof w->err);
+    return NULL;
+}
+
+/* Every file into tmp; on failure err names the first file (in bundle
+   order) that failed. */
+static ht_result write_bundle(const char *tmp, const ht_generated *g, char *err, size_t err_size) {
+    /* On the heap: 40 paths are too much for a caller's thread stack. */
+    image_write *images = calloc(HT_GENERATED_MAX_FILES, sizeof *images);
+    if (!images) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", tmp);
+    int image_count = 0;
     ht_result r = HT_OK;
     for (int i = 0; i < g->file_count && r == HT_OK; i++) {
         const ht_generated_file *f = &g->files[i];
-        if (f->text) {
-            r = write_file(tmp, f->name, f->text, err, err_size);
-        } else {
-            r = join_path(path, sizeof path, tmp, f->name)
-                    ? ht_image_write_png(path, &f->image, err, err_size)
-                    : ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", tmp);
+        if (f->text) continue;
+        image_write *w = &images[image_count++];
+        w->image = &f->image;
+        w->result = HT_OK;
+        w->err[0] = '\0';
+        if (!join_path(w->path, sizeof w->path, tmp, f->name)) {
+            r = ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", tmp);
+            image_count--;
+            break;
+        }
+        w->threaded = pthread_create(&w->thread, NULL, write_image, w) == 0;
+    }
+    for (int i = 0; i < g->file_count && r == HT_OK; i++)
+        if (g->files[i].text) r = write_file(tmp, g->files[i].name, g->files[i].text, err, err_size);
+    for (int i = 0; i < image_count; i++) {
+        image_write *w = &images[i];
+        if (w->threaded) pthread_join(w->thread, NULL);
+        else write_image(w);  /* no thread to be had: here, in turn */
+        if (w->result != HT_OK && r == HT_OK) {
+            r = w->result;
+            ht_set_error(err, err_size, "%s", w->err);
         }
     }
+    free(images);
     return r;
 }
 
-/* Load step: the material and scene files read and the bundle generated
-   in memory, keyed by the input files' bytes (what every hairgen output,
-   a directory or a header, is made from). */
-static ht_result generate_files(const char *material_path, const char *scene_path, ht_material *material_out,
-                                ht_scene *scene_out, ht_generated *out, char *err, size_t err_size) {
-    memset(out, 0, sizeof *out);
+/* mkdtemp makes a directory owner-only; a bundle is as readable as any
+   file the caller creates. The umask is read once: reading it means
+   setting it, which must not race between a batch's threads. */
+static pthread_once_t umask_once = PTHREAD_ONCE_INIT;
+static mode_t process_umask;
+
+static void read_umask(void) {
+    process_umask = umask(0);
+    umask(process_umask);
+}
+
+/* Whether dir's manifest holds input_hash `want` ("fnv1a64:..."). hairgen
+   writes the key third, within the first few hundred bytes; the text is
+   read there, not parsed whole (parsing every manifest was half of a
+   no-change batch's time). */
+static bool bundle_has_hash(const char *dir, const char *want) {
+    char path[4096], why[256];
+    FILE *f;
+    if (!join_path(path, sizeof path, dir, HT_MANIFEST_FILE) ||
+        ht_file_open_regular(path, HT_FILE_MAX_JSON, &f, NULL, why, sizeof why) != HT_OK)
+        return false;
+    char head[1024];
+    size_t n = fread(head, 1, sizeof head - 1, f);
+    fclose(f);
+    head[n] = '\0';
+    const char *key = "\"" HT_MANIFEST_KEY_INPUT_HASH "\"";
+    const char *p = strstr(head, key);
+    if (!p) return false;
+    p += strlen(key);
+    p += strspn(p, " \t\r\n");
+    if (*p++ != ':') return false;
+    p += strspn(p, " \t\r\n");
+    size_t len = strlen(want);
+    return *p == '"' && strncmp(p + 1, want, len) == 0 && p[1 + len] == '"';
+}
+
+/* What a bundle is made from: the material read once (parsed, and its
+   bytes hashed), the scene (rq->scene, or loaded here), every file they
+   name (texture files; a strands scene's strand file) hashed and listed in
+   rep->inputs. The hash is the bundle's input_hash. */
+typedef struct bundle_inputs {
     ht_material material;
-    ht_scene scene;
-    ht_result r = ht_material_load(material_path, &material, err, err_size);
+    ht_scene loaded_scene;
+    const ht_scene *scene;
+    input_hash hash;
+} bundle_inputs;
+
+static ht_result read_inputs(const ht_bundle_request *rq, ht_bundle_report *rep, bundle_inputs *in, char *err,
+                             size_t err_size) {
+    const char *material_path = rq->material_path, *scene_path = rq->scene_path;
+    in->scene = rq->scene;
+    /* Read once: parsed here, hashed below (ht_material_load's steps). */
+    char *material_text = NULL;
+    ht_result r = ht_json_read_file(material_path, &material_text, err, err_size);
+    if (r == HT_OK) r = ht_material_parse(material_text, material_path, &in->material, err, err_size);
+    /* The bundle's key is its input files' bytes; the files are the
+       bundle's dependencies. */
+    in->hash = (input_hash){ 0xcbf29ce484222325ull };
+    hash_bytes(&in->hash, GENERATOR_VERSION, sizeof GENERATOR_VERSION);
+    if (r == HT_OK) {
+        hash_bytes(&in->hash, material_text, strlen(material_text));
+        hash_bytes(&in->hash, "", 1); /* as hash_file separates files */
+    }
+    free(material_text);
     if (r != HT_OK) return r;
-    if (scene_path) {
-        r = ht_scene_load(scene_path, &scene, err, err_size);
+    snprintf(rep->inputs[rep->input_count++], sizeof rep->inputs[0], "%s", material_path);
+    snprintf(rep->material_name, sizeof rep->material_name, "%s", in->material.name);
+    if (!in->scene) {
+        if (scene_path) r = ht_scene_load(scene_path, &in->loaded_scene, err, err_size);
+        else ht_scene_default(&in->loaded_scene);
         if (r != HT_OK) return r;
-    } else {
-        ht_scene_default(&scene);
+        in->scene = &in->loaded_scene;
     }
 
-    /* The bundle's key is its input files' bytes. */
-    input_hash hash = { 0xcbf29ce484222325ull };
-    hash_bytes(&hash, GENERATOR_VERSION, sizeof GENERATOR_VERSION);
-    r = hash_file(&hash, material_path, HT_FILE_MAX_JSON, NULL, err, err_size);
-    if (r == HT_OK && scene_path) r = hash_file(&hash, scene_path, HT_FILE_MAX_JSON, NULL, err, err_size);
+    if (scene_path) {
+        if (rq->scene_bytes) {
+            hash_bytes(&in->hash, rq->scene_bytes, rq->scene_size);
+            hash_bytes(&in->hash, "", 1); /* as hash_file separates files */
+        } else {
+            r = hash_file(&in->hash, scene_path, HT_FILE_MAX_JSON, NULL, err, err_size);
+        }
+        snprintf(rep->inputs[rep->input_count++], sizeof rep->inputs[0], "%s", scene_path);
+    }
+    /* A strands scene's geometry is its strand file: it changes the plan's
+       extent and the bundle a measure step draws, so it is an input. */
+    if (r == HT_OK && in->scene->geometry == HT_GEOMETRY_STRANDS) {
+        char label[1200];
+        snprintf(label, sizeof label, "%.1000s: geometry.file", scene_path ? scene_path : "<scene>");
+        r = hash_file(&in->hash, in->scene->strands.file, HT_LIMIT_FILE_STRANDS, label, err, err_size);
+        snprintf(rep->inputs[rep->input_count++], sizeof rep->inputs[0], "%s", in->scene->strands.file);
+    }
     static const char *const slots[HT_TEX_COUNT] = { "base", "alpha", "shift", "sparkle" };
     for (int i = 0; i < HT_TEX_COUNT && r == HT_OK; i++)
-        if (material.textures[i].origin == HT_TEXTURE_FILE) {
+        if (in->material.textures[i].origin == HT_TEXTURE_FILE) {
             char label[1200];
             snprintf(label, sizeof label, "%.1000s: textures.%s.file", material_path, slots[i]);
-            r = hash_file(&hash, material.textures[i].path, HT_FILE_MAX_PNG, label, err, err_size);
+            r = hash_file(&in->hash, in->material.textures[i].path, HT_FILE_MAX_PNG, label, err, err_size);
+            snprintf(rep->inputs[rep->input_count++], sizeof rep->inputs[0], "%s", in->material.textures[i].path);
         }
-    if (r != HT_OK) return r;
-    if (material_out) *material_out = material;
-    if (scene_out) *scene_out = scene;
-    return ht_generate(&(ht_generate_desc){ .material = &material, .scene = &scene, .input_hash = hash.value },
-                       out, err, err_size);
+    return r;
 }
 
 ht_result ht_generate_files(const char *material_path, const char *scene_path, ht_material *material,
                             ht_generated *out, char *err, size_t err_size) {
     if (!out) return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "ht_generate_files: no output");
-    if (!material_path) {
-        memset(out, 0, sizeof *out);
+    memset(out, 0, sizeof *out);
+    if (!material_path)
         return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "ht_generate_files: material: required");
-    }
+    bundle_inputs *in = malloc(sizeof *in);
+    ht_bundle_report *rep = calloc(1, sizeof *rep);
+    ht_result r = in && rep ? HT_OK : ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", material_path);
     c_locale_scope loc = c_locale_enter();
-    ht_result r = generate_files(material_path, scene_path, material, NULL, out, err, err_size);
+    if (r == HT_OK)
+        r = read_inputs(&(ht_bundle_request){ .material_path = material_path, .scene_path = scene_path }, rep, in,
+                        err, err_size);
+    if (r == HT_OK)
+        r = ht_generate(&(ht_generate_desc){ .material = &in->material, .scene = in->scene,
+                                             .input_hash = in->hash.value },
+                        out, err, err_size);
     c_locale_leave(loc);
+    if (r == HT_OK && material) *material = in->material;
+    free(in);
+    free(rep);
     return r;
 }
 
-static ht_result generate_bundle(const char *material_path, const char *scene_path, const char *out_dir,
-                                 FILE *summary, ht_bundle_step_fn step, void *step_user, char *err,
-                                 size_t err_size) {
-    ht_result r = check_target(out_dir, err, err_size);
+static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep, char *err, size_t err_size) {
+    const char *out_dir = rq->out_dir;
+    /* An up-to-date bundle is a bundle: a batch's re-run checks only its
+       hash; any other run checks the target first, as it always has. */
+    ht_result r = rq->skip_unchanged ? HT_OK : check_target(out_dir, err, err_size);
     if (r != HT_OK) return r;
-    ht_material material;
-    ht_scene scene;
+    bundle_inputs inputs;
+    r = read_inputs(rq, rep, &inputs, err, err_size);
+    if (r != HT_OK) return r;
+    const ht_material material = inputs.material;
+    const ht_scene *scene = inputs.scene;
+    const input_hash hash = inputs.hash;
+
+    if (rq->skip_unchanged) {
+        char want[32];
+        snprintf(want, sizeof want, "fnv1a64:%016llx", (unsigned long long)hash.value);
+        if (bundle_has_hash(out_dir, want)) {
+            rep->skipped = true;
+            return HT_OK;
+        }
+        r = check_target(out_dir, err, err_size);
+        if (r != HT_OK) return r;
+    }
+
     ht_generated g;
-    r = generate_files(material_path, scene_path, &material, &scene, &g, err, err_size);
+    r = ht_generate(&(ht_generate_desc){ .material = &material, .scene = scene, .input_hash = hash.value },
+                    &g, err, err_size);
     if (r != HT_OK) return r;
 
     char tmp[4096] = "";
@@ -569,14 +756,12 @@ static ht_result generate_bundle(const char *material_path, const char *scene_pa
                     out_dir, strerror(errno));
         tmp[0] = '\0';
     } else {
-        /* mkdtemp makes it owner-only; a bundle is as readable as any file. */
-        mode_t mask = umask(0);
-        umask(mask);
-        chmod(tmp, 0777 & ~mask);
+        pthread_once(&umask_once, read_umask);
+        chmod(tmp, 0777 & ~process_umask);
     }
     if (r == HT_OK) {
         r = write_bundle(tmp, &g, err, err_size);
-        if (r == HT_OK && step) r = step(step_user, tmp, &scene, err, err_size);
+        if (r == HT_OK && rq->step) r = rq->step(rq->step_user, tmp, scene, err, err_size);
         /* The temporary directory is removed below: name the bundle's own
            path for the file that failed (a full disk, a step), not the
            temporary's. */
@@ -589,11 +774,40 @@ static ht_result generate_bundle(const char *material_path, const char *scene_pa
     }
     if (r == HT_OK) r = publish(tmp, out_dir, err, err_size);
     if (r != HT_OK && tmp[0]) remove_tree(tmp);
-    if (r == HT_OK && summary) {
-        fprintf(summary, "hairgen: %s -> %s\n", material.name, out_dir);
-        fputs(g.summary, summary);
+    if (r == HT_OK && rq->summary) {
+        fprintf(rq->summary, "hairgen: %s -> %s\n", material.name, out_dir);
+        fputs(g.summary, rq->summary);
     }
     ht_generated_free(&g);
+    return r;
+}
+
+/* "dir/" and "dir" are the same bundle; the temporary sibling needs the
+   name without the slash. */
+static ht_result bundle_dir_name(const char *out_dir, char *dir, size_t dir_size, char *err, size_t err_size) {
+    size_t len = out_dir ? strlen(out_dir) : 0;
+    while (len > 1 && out_dir[len - 1] == '/') len--;
+    if (len == 0 || len >= dir_size || (len == 1 && out_dir[0] == '/'))
+        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "%s: not a usable output directory",
+                       out_dir ? out_dir : "(null)");
+    if (len > HT_LIMIT_DIR_PATH)
+        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "%.200s...: output directory path is %zu bytes; "
+                       "the runtime reads bundles at paths of at most %d", out_dir, len, HT_LIMIT_DIR_PATH);
+    memcpy(dir, out_dir, len);
+    dir[len] = '\0';
+    return HT_OK;
+}
+
+ht_result ht_bundle_make(const ht_bundle_request *rq, ht_bundle_report *report, char *err, size_t err_size) {
+    memset(report, 0, sizeof *report);
+    char dir[4096];
+    ht_result r = bundle_dir_name(rq->out_dir, dir, sizeof dir, err, err_size);
+    if (r != HT_OK) return r;
+    ht_bundle_request in_dir = *rq;
+    in_dir.out_dir = dir;
+    c_locale_scope loc = c_locale_enter();
+    r = bundle_make(&in_dir, report, err, err_size);
+    c_locale_leave(loc);
     return r;
 }
 
@@ -605,22 +819,9 @@ ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
 ht_result ht_generate_bundle_then(const char *material_path, const char *scene_path, const char *out_dir,
                                   FILE *summary, ht_bundle_step_fn step, void *step_user, char *err,
                                   size_t err_size) {
-    /* "dir/" and "dir" are the same bundle; the temporary sibling needs the
-       name without the slash. */
-    char dir[4096];
-    size_t len = out_dir ? strlen(out_dir) : 0;
-    while (len > 1 && out_dir[len - 1] == '/') len--;
-    if (len == 0 || len >= sizeof dir || (len == 1 && out_dir[0] == '/'))
-        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "%s: not a usable output directory",
-                       out_dir ? out_dir : "(null)");
-    if (len > HT_LIMIT_DIR_PATH)
-        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "%.200s...: output directory path is %zu bytes; "
-                       "the runtime reads bundles at paths of at most %d", out_dir, len, HT_LIMIT_DIR_PATH);
-    memcpy(dir, out_dir, len);
-    dir[len] = '\0';
-
-    c_locale_scope loc = c_locale_enter();
-    ht_result r = generate_bundle(material_path, scene_path, dir, summary, step, step_user, err, err_size);
-    c_locale_leave(loc);
-    return r;
+    ht_bundle_report report;
+    return ht_bundle_make(&(ht_bundle_request){ .material_path = material_path, .scene_path = scene_path,
+                                                .out_dir = out_dir, .summary = summary, .step = step,
+                                                .step_user = step_user },
+                          &report, err, err_size);
 }

@@ -1,7 +1,13 @@
 /* glsl_validate.c — glslang in process: every emitted GLSL text is parsed at
-   exactly its version and profile before it leaves the generator. */
+   exactly its version and profile before it leaves the generator, once per
+   process: a text that passed is remembered (keyed by stage, version,
+   profile and the whole text), so a batch of materials sharing shaders
+   parses each distinct text once. Safe to call from several threads. */
 #include <pthread.h>
+#include <stdatomic.h>
+#include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <glslang/Include/glslang_c_interface.h>
@@ -15,6 +21,81 @@ static pthread_once_t init_once = PTHREAD_ONCE_INIT;
 static int init_ok;
 
 static void init_glslang(void) { init_ok = glslang_initialize_process(); }
+
+/* ---- texts that passed, for the rest of the process ---- */
+
+/* A batch of 100 materials has about 300 distinct texts; past this many the
+   cache stops growing (texts are still validated, just not remembered), so
+   a long-lived process cannot grow it without bound. */
+#define CACHE_SLOTS 8192
+#define CACHE_MAX_ENTRIES (CACHE_SLOTS / 2)
+
+typedef struct passed_text {
+    uint64_t hash;   /* 0: empty slot */
+    ht_stage stage;
+    int version;
+    bool es;
+    char *text;
+} passed_text;
+
+static pthread_mutex_t cache_lock = PTHREAD_MUTEX_INITIALIZER;
+static passed_text *cache;           /* CACHE_SLOTS, open addressing */
+static int cache_entries;
+static unsigned long parsed_count, reused_count;
+
+static uint64_t text_key(const char *source, ht_stage stage, int version, bool es) {
+    uint64_t h = 0xcbf29ce484222325ull;
+    const int tag[3] = { (int)stage, version, es };
+    const unsigned char *p = (const unsigned char *)tag;
+    for (size_t i = 0; i < sizeof tag; i++) h = (h ^ p[i]) * 0x100000001b3ull;
+    for (p = (const unsigned char *)source; *p; p++) h = (h ^ *p) * 0x100000001b3ull;
+    return h ? h : 1;
+}
+
+/* The slot holding this text, or the empty slot where it would go; NULL
+   when the table has no cache. Called with cache_lock held. */
+static passed_text *cache_slot(uint64_t hash, const char *source, ht_stage stage, int version, bool es) {
+    if (!cache) return NULL;
+    for (size_t i = hash & (CACHE_SLOTS - 1);; i = (i + 1) & (CACHE_SLOTS - 1)) {
+        passed_text *e = &cache[i];
+        if (e->hash == 0) return e;
+        if (e->hash == hash && e->stage == stage && e->version == version && e->es == es &&
+            strcmp(e->text, source) == 0)
+            return e;
+    }
+}
+
+static bool cache_has(const char *source, uint64_t hash, ht_stage stage, int version, bool es) {
+    pthread_mutex_lock(&cache_lock);
+    passed_text *e = cache_slot(hash, source, stage, version, es);
+    bool hit = e && e->hash != 0;
+    if (hit) reused_count++;
+    else parsed_count++;
+    pthread_mutex_unlock(&cache_lock);
+    return hit;
+}
+
+/* Out of memory only costs a later parse. */
+static void cache_add(const char *source, uint64_t hash, ht_stage stage, int version, bool es) {
+    pthread_mutex_lock(&cache_lock);
+    if (!cache) cache = calloc(CACHE_SLOTS, sizeof *cache);
+    passed_text *e = cache_entries < CACHE_MAX_ENTRIES ? cache_slot(hash, source, stage, version, es) : NULL;
+    if (e && e->hash == 0 && (e->text = strdup(source)) != NULL) {
+        e->hash = hash;
+        e->stage = stage;
+        e->version = version;
+        e->es = es;
+        cache_entries++;
+    }
+    pthread_mutex_unlock(&cache_lock);
+}
+
+void ht_glsl_validate_counts(unsigned long *parsed, unsigned long *reused) {
+    pthread_mutex_lock(&cache_lock);
+    if (parsed) *parsed = parsed_count;
+    if (reused) *reused = reused_count;
+    pthread_mutex_unlock(&cache_lock);
+}
 
 static ht_result fail(char *log, size_t log_size, const char *fmt, const char *arg) {
     if (log && log_size) snprintf(log, log_size, fmt, arg);
@@ -31,17 +112,8 @@ static bool version_line_ok(const char *source, int version) {
     return next == '\n' || (next == '\r' && source[n + 1] == '\n');
 }
 
-ht_result ht_glsl_validate(const char *source, ht_stage stage, int version, bool es,
-                           char *log, size_t log_size) {
-    if (log && log_size) log[0] = '\0';
-    if (!source) return fail(log, log_size, "%s", "no source");
-    if (stage != HT_STAGE_VERTEX && stage != HT_STAGE_FRAGMENT)
-        return fail(log, log_size, "%s", "not a GLSL stage");
-    if (!version_line_ok(source, version)) {
-        char want[32];
-        snprintf(want, sizeof want, "#version %d", version);
-        return fail(log, log_size, "ERROR: the first line is not exactly \"%s\"", want);
-    }
+/* glslang's verdict on one text: preprocess, then parse. */
+static ht_result parse(const char *source, ht_stage stage, int version, bool es, char *log, size_t log_size) {
     pthread_once(&init_once, init_glslang);
     if (!init_ok) return fail(log, log_size, "%s", "glslang failed to initialize");
 
@@ -66,5 +138,47 @@ ht_result ht_glsl_validate(const char *source, ht_stage stage, int version, bool
         r = fail(log, log_size, "%s", info && info[0] ? info : "glslang rejected the shader (no log)");
     }
     glslang_shader_delete(shader);
+    return r;
+}
+
+/* ---- warming up ---- */
+
+/* glslang builds its built-in symbol tables the first time it meets a
+   version and profile (about half of one material's validation); a
+   trivial shader of each version hairgen emits builds them ahead, on a
+   thread of the caller's while it does other work. */
+static pthread_once_t warm_once = PTHREAD_ONCE_INIT;
+static atomic_bool warm_done;
+
+static void warm(void) {
+    static const struct { const char *text; ht_stage stage; int version; bool es; } shaders[] = {
+        { "#version 120\nvoid main() { gl_FragColor = vec4(1.0); }\n", HT_STAGE_FRAGMENT, 120, false },
+        { "#version 110\nvoid main() { gl_Position = gl_Vertex; }\n", HT_STAGE_VERTEX, 110, false },
+        { "#version 100\nvoid main() { gl_FragColor = vec4(1.0); }\n", HT_STAGE_FRAGMENT, 100, true },
+    };
+    for (size_t i = 0; i < sizeof shaders / sizeof shaders[0]; i++)
+        parse(shaders[i].text, shaders[i].stage, shaders[i].version, shaders[i].es, NULL, 0);
+    atomic_store(&warm_done, true);
+}
+
+void ht_glsl_warm_up(void) { pthread_once(&warm_once, warm); }
+
+bool ht_glsl_is_warm(void) { return atomic_load(&warm_done); }
+
+ht_result ht_glsl_validate(const char *source, ht_stage stage, int version, bool es,
+                           char *log, size_t log_size) {
+    if (log && log_size) log[0] = '\0';
+    if (!source) return fail(log, log_size, "%s", "no source");
+    if (stage != HT_STAGE_VERTEX && stage != HT_STAGE_FRAGMENT)
+        return fail(log, log_size, "%s", "not a GLSL stage");
+    if (!version_line_ok(source, version)) {
+        char want[32];
+        snprintf(want, sizeof want, "#version %d", version);
+        return fail(log, log_size, "ERROR: the first line is not exactly \"%s\"", want);
+    }
+    const uint64_t key = text_key(source, stage, version, es);
+    if (cache_has(source, key, stage, version, es)) return HT_OK;
+    ht_result r = parse(source, stage, version, es, log, log_size);
+    if (r == HT_OK) cache_add(source, key, stage, version, es);
     return r;
 }

@@ -1,88 +1,223 @@
 /* hairgen — the offline generator's command line: one material (and the
-   scene it is for) in, a bundle directory with every tier out. */
-#include <stdbool.h>
+   scene it is for) in, a bundle directory with every tier out; or many
+   materials in one run, a bundle each, on every core (ht_generate_batch). */
+#include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "hairgen.h"
 #include "measure.h"
 
 static void usage(FILE *out) {
-    fputs("usage: hairgen MATERIAL.json [--scene SCENE.json] [--measure] -o DIR\n"
+    fputs("usage: hairgen MATERIAL.json [--scene SCENE.json] -o DIR [-MD | -MF FILE] [-q]\n"
+          "       hairgen MATERIAL.json [--scene SCENE.json] [--measure] -o DIR\n"
           "       hairgen MATERIAL.json [--scene SCENE.json] [-o DIR] --emit-header OUT.h\n"
           "               [--header-symbol NAME]\n"
+          "       hairgen -o OUTDIR MATERIAL.json... [--scene SCENE.json] [-j N] [--force]\n"
+          "               [-MD | -MF FILE] [-q]\n"
           "\n"
-          "Generates every shader tier of one hair material for one scene and writes\n"
-          "DIR (manifest.json, GLSL files, the fixed-function combiner program, PNG\n"
-          "textures). Every GLSL file is validated with glslang; on any error nothing\n"
-          "is written and the exit status is 1 (2 for a usage error). DIR is replaced\n"
-          "whole if it is a bundle already; any other existing directory is refused.\n"
-          "Without --scene the material is planned for one white directional light.\n"
-          "--measure renders the scene (or, without --scene, the built-in one) with\n"
-          "every tier on OSMesa before DIR is published, and writes each tier's\n"
-          "\"measured\" numbers against full into the manifest (PSNR, SSIM, CIEDE2000\n"
-          "over the whole frame; frame-time ratio to full on this driver); if\n"
-          "measuring fails, nothing is written and the exit status is 1.\n"
-          "--emit-header writes the same bundle as one C header instead of (or beside)\n"
-          "DIR: every file's bytes as static const arrays and one entry,\n"
-          "`static const ht_bundle_memory NAME` (default: the material's name +\n"
-          "_bundle) for ht_renderer_desc.bundle_memory.\n"
-          "See docs/bundle.md.\n", out);
+          "Generates every shader tier of a hair material for one scene and writes\n"
+          "a bundle directory (manifest.json, GLSL files, the fixed-function combiner\n"
+          "program, PNG textures). Every GLSL file is validated with glslang; on any\n"
+          "error nothing is written and the exit status is 1 (2 for a usage error).\n"
+          "A bundle directory is replaced whole if it is a bundle already; any other\n"
+          "existing directory is refused. Without --scene the material is planned for\n"
+          "one white directional light. See docs/bundle.md.\n"
+          "\n"
+          "One material: the bundle is DIR, always regenerated, and its tier table\n"
+          "printed. Two or more materials, or --batch: each bundle is OUTDIR/NAME\n"
+          "(NAME: the material's file name without .json), materials run on N threads\n"
+          "(default: every core), each distinct shader text is validated once, and a\n"
+          "material whose inputs (material, scene and texture bytes, generator\n"
+          "version) hash to its bundle's input_hash is skipped (--force regenerates).\n"
+          "A material that fails leaves its bundle as it was; the others still run.\n"
+          "\n"
+          "  --scene FILE  the scene every material is planned for\n"
+          "  -o DIR        the bundle (one material) or the folder of bundles (a batch)\n"
+          "  --batch       bundles in DIR/NAME even for one material (for globs)\n"
+          "  -j N          threads (default: every online core)\n"
+          "  --force       regenerate bundles that are up to date\n"
+          "  -MD           write a make/ninja depfile beside each bundle, BUNDLE.d\n"
+          "  -MF FILE      write the depfile (every bundle's rule) to FILE\n"
+          "  -q            quiet: no tier table, no progress; errors only\n", out);
 }
 
-int main(int argc, char **argv) {
-    const char *material = NULL, *scene = NULL, *out_dir = NULL, *header = NULL, *symbol = NULL;
-    bool measure = false;
+typedef struct options {
+    const char *scene, *out_dir, *depfile, *jobs, *header, *symbol;
+    int batch, force, quiet, depfile_per_bundle, help, measure;
+} options;
+
+/* Every option: its spelling and the field of options it fills, a value
+   (the next word) or a flag. */
+typedef struct option_spec {
+    const char *name;
+    enum { VALUE, FLAG } kind;
+    size_t field;   /* offsetof the const char * (VALUE) or the int (FLAG) */
+} option_spec;
+
+static const option_spec option_table[] = {
+    { "--scene", VALUE, offsetof(options, scene) },
+    { "-o", VALUE, offsetof(options, out_dir) },
+    { "-MF", VALUE, offsetof(options, depfile) },
+    { "-j", VALUE, offsetof(options, jobs) },
+    { "--emit-header", VALUE, offsetof(options, header) },
+    { "--header-symbol", VALUE, offsetof(options, symbol) },
+    { "--measure", FLAG, offsetof(options, measure) },
+    { "--batch", FLAG, offsetof(options, batch) },
+    { "--force", FLAG, offsetof(options, force) },
+    { "-q", FLAG, offsetof(options, quiet) },
+    { "-MD", FLAG, offsetof(options, depfile_per_bundle) },
+    { "--help", FLAG, offsetof(options, help) },
+    { "-h", FLAG, offsetof(options, help) },
+};
+
+/* argv's options into *o and its materials (the other words) into
+   materials; 0, or 2 after a one-line error. */
+static int parse_args(int argc, char **argv, options *o, const char **materials, int *material_count) {
     for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            usage(stdout);
-            return 0;
-        } else if (strcmp(argv[i], "--measure") == 0) {
-            measure = true;
-        } else if ((strcmp(argv[i], "--scene") == 0 || strcmp(argv[i], "-o") == 0) && i + 1 < argc) {
-            const char **slot = argv[i][1] == 'o' ? &out_dir : &scene;
-            if (*slot) {
-                fprintf(stderr, "hairgen: %s: given twice (see --help)\n", argv[i]);
+        const char *arg = argv[i];
+        const option_spec *spec = NULL;
+        for (size_t k = 0; k < sizeof option_table / sizeof option_table[0]; k++)
+            if (strcmp(arg, option_table[k].name) == 0) spec = &option_table[k];
+        /* -jN as make spells it */
+        static const option_spec jobs_joined = { "-j", VALUE, offsetof(options, jobs) };
+        const char *joined = NULL;
+        if (!spec && strncmp(arg, "-j", 2) == 0 && arg[2]) {
+            spec = &jobs_joined;
+            joined = arg + 2;
+        }
+        if (!spec) {
+            if (arg[0] == '-' && arg[1]) {
+                fprintf(stderr, "hairgen: %s: unknown option (see --help)\n", arg);
                 return 2;
             }
-            *slot = argv[++i];
-        } else if ((strcmp(argv[i], "--emit-header") == 0 || strcmp(argv[i], "--header-symbol") == 0) &&
-                   i + 1 < argc) {
-            const char **slot = argv[i][2] == 'e' ? &header : &symbol;
-            if (*slot) {
-                fprintf(stderr, "hairgen: %s: given twice (see --help)\n", argv[i]);
-                return 2;
-            }
-            *slot = argv[++i];
-        } else if (argv[i][0] == '-') {
-            fprintf(stderr, "hairgen: %s: unknown option or missing value (see --help)\n", argv[i]);
-            return 2;
-        } else if (!material) {
-            material = argv[i];
-        } else {
-            fprintf(stderr, "hairgen: %s: only one material per run\n", argv[i]);
+            materials[(*material_count)++] = arg;
+            continue;
+        }
+        if (spec->kind == FLAG) {
+            *(int *)((char *)o + spec->field) = 1;
+            continue;
+        }
+        const char **slot = (const char **)((char *)o + spec->field);
+        if (*slot) {
+            fprintf(stderr, "hairgen: %s: given twice (see --help)\n", arg);
             return 2;
         }
+        if (!joined && i + 1 >= argc) {
+            fprintf(stderr, "hairgen: %s: missing value (see --help)\n", arg);
+            return 2;
+        }
+        *slot = joined ? joined : argv[++i];
     }
-    if (!material || (out_dir && !out_dir[0]) || (header && !header[0]) || (!out_dir && !header) ||
-        (symbol && !header) || (measure && !out_dir)) {
-        usage(stderr);
+    return 0;
+}
+
+static int parse_jobs(const char *text, int *jobs) {
+    *jobs = 0;
+    if (!text) return 0;
+    char *end;
+    long n = strtol(text, &end, 10);
+    if (end == text || *end || n < 1 || n > 256) {
+        fprintf(stderr, "hairgen: -j: %s: expected a thread count in 1..256\n", text);
         return 2;
     }
+    *jobs = (int)n;
+    return 0;
+}
+
+/* The one-material outputs beside the bundle: --measure (a step on the
+   unpublished bundle) and --emit-header (the bundle as one C header). */
+static int run_measure_or_header(const options *o, const char *material) {
     char err[2048] = "";
     /* A bad symbol is refused before DIR is written. */
-    ht_result r = symbol ? ht_header_symbol_check(symbol, err, sizeof err) : HT_OK;
-    ht_measure_job job = { .scene_path = scene, .out_dir = out_dir };
-    if (r == HT_OK && out_dir)
-        r = ht_generate_bundle_then(material, scene, out_dir, stdout, measure ? ht_measure_step : NULL, &job, err,
-                                    sizeof err);
+    ht_result r = o->symbol ? ht_header_symbol_check(o->symbol, err, sizeof err) : HT_OK;
+    ht_measure_job job = { .scene_path = o->scene, .out_dir = o->out_dir };
+    FILE *summary = o->quiet ? NULL : stdout;
+    if (r == HT_OK && o->out_dir)
+        r = ht_generate_bundle_then(material, o->scene, o->out_dir, summary, o->measure ? ht_measure_step : NULL,
+                                    &job, err, sizeof err);
     /* The header's generation repeats the directory's (same input, same
        bytes): the two outputs stay independent steps. */
-    if (r == HT_OK && header) r = ht_generate_header(material, scene, header, symbol, stdout, err, sizeof err);
+    if (r == HT_OK && o->header) r = ht_generate_header(material, o->scene, o->header, o->symbol, summary, err, sizeof err);
     if (r != HT_OK) {
         fprintf(stderr, "hairgen: %s\n", err[0] ? err : ht_result_string(r));
         return 1;
     }
-    if (measure) ht_measure_print(stdout, &job.result);
+    if (o->measure && !o->quiet) ht_measure_print(stdout, &job.result);
     return 0;
+}
+
+int main(int argc, char **argv) {
+    options o = { 0 };
+    const char **materials = calloc((size_t)argc, sizeof *materials);
+    int material_count = 0;
+    if (!materials) {
+        fputs("hairgen: out of memory\n", stderr);
+        return 1;
+    }
+    int status = parse_args(argc, argv, &o, materials, &material_count);
+    int jobs = 0;
+    if (status == 0) status = parse_jobs(o.jobs, &jobs);
+    if (status == 0 && o.help) {
+        usage(stdout);
+        free(materials);
+        return 0;
+    }
+    if (status == 0 && (o.measure || o.header || o.symbol)) {
+        bool usable = material_count == 1 && !o.batch && !o.depfile && !o.depfile_per_bundle &&
+                      (o.out_dir || o.header) && (!o.out_dir || o.out_dir[0]) && (!o.header || o.header[0]) &&
+                      (!o.symbol || o.header) && (!o.measure || o.out_dir) && !o.jobs && !o.force;
+        if (!usable) usage(stderr);
+        status = usable ? run_measure_or_header(&o, materials[0]) : 2;
+        free(materials);
+        return status;
+    }
+    if (status == 0 && (material_count == 0 || !o.out_dir || !o.out_dir[0])) {
+        usage(stderr);
+        status = 2;
+    }
+    if (status == 0 && o.depfile && o.depfile_per_bundle) {
+        fputs("hairgen: -MD and -MF: give one (see --help)\n", stderr);
+        status = 2;
+    }
+    if (status != 0) {
+        free(materials);
+        return status;
+    }
+
+    /* One material without --batch is the original form: the bundle is
+       DIR itself, always regenerated, the tier table printed. */
+    const bool single = material_count == 1 && !o.batch;
+    char depfile[4200];
+    if (single && o.depfile_per_bundle) {
+        size_t len = strlen(o.out_dir);
+        while (len > 1 && o.out_dir[len - 1] == '/') len--;
+        snprintf(depfile, sizeof depfile, "%.*s.d", (int)len, o.out_dir);
+        o.depfile = depfile;
+    }
+    ht_batch_desc desc = {
+        .materials = materials,
+        .material_count = material_count,
+        .scene = o.scene,
+        .out_dir = o.out_dir,
+        .in_place = single,
+        .jobs = jobs,
+        .force = single || o.force,
+        .depfile = o.depfile,
+        .depfile_per_bundle = o.depfile_per_bundle && !single,
+        .progress = single || o.quiet ? NULL : stdout,
+        .summary = single && !o.quiet ? stdout : NULL,
+        .errors = stderr,
+    };
+    char err[2048] = "";
+    ht_batch_result result;
+    ht_result r = ht_generate_batch(&desc, &result, err, sizeof err);
+    /* Each failed material has printed its own line; a batch says how many. */
+    if (r != HT_OK && (result.failed == 0 || !single))
+        fprintf(stderr, "hairgen: %s\n", err[0] ? err : ht_result_string(r));
+    else if (r == HT_OK && !single && !o.quiet)
+        printf("hairgen: %d generated, %d up to date, in %s\n", result.generated, result.skipped, o.out_dir);
+    free(materials);
+    return r == HT_OK ? 0 : 1;
 }

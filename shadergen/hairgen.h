@@ -24,6 +24,14 @@
        ht_generate_bundle("materials/blond.json", "scenes/furball.json", "out/bundle",
                           stdout, err, sizeof err);
 
+   Usage (many materials, what `hairgen -o DIR A.json B.json` does):
+       const char *files[] = { "materials/blond.json", "materials/dark-brown.json" };
+       ht_batch_result res;
+       ht_generate_batch(&(ht_batch_desc){ .materials = files, .material_count = 2,
+                                           .scene = "scenes/furball.json", .out_dir = "out",
+                                           .progress = stdout }, &res, err, sizeof err);
+       // out/blond/, out/dark-brown/; a re-run skips both (res.skipped == 2)
+
    Errors are one line "FILE: FIELD: what is wrong" written to err.
    Internal interfaces (plan, emitters, texture baking) are in
    hairgen_internal.h. Installed (make install) with the public headers it
@@ -195,5 +203,42 @@ ht_result ht_header_symbol_check(const char *symbol, char *err, size_t err_size)
    path; summary, when not NULL, receives hairgen's table. */
 ht_result ht_generate_header(const char *material_path, const char *scene_path, const char *path,
                              const char *symbol, FILE *summary, char *err, size_t err_size);
+
+/* ---- batches (shadergen/batch.c, what `hairgen` runs) ---- */
+
+typedef struct ht_batch_desc {
+    const char *const *materials; /* material files; required */
+    int material_count;           /* at least 1 */
+    const char *scene;            /* one scene file for every material; NULL: ht_scene_default() */
+    const char *out_dir;          /* required */
+    bool in_place;                /* false (default): each bundle in out_dir/<material file name
+                                     without .json>/, out_dir created if missing; true: one
+                                     material, out_dir is its bundle */
+    int jobs;                     /* threads; 0: one per online core */
+    bool force;                   /* false (default): a material whose bundle's input_hash is
+                                     its inputs' hash is skipped; true: always regenerate */
+    const char *depfile;          /* NULL: none; else make/ninja rules
+                                     "BUNDLE/manifest.json: MATERIAL SCENE TEXTURES..." for
+                                     every bundle made or up to date, written atomically */
+    bool depfile_per_bundle;      /* -MD: a depfile beside each bundle, "BUNDLE.d" (depfile
+                                     above ignored) */
+    FILE *progress;               /* NULL: quiet; else one line per material, with time and ETA */
+    FILE *summary;                /* NULL: none; else each bundle's tier table */
+    FILE *errors;                 /* one line per material that failed; NULL: stderr */
+} ht_batch_desc;
+
+typedef struct ht_batch_result {
+    int generated, skipped, failed;
+} ht_batch_result;
+
+/* Makes every material's bundle on desc->jobs threads. Each bundle is
+   all-or-nothing (ht_generate_bundle's atomic write): a material that
+   fails leaves its bundle directory as it was, its one-line error goes to
+   desc->errors, and the other materials still run. Returns HT_OK when
+   every material succeeded; the first failure's code otherwise (err then
+   says how many failed), or a code before anything ran (no material, two
+   materials with the same file name, an unreadable scene). Output bytes do
+   not depend on jobs. */
+ht_result ht_generate_batch(const ht_batch_desc *desc, ht_batch_result *result, char *err, size_t err_size);
 
 #endif

@@ -55,4 +55,40 @@ void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out);
    colour scaled by plan->sparkle_mean (unchanged when sparkle is absent). */
 ht_shading ht_plan_unmasked_shading(const ht_plan *plan);
 
+/* ---- one bundle from files (generate.c): ht_generate_bundle's steps,
+   shared with batches (batch.c) ---- */
+
+typedef struct ht_bundle_request {
+    const char *material_path;   /* required */
+    const char *scene_path;      /* NULL: ht_scene_default(), no scene bytes hashed */
+    const ht_scene *scene;       /* scene_path loaded already (a batch loads it once);
+                                    NULL: loaded here */
+    const void *scene_bytes;     /* scene_path's bytes, read once by a batch; NULL: read here */
+    size_t scene_size;
+    const char *out_dir;         /* the bundle directory */
+    bool skip_unchanged;         /* leave out_dir alone when its manifest's input_hash
+                                    is the inputs' hash (false: always regenerate) */
+    FILE *summary;               /* NULL: none; else "hairgen: NAME -> DIR" and the tier table */
+    ht_bundle_step_fn step;      /* NULL: none; else run on the written, unpublished bundle
+                                    (ht_generate_bundle_then) */
+    void *step_user;
+} ht_bundle_request;
+
+/* The files a bundle was made from: the material, the scene (when given),
+   a strands scene's strand file and each texture file the material names,
+   in that order. */
+#define HT_BUNDLE_MAX_INPUTS (3 + HT_TEX_COUNT)
+
+typedef struct ht_bundle_report {
+    bool skipped;                                /* up to date: nothing written */
+    char material_name[64];
+    char inputs[HT_BUNDLE_MAX_INPUTS][1024];
+    int input_count;
+} ht_bundle_report;
+
+/* Loads, hashes, (unless skipped) generates and publishes one bundle
+   atomically. Thread-safe: a batch runs it on several threads at once for
+   different out_dirs. */
+ht_result ht_bundle_make(const ht_bundle_request *rq, ht_bundle_report *report, char *err, size_t err_size);
+
 #endif

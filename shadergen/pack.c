@@ -10,6 +10,7 @@
    rely on; filtering would change texels even then. */
 #include "emit.h"
 
+#include <pthread.h>
 #include <stdio.h>
 
 #include "errfmt.h"
@@ -91,6 +92,23 @@ static ht_result make_if(bool modelled, const ht_material *m, ht_texture_slot sl
     return r;
 }
 
+typedef struct slot_job {
+    const ht_material *m;
+    ht_texture_slot slot;
+    bool modelled;
+    ht_image image;
+    ht_result result;
+    char err[1400];
+    pthread_t thread;
+    bool threaded;
+} slot_job;
+
+static void *make_slot(void *arg) {
+    slot_job *job = arg;
+    job->result = make_if(job->modelled, job->m, job->slot, &job->image, job->err, sizeof job->err);
+    return NULL;
+}
+
 ht_result ht_textures_pack(const ht_material *m, const ht_plan *plan,
                            ht_image *albedo, ht_image *detail, char *err, size_t err_size) {
     if (!m || !plan || !albedo || !detail) {
@@ -99,11 +117,27 @@ ht_result ht_textures_pack(const ht_material *m, const ht_plan *plan,
     }
     *albedo = (ht_image){ 0 };
     *detail = (ht_image){ 0 };
-    ht_image base = { 0 }, alpha = { 0 }, shift = { 0 }, sparkle = { 0 };
-    ht_result r = make_if(plan->base, m, HT_TEX_BASE, &base, err, err_size);
-    if (r == HT_OK) r = make_if(plan->alpha, m, HT_TEX_ALPHA, &alpha, err, err_size);
-    if (r == HT_OK) r = make_if(plan->shift, m, HT_TEX_SHIFT, &shift, err, err_size);
-    if (r == HT_OK) r = make_if(plan->sparkle, m, HT_TEX_SPARKLE, &sparkle, err, err_size);
+    /* The four textures are independent: each made on a thread of its
+       own; the first failure in slot order is the error, as when they
+       were made one after another. */
+    const bool modelled[HT_TEX_COUNT] = { plan->base, plan->alpha, plan->shift, plan->sparkle };
+    slot_job jobs[HT_TEX_COUNT];
+    for (int i = 0; i < HT_TEX_COUNT; i++) {
+        jobs[i] = (slot_job){ .m = m, .slot = (ht_texture_slot)i, .modelled = modelled[i] };
+        jobs[i].threaded = i > 0 && modelled[i] && pthread_create(&jobs[i].thread, NULL, make_slot, &jobs[i]) == 0;
+    }
+    make_slot(&jobs[0]);
+    ht_result r = HT_OK;
+    for (int i = 0; i < HT_TEX_COUNT; i++) {
+        if (jobs[i].threaded) pthread_join(jobs[i].thread, NULL);
+        else if (i > 0) make_slot(&jobs[i]); /* not modelled, or no thread to be had */
+        if (jobs[i].result != HT_OK && r == HT_OK) {
+            r = jobs[i].result;
+            ht_set_error(err, err_size, "%s", jobs[i].err);
+        }
+    }
+    ht_image base = jobs[HT_TEX_BASE].image, alpha = jobs[HT_TEX_ALPHA].image;
+    ht_image shift = jobs[HT_TEX_SHIFT].image, sparkle = jobs[HT_TEX_SPARKLE].image;
     if (r != HT_OK) goto done;
 
     static const char *const sources[HT_TEX_COUNT] = {

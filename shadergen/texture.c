@@ -69,18 +69,31 @@ static int64_t lattice(uint64_t key, int i, int j) {
     return (int64_t)(ht_rng_next(&r) >> 48);
 }
 
-/* Value noise in [0, 65535] at texel (x, y) of a size x size image, on a
-   lattice of cells_u x cells_v cells that wraps around the image. */
-static int64_t value_noise(uint64_t key, int x, int y, int size, int cells_u, int cells_v) {
+#define MAX_PROCEDURAL_SIZE 2048
+
+/* Value noise in [0, 65535] along row y of a size x size image, on a
+   lattice of cells_u x cells_v cells that wraps around the image (cells_u
+   at most size / 2). The row's two lattice rows are drawn once, not the
+   four corners again at every texel: the same integers either way. */
+static void value_noise_row(uint64_t key, int y, int size, int cells_u, int cells_v, int64_t *row) {
     /* texel centres: position = (x + 0.5) * cells / size, in halves */
-    int64_t pu = (int64_t)(2 * x + 1) * cells_u, pv = (int64_t)(2 * y + 1) * cells_v;
     int64_t span = 2 * (int64_t)size;
-    int i = (int)(pu / span), j = (int)(pv / span);
-    int64_t wu = smooth16(pu % span * ONE / span), wv = smooth16(pv % span * ONE / span);
-    int i1 = (i + 1) % cells_u, j1 = (j + 1) % cells_v;
-    int64_t top = lattice(key, i, j) + (lattice(key, i1, j) - lattice(key, i, j)) * wu / ONE;
-    int64_t bottom = lattice(key, i, j1) + (lattice(key, i1, j1) - lattice(key, i, j1)) * wu / ONE;
-    return top + (bottom - top) * wv / ONE;
+    int64_t pv = (int64_t)(2 * y + 1) * cells_v;
+    int j = (int)(pv / span), j1 = (j + 1) % cells_v;
+    int64_t wv = smooth16(pv % span * ONE / span);
+    int64_t above[MAX_PROCEDURAL_SIZE / 2], below[MAX_PROCEDURAL_SIZE / 2];
+    for (int i = 0; i < cells_u; i++) {
+        above[i] = lattice(key, i, j);
+        below[i] = lattice(key, i, j1);
+    }
+    for (int x = 0; x < size; x++) {
+        int64_t pu = (int64_t)(2 * x + 1) * cells_u;
+        int i = (int)(pu / span), i1 = (i + 1) % cells_u;
+        int64_t wu = smooth16(pu % span * ONE / span);
+        int64_t top = above[i] + (above[i1] - above[i]) * wu / ONE;
+        int64_t bottom = below[i] + (below[i1] - below[i]) * wu / ONE;
+        row[x] = top + (bottom - top) * wv / ONE;
+    }
 }
 
 static int at_least_one(int n) { return n < 1 ? 1 : n; }
@@ -95,16 +108,18 @@ static int64_t rng_int(ht_rng *r, int64_t lo, int64_t hi) {
 static void stretched_noise(ht_image *out, ht_rng *keys) {
     int size = out->width;
     uint64_t fine_key = ht_rng_next(keys), broad_key = ht_rng_next(keys);
-    for (int y = 0; y < size; y++)
+    int64_t fine[MAX_PROCEDURAL_SIZE], broad[MAX_PROCEDURAL_SIZE];
+    for (int y = 0; y < size; y++) {
+        value_noise_row(fine_key, y, size, size / 2, at_least_one(size / 64), fine);
+        value_noise_row(broad_key, y, size, size / 16, at_least_one(size / 128), broad);
         for (int x = 0; x < size; x++) {
-            int64_t fine = value_noise(fine_key, x, y, size, size / 2, at_least_one(size / 64));
-            int64_t broad = value_noise(broad_key, x, y, size, size / 16, at_least_one(size / 128));
-            int64_t n = (fine * 13 + broad * 7) / 20; /* [0, 65535] */
+            int64_t n = (fine[x] * 13 + broad[x] * 7) / 20; /* [0, 65535] */
             /* 0.55 + 0.45 n, in 16.16 */
             uint8_t grey = to_byte(ONE * 55 / 100 + n * 45 / 100);
             uint8_t *px = out->pixels + 3 * ((size_t)y * size + x);
             px[0] = px[1] = px[2] = grey;
         }
+    }
 }
 
 static void strand_alpha(ht_image *out, ht_rng *keys) {
@@ -138,11 +153,11 @@ static void strand_alpha(ht_image *out, ht_rng *keys) {
 static void shift_noise(ht_image *out, ht_rng *keys) {
     int size = out->width;
     uint64_t key = ht_rng_next(keys);
-    for (int y = 0; y < size; y++)
-        for (int x = 0; x < size; x++) {
-            int64_t n = value_noise(key, x, y, size, at_least_one(size / 2), 2);
-            out->pixels[(size_t)y * size + x] = to_byte(ONE * 38 / 100 + n * 24 / 100);
-        }
+    int64_t n[MAX_PROCEDURAL_SIZE];
+    for (int y = 0; y < size; y++) {
+        value_noise_row(key, y, size, at_least_one(size / 2), 2, n);
+        for (int x = 0; x < size; x++) out->pixels[(size_t)y * size + x] = to_byte(ONE * 38 / 100 + n[x] * 24 / 100);
+    }
 }
 
 static void sparkle(ht_image *out, ht_rng *keys) {
@@ -219,7 +234,7 @@ static ht_result make_procedural(const ht_texture_source *src, const char *slot_
                 "noise, sparkle", slot_name, src->procedural);
         return HT_ERR_PARSE;
     }
-    if (src->size < 16 || src->size > 2048 || (src->size & (src->size - 1)) != 0) {
+    if (src->size < 16 || src->size > MAX_PROCEDURAL_SIZE || (src->size & (src->size - 1)) != 0) {
         ht_set_error(err, err_size, "texture %s: size %d is not a power of two in 16..2048",
                 slot_name, src->size);
         return HT_ERR_PARSE;

@@ -1,0 +1,309 @@
+/* batch.c — many materials in one run (ht_generate_batch, hairgen.h): a
+   pool of threads takes materials in turn, each one bundle made with
+   ht_bundle_make (load, hash, skip when up to date, generate, publish
+   atomically), then the make/ninja depfiles. The scene is read once; glslang
+   is initialised once and each distinct shader text validated once
+   (glsl_validate.c), whatever the thread. */
+#include <errno.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "errfmt.h"
+#include "file_open.h"
+#include "hairgen_internal.h"
+
+#define MAX_JOBS 256
+
+typedef struct material_job {
+    char dir[4096];               /* its bundle directory */
+    ht_result result;
+    ht_bundle_report report;
+} material_job;
+
+typedef struct batch_run {
+    const ht_batch_desc *desc;
+    const ht_scene *scene;
+    const char *scene_bytes;
+    size_t scene_size;
+    material_job *jobs;
+    pthread_mutex_t lock;         /* next, done, the counts and every line printed */
+    int next, done;
+    ht_batch_result counts;
+    double start_ms;
+} batch_run;
+
+static double now_ms(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return t.tv_sec * 1e3 + t.tv_nsec / 1e6;
+}
+
+/* "dir/name.json" -> "name": the bundle's directory name in a batch. */
+static void bundle_name(const char *material, char *out, size_t size) {
+    const char *slash = strrchr(material, '/');
+    const char *base = slash ? slash + 1 : material;
+    size_t len = strlen(base);
+    if (len > 5 && strcmp(base + len - 5, ".json") == 0) len -= 5;
+    snprintf(out, size, "%.*s", (int)len, base);
+}
+
+/* One line after each material: what happened, its time, and when the
+   batch should end at the pace so far. Called with the lock held. */
+static void report_progress(batch_run *b, int i, double ms) {
+    const ht_batch_desc *d = b->desc;
+    const material_job *j = &b->jobs[i];
+    if (!d->progress || j->result != HT_OK) return;
+    double elapsed_s = (now_ms() - b->start_ms) / 1e3;
+    double eta_s = elapsed_s / b->done * (d->material_count - b->done);
+    if (j->report.skipped)
+        fprintf(d->progress, "hairgen: [%d/%d] %s: up to date, skipped (--force regenerates)\n", b->done,
+                d->material_count, j->dir);
+    else
+        fprintf(d->progress, "hairgen: [%d/%d] %s -> %s: %.0f ms, ETA %.1f s\n", b->done, d->material_count,
+                d->materials[i], j->dir, ms, eta_s);
+    fflush(d->progress);
+}
+
+static void *worker(void *arg) {
+    batch_run *b = arg;
+    const ht_batch_desc *d = b->desc;
+    for (;;) {
+        pthread_mutex_lock(&b->lock);
+        int i = b->next < d->material_count ? b->next++ : -1;
+        pthread_mutex_unlock(&b->lock);
+        if (i < 0) return NULL;
+
+        material_job *j = &b->jobs[i];
+        char err[2048] = "";
+        /* The tier table is printed whole, so it goes to memory first and
+           out under the lock. */
+        char *table = NULL;
+        size_t table_size = 0;
+        FILE *summary = d->summary ? open_memstream(&table, &table_size) : NULL;
+        double t0 = now_ms();
+        j->result = ht_bundle_make(&(ht_bundle_request){ .material_path = d->materials[i],
+                                                         .scene_path = d->scene,
+                                                         .scene = b->scene,
+                                                         .scene_bytes = b->scene_bytes,
+                                                         .scene_size = b->scene_size,
+                                                         .out_dir = j->dir,
+                                                         .skip_unchanged = !d->force,
+                                                         .summary = summary },
+                                   &j->report, err, sizeof err);
+        double ms = now_ms() - t0;
+        if (summary) fclose(summary);
+
+        pthread_mutex_lock(&b->lock);
+        b->done++;
+        if (j->result != HT_OK) {
+            b->counts.failed++;
+            /* err names the file that failed (material, texture, scene or
+               bundle); a generic code's message is given the material. */
+            fprintf(d->errors ? d->errors : stderr, "hairgen: %s\n",
+                    err[0] ? err : ht_result_string(j->result));
+            if (!err[0]) fprintf(d->errors ? d->errors : stderr, "hairgen: (in %s)\n", d->materials[i]);
+        } else if (j->report.skipped) {
+            b->counts.skipped++;
+        } else {
+            b->counts.generated++;
+            if (table && d->summary) fputs(table, d->summary);
+        }
+        report_progress(b, i, ms);
+        pthread_mutex_unlock(&b->lock);
+        free(table);
+    }
+}
+
+/* ---- depfiles ---- */
+
+/* A path as make reads it in a rule: spaces and '#' escaped with a
+   backslash, '$' doubled (what GCC's -MD writes). */
+static void put_make_path(FILE *f, const char *path) {
+    for (const char *p = path; *p; p++) {
+        if (*p == ' ' || *p == '#' || *p == '\t') fputc('\\', f);
+        else if (*p == '$') fputc('$', f);
+        fputc(*p, f);
+    }
+}
+
+/* "BUNDLE/manifest.json: INPUTS..." then, as GCC's -MP, an empty rule per
+   input so that make does not stop when an input is deleted but rebuilds. */
+static void put_rule(FILE *f, const material_job *j) {
+    put_make_path(f, j->dir);
+    fputs("/manifest.json:", f);
+    for (int k = 0; k < j->report.input_count; k++) {
+        fputs(" \\\n  ", f);
+        put_make_path(f, j->report.inputs[k]);
+    }
+    fputc('\n', f);
+    for (int k = 0; k < j->report.input_count; k++) {
+        fputc('\n', f);
+        put_make_path(f, j->report.inputs[k]);
+        fputs(":\n", f);
+    }
+}
+
+/* Writes the rules of jobs [first, first + count) that have a bundle to
+   path, through a temporary name renamed into place. */
+static ht_result write_depfile(const char *path, const material_job *jobs, int first, int count,
+                               char *err, size_t err_size) {
+    /* make has no escape for a newline in a file name */
+    for (int i = first; i < first + count; i++)
+        for (int k = 0; jobs[i].result == HT_OK && k < jobs[i].report.input_count; k++)
+            if (strchr(jobs[i].report.inputs[k], '\n'))
+                return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT,
+                               "%s: cannot list %s: a file name with a newline has no make spelling", path,
+                               jobs[i].report.inputs[k]);
+    char tmp[4200];
+    int n = snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", path);
+    int fd = n > 0 && (size_t)n < sizeof tmp ? mkstemp(tmp) : -1;
+    FILE *f = fd >= 0 ? fdopen(fd, "w") : NULL;
+    if (!f) {
+        if (fd >= 0) {
+            close(fd);
+            unlink(tmp);
+        }
+        return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot write the depfile: %s", path, strerror(errno));
+    }
+    bool first_rule = true;
+    for (int i = first; i < first + count; i++) {
+        if (jobs[i].result != HT_OK) continue;
+        if (!first_rule) fputc('\n', f);
+        put_rule(f, &jobs[i]);
+        first_rule = false;
+    }
+    /* mkstemp makes it owner-only; a depfile is as readable as any file
+       (the workers are done: reading the umask races with nothing). */
+    mode_t mask = umask(0);
+    umask(mask);
+    bool ok = fchmod(fd, 0666 & ~mask) == 0 && !ferror(f);
+    ok = fclose(f) == 0 && ok;
+    if (!ok || rename(tmp, path) != 0) {
+        int e = errno;
+        unlink(tmp);
+        return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot write the depfile: %s", path, strerror(e));
+    }
+    return HT_OK;
+}
+
+static ht_result write_depfiles(const ht_batch_desc *d, const material_job *jobs, char *err, size_t err_size) {
+    if (d->depfile_per_bundle) {
+        for (int i = 0; i < d->material_count; i++) {
+            if (jobs[i].result != HT_OK) continue;
+            char path[4200];
+            snprintf(path, sizeof path, "%s.d", jobs[i].dir);
+            ht_result r = write_depfile(path, jobs, i, 1, err, err_size);
+            if (r != HT_OK) return r;
+        }
+        return HT_OK;
+    }
+    return d->depfile ? write_depfile(d->depfile, jobs, 0, d->material_count, err, err_size) : HT_OK;
+}
+
+/* ---- the batch ---- */
+
+static ht_result plan_dirs(const ht_batch_desc *d, material_job *jobs, char *err, size_t err_size) {
+    if (d->in_place) {
+        if (d->material_count != 1)
+            return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT,
+                           "%s: one bundle directory for %d materials (a batch puts each in DIR/NAME)",
+                           d->out_dir, d->material_count);
+        size_t len = strlen(d->out_dir);
+        while (len > 1 && d->out_dir[len - 1] == '/') len--;
+        snprintf(jobs[0].dir, sizeof jobs[0].dir, "%.*s", (int)len, d->out_dir);
+        return HT_OK;
+    }
+    for (int i = 0; i < d->material_count; i++) {
+        char name[1024];
+        bundle_name(d->materials[i], name, sizeof name);
+        if (!name[0] || strcmp(name, ".") == 0 || strcmp(name, "..") == 0)
+            return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "%s: no file name to name its bundle after",
+                           d->materials[i]);
+        int n = snprintf(jobs[i].dir, sizeof jobs[i].dir, "%s/%s", d->out_dir, name);
+        if (n < 0 || (size_t)n >= sizeof jobs[i].dir)
+            return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "%s: bundle path too long", d->materials[i]);
+        for (int k = 0; k < i; k++)
+            if (strcmp(jobs[k].dir, jobs[i].dir) == 0)
+                return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT,
+                               "%s and %s: both would be bundle %s (one bundle per material file name)",
+                               d->materials[k], d->materials[i], jobs[i].dir);
+    }
+    return HT_OK;
+}
+
+static int job_count(const ht_batch_desc *d) {
+    long jobs = d->jobs > 0 ? d->jobs : sysconf(_SC_NPROCESSORS_ONLN);
+    if (jobs < 1) jobs = 1;
+    if (jobs > MAX_JOBS) jobs = MAX_JOBS;
+    if (jobs > d->material_count) jobs = d->material_count;
+    return (int)jobs;
+}
+
+ht_result ht_generate_batch(const ht_batch_desc *d, ht_batch_result *result, char *err, size_t err_size) {
+    if (result) memset(result, 0, sizeof *result);
+    if (!d || !d->materials || d->material_count < 1 || !d->out_dir || !d->out_dir[0])
+        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "ht_generate_batch: no material or no output directory");
+    for (int i = 0; i < d->material_count; i++)
+        if (!d->materials[i])
+            return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "ht_generate_batch: material %d: no path", i);
+
+    batch_run b = { .desc = d, .start_ms = now_ms() };
+    b.jobs = calloc((size_t)d->material_count, sizeof *b.jobs);
+    if (!b.jobs) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "ht_generate_batch: out of memory");
+    ht_result r = plan_dirs(d, b.jobs, err, err_size);
+
+    /* The scene once for every material: parsed, and its bytes kept for
+       each bundle's input hash. */
+    ht_scene scene;
+    char *scene_text = NULL;
+    if (r == HT_OK && d->scene) {
+        r = ht_scene_load(d->scene, &scene, err, err_size);
+        if (r == HT_OK) {
+            scene_text = ht_file_read_text(d->scene, HT_FILE_MAX_JSON, err, err_size);
+            if (!scene_text) r = HT_ERR_IO;
+        }
+        b.scene = &scene;
+        b.scene_bytes = scene_text;
+        b.scene_size = scene_text ? strlen(scene_text) : 0;
+    }
+
+    struct stat st;
+    if (r == HT_OK && !d->in_place && mkdir(d->out_dir, 0777) != 0 &&
+        (errno != EEXIST || stat(d->out_dir, &st) != 0 || !S_ISDIR(st.st_mode)))
+        r = ht_fail(err, err_size, HT_ERR_IO, "%s: cannot create the bundles' folder: %s", d->out_dir,
+                    errno == EEXIST ? "exists and is not a directory" : strerror(errno));
+
+    if (r == HT_OK) {
+        int threads = job_count(d);
+        pthread_t tids[MAX_JOBS];
+        int started = 0;
+        pthread_mutex_init(&b.lock, NULL);
+        /* The calling thread is one of the workers. */
+        for (int t = 1; t < threads; t++) {
+            if (pthread_create(&tids[started], NULL, worker, &b) != 0) break;
+            started++;
+        }
+        worker(&b);
+        for (int t = 0; t < started; t++) pthread_join(tids[t], NULL);
+        pthread_mutex_destroy(&b.lock);
+
+        r = write_depfiles(d, b.jobs, err, err_size);
+        if (result) *result = b.counts;
+        if (b.counts.failed > 0) {
+            ht_result first = HT_OK;
+            for (int i = 0; i < d->material_count && first == HT_OK; i++) first = b.jobs[i].result;
+            /* The failures were printed one per line; this is the total. */
+            ht_set_error(err, err_size, "%d of %d materials failed (their bundles are as they were)",
+                         b.counts.failed, d->material_count);
+            r = first;
+        }
+    }
+    free(scene_text);
+    free(b.jobs);
+    return r;
+}
