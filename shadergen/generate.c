@@ -339,6 +339,10 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
     const ht_material *m = desc->material;
     ht_result r = ht_material_check(m, err, err_size);
     if (r != HT_OK) return r;
+    if (m->shading.model == HT_MODEL_MARSCHNER) /* the oracle exists; the tiers do not yet */
+        return ht_fail(err, err_size, HT_ERR_UNSUPPORTED,
+                       "%s: model: \"marschner\" is read and checked, but no tier generates it yet",
+                       m->file[0] ? m->file : "<material>");
     ht_scene default_scene;
     const ht_scene *scene = desc->scene;
     if (!scene) {
