@@ -166,6 +166,20 @@ void ht_marschner_azimuthal(const ht_marschner *m, ht_marschner_lobe p,
     /* phi(gamma) = a1 gamma + a3 gamma^3 + p pi (Marschner 2003, eq. 10) */
     const double k_p = (double)p; /* the lobe's number of internal paths */
     double a1 = 6 * k_p * c / HT_PI - 2, a3 = -8 * k_p * c / (HT_PI * HT_PI * HT_PI);
+    if (p == HT_LOBE_TRT) { /* the caustic, spread: the integral over h */
+        const int steps = 64;
+        const double dg = HT_PI / steps, w = HT_MARSCHNER_CAUSTIC_WIDTH;
+        for (int k = 0; k < steps; k++) {
+            double g = -HT_PI / 2 + (k + 0.5) * dg, a[3];
+            double d = remainder(phi_w - (a1 * g + a3 * g * g * g + k_p * HT_PI), 2 * HT_PI), spread = 0;
+            for (int j = -1; j <= 1; j++) spread += exp(-(d + 2 * HT_PI * j) * (d + 2 * HT_PI * j) / (2 * w * w));
+            spread /= sqrt(2 * HT_PI) * w;
+            ht_marschner_attenuation(m, p, cos_theta_r, sin(g), a);
+            /* A(h) / 2 dh, dh = cos(gamma) dgamma */
+            for (int ch = 0; ch < 3; ch++) out[ch] += a[ch] * cos(g) * dg / 2 * spread;
+        }
+        return;
+    }
     double gammas[16];
     int count = 0;
     if (p == HT_LOBE_R) {
@@ -180,7 +194,7 @@ void ht_marschner_azimuthal(const ht_marschner *m, ht_marschner_lobe p,
     }
     for (int i = 0; i < count; i++) {
         double g = gammas[i];
-        double slope = fmax(fabs(a1 + 3 * a3 * g * g), HT_MARSCHNER_CAUSTIC_SLOPE);
+        double slope = fabs(a1 + 3 * a3 * g * g); /* R and TT: |dphi/dgamma| >= 2 - 6c/pi > 0 */
         double a[3];
         ht_marschner_attenuation(m, p, cos_theta_r, sin(g), a);
         /* 1 / |2 dphi/dh| = cos(gamma) / (2 |dphi/dgamma|) */

@@ -15,8 +15,7 @@
    cos(theta_i), the radiance a directional light of unit irradiance
    reflects, i.e. the Marschner scattering function times the fibre's
    projected width. Its integral over the sphere of wi (d omega = cos(theta_i)
-   d theta_i d phi) is the white furnace, 1 when absorption is 0 (less only
-   what the caustic cap below drops), because:
+   d theta_i d phi) is the white furnace, 1 when absorption is 0, because:
    - M_p is d'Eon et al. 2011's normalised longitudinal function (the one
      pbrt-v4 uses, written here from the paper), not Marschner's Gaussian in
      theta_h: for every theta_r, the integral of M_p * cos(theta_i) over
@@ -45,9 +44,17 @@
      and cos(phi) accordingly.
 
    Documented answers at the undefined points (no NaN, no Inf):
-   - The TRT caustic, where dphi/dgamma = 0 and 1 / |dphi/dh| is infinite:
-     |dphi/dgamma| is taken as at least HT_MARSCHNER_CAUSTIC_SLOPE, which
-     caps the glint's peak (the furnace test measures what it drops).
+   - The TRT caustic, where dphi/dgamma = 0 and the smooth fibre's
+     1 / |dphi/dh| is infinite (and N_TRT jumps from that peak to a single
+     branch, a step no lookup texture holds): N_TRT is the smooth-fibre
+     function convolved in phi with a unit-area Gaussian of width
+     HT_MARSCHNER_CAUSTIC_WIDTH, as Marschner 2003 spreads the caustic over
+     an azimuthal width w_c (10 to 25 degrees there). It is evaluated as the
+     integral over h of A_TRT(h) / 2 times that Gaussian at phi - phi(2, h)
+     (64-point midpoint rule in gamma, exact to 1e-12 for this width):
+     finite everywhere, its integral over phi still the mean of A_TRT. R
+     and TT have no caustic (|dphi/dgamma| >= 2 - 6c/pi > 0) and are sums
+     over the cubic's roots.
    - A parallel-polarisation index eta'' below 1 (theta_r near 90 degrees)
      can reflect totally: Fresnel is then 1 for that polarisation; grazing
      rays (|h| = 1) reflect entirely.
@@ -82,8 +89,8 @@ typedef struct ht_marschner {
     double eta;           /* index of refraction, [1.1, 3] */
 } ht_marschner;
 
-/* The smallest |dphi/dgamma| the TRT caustic is evaluated with. */
-#define HT_MARSCHNER_CAUSTIC_SLOPE 0.01
+/* The azimuthal width (radians, a Gaussian's sigma) TRT's caustic is spread over: 15 degrees. */
+#define HT_MARSCHNER_CAUSTIC_WIDTH (15 * HT_PI / 180)
 
 /* alpha_p and beta_p of lobe p from alpha_R and beta_R. */
 double ht_marschner_shift(const ht_marschner *m, ht_marschner_lobe p);

@@ -17,7 +17,8 @@
        n2    (n_size^2, axes |theta_r|, phi):                     N_TRT rgb, unused
    The axes are angles, not the dot products: in sin(theta) the lobes
    crowd at the poles and in cos(phi) the TT and R peaks crowd at the ends
-   (measured: 10/255 at the 99th percentile against 2.7 in angles), so the
+   (measured with the capped caustic: 10/255 at the 99th percentile in
+   dot products, 1.55 in angles), so the
    shader pays an asin and an acos per light. Texel i of an axis [lo, hi]
    holds x = lo + (hi - lo) i / (size - 1): the end points are texel
    centres, read with GL_LINEAR and GL_CLAMP_TO_EDGE. */

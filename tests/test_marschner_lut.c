@@ -4,8 +4,8 @@
    encoding alone), and read back as the fragment shader reads them
    (bilinear, decoded, summed) the fibre is within a measured bound of the
    oracle over random directions, in /255 of a framebuffer that clamps at 1
-   (mean and 99th percentile bounded; the maximum, at the TRT caustic's
-   edge, printed). Sizes follow beta as documented. */
+   (mean and 99th percentile bounded; the maximum, at a Fresnel critical
+   angle, printed). Sizes follow beta as documented. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -105,12 +105,13 @@ static void lookup_matches_the_oracle_between_texels(void **state) {
     double p99 = errors[SAMPLES * 99 / 100], max = errors[SAMPLES - 1], mean = sum / SAMPLES;
     print_message("LUT vs oracle over %d random directions, /255: mean %.3f, p99 %.3f, max %.3f\n", SAMPLES, mean,
                   p99, max);
-    /* Bounded at the measured level (mean 0.13, p99 1.55 with the shipped
-       sizes). The maximum is not bounded: it sits on the edge of the TRT
-       caustic, where the smooth fibre's N_TRT jumps from its capped peak
-       to the single-root value, a step no bilinear texel holds. */
-    assert_true(mean <= 0.2);
-    assert_true(p99 <= 2.0);
+    /* Bounded at the measured level (mean 0.077, p99 1.25 with the shipped
+       sizes). The maximum (29/255) is printed, not bounded: it sits on the
+       critical angle of the parallel polarisation (eta'' < 1 for theta_r
+       past about 55 degrees), where N_R has a square-root kink along
+       theta_r that bilinear texels round off. */
+    assert_true(mean <= 0.1);
+    assert_true(p99 <= 1.5);
     free(errors);
     ht_marschner_lut_free(&lut);
 }

@@ -10,7 +10,7 @@
      N_R at phi = 0 is that over |2 dphi/dh| = 4; N_TT at phi = pi is
      (1-F0)^2 exp(-2 sigma_a) / (2 |6c/pi - 2|); the integral of N_p over
      phi is the mean of A_p over h (the change of variables the cubic's
-     roots must honour), less at most 3% of TRT where the caustic is capped;
+     roots must honour, and TRT's spread caustic must keep);
    - no NaN or Inf at the extremes and over 10^6 random samples. */
 #include <math.h>
 #include <setjmp.h>
@@ -70,7 +70,7 @@ static void white_furnace(void **state) {
         ht_marschner m = default_fibre();
         m.width_r = beta;
         for (size_t r = 0; r < sizeof thetas_r / sizeof *thetas_r; r++) {
-            const int thetas = 160, phis = 360;
+            const int thetas = 120, phis = 180;
             double energy = 0, dt = HT_PI / thetas, dp = HT_PI / phis;
             for (int k = 0; k < thetas; k++) {
                 double theta_i = -HT_PI / 2 + (k + 0.5) * dt;
@@ -109,10 +109,10 @@ static void azimuthal_integral_is_mean_attenuation(void **state) {
                 ht_marschner_attenuation(&m, (ht_marschner_lobe)p, cos_ds[c], h, a);
                 for (int i = 0; i < 3; i++) a_mean[i] += a[i] / hs;
             }
-            /* TRT loses what the caustic cap drops; the rest's mean over h
-               is a 64-point rule in gamma */
-            double below = p == HT_LOBE_TRT ? 0.03 : (p == HT_LOBE_REST ? 0.015 : 2e-3);
-            double above = p == HT_LOBE_REST ? 0.015 : 2e-3;
+            /* TRT and the rest integrate over h by a 64-point rule in gamma:
+               measured 2.4% short for TRT at cos(theta_r) = 0.2, where A
+               crowds at the fibre's edges */
+            double below = p >= HT_LOBE_TRT ? 0.03 : 2e-3, above = below;
             for (int i = 0; i < 3; i++)
                 if (n_int[i] < a_mean[i] * (1 - below) - 1e-6 || n_int[i] > a_mean[i] * (1 + above) + 1e-6)
                     fail_msg("lobe %d cos_d %g ch %d: integral of N %.6f, mean A %.6f", p, cos_ds[c], i,
