@@ -45,8 +45,7 @@ ht_result ht_marschner_lut_bake(const ht_marschner *m, ht_marschner_lut *out) {
     double *mv = malloc(sizeof *mv * (size_t)ms * ms * 6);
     double *nv = malloc(sizeof *nv * (size_t)ns * ns * 7);
     ht_result r = HT_ERR_OUT_OF_MEMORY;
-    if (!mv || !nv || ht_image_alloc(&out->m, ms, ms, 4) != HT_OK || ht_image_alloc(&out->rest, ms, ms, 4) != HT_OK ||
-        ht_image_alloc(&out->n1, ns, ns, 4) != HT_OK || ht_image_alloc(&out->n2, ns, ns, 4) != HT_OK)
+    if (!mv || !nv || ht_image_alloc(&out->m, 2 * ms, ms, 4) != HT_OK || ht_image_alloc(&out->n, 2 * ns, ns, 4) != HT_OK)
         goto done;
     /* N_rest depends on theta_r only: once per row. */
     double *rest_n = malloc(sizeof *rest_n * (size_t)ms * 3);
@@ -83,20 +82,25 @@ ht_result ht_marschner_lut_bake(const ht_marschner *m, ht_marschner_lut *out) {
         }
         out->n1_scale[1] = fmax(out->n1_scale[1], nv[i * 7 + 3]);
     }
-    for (size_t i = 0; i < (size_t)ms * ms; i++) {
-        for (int p = 0; p < 3; p++) out->m.pixels[i * 4 + p] = encode_log(mv[i * 6 + p], out->m_scale[p]);
-        out->m.pixels[i * 4 + 3] = 255;
-        for (int c = 0; c < 3; c++) out->rest.pixels[i * 4 + c] = encode_log(mv[i * 6 + 3 + c], out->rest_scale);
-        out->rest.pixels[i * 4 + 3] = 255;
-    }
-    for (size_t i = 0; i < (size_t)ns * ns; i++) {
-        for (int c = 0; c < 3; c++) {
-            out->n1.pixels[i * 4 + c] = encode(nv[i * 7 + c], out->n1_scale[0]);
-            out->n2.pixels[i * 4 + c] = encode(nv[i * 7 + 4 + c], out->n2_scale);
+    for (int y = 0; y < ms; y++)
+        for (int x = 0; x < ms; x++) {
+            const double *v = &mv[((size_t)y * ms + x) * 6];
+            uint8_t *left = &out->m.pixels[((size_t)y * 2 * ms + x) * 4], *right = left + (size_t)ms * 4;
+            for (int p = 0; p < 3; p++) left[p] = encode_log(v[p], out->m_scale[p]);
+            for (int c = 0; c < 3; c++) right[c] = encode_log(v[3 + c], out->rest_scale);
+            left[3] = right[3] = 255;
         }
-        out->n1.pixels[i * 4 + 3] = encode(nv[i * 7 + 3], out->n1_scale[1]);
-        out->n2.pixels[i * 4 + 3] = 255;
-    }
+    for (int y = 0; y < ns; y++)
+        for (int x = 0; x < ns; x++) {
+            const double *v = &nv[((size_t)y * ns + x) * 7];
+            uint8_t *left = &out->n.pixels[((size_t)y * 2 * ns + x) * 4], *right = left + (size_t)ns * 4;
+            for (int c = 0; c < 3; c++) {
+                left[c] = encode(v[c], out->n1_scale[0]);
+                right[c] = encode(v[4 + c], out->n2_scale);
+            }
+            left[3] = encode(v[3], out->n1_scale[1]);
+            right[3] = 255;
+        }
     r = HT_OK;
 done:
     free(mv);
@@ -107,27 +111,28 @@ done:
 
 void ht_marschner_lut_free(ht_marschner_lut *lut) {
     ht_image_free(&lut->m);
-    ht_image_free(&lut->rest);
-    ht_image_free(&lut->n1);
-    ht_image_free(&lut->n2);
+    ht_image_free(&lut->n);
     memset(lut, 0, sizeof *lut);
 }
 
-/* GL_LINEAR with GL_CLAMP_TO_EDGE at x in [lo, hi] on axis 0 and y on
-   axis 1 of a square RGBA8 image; out in [0, 1]. */
-static void bilinear(const ht_image *img, double x, double lo_x, double hi_x, double y, double lo_y,
+/* GL_LINEAR in half `half` (0 left, 1 right) of a 2n x n RGBA8 atlas at
+   x in [lo_x, hi_x] and y in [lo_y, hi_y], clamped to the half's outer
+   texel centres as the shader clamps its coordinates; out in [0, 1]. */
+static void bilinear(const ht_image *img, int half, double x, double lo_x, double hi_x, double y, double lo_y,
                      double hi_y, double out[4]) {
-    int n = img->width;
+    int n = img->height, w = img->width;
     double fx = (x - lo_x) / (hi_x - lo_x) * (n - 1), fy = (y - lo_y) / (hi_y - lo_y) * (n - 1);
     fx = fmin(fmax(fx, 0), n - 1);
     fy = fmin(fmax(fy, 0), n - 1);
     int x0 = (int)floor(fx), y0 = (int)floor(fy);
     int x1 = x0 + 1 < n ? x0 + 1 : x0, y1 = y0 + 1 < n ? y0 + 1 : y0;
     double ax = fx - x0, ay = fy - y0;
+    x0 += half * n;
+    x1 += half * n;
     for (int c = 0; c < 4; c++) {
         const uint8_t *p = img->pixels;
-        double top = p[((size_t)y0 * n + x0) * 4 + c] * (1 - ax) + p[((size_t)y0 * n + x1) * 4 + c] * ax;
-        double bottom = p[((size_t)y1 * n + x0) * 4 + c] * (1 - ax) + p[((size_t)y1 * n + x1) * 4 + c] * ax;
+        double top = p[((size_t)y0 * w + x0) * 4 + c] * (1 - ax) + p[((size_t)y0 * w + x1) * 4 + c] * ax;
+        double bottom = p[((size_t)y1 * w + x0) * 4 + c] * (1 - ax) + p[((size_t)y1 * w + x1) * 4 + c] * ax;
         out[c] = (top * (1 - ay) + bottom * ay) / 255;
     }
 }
@@ -138,10 +143,10 @@ void ht_marschner_lut_fibre(const ht_marschner_lut *lut, double sin_i, double si
     const double h = HT_PI / 2;
     double theta_i = asin(fmax(-1, fmin(1, sin_i))), theta_r = asin(fmax(-1, fmin(1, sin_r)));
     double phi = acos(fmax(-1, fmin(1, cos_phi)));
-    bilinear(&lut->m, theta_i, -h, h, theta_r, -h, h, m);
-    bilinear(&lut->rest, theta_i, -h, h, theta_r, -h, h, rest);
-    bilinear(&lut->n1, fabs(theta_r), 0, h, phi, 0, HT_PI, n1);
-    bilinear(&lut->n2, fabs(theta_r), 0, h, phi, 0, HT_PI, n2);
+    bilinear(&lut->m, 0, theta_i, -h, h, theta_r, -h, h, m);
+    bilinear(&lut->m, 1, theta_i, -h, h, theta_r, -h, h, rest);
+    bilinear(&lut->n, 0, fabs(theta_r), 0, h, phi, 0, HT_PI, n1);
+    bilinear(&lut->n, 1, fabs(theta_r), 0, h, phi, 0, HT_PI, n2);
     double mr = ht_marschner_lut_decode_log(m[0], lut->m_scale[0]);
     double mtt = ht_marschner_lut_decode_log(m[1], lut->m_scale[1]);
     double mtrt = ht_marschner_lut_decode_log(m[2], lut->m_scale[2]);

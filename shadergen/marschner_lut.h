@@ -9,19 +9,21 @@
              + sTRT M_TRT(si, sr) N_TRT(|sr|, cphi)   (RGB)
              + REST(si, sr)                            (RGB: M_rest N_rest, N_rest uniform in phi)
    with si = sin(theta_i) = T.L, sr = sin(theta_r) = T.V, cphi = cos(phi).
-   Four RGBA8 textures, every channel divided by its own scale (the largest
-   value at a texel, so each uses the full 0..255):
-       m     (m_size^2, axes theta_i, theta_r in [-pi/2, pi/2]): M_R, M_TT, M_TRT, unused
-       rest  (m_size^2, axes theta_i, theta_r):                  REST rgb, unused
-       n1    (n_size^2, axes |theta_r| in [0, pi/2], phi in [0, pi]): N_TT rgb, N_R
-       n2    (n_size^2, axes |theta_r|, phi):                     N_TRT rgb, unused
+   Two RGBA8 atlases, each two square halves side by side, every channel
+   divided by its own scale (the largest value at a texel, so each uses
+   the full 0..255):
+       m (2 m_size x m_size, axes theta_i, theta_r in [-pi/2, pi/2]):
+           left M_R, M_TT, M_TRT, unused; right REST rgb, unused
+       n (2 n_size x n_size, axes |theta_r| in [0, pi/2], phi in [0, pi]):
+           left N_TT rgb, N_R; right N_TRT rgb, unused
    The axes are angles, not the dot products: in sin(theta) the lobes
    crowd at the poles and in cos(phi) the TT and R peaks crowd at the ends
    (measured with the capped caustic: 10/255 at the 99th percentile in
    dot products, 1.55 in angles), so the
    shader pays an asin and an acos per light. Texel i of an axis [lo, hi]
    holds x = lo + (hi - lo) i / (size - 1): the end points are texel
-   centres, read with GL_LINEAR and GL_CLAMP_TO_EDGE. */
+   centres, read with GL_LINEAR; the shader keeps its coordinates between
+   a half's outer texel centres, so neither half bleeds into the other. */
 #ifndef HT_MARSCHNER_LUT_H
 #define HT_MARSCHNER_LUT_H
 
@@ -30,7 +32,7 @@
 #include "model_marschner.h"
 
 typedef struct ht_marschner_lut {
-    ht_image m, rest, n1, n2;
+    ht_image m, n;
     int m_size, n_size;
     double m_scale[3];    /* M_R, M_TT, M_TRT */
     double rest_scale;

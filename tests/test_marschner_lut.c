@@ -48,7 +48,7 @@ static void texel_centres_hold_the_oracle(void **state) {
     for (int y = 0; y < ms; y += 7)
         for (int x = 0; x < ms; x += 5) {
             double si = sin(axis(x, ms, -HT_PI / 2, HT_PI / 2)), sr = sin(axis(y, ms, -HT_PI / 2, HT_PI / 2));
-            const uint8_t *px = &lut.m.pixels[((size_t)y * ms + x) * 4];
+            const uint8_t *px = &lut.m.pixels[((size_t)y * 2 * ms + x) * 4];
             for (int p = 0; p < 3; p++) {
                 double want = ht_marschner_longitudinal(&m, (ht_marschner_lobe)p, si, sr);
                 double got = ht_marschner_lut_decode_log(px[p] / 255.0, lut.m_scale[p]);
@@ -62,7 +62,7 @@ static void texel_centres_hold_the_oracle(void **state) {
     for (int y = 0; y < ns; y += 3)
         for (int x = 0; x < ns; x += 5) {
             double cos_r = cos(axis(x, ns, 0, HT_PI / 2)), phi = axis(y, ns, 0, HT_PI), n[3];
-            const uint8_t *px = &lut.n1.pixels[((size_t)y * ns + x) * 4];
+            const uint8_t *px = &lut.n.pixels[((size_t)y * 2 * ns + x) * 4];
             ht_marschner_azimuthal(&m, HT_LOBE_TT, cos_r, phi, n);
             for (int c = 0; c < 3; c++)
                 if (fabs(px[c] / 255.0 * lut.n1_scale[0] - n[c]) > 0.5 / 255 * lut.n1_scale[0] + 1e-12)
