@@ -182,7 +182,9 @@ static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t h
     cJSON_AddStringToObject(root, HT_MANIFEST_KEY_INPUT_HASH, hash_text);
     cJSON_AddStringToObject(root, HT_MANIFEST_KEY_MATERIAL, m->name);
     cJSON_AddStringToObject(root, HT_MANIFEST_KEY_MODEL,
-                            plan->shading.model == HT_MODEL_KAJIYA_KAY ? "kajiya-kay" : "scheuermann");
+                            plan->shading.model == HT_MODEL_KAJIYA_KAY  ? "kajiya-kay"
+                            : plan->shading.model == HT_MODEL_MARSCHNER ? "marschner"
+                                                                        : "scheuermann");
     cJSON *lights = cJSON_AddArrayToObject(root, HT_MANIFEST_KEY_LIGHTS);
     for (int i = 0; i < plan->light_count; i++)
         cJSON_AddItemToArray(lights, cJSON_CreateString(light_type_name(plan->light_types[i])));
@@ -298,6 +300,10 @@ static ht_result hash_values(input_hash *h, const ht_material *m, const ht_scene
     hash_int(h, m->shading.model);
     hash_doubles(h, m->shading.diffuse_color, 3);
     hash_doubles(h, &m->shading.wrap, 1);
+    hash_doubles(h, m->shading.marschner.absorption, 3);
+    hash_doubles(h, &m->shading.marschner.shift_r, 1);
+    hash_doubles(h, &m->shading.marschner.width_r, 1);
+    hash_doubles(h, &m->shading.marschner.eta, 1);
     const ht_lobe *lobes[2] = { &m->shading.primary, &m->shading.secondary };
     for (int i = 0; i < 2; i++) {
         hash_doubles(h, lobes[i]->color, 3);
@@ -339,10 +345,6 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
     const ht_material *m = desc->material;
     ht_result r = ht_material_check(m, err, err_size);
     if (r != HT_OK) return r;
-    if (m->shading.model == HT_MODEL_MARSCHNER) /* the oracle exists; the tiers do not yet */
-        return ht_fail(err, err_size, HT_ERR_UNSUPPORTED,
-                       "%s: model: \"marschner\" is read and checked, but no tier generates it yet",
-                       m->file[0] ? m->file : "<material>");
     ht_scene default_scene;
     const ht_scene *scene = desc->scene;
     if (!scene) {
@@ -368,14 +370,21 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
     ht_tier_output tiers[EMITTERS];
     memset(tiers, 0, sizeof tiers);
     ht_image albedo = { 0 }, detail = { 0 };
-    ht_result (*const emitters[EMITTERS])(const ht_plan *, ht_tier_output *, char *, size_t) = {
+    ht_result (*const scheuermann_emitters[EMITTERS])(const ht_plan *, ht_tier_output *, char *, size_t) = {
         ht_emit_full, ht_emit_vertex, ht_emit_fixed4, ht_emit_fixed, ht_emit_gl11
     };
+    /* A physical material has its own tier only: the lower tiers would need
+       Scheuermann constants fitted to it, which hairgen does not make yet. */
+    ht_result (*const marschner_emitters[EMITTERS])(const ht_plan *, ht_tier_output *, char *, size_t) = {
+        ht_emit_marschner, NULL, NULL, NULL, NULL
+    };
+    ht_result (*const *emitters)(const ht_plan *, ht_tier_output *, char *, size_t) =
+        m->shading.model == HT_MODEL_MARSCHNER ? marschner_emitters : scheuermann_emitters;
     r = ht_textures_pack(m, &plan, &albedo, &detail, err, err_size);
     if (r == HT_OK && plan.sparkle) plan.sparkle_mean = channel_mean(&detail, 1);
     if (r == HT_OK && plan.base) plan.albedo_max = rgb_max(&albedo);
     int tier_count = 0;
-    for (int i = 0; i < EMITTERS && r == HT_OK; i++) {
+    for (int i = 0; i < EMITTERS && emitters[i] && r == HT_OK; i++) {
         r = emitters[i](&plan, &tiers[tier_count], err, err_size);
         /* A tier the plan rules out (fixed4 under a point light) is left
            out of the bundle; the runtime then never sees it. */

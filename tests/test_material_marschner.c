@@ -3,7 +3,7 @@
    absent fields take their defaults, every bad field fails with one line
    naming the file and the field, ht_material_check rejects NaN and
    out-of-range values of a material built in memory, and ht_generate
-   refuses the model (no tier generates it yet) without writing anything. */
+   writes the marschner tier alone for it. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -158,15 +158,27 @@ static void check_rejects_nan_and_ranges_in_memory(void **state) {
     assert_non_null(strstr(err, "textures.shift: model \"marschner\" has no shift texture"));
 }
 
-static void generate_refuses_until_a_tier_exists(void **state) {
+/* The bundle holds the marschner tier alone: its shaders (validated by
+   glslang as ht_generate writes them) and its two lookup atlases. */
+static void generate_writes_the_marschner_tier_only(void **state) {
     (void)state;
     ht_material m;
     char err[512];
     assert_int_equal(parse("", "", &m, err, sizeof err), HT_OK);
     ht_generated g;
-    assert_int_equal(ht_generate(&(ht_generate_desc){ .material = &m }, &g, err, sizeof err), HT_ERR_UNSUPPORTED);
-    assert_non_null(strstr(err, "x.json: model: \"marschner\""));
-    assert_int_equal(g.file_count, 0);
+    assert_int_equal(ht_generate(&(ht_generate_desc){ .material = &m }, &g, err, sizeof err), HT_OK);
+    const char *want[] = { "marschner.vert", "marschner.frag", "marschner-es.vert", "marschner-es.frag",
+                           "marschner-prime.vert", "marschner-prime.frag", "marschner-m.png", "marschner-n.png" };
+    for (size_t i = 0; i < sizeof want / sizeof *want; i++) {
+        const ht_generated_file *f = ht_generated_find(&g, want[i]);
+        if (!f) fail_msg("no %s", want[i]);
+        assert_int_equal(f->tier, HT_TIER_MARSCHNER);
+    }
+    const ht_generated_file *lut = ht_generated_find(&g, "marschner-m.png");
+    assert_int_equal(lut->image.width, 2 * lut->image.height); /* two halves */
+    assert_null(ht_generated_find(&g, "full.frag"));
+    assert_non_null(strstr(g.manifest, "\"model\":\t\"marschner\""));
+    assert_non_null(strstr(g.manifest, "\"u_marschner_m\""));
     ht_generated_free(&g);
 }
 
@@ -176,7 +188,7 @@ int main(void) {
         cmocka_unit_test(absent_fields_take_the_defaults),
         cmocka_unit_test(every_bad_field_is_named),
         cmocka_unit_test(check_rejects_nan_and_ranges_in_memory),
-        cmocka_unit_test(generate_refuses_until_a_tier_exists),
+        cmocka_unit_test(generate_writes_the_marschner_tier_only),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
