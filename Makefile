@@ -138,7 +138,11 @@ demo: all
 	  echo "== $$scene: hairview --bundle out/$$scene-bundle --scene scenes/$$scene.json -o out/$$scene.png"; \
 	  $(BUILD)/hairview --bundle out/$$scene-bundle --scene scenes/$$scene.json -o out/$$scene.png || exit 1; \
 	done
-	@echo "demo: wrote out/furball.png and out/patches.png (bundles in out/furball-bundle, out/patches-bundle)"
+	@echo "== backlit: hairgen materials/brown-marschner.json --scene scenes/backlit.json -o out/backlit-bundle"
+	@$(HAIRGEN) materials/brown-marschner.json --scene scenes/backlit.json -o out/backlit-bundle
+	@echo "== backlit: hairview --bundle out/backlit-bundle --scene scenes/backlit.json -o out/backlit.png"
+	@$(BUILD)/hairview --bundle out/backlit-bundle --scene scenes/backlit.json -o out/backlit.png
+	@echo "demo: wrote out/furball.png, out/patches.png and out/backlit.png (the marschner tier lit from behind; bundles in out/*-bundle)"
 
 # ---- fuzzing (docs/robustness.md records the runs) ----
 FUZZ_BUILD   ?= build-fuzz
