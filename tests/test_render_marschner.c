@@ -32,15 +32,18 @@
 
 #define SIZE HT_PROBE_SIZE
 #define TOLERANCE 2 /* per channel, in 1/255: the target */
-/* Lit from behind the target is missed: measured 11-12/255 on llvmpipe at
-   bright TT pixels (fibre near 1, theta near the poles). The textures hold
-   8 bits: M's log encoding steps 1.5% of M per code, and the textures
-   read on the CPU are already 1% off there (the printed diagnosis); the
-   rest is the device's (a filtered 8-bit texel is rounded to 8 bits again
-   on llvmpipe, which exp() then stretches; not proven). The way to 2/255 is
-   16 bits per value: two channels read with GL_NEAREST and filtered in the
-   shader, or float textures. Pinned at the measured level so it cannot
-   grow unseen. */
+/* Lit from behind the target is missed. Measured: 11/255 on llvmpipe and
+   4/255 on softpipe for the brown and blond cells (bright TT, theta near
+   the poles), 12/255 on both for the wide lobes' cell 75. The textures hold
+   8 bits: M's log encoding steps 1.5% of M per code, and read on the CPU
+   they are 1% off at the brown/blond worst pixels (the printed diagnosis);
+   softpipe filters in float, llvmpipe apparently rounds the filtered
+   texel to 8 bits before exp() stretches it (the 4 -> 11 gap). Cell 75 is
+   the textures' own error near theta_r = 80 degrees (0.286 read on the
+   CPU, 0.383 from the oracle). The way to 2/255 is 16 bits per value (two
+   channels read with GL_NEAREST and filtered in the shader, or float
+   textures) and a finer N axis near the poles. Pinned at the measured
+   level so it cannot grow unseen. */
 #define BACKLIT_TOLERANCE 12
 
 static char work[64];

@@ -285,9 +285,20 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
     int mn = json_files("materials", materials, 16), sn = json_files("scenes", scenes, 8);
     assert_true(mn >= 4 && sn >= 2);
     int failures = 0;
-    for (int m = 0; m < mn; m++)
+    for (int m = 0; m < mn; m++) {
+        char material_path[1100], err[1024];
+        ht_material material;
+        snprintf(material_path, sizeof material_path, "materials/%s.json", materials[m]);
+        assert_int_equal(ht_material_load(material_path, &material, err, sizeof err), HT_OK);
+        if (material.shading.model == HT_MODEL_MARSCHNER) {
+            /* Its bundle holds the marschner tier alone (no Scheuermann fit
+               for lower tiers yet): nothing to compare; its pixels are held
+               to the oracle by test_render_marschner. */
+            printf("accuracy %-14s skipped: the marschner tier only, no lower tier to compare\n", materials[m]);
+            continue;
+        }
         for (int sc = 0; sc < sn; sc++) {
-            char path[600], cmd[4096], bundle[256], err[1024], png[256];
+            char path[600], cmd[4096], bundle[256], png[256];
             snprintf(path, sizeof path, "scenes/%s.json", scenes[sc]);
             cJSON *root = cJSON_Parse(ht_test_read_file(".", path));
             assert_non_null(root);
@@ -333,6 +344,7 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
             }
             ht_image_free(&full);
         }
+    }
     assert_int_equal(failures, 0);
 }
 
