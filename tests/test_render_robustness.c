@@ -951,7 +951,7 @@ static void test_hairview_fails_cleanly_on_bad_input(void **state) {
 
     /* The command line. */
     snprintf(args, sizeof args, "%s --scene '%s' --tier bogus", bundle_arg, scene);
-    expect_hairview_fails(args, png, 2, "hairview: --tier: ", "auto, full, vertex, fixed4, fixed or gl11");
+    expect_hairview_fails(args, png, 2, "hairview: --tier: ", "auto, marschner, full, vertex, fixed4, fixed or gl11");
     const char *frames[] = { "0", "-1", "ten", "100001" };
     for (int i = 0; i < 4; i++) {
         snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames %s", fx.bundle_dir, scene, frames[i]);
