@@ -353,7 +353,7 @@ static void test_unknown_tier_is_skipped_by_name(void **state) {
     assert_non_null(root);
     cJSON *tiers = cJSON_GetObjectItem(root, "tiers");
     cJSON *future = cJSON_Duplicate(cJSON_GetArrayItem(tiers, 0), true);
-    cJSON_ReplaceItemInObject(future, "name", cJSON_CreateString("marschner"));
+    cJSON_ReplaceItemInObject(future, "name", cJSON_CreateString("pathtraced"));
     assert_true(cJSON_InsertItemInArray(tiers, 0, future));
     char *text = cJSON_Print(root);
     ht_test_write_file(dir, "manifest.json", text);
@@ -362,7 +362,7 @@ static void test_unknown_tier_is_skipped_by_name(void **state) {
 
     ht_renderer *r = create((ht_renderer_desc){ 0 }, dir, HT_OK);
     assert_int_equal(ht_renderer_tier(r), HT_TIER_FULL);
-    logged_once("hairtier: skipped marschner: unknown to this runtime");
+    logged_once("hairtier: skipped pathtraced: unknown to this runtime");
     ht_renderer_destroy(r);
 }
 
