@@ -21,6 +21,8 @@
 #include "file_open.h"
 #include "hairgen_internal.h"
 #include "manifest.h"
+#include "marschner_fit.h"
+#include "strbuf.h"
 
 /* Hashed into input_hash and written to the manifest: a new generator
    invalidates caches keyed on the hash. Bump it with any change to what a
@@ -171,9 +173,33 @@ static const char *light_type_name(ht_light_type t) {
     return t == HT_LIGHT_POINT ? "point" : "directional";
 }
 
+/* The Scheuermann constants the lower tiers of a Marschner material draw,
+   and how far they are from the fibre (marschner_fit.h). */
+static cJSON *fit_entry(const ht_marschner_fit *fit) {
+    cJSON *o = cJSON_CreateObject();
+    const ht_shading *s = &fit->shading;
+    cJSON_AddStringToObject(o, "model", "scheuermann");
+    cJSON_AddStringToObject(o, "fitted_to", "marschner");
+    cJSON_AddNumberToObject(o, "samples", HT_MARSCHNER_FIT_SAMPLES);
+    cJSON_AddNumberToObject(o, "rms_error", fit->rms);
+    cJSON_AddNumberToObject(o, "max_error", fit->max_error);
+    cJSON *d = cJSON_AddObjectToObject(o, "diffuse");
+    cJSON_AddItemToObject(d, "color", cJSON_CreateDoubleArray(s->diffuse_color, 3));
+    cJSON_AddNumberToObject(d, "wrap", s->wrap);
+    const ht_lobe *lobes[2] = { &s->primary, &s->secondary };
+    const char *names[2] = { "primary", "secondary" };
+    for (int i = 0; i < 2; i++) {
+        cJSON *l = cJSON_AddObjectToObject(o, names[i]);
+        cJSON_AddItemToObject(l, "color", cJSON_CreateDoubleArray(lobes[i]->color, 3));
+        cJSON_AddNumberToObject(l, "exponent", lobes[i]->exponent);
+        cJSON_AddNumberToObject(l, "shift", lobes[i]->shift);
+    }
+    return o;
+}
+
 static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t hash,
                            const ht_image *albedo, const ht_image *detail,
-                           const ht_tier_output *tiers, int tier_count) {
+                           const ht_tier_output *tiers, int tier_count, const ht_marschner_fit *fit) {
     cJSON *root = cJSON_CreateObject();
     char hash_text[32];
     snprintf(hash_text, sizeof hash_text, "fnv1a64:%016llx", (unsigned long long)hash);
@@ -198,6 +224,7 @@ static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t h
         cJSON_AddItemToObject(textures, pt->name, texture_entry(file, img, 1, pt->contents));
     }
     cJSON_AddItemToObject(root, HT_MANIFEST_KEY_NOTES, string_array(plan->notes, plan->note_count));
+    if (fit) cJSON_AddItemToObject(root, "fit", fit_entry(fit));
     cJSON *tier_list = cJSON_AddArrayToObject(root, HT_MANIFEST_KEY_TIERS);
     for (int i = 0; i < tier_count; i++) cJSON_AddItemToArray(tier_list, tier_entry(&tiers[i]));
     char *text = cJSON_Print(root);
@@ -364,37 +391,59 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
 
     ht_plan plan;
     ht_plan_make(m, scene, &plan);
+    /* A Marschner material: its own tier from plan, every lower tier from
+       Scheuermann constants fitted to it (lower_plan); otherwise one plan. */
+    const bool physical = m->shading.model == HT_MODEL_MARSCHNER;
+    ht_marschner_fit fit = { 0 };
+    ht_plan lower_plan = plan;
+    if (physical) {
+        r = ht_marschner_fit_scheuermann(&m->shading, &fit);
+        if (r != HT_OK) return ht_fail(err, err_size, r, "%s: fitting Scheuermann constants: out of memory", file);
+        ht_material *fitted = malloc(sizeof *fitted);
+        if (!fitted) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", file);
+        *fitted = *m;
+        fitted->shading = fit.shading;
+        ht_plan_make(fitted, scene, &lower_plan);
+        free(fitted);
+    }
 
     /* Best first: the order the runtime walks. */
-    enum { EMITTERS = 5 };
+    enum { EMITTERS = 6 };
     ht_tier_output tiers[EMITTERS];
     memset(tiers, 0, sizeof tiers);
     ht_image albedo = { 0 }, detail = { 0 };
-    ht_result (*const scheuermann_emitters[EMITTERS])(const ht_plan *, ht_tier_output *, char *, size_t) = {
-        ht_emit_full, ht_emit_vertex, ht_emit_fixed4, ht_emit_fixed, ht_emit_gl11
+    ht_result (*const emitters[EMITTERS])(const ht_plan *, ht_tier_output *, char *, size_t) = {
+        ht_emit_marschner, ht_emit_full, ht_emit_vertex, ht_emit_fixed4, ht_emit_fixed, ht_emit_gl11
     };
-    /* A physical material has its own tier only: the lower tiers would need
-       Scheuermann constants fitted to it, which hairgen does not make yet. */
-    ht_result (*const marschner_emitters[EMITTERS])(const ht_plan *, ht_tier_output *, char *, size_t) = {
-        ht_emit_marschner, NULL, NULL, NULL, NULL
-    };
-    ht_result (*const *emitters)(const ht_plan *, ht_tier_output *, char *, size_t) =
-        m->shading.model == HT_MODEL_MARSCHNER ? marschner_emitters : scheuermann_emitters;
     r = ht_textures_pack(m, &plan, &albedo, &detail, err, err_size);
     if (r == HT_OK && plan.sparkle) plan.sparkle_mean = channel_mean(&detail, 1);
     if (r == HT_OK && plan.base) plan.albedo_max = rgb_max(&albedo);
+    if (physical) lower_plan.albedo_max = plan.albedo_max; /* same textures; no sparkle */
+    else lower_plan = plan;
     int tier_count = 0;
-    for (int i = 0; i < EMITTERS && emitters[i] && r == HT_OK; i++) {
-        r = emitters[i](&plan, &tiers[tier_count], err, err_size);
-        /* A tier the plan rules out (fixed4 under a point light) is left
-           out of the bundle; the runtime then never sees it. */
-        if (r == HT_ERR_UNSUPPORTED) r = HT_OK;
-        else if (r == HT_OK) tier_count++;
+    for (int i = 0; i < EMITTERS && r == HT_OK; i++) {
+        r = emitters[i](i == 0 ? &plan : &lower_plan, &tiers[tier_count], err, err_size);
+        /* A tier the plan rules out (marschner for a Scheuermann material,
+           fixed4 under a point light) is left out of the bundle; the
+           runtime then never sees it. */
+        if (r == HT_ERR_UNSUPPORTED) {
+            r = HT_OK;
+        } else if (r == HT_OK) {
+            if (physical && i > 0) {
+                char line[160];
+                snprintf(line, sizeof line, "the fibre: Scheuermann constants fitted to it, rms %.1f/255, max %.0f/255 "
+                         "over %d samples (manifest \"fit\")", fit.rms * 255, fit.max_error * 255,
+                         HT_MARSCHNER_FIT_SAMPLES);
+                ht_output_add_dropped(&tiers[tier_count], line);
+            }
+            tier_count++;
+        }
     }
 
     char *manifest = NULL;
     if (r == HT_OK) {
-        char *cj = manifest_text(&plan, m, g->input_hash, &albedo, &detail, tiers, tier_count);
+        char *cj = manifest_text(&plan, m, g->input_hash, &albedo, &detail, tiers, tier_count,
+                                 physical ? &fit : NULL);
         manifest = cj ? strdup(cj) : NULL;
         cJSON_free(cj);
         g->summary = summary_text(&plan, tiers, tier_count);

@@ -89,7 +89,7 @@ void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out) {
     if (!out->base) note(out, "base: not modelled: the material has no base texture (base = 1)");
     if (!out->alpha) note(out, "alpha: not modelled: the material has no alpha texture (alpha = 1)");
     if (marschner) {
-        note(out, "lower tiers: not generated: model marschner has only the marschner tier until a Scheuermann fit exists");
+        note(out, "lower tiers: Scheuermann constants fitted to the Marschner fibre (manifest \"fit\", with its error)");
     } else if (kajiya_kay) {
         note(out, "secondary: not modelled: kajiya-kay has a single highlight");
         note(out, "shift: not modelled: kajiya-kay does not shift the tangent");
