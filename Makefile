@@ -53,7 +53,7 @@ PROGRAMS  := $(patsubst examples/%.c,$(BUILD)/%,$(EXAMPLE_SRC))
 TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 # Tests that render and so run a second time on softpipe (GALLIUM_DRIVER=
 # softpipe), Mesa's second driver; every test runs on llvmpipe.
-SOFTPIPE_TESTS := test_render_app_state test_render_fixed test_render_fixed4 test_render_gl11 test_render_glsl_compile \
+SOFTPIPE_TESTS := test_render_app_state test_render_marschner test_render_fixed test_render_fixed4 test_render_gl11 test_render_glsl_compile \
                   test_render_passes test_render_probe test_render_robustness test_render_scenes
 $(foreach t,$(filter-out $(notdir $(TESTS)),$(SOFTPIPE_TESTS)),$(error SOFTPIPE_TESTS: no tests/$(t).c))
 # Render tests that run once more on llvmpipe through EGL (a pbuffer on
@@ -202,7 +202,11 @@ demo: all
 	  echo "== $$scene: hairview --bundle out/$$scene-bundle --scene scenes/$$scene.json -o out/$$scene.png"; \
 	  $(BUILD)/hairview --bundle out/$$scene-bundle --scene scenes/$$scene.json -o out/$$scene.png || exit 1; \
 	done
-	@echo "demo: wrote out/furball.png, out/patches.png and out/ratboy.png (bundles in out/SCENE-bundle)"
+		@echo "== backlit: hairgen materials/brown-marschner.json --scene scenes/backlit.json -o out/backlit-bundle"
+	@$(HAIRGEN) materials/brown-marschner.json --scene scenes/backlit.json -o out/backlit-bundle
+	@echo "== backlit: hairview --bundle out/backlit-bundle --scene scenes/backlit.json -o out/backlit.png"
+	@$(BUILD)/hairview --bundle out/backlit-bundle --scene scenes/backlit.json -o out/backlit.png
+		@echo "demo: wrote out/furball.png, out/patches.png, out/ratboy.png and out/backlit.png (the marschner tier lit from behind; bundles in out/SCENE-bundle)"
 
 # ---- install: make install PREFIX=/usr/local DESTDIR= ; make uninstall ----
 # The libraries, the public headers (hairtier.h; hairgen.h and the headers

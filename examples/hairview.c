@@ -1,7 +1,7 @@
 /* hairview — renders a scene with a hairgen bundle offscreen (OSMesa or
    EGL) and writes a PNG.
 
-   build/hairview --bundle DIR --scene SCENE.json [--tier auto|full|vertex|fixed4|fixed|gl11]
+   build/hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]
                   [--policy best|fastest|error:DB|frame:MS] [--strict] [--flat] [--frames N]
                   [--context osmesa|egl] [--egl-device N] -o OUT.png
 
@@ -49,7 +49,7 @@ static void log_line(void *user, const char *line) {
 
 static int usage(const char *why) {
     fprintf(stderr, "hairview: %s\nusage: hairview --bundle DIR --scene SCENE.json "
-                    "[--tier auto|full|vertex|fixed4|fixed|gl11] [--policy best|fastest|error:DB|frame:MS] [--strict] [--flat] [--frames N] "
+                    "[--tier auto|marschner|full|vertex|fixed4|fixed|gl11] [--policy best|fastest|error:DB|frame:MS] [--strict] [--flat] [--frames N] "
                     "[--context osmesa|egl] [--egl-device N] -o OUT.png\n", why);
     return 2;
 }
@@ -64,7 +64,7 @@ static int parse_args(int argc, char **argv, options *o) {
         else if (strcmp(a, "-o") == 0 && has_value) o->out = argv[++i];
         else if (strcmp(a, "--tier") == 0 && has_value) {
             o->tier = ht_tier_from_name(argv[++i]);
-            if (o->tier == HT_TIER_COUNT) return usage("--tier: expected auto, full, vertex, fixed4, fixed or gl11");
+            if (o->tier == HT_TIER_COUNT) return usage("--tier: expected auto, marschner, full, vertex, fixed4, fixed or gl11");
         } else if (strcmp(a, "--policy") == 0 && has_value) {
             o->policy = argv[++i];
             ht_policy p;

@@ -4,7 +4,9 @@
    build/tier_sheet --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl]
                     [--egl-device N] -o SHEET.png
 
-   Panels, left to right: full, vertex, fixed4, fixed, gl11. Top row: the tier's image
+   Panels, left to right: marschner (only when it runs: a Marschner
+   material's bundle), full, vertex, fixed4, fixed, gl11; errors are against
+   the first panel. Top row: the tier's image
    (forced tier, strict: no silent downgrade; a tier the device cannot run
    is a grey panel with the reason). Bottom row: per-pixel max channel
    difference from full's image through a ramp (black 0, red, yellow, white
@@ -31,13 +33,14 @@
 #include "offscreen.h"
 #include "compare/tier_render.h"
 
-#define TIERS 5          /* full, vertex, fixed4, fixed, gl11: the sheet's columns */
+#define TIERS 6          /* marschner, full, vertex, fixed4, fixed, gl11: the sheet's columns */
 #define GAP 4            /* pixels between panels */
 #define HEAT_FULL 64     /* difference (/255) the ramp reaches white at */
 #define FONT_SCALE 2
 #define MAX_FRAMES 1000
 
-static const ht_tier columns[TIERS] = { HT_TIER_FULL, HT_TIER_VERTEX, HT_TIER_FIXED4, HT_TIER_FIXED, HT_TIER_GL11 };
+static const ht_tier columns[TIERS] = { HT_TIER_MARSCHNER, HT_TIER_FULL, HT_TIER_VERTEX,
+                                        HT_TIER_FIXED4,    HT_TIER_FIXED, HT_TIER_GL11 };
 
 typedef struct options {
     const char *bundle, *scene, *out;
@@ -192,15 +195,18 @@ static void blit(ht_image *sheet, int x0, int y0, const ht_scene *s, const unsig
     }
 }
 
-static void compose(ht_image *sheet, const ht_scene *s, const panel *panels) {
+/* Columns first..TIERS-1 are shown: the marschner column only when that
+   tier ran (a Scheuermann bundle has none); errors are against column first. */
+static void compose(ht_image *sheet, const ht_scene *s, const panel *panels, int first) {
     static const unsigned char grey[3] = { 90, 90, 90 }, gap[3] = { 40, 40, 40 };
     fill_rect(sheet, 0, 0, sheet->width, sheet->height, gap);
     const int chars = (s->width - 4 * FONT_SCALE) / ADVANCE;
     const int lines = (s->height - 4 * FONT_SCALE) / LINE - 1;
-    const panel *full = &panels[0];
-    for (int t = 0; t < TIERS; t++) {
+    const panel *full = &panels[first];
+    const char *ref = ht_tier_name(columns[first]);
+    for (int t = first; t < TIERS; t++) {
         const panel *p = &panels[t];
-        const int x = t * (s->width + GAP), y = s->height + GAP, pad = 2 * FONT_SCALE;
+        const int x = (t - first) * (s->width + GAP), y = s->height + GAP, pad = 2 * FONT_SCALE;
         char text[700];
         if (p->frame.ran) {
             blit(sheet, x, 0, s, p->frame.rgba, NULL);
@@ -214,25 +220,28 @@ static void compose(ht_image *sheet, const ht_scene *s, const panel *panels) {
         }
         if (p->compared) {
             blit(sheet, x, y, s, p->frame.rgba, full->frame.rgba);
-            snprintf(text, sizeof text, "vs full: mean %.2f  max %d /255", p->mean_err, p->max_err);
+            snprintf(text, sizeof text, "vs %s: mean %.2f  max %d /255", ref, p->mean_err, p->max_err);
         } else {
             fill_rect(sheet, x, y, s->width, s->height, grey);
-            snprintf(text, sizeof text, "%s", p->frame.ran ? "no full image to compare with" : "no image");
+            if (p->frame.ran) snprintf(text, sizeof text, "no %s image to compare with", ref);
+            else snprintf(text, sizeof text, "no image");
         }
         draw_text(sheet, x + pad, y + pad, text, chars);
     }
 }
 
-static void print_table(const panel *panels) {
-    printf("panels left to right: full, vertex, fixed4, fixed, gl11; top: image, bottom: error vs full "
-           "(black 0, white >= %d/255)\n", HEAT_FULL);
-    printf("%-7s %9s %9s %7s\n", "tier", "frame_ms", "mean_err", "max_err");
-    for (int t = 0; t < TIERS; t++) {
+static void print_table(const panel *panels, int first) {
+    printf("panels left to right:");
+    for (int t = first; t < TIERS; t++) printf("%s %s", t == first ? "" : ",", ht_tier_name(columns[t]));
+    printf("; top: image, bottom: error vs %s (black 0, white >= %d/255)\n", ht_tier_name(columns[first]),
+           HEAT_FULL);
+    printf("%-9s %9s %9s %7s\n", "tier", "frame_ms", "mean_err", "max_err");
+    for (int t = first; t < TIERS; t++) {
         const panel *p = &panels[t];
         const char *name = ht_tier_name(columns[t]);
-        if (!p->frame.ran) printf("%-7s %9s %9s %7s  not run: %s\n", name, "-", "-", "-", p->frame.reason);
-        else if (!p->compared) printf("%-7s %9.3f %9s %7s\n", name, p->frame.frame_ms, "-", "-");
-        else printf("%-7s %9.3f %9.2f %7d\n", name, p->frame.frame_ms, p->mean_err, p->max_err);
+        if (!p->frame.ran) printf("%-9s %9s %9s %7s  not run: %s\n", name, "-", "-", "-", p->frame.reason);
+        else if (!p->compared) printf("%-9s %9.3f %9s %7s\n", name, p->frame.frame_ms, "-", "-");
+        else printf("%-9s %9.3f %9.2f %7d\n", name, p->frame.frame_ms, p->mean_err, p->max_err);
     }
 }
 
@@ -243,9 +252,10 @@ static void print_help(FILE *f) {
             "usage: tier_sheet --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl] [--egl-device N]\n"
             "                  -o SHEET.png\n"
             "Renders SCENE with every tier of the bundle (forced, strict) side by side.\n"
-            "Panels left to right: full, vertex, fixed4, fixed, gl11. Top row: the tier's image, or a grey\n"
+            "Panels left to right: marschner (when it runs), full, vertex, fixed4, fixed, gl11; errors are\n"
+            "against the first. Top row: the tier's image, or a grey\n"
             "panel with the reason it cannot run here. Bottom row: per-pixel max channel\n"
-            "difference from full (black 0, then red, yellow, white at %d/255 and above).\n"
+            "difference from it (black 0, then red, yellow, white at %d/255 and above).\n"
             "Prints tier, frame ms (median of N frames, default 5, each ended by glFinish),\n"
             "mean error (over pixels covered in either image) and max error, in /255.\n"
             "--context: how the GL context is made (default HAIRTIER_CONTEXT, else osmesa where\n"
@@ -316,27 +326,28 @@ int main(int argc, char **argv) {
     for (int t = 0; t < TIERS; t++) any = any || panels[t].frame.ran;
     if (!any) {
         /* A bad bundle fails every tier the same way: one line, no sheet. */
-        fprintf(stderr, "tier_sheet: no tier ran: %s\n", panels[0].frame.reason);
+        fprintf(stderr, "tier_sheet: no tier ran: %s\n", panels[1].frame.reason); /* full's */
         for (int t = 0; t < TIERS; t++) tier_frame_free(&panels[t].frame);
         tier_scene_free(&ts);
         return 1;
     }
-    if (panels[0].frame.ran)
-        for (int t = 0; t < TIERS; t++)
-            if (panels[t].frame.ran) compare(&scene, &panels[0], &panels[t]);
+    const int first = panels[0].frame.ran ? 0 : 1, shown = TIERS - first;
+    if (panels[first].frame.ran)
+        for (int t = first; t < TIERS; t++)
+            if (panels[t].frame.ran) compare(&scene, &panels[first], &panels[t]);
 
     ht_image sheet = { 0 };
     rc = 0;
-    if (ht_image_alloc(&sheet, TIERS * scene.width + (TIERS - 1) * GAP, 2 * scene.height + GAP, 3) != HT_OK) {
+    if (ht_image_alloc(&sheet, shown * scene.width + (shown - 1) * GAP, 2 * scene.height + GAP, 3) != HT_OK) {
         fprintf(stderr, "tier_sheet: %s: out of memory\n", o.out);
         rc = 1;
     } else {
-        compose(&sheet, &scene, panels);
+        compose(&sheet, &scene, panels, first);
         if (ht_image_write_png(o.out, &sheet, err, sizeof err) != HT_OK) {
             fprintf(stderr, "tier_sheet: %s\n", err);
             rc = 1;
         } else {
-            print_table(panels);
+            print_table(panels, first);
         }
     }
     ht_image_free(&sheet);

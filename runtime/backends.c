@@ -10,6 +10,7 @@
 #include "tier.h"
 
 static const ht_tier_backend *const backends[] = {
+    &ht_tier_glsl_marschner_backend,
     &ht_tier_glsl_full_backend,
     &ht_tier_vertex_backend,
     &ht_tier_fixed_backend,

@@ -29,7 +29,7 @@
                       .lights = lights, .light_count = 1 });
        5. ht_renderer_destroy(r); ht_mesh_free(&mesh);
 
-   Environment: HAIRTIER_TIER=full|vertex|fixed4|fixed|gl11 forces a tier
+   Environment: HAIRTIER_TIER=marschner|full|vertex|fixed4|fixed|gl11 forces a tier
    like ht_renderer_desc.tier does (the desc wins when both are set); gl11,
    the last resort, runs on any GL 1.1 context with one texture unit.
    HAIRTIER_POLICY=best|fastest|error:DB|frame:MS picks among the tiers the
@@ -88,6 +88,7 @@ const char *ht_result_string(ht_result r);
 
 typedef enum ht_tier {
     HT_TIER_AUTO = 0,  /* best the device runs */
+    HT_TIER_MARSCHNER, /* per-pixel GLSL, Marschner's fibre from lookup textures (model "marschner") */
     HT_TIER_FULL,      /* per-pixel GLSL */
     HT_TIER_VERTEX,    /* per-vertex GLSL lighting, fixed-function fragment */
     HT_TIER_FIXED,     /* GL 1.3 texture combiners + lookup textures, 2 units */

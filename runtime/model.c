@@ -166,7 +166,8 @@ void FN(ht_model_shade)(const ht_shading *m, const ht_surface *s,
     FN(normalize_or_zero)(n_raw, N);
     FN(normalize_or_zero)(v_raw, V);
 
-    const bool kajiya_kay = m->model == HT_MODEL_KAJIYA_KAY;
+    const bool marschner = m->model == HT_MODEL_MARSCHNER;
+    const bool kajiya_kay = m->model == HT_MODEL_KAJIYA_KAY || marschner;
     const real jitter = kajiya_kay ? 0 : (real)s->shift_tex - (real)0.5;
     real t1[3], t2[3];
     if (kajiya_kay) {
@@ -185,6 +186,17 @@ void FN(ht_model_shade)(const ht_shading *m, const ht_surface *s,
         FN(normalize_or_zero)(h_raw, H);
 
         real diffuse, s1, s2 = 0;
+        if (marschner) {
+            double td[3], ld[3], vd[3], fibre[3];
+            for (int i = 0; i < 3; i++) td[i] = T[i], ld[i] = L[i], vd[i] = V[i];
+            ht_marschner_fibre_vectors(&m->marschner, td, ld, vd, fibre);
+            diffuse = FN(has_direction)(T) && FN(has_direction)(L) ? FN(sine)(T, L) : 0;
+            for (int i = 0; i < 3; i++) {
+                real lit = diffuse * (real)m->diffuse_color[i] + (real)fibre[i];
+                sum[i] += lit * (real)s->base[i] * (real)lights[li].color[i] * (real)s->ao;
+            }
+            continue;
+        }
         if (kajiya_kay) {
             diffuse = FN(has_direction)(T) && FN(has_direction)(L) ? FN(sine)(T, L) : 0;
             s1 = FN(highlight_unit)(T, H, (real)m->primary.exponent);

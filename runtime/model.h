@@ -12,6 +12,9 @@
        rgb    = sum over lights of (diff + spec) * base * light.color * ao
 
    Kajiya-Kay: diff = sin(T,L) * diffuse.color, spec = primary.color * S(T, e1).
+   Marschner:  diff = sin(T,L) * diffuse.color, spec = ht_marschner_fibre_vectors
+               (T, L, V) (model_marschner.h; no shift texture, no sparkle), in
+               double in both precisions (the tier reads LUTs baked in double).
 
    Two precisions from one source (model.c is compiled twice over `real`):
    the _d functions are the truth, the _f ones mirror what a GPU does in
@@ -26,9 +29,12 @@
 
 #include <stdbool.h>
 
+#include "model_marschner.h"
+
 typedef enum ht_model_kind {
     HT_MODEL_SCHEUERMANN = 0, /* two shifted highlights, wrapped diffuse */
     HT_MODEL_KAJIYA_KAY = 1,  /* one unshifted highlight, sin(T,L) diffuse */
+    HT_MODEL_MARSCHNER = 2,   /* Marschner's fibre (model_marschner.h), sin(T,L) diffuse */
 } ht_model_kind;
 
 typedef struct ht_lobe {
@@ -44,6 +50,7 @@ typedef struct ht_shading {
     double wrap;          /* [0,1] */
     ht_lobe primary;
     ht_lobe secondary;    /* ignored by Kajiya-Kay */
+    ht_marschner marschner; /* Marschner only; primary, secondary and wrap are then unused */
 } ht_shading;
 
 /* What one shaded point sees. Vectors need not be unit length. */

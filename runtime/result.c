@@ -18,7 +18,7 @@ const char *ht_result_string(ht_result r) {
     return "unknown result";
 }
 
-static const char *const tier_names[HT_TIER_COUNT] = { "auto", "full", "vertex", "fixed", "fixed4", "gl11" };
+static const char *const tier_names[HT_TIER_COUNT] = { "auto", "marschner", "full", "vertex", "fixed", "fixed4", "gl11" };
 
 const char *ht_tier_name(ht_tier t) {
     return (t >= 0 && t < HT_TIER_COUNT) ? tier_names[t] : "unknown";

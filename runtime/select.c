@@ -235,7 +235,7 @@ ht_result ht_select_tier(const ht_select_desc *d, ht_selection *out, char *err, 
     } else if (d->env_tier && d->env_tier[0]) {
         ht_tier t = ht_tier_from_name(d->env_tier);
         if (t == HT_TIER_COUNT) {
-            snprintf(err, err_size, "HAIRTIER_TIER: \"%.40s\" is not auto, full, vertex, fixed4, fixed or gl11", d->env_tier);
+            snprintf(err, err_size, "HAIRTIER_TIER: \"%.40s\" is not auto, marschner, full, vertex, fixed4, fixed or gl11", d->env_tier);
             return HT_ERR_INVALID_ARGUMENT;
         }
         out->forced = t;

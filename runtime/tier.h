@@ -82,6 +82,9 @@ typedef struct ht_tier_backend {
 } ht_tier_backend;
 
 extern const ht_tier_backend ht_tier_glsl_full_backend;
+/* The marschner tier: the same backend (a program and the manifest's
+   samplers; its lookup textures are two of them). */
+extern const ht_tier_backend ht_tier_glsl_marschner_backend;
 
 /* The backend of a tier (backends.c); NULL for one this runtime lacks. */
 const ht_tier_backend *ht_tier_backend_find(ht_tier tier);

@@ -130,3 +130,15 @@ const ht_tier_backend ht_tier_glsl_full_backend = {
     .end_frame = end_frame,
     .destroy = destroy,
 };
+
+/* Nothing here depends on the shading: the marschner tier's program reads
+   its lookup textures through the manifest's samplers like any texture. */
+const ht_tier_backend ht_tier_glsl_marschner_backend = {
+    .tier = HT_TIER_MARSCHNER,
+    .generic_attributes = true,
+    .create = create,
+    .begin_frame = begin_frame,
+    .bind_pass = bind_pass,
+    .end_frame = end_frame,
+    .destroy = destroy,
+};

@@ -66,6 +66,9 @@ ht_result ht_emit_fixed(const ht_plan *plan, ht_tier_output *out, char *err, siz
    cannot do on the device (a point light among the two it lights): the
    generator then leaves the tier out of the bundle. */
 ht_result ht_emit_fixed4(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
+/* Model "marschner" only (HT_ERR_UNSUPPORTED otherwise): the fibre from
+   lookup textures baked by marschner_lut.c. */
+ht_result ht_emit_marschner(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
 /* The last resort: GL 1.1, one unit, the model per vertex on the CPU. */
 ht_result ht_emit_gl11(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
 

@@ -23,6 +23,8 @@
 #include "json_check.h"
 #include "hairgen_internal.h"
 #include "manifest.h"
+#include "marschner_fit.h"
+#include "strbuf.h"
 
 /* Hashed into input_hash and written to the manifest: a new generator
    invalidates caches keyed on the hash. Bump it with any change to what a
@@ -173,9 +175,33 @@ static const char *light_type_name(ht_light_type t) {
     return t == HT_LIGHT_POINT ? "point" : "directional";
 }
 
+/* The Scheuermann constants the lower tiers of a Marschner material draw,
+   and how far they are from the fibre (marschner_fit.h). */
+static cJSON *fit_entry(const ht_marschner_fit *fit) {
+    cJSON *o = cJSON_CreateObject();
+    const ht_shading *s = &fit->shading;
+    cJSON_AddStringToObject(o, "model", "scheuermann");
+    cJSON_AddStringToObject(o, "fitted_to", "marschner");
+    cJSON_AddNumberToObject(o, "samples", HT_MARSCHNER_FIT_SAMPLES);
+    cJSON_AddNumberToObject(o, "rms_error", fit->rms);
+    cJSON_AddNumberToObject(o, "max_error", fit->max_error);
+    cJSON *d = cJSON_AddObjectToObject(o, "diffuse");
+    cJSON_AddItemToObject(d, "color", cJSON_CreateDoubleArray(s->diffuse_color, 3));
+    cJSON_AddNumberToObject(d, "wrap", s->wrap);
+    const ht_lobe *lobes[2] = { &s->primary, &s->secondary };
+    const char *names[2] = { "primary", "secondary" };
+    for (int i = 0; i < 2; i++) {
+        cJSON *l = cJSON_AddObjectToObject(o, names[i]);
+        cJSON_AddItemToObject(l, "color", cJSON_CreateDoubleArray(lobes[i]->color, 3));
+        cJSON_AddNumberToObject(l, "exponent", lobes[i]->exponent);
+        cJSON_AddNumberToObject(l, "shift", lobes[i]->shift);
+    }
+    return o;
+}
+
 static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t hash,
                            const ht_image *albedo, const ht_image *detail,
-                           const ht_tier_output *tiers, int tier_count) {
+                           const ht_tier_output *tiers, int tier_count, const ht_marschner_fit *fit) {
     cJSON *root = cJSON_CreateObject();
     char hash_text[32];
     snprintf(hash_text, sizeof hash_text, "fnv1a64:%016llx", (unsigned long long)hash);
@@ -184,7 +210,9 @@ static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t h
     cJSON_AddStringToObject(root, HT_MANIFEST_KEY_INPUT_HASH, hash_text);
     cJSON_AddStringToObject(root, HT_MANIFEST_KEY_MATERIAL, m->name);
     cJSON_AddStringToObject(root, HT_MANIFEST_KEY_MODEL,
-                            plan->shading.model == HT_MODEL_KAJIYA_KAY ? "kajiya-kay" : "scheuermann");
+                            plan->shading.model == HT_MODEL_KAJIYA_KAY  ? "kajiya-kay"
+                            : plan->shading.model == HT_MODEL_MARSCHNER ? "marschner"
+                                                                        : "scheuermann");
     cJSON *lights = cJSON_AddArrayToObject(root, HT_MANIFEST_KEY_LIGHTS);
     for (int i = 0; i < plan->light_count; i++)
         cJSON_AddItemToArray(lights, cJSON_CreateString(light_type_name(plan->light_types[i])));
@@ -198,6 +226,7 @@ static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t h
         cJSON_AddItemToObject(textures, pt->name, texture_entry(file, img, 1, pt->contents));
     }
     cJSON_AddItemToObject(root, HT_MANIFEST_KEY_NOTES, string_array(plan->notes, plan->note_count));
+    if (fit) cJSON_AddItemToObject(root, "fit", fit_entry(fit));
     cJSON *tier_list = cJSON_AddArrayToObject(root, HT_MANIFEST_KEY_TIERS);
     for (int i = 0; i < tier_count; i++) cJSON_AddItemToArray(tier_list, tier_entry(&tiers[i]));
     char *text = cJSON_Print(root);
@@ -317,6 +346,10 @@ static ht_result hash_values(input_hash *h, const ht_material *m, const ht_scene
     hash_int(h, m->shading.model);
     hash_doubles(h, m->shading.diffuse_color, 3);
     hash_doubles(h, &m->shading.wrap, 1);
+    hash_doubles(h, m->shading.marschner.absorption, 3);
+    hash_doubles(h, &m->shading.marschner.shift_r, 1);
+    hash_doubles(h, &m->shading.marschner.width_r, 1);
+    hash_doubles(h, &m->shading.marschner.eta, 1);
     const ht_lobe *lobes[2] = { &m->shading.primary, &m->shading.secondary };
     for (int i = 0; i < 2; i++) {
         hash_doubles(h, lobes[i]->color, 3);
@@ -403,14 +436,29 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
 
     ht_plan plan;
     ht_plan_make(m, scene, &plan);
+    /* A Marschner material: its own tier from plan, every lower tier from
+       Scheuermann constants fitted to it (lower_plan); otherwise one plan. */
+    const bool physical = m->shading.model == HT_MODEL_MARSCHNER;
+    ht_marschner_fit fit = { 0 };
+    ht_plan lower_plan = plan;
+    if (physical) {
+        r = ht_marschner_fit_scheuermann(&m->shading, &fit);
+        if (r != HT_OK) return ht_fail(err, err_size, r, "%s: fitting Scheuermann constants: out of memory", file);
+        ht_material *fitted = malloc(sizeof *fitted);
+        if (!fitted) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", file);
+        *fitted = *m;
+        fitted->shading = fit.shading;
+        ht_plan_make(fitted, scene, &lower_plan);
+        free(fitted);
+    }
 
     /* Best first: the order the runtime walks. */
-    enum { EMITTERS = 5 };
+    enum { EMITTERS = 6 };
     ht_tier_output tiers[EMITTERS];
     memset(tiers, 0, sizeof tiers);
     ht_image albedo = { 0 }, detail = { 0 };
     ht_result (*const emitters[EMITTERS])(const ht_plan *, ht_tier_output *, char *, size_t) = {
-        ht_emit_full, ht_emit_vertex, ht_emit_fixed4, ht_emit_fixed, ht_emit_gl11
+        ht_emit_marschner, ht_emit_full, ht_emit_vertex, ht_emit_fixed4, ht_emit_fixed, ht_emit_gl11
     };
     /* glslang's tables are built on a second thread while the textures
        are made (once per process: later materials find them built). */
@@ -420,16 +468,18 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
     if (warming) pthread_join(warm_thread, NULL);
     if (r == HT_OK && plan.sparkle) plan.sparkle_mean = channel_mean(&detail, 1);
     if (r == HT_OK && plan.base) plan.albedo_max = rgb_max(&albedo);
-    /* The tiers are independent given the plan: each emitter on a thread
-       of its own, then kept in order. A tier the plan rules out (fixed4
-       under a point light) is left out of the bundle; the runtime then
-       never sees it. The first failure in tier order is the error, as
-       when they ran one after another. */
+    /* The tiers are independent given their plan: each emitter on a thread
+       of its own, then kept in order. A tier the plan rules out (marschner
+       for a Scheuermann material, fixed4 under a point light) is left out
+       of the bundle; the runtime then never sees it. The first failure in
+       tier order is the error, as when they ran one after another. */
+    if (physical) lower_plan.albedo_max = plan.albedo_max; /* same textures; no sparkle */
+    else lower_plan = plan;
     int tier_count = 0;
     if (r == HT_OK) {
         emit_job jobs[EMITTERS];
         for (int i = 0; i < EMITTERS; i++) {
-            jobs[i] = (emit_job){ .emit = emitters[i], .plan = &plan };
+            jobs[i] = (emit_job){ .emit = emitters[i], .plan = i == 0 ? &plan : &lower_plan };
             jobs[i].threaded = i > 0 && pthread_create(&jobs[i].thread, NULL, run_emitter, &jobs[i]) == 0;
         }
         run_emitter(&jobs[0]);
@@ -439,6 +489,13 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
         }
         for (int i = 0; i < EMITTERS; i++) {
             if (jobs[i].result == HT_OK && r == HT_OK) {
+                if (physical && i > 0) {
+                    char line[160];
+                    snprintf(line, sizeof line, "the fibre: Scheuermann constants fitted to it, rms %.1f/255, "
+                             "max %.0f/255 over %d samples (manifest \"fit\")", fit.rms * 255,
+                             fit.max_error * 255, HT_MARSCHNER_FIT_SAMPLES);
+                    ht_output_add_dropped(&jobs[i].out, line);
+                }
                 tiers[tier_count++] = jobs[i].out;
                 continue;
             }
@@ -452,7 +509,8 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
 
     char *manifest = NULL;
     if (r == HT_OK) {
-        char *cj = manifest_text(&plan, m, g->input_hash, &albedo, &detail, tiers, tier_count);
+        char *cj = manifest_text(&plan, m, g->input_hash, &albedo, &detail, tiers, tier_count,
+                                 physical ? &fit : NULL);
         manifest = cj ? strdup(cj) : NULL;
         cJSON_free(cj);
         g->summary = summary_text(&plan, tiers, tier_count);

@@ -11,6 +11,7 @@
 #include "errfmt.h"
 #include "hairgen.h"
 #include "json_check.h"
+#include "material_marschner.h"
 
 #define MATERIAL_FORMAT "hairtier-material/1"
 
@@ -63,15 +64,18 @@ static ht_result parse_lobe(const ht_jctx *c, const cJSON *root, const char *key
 }
 
 static ht_result parse_diffuse(const ht_jctx *c, const cJSON *root, bool wrap_allowed,
-                               ht_shading *out) {
+                               const char *model_name, ht_shading *out) {
     static const char *const keys[] = { "color", "wrap", NULL };
     const cJSON *obj;
     ht_result r = ht_json_object(c, root, "", "diffuse", true, &obj);
     if (r == HT_OK) r = ht_json_keys(c, obj, "diffuse", keys);
     if (r == HT_OK) r = ht_json_vec(c, obj, "diffuse", "color", NULL, 3, COLOR_RANGE, out->diffuse_color);
-    if (r == HT_OK && !wrap_allowed)
-        r = ht_json_forbid(c, obj, "diffuse", "wrap",
-                           "model \"kajiya-kay\" uses sin(T,L) diffuse, which has no wrap; remove \"wrap\"");
+    if (r == HT_OK && !wrap_allowed) {
+        char why[128];
+        snprintf(why, sizeof why, "model \"%s\" uses sin(T,L) diffuse, which has no wrap; remove \"wrap\"",
+                 model_name);
+        r = ht_json_forbid(c, obj, "diffuse", "wrap", why);
+    }
     if (r == HT_OK) r = ht_json_number(c, obj, "diffuse", "wrap", &(double){ 0.25 }, HT_JRANGE(0, 1), &out->wrap);
     return r;
 }
@@ -143,12 +147,20 @@ static ht_result parse_texture(const ht_jctx *c, const cJSON *obj, const char *p
 }
 
 static ht_result parse_textures(const ht_jctx *c, const cJSON *root, bool kajiya_kay,
-                                const char *file_name, ht_material *m) {
+                                bool marschner, const char *file_name, ht_material *m) {
     const cJSON *obj;
     ht_result r = ht_json_object(c, root, "", "textures", false, &obj);
     if (r != HT_OK || !obj) return r;
     r = ht_json_keys(c, obj, "textures", slot_names);
     if (r != HT_OK) return r;
+    if (marschner) {
+        r = ht_json_forbid(c, obj, "textures", "shift",
+                           "model \"marschner\" has no shifted tangent; its shifts are marschner.shift");
+        if (r == HT_OK)
+            r = ht_json_forbid(c, obj, "textures", "sparkle",
+                               "model \"marschner\" has no secondary highlight to sparkle; remove the sparkle texture");
+        if (r != HT_OK) return r;
+    }
     if (kajiya_kay) {
         r = ht_json_forbid(c, obj, "textures", "shift",
                            "model \"kajiya-kay\" has one unshifted highlight; remove the shift texture");
@@ -186,9 +198,9 @@ static ht_result parse_alpha(const ht_jctx *c, const cJSON *root, ht_material *m
 static ht_result parse_material(const ht_jctx *c, const cJSON *root, const char *file_name,
                                 ht_material *m) {
     static const char *const keys[] = {
-        "format", "name", "model", "diffuse", "primary", "secondary", "textures", "alpha", NULL,
+        "format", "name", "model", "diffuse", "primary", "secondary", "marschner", "textures", "alpha", NULL,
     };
-    static const char *const models[] = { "scheuermann", "kajiya-kay", NULL };
+    static const char *const models[] = { "scheuermann", "kajiya-kay", "marschner", NULL };
     /* The format first: a scene file handed over by mistake should say so,
        not complain about its keys. */
     ht_result r = ht_json_format(c, root, MATERIAL_FORMAT, "material file");
@@ -197,9 +209,25 @@ static ht_result parse_material(const ht_jctx *c, const cJSON *root, const char 
     int model = 0;
     if (r == HT_OK) r = ht_json_enum(c, root, "", "model", -1, models, &model);
     if (r != HT_OK) return r;
-    bool kk = model == 1;
-    m->shading.model = kk ? HT_MODEL_KAJIYA_KAY : HT_MODEL_SCHEUERMANN;
-    r = parse_diffuse(c, root, !kk, &m->shading);
+    bool kk = model == 1, marschner = model == 2;
+    m->shading.model = kk ? HT_MODEL_KAJIYA_KAY : (marschner ? HT_MODEL_MARSCHNER : HT_MODEL_SCHEUERMANN);
+    r = parse_diffuse(c, root, !kk && !marschner, models[model], &m->shading);
+    if (r == HT_OK && marschner) {
+        r = ht_json_forbid(c, root, "", "primary",
+                           "model \"marschner\" has no Scheuermann highlights; its lobes come from \"marschner\"");
+        if (r == HT_OK)
+            r = ht_json_forbid(c, root, "", "secondary",
+                               "model \"marschner\" has no Scheuermann highlights; its lobes come from \"marschner\"");
+        if (r == HT_OK) r = ht_material_parse_marschner(c, root, &m->shading.marschner);
+        if (r == HT_OK) r = parse_textures(c, root, false, true, file_name, m);
+        if (r == HT_OK) r = parse_alpha(c, root, m);
+        return r;
+    }
+    if (r == HT_OK) {
+        char why[96];
+        snprintf(why, sizeof why, "only model \"marschner\" takes it; this material is \"%s\"", models[model]);
+        r = ht_json_forbid(c, root, "", "marschner", why);
+    }
     if (r == HT_OK) r = parse_lobe(c, root, "primary", !kk, models[model], &m->shading.primary);
     if (r == HT_OK) {
         if (kk)
@@ -208,7 +236,7 @@ static ht_result parse_material(const ht_jctx *c, const cJSON *root, const char 
         else
             r = parse_lobe(c, root, "secondary", true, models[model], &m->shading.secondary);
     }
-    if (r == HT_OK) r = parse_textures(c, root, kk, file_name, m);
+    if (r == HT_OK) r = parse_textures(c, root, kk, false, file_name, m);
     if (r == HT_OK) r = parse_alpha(c, root, m);
     return r;
 }
@@ -305,13 +333,17 @@ ht_result ht_material_check(const ht_material *m, char *err, size_t err_size) {
                               (long)(p - m->name) + 1, ch >= 0x20 && ch < 0x7f ? ch : '?');
     }
     const ht_shading *s = &m->shading;
-    if (s->model != HT_MODEL_SCHEUERMANN && s->model != HT_MODEL_KAJIYA_KAY)
+    if (s->model != HT_MODEL_SCHEUERMANN && s->model != HT_MODEL_KAJIYA_KAY && s->model != HT_MODEL_MARSCHNER)
         return check_fail(&c, "model", "unknown model %d", (int)s->model);
-    bool kk = s->model == HT_MODEL_KAJIYA_KAY;
+    bool kk = s->model == HT_MODEL_KAJIYA_KAY, marschner = s->model == HT_MODEL_MARSCHNER;
     ht_result r = check_color(&c, "diffuse", s->diffuse_color);
-    if (r == HT_OK) r = check_number(&c, "diffuse.wrap", s->wrap, 0, 1);
-    if (r == HT_OK) r = check_lobe(&c, "primary", &s->primary);
-    if (r == HT_OK && !kk) r = check_lobe(&c, "secondary", &s->secondary);
+    if (marschner) {
+        if (r == HT_OK) r = ht_material_check_marschner(c.file, &s->marschner, err, err_size);
+    } else {
+        if (r == HT_OK) r = check_number(&c, "diffuse.wrap", s->wrap, 0, 1);
+        if (r == HT_OK) r = check_lobe(&c, "primary", &s->primary);
+        if (r == HT_OK && !kk) r = check_lobe(&c, "secondary", &s->secondary);
+    }
     if (r != HT_OK) return r;
     /* 0 means the default (0.98), as in ht_plan_make. */
     if (m->opaque_cutoff != 0.0 &&
@@ -323,8 +355,9 @@ ht_result ht_material_check(const ht_material *m, char *err, size_t err_size) {
         char field[64];
         snprintf(field, sizeof field, "textures.%s", slot_names[i]);
         if (t->origin == HT_TEXTURE_ABSENT) continue;
-        if (kk && (i == HT_TEX_SHIFT || i == HT_TEX_SPARKLE))
-            return check_fail(&c, field, "model \"kajiya-kay\" has no %s texture", slot_names[i]);
+        if ((kk || marschner) && (i == HT_TEX_SHIFT || i == HT_TEX_SPARKLE))
+            return check_fail(&c, field, "model \"%s\" has no %s texture", kk ? "kajiya-kay" : "marschner",
+                              slot_names[i]);
         if (t->origin == HT_TEXTURE_FILE) {
             if (!memchr(t->path, '\0', sizeof t->path) || !t->path[0])
                 return check_fail(&c, field, "file texture without a path");

@@ -62,7 +62,9 @@ static void plan_viewer(const ht_scene *scene, ht_plan *out) {
 void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out) {
     memset(out, 0, sizeof *out);
     out->shading = m->shading;
-    const bool kajiya_kay = m->shading.model == HT_MODEL_KAJIYA_KAY;
+    const bool marschner = m->shading.model == HT_MODEL_MARSCHNER;
+    /* Marschner, like Kajiya-Kay, has no shifted tangents, sparkle or secondary. */
+    const bool kajiya_kay = m->shading.model == HT_MODEL_KAJIYA_KAY || marschner;
 
     int lights = scene->light_count;
     if (lights < 0) lights = 0;
@@ -89,7 +91,9 @@ void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out) {
 
     if (!out->base) note(out, "base: not modelled: the material has no base texture (base = 1)");
     if (!out->alpha) note(out, "alpha: not modelled: the material has no alpha texture (alpha = 1)");
-    if (kajiya_kay) {
+    if (marschner) {
+        note(out, "lower tiers: Scheuermann constants fitted to the Marschner fibre (manifest \"fit\", with its error)");
+    } else if (kajiya_kay) {
         note(out, "secondary: not modelled: kajiya-kay has a single highlight");
         note(out, "shift: not modelled: kajiya-kay does not shift the tangent");
         note(out, "sparkle: not modelled: kajiya-kay has no secondary highlight to mask");

@@ -178,15 +178,21 @@ static void write_scene(const char *path, const char *light_type) {
 
 void ht_probe_make_bundle(const char *work, const ht_probe_material *p, const ht_light *light, char *dir,
                           size_t dir_size, ht_material *material) {
-    const char *type = ht_probe_light_type(light);
-    char material_path[256], scene[256], err[2048];
+    char material_path[256];
     snprintf(material_path, sizeof material_path, "%s/%s.json", work, p->name);
-    snprintf(scene, sizeof scene, "%s/scene-%s.json", work, type);
-    snprintf(dir, dir_size, "%s/probe-%s-%s", work, p->name, type);
     write_material(p, material_path);
+    ht_probe_make_bundle_from_file(work, p->name, material_path, light, dir, dir_size, material);
+}
+
+void ht_probe_make_bundle_from_file(const char *work, const char *name, const char *material_path,
+                                    const ht_light *light, char *dir, size_t dir_size, ht_material *material) {
+    const char *type = ht_probe_light_type(light);
+    char scene[256], err[2048];
+    snprintf(scene, sizeof scene, "%s/scene-%s.json", work, type);
+    snprintf(dir, dir_size, "%s/probe-%s-%s", work, name, type);
     write_scene(scene, type);
     if (ht_generate_bundle(material_path, scene, dir, NULL, err, sizeof err) != HT_OK)
-        fail_msg("hairgen %s: %s", p->name, err);
+        fail_msg("hairgen %s: %s", name, err);
     assert_int_equal(ht_material_load(material_path, material, err, sizeof err), HT_OK);
 }
 

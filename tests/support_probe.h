@@ -83,6 +83,10 @@ ht_frame_desc ht_probe_frame(const ht_light *light);
 void ht_probe_make_bundle(const char *work, const ht_probe_material *p, const ht_light *light, char *dir,
                           size_t dir_size, ht_material *material);
 
+/* The same for a material file of any model (a Marschner one). */
+void ht_probe_make_bundle_from_file(const char *work, const char *name, const char *material_path,
+                                    const ht_light *light, char *dir, size_t dir_size, ht_material *material);
+
 /* The first channel_count channels of img's texel at uv, in [0,1]. */
 void ht_probe_texel(const ht_image *img, const double uv[2], int channel_count, double out[]);
 /* The oracle's surface for cell c at world point P: base 1, shift texture

@@ -164,6 +164,32 @@ static void test_render_glsl_tiers_share_the_flat_pass_list(void **state) {
     ht_renderer_destroy(flat);
 }
 
+/* A Marschner material's bundle: its tier draws the same passes, same
+   state, same ranges as flat mode on the same mesh. */
+static void test_render_marschner_tier_shares_the_flat_pass_list(void **state) {
+    (void)state;
+    char dir[200], err[1024];
+    snprintf(dir, sizeof dir, "%s/marschner-bundle", fx.work);
+    assert_int_equal(ht_generate_bundle("materials/brown-marschner.json", "scenes/furball.json", dir, NULL, err,
+                                        sizeof err), HT_OK);
+    ht_renderer *flat = create((ht_renderer_desc){ .flat = true }, HT_OK);
+    ht_image img;
+    render(flat, &img);
+    ht_image_free(&img);
+    ht_renderer *r = create((ht_renderer_desc){ .bundle_dir = dir }, HT_OK);
+    assert_int_equal(ht_renderer_tier(r), HT_TIER_MARSCHNER);
+    render(r, &img);
+    check_trace(ht_renderer_trace(r), 0.98f);
+    if (!same_pass_list(ht_renderer_trace(flat), ht_renderer_trace(r)))
+        fail_msg("marschner tier's pass list differs from flat mode's");
+    ht_test_pixel_stats s = stats(&img);
+    assert_true(s.changed > 0);
+    assert_int_equal(s.magenta, 0);
+    ht_image_free(&img);
+    ht_renderer_destroy(r);
+    ht_renderer_destroy(flat);
+}
+
 static void test_render_depth_equal_pass_colours_opaque_texels(void **state) {
     (void)state;
     /* With a tiny cutoff almost every texel is opaque: the transparent passes
@@ -440,6 +466,7 @@ int main(int argc, char **argv) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_render_flat_mode_draws_the_four_passes_in_order),
         cmocka_unit_test(test_render_glsl_tiers_share_the_flat_pass_list),
+        cmocka_unit_test(test_render_marschner_tier_shares_the_flat_pass_list),
         cmocka_unit_test(test_render_depth_equal_pass_colours_opaque_texels),
         cmocka_unit_test(test_render_broken_full_shader_drops_to_vertex),
         cmocka_unit_test(test_render_missing_shader_file_drops_to_vertex),

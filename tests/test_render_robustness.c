@@ -353,7 +353,7 @@ static void test_unknown_tier_is_skipped_by_name(void **state) {
     assert_non_null(root);
     cJSON *tiers = cJSON_GetObjectItem(root, "tiers");
     cJSON *future = cJSON_Duplicate(cJSON_GetArrayItem(tiers, 0), true);
-    cJSON_ReplaceItemInObject(future, "name", cJSON_CreateString("marschner"));
+    cJSON_ReplaceItemInObject(future, "name", cJSON_CreateString("pathtraced"));
     assert_true(cJSON_InsertItemInArray(tiers, 0, future));
     char *text = cJSON_Print(root);
     ht_test_write_file(dir, "manifest.json", text);
@@ -362,7 +362,7 @@ static void test_unknown_tier_is_skipped_by_name(void **state) {
 
     ht_renderer *r = create((ht_renderer_desc){ 0 }, dir, HT_OK);
     assert_int_equal(ht_renderer_tier(r), HT_TIER_FULL);
-    logged_once("hairtier: skipped marschner: unknown to this runtime");
+    logged_once("hairtier: skipped pathtraced: unknown to this runtime");
     ht_renderer_destroy(r);
 }
 
@@ -951,7 +951,7 @@ static void test_hairview_fails_cleanly_on_bad_input(void **state) {
 
     /* The command line. */
     snprintf(args, sizeof args, "%s --scene '%s' --tier bogus", bundle_arg, scene);
-    expect_hairview_fails(args, png, 2, "hairview: --tier: ", "auto, full, vertex, fixed4, fixed or gl11");
+    expect_hairview_fails(args, png, 2, "hairview: --tier: ", "auto, marschner, full, vertex, fixed4, fixed or gl11");
     const char *frames[] = { "0", "-1", "ten", "100001" };
     for (int i = 0; i < 4; i++) {
         snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames %s", fx.bundle_dir, scene, frames[i]);

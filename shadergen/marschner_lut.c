@@ -1,0 +1,156 @@
+/* marschner_lut.c — bakes the Marschner tier's lookup textures from the
+   oracle and reads them back as the fragment shader does. */
+#include "marschner_lut.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int ht_marschner_lut_m_size(const ht_marschner *m) {
+    double narrowest = ht_marschner_width(m, HT_LOBE_TT);
+    double wanted = 6 * HT_PI / narrowest; /* texels over [-pi/2, pi/2] */
+    int size = 64;
+    while (size < wanted && size < 1024) size *= 2;
+    return size;
+}
+
+static double axis(int i, int size, double lo, double hi) { return lo + (hi - lo) * i / (size - 1); }
+
+static uint8_t encode(double v, double scale) {
+    double x = scale > 0 ? v / scale : 0;
+    x = x < 0 ? 0 : (x > 1 ? 1 : x);
+    return (uint8_t)lrint(x * 255);
+}
+
+/* M spans 0 to hundreds (the normalised lobes pile up at the poles, where
+   cos(theta_i) weighs them down), so it is stored in logarithms:
+   t = log(1 + M / k) / log(1 + scale / k), decoded k (exp(t log(1 + scale / k)) - 1):
+   a step of t is a fixed fraction of M + k. */
+static uint8_t encode_log(double v, double scale) {
+    if (!(scale > 0)) return 0;
+    return encode(log1p(fmax(v, 0) / HT_MARSCHNER_LUT_LOG_KNEE), log1p(scale / HT_MARSCHNER_LUT_LOG_KNEE));
+}
+
+double ht_marschner_lut_decode_log(double t, double scale) {
+    return HT_MARSCHNER_LUT_LOG_KNEE * expm1(t * log1p(scale / HT_MARSCHNER_LUT_LOG_KNEE));
+}
+
+/* Raw values at every texel, then scaled: per texel M_R, M_TT, M_TRT,
+   REST rgb for the M axes; N_TT rgb, N_R, N_TRT rgb for the N axes. */
+ht_result ht_marschner_lut_bake(const ht_marschner *m, ht_marschner_lut *out) {
+    memset(out, 0, sizeof *out);
+    const int ms = ht_marschner_lut_m_size(m), ns = HT_MARSCHNER_LUT_N_SIZE;
+    out->m_size = ms;
+    out->n_size = ns;
+    double *mv = malloc(sizeof *mv * (size_t)ms * ms * 6);
+    double *nv = malloc(sizeof *nv * (size_t)ns * ns * 7);
+    ht_result r = HT_ERR_OUT_OF_MEMORY;
+    if (!mv || !nv || ht_image_alloc(&out->m, 2 * ms, ms, 4) != HT_OK || ht_image_alloc(&out->n, 2 * ns, ns, 4) != HT_OK)
+        goto done;
+    /* N_rest depends on theta_r only: once per row. */
+    double *rest_n = malloc(sizeof *rest_n * (size_t)ms * 3);
+    if (!rest_n) goto done;
+    for (int y = 0; y < ms; y++) {
+        ht_marschner_azimuthal(m, HT_LOBE_REST, cos(axis(y, ms, -HT_PI / 2, HT_PI / 2)), 0, &rest_n[y * 3]);
+    }
+    for (int y = 0; y < ms; y++)
+        for (int x = 0; x < ms; x++) {
+            double si = sin(axis(x, ms, -HT_PI / 2, HT_PI / 2)), sr = sin(axis(y, ms, -HT_PI / 2, HT_PI / 2));
+            double *v = &mv[((size_t)y * ms + x) * 6];
+            for (int p = 0; p < 3; p++) v[p] = ht_marschner_longitudinal(m, (ht_marschner_lobe)p, si, sr);
+            double mr = ht_marschner_longitudinal(m, HT_LOBE_REST, si, sr);
+            for (int c = 0; c < 3; c++) v[3 + c] = mr * rest_n[y * 3 + c];
+        }
+    free(rest_n);
+    for (int y = 0; y < ns; y++)
+        for (int x = 0; x < ns; x++) {
+            double cos_r = cos(axis(x, ns, 0, HT_PI / 2)), phi = axis(y, ns, 0, HT_PI), n[3];
+            double *v = &nv[((size_t)y * ns + x) * 7];
+            ht_marschner_azimuthal(m, HT_LOBE_TT, cos_r, phi, v);
+            ht_marschner_azimuthal(m, HT_LOBE_R, cos_r, phi, n);
+            v[3] = n[0];
+            ht_marschner_azimuthal(m, HT_LOBE_TRT, cos_r, phi, &v[4]);
+        }
+    for (size_t i = 0; i < (size_t)ms * ms; i++) {
+        for (int p = 0; p < 3; p++) out->m_scale[p] = fmax(out->m_scale[p], mv[i * 6 + p]);
+        for (int c = 0; c < 3; c++) out->rest_scale = fmax(out->rest_scale, mv[i * 6 + 3 + c]);
+    }
+    for (size_t i = 0; i < (size_t)ns * ns; i++) {
+        for (int c = 0; c < 3; c++) {
+            out->n1_scale[0] = fmax(out->n1_scale[0], nv[i * 7 + c]);
+            out->n2_scale = fmax(out->n2_scale, nv[i * 7 + 4 + c]);
+        }
+        out->n1_scale[1] = fmax(out->n1_scale[1], nv[i * 7 + 3]);
+    }
+    for (int y = 0; y < ms; y++)
+        for (int x = 0; x < ms; x++) {
+            const double *v = &mv[((size_t)y * ms + x) * 6];
+            uint8_t *left = &out->m.pixels[((size_t)y * 2 * ms + x) * 4], *right = left + (size_t)ms * 4;
+            for (int p = 0; p < 3; p++) left[p] = encode_log(v[p], out->m_scale[p]);
+            for (int c = 0; c < 3; c++) right[c] = encode_log(v[3 + c], out->rest_scale);
+            left[3] = right[3] = 255;
+        }
+    for (int y = 0; y < ns; y++)
+        for (int x = 0; x < ns; x++) {
+            const double *v = &nv[((size_t)y * ns + x) * 7];
+            uint8_t *left = &out->n.pixels[((size_t)y * 2 * ns + x) * 4], *right = left + (size_t)ns * 4;
+            for (int c = 0; c < 3; c++) {
+                left[c] = encode(v[c], out->n1_scale[0]);
+                right[c] = encode(v[4 + c], out->n2_scale);
+            }
+            left[3] = encode(v[3], out->n1_scale[1]);
+            right[3] = 255;
+        }
+    r = HT_OK;
+done:
+    free(mv);
+    free(nv);
+    if (r != HT_OK) ht_marschner_lut_free(out);
+    return r;
+}
+
+void ht_marschner_lut_free(ht_marschner_lut *lut) {
+    ht_image_free(&lut->m);
+    ht_image_free(&lut->n);
+    memset(lut, 0, sizeof *lut);
+}
+
+/* GL_LINEAR in half `half` (0 left, 1 right) of a 2n x n RGBA8 atlas at
+   x in [lo_x, hi_x] and y in [lo_y, hi_y], clamped to the half's outer
+   texel centres as the shader clamps its coordinates; out in [0, 1]. */
+static void bilinear(const ht_image *img, int half, double x, double lo_x, double hi_x, double y, double lo_y,
+                     double hi_y, double out[4]) {
+    int n = img->height, w = img->width;
+    double fx = (x - lo_x) / (hi_x - lo_x) * (n - 1), fy = (y - lo_y) / (hi_y - lo_y) * (n - 1);
+    fx = fmin(fmax(fx, 0), n - 1);
+    fy = fmin(fmax(fy, 0), n - 1);
+    int x0 = (int)floor(fx), y0 = (int)floor(fy);
+    int x1 = x0 + 1 < n ? x0 + 1 : x0, y1 = y0 + 1 < n ? y0 + 1 : y0;
+    double ax = fx - x0, ay = fy - y0;
+    x0 += half * n;
+    x1 += half * n;
+    for (int c = 0; c < 4; c++) {
+        const uint8_t *p = img->pixels;
+        double top = p[((size_t)y0 * w + x0) * 4 + c] * (1 - ax) + p[((size_t)y0 * w + x1) * 4 + c] * ax;
+        double bottom = p[((size_t)y1 * w + x0) * 4 + c] * (1 - ax) + p[((size_t)y1 * w + x1) * 4 + c] * ax;
+        out[c] = (top * (1 - ay) + bottom * ay) / 255;
+    }
+}
+
+void ht_marschner_lut_fibre(const ht_marschner_lut *lut, double sin_i, double sin_r, double cos_phi,
+                            double rgb[3]) {
+    double m[4], rest[4], n1[4], n2[4];
+    const double h = HT_PI / 2;
+    double theta_i = asin(fmax(-1, fmin(1, sin_i))), theta_r = asin(fmax(-1, fmin(1, sin_r)));
+    double phi = acos(fmax(-1, fmin(1, cos_phi)));
+    bilinear(&lut->m, 0, theta_i, -h, h, theta_r, -h, h, m);
+    bilinear(&lut->m, 1, theta_i, -h, h, theta_r, -h, h, rest);
+    bilinear(&lut->n, 0, fabs(theta_r), 0, h, phi, 0, HT_PI, n1);
+    bilinear(&lut->n, 1, fabs(theta_r), 0, h, phi, 0, HT_PI, n2);
+    double mr = ht_marschner_lut_decode_log(m[0], lut->m_scale[0]);
+    double mtt = ht_marschner_lut_decode_log(m[1], lut->m_scale[1]);
+    double mtrt = ht_marschner_lut_decode_log(m[2], lut->m_scale[2]);
+    for (int c = 0; c < 3; c++)
+        rgb[c] = mr * lut->n1_scale[1] * n1[3] + mtt * lut->n1_scale[0] * n1[c] + mtrt * lut->n2_scale * n2[c] +
+                 ht_marschner_lut_decode_log(rest[c], lut->rest_scale);
+}

@@ -1,0 +1,63 @@
+/* marschner_lut.h — the Marschner tier's lookup textures, baked from the
+   oracle (runtime/model_marschner.h), and the lookup the tier's fragment
+   shader makes (the same arithmetic in C, so tests can hold the textures
+   to the oracle without a GL context).
+
+   The fibre splits into functions of two angles each:
+       fibre = sR  M_R(si, sr)  N_R(|sr|, cphi)
+             + sTT M_TT(si, sr) N_TT(|sr|, cphi)      (RGB)
+             + sTRT M_TRT(si, sr) N_TRT(|sr|, cphi)   (RGB)
+             + REST(si, sr)                            (RGB: M_rest N_rest, N_rest uniform in phi)
+   with si = sin(theta_i) = T.L, sr = sin(theta_r) = T.V, cphi = cos(phi).
+   Two RGBA8 atlases, each two square halves side by side, every channel
+   divided by its own scale (the largest value at a texel, so each uses
+   the full 0..255):
+       m (2 m_size x m_size, axes theta_i, theta_r in [-pi/2, pi/2]):
+           left M_R, M_TT, M_TRT, unused; right REST rgb, unused
+       n (2 n_size x n_size, axes |theta_r| in [0, pi/2], phi in [0, pi]):
+           left N_TT rgb, N_R; right N_TRT rgb, unused
+   The axes are angles, not the dot products: in sin(theta) the lobes
+   crowd at the poles and in cos(phi) the TT and R peaks crowd at the ends
+   (measured with the capped caustic: 10/255 at the 99th percentile in
+   dot products, 1.55 in angles), so the
+   shader pays an asin and an acos per light. Texel i of an axis [lo, hi]
+   holds x = lo + (hi - lo) i / (size - 1): the end points are texel
+   centres, read with GL_LINEAR; the shader keeps its coordinates between
+   a half's outer texel centres, so neither half bleeds into the other. */
+#ifndef HT_MARSCHNER_LUT_H
+#define HT_MARSCHNER_LUT_H
+
+#include "hairtier.h"
+#include "image.h"
+#include "model_marschner.h"
+
+typedef struct ht_marschner_lut {
+    ht_image m, n;
+    int m_size, n_size;
+    double m_scale[3];    /* M_R, M_TT, M_TRT */
+    double rest_scale;
+    double n1_scale[2];   /* N_TT (rgb), N_R (a) */
+    double n2_scale;      /* N_TRT */
+} ht_marschner_lut;
+
+/* The M axes' resolution from the narrowest lobe (beta_TT = beta_R / 2):
+   at least 6 texels across it, a power of two in [64, 1024]. */
+int ht_marschner_lut_m_size(const ht_marschner *m);
+/* M and REST are stored in logarithms (marschner_lut.c): the knee k of
+   t = log(1 + M / k) / log(1 + scale / k). */
+#define HT_MARSCHNER_LUT_LOG_KNEE 0.05
+double ht_marschner_lut_decode_log(double t, double scale);
+
+/* The N axes' resolution (N does not depend on beta). */
+#define HT_MARSCHNER_LUT_N_SIZE 256
+
+/* Bakes every texture; *out is zeroed on failure. */
+ht_result ht_marschner_lut_bake(const ht_marschner *m, ht_marschner_lut *out);
+void ht_marschner_lut_free(ht_marschner_lut *lut);
+
+/* What the fragment shader computes from the textures: bilinear reads at
+   the three dot products, the decode, the sum. */
+void ht_marschner_lut_fibre(const ht_marschner_lut *lut, double sin_i, double sin_r, double cos_phi,
+                            double rgb[3]);
+
+#endif
