@@ -186,7 +186,9 @@ static int build(const options *o, const char *tmp, const tier_scene *ts, report
         if (!rep->driver[0]) snprintf(rep->driver, sizeof rep->driver, "%s", frames[t].driver);
         if (!p->ran) continue;
         any = true;
-        if (tier == HT_TIER_FULL) full = t;
+        /* The reference: marschner when it runs (a Marschner material's
+           lower tiers draw constants fitted to it), else full. */
+        if (tier == HT_TIER_MARSCHNER || (tier == HT_TIER_FULL && full < 0)) full = t;
         char path[4300];
         snprintf(p->image, sizeof p->image, "%s.png", p->name);
         snprintf(path, sizeof path, "%s/%s", tmp, p->image);

@@ -226,7 +226,10 @@ ht_result ht_measure_bundle(const char *dir, const ht_scene *scene, const char *
     int count = r == HT_OK ? bundle->tier_count : 0, full = -1;
     for (int i = 0; i < count; i++) {
         runs[i].entry = &bundle->tiers[i];
-        if (bundle->tiers[i].tier == HT_TIER_FULL) full = i;
+        /* The reference: a Marschner material's marschner tier (its lower
+           tiers draw constants fitted to it), else full. */
+        if (bundle->tiers[i].tier == HT_TIER_MARSCHNER || (bundle->tiers[i].tier == HT_TIER_FULL && full < 0))
+            full = i;
     }
     if (r == HT_OK && full < 0)
         r = ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: %s/%s: tiers: no full tier to measure against",
