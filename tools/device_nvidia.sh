@@ -82,10 +82,10 @@ prepare() {
 
 # render CONTEXT SCENE TIER|auto|PROFILE OUT.png FRAMES: hairview, its stdout and stderr to ours.
 render() {
-    what=$3
+    rwhat=$3
     set -- --context "$1" --bundle "$DEV/bundles/$2" --scene "scenes/$2.json" --frames "$5" -o "$4"
-    case " $PROFILES " in *" $what "*) HAIRTIER_DEVICE_PROFILE=$what "$HAIRVIEW" "$@"; return ;; esac
-    if [ "$what" = auto ]; then "$HAIRVIEW" "$@"; else "$HAIRVIEW" "$@" --tier "$what" --strict; fi
+    case " $PROFILES " in *" $rwhat "*) HAIRTIER_DEVICE_PROFILE=$rwhat "$HAIRVIEW" "$@"; return ;; esac
+    if [ "$rwhat" = auto ]; then "$HAIRVIEW" "$@"; else "$HAIRVIEW" "$@" --tier "$rwhat" --strict; fi
 }
 
 # The value of KEY=VALUE in a text (hairview's and png_metrics's lines).
