@@ -64,6 +64,8 @@ static int usage(const char *why) {
 static int parse_args(int argc, char **argv, options *o) {
     *o = (options){ .frames = 5, .egl_device = -1 };
     const char *out = NULL;
+    const char *why = NULL;
+    int context_option = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         bool has_value = i + 1 < argc;
@@ -78,13 +80,8 @@ static int parse_args(int argc, char **argv, options *o) {
             long n = strtol(argv[++i], &end, 10);
             if (*end || n < 1 || n > MAX_FRAMES) return usage("--frames: expected an integer in 1..1000");
             o->frames = (int)n;
-        } else if (strcmp(a, "--context") == 0 && has_value) {
-            if (!offscreen_kind_parse(argv[++i], &o->context)) return usage("--context: expected osmesa or egl");
-        } else if (strcmp(a, "--egl-device") == 0 && has_value) {
-            char *end;
-            long n = strtol(argv[++i], &end, 10);
-            if (*end || end == argv[i] || n < 0 || n > 255) return usage("--egl-device: expected an integer in 0..255");
-            o->egl_device = (int)n;
+        } else if ((context_option = offscreen_option(argc, argv, &i, &o->context, &o->egl_device, &why)) != 0) {
+            if (context_option < 0) return usage(why);
         } else {
             char why[300];
             snprintf(why, sizeof why, "%s: unknown option or missing value", a);
@@ -94,8 +91,7 @@ static int parse_args(int argc, char **argv, options *o) {
     if (!o->bundle) return usage("--bundle: required");
     if (!o->scene) return usage("--scene: required");
     if (!out) return usage("-o: required");
-    if (o->egl_device >= 0 && o->context == OFFSCREEN_OSMESA) return usage("--egl-device: needs --context egl");
-    if (o->egl_device >= 0) o->context = OFFSCREEN_EGL;
+    if (!offscreen_options_check(&o->context, o->egl_device, &why)) return usage(why);
     size_t len = strlen(out);
     while (len > 1 && out[len - 1] == '/') len--;
     if (len == 0 || len >= sizeof o->out || (len == 1 && out[0] == '/')) return usage("-o: not a usable directory");

@@ -56,6 +56,8 @@ static int usage(const char *why) {
 
 static int parse_args(int argc, char **argv, options *o) {
     *o = (options){ .tier = HT_TIER_AUTO, .frames = 10, .egl_device = -1 };
+    const char *why = NULL;
+    int context_option = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         bool has_value = i + 1 < argc;
@@ -78,13 +80,8 @@ static int parse_args(int argc, char **argv, options *o) {
             long n = strtol(argv[++i], &end, 10);
             if (*end || n < 1 || n > 100000) return usage("--frames: expected an integer in 1..100000");
             o->frames = (int)n;
-        } else if (strcmp(a, "--context") == 0 && has_value) {
-            if (!offscreen_kind_parse(argv[++i], &o->context)) return usage("--context: expected osmesa or egl");
-        } else if (strcmp(a, "--egl-device") == 0 && has_value) {
-            char *end;
-            long n = strtol(argv[++i], &end, 10);
-            if (*end || end == argv[i] || n < 0 || n > 255) return usage("--egl-device: expected an integer in 0..255");
-            o->egl_device = (int)n;
+        } else if ((context_option = offscreen_option(argc, argv, &i, &o->context, &o->egl_device, &why)) != 0) {
+            if (context_option < 0) return usage(why);
         } else if (strcmp(a, "--strict") == 0) o->strict = true;
         else if (strcmp(a, "--flat") == 0) o->flat = true;
         else {
@@ -96,8 +93,7 @@ static int parse_args(int argc, char **argv, options *o) {
     if (!o->scene) return usage("--scene: required");
     if (!o->out) return usage("-o: required");
     if (!o->bundle && !o->flat) return usage("--bundle: required (unless --flat)");
-    if (o->egl_device >= 0 && o->context == OFFSCREEN_OSMESA) return usage("--egl-device: needs --context egl");
-    if (o->egl_device >= 0) o->context = OFFSCREEN_EGL;
+    if (!offscreen_options_check(&o->context, o->egl_device, &why)) return usage(why);
     return 0;
 }
 

@@ -18,6 +18,40 @@ bool offscreen_kind_parse(const char *text, offscreen_kind *out) {
     return true;
 }
 
+int offscreen_option(int argc, char **argv, int *i, offscreen_kind *kind, int *egl_device, const char **why) {
+    const char *a = argv[*i];
+    const bool context = strcmp(a, "--context") == 0, device = strcmp(a, "--egl-device") == 0;
+    if (!context && !device) return 0;
+    if (*i + 1 >= argc) {
+        *why = context ? "--context: missing value" : "--egl-device: missing value";
+        return -1;
+    }
+    const char *value = argv[++*i];
+    if (context) {
+        if (offscreen_kind_parse(value, kind)) return 1;
+        *why = "--context: expected osmesa or egl";
+        return -1;
+    }
+    char *end;
+    long n = strtol(value, &end, 10);
+    if (*end || end == value || n < 0 || n > 255) {
+        *why = "--egl-device: expected an integer in 0..255";
+        return -1;
+    }
+    *egl_device = (int)n;
+    return 1;
+}
+
+bool offscreen_options_check(offscreen_kind *kind, int egl_device, const char **why) {
+    if (egl_device < 0) return true;
+    if (*kind == OFFSCREEN_OSMESA) {
+        *why = "--egl-device: needs --context egl";
+        return false;
+    }
+    *kind = OFFSCREEN_EGL;
+    return true;
+}
+
 const char *offscreen_kind_name(offscreen_kind kind) {
     return kind == OFFSCREEN_OSMESA ? "osmesa" : kind == OFFSCREEN_EGL ? "egl" : "auto";
 }

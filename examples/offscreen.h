@@ -78,6 +78,15 @@ typedef struct offscreen {
 bool offscreen_kind_parse(const char *text, offscreen_kind *out);
 const char *offscreen_kind_name(offscreen_kind kind);
 
+/* The two options every program takes, `--context osmesa|egl` and
+   `--egl-device N` (0..255): 1 when argv[*i] is one of them (its value
+   taken, *i advanced past it), 0 when it is neither, -1 with *why set when
+   its value is missing or bad. */
+int offscreen_option(int argc, char **argv, int *i, offscreen_kind *kind, int *egl_device, const char **why);
+/* After the options: --egl-device implies egl (true), and is refused with
+   --context osmesa (false, *why set). egl_device < 0: not given. */
+bool offscreen_options_check(offscreen_kind *kind, int egl_device, const char **why);
+
 /* A current context with the viewport covering it; NULL with one line in
    err ("egl: no display: ...", "osmesa: libOSMesa.so.8 not found: ...",
    "HAIRTIER_CONTEXT: \"x\" is not osmesa or egl") when it cannot be made. */

@@ -59,6 +59,21 @@ char *ht_test_read_file(const char *dir, const char *name) {
     return text;
 }
 
+char *ht_test_read_all(const char *path, size_t *size) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *buf = n >= 0 ? malloc((size_t)n + 1) : NULL;
+    assert_non_null(buf);
+    size_t got = fread(buf, 1, (size_t)n, f);
+    fclose(f);
+    buf[got] = '\0';
+    if (size) *size = got;
+    return buf;
+}
+
 void ht_test_copy_dir(const char *from, const char *to) {
     char cmd[8192 + 64];
     snprintf(cmd, sizeof cmd, "rm -rf %s && cp -r %s %s", to, from, to);

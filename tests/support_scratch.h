@@ -24,6 +24,9 @@ int ht_test_scratch_remove(const char *dir);
 void ht_test_write_file(const char *dir, const char *name, const char *text);
 /* DIR/NAME, at most 64 KiB, in a buffer the next call reuses. */
 char *ht_test_read_file(const char *dir, const char *name);
+/* The whole file at path, malloc'd and NUL-terminated (free()); its size
+   in *size when size is not NULL; NULL when it cannot be opened. */
+char *ht_test_read_all(const char *path, size_t *size);
 /* to replaced by a copy of the directory from. */
 void ht_test_copy_dir(const char *from, const char *to);
 

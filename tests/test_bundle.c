@@ -31,20 +31,6 @@ static int remove_work_dir(void **state) {
     return ht_test_scratch_remove(work);
 }
 
-static char *read_all(const char *path, size_t *size) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    size_t got = fread(buf, 1, (size_t)n, f);
-    fclose(f);
-    buf[got] = '\0';
-    if (size) *size = got;
-    return buf;
-}
-
 static bool exists(const char *path) {
     struct stat st;
     return stat(path, &st) == 0;
@@ -60,7 +46,7 @@ static void write_text(const char *path, const char *text) {
 static cJSON *load_manifest(const char *dir) {
     char path[512];
     snprintf(path, sizeof path, "%s/manifest.json", dir);
-    char *text = read_all(path, NULL);
+    char *text = ht_test_read_all(path, NULL);
     assert_non_null(text);
     cJSON *m = cJSON_Parse(text);
     free(text);
@@ -93,7 +79,7 @@ static void test_bundle_lists_every_tier_best_first_with_existing_files(void **s
             char path[512];
             snprintf(path, sizeof path, "%s/%s", dir, file->valuestring);
             size_t size = 0;
-            char *text = read_all(path, &size);
+            char *text = ht_test_read_all(path, &size);
             assert_non_null(text);
             const char *dot = strrchr(file->valuestring, '.');
             if (strcmp(dot, ".vert") == 0 || strcmp(dot, ".frag") == 0)
@@ -122,7 +108,7 @@ static void assert_same_tree(const char *a, const char *b) {
         snprintf(pa, sizeof pa, "%s/%s", a, e->d_name);
         snprintf(pb, sizeof pb, "%s/%s", b, e->d_name);
         size_t na = 0, nb = 0;
-        char *ta = read_all(pa, &na), *tb = read_all(pb, &nb);
+        char *ta = ht_test_read_all(pa, &na), *tb = ht_test_read_all(pb, &nb);
         assert_non_null(tb);
         assert_int_equal(na, nb);
         assert_memory_equal(ta, tb, na);
@@ -180,10 +166,10 @@ static void test_bundle_failure_keeps_the_previous_bundle(void **state) {
     snprintf(manifest, sizeof manifest, "%s/manifest.json", dir);
     generate("materials/blond.json", NULL, dir);
     size_t before_size = 0, after_size = 0;
-    char *before = read_all(manifest, &before_size);
+    char *before = ht_test_read_all(manifest, &before_size);
     write_text(material, "{ \"format\": \"hairtier-material/1\", \"name\": \"m\", ");
     assert_int_not_equal(ht_generate_bundle(material, NULL, dir, NULL, err, sizeof err), HT_OK);
-    char *after = read_all(manifest, &after_size);
+    char *after = ht_test_read_all(manifest, &after_size);
     assert_non_null(after);
     assert_int_equal(before_size, after_size);
     assert_memory_equal(before, after, before_size);
@@ -293,7 +279,7 @@ static void test_hairgen_cli_reports_errors_with_exit_codes(void **state) {
     snprintf(args, sizeof args, "no-such-material.json -o %s/cli-missing", work);
     assert_int_equal(run_hairgen(args), 1);
     snprintf(path, sizeof path, "%s/stderr.txt", work);
-    char *text = read_all(path, NULL);
+    char *text = ht_test_read_all(path, NULL);
     assert_non_null(strstr(text, "no-such-material.json"));
     assert_non_null(strchr(text, '\n'));
     assert_ptr_equal(strchr(text, '\n'), text + strlen(text) - 1); /* one line */
@@ -318,7 +304,7 @@ static void expect_hairgen_refuses(const char *material, const char *field, cons
     snprintf(args, sizeof args, "%s -o %s", material, dir);
     assert_int_equal(run_hairgen(args), 1);
     snprintf(path, sizeof path, "%s/stderr.txt", work);
-    char *text = read_all(path, NULL);
+    char *text = ht_test_read_all(path, NULL);
     assert_non_null(text);
     char want[600];
     snprintf(want, sizeof want, "hairgen: %s: %s: ", material, field);

@@ -43,20 +43,6 @@ static int run_hairgen(const char *args) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-static char *read_text(const char *path) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    assert_non_null(buf);
-    assert_int_equal(fread(buf, 1, (size_t)n, f), (size_t)n);
-    buf[n] = '\0';
-    fclose(f);
-    return buf;
-}
-
 static bool exists(const char *path) {
     struct stat st;
     return stat(path, &st) == 0;
@@ -77,7 +63,7 @@ static int count_temporaries(void) {
 static void assert_one_line_error(const char *what) {
     char path[128];
     snprintf(path, sizeof path, "%s/stderr.txt", work);
-    char *text = read_text(path);
+    char *text = ht_test_read_all(path, NULL);
     assert_non_null(text);
     if (!strstr(text, what)) fail_msg("no \"%s\" in: %s", what, text);
     assert_ptr_equal(strchr(text, '\n'), text + strlen(text) - 1);
@@ -90,7 +76,7 @@ static void test_header_instead_of_a_directory_holds_every_file_under_one_entry(
     snprintf(header, sizeof header, "%s/kk.h", work);
     snprintf(args, sizeof args, "materials/kajiya-kay.json --emit-header %s", header);
     assert_int_equal(run_hairgen(args), 0);
-    char *text = read_text(header);
+    char *text = ht_test_read_all(header, NULL);
     assert_non_null(text);
     assert_non_null(strstr(text, "static const ht_bundle_memory kajiya_kay_bundle = { \"kajiya_kay_bundle\", "
                                  "kajiya_kay_bundle_files, "));
@@ -118,11 +104,11 @@ static void test_header_instead_of_a_directory_holds_every_file_under_one_entry(
     free(text);
     /* The named symbol, and the summary names the header. */
     snprintf(header, sizeof header, "%s/kk2.h", work);
-    text = read_text(header);
+    text = ht_test_read_all(header, NULL);
     assert_non_null(strstr(text, "static const ht_bundle_memory kk = { \"kk\", kk_files, "));
     free(text);
     snprintf(header, sizeof header, "%s/stdout.txt", work);
-    text = read_text(header);
+    text = ht_test_read_all(header, NULL);
     assert_non_null(strstr(text, "kk2.h"));
     free(text);
     assert_int_equal(count_temporaries(), 0);
@@ -158,12 +144,12 @@ static void test_bad_symbol_or_material_writes_nothing_and_keeps_the_old_header(
 
     snprintf(args, sizeof args, "materials/dark-brown.json --emit-header %s", header);
     assert_int_equal(run_hairgen(args), 0);
-    char *before = read_text(header);
+    char *before = ht_test_read_all(header, NULL);
     assert_non_null(before);
     snprintf(args, sizeof args, "no-such-material.json --emit-header %s", header);
     assert_int_equal(run_hairgen(args), 1);
     assert_one_line_error("no-such-material.json");
-    char *after = read_text(header);
+    char *after = ht_test_read_all(header, NULL);
     assert_string_equal(before, after);
     free(before);
     free(after);

@@ -52,24 +52,10 @@ static int run_hairgen(const char *args) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-static char *read_all(const char *path, size_t *size) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    size_t got = fread(buf, 1, (size_t)n, f);
-    fclose(f);
-    buf[got] = '\0';
-    if (size) *size = got;
-    return buf;
-}
-
 static char *scratch_text(const char *name) {
     char path[512];
     snprintf(path, sizeof path, "%s/%s", work, name);
-    char *text = read_all(path, NULL);
+    char *text = ht_test_read_all(path, NULL);
     if (!text) fail_msg("%s: cannot read", path);
     return text;
 }
@@ -90,7 +76,7 @@ static int count_lines(const char *text, const char *containing) {
 static void copy_material(const char *shipped, const char *name) {
     char from[PATH_MAX + 128];
     snprintf(from, sizeof from, "%s/materials/%s.json", repo, shipped);
-    char *text = read_all(from, NULL);
+    char *text = ht_test_read_all(from, NULL);
     assert_non_null(text);
     ht_test_write_file(work, name, text);
     free(text);
@@ -99,7 +85,7 @@ static void copy_material(const char *shipped, const char *name) {
 static void copy_scene(const char *shipped, const char *name) {
     char from[PATH_MAX + 128];
     snprintf(from, sizeof from, "%s/scenes/%s.json", repo, shipped);
-    char *text = read_all(from, NULL);
+    char *text = ht_test_read_all(from, NULL);
     assert_non_null(text);
     ht_test_write_file(work, name, text);
     free(text);
@@ -170,7 +156,7 @@ static void assert_same_bundle(const char *a, const char *b) {
         snprintf(pa, sizeof pa, "%s/%s/%s", work, a, e->d_name);
         snprintf(pb, sizeof pb, "%s/%s/%s", work, b, e->d_name);
         size_t na, nb;
-        char *ta = read_all(pa, &na), *tb = read_all(pb, &nb);
+        char *ta = ht_test_read_all(pa, &na), *tb = ht_test_read_all(pb, &nb);
         if (!ta || !tb || na != nb || memcmp(ta, tb, na) != 0) fail_msg("%s and %s differ", pa, pb);
         free(ta);
         free(tb);
@@ -266,7 +252,7 @@ static void test_unchanged_inputs_are_skipped_and_force_regenerates(void **state
     blond = manifest_inode("skip/blond");
     char path[512];
     snprintf(path, sizeof path, "%s/skip/blond/manifest.json", work);
-    char *m = read_all(path, NULL);
+    char *m = ht_test_read_all(path, NULL);
     char *h = strstr(m, "fnv1a64:");
     assert_non_null(h);
     h[8] = h[8] == '0' ? '1' : '0';

@@ -41,20 +41,6 @@ static const char small_scene[] =
 
 static char work[64], scene[128], measured[128], plain[128];
 
-static char *read_all(const char *path, size_t *size) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    size_t got = fread(buf, 1, (size_t)n, f);
-    fclose(f);
-    buf[got] = '\0';
-    if (size) *size = got;
-    return buf;
-}
-
 static bool exists(const char *path) {
     struct stat st;
     return stat(path, &st) == 0;
@@ -74,7 +60,7 @@ static int run_hairgen(const char *env, const char *args) {
 static char *work_file(const char *name) {
     char path[256];
     snprintf(path, sizeof path, "%s/%s", work, name);
-    char *text = read_all(path, NULL);
+    char *text = ht_test_read_all(path, NULL);
     assert_non_null(text);
     return text;
 }
@@ -123,7 +109,7 @@ static ht_manifest *load(const char *dir) {
 static cJSON *manifest_json(const char *dir) {
     char path[256];
     snprintf(path, sizeof path, "%s/manifest.json", dir);
-    char *text = read_all(path, NULL);
+    char *text = ht_test_read_all(path, NULL);
     assert_non_null(text);
     cJSON *root = cJSON_Parse(text);
     free(text);
@@ -208,7 +194,7 @@ static void test_measure_adds_only_the_measured_objects(void **state) {
         snprintf(pa, sizeof pa, "%s/%s", plain, e->d_name);
         snprintf(pb, sizeof pb, "%s/%s", measured, e->d_name);
         size_t na = 0, nb = 0;
-        char *a = read_all(pa, &na), *b = read_all(pb, &nb);
+        char *a = ht_test_read_all(pa, &na), *b = ht_test_read_all(pb, &nb);
         if (!b) fail_msg("%s: missing with --measure", e->d_name);
         assert_int_equal(na, nb);
         assert_memory_equal(a, b, na);
@@ -235,7 +221,7 @@ static void test_measure_adds_only_the_measured_objects(void **state) {
     cJSON_Delete(root);
     char path[300];
     snprintf(path, sizeof path, "%s/manifest.json", plain);
-    char *original = read_all(path, NULL);
+    char *original = ht_test_read_all(path, NULL);
     assert_string_equal(stripped, original);
     free(original);
     cJSON_free(stripped);
@@ -359,7 +345,7 @@ static void test_a_failed_measurement_writes_nothing(void **state) {
     /* No NaN ever reaches a manifest. */
     char tiny[256];
     snprintf(tiny, sizeof tiny, "%s/tiny.json", work);
-    char *text = read_all(scene, NULL);
+    char *text = ht_test_read_all(scene, NULL);
     char *size = strstr(text, "[96, 96]");
     assert_non_null(size);
     memcpy(size, "[ 8,  8]", 8);
@@ -381,10 +367,10 @@ static void test_a_failed_measurement_writes_nothing(void **state) {
     snprintf(kept, sizeof kept, "%s/kept", work);
     ht_test_copy_dir(plain, kept);
     snprintf(path, sizeof path, "%s/manifest.json", kept);
-    char *before = read_all(path, NULL);
+    char *before = ht_test_read_all(path, NULL);
     snprintf(args, sizeof args, "materials/blond.json --scene %s --measure -o %s", scene, kept);
     assert_int_equal(run_hairgen("MESA_GL_VERSION_OVERRIDE=1.3", args), 1);
-    char *after = read_all(path, NULL);
+    char *after = ht_test_read_all(path, NULL);
     assert_non_null(after);
     assert_string_equal(before, after);
     free(before);
@@ -449,7 +435,7 @@ static void test_write_manifest_refuses_numbers_out_of_range(void **state) {
     snprintf(dir, sizeof dir, "%s/bad-numbers", work);
     ht_test_copy_dir(plain, dir);
     snprintf(path, sizeof path, "%s/manifest.json", dir);
-    char *before = read_all(path, NULL);
+    char *before = ht_test_read_all(path, NULL);
     ht_measure_result res = { .tier_count = 5, .scene = "small.json", .driver = "test" };
     const char *names[] = { "full", "vertex", "fixed4", "fixed", "gl11" };
     for (int i = 0; i < 5; i++) {
@@ -477,7 +463,7 @@ static void test_write_manifest_refuses_numbers_out_of_range(void **state) {
     bad.tier_count = 4; /* gl11 not measured */
     assert_int_equal(ht_measure_write_manifest(dir, &bad, err, sizeof err), HT_ERR_PARSE);
     assert_non_null(strstr(err, "tiers[4]: \"gl11\" was not measured"));
-    char *after = read_all(path, NULL);
+    char *after = ht_test_read_all(path, NULL);
     assert_string_equal(before, after);
     free(after);
 
