@@ -85,29 +85,37 @@ ht_result ht_file_open_regular(const char *path, uint64_t max_bytes, FILE **out,
     return HT_OK;
 }
 
-char *ht_file_read_text(const char *path, uint64_t max_bytes, char *err, size_t err_size) {
+void *ht_file_read_bytes(const char *path, uint64_t max_bytes, size_t *size, char *err, size_t err_size) {
     FILE *f;
-    uint64_t size;
-    if (ht_file_open_regular(path, max_bytes, &f, &size, err, err_size) != HT_OK) return NULL;
-    /* The size fstat saw, plus one byte to notice a file that grew. */
-    char *text = malloc((size_t)size + 2);
-    if (!text) {
+    uint64_t file_size;
+    if (ht_file_open_regular(path, max_bytes, &f, &file_size, err, err_size) != HT_OK) return NULL;
+    /* One byte more than fstat saw, to notice a file that grew. */
+    unsigned char *data = malloc((size_t)file_size + 1);
+    if (!data) {
         fclose(f);
-        ht_set_error(err, err_size, "%s: out of memory (%llu bytes)", path, (unsigned long long)size);
+        ht_set_error(err, err_size, "%s: out of memory (%llu bytes)", path, (unsigned long long)file_size);
         return NULL;
     }
-    size_t got = fread(text, 1, (size_t)size + 1, f);
+    size_t got = fread(data, 1, (size_t)file_size + 1, f);
     bool bad = ferror(f) != 0;
     int e = errno;
     fclose(f);
-    if (bad || got > size) {
-        free(text);
+    if (bad || got != file_size) {
+        free(data);
         if (bad) ht_set_error(err, err_size, "%s: cannot read: %s", path, strerror(e));
-        else ht_set_error(err, err_size, "%s: grew while being read", path);
+        else ht_set_error(err, err_size, "%s: changed size while being read", path);
         return NULL;
     }
+    *size = got;
+    return data;
+}
+
+char *ht_file_read_text(const char *path, uint64_t max_bytes, char *err, size_t err_size) {
+    size_t size = 0;
+    void *bytes = ht_file_read_bytes(path, max_bytes, &size, err, err_size);
+    if (!bytes) return NULL;
     /* One check for files and memory bundles (bundle_source.c). */
-    char *checked = ht_text_from_bytes(path, text, got, err, err_size);
-    free(text);
+    char *checked = ht_text_from_bytes(path, bytes, size, err, err_size);
+    free(bytes);
     return checked;
 }

@@ -13,28 +13,7 @@
 #include "strands_internal.h"
 
 uint8_t *ht_strands_read_file(const char *path, size_t *size, char *err, size_t err_size) {
-    FILE *f;
-    uint64_t file_size;
-    if (ht_file_open_regular(path, HT_LIMIT_FILE_STRANDS, &f, &file_size, err, err_size) != HT_OK) return NULL;
-    /* One byte more than fstat saw, to notice a file that grew. */
-    uint8_t *data = malloc((size_t)file_size + 1);
-    if (!data) {
-        fclose(f);
-        ht_set_error(err, err_size, "%s: out of memory (%llu bytes)", path, (unsigned long long)file_size);
-        return NULL;
-    }
-    size_t got = fread(data, 1, (size_t)file_size + 1, f);
-    bool bad = ferror(f) != 0;
-    int e = errno;
-    fclose(f);
-    if (bad || got != file_size) {
-        free(data);
-        if (bad) ht_set_error(err, err_size, "%s: cannot read: %s", path, strerror(e));
-        else ht_set_error(err, err_size, "%s: changed size while being read", path);
-        return NULL;
-    }
-    *size = got;
-    return data;
+    return ht_file_read_bytes(path, HT_LIMIT_FILE_STRANDS, size, err, err_size);
 }
 
 ht_result ht_strands_fail(char *err, size_t err_size, const char *file, const char *field, const char *fmt, ...) {
