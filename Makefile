@@ -112,8 +112,10 @@ $(EXLIB): $(call obj,$(EXAMPLE_LIB_SRC))
 	@rm -f $@
 	ar rcs $@ $^
 
+# hairgen links no GL: --measure loads libOSMesa with dlopen (measure.c),
+# so the other runs do not pay for linking Mesa and LLVM at every start.
 $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
-	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+	$(CC) $(LDFLAGS) $^ $(GLSLANG_LIBS) $(CORE_LIBS) -o $@
 
 # hairview draws a bundle: the runtime only, no generator, no glslang.
 $(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(EXLIB) $(LIB)
