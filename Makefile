@@ -33,6 +33,8 @@ LDLIBS   = $(GLSLANG_LIBS) $(RUNTIME_LIBS)
 
 RUNTIME_SRC := $(wildcard runtime/*.c fallback/*.c)
 GEN_SRC     := $(filter-out shadergen/hairgen.c,$(wildcard shadergen/*.c))
+# glslang's one-pass parse is C++ only (shadergen/glsl_parse.cpp says why).
+GEN_CXX_SRC := $(wildcard shadergen/*.cpp)
 TEST_SRC    := $(wildcard tests/test_*.c)
 TEST_SUPPORT_SRC := $(wildcard tests/support_*.c)
 OFFSCREEN_SRC := examples/offscreen.c examples/offscreen_osmesa.c examples/offscreen_egl.c
@@ -91,6 +93,10 @@ $(BUILD)/obj/%.o: %.c | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
+$(BUILD)/obj/%.o: %.cpp | $(DEPS_STAMP)
+	@mkdir -p $(dir $@)
+	$(CXX) $(CPPFLAGS) -std=c++17 -Wall -Wextra $(WERROR) $(OPT) $(SAN) -MMD -MP -c $< -o $@
+
 # The gl11 tier's per-vertex shading loops: sqrtf inline and selects
 # if-converted, so GCC's -O2 vectoriser takes them (neither flag changes a
 # result; fallback/gl11_program.c says why).
@@ -104,7 +110,7 @@ $(LIB): $(call obj,$(RUNTIME_SRC))
 	@rm -f $@
 	ar rcs $@ $^
 
-$(GENLIB): $(call obj,$(GEN_SRC))
+$(GENLIB): $(call obj,$(GEN_SRC)) $(patsubst %.cpp,$(BUILD)/obj/%.o,$(GEN_CXX_SRC))
 	@rm -f $@
 	ar rcs $@ $^
 
@@ -258,7 +264,7 @@ FUZZ_DEB_PACKAGES := clang libclang-rt-14-dev
 
 fuzz-build: deps
 	$(call install_missing,$(FUZZ_DEB_PACKAGES))
-	$(MAKE) BUILD=$(FUZZ_BUILD) CC=clang OPT="-O1 -g -fno-omit-frame-pointer" SAN="$(FUZZ_SAN)" \
+	$(MAKE) BUILD=$(FUZZ_BUILD) CC=clang CXX=clang++ OPT="-O1 -g -fno-omit-frame-pointer" SAN="$(FUZZ_SAN)" \
 	  $(patsubst %,$(FUZZ_BUILD)/fuzz/%,$(FUZZ_TARGETS))
 
 # Seeds: the shipped materials and scenes, a generated bundle's manifest,
