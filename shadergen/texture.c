@@ -233,6 +233,13 @@ static ht_result reduce_to_slot(const ht_image *in, ht_texture_slot slot, ht_ima
     ht_result r = ht_image_alloc(out, in->width, in->height, channels);
     if (r != HT_OK) return r;
     size_t count = (size_t)in->width * in->height;
+    /* Already the slot's channels (every procedural texture): what the
+       loop below would copy texel by texel (a 1-channel texel is its own
+       luminance). */
+    if (in->channels == channels) {
+        memcpy(out->pixels, in->pixels, count * (size_t)channels);
+        return HT_OK;
+    }
     for (size_t i = 0; i < count; i++) {
         const uint8_t *src = in->pixels + i * in->channels;
         uint8_t *dst = out->pixels + i * channels;
