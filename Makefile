@@ -105,6 +105,9 @@ $(BUILD)/obj/%.o: %.cpp | $(DEPS_STAMP)
 # flag changes a result.
 $(BUILD)/obj/fallback/gl11_program.o: CFLAGS += -fno-math-errno -fno-trapping-math
 $(BUILD)/obj/fallback/fixed_soa.o $(BUILD)/obj/fallback/fixed4_program.o: CFLAGS += -O3 -fno-math-errno -fno-trapping-math
+# The fixed tier's LUT bake, likewise (18.2 M -> 15.9 M instructions for
+# dark-brown's 262144 texels, the same bytes).
+$(BUILD)/obj/shadergen/emit_fixed.o: CFLAGS += -O3 -fno-math-errno -fno-trapping-math
 
 $(LIB): $(call obj,$(RUNTIME_SRC))
 	@rm -f $@
