@@ -10,17 +10,15 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <glslang/Include/glslang_c_interface.h>
-#include <glslang/Public/resource_limits_c.h>
-
 #include "emit.h"
+#include "glsl_parse.h"
 
 /* glslang's process state is set up once and never torn down: finalizing
    while another thread validates would pull the tables from under it. */
 static pthread_once_t init_once = PTHREAD_ONCE_INIT;
 static int init_ok;
 
-static void init_glslang(void) { init_ok = glslang_initialize_process(); }
+static void init_glslang(void) { init_ok = ht_glslang_init(); }
 
 /* ---- texts that passed, for the rest of the process ---- */
 
@@ -112,33 +110,11 @@ static bool version_line_ok(const char *source, int version) {
     return next == '\n' || (next == '\r' && source[n + 1] == '\n');
 }
 
-/* glslang's verdict on one text: preprocess, then parse. */
+/* glslang's verdict on one text (one pass: glsl_parse.h). */
 static ht_result parse(const char *source, ht_stage stage, int version, bool es, char *log, size_t log_size) {
     pthread_once(&init_once, init_glslang);
     if (!init_ok) return fail(log, log_size, "%s", "glslang failed to initialize");
-
-    const glslang_input_t input = {
-        .language = GLSLANG_SOURCE_GLSL,
-        .stage = stage == HT_STAGE_VERTEX ? GLSLANG_STAGE_VERTEX : GLSLANG_STAGE_FRAGMENT,
-        .client = GLSLANG_CLIENT_NONE, /* no client: client and target versions unused */
-        .target_language = GLSLANG_TARGET_NONE,
-        .code = source,
-        .default_version = version,
-        .default_profile = es ? GLSLANG_ES_PROFILE : GLSLANG_NO_PROFILE,
-        .force_default_version_and_profile = 0,
-        .forward_compatible = 0,
-        .messages = GLSLANG_MSG_DEFAULT_BIT,
-        .resource = glslang_default_resource(),
-    };
-    glslang_shader_t *shader = glslang_shader_create(&input);
-    if (!shader) return fail(log, log_size, "%s", "glslang could not create a shader");
-    ht_result r = HT_OK;
-    if (!glslang_shader_preprocess(shader, &input) || !glslang_shader_parse(shader, &input)) {
-        const char *info = glslang_shader_get_info_log(shader);
-        r = fail(log, log_size, "%s", info && info[0] ? info : "glslang rejected the shader (no log)");
-    }
-    glslang_shader_delete(shader);
-    return r;
+    return ht_glslang_parse(source, stage == HT_STAGE_VERTEX, version, es, log, log_size) ? HT_OK : HT_ERR_COMPILE;
 }
 
 /* ---- warming up ---- */

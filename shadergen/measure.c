@@ -1,8 +1,10 @@
 /* measure.c — hairgen --measure (measure.h): every tier of a finished
    bundle rendered on OSMesa, compared with full and timed against it, the
    numbers written into the manifest. */
+#include <dlfcn.h>
 #include <errno.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,8 +24,64 @@
 /* ---- the offscreen context, the clock (what examples/offscreen.h and
    timing.h give the programs; shadergen/ does not reach up into examples/) ---- */
 
+/* libOSMesa is loaded with dlopen on the first --measure, not linked: it
+   pulls in LLVM and the rest of Mesa, whose dynamic linking was about half
+   of the instructions of every hairgen start (callgrind, `hairgen --help`),
+   which only --measure needs. */
+#define OSMESA_LIBRARY "libOSMesa.so.8"
+
+static struct {
+    void *library;
+    OSMesaContext (*create_attribs)(const int *attribs, OSMesaContext share);
+    GLboolean (*make_current)(OSMesaContext ctx, void *buffer, GLenum type, GLsizei w, GLsizei h);
+    void (*destroy)(OSMesaContext ctx);
+    OSMESAproc (*get_proc)(const char *name);
+    void (*viewport)(GLint x, GLint y, GLsizei w, GLsizei h);
+    void (*clear_color)(GLfloat r, GLfloat g, GLfloat b, GLfloat a);
+    void (*clear)(GLbitfield mask);
+    void (*finish)(void);
+} osmesa;
+
+static pthread_once_t osmesa_once = PTHREAD_ONCE_INIT;
+
+/* dlsym's data pointer into a function pointer of the same size (POSIX). */
+static bool osmesa_symbol(const char *name, void *fn_out, size_t fn_size) {
+    void *p = dlsym(osmesa.library, name);
+    memcpy(fn_out, &p, fn_size);
+    return p != NULL;
+}
+
+static bool osmesa_gl(const char *name, void *fn_out, size_t fn_size) {
+    OSMESAproc p = osmesa.get_proc(name);
+    memcpy(fn_out, &p, fn_size);
+    return p != NULL;
+}
+
+static void osmesa_load(void) {
+    osmesa.library = dlopen(OSMESA_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+    if (osmesa.library &&
+        osmesa_symbol("OSMesaCreateContextAttribs", &osmesa.create_attribs, sizeof osmesa.create_attribs) &&
+        osmesa_symbol("OSMesaMakeCurrent", &osmesa.make_current, sizeof osmesa.make_current) &&
+        osmesa_symbol("OSMesaDestroyContext", &osmesa.destroy, sizeof osmesa.destroy) &&
+        osmesa_symbol("OSMesaGetProcAddress", &osmesa.get_proc, sizeof osmesa.get_proc) &&
+        osmesa_gl("glViewport", &osmesa.viewport, sizeof osmesa.viewport) &&
+        osmesa_gl("glClearColor", &osmesa.clear_color, sizeof osmesa.clear_color) &&
+        osmesa_gl("glClear", &osmesa.clear, sizeof osmesa.clear) &&
+        osmesa_gl("glFinish", &osmesa.finish, sizeof osmesa.finish))
+        return;
+    if (osmesa.library) dlclose(osmesa.library);
+    osmesa.library = NULL;
+}
+
+/* Whether libOSMesa is there, with "why not" in err. */
+static bool osmesa_available(char *err, size_t err_size) {
+    pthread_once(&osmesa_once, osmesa_load);
+    if (!osmesa.library) ht_set_error(err, err_size, "measure: cannot load %s with its OSMesa and GL functions", OSMESA_LIBRARY);
+    return osmesa.library != NULL;
+}
+
 static void *offscreen_getproc(const char *name) {
-    OSMESAproc p = OSMesaGetProcAddress(name);
+    OSMESAproc p = osmesa.get_proc(name);
     void *out;
     memcpy(&out, &p, sizeof out); /* function to data pointer: same size on POSIX */
     return out;
@@ -33,12 +91,12 @@ static void *offscreen_getproc(const char *name) {
 static OSMesaContext offscreen_create(unsigned char *rgba, int width, int height) {
     static const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
                                    OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0 };
-    OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, NULL);
-    if (ctx && !OSMesaMakeCurrent(ctx, rgba, GL_UNSIGNED_BYTE, width, height)) {
-        OSMesaDestroyContext(ctx);
+    OSMesaContext ctx = osmesa.create_attribs(attribs, NULL);
+    if (ctx && !osmesa.make_current(ctx, rgba, GL_UNSIGNED_BYTE, width, height)) {
+        osmesa.destroy(ctx);
         return NULL;
     }
-    if (ctx) glViewport(0, 0, width, height);
+    if (ctx) osmesa.viewport(0, 0, width, height);
     return ctx;
 }
 
@@ -132,15 +190,15 @@ static ht_result start_tier(tier_run *t, const char *dir, const ht_scene *s, con
    hairview and tier_sheet time). */
 static ht_result draw_frame(tier_run *t, const ht_scene *s, const ht_frame_desc *frame, double *ms,
                             char *err, size_t err_size) {
-    if (!OSMesaMakeCurrent(t->ctx, t->rgba, GL_UNSIGNED_BYTE, s->width, s->height))
+    if (!osmesa.make_current(t->ctx, t->rgba, GL_UNSIGNED_BYTE, s->width, s->height))
         return ht_fail(err, err_size, HT_ERR_GL, "measure: %s: cannot make its OSMesa context current",
                        t->entry->name);
     t->last_log[0] = '\0';
     double t0 = now_ms();
-    glClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    osmesa.clear_color(s->background[0], s->background[1], s->background[2], 1.0f);
+    osmesa.clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     ht_result r = ht_renderer_draw(t->renderer, frame);
-    glFinish();
+    osmesa.finish();
     *ms = now_ms() - t0;
     if (r != HT_OK)
         return ht_fail(err, err_size, r, "measure: %s: draw failed: %s", t->entry->name,
@@ -151,9 +209,9 @@ static ht_result draw_frame(tier_run *t, const ht_scene *s, const ht_frame_desc 
 static void stop_tier(tier_run *t, const ht_scene *s) {
     if (t->ctx) {
         /* The renderer's GL objects live in its own context. */
-        if (t->renderer && OSMesaMakeCurrent(t->ctx, t->rgba, GL_UNSIGNED_BYTE, s->width, s->height))
+        if (t->renderer && osmesa.make_current(t->ctx, t->rgba, GL_UNSIGNED_BYTE, s->width, s->height))
             ht_renderer_destroy(t->renderer);
-        OSMesaDestroyContext(t->ctx);
+        osmesa.destroy(t->ctx);
     }
     free(t->rgba);
     *t = (tier_run){ 0 };
@@ -223,6 +281,7 @@ ht_result ht_measure_bundle(const char *dir, const ht_scene *scene, const char *
     char why[1024];
     ht_result r = ht_manifest_load(dir, bundle, why, sizeof why);
     if (r != HT_OK) ht_set_error(err, err_size, "measure: %s", why);
+    else if (!osmesa_available(err, err_size)) r = HT_ERR_UNSUPPORTED;
     int count = r == HT_OK ? bundle->tier_count : 0, full = -1;
     for (int i = 0; i < count; i++) {
         runs[i].entry = &bundle->tiers[i];

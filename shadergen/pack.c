@@ -11,7 +11,10 @@
 #include "emit.h"
 
 #include <pthread.h>
+#include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "errfmt.h"
 #include "manifest.h"
@@ -43,11 +46,19 @@ static void packed_size(const ht_image *a, const ht_image *b, int *w, int *h) {
     if (b->pixels && b->height > *h) *h = b->height;
 }
 
-/* The texel of src nearest to the centre of texel (x, y) of a w x h image. */
-static const uint8_t *nearest(const ht_image *src, int x, int y, int w, int h) {
-    int sx = (int)(((int64_t)2 * x + 1) * src->width / (2 * (int64_t)w));
-    int sy = (int)(((int64_t)2 * y + 1) * src->height / (2 * (int64_t)h));
-    return src->pixels + ((size_t)sy * src->width + sx) * src->channels;
+/* The index along a source side of src_n texels nearest to the centre of
+   texel i of a side of n texels. */
+static int nearest_index(int i, int src_n, int n) {
+    return (int)(((int64_t)2 * i + 1) * src_n / (2 * (int64_t)n));
+}
+
+/* For each column x of a w-wide image, the offset of src's nearest column
+   (in bytes): computed once per column, not twice per texel (the 64-bit
+   divisions made packing 5% of one material's instructions). */
+static size_t *column_offsets(const ht_image *src, int w) {
+    size_t *at = malloc((size_t)w * sizeof *at);
+    for (int x = 0; at && x < w; x++) at[x] = (size_t)nearest_index(x, src->width, w) * (size_t)src->channels;
+    return at;
 }
 
 /* Packs up to two sources into RGBA. a fills channels [0, a_channels) from
@@ -62,16 +73,30 @@ static ht_result pack_two(const ht_image *a, int a_channels, const ht_image *b, 
     }
     ht_result r = ht_image_alloc(out, w, h, 4);
     if (r != HT_OK) return r;
-    for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++) {
-            uint8_t *px = out->pixels + 4 * ((size_t)y * w + x);
-            for (int c = 0; c < 4; c++) px[c] = fill[c];
-            if (a->pixels) {
-                const uint8_t *s = nearest(a, x, y, w, h);
-                for (int c = 0; c < a_channels; c++) px[c] = s[c];
-            }
-            if (b->pixels) px[b_at] = nearest(b, x, y, w, h)[0];
-        }
+    size_t *a_at = a->pixels ? column_offsets(a, w) : NULL, *b_at_x = b->pixels ? column_offsets(b, w) : NULL;
+    if ((a->pixels && !a_at) || (b->pixels && !b_at_x)) {
+        free(a_at);
+        free(b_at_x);
+        ht_image_free(out);
+        return HT_ERR_OUT_OF_MEMORY;
+    }
+    for (int y = 0; y < h; y++) {
+        const uint8_t *a_row = a->pixels ? a->pixels + (size_t)nearest_index(y, a->height, h) * a->width * a->channels
+                                         : NULL;
+        const uint8_t *b_row = b->pixels ? b->pixels + (size_t)nearest_index(y, b->height, h) * b->width * b->channels
+                                         : NULL;
+        uint8_t *px = out->pixels + 4 * (size_t)y * w;
+        for (int x = 0; x < w; x++) memcpy(px + 4 * x, fill, 4);
+        if (a_row && a_channels == 3)
+            for (int x = 0; x < w; x++) memcpy(px + 4 * x, a_row + a_at[x], 3);
+        else if (a_row)
+            for (int x = 0; x < w; x++)
+                for (int c = 0; c < a_channels; c++) px[4 * x + c] = a_row[a_at[x] + c];
+        if (b_row)
+            for (int x = 0; x < w; x++) px[4 * x + b_at] = b_row[b_at_x[x]];
+    }
+    free(a_at);
+    free(b_at_x);
     return HT_OK;
 }
 

@@ -71,25 +71,46 @@ static int64_t lattice(uint64_t key, int i, int j) {
 
 #define MAX_PROCEDURAL_SIZE 2048
 
+/* Where each texel column's centre falls on a lattice of `cells` cells
+   across `size` texels (position = (x + 0.5) * cells / size, in halves):
+   its cell, the next one (wrapping) and the smoothed weight between them.
+   The same for every row, so computed once per image, not per row (three
+   64-bit divisions a texel were most of the noise's instructions). */
+typedef struct noise_columns {
+    int cells;
+    int cell[MAX_PROCEDURAL_SIZE], next[MAX_PROCEDURAL_SIZE];
+    int64_t weight[MAX_PROCEDURAL_SIZE];
+} noise_columns;
+
+static void noise_columns_init(noise_columns *c, int size, int cells) {
+    int64_t span = 2 * (int64_t)size;
+    c->cells = cells;
+    for (int x = 0; x < size; x++) {
+        int64_t pu = (int64_t)(2 * x + 1) * cells;
+        c->cell[x] = (int)(pu / span);
+        c->next[x] = (c->cell[x] + 1) % cells;
+        c->weight[x] = smooth16(pu % span * ONE / span);
+    }
+}
+
 /* Value noise in [0, 65535] along row y of a size x size image, on a
-   lattice of cells_u x cells_v cells that wraps around the image (cells_u
-   at most size / 2). The row's two lattice rows are drawn once, not the
-   four corners again at every texel: the same integers either way. */
-static void value_noise_row(uint64_t key, int y, int size, int cells_u, int cells_v, int64_t *row) {
-    /* texel centres: position = (x + 0.5) * cells / size, in halves */
+   lattice of cols->cells x cells_v cells that wraps around the image
+   (cols->cells at most size / 2). The row's two lattice rows are drawn
+   once, not the four corners again at every texel: the same integers
+   either way. */
+static void value_noise_row(uint64_t key, int y, int size, const noise_columns *cols, int cells_v, int64_t *row) {
     int64_t span = 2 * (int64_t)size;
     int64_t pv = (int64_t)(2 * y + 1) * cells_v;
     int j = (int)(pv / span), j1 = (j + 1) % cells_v;
     int64_t wv = smooth16(pv % span * ONE / span);
     int64_t above[MAX_PROCEDURAL_SIZE / 2], below[MAX_PROCEDURAL_SIZE / 2];
-    for (int i = 0; i < cells_u; i++) {
+    for (int i = 0; i < cols->cells; i++) {
         above[i] = lattice(key, i, j);
         below[i] = lattice(key, i, j1);
     }
     for (int x = 0; x < size; x++) {
-        int64_t pu = (int64_t)(2 * x + 1) * cells_u;
-        int i = (int)(pu / span), i1 = (i + 1) % cells_u;
-        int64_t wu = smooth16(pu % span * ONE / span);
+        int i = cols->cell[x], i1 = cols->next[x];
+        int64_t wu = cols->weight[x];
         int64_t top = above[i] + (above[i1] - above[i]) * wu / ONE;
         int64_t bottom = below[i] + (below[i1] - below[i]) * wu / ONE;
         row[x] = top + (bottom - top) * wv / ONE;
@@ -109,9 +130,12 @@ static void stretched_noise(ht_image *out, ht_rng *keys) {
     int size = out->width;
     uint64_t fine_key = ht_rng_next(keys), broad_key = ht_rng_next(keys);
     int64_t fine[MAX_PROCEDURAL_SIZE], broad[MAX_PROCEDURAL_SIZE];
+    static _Thread_local noise_columns fine_cols, broad_cols; /* 32 KiB each: off the stack */
+    noise_columns_init(&fine_cols, size, size / 2);
+    noise_columns_init(&broad_cols, size, size / 16);
     for (int y = 0; y < size; y++) {
-        value_noise_row(fine_key, y, size, size / 2, at_least_one(size / 64), fine);
-        value_noise_row(broad_key, y, size, size / 16, at_least_one(size / 128), broad);
+        value_noise_row(fine_key, y, size, &fine_cols, at_least_one(size / 64), fine);
+        value_noise_row(broad_key, y, size, &broad_cols, at_least_one(size / 128), broad);
         for (int x = 0; x < size; x++) {
             int64_t n = (fine[x] * 13 + broad[x] * 7) / 20; /* [0, 65535] */
             /* 0.55 + 0.45 n, in 16.16 */
@@ -154,8 +178,10 @@ static void shift_noise(ht_image *out, ht_rng *keys) {
     int size = out->width;
     uint64_t key = ht_rng_next(keys);
     int64_t n[MAX_PROCEDURAL_SIZE];
+    static _Thread_local noise_columns cols;
+    noise_columns_init(&cols, size, at_least_one(size / 2));
     for (int y = 0; y < size; y++) {
-        value_noise_row(key, y, size, at_least_one(size / 2), 2, n);
+        value_noise_row(key, y, size, &cols, 2, n);
         for (int x = 0; x < size; x++) out->pixels[(size_t)y * size + x] = to_byte(ONE * 38 / 100 + n[x] * 24 / 100);
     }
 }
@@ -207,6 +233,13 @@ static ht_result reduce_to_slot(const ht_image *in, ht_texture_slot slot, ht_ima
     ht_result r = ht_image_alloc(out, in->width, in->height, channels);
     if (r != HT_OK) return r;
     size_t count = (size_t)in->width * in->height;
+    /* Already the slot's channels (every procedural texture): what the
+       loop below would copy texel by texel (a 1-channel texel is its own
+       luminance). */
+    if (in->channels == channels) {
+        memcpy(out->pixels, in->pixels, count * (size_t)channels);
+        return HT_OK;
+    }
     for (size_t i = 0; i < count; i++) {
         const uint8_t *src = in->pixels + i * in->channels;
         uint8_t *dst = out->pixels + i * channels;

@@ -488,6 +488,24 @@ static void test_each_distinct_shader_text_is_validated_once_per_run(void **stat
     assert_int_equal(glsl_files(bundle), texts);
 }
 
+/* A build farm starts hairgen once per material: it loads no GL (--measure
+   dlopens libOSMesa) and no shared libstdc++, whose relocations were most
+   of a start (README, "Generating many bundles"). ld.so lists what it
+   would load and exits (what ldd does). */
+static void test_hairgen_starts_without_gl_or_a_shared_libstdcxx(void **state) {
+    (void)state;
+    char cmd[PATH_MAX + 128];
+    snprintf(cmd, sizeof cmd, "cd %s && LD_TRACE_LOADED_OBJECTS=1 %s >out.txt 2>err.txt", work, hairgen);
+    int status = system(cmd);
+    assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    char *loaded = scratch_text("out.txt");
+    if (!strstr(loaded, "libc.so")) fail_msg("no library list from ld.so:\n%s", loaded);
+    static const char *const unwanted[] = { "libOSMesa", "libGL", "libEGL", "libLLVM", "libstdc++" };
+    for (size_t i = 0; i < sizeof unwanted / sizeof unwanted[0]; i++)
+        if (strstr(loaded, unwanted[i])) fail_msg("hairgen loads %s at every start:\n%s", unwanted[i], loaded);
+    free(loaded);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_batch_writes_one_bundle_per_material_with_a_progress_line_each, setup,
@@ -501,6 +519,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(test_a_bad_material_fails_alone_and_leaves_its_old_bundle, setup, teardown),
         cmocka_unit_test_setup_teardown(test_quiet_prints_nothing_but_errors, setup, teardown),
         cmocka_unit_test_setup_teardown(test_each_distinct_shader_text_is_validated_once_per_run, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_hairgen_starts_without_gl_or_a_shared_libstdcxx, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
