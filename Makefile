@@ -230,7 +230,7 @@ PREFIX  ?= /usr/local
 DESTDIR ?=
 VERSION := 0.1
 PUBLIC_HEADERS := runtime/hairtier.h shadergen/hairgen.h runtime/model.h runtime/scene.h runtime/image.h \
-                  runtime/strands.h runtime/ht_limits.h
+                  runtime/strands.h runtime/ht_limits.h runtime/model_marschner.h
 INSTALL_BIN := $(DESTDIR)$(PREFIX)/bin
 INSTALL_LIB := $(DESTDIR)$(PREFIX)/lib
 INSTALL_INC := $(DESTDIR)$(PREFIX)/include/hairtier

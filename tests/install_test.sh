@@ -21,7 +21,8 @@ trap 'rm -rf "$tmp"' EXIT
 fail() { echo "install_test: FAIL: $*" >&2; exit 1; }
 
 expected="bin/hairgen bin/hairview include/hairtier/hairgen.h include/hairtier/hairtier.h \
-include/hairtier/ht_limits.h include/hairtier/image.h include/hairtier/model.h include/hairtier/scene.h \
+include/hairtier/ht_limits.h include/hairtier/image.h include/hairtier/model.h \
+include/hairtier/model_marschner.h include/hairtier/scene.h \
 include/hairtier/strands.h lib/libhairgen.a \
 lib/libhairtier.a lib/pkgconfig/hairgen.pc lib/pkgconfig/hairtier.pc"
 files_under() { (cd "$1" && find . -type f | sed 's|^\./||' | LC_ALL=C sort | tr '\n' ' ' | sed 's/ $//'); }
