@@ -105,13 +105,14 @@ static void lookup_matches_the_oracle_between_texels(void **state) {
     double p99 = errors[SAMPLES * 99 / 100], max = errors[SAMPLES - 1], mean = sum / SAMPLES;
     print_message("LUT vs oracle over %d random directions, /255: mean %.3f, p99 %.3f, max %.3f\n", SAMPLES, mean,
                   p99, max);
-    /* Bounded at the measured level (mean 0.077, p99 1.25 with the shipped
-       sizes). The maximum (29/255) is printed, not bounded: it sits on the
-       critical angle of the parallel polarisation (eta'' < 1 for theta_r
-       past about 55 degrees), where N_R has a square-root kink along
-       theta_r that bilinear texels round off. */
-    assert_true(mean <= 0.1);
-    assert_true(p99 <= 1.5);
+    /* Bounded at the measured level (mean 0.012, p99 0.31 with the shipped
+       sizes and 16-bit texels; 0.077 and 1.25 with 8). The maximum
+       (30/255) is printed, not bounded: it sits on the critical angle of
+       the parallel polarisation (eta'' < 1 for theta_r past about 55
+       degrees), where N has a square-root kink in (theta_r, phi) that
+       bilinear texels round off at any size. */
+    assert_true(mean <= 0.02);
+    assert_true(p99 <= 0.4);
     free(errors);
     ht_marschner_lut_free(&lut);
 }
