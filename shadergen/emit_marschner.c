@@ -71,7 +71,10 @@ static void fibre_function(ht_strbuf *sb, const ht_marschner_lut *lut) {
     ht_strbuf_add(sb, "    vec2 at = vec2((i + side * n + 0.5) / (2.0 * n), (j + 0.5) / (2.0 * n));\n");
     ht_strbuf_add(sb, "    vec4 hi = texture2D(atlas, at);\n");
     ht_strbuf_add(sb, "    vec4 lo = texture2D(atlas, at + vec2(0.0, 0.5));\n");
-    ht_strbuf_addf(sb, "    return (hi * 65280.0 + lo * 255.0) / %s;\n", ht_glsl_float(HT_MARSCHNER_LUT_MAX, a));
+    /* (256 hi + lo) / 65535 with hi, lo read as bytes / 255; constants below 1
+       keep it inside mediump's range (2^14) where ESSL has no highp. */
+    ht_strbuf_addf(sb, "    return hi * %s + lo * %s;\n", ht_glsl_float(255.0 * 256 / HT_MARSCHNER_LUT_MAX, a),
+                   ht_glsl_float(255.0 / HT_MARSCHNER_LUT_MAX, b));
     ht_strbuf_add(sb, "}\n\n");
     ht_strbuf_add(sb, "/* Bilinear in float over the 16-bit texels at (x, y), axes [x_lo, x_hi] and\n"
                       "   [y_lo, y_hi] whose ends are the outer texel centres: the device's own\n"
