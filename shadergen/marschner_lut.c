@@ -16,17 +16,33 @@ int ht_marschner_lut_m_size(const ht_marschner *m) {
 
 static double axis(int i, int size, double lo, double hi) { return lo + (hi - lo) * i / (size - 1); }
 
-static uint8_t encode(double v, double scale) {
+/* v / scale in [0, 1] as 16 bits. */
+static uint16_t encode(double v, double scale) {
     double x = scale > 0 ? v / scale : 0;
     x = x < 0 ? 0 : (x > 1 ? 1 : x);
-    return (uint8_t)lrint(x * 255);
+    return (uint16_t)lrint(x * HT_MARSCHNER_LUT_MAX);
+}
+
+/* Texel (x, y) of half `half` of an atlas of n x n halves: the high byte
+   in the top rows, the low byte n rows below. */
+static void put(ht_image *img, int half, int x, int y, int channel, uint16_t v) {
+    int n = img->height / 2;
+    size_t at = ((size_t)y * img->width + (size_t)half * n + x) * 4 + channel;
+    img->pixels[at] = (uint8_t)(v >> 8);
+    img->pixels[at + (size_t)n * img->width * 4] = (uint8_t)(v & 0xff);
+}
+
+double ht_marschner_lut_texel(const ht_image *img, int half, int x, int y, int channel) {
+    int n = img->height / 2;
+    size_t at = ((size_t)y * img->width + (size_t)half * n + x) * 4 + channel;
+    return (img->pixels[at] * 256 + img->pixels[at + (size_t)n * img->width * 4]) / (double)HT_MARSCHNER_LUT_MAX;
 }
 
 /* M spans 0 to hundreds (the normalised lobes pile up at the poles, where
    cos(theta_i) weighs them down), so it is stored in logarithms:
    t = log(1 + M / k) / log(1 + scale / k), decoded k (exp(t log(1 + scale / k)) - 1):
    a step of t is a fixed fraction of M + k. */
-static uint8_t encode_log(double v, double scale) {
+static uint16_t encode_log(double v, double scale) {
     if (!(scale > 0)) return 0;
     return encode(log1p(fmax(v, 0) / HT_MARSCHNER_LUT_LOG_KNEE), log1p(scale / HT_MARSCHNER_LUT_LOG_KNEE));
 }
@@ -45,7 +61,8 @@ ht_result ht_marschner_lut_bake(const ht_marschner *m, ht_marschner_lut *out) {
     double *mv = malloc(sizeof *mv * (size_t)ms * ms * 6);
     double *nv = malloc(sizeof *nv * (size_t)ns * ns * 7);
     ht_result r = HT_ERR_OUT_OF_MEMORY;
-    if (!mv || !nv || ht_image_alloc(&out->m, 2 * ms, ms, 4) != HT_OK || ht_image_alloc(&out->n, 2 * ns, ns, 4) != HT_OK)
+    if (!mv || !nv || ht_image_alloc(&out->m, 2 * ms, 2 * ms, 4) != HT_OK ||
+        ht_image_alloc(&out->n, 2 * ns, 2 * ns, 4) != HT_OK)
         goto done;
     /* N_rest depends on theta_r only: once per row. */
     double *rest_n = malloc(sizeof *rest_n * (size_t)ms * 3);
@@ -82,24 +99,22 @@ ht_result ht_marschner_lut_bake(const ht_marschner *m, ht_marschner_lut *out) {
         }
         out->n1_scale[1] = fmax(out->n1_scale[1], nv[i * 7 + 3]);
     }
+    memset(out->m.pixels, 255, (size_t)out->m.width * out->m.height * 4); /* the unused alpha: opaque */
+    memset(out->n.pixels, 255, (size_t)out->n.width * out->n.height * 4);
     for (int y = 0; y < ms; y++)
         for (int x = 0; x < ms; x++) {
             const double *v = &mv[((size_t)y * ms + x) * 6];
-            uint8_t *left = &out->m.pixels[((size_t)y * 2 * ms + x) * 4], *right = left + (size_t)ms * 4;
-            for (int p = 0; p < 3; p++) left[p] = encode_log(v[p], out->m_scale[p]);
-            for (int c = 0; c < 3; c++) right[c] = encode_log(v[3 + c], out->rest_scale);
-            left[3] = right[3] = 255;
+            for (int p = 0; p < 3; p++) put(&out->m, 0, x, y, p, encode_log(v[p], out->m_scale[p]));
+            for (int c = 0; c < 3; c++) put(&out->m, 1, x, y, c, encode_log(v[3 + c], out->rest_scale));
         }
     for (int y = 0; y < ns; y++)
         for (int x = 0; x < ns; x++) {
             const double *v = &nv[((size_t)y * ns + x) * 7];
-            uint8_t *left = &out->n.pixels[((size_t)y * 2 * ns + x) * 4], *right = left + (size_t)ns * 4;
             for (int c = 0; c < 3; c++) {
-                left[c] = encode(v[c], out->n1_scale[0]);
-                right[c] = encode(v[4 + c], out->n2_scale);
+                put(&out->n, 0, x, y, c, encode(v[c], out->n1_scale[0]));
+                put(&out->n, 1, x, y, c, encode(v[4 + c], out->n2_scale));
             }
-            left[3] = encode(v[3], out->n1_scale[1]);
-            right[3] = 255;
+            put(&out->n, 0, x, y, 3, encode(v[3], out->n1_scale[1]));
         }
     r = HT_OK;
 done:
@@ -115,25 +130,25 @@ void ht_marschner_lut_free(ht_marschner_lut *lut) {
     memset(lut, 0, sizeof *lut);
 }
 
-/* GL_LINEAR in half `half` (0 left, 1 right) of a 2n x n RGBA8 atlas at
-   x in [lo_x, hi_x] and y in [lo_y, hi_y], clamped to the half's outer
-   texel centres as the shader clamps its coordinates; out in [0, 1]. */
+/* Bilinear in half `half` (0 left, 1 right) of an atlas at x in
+   [lo_x, hi_x] and y in [lo_y, hi_y], clamped to the half's outer texel
+   centres, as the shader filters the 16-bit texels it reads; out in [0, 1]. */
 static void bilinear(const ht_image *img, int half, double x, double lo_x, double hi_x, double y, double lo_y,
                      double hi_y, double out[4]) {
-    int n = img->height, w = img->width;
+    int n = img->height / 2;
     double fx = (x - lo_x) / (hi_x - lo_x) * (n - 1), fy = (y - lo_y) / (hi_y - lo_y) * (n - 1);
     fx = fmin(fmax(fx, 0), n - 1);
     fy = fmin(fmax(fy, 0), n - 1);
     int x0 = (int)floor(fx), y0 = (int)floor(fy);
-    int x1 = x0 + 1 < n ? x0 + 1 : x0, y1 = y0 + 1 < n ? y0 + 1 : y0;
+    if (x0 > n - 2) x0 = n - 2;
+    if (y0 > n - 2) y0 = n - 2;
     double ax = fx - x0, ay = fy - y0;
-    x0 += half * n;
-    x1 += half * n;
     for (int c = 0; c < 4; c++) {
-        const uint8_t *p = img->pixels;
-        double top = p[((size_t)y0 * w + x0) * 4 + c] * (1 - ax) + p[((size_t)y0 * w + x1) * 4 + c] * ax;
-        double bottom = p[((size_t)y1 * w + x0) * 4 + c] * (1 - ax) + p[((size_t)y1 * w + x1) * 4 + c] * ax;
-        out[c] = (top * (1 - ay) + bottom * ay) / 255;
+        double top = ht_marschner_lut_texel(img, half, x0, y0, c) * (1 - ax) +
+                     ht_marschner_lut_texel(img, half, x0 + 1, y0, c) * ax;
+        double bottom = ht_marschner_lut_texel(img, half, x0, y0 + 1, c) * (1 - ax) +
+                        ht_marschner_lut_texel(img, half, x0 + 1, y0 + 1, c) * ax;
+        out[c] = top * (1 - ay) + bottom * ay;
     }
 }
 

@@ -9,21 +9,28 @@
              + sTRT M_TRT(si, sr) N_TRT(|sr|, cphi)   (RGB)
              + REST(si, sr)                            (RGB: M_rest N_rest, N_rest uniform in phi)
    with si = sin(theta_i) = T.L, sr = sin(theta_r) = T.V, cphi = cos(phi).
-   Two RGBA8 atlases, each two square halves side by side, every channel
-   divided by its own scale (the largest value at a texel, so each uses
-   the full 0..255):
-       m (2 m_size x m_size, axes theta_i, theta_r in [-pi/2, pi/2]):
+   Two RGBA8 atlases, each two square halves side by side, every value
+   16 bits (the high byte in the top n rows, the low byte in the n rows
+   below), every channel divided by its own scale (the largest value at a
+   texel, so each uses the full 0..65535):
+       m (2 m_size x 2 m_size, axes theta_i, theta_r in [-pi/2, pi/2]):
            left M_R, M_TT, M_TRT, unused; right REST rgb, unused
-       n (2 n_size x n_size, axes |theta_r| in [0, pi/2], phi in [0, pi]):
+       n (2 n_size x 2 n_size, axes |theta_r| in [0, pi/2], phi in [0, pi]):
            left N_TT rgb, N_R; right N_TRT rgb, unused
+   16 bits because 8 were not enough where TT glows: lit from behind, M
+   is in the hundreds near the poles and a log code step of 8 bits is
+   3% of it; and a device's own filtering of 8-bit texels is itself 8-bit
+   (llvmpipe: 9-11/255 from the same textures filtered in double). So the
+   shader fetches the four texels around a point at their centres (where
+   GL_LINEAR returns the texel itself) and filters the 16-bit values in
+   float, as ht_marschner_lut_fibre does in double.
    The axes are angles, not the dot products: in sin(theta) the lobes
    crowd at the poles and in cos(phi) the TT and R peaks crowd at the ends
    (measured with the capped caustic: 10/255 at the 99th percentile in
    dot products, 1.55 in angles), so the
    shader pays an asin and an acos per light. Texel i of an axis [lo, hi]
    holds x = lo + (hi - lo) i / (size - 1): the end points are texel
-   centres, read with GL_LINEAR; the shader keeps its coordinates between
-   a half's outer texel centres, so neither half bleeds into the other. */
+   centres. */
 #ifndef HT_MARSCHNER_LUT_H
 #define HT_MARSCHNER_LUT_H
 
@@ -47,6 +54,11 @@ int ht_marschner_lut_m_size(const ht_marschner *m);
    t = log(1 + M / k) / log(1 + scale / k). */
 #define HT_MARSCHNER_LUT_LOG_KNEE 0.05
 double ht_marschner_lut_decode_log(double t, double scale);
+
+/* The largest 16-bit code, and the value in [0, 1] of texel (x, y) of
+   half `half` (0 left, 1 right) of an atlas, channel `channel`. */
+#define HT_MARSCHNER_LUT_MAX 65535
+double ht_marschner_lut_texel(const ht_image *img, int half, int x, int y, int channel);
 
 /* The N axes' resolution (N does not depend on beta). */
 #define HT_MARSCHNER_LUT_N_SIZE 256
