@@ -139,6 +139,7 @@ typedef struct draw_state {
     void *coord_pointer;
     GLfloat texture_matrix[16];
     void *color_pointer;
+    GLint coord_buffer, color_buffer;   /* 0: client memory */
 } draw_state;
 
 #define MAX_DRAWS 16
@@ -156,10 +157,10 @@ static void *as_data(void (*f)(void)) {
    test reads a copy of the whole buffer instead, the pointer moved into it. */
 static void *array_copies[MAX_DRAWS][2];
 
-static void read_back_array(GLenum binding, void **pointer, void **copy) {
+static GLint read_back_array(GLenum binding, void **pointer, void **copy) {
     GLint buffer = 0;
     glGetIntegerv(binding, &buffer);
-    if (!buffer) return;
+    if (!buffer) return 0;
     void (*get_sub_data)(GLenum, GLintptr, GLsizeiptr, void *);
     void *f = ht_test_getproc("glGetBufferSubData");
     memcpy(&get_sub_data, &f, sizeof f);
@@ -178,6 +179,7 @@ static void read_back_array(GLenum binding, void **pointer, void **copy) {
     if (*copy && size > 0) get_sub_data(GL_ARRAY_BUFFER, 0, size, *copy);
     bind(GL_ARRAY_BUFFER, (GLuint)bound);
     *pointer = (char *)*copy + (uintptr_t)*pointer;
+    return buffer;
 }
 
 static void APIENTRY watch_draw_elements(GLenum mode, GLsizei count, GLenum type, const void *indices) {
@@ -204,9 +206,11 @@ static void APIENTRY watch_draw_elements(GLenum mode, GLsizei count, GLenum type
         glGetIntegerv(GL_TEXTURE_COORD_ARRAY_SIZE, &d->coord_size);
         glGetIntegerv(GL_TEXTURE_COORD_ARRAY_STRIDE, &d->coord_stride);
         glGetPointerv(GL_TEXTURE_COORD_ARRAY_POINTER, &d->coord_pointer);
-        read_back_array(GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING, &d->coord_pointer, &array_copies[draw_count - 1][0]);
+        d->coord_buffer = read_back_array(GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING, &d->coord_pointer,
+                                          &array_copies[draw_count - 1][0]);
         glGetPointerv(GL_COLOR_ARRAY_POINTER, &d->color_pointer);
-        read_back_array(GL_COLOR_ARRAY_BUFFER_BINDING, &d->color_pointer, &array_copies[draw_count - 1][1]);
+        d->color_buffer = read_back_array(GL_COLOR_ARRAY_BUFFER_BINDING, &d->color_pointer,
+                                          &array_copies[draw_count - 1][1]);
         client_active_texture((GLenum)client);
         glGetIntegerv(GL_CURRENT_PROGRAM, &d->program);
     }
@@ -793,6 +797,8 @@ static void test_kajiya_kay_frames_read_tangents_through_the_texture_matrix_with
             const draw_state *d = &draws[i];
             assert_true(d->coord_array);
             assert_int_equal(d->coord_size, 3);
+            /* the device has VBOs: tangents and colours read from buffers */
+            assert_true(d->coord_buffer != 0 && d->color_buffer != 0);
             /* the vertex array itself: every vertex's tangent, interleaved */
             assert_int_equal(d->coord_stride, (GLint)sizeof(ht_vertex));
             const char *base = d->coord_pointer;
