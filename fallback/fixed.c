@@ -1,4 +1,4 @@
-/* fixed.c — the `fixed` tier's backend (about 530 lines, one job: applying
+/* fixed.c — the `fixed` tier's backend (about 560 lines, one job: applying
    a combiner program and feeding its stages; the CPU coordinates live in
    fixed_soa.c, the texture matrix in fixed_coords.c): a GL 1.3 texture-combiner program
    (fixed.json, combiner.h) applied as data, over a lookup texture of the
@@ -288,20 +288,21 @@ static void normalize_tangents(ht_vertex *v, size_t n) {
 /* Copies data into a buffer object the draws read, once per change (not
    once per pass); nothing where the device has no VBOs (the draws point
    client arrays at the data). A refused upload is one line naming GL's
-   error, and the buffer is dropped: client arrays until the next upload. */
-static bool upload(fixed_state *s, GLuint *buffer, const void *data, size_t bytes, GLenum usage) {
+   error (what: when), and the buffer is dropped: client arrays until the
+   next upload. */
+static GLenum upload(fixed_state *s, GLuint *buffer, const void *data, size_t bytes, GLenum usage, const char *what) {
     const ht_gl *gl = s->gl;
-    if (!s->caps->has_vbo || !gl->GenBuffers) return true;
+    if (!s->caps->has_vbo || !gl->GenBuffers) return GL_NO_ERROR;
     if (!*buffer) gl->GenBuffers(1, buffer);
     gl->BindBuffer(GL_ARRAY_BUFFER, *buffer);
     gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)bytes, data, usage);
     gl->BindBuffer(GL_ARRAY_BUFFER, 0);
     GLenum e = gl->GetError();
-    if (e == GL_NO_ERROR) return true;
-    ht_log_linef(s->log, s->log_user, "hairtier: fixed: glBufferData: %s: client arrays instead", ht_gl_error_name(e));
+    if (e == GL_NO_ERROR) return e;
+    ht_log_linef(s->log, s->log_user, "hairtier: fixed: glBufferData: %s: %s", ht_gl_error_name(e), what);
     gl->DeleteBuffers(1, buffer);
     *buffer = 0;
-    return false;
+    return e;
 }
 
 static ht_result set_mesh(void *state, const ht_mesh *mesh) {
@@ -343,9 +344,12 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
        until a frame changes them (every buffer the size of this mesh). */
     if (s->caps->has_vbo)
         while (s->gl->GetError() != GL_NO_ERROR) {}
-    upload(s, &s->vertex_buffer, v, n * sizeof *v, GL_STATIC_DRAW);
-    upload(s, &s->color_buffer, colors, n * 4 * sizeof *colors, GL_DYNAMIC_DRAW);
-    if (coords) upload(s, &s->coord_buffer, coords, n * 3 * sizeof *coords, GL_DYNAMIC_DRAW);
+    static const char refused[] = "mesh refused"; /* the renderer drops it, with its own line */
+    GLenum e = upload(s, &s->vertex_buffer, v, n * sizeof *v, GL_STATIC_DRAW, refused);
+    if (e == GL_NO_ERROR) e = upload(s, &s->color_buffer, colors, n * 4 * sizeof *colors, GL_DYNAMIC_DRAW, refused);
+    if (e == GL_NO_ERROR && coords)
+        e = upload(s, &s->coord_buffer, coords, n * 3 * sizeof *coords, GL_DYNAMIC_DRAW, refused);
+    if (e != GL_NO_ERROR) return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
     return HT_OK;
 }
 
@@ -378,7 +382,8 @@ static void update_coords(fixed_state *s, const ht_tier_frame *f) {
     memcpy(s->coords_key, key, sizeof key);
     s->coords_valid = true;
     s->cpu_vertices += s->vertex_count;
-    upload(s, &s->coord_buffer, s->coords, (size_t)s->vertex_count * 3 * sizeof(float), GL_DYNAMIC_DRAW);
+    upload(s, &s->coord_buffer, s->coords, (size_t)s->vertex_count * 3 * sizeof(float), GL_DYNAMIC_DRAW,
+           "client arrays instead");
 }
 
 /* Primary colours for the "texture-matrix" rule: per vertex, but only when
@@ -397,7 +402,8 @@ static void update_colors(fixed_state *s, const ht_tier_frame *f) {
     memcpy(s->color_key, key, sizeof key);
     s->colors_valid = true;
     s->cpu_vertices += s->vertex_count;
-    upload(s, &s->color_buffer, s->colors, (size_t)s->vertex_count * 4 * sizeof(float), GL_DYNAMIC_DRAW);
+    upload(s, &s->color_buffer, s->colors, (size_t)s->vertex_count * 4 * sizeof(float), GL_DYNAMIC_DRAW,
+           "client arrays instead");
 }
 
 static void begin_frame(void *state, const ht_tier_frame *f) {

@@ -1,5 +1,5 @@
 /* gl11.c — the `gl11` tier's backend (gl11_program.h has the model and
-   the why). GL 1.1 only: one texture unit, GL_MODULATE, client arrays; no
+   the why). GL 1.1 only: one texture unit, GL_MODULATE, vertex arrays; no
    multitexture, combiner or shader call anywhere, and a buffer object
    only where the device has them (a GL 1.1 driver with
    ARB_vertex_buffer_object, or a newer one run at this tier).
@@ -25,8 +25,8 @@
 
 #include "errfmt.h"
 #include "gl11.h"
-#include "gl_error.h"
 #include "gl11_program.h"
+#include "gl_error.h"
 #include "gl_texture.h"
 #include "image.h"
 
@@ -166,19 +166,20 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
 }
 
 /* The colours just made, onto the device where it has VBOs. A refused
-   upload is one line naming GL's error, and the colours are remade (and
-   uploaded again) next frame; this frame draws no hair. */
-static bool upload_colors(gl11_state *s) {
+   upload is one line naming GL's error, and the buffer is dropped: a
+   client array until the colours are next remade. */
+static void upload_colors(gl11_state *s) {
     const ht_gl *gl = s->gl;
-    if (!s->has_vbo) return true;
+    if (!s->has_vbo) return;
     if (!s->color_buffer) gl->GenBuffers(1, &s->color_buffer);
     gl->BindBuffer(GL_ARRAY_BUFFER, s->color_buffer);
     gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(4 * s->soa.count * sizeof(float)), s->colors, GL_DYNAMIC_DRAW);
     gl->BindBuffer(GL_ARRAY_BUFFER, 0);
     GLenum e = gl->GetError();
-    if (e == GL_NO_ERROR) return true;
-    ht_log_linef(s->log, s->log_user, "hairtier: gl11: glBufferData: %s: hair not drawn", ht_gl_error_name(e));
-    return false;
+    if (e == GL_NO_ERROR) return;
+    ht_log_linef(s->log, s->log_user, "hairtier: gl11: glBufferData: %s: client arrays instead", ht_gl_error_name(e));
+    gl->DeleteBuffers(1, &s->color_buffer);
+    s->color_buffer = 0;
 }
 
 static void begin_frame(void *state, const ht_tier_frame *f) {
@@ -198,7 +199,8 @@ static void begin_frame(void *state, const ht_tier_frame *f) {
     atomic_fetch_add_explicit(&cpu_vertices_total, (uint64_t)s->soa.count, memory_order_relaxed);
     s->cpu_vertices += s->soa.count;
     s->key = key;
-    s->colors_valid = upload_colors(s);
+    s->colors_valid = true;
+    upload_colors(s);
 }
 
 static void bind_pass(void *state, ht_pass pass, int sub_pass) {
@@ -223,16 +225,16 @@ static bool set_arrays(void *state, ht_pass pass, int sub_pass) {
         gl->Color4f(1, 1, 1, 1);
         return true;
     }
-    gl->EnableClientState(GL_COLOR_ARRAY);
-    if (s->has_vbo) {
-        /* the renderer's array buffer binding back after */
-        GLint bound = 0;
+    /* the buffer, or (none: no VBOs, or its upload was refused) client
+       memory with no array buffer bound; the renderer's binding back after */
+    GLint bound = 0;
+    if (gl->BindBuffer) {
         gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
         gl->BindBuffer(GL_ARRAY_BUFFER, s->color_buffer);
-        gl->ColorPointer(4, GL_FLOAT, 0, NULL);
-        gl->BindBuffer(GL_ARRAY_BUFFER, (GLuint)bound);
-    } else
-        gl->ColorPointer(4, GL_FLOAT, 0, s->colors);
+    }
+    gl->EnableClientState(GL_COLOR_ARRAY);
+    gl->ColorPointer(4, GL_FLOAT, 0, s->color_buffer ? NULL : s->colors);
+    if (gl->BindBuffer) gl->BindBuffer(GL_ARRAY_BUFFER, (GLuint)bound);
     return true;
 }
 

@@ -9,7 +9,10 @@
    - with the device profile's no_vbo, every array is client memory, still
      nothing uploaded, and the pixels are those of the VBO run, exactly;
    - gl11: a moved eye uploads the recomputed colours once, and the frame
-     after it none again.
+     after it none again;
+   - an upload GL refuses (the fault layer's GL_OUT_OF_MEMORY) in a frame
+     is one line naming the error, and that frame draws the same pixels
+     from client arrays.
    Every buffer the tier made is deleted with the renderer. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -46,9 +49,10 @@ typedef struct counted_frame {
     long pointers, client_pointers, uploads;
 } counted_frame;
 
-static counted_frame count_frame(ht_renderer *r, const ht_frame_desc *f) {
+/* One frame, counted; refuse_upload: its n-th glBufferData fails (0: none). */
+static counted_frame count_frame_refusing(ht_renderer *r, const ht_frame_desc *f, long refuse_upload) {
     counted_frame c;
-    ht_fault_arm(HT_FAULT_NONE, 0);
+    ht_fault_arm(refuse_upload ? HT_FAULT_BUFFER_DATA : HT_FAULT_NONE, refuse_upload);
     ht_test_draw(&fx.gl, r, f, ht_test_background, &c.img);
     const ht_fault_state *st = ht_fault_state_get();
     c.pointers = st->array_pointers;
@@ -56,6 +60,8 @@ static counted_frame count_frame(ht_renderer *r, const ht_frame_desc *f) {
     c.uploads = st->calls[HT_FAULT_BUFFER_DATA];
     return c;
 }
+
+static counted_frame count_frame(ht_renderer *r, const ht_frame_desc *f) { return count_frame_refusing(r, f, 0); }
 
 static ht_renderer *create(ht_tier tier, bool no_vbo) {
     ht_fault_arm(HT_FAULT_NONE, 0);
@@ -126,11 +132,45 @@ static void test_gl11_uploads_colours_only_when_it_recomputes_them(void **state)
     ht_renderer_destroy(r);
 }
 
+/* The first frame uploads what it computed; its first upload refused. */
+static void refused_upload_draws_from_client_arrays(ht_tier tier, const char *line) {
+    ht_frame_desc f = ht_test_furball_frame(2.0f);
+    ht_renderer *r = create(tier, false);
+    counted_frame clean = count_frame(r, &f);
+    assert_true(clean.uploads > 0);
+    ht_renderer_destroy(r);
+    r = create(tier, false);
+    ht_test_log_clear();
+    counted_frame refused = count_frame_refusing(r, &f, 1);
+    assert_true(ht_fault_state_get()->fired);
+    assert_true(ht_test_logged(line));
+    assert_true(refused.client_pointers > 0);
+    assert_memory_equal(clean.img.pixels, refused.img.pixels, (size_t)SIZE * SIZE * 4);
+    ht_image_free(&clean.img);
+    ht_image_free(&refused.img);
+    ht_renderer_destroy(r);
+    assert_int_equal(ht_fault_state_get()->live[HT_FAULT_BUFFERS], 0);
+}
+
+static void test_fixed_refused_upload_draws_from_client_arrays(void **state) {
+    (void)state;
+    refused_upload_draws_from_client_arrays(HT_TIER_FIXED,
+                                            "hairtier: fixed: glBufferData: GL_OUT_OF_MEMORY: client arrays instead");
+}
+
+static void test_gl11_refused_upload_draws_from_client_arrays(void **state) {
+    (void)state;
+    refused_upload_draws_from_client_arrays(HT_TIER_GL11,
+                                            "hairtier: gl11: glBufferData: GL_OUT_OF_MEMORY: client arrays instead");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fixed_steady_frame_reads_buffers_only),
         cmocka_unit_test(test_gl11_steady_frame_reads_buffers_only),
         cmocka_unit_test(test_gl11_uploads_colours_only_when_it_recomputes_them),
+        cmocka_unit_test(test_fixed_refused_upload_draws_from_client_arrays),
+        cmocka_unit_test(test_gl11_refused_upload_draws_from_client_arrays),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
