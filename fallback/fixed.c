@@ -287,10 +287,10 @@ static void normalize_tangents(ht_vertex *v, size_t n) {
 
 /* Copies data into a buffer object the draws read, once per change (not
    once per pass); nothing where the device has no VBOs (the draws point
-   client arrays at the data). A refused upload is one line naming GL's
-   error (what: when), and the buffer is dropped: client arrays until the
-   next upload. */
-static GLenum upload(fixed_state *s, GLuint *buffer, const void *data, size_t bytes, GLenum usage, const char *what) {
+   client arrays at the data). A refused upload drops the buffer (client
+   arrays until the next upload) and is one line naming GL's error and
+   what follows (then), or none when then is NULL (the caller's). */
+static GLenum upload(fixed_state *s, GLuint *buffer, const void *data, size_t bytes, GLenum usage, const char *then) {
     const ht_gl *gl = s->gl;
     if (!s->caps->has_vbo || !gl->GenBuffers) return GL_NO_ERROR;
     if (!*buffer) gl->GenBuffers(1, buffer);
@@ -299,7 +299,7 @@ static GLenum upload(fixed_state *s, GLuint *buffer, const void *data, size_t by
     gl->BindBuffer(GL_ARRAY_BUFFER, 0);
     GLenum e = gl->GetError();
     if (e == GL_NO_ERROR) return e;
-    ht_log_linef(s->log, s->log_user, "hairtier: fixed: glBufferData: %s: %s", ht_gl_error_name(e), what);
+    if (then) ht_log_linef(s->log, s->log_user, "hairtier: fixed: glBufferData: %s: %s", ht_gl_error_name(e), then);
     gl->DeleteBuffers(1, buffer);
     *buffer = 0;
     return e;
@@ -344,11 +344,11 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
        until a frame changes them (every buffer the size of this mesh). */
     if (s->caps->has_vbo)
         while (s->gl->GetError() != GL_NO_ERROR) {}
-    static const char refused[] = "mesh refused"; /* the renderer drops it, with its own line */
-    GLenum e = upload(s, &s->vertex_buffer, v, n * sizeof *v, GL_STATIC_DRAW, refused);
-    if (e == GL_NO_ERROR) e = upload(s, &s->color_buffer, colors, n * 4 * sizeof *colors, GL_DYNAMIC_DRAW, refused);
+    /* refused: the renderer drops the mesh with its one line (as fixed4) */
+    GLenum e = upload(s, &s->vertex_buffer, v, n * sizeof *v, GL_STATIC_DRAW, NULL);
+    if (e == GL_NO_ERROR) e = upload(s, &s->color_buffer, colors, n * 4 * sizeof *colors, GL_DYNAMIC_DRAW, NULL);
     if (e == GL_NO_ERROR && coords)
-        e = upload(s, &s->coord_buffer, coords, n * 3 * sizeof *coords, GL_DYNAMIC_DRAW, refused);
+        e = upload(s, &s->coord_buffer, coords, n * 3 * sizeof *coords, GL_DYNAMIC_DRAW, NULL);
     if (e != GL_NO_ERROR) return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
     return HT_OK;
 }
