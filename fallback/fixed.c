@@ -1,16 +1,18 @@
-/* fixed.c — the `fixed` tier's backend (about 530 lines, one job: applying
+/* fixed.c — the `fixed` tier's backend (about 560 lines, one job: applying
    a combiner program and feeding its stages; the CPU coordinates live in
    fixed_soa.c, the texture matrix in fixed_coords.c): a GL 1.3 texture-combiner program
    (fixed.json, combiner.h) applied as data, over a lookup texture of the
    model's dot products (Heidrich-Seidel). No shader object anywhere: only
-   glTexEnv, textures and client arrays.
+   glTexEnv, textures and vertex arrays (buffer objects where the device
+   has them, client arrays where it has none).
 
    Per frame, by the LUT stage's rule (combiner.h): "cpu-dots" computes the
    LUT coordinates and primary colours per vertex on the CPU
    (fixed_coords.h) for the frame's lights and eye; "texture-matrix" loads
    the LUT unit's texture matrix (16 floats, infinite viewer: the view
    matrix's view direction), points the unit's texture coordinates at the
-   mesh's tangents (normalized once, in set_mesh) and recomputes the
+   mesh's tangents (normalized once, in set_mesh, and uploaded there with
+   the uv into a buffer object of its own) and recomputes the
    primary colours only when the light's colour changes. A frame whose key
    light is a point light cannot use the matrix (the renderer shades lights
    as the bundle plans them, so only a caller driving the backend directly
@@ -22,11 +24,15 @@
    draw (point_stage_arrays):
    stages read their texture coordinates from the CPU arrays ("cpu-dots"),
    the tangents ("texture-matrix") or the vertex uv ("uv"), the colour
-   array is the primary colour; the renderer then draws with its index
+   array is the primary colour, each from a buffer object uploaded only
+   when it changed (a steady frame uploads nothing and points no client
+   memory; NVIDIA copies client arrays across the bus at every draw); the
+   renderer then draws with its index
    buffer over its range, so passes, state and draw ranges stay those of
    every other tier. end_frame puts GL's initial texture-environment state
    and identity texture matrix back on every unit it touched. */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -37,6 +43,7 @@
 #include "fixed.h"
 #include "fixed_coords.h"
 #include "fixed_soa.h"
+#include "gl_error.h"
 #include "gl_texture.h"
 #include "image.h"
 #include "vecmath.h"
@@ -60,6 +67,7 @@ typedef struct fixed_state {
     ht_fixed_soa soa;                         /* "cpu-dots": the static part, float, per mesh */
     bool coords_valid;                        /* coords hold coords_key's eye and light */
     float coords_key[8];                      /* eye, light vector, lit (0/1), point (0/1) */
+    GLuint vertex_buffer;                     /* vertices' copy: tangents and uv (VBO, when it has them) */
     GLuint coord_buffer, color_buffer;        /* where the device reads them (VBOs, when it has them) */
     uint64_t cpu_vertices;                    /* per-vertex CPU work so far */
     ht_log_fn log;
@@ -106,6 +114,7 @@ static void destroy(void *state) {
     free(s->coords);
     free(s->colors);
     ht_fixed_soa_free(&s->soa);
+    if (s->vertex_buffer) s->gl->DeleteBuffers(1, &s->vertex_buffer);
     if (s->coord_buffer) s->gl->DeleteBuffers(1, &s->coord_buffer);
     if (s->color_buffer) s->gl->DeleteBuffers(1, &s->color_buffer);
     free(s);
@@ -276,6 +285,26 @@ static void normalize_tangents(ht_vertex *v, size_t n) {
     }
 }
 
+/* Copies data into a buffer object the draws read, once per change (not
+   once per pass); nothing where the device has no VBOs (the draws point
+   client arrays at the data). A refused upload drops the buffer (client
+   arrays until the next upload) and is one line naming GL's error and
+   what follows (then), or none when then is NULL (the caller's). */
+static GLenum upload(fixed_state *s, GLuint *buffer, const void *data, size_t bytes, GLenum usage, const char *then) {
+    const ht_gl *gl = s->gl;
+    if (!s->caps->has_vbo || !gl->GenBuffers) return GL_NO_ERROR;
+    if (!*buffer) gl->GenBuffers(1, buffer);
+    gl->BindBuffer(GL_ARRAY_BUFFER, *buffer);
+    gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)bytes, data, usage);
+    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    GLenum e = gl->GetError();
+    if (e == GL_NO_ERROR) return e;
+    if (then) ht_log_linef(s->log, s->log_user, "hairtier: fixed: glBufferData: %s: %s", ht_gl_error_name(e), then);
+    gl->DeleteBuffers(1, buffer);
+    *buffer = 0;
+    return e;
+}
+
 static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     fixed_state *s = state;
     size_t n = mesh->vertex_count;
@@ -311,6 +340,16 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     /* Until the first frame: unlit, inside the LUT. */
     for (size_t i = 0; coords && i < 3 * n; i++) coords[i] = 0.5f;
     for (size_t i = 0; i < 4 * n; i++) colors[i] = (i % 4 == 3) ? 1.0f : 0.0f;
+    /* On the device from here: the tangents and uv for good, the others
+       until a frame changes them (every buffer the size of this mesh). */
+    if (s->caps->has_vbo)
+        while (s->gl->GetError() != GL_NO_ERROR) {}
+    /* refused: the renderer drops the mesh with its one line (as fixed4) */
+    GLenum e = upload(s, &s->vertex_buffer, v, n * sizeof *v, GL_STATIC_DRAW, NULL);
+    if (e == GL_NO_ERROR) e = upload(s, &s->color_buffer, colors, n * 4 * sizeof *colors, GL_DYNAMIC_DRAW, NULL);
+    if (e == GL_NO_ERROR && coords)
+        e = upload(s, &s->coord_buffer, coords, n * 3 * sizeof *coords, GL_DYNAMIC_DRAW, NULL);
+    if (e != GL_NO_ERROR) return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
     return HT_OK;
 }
 
@@ -331,17 +370,6 @@ static void load_texture_matrix(const fixed_state *s, int unit, const float *m) 
     gl->MatrixMode((GLenum)mode);
 }
 
-/* Copies what the CPU made into a buffer object the draws read, once per
-   change (not once per pass); client memory when the device has no VBOs. */
-static void upload(fixed_state *s, GLuint *buffer, const float *data, size_t floats) {
-    const ht_gl *gl = s->gl;
-    if (!s->caps->has_vbo || !gl->GenBuffers) return;
-    if (!*buffer) gl->GenBuffers(1, buffer);
-    gl->BindBuffer(GL_ARRAY_BUFFER, *buffer);
-    gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(floats * sizeof(float)), data, GL_DYNAMIC_DRAW);
-    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
-}
-
 /* "cpu-dots": the LUT coordinates, only when the eye or the light moved
    (float, structure of arrays: fixed_soa.h). */
 static void update_coords(fixed_state *s, const ht_tier_frame *f) {
@@ -354,7 +382,8 @@ static void update_coords(fixed_state *s, const ht_tier_frame *f) {
     memcpy(s->coords_key, key, sizeof key);
     s->coords_valid = true;
     s->cpu_vertices += s->vertex_count;
-    upload(s, &s->coord_buffer, s->coords, (size_t)s->vertex_count * 3);
+    upload(s, &s->coord_buffer, s->coords, (size_t)s->vertex_count * 3 * sizeof(float), GL_DYNAMIC_DRAW,
+           "client arrays instead");
 }
 
 /* Primary colours for the "texture-matrix" rule: per vertex, but only when
@@ -373,7 +402,8 @@ static void update_colors(fixed_state *s, const ht_tier_frame *f) {
     memcpy(s->color_key, key, sizeof key);
     s->colors_valid = true;
     s->cpu_vertices += s->vertex_count;
-    upload(s, &s->color_buffer, s->colors, (size_t)s->vertex_count * 4);
+    upload(s, &s->color_buffer, s->colors, (size_t)s->vertex_count * 4 * sizeof(float), GL_DYNAMIC_DRAW,
+           "client arrays instead");
 }
 
 static void begin_frame(void *state, const ht_tier_frame *f) {
@@ -450,10 +480,17 @@ static void bind_pass(void *state, ht_pass pass, int sub_pass) {
     active_unit(s, 0);
 }
 
-/* Points each stage's texture coordinates and the colour array at the
-   CPU data; the renderer then draws its own index range. Client pointers
-   are taken with no array buffer bound (the renderer's VBO holds only its
-   own vertex and normal arrays). */
+/* Binds where an array is read from and answers the pointer GL takes: an
+   offset into buffer, or (buffer 0: no VBOs, or its upload was refused)
+   the client memory, read with no array buffer bound. */
+static const void *array_source(const ht_gl *gl, GLuint buffer, const void *client, size_t offset) {
+    if (gl->BindBuffer) gl->BindBuffer(GL_ARRAY_BUFFER, buffer);
+    return buffer ? (const void *)(uintptr_t)offset : (const void *)((const char *)client + offset);
+}
+
+/* Points each stage's texture coordinates and the colour array at this
+   backend's buffers; the renderer then draws its own index range and gets
+   its array buffer binding back. */
 static bool point_stage_arrays(void *state, ht_pass pass, int sub_pass) {
     (void)pass;
     (void)sub_pass;
@@ -464,29 +501,24 @@ static bool point_stage_arrays(void *state, ht_pass pass, int sub_pass) {
        coordinates (logged in begin_frame): draw nothing rather than garbage */
     if (!s->frame_matrix && !s->coords) return false;
     GLint bound = 0;
-    if (gl->BindBuffer) {
-        gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
-        gl->BindBuffer(GL_ARRAY_BUFFER, 0);
-    }
+    if (gl->BindBuffer) gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
     const GLsizei stride = (GLsizei)sizeof(ht_vertex);
     for (int i = 0; i < s->program.stage_count; i++) {
         const ht_combiner_stage *st = &s->program.stages[i];
         if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)st->unit);
         gl->EnableClientState(GL_TEXTURE_COORD_ARRAY);
-        if (st->coords == HT_COORDS_TEXTURE_MATRIX && s->frame_matrix) {
-            gl->TexCoordPointer(3, GL_FLOAT, stride, (const char *)s->vertices + offsetof(ht_vertex, tangent));
-        } else if (st->coords != HT_COORDS_UV) {
-            if (s->coord_buffer) gl->BindBuffer(GL_ARRAY_BUFFER, s->coord_buffer);
-            gl->TexCoordPointer(3, GL_FLOAT, 0, s->coord_buffer ? NULL : s->coords);
-            if (s->coord_buffer) gl->BindBuffer(GL_ARRAY_BUFFER, 0);
-        } else
-            gl->TexCoordPointer(2, GL_FLOAT, stride, (const char *)s->vertices + offsetof(ht_vertex, uv));
+        if (st->coords == HT_COORDS_TEXTURE_MATRIX && s->frame_matrix)
+            gl->TexCoordPointer(3, GL_FLOAT, stride,
+                                array_source(gl, s->vertex_buffer, s->vertices, offsetof(ht_vertex, tangent)));
+        else if (st->coords != HT_COORDS_UV)
+            gl->TexCoordPointer(3, GL_FLOAT, 0, array_source(gl, s->coord_buffer, s->coords, 0));
+        else
+            gl->TexCoordPointer(2, GL_FLOAT, stride,
+                                array_source(gl, s->vertex_buffer, s->vertices, offsetof(ht_vertex, uv)));
     }
     if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0);
     gl->EnableClientState(GL_COLOR_ARRAY);
-    if (s->color_buffer) gl->BindBuffer(GL_ARRAY_BUFFER, s->color_buffer);
-    gl->ColorPointer(4, GL_FLOAT, 0, s->color_buffer ? NULL : s->colors);
-    if (s->color_buffer) gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    gl->ColorPointer(4, GL_FLOAT, 0, array_source(gl, s->color_buffer, s->colors, 0));
     if (gl->BindBuffer) gl->BindBuffer(GL_ARRAY_BUFFER, (GLuint)bound);
     return true;
 }

@@ -1,15 +1,20 @@
 /* gl11.c — the `gl11` tier's backend (gl11_program.h has the model and
-   the why). GL 1.1 only: one texture unit, GL_MODULATE, client arrays; no
-   multitexture, combiner, buffer object or shader call anywhere.
+   the why). GL 1.1 only: one texture unit, GL_MODULATE, vertex arrays; no
+   multitexture, combiner or shader call anywhere, and a buffer object
+   only where the device has them (a GL 1.1 driver with
+   ARB_vertex_buffer_object, or a newer one run at this tier).
 
    Create: the program (gl11.json) and the albedo, its rgb uploaded x
    albedo_scale (a 1x1 white texel, scale 1, when the bundle has none).
    Per mesh (set_mesh): the structure-of-arrays inputs and the colour array
-   (4 floats per vertex, client memory: GL 1.1 has no buffer objects).
+   (4 floats per vertex).
    Per frame (begin_frame): the colours recomputed on the CPU only when the
    eye, a light's type, vector or colour, or the light count changed since
-   they were made (the cache key); counted in ht_gl11_cpu_vertices.
-   Per pass: every pass points the colour array at the same memory; the
+   they were made (the cache key); counted in ht_gl11_cpu_vertices; then,
+   where the device has VBOs, uploaded to a buffer object once (a steady
+   frame uploads nothing: NVIDIA copies client arrays across the bus at
+   every draw), else left in client memory.
+   Per pass: every pass points the colour array at the same data; the
    prime-Z pass draws the albedo's alpha with a constant white colour (no
    array), the others albedo x colour. */
 #include <math.h>
@@ -21,6 +26,7 @@
 #include "errfmt.h"
 #include "gl11.h"
 #include "gl11_program.h"
+#include "gl_error.h"
 #include "gl_texture.h"
 #include "image.h"
 
@@ -40,11 +46,13 @@ typedef struct shade_key {
 
 typedef struct gl11_state {
     const ht_gl *gl;
+    bool has_vbo;
     ht_gl11_program program;
     double albedo_scale;      /* the program's; 1 with the white texel */
     GLuint albedo;
     ht_gl11_soa soa;
     float *colors;            /* 4 x soa.padded */
+    GLuint color_buffer;      /* the colours on the device (0: client memory) */
     bool have_mesh;
     bool colors_valid;
     shade_key key;
@@ -57,6 +65,7 @@ static void destroy(void *state) {
     gl11_state *s = state;
     if (!s) return;
     if (s->albedo) s->gl->DeleteTextures(1, &s->albedo);
+    if (s->color_buffer) s->gl->DeleteBuffers(1, &s->color_buffer);
     ht_gl11_soa_free(&s->soa);
     free(s->colors);
     free(s);
@@ -118,6 +127,7 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
     gl11_state *s = calloc(1, sizeof *s);
     if (!s) return HT_ERR_OUT_OF_MEMORY;
     s->gl = ctx->gl;
+    s->has_vbo = ctx->caps->has_vbo && ctx->gl->GenBuffers;
     s->log = ctx->log;
     s->log_user = ctx->log_user;
     ht_result r = load_program(s, ctx, err, err_size);
@@ -155,6 +165,23 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     return HT_OK;
 }
 
+/* The colours just made, onto the device where it has VBOs. A refused
+   upload is one line naming GL's error, and the buffer is dropped: a
+   client array until the colours are next remade. */
+static void upload_colors(gl11_state *s) {
+    const ht_gl *gl = s->gl;
+    if (!s->has_vbo) return;
+    if (!s->color_buffer) gl->GenBuffers(1, &s->color_buffer);
+    gl->BindBuffer(GL_ARRAY_BUFFER, s->color_buffer);
+    gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(4 * s->soa.count * sizeof(float)), s->colors, GL_DYNAMIC_DRAW);
+    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    GLenum e = gl->GetError();
+    if (e == GL_NO_ERROR) return;
+    ht_log_linef(s->log, s->log_user, "hairtier: gl11: glBufferData: %s: client arrays instead", ht_gl_error_name(e));
+    gl->DeleteBuffers(1, &s->color_buffer);
+    s->color_buffer = 0;
+}
+
 static void begin_frame(void *state, const ht_tier_frame *f) {
     gl11_state *s = state;
     if (!s->have_mesh) return;
@@ -173,6 +200,7 @@ static void begin_frame(void *state, const ht_tier_frame *f) {
     s->cpu_vertices += s->soa.count;
     s->key = key;
     s->colors_valid = true;
+    upload_colors(s);
 }
 
 static void bind_pass(void *state, ht_pass pass, int sub_pass) {
@@ -197,15 +225,15 @@ static bool set_arrays(void *state, ht_pass pass, int sub_pass) {
         gl->Color4f(1, 1, 1, 1);
         return true;
     }
-    /* client memory: no buffer may be bound to GL_ARRAY_BUFFER (the
-       renderer binds its own where the device has them) */
+    /* the buffer, or (none: no VBOs, or its upload was refused) client
+       memory with no array buffer bound; the renderer's binding back after */
     GLint bound = 0;
     if (gl->BindBuffer) {
         gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
-        gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+        gl->BindBuffer(GL_ARRAY_BUFFER, s->color_buffer);
     }
     gl->EnableClientState(GL_COLOR_ARRAY);
-    gl->ColorPointer(4, GL_FLOAT, 0, s->colors);
+    gl->ColorPointer(4, GL_FLOAT, 0, s->color_buffer ? NULL : s->colors);
     if (gl->BindBuffer) gl->BindBuffer(GL_ARRAY_BUFFER, (GLuint)bound);
     return true;
 }

@@ -324,6 +324,39 @@ static void APIENTRY wrap_TexImage3D(GLenum target, GLint level, GLint internalf
     real_TexImage3D(target, level, internalformat, w, h, d, border, format, type, pixels);
 }
 
+/* Vertex arrays: whether each pointer names buffer memory or client
+   memory (no buffer bound to GL_ARRAY_BUFFER). GL_ARRAY_BUFFER_BINDING is
+   asked only once the runtime has bound a buffer (the context has them);
+   before that every array is client memory. */
+static bool buffers_seen;
+
+static void array_pointer_set(void) {
+    GLint bound = 0;
+    if (buffers_seen) real_GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
+    st.array_pointers++;
+    if (!bound) st.client_array_pointers++;
+}
+
+static void APIENTRY wrap_BindBuffer(GLenum target, GLuint buffer) {
+    any_call();
+    buffers_seen = true;
+    real_BindBuffer(target, buffer);
+}
+
+#define POINTER_WRAPPER(name, params)                  \
+    static void APIENTRY wrap_##name params {          \
+        any_call();                                    \
+        array_pointer_set();                           \
+        real_##name(ARGS_##name);                      \
+    }
+POINTER_WRAPPER(VertexPointer, (GLint size, GLenum type, GLsizei stride, const void *ptr))
+POINTER_WRAPPER(NormalPointer, (GLenum type, GLsizei stride, const void *ptr))
+POINTER_WRAPPER(TexCoordPointer, (GLint size, GLenum type, GLsizei stride, const void *ptr))
+POINTER_WRAPPER(ColorPointer, (GLint size, GLenum type, GLsizei stride, const void *ptr))
+POINTER_WRAPPER(VertexAttribPointer,
+                (GLuint index, GLint size, GLenum type, GLboolean normalized, GLsizei stride, const void *ptr))
+#undef POINTER_WRAPPER
+
 static void APIENTRY wrap_BufferData(GLenum target, GLsizeiptr size, const void *data, GLenum usage) {
     any_call();
     if (hit(HT_FAULT_BUFFER_DATA)) {
@@ -347,7 +380,8 @@ static const wrapper specials[] = {
     SPECIAL(CreateShader) SPECIAL(DeleteShader) SPECIAL(CreateProgram) SPECIAL(DeleteProgram)
     SPECIAL(CompileShader) SPECIAL(GetShaderiv) SPECIAL(GetShaderInfoLog) SPECIAL(LinkProgram)
     SPECIAL(GetProgramiv) SPECIAL(GetProgramInfoLog) SPECIAL(TexImage2D) SPECIAL(TexImage3D)
-    SPECIAL(BufferData)
+    SPECIAL(BufferData) SPECIAL(BindBuffer) SPECIAL(VertexPointer) SPECIAL(NormalPointer) SPECIAL(TexCoordPointer)
+    SPECIAL(ColorPointer) SPECIAL(VertexAttribPointer)
 };
 #undef SPECIAL
 

@@ -29,6 +29,9 @@
    and glCreateProgram are kept in a set per kind until glDelete* names
    them; deleting 0 is ignored, deleting a name not in the set (a double
    delete, or one never made here) is counted apart as a stray delete.
+   Vertex arrays: every gl*Pointer call is counted, and counted apart when
+   no buffer is bound to GL_ARRAY_BUFFER (the array is client memory, which
+   a discrete GPU copies across the bus at every draw).
    The layer is process-global (one GL context at a time, as the tests). */
 #ifndef HT_SUPPORT_GL_FAULT_H
 #define HT_SUPPORT_GL_FAULT_H
@@ -65,6 +68,8 @@ typedef struct ht_fault_state {
     int deleted[HT_FAULT_OBJECT_COUNT];        /* live names deleted, since ht_fault_arm */
     int live[HT_FAULT_OBJECT_COUNT];           /* names made and not yet deleted (kept across arms) */
     int stray_deletes;                         /* deletes of names not live, since ht_fault_arm */
+    long array_pointers;                       /* gl*Pointer calls, since ht_fault_arm */
+    long client_array_pointers;                /* those with no GL_ARRAY_BUFFER bound */
 } ht_fault_state;
 
 /* Arms cls at its n-th call (n >= 1; HT_FAULT_NONE or n = 0: count only)

@@ -139,6 +139,7 @@ typedef struct draw_state {
     void *coord_pointer;
     GLfloat texture_matrix[16];
     void *color_pointer;
+    GLint coord_buffer, color_buffer;   /* 0: client memory */
 } draw_state;
 
 #define MAX_DRAWS 16
@@ -151,15 +152,15 @@ static void *as_data(void (*f)(void)) {
     return p;
 }
 
-/* The colour array may live in a buffer object (the tier uploads what the
-   CPU made once per change): then the pointer is an offset, and the test
-   reads a copy of the buffer instead. */
-static float *color_copies[MAX_DRAWS];
+/* The arrays live in buffer objects where the device has them (the tier
+   uploads its data once per change): then a pointer is an offset, and the
+   test reads a copy of the whole buffer instead, the pointer moved into it. */
+static void *array_copies[MAX_DRAWS][2];
 
-static void read_back_colors(draw_state *d, int index) {
+static GLint read_back_array(GLenum binding, void **pointer, void **copy) {
     GLint buffer = 0;
-    glGetIntegerv(GL_COLOR_ARRAY_BUFFER_BINDING, &buffer);
-    if (!buffer) return;
+    glGetIntegerv(binding, &buffer);
+    if (!buffer) return 0;
     void (*get_sub_data)(GLenum, GLintptr, GLsizeiptr, void *);
     void *f = ht_test_getproc("glGetBufferSubData");
     memcpy(&get_sub_data, &f, sizeof f);
@@ -173,11 +174,12 @@ static void read_back_colors(draw_state *d, int index) {
     memcpy(&get_param, &f, sizeof f);
     bind(GL_ARRAY_BUFFER, (GLuint)buffer);
     get_param(GL_ARRAY_BUFFER, GL_BUFFER_SIZE, &size);
-    free(color_copies[index]);
-    color_copies[index] = malloc(size > 0 ? (size_t)size : 1);
-    if (color_copies[index] && size > 0) get_sub_data(GL_ARRAY_BUFFER, (GLintptr)(uintptr_t)d->color_pointer, size, color_copies[index]);
+    free(*copy);
+    *copy = malloc(size > 0 ? (size_t)size : 1);
+    if (*copy && size > 0) get_sub_data(GL_ARRAY_BUFFER, 0, size, *copy);
     bind(GL_ARRAY_BUFFER, (GLuint)bound);
-    d->color_pointer = color_copies[index];
+    *pointer = (char *)*copy + (uintptr_t)*pointer;
+    return buffer;
 }
 
 static void APIENTRY watch_draw_elements(GLenum mode, GLsizei count, GLenum type, const void *indices) {
@@ -204,8 +206,11 @@ static void APIENTRY watch_draw_elements(GLenum mode, GLsizei count, GLenum type
         glGetIntegerv(GL_TEXTURE_COORD_ARRAY_SIZE, &d->coord_size);
         glGetIntegerv(GL_TEXTURE_COORD_ARRAY_STRIDE, &d->coord_stride);
         glGetPointerv(GL_TEXTURE_COORD_ARRAY_POINTER, &d->coord_pointer);
+        d->coord_buffer = read_back_array(GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING, &d->coord_pointer,
+                                          &array_copies[draw_count - 1][0]);
         glGetPointerv(GL_COLOR_ARRAY_POINTER, &d->color_pointer);
-        read_back_colors(d, draw_count - 1);
+        d->color_buffer = read_back_array(GL_COLOR_ARRAY_BUFFER_BINDING, &d->color_pointer,
+                                          &array_copies[draw_count - 1][1]);
         client_active_texture((GLenum)client);
         glGetIntegerv(GL_CURRENT_PROGRAM, &d->program);
     }
@@ -792,6 +797,8 @@ static void test_kajiya_kay_frames_read_tangents_through_the_texture_matrix_with
             const draw_state *d = &draws[i];
             assert_true(d->coord_array);
             assert_int_equal(d->coord_size, 3);
+            /* the device has VBOs: tangents and colours read from buffers */
+            assert_true(d->coord_buffer != 0 && d->color_buffer != 0);
             /* the vertex array itself: every vertex's tangent, interleaved */
             assert_int_equal(d->coord_stride, (GLint)sizeof(ht_vertex));
             const char *base = d->coord_pointer;

@@ -3,10 +3,13 @@
 
    - Forced (strict) on the fur ball: the full tier's pass list, state and
      draw ranges, hair drawn (neither blank nor magenta), no GL error, and
-     no texture unit but 0, no shader, no buffer object of its own.
+     no texture unit but 0, no shader (its colours' buffer object:
+     test_render_buffer_arrays).
    - Mesa's own MESA_GL_VERSION_OVERRIDE=1.1 in a re-executed child: the
      runtime picks gl11 and logs why full, vertex, fixed4 and fixed were
-     skipped; same trace as full; hair drawn.
+     skipped; same trace as full; hair drawn (printed: whether the runtime
+     found VBOs there, ARB_vertex_buffer_object; the no-VBO path is
+     test_render_buffer_arrays's no_vbo profile).
    - The colour cache: the first frame shades every vertex on the CPU, an
      identical second frame shades none, a moved eye or a changed light
      colour shades every vertex again (ht_gl11_cpu_vertices).
@@ -190,6 +193,7 @@ static int child_main(const char *bundle) {
                                                             .log = ht_test_log_capture, .record_trace = true }, &r);
     fputs(ht_test_log_text, stdout);
     printf("result=%s tier=%s\n", ht_result_string(res), res == HT_OK ? ht_tier_name(ht_renderer_tier(r)) : "-");
+    if (res == HT_OK) printf("vbo=%d\n", ht_renderer_caps(r)->has_vbo);
     if (res == HT_OK && ht_renderer_set_mesh(r, &m) == HT_OK) {
         glViewport(0, 0, SIZE, SIZE);
         glClearColor(ht_test_background[0], ht_test_background[1], ht_test_background[2], 1);
@@ -222,6 +226,9 @@ static void test_mesa_gl11_driver_selects_gl11_with_the_full_tiers_trace(void **
     ht_test_run_child("1.1", fx.bundle_dir, out, sizeof out);
     if (!strstr(out, "version=1.1")) fail_msg("child did not get a GL 1.1 context:\n%s", out);
     if (!strstr(out, "result=ok tier=gl11")) fail_msg("child did not pick gl11:\n%s", out);
+    const char *vbo = strstr(out, "vbo=");
+    assert_non_null(vbo);
+    printf("GL 1.1 child: %s\n", vbo[4] == '1' ? "VBOs (ARB_vertex_buffer_object)" : "no VBOs: client arrays");
     assert_non_null(strstr(out, "skipped full: needs GL 2.1, have 1.1"));
     assert_non_null(strstr(out, "skipped vertex: needs GL 2.0, have 1.1"));
     assert_non_null(strstr(out, "skipped fixed4: needs GL 1.2, have 1.1"));
