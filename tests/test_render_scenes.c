@@ -331,11 +331,15 @@ static const accuracy_pin *pinned(const char *material, const char *scene, const
 
 /* How many of the measured values miss their pin, each one printed. */
 static int misses(const ht_metrics *m, const accuracy_pin *pin) {
+    const bool missed[] = { m->psnr_db < pin->min_db, m->ssim < pin->min_ssim,
+                            m->delta_e00_mean > pin->max_delta_e_mean, m->delta_e00_p95 > pin->max_delta_e_p95 };
+    const char *what[] = { "PSNR below", "SSIM below", "mean CIEDE2000 above", "p95 CIEDE2000 above" };
     int n = 0;
-    if (m->psnr_db < pin->min_db) n++, printf("  PSNR below its pin\n");
-    if (m->ssim < pin->min_ssim) n++, printf("  SSIM below its pin\n");
-    if (m->delta_e00_mean > pin->max_delta_e_mean) n++, printf("  mean CIEDE2000 above its pin\n");
-    if (m->delta_e00_p95 > pin->max_delta_e_p95) n++, printf("  p95 CIEDE2000 above its pin\n");
+    for (int i = 0; i < 4; i++)
+        if (missed[i]) {
+            printf("  %s its pin\n", what[i]);
+            n++;
+        }
     return n;
 }
 
