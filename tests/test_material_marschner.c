@@ -175,7 +175,10 @@ static void generate_writes_the_marschner_tier_first(void **state) {
         assert_int_equal(f->tier, HT_TIER_MARSCHNER);
     }
     const ht_generated_file *lut = ht_generated_find(&g, "marschner-m.png");
-    assert_int_equal(lut->image.width, 2 * lut->image.height); /* two halves */
+    /* two lobes side by side, each value's high byte in the top half of
+       the rows and its low byte in the bottom half: 2n x 2n */
+    assert_int_equal(lut->image.width, lut->image.height);
+    assert_int_equal(lut->image.height % 2, 0);
     /* the lower tiers draw fitted Scheuermann constants (test_marschner_fit) */
     assert_non_null(ht_generated_find(&g, "full.frag"));
     assert_non_null(strstr(g.manifest, "\"model\":\t\"marschner\""));
