@@ -95,7 +95,7 @@ $(BUILD)/obj/%.o: %.c | $(DEPS_STAMP)
 
 $(BUILD)/obj/%.o: %.cpp | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
-	$(CXX) $(CPPFLAGS) -std=c++17 -Wall -Wextra $(WERROR) $(OPT) $(SAN) -MMD -MP -c $< -o $@
+	$(CXX) $(CPPFLAGS) -std=c++17 -fno-rtti -Wall -Wextra $(WERROR) $(OPT) $(SAN) $(if $(SAN),-fno-sanitize=vptr) -MMD -MP -c $< -o $@
 
 # The gl11 tier's per-vertex shading loops: sqrtf inline and selects
 # if-converted, so GCC's -O2 vectoriser takes them (neither flag changes a
