@@ -138,7 +138,11 @@ static ht_result compare_tier(const options *o, const char *tmp, const tier_scen
     if (r == HT_OK) r = heatmap_image(map, s->width, s->height, true, REPORT_HEAT_MAX, &img);
     if (r == HT_OK) {
         char path[4300];
-        snprintf(p->heatmap, sizeof p->heatmap, "%s-error.png", p->name);
+        /* a copy: GCC's -O1 -Wrestrict takes two fields of one struct for
+           overlapping */
+        char name[sizeof p->name];
+        memcpy(name, p->name, sizeof name);
+        snprintf(p->heatmap, sizeof p->heatmap, "%s-error.png", name);
         snprintf(path, sizeof path, "%s/%s", tmp, p->heatmap);
         r = ht_image_write_png(path, &img, err, err_size);
     } else if (r == HT_ERR_OUT_OF_MEMORY) {
@@ -186,7 +190,9 @@ static int build(const options *o, const char *tmp, const tier_scene *ts, report
            lower tiers draw constants fitted to it), else full. */
         if (tier == HT_TIER_MARSCHNER || (tier == HT_TIER_FULL && full < 0)) full = t;
         char path[4300];
-        snprintf(p->image, sizeof p->image, "%s.png", p->name);
+        char name[sizeof p->name]; /* a copy, as in compare_tier (-Wrestrict) */
+        memcpy(name, p->name, sizeof name);
+        snprintf(p->image, sizeof p->image, "%s.png", name);
         snprintf(path, sizeof path, "%s/%s", tmp, p->image);
         if (write_frame(path, frames[t].rgba, ts->scene.width, ts->scene.height, err, err_size) != HT_OK) goto done;
     }
