@@ -12,14 +12,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmocka.h>
 
 #include "hairtier.h"
 #include "rng.h"
+#include "support_child.h"
 
 #define UNIT_TOL 1e-4
 #define PERP_TOL 1e-4
@@ -960,22 +958,10 @@ static void test_free_of_zeroed_mesh_is_a_no_op(void **state) {
 #endif
 
 #ifndef HT_UNDER_ASAN
-static long address_space_bytes(void) {
-    FILE *f = fopen("/proc/self/statm", "r");
-    long pages = -1;
-    if (!f) return -1;
-    if (fscanf(f, "%ld", &pages) != 1) pages = -1;
-    fclose(f);
-    return pages < 0 ? -1 : pages * sysconf(_SC_PAGESIZE);
-}
-
 static int out_of_memory_child(void) {
     ht_mesh small;
     if (ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 20000, .joints = 4 }, &small) != HT_OK) return 10;
-    long used = address_space_bytes();
-    if (used < 0) return 11;
-    struct rlimit limit = { (rlim_t)used + (16 << 20), (rlim_t)used + (16 << 20) };
-    if (setrlimit(RLIMIT_AS, &limit) != 0) return 12;
+    if (!ht_test_limit_address_space((size_t)16 << 20)) return 11;
 
     ht_mesh m, head;
     memset(&m, 0xab, sizeof m);
@@ -1009,14 +995,7 @@ static void test_allocation_failure_frees_everything(void **state) {
 #ifdef HT_UNDER_ASAN
     skip();
 #else
-    fflush(NULL);
-    pid_t pid = fork();
-    assert_true(pid >= 0);
-    if (pid == 0) _exit(out_of_memory_child());
-    int status = 0;
-    assert_int_equal(waitpid(pid, &status, 0), pid);
-    assert_true(WIFEXITED(status));
-    assert_int_equal(WEXITSTATUS(status), 0);
+    ht_test_fork_child(out_of_memory_child);
 #endif
 }
 

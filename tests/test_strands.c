@@ -13,15 +13,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmocka.h>
 
 #include "ht_limits.h"
 #include "strands.h"
+#include "support_child.h"
 #include "support_scratch.h"
 
 static char work[64];
@@ -407,24 +406,12 @@ static void test_hair_non_finite_values_are_refused(void **state) {
 #endif
 
 #ifndef HT_UNDER_ASAN
-static long address_space_bytes(void) {
-    FILE *f = fopen("/proc/self/statm", "r");
-    long pages = -1;
-    if (!f) return -1;
-    if (fscanf(f, "%ld", &pages) != 1) pages = -1;
-    fclose(f);
-    return pages < 0 ? -1 : pages * sysconf(_SC_PAGESIZE);
-}
-
 /* Headers claiming the most points the limits allow (64 MiB of positions
    and more) over a file of a few hundred bytes: refused as a parse error
    with 8 MiB of address space to spare, so before any allocation for them. */
 static int huge_counts_child(void) {
     bytes tfx = make_tfx(2, 2, false), hair = make_hair(2, NULL, 1, H_POINTS);
-    long used = address_space_bytes();
-    if (used < 0) return 11;
-    struct rlimit limit = { (rlim_t)used + (8 << 20), (rlim_t)used + (8 << 20) };
-    if (setrlimit(RLIMIT_AS, &limit) != 0) return 12;
+    if (!ht_test_limit_address_space((size_t)8 << 20)) return 11;
     ht_strands s;
     char err[512];
     put_u32(tfx.data + 4, HT_LIMIT_STRANDS);
@@ -448,14 +435,7 @@ static void test_huge_counts_are_refused_before_allocating(void **state) {
 #ifdef HT_UNDER_ASAN
     skip();
 #else
-    fflush(NULL);
-    pid_t pid = fork();
-    assert_true(pid >= 0);
-    if (pid == 0) _exit(huge_counts_child());
-    int status = 0;
-    assert_int_equal(waitpid(pid, &status, 0), pid);
-    assert_true(WIFEXITED(status));
-    assert_int_equal(WEXITSTATUS(status), 0);
+    ht_test_fork_child(huge_counts_child);
 #endif
 }
 

@@ -1,0 +1,23 @@
+/* support_child.h — run part of a test in a child process, for what must
+   not happen in the test runner itself (an address-space limit, say).
+
+   Usage:
+       static int child(void) {
+           if (!ht_test_limit_address_space(8 << 20)) return 11;
+           ...; return 0;            (non-zero: which check failed)
+       }
+       ht_test_fork_child(child);      (fails the test unless it exits 0) */
+#ifndef HT_SUPPORT_CHILD_H
+#define HT_SUPPORT_CHILD_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+/* Limits the process's address space to what it maps now plus spare
+   bytes; false when the size or the limit cannot be had. */
+bool ht_test_limit_address_space(size_t spare);
+/* Runs child() in a forked process and fails the running cmocka test
+   unless it exits with status 0. */
+void ht_test_fork_child(int (*child)(void));
+
+#endif
