@@ -54,6 +54,17 @@ void ht_strands_free(ht_strands *s) {
     memset(s, 0, sizeof *s);
 }
 
+ht_result ht_strands_load_with(ht_strands_parse_fn parse, const char *path, ht_strands *out, char *err,
+                               size_t err_size) {
+    memset(out, 0, sizeof *out);
+    size_t size;
+    uint8_t *data = ht_strands_read_file(path, &size, err, err_size);
+    if (!data) return HT_ERR_IO;
+    ht_result r = parse(data, size, path, out, err, err_size);
+    free(data);
+    return r;
+}
+
 static bool has_extension(const char *path, const char *ext) {
     size_t n = strlen(path), e = strlen(ext);
     return n > e && strcasecmp(path + n - e, ext) == 0;

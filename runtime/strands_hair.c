@@ -192,11 +192,5 @@ ht_result ht_strands_parse_hair(const uint8_t *data, size_t size, const char *fi
 }
 
 ht_result ht_strands_load_hair(const char *path, ht_strands *out, char *err, size_t err_size) {
-    memset(out, 0, sizeof *out);
-    size_t size;
-    uint8_t *data = ht_strands_read_file(path, &size, err, err_size);
-    if (!data) return HT_ERR_IO;
-    ht_result r = ht_strands_parse_hair(data, size, path, out, err, err_size);
-    free(data);
-    return r;
+    return ht_strands_load_with(ht_strands_parse_hair, path, out, err, err_size);
 }

@@ -21,6 +21,12 @@ static inline float ht_le_f32(const uint8_t *p) {
     return f;
 }
 
+/* One reader's parse function, as ht_strands_parse_tfx. */
+typedef ht_result (*ht_strands_parse_fn)(const uint8_t *data, size_t size, const char *file, ht_strands *out,
+                                         char *err, size_t err_size);
+/* path read whole (ht_strands_read_file) and given to parse. */
+ht_result ht_strands_load_with(ht_strands_parse_fn parse, const char *path, ht_strands *out, char *err,
+                               size_t err_size);
 /* The whole of a regular file of at most HT_LIMIT_FILE_STRANDS bytes
    (file_open.h), malloc'd, or NULL with "PATH: why" in err. */
 uint8_t *ht_strands_read_file(const char *path, size_t *size, char *err, size_t err_size);

@@ -126,11 +126,5 @@ ht_result ht_strands_parse_tfx(const uint8_t *data, size_t size, const char *fil
 }
 
 ht_result ht_strands_load_tfx(const char *path, ht_strands *out, char *err, size_t err_size) {
-    memset(out, 0, sizeof *out);
-    size_t size;
-    uint8_t *data = ht_strands_read_file(path, &size, err, err_size);
-    if (!data) return HT_ERR_IO;
-    ht_result r = ht_strands_parse_tfx(data, size, path, out, err, err_size);
-    free(data);
-    return r;
+    return ht_strands_load_with(ht_strands_parse_tfx, path, out, err, err_size);
 }
