@@ -37,13 +37,14 @@ GEN_SRC     := $(filter-out shadergen/hairgen.c,$(wildcard shadergen/*.c))
 GEN_CXX_SRC := $(wildcard shadergen/*.cpp)
 TEST_SRC    := $(wildcard tests/test_*.c)
 TEST_SUPPORT_SRC := $(wildcard tests/support_*.c)
-OFFSCREEN_SRC := examples/offscreen.c examples/offscreen_osmesa.c examples/offscreen_egl.c
-EXAMPLE_SRC := $(filter-out $(OFFSCREEN_SRC),$(wildcard examples/*.c))
+# The offscreen context module and the options the drawing programs share.
+EXAMPLE_SHARED_SRC := examples/offscreen.c examples/offscreen_osmesa.c examples/offscreen_egl.c examples/view_args.c
+EXAMPLE_SRC := $(filter-out $(EXAMPLE_SHARED_SRC),$(wildcard examples/*.c))
 # What the example programs share (tier rendering, the report's pieces in
 # examples/compare/; the benchmarks' results files, plots and progress in
 # examples/bench/; the offscreen context module): one archive they and the
 # tests link.
-EXAMPLE_LIB_SRC := $(wildcard examples/compare/*.c examples/bench/*.c) $(OFFSCREEN_SRC)
+EXAMPLE_LIB_SRC := $(wildcard examples/compare/*.c examples/bench/*.c) $(EXAMPLE_SHARED_SRC)
 
 obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 

@@ -30,15 +30,13 @@
 #include "compare/tier_render.h"
 #include "image.h"
 #include "offscreen.h"
+#include "view_args.h"
 
 #define MAX_FRAMES 1000
 
 typedef struct options {
-    const char *bundle, *scene;
-    char out[4096];  /* without trailing slashes: its temporary sibling sits beside it */
-    int frames;
-    offscreen_kind context;
-    int egl_device;       /* -1: the default display */
+    view_args view;  /* --bundle, --scene, -o, --frames, the context */
+    char out[4096];  /* -o without trailing slashes: its temporary sibling sits beside it */
 } options;
 
 static void print_help(FILE *f) {
@@ -62,36 +60,24 @@ static int usage(const char *why) {
 }
 
 static int parse_args(int argc, char **argv, options *o) {
-    *o = (options){ .frames = 5, .egl_device = -1 };
-    const char *out = NULL;
+    *o = (options){ .view = view_args_defaults(5) };
     const char *why = NULL;
-    int context_option = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
-        bool has_value = i + 1 < argc;
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             print_help(stdout);
             return -1;
-        } else if (strcmp(a, "--bundle") == 0 && has_value) o->bundle = argv[++i];
-        else if (strcmp(a, "--scene") == 0 && has_value) o->scene = argv[++i];
-        else if (strcmp(a, "-o") == 0 && has_value) out = argv[++i];
-        else if (strcmp(a, "--frames") == 0 && has_value) {
-            char *end;
-            long n = strtol(argv[++i], &end, 10);
-            if (*end || n < 1 || n > MAX_FRAMES) return usage("--frames: expected an integer in 1..1000");
-            o->frames = (int)n;
-        } else if ((context_option = offscreen_option(argc, argv, &i, &o->context, &o->egl_device, &why)) != 0) {
-            if (context_option < 0) return usage(why);
-        } else {
-            char why[300];
-            snprintf(why, sizeof why, "%s: unknown option or missing value", a);
-            return usage(why);
+        }
+        int taken = view_args_option(argc, argv, &i, &o->view, MAX_FRAMES, &why);
+        if (taken < 0) return usage(why);
+        if (taken == 0) {
+            char message[300];
+            snprintf(message, sizeof message, "%s: unknown option or missing value", a);
+            return usage(message);
         }
     }
-    if (!o->bundle) return usage("--bundle: required");
-    if (!o->scene) return usage("--scene: required");
-    if (!out) return usage("-o: required");
-    if (!offscreen_options_check(&o->context, o->egl_device, &why)) return usage(why);
+    if ((why = view_args_check(&o->view, true))) return usage(why);
+    const char *out = o->view.out;
     size_t len = strlen(out);
     while (len > 1 && out[len - 1] == '/') len--;
     if (len == 0 || len >= sizeof o->out || (len == 1 && out[0] == '/')) return usage("-o: not a usable directory");
@@ -170,7 +156,7 @@ static int build(const options *o, const char *tmp, const tier_scene *ts, report
     tier_frame frames[REPORT_MAX_TIERS] = { 0 };
     int full = -1, rc = 1;
     bool any = false;
-    tier_render_use_context(o->context, o->egl_device);
+    tier_render_use_context(o->view.context, o->view.egl_device);
     for (int t = 0; t < rep->tier_count; t++) {
         report_tier *p = &rep->tiers[t];
         ht_tier tier = ht_tier_from_name(p->name);
@@ -179,7 +165,7 @@ static int build(const options *o, const char *tmp, const tier_scene *ts, report
             continue;
         }
         fprintf(stderr, "haircompare: rendering %s\n", p->name);
-        tier_render(o->bundle, ts, tier, o->frames, &frames[t]);
+        tier_render(o->view.bundle, ts, tier, o->view.frames, &frames[t]);
         p->ran = frames[t].ran;
         p->frame_ms = frames[t].frame_ms;
         snprintf(p->reason, sizeof p->reason, "%s", frames[t].reason);
@@ -231,12 +217,12 @@ int main(int argc, char **argv) {
     char err[8192], tmp[4200];
     report rep;
     report_init(&rep);
-    rep.bundle = o.bundle;
-    rep.scene = o.scene;
-    rep.frames = o.frames;
+    rep.bundle = o.view.bundle;
+    rep.scene = o.view.scene;
+    rep.frames = o.view.frames;
     tier_scene ts = { 0 };
-    if (report_read_bundle(&rep, o.bundle, err, sizeof err) != HT_OK ||
-        tier_scene_load(o.scene, &ts, err, sizeof err) != HT_OK) {
+    if (report_read_bundle(&rep, o.view.bundle, err, sizeof err) != HT_OK ||
+        tier_scene_load(o.view.scene, &ts, err, sizeof err) != HT_OK) {
         fprintf(stderr, "haircompare: %s\n", err);
         report_free(&rep);
         return 1;

@@ -25,16 +25,14 @@
 #include "hairtier.h"
 #include "image.h"
 #include "offscreen.h"
+#include "view_args.h"
 #include "timing.h"
 
 typedef struct options {
-    const char *bundle, *scene, *out;
+    view_args view;       /* --bundle, --scene, -o, --frames, the context */
     ht_tier tier;
     const char *policy;   /* NULL → HAIRTIER_POLICY */
     bool strict, flat;
-    int frames;
-    offscreen_kind context;
-    int egl_device;       /* -1: the default display */
 } options;
 
 static char last_log[1024];
@@ -55,45 +53,35 @@ static int usage(const char *why) {
 }
 
 static int parse_args(int argc, char **argv, options *o) {
-    *o = (options){ .tier = HT_TIER_AUTO, .frames = 10, .egl_device = -1 };
+    *o = (options){ .view = view_args_defaults(10), .tier = HT_TIER_AUTO };
     const char *why = NULL;
-    int context_option = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         bool has_value = i + 1 < argc;
-        if (strcmp(a, "--bundle") == 0 && has_value) o->bundle = argv[++i];
-        else if (strcmp(a, "--scene") == 0 && has_value) o->scene = argv[++i];
-        else if (strcmp(a, "-o") == 0 && has_value) o->out = argv[++i];
-        else if (strcmp(a, "--tier") == 0 && has_value) {
+        int taken = view_args_option(argc, argv, &i, &o->view, 100000, &why);
+        if (taken < 0) return usage(why);
+        if (taken) continue;
+        if (strcmp(a, "--tier") == 0 && has_value) {
             o->tier = ht_tier_from_name(argv[++i]);
             if (o->tier == HT_TIER_COUNT) return usage("--tier: expected auto, marschner, full, vertex, fixed4, fixed or gl11");
         } else if (strcmp(a, "--policy") == 0 && has_value) {
             o->policy = argv[++i];
             ht_policy p;
-            char err[200], why[240];
+            char err[200], message[240];
             if (ht_policy_parse(o->policy, &p, err, sizeof err) != HT_OK) {
-                snprintf(why, sizeof why, "--%s", err);
-                return usage(why);
+                snprintf(message, sizeof message, "--%s", err);
+                return usage(message);
             }
-        } else if (strcmp(a, "--frames") == 0 && has_value) {
-            char *end;
-            long n = strtol(argv[++i], &end, 10);
-            if (*end || n < 1 || n > 100000) return usage("--frames: expected an integer in 1..100000");
-            o->frames = (int)n;
-        } else if ((context_option = offscreen_option(argc, argv, &i, &o->context, &o->egl_device, &why)) != 0) {
-            if (context_option < 0) return usage(why);
         } else if (strcmp(a, "--strict") == 0) o->strict = true;
         else if (strcmp(a, "--flat") == 0) o->flat = true;
         else {
-            char why[300];
-            snprintf(why, sizeof why, "%s: unknown option or missing value", a);
-            return usage(why);
+            char message[300];
+            snprintf(message, sizeof message, "%s: unknown option or missing value", a);
+            return usage(message);
         }
     }
-    if (!o->scene) return usage("--scene: required");
-    if (!o->out) return usage("-o: required");
-    if (!o->bundle && !o->flat) return usage("--bundle: required (unless --flat)");
-    if (!offscreen_options_check(&o->context, o->egl_device, &why)) return usage(why);
+    if ((why = view_args_check(&o->view, false))) return usage(why);
+    if (!o->view.bundle && !o->flat) return usage("--bundle: required (unless --flat)");
     return 0;
 }
 
@@ -121,19 +109,19 @@ static void draw_frame(const ht_scene *s, const view *v, const ht_frame_desc *fr
 static int run(const options *o, view *v) {
     char err[1024];
     ht_scene scene;
-    if (ht_scene_load(o->scene, &scene, err, sizeof err) != HT_OK) {
+    if (ht_scene_load(o->view.scene, &scene, err, sizeof err) != HT_OK) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
-    v->gl = offscreen_open(&(offscreen_desc){ .kind = o->context, .width = scene.width, .height = scene.height,
-                                              .egl_device = o->egl_device }, err, sizeof err);
+    v->gl = offscreen_open(&(offscreen_desc){ .kind = o->view.context, .width = scene.width, .height = scene.height,
+                                              .egl_device = o->view.egl_device }, err, sizeof err);
     if (!v->gl) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
     fprintf(stderr, "hairview: context %s\n", v->gl->display);
 
-    ht_result r = ht_scene_build_meshes(&scene, o->scene, &v->hair, &v->head, err, sizeof err);
+    ht_result r = ht_scene_build_meshes(&scene, o->view.scene, &v->hair, &v->head, err, sizeof err);
     if (r != HT_OK) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
@@ -142,7 +130,7 @@ static int run(const options *o, view *v) {
     /* The error line is the library's last line after the failing call, so
        none from an earlier call may stand in for it. */
     last_log[0] = '\0';
-    r = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->bundle, .tier = o->tier,
+    r = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->view.bundle, .tier = o->tier,
                                                 .strict = o->strict, .log = log_line, .flat = o->flat,
                                                 .policy = o->policy },
                            &v->renderer);
@@ -173,8 +161,8 @@ static int run(const options *o, view *v) {
     last_log[0] = '\0';
     draw_frame(&scene, v, &frame, &fr); /* warm-up: shader variants, texture uploads */
     double t0 = now_ms();
-    for (int i = 0; i < o->frames; i++) draw_frame(&scene, v, &frame, &fr);
-    double ms = (now_ms() - t0) / o->frames;
+    for (int i = 0; i < o->view.frames; i++) draw_frame(&scene, v, &frame, &fr);
+    double ms = (now_ms() - t0) / o->view.frames;
     if (fr != HT_OK) {
         fprintf(stderr, "hairview: %s\n", last_log[0] ? last_log : ht_result_string(fr));
         return 1;
@@ -182,7 +170,7 @@ static int run(const options *o, view *v) {
 
     ht_image img;
     if (ht_image_alloc(&img, scene.width, scene.height, 3) != HT_OK) {
-        fprintf(stderr, "hairview: %s: out of memory\n", o->out);
+        fprintf(stderr, "hairview: %s: out of memory\n", o->view.out);
         return 1;
     }
     const unsigned char *rgba = offscreen_read(v->gl);
@@ -191,7 +179,7 @@ static int run(const options *o, view *v) {
         unsigned char *dst = img.pixels + (size_t)y * (size_t)scene.width * 3;
         for (int x = 0; x < scene.width; x++) memcpy(dst + 3 * x, src + 4 * x, 3);
     }
-    r = ht_image_write_png(o->out, &img, err, sizeof err);
+    r = ht_image_write_png(o->view.out, &img, err, sizeof err);
     ht_image_free(&img);
     if (r != HT_OK) {
         fprintf(stderr, "hairview: %s\n", err);

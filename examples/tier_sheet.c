@@ -31,6 +31,7 @@
 #include "hairtier.h"
 #include "image.h"
 #include "offscreen.h"
+#include "view_args.h"
 #include "compare/tier_render.h"
 
 #define TIERS 6          /* marschner, full, vertex, fixed4, fixed, gl11: the sheet's columns */
@@ -42,12 +43,7 @@
 static const ht_tier columns[TIERS] = { HT_TIER_MARSCHNER, HT_TIER_FULL, HT_TIER_VERTEX,
                                         HT_TIER_FIXED4,    HT_TIER_FIXED, HT_TIER_GL11 };
 
-typedef struct options {
-    const char *bundle, *scene, *out;
-    int frames;
-    offscreen_kind context;
-    int egl_device;       /* -1: the default display */
-} options;
+typedef view_args options;
 
 typedef struct panel {
     tier_frame frame;      /* the image (NULL when the tier did not run), reason, frame ms */
@@ -270,35 +266,23 @@ static int usage(const char *why) {
 }
 
 static int parse_args(int argc, char **argv, options *o) {
-    *o = (options){ .frames = 5, .egl_device = -1 };
+    *o = view_args_defaults(5);
     const char *why = NULL;
-    int context_option = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
-        bool has_value = i + 1 < argc;
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             print_help(stdout);
             return -1;
-        } else if (strcmp(a, "--bundle") == 0 && has_value) o->bundle = argv[++i];
-        else if (strcmp(a, "--scene") == 0 && has_value) o->scene = argv[++i];
-        else if (strcmp(a, "-o") == 0 && has_value) o->out = argv[++i];
-        else if (strcmp(a, "--frames") == 0 && has_value) {
-            char *end;
-            long n = strtol(argv[++i], &end, 10);
-            if (*end || n < 1 || n > MAX_FRAMES) return usage("--frames: expected an integer in 1..1000");
-            o->frames = (int)n;
-        } else if ((context_option = offscreen_option(argc, argv, &i, &o->context, &o->egl_device, &why)) != 0) {
-            if (context_option < 0) return usage(why);
-        } else {
-            char why[300];
-            snprintf(why, sizeof why, "%s: unknown option or missing value", a);
-            return usage(why);
+        }
+        int taken = view_args_option(argc, argv, &i, o, MAX_FRAMES, &why);
+        if (taken < 0) return usage(why);
+        if (taken == 0) {
+            char message[300];
+            snprintf(message, sizeof message, "%s: unknown option or missing value", a);
+            return usage(message);
         }
     }
-    if (!o->bundle) return usage("--bundle: required");
-    if (!o->scene) return usage("--scene: required");
-    if (!o->out) return usage("-o: required");
-    if (!offscreen_options_check(&o->context, o->egl_device, &why)) return usage(why);
+    if ((why = view_args_check(o, true))) return usage(why);
     return 0;
 }
 
