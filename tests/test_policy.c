@@ -17,6 +17,7 @@
 
 #include "manifest.h"
 #include "select.h"
+#include "support_caps.h"
 #include "support_log.h"
 #include "support_render.h"
 #include "support_scratch.h"
@@ -49,20 +50,6 @@ static ht_manifest parse(const char *text) {
     char err[512];
     if (ht_manifest_parse(text, "/bundle", "/bundle/manifest.json", &m, err, sizeof err) != HT_OK) fail_msg("%s", err);
     return m;
-}
-
-static ht_caps device(int major, int minor, int glsl_major, int glsl_minor, int units) {
-    ht_caps c;
-    memset(&c, 0, sizeof c);
-    c.gl_major = major;
-    c.gl_minor = minor;
-    int v = major * 10 + minor;
-    c.has_shaders = c.has_vertex_shaders = c.has_fragment_shaders = v >= 20;
-    c.glsl_major = c.has_shaders ? glsl_major : 0;
-    c.glsl_minor = c.has_shaders ? glsl_minor : 0;
-    c.texture_units = units;
-    c.has_multitexture = c.has_combine = v >= 13;
-    return c;
 }
 
 static ht_policy policy(const char *text) {
@@ -138,7 +125,7 @@ static void test_manifest_refuses_a_bad_measured_object_naming_the_field(void **
 static void test_best_is_the_default_and_picks_as_before(void **state) {
     (void)state;
     ht_manifest m = parse(measured_manifest);
-    ht_caps c = device(4, 5, 4, 50, 8);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
     ht_selection s;
     assert_int_equal(pick(&m, &c, "best", &s), HT_TIER_FULL);
     assert_string_equal(s.reason, "best supported");
@@ -147,19 +134,19 @@ static void test_best_is_the_default_and_picks_as_before(void **state) {
 static void test_fastest_takes_the_least_measured_cost_of_the_tiers_that_run(void **state) {
     (void)state;
     ht_manifest m = parse(measured_manifest);
-    ht_caps c = device(4, 5, 4, 50, 8);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
     ht_selection s;
     assert_int_equal(pick(&m, &c, "fastest", &s), HT_TIER_FIXED4); /* 0.4, below gl11's 0.45 */
     assert_non_null(strstr(s.reason, "cost 0.4x full"));
     /* A GL 1.3 device with 2 units runs fixed and gl11 only. */
-    c = device(1, 3, 0, 0, 2);
+    c = ht_test_caps(1, 3, 0, 0, 2);
     assert_int_equal(pick(&m, &c, "fastest", &s), HT_TIER_GL11);
     assert_non_null(strstr(s.reason, "cost 0.45x full"));
 }
 
 static void test_fastest_without_measured_costs_takes_the_last_that_runs(void **state) {
     (void)state;
-    ht_caps c = device(4, 5, 4, 50, 8);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
     ht_selection s;
     ht_manifest m = parse(plain_manifest);
     assert_int_equal(pick(&m, &c, "fastest", &s), HT_TIER_GL11);
@@ -171,7 +158,7 @@ static void test_fastest_without_measured_costs_takes_the_last_that_runs(void **
 static void test_error_budget_takes_the_cheapest_tier_that_reaches_it(void **state) {
     (void)state;
     ht_manifest m = parse(measured_manifest);
-    ht_caps c = device(4, 5, 4, 50, 8);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
     ht_selection s;
     /* >= 30 dB: full (inf, 1), vertex (32.1, 0.6), fixed4 (31.2, 0.4) → fixed4 */
     assert_int_equal(pick(&m, &c, "error:30", &s), HT_TIER_FIXED4);
@@ -182,7 +169,7 @@ static void test_error_budget_takes_the_cheapest_tier_that_reaches_it(void **sta
     assert_int_equal(pick(&m, &c, "error:40", &s), HT_TIER_FULL);
     assert_non_null(strstr(s.reason, "identical to full"));
     /* >= 0 on a GL 1.3, 2-unit device: fixed (0.5) or gl11 (0.45) → gl11 */
-    c = device(1, 3, 0, 0, 2);
+    c = ht_test_caps(1, 3, 0, 0, 2);
     assert_int_equal(pick(&m, &c, "error:0", &s), HT_TIER_GL11);
     /* >= 30 there: neither reaches it; the most accurate, gl11 at 29 dB */
     assert_int_equal(pick(&m, &c, "error:30", &s), HT_TIER_GL11);
@@ -192,7 +179,7 @@ static void test_error_budget_takes_the_cheapest_tier_that_reaches_it(void **sta
 static void test_error_budget_needs_measured_numbers(void **state) {
     (void)state;
     ht_manifest m = parse(plain_manifest);
-    ht_caps c = device(4, 5, 4, 50, 8);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
     ht_select_desc d = { .caps = &c, .bundle = &m, .policy = policy("error:30") };
     ht_selection s;
     char err[512];
@@ -208,7 +195,7 @@ static void test_error_budget_needs_measured_numbers(void **state) {
 static void test_frame_budget_keeps_the_best_tier_within_it(void **state) {
     (void)state;
     ht_manifest m = parse(plain_manifest);
-    ht_caps c = device(4, 5, 4, 50, 8);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
     /* injected timings per bundle tier: full, vertex, fixed4, fixed, gl11 */
     ht_select_desc d = { .caps = &c, .bundle = &m, .policy = policy("frame:10"),
                          .frame_ms = { 30.0, 12.0, 8.0, 9.0, 6.0 } };
@@ -234,7 +221,7 @@ static void test_frame_budget_keeps_the_best_tier_within_it(void **state) {
 static void test_a_forced_tier_wins_over_the_policy(void **state) {
     (void)state;
     ht_manifest m = parse(measured_manifest);
-    ht_caps c = device(4, 5, 4, 50, 8);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
     ht_select_desc d = { .caps = &c, .bundle = &m, .policy = policy("fastest"), .requested = HT_TIER_VERTEX };
     ht_selection s;
     char err[512];

@@ -11,6 +11,7 @@
 
 #include "manifest.h"
 #include "select.h"
+#include "support_caps.h"
 
 /* Requirements as hairgen writes them (docs/bundle.md). */
 static const char manifest[] =
@@ -36,25 +37,6 @@ static int setup(void **state) {
     return ht_manifest_parse(manifest, "/bundle", "/bundle/manifest.json", &bundle, err, sizeof err) == HT_OK ? 0 : -1;
 }
 
-/* A device of the given GL version with what that version brings. */
-static ht_caps device(int major, int minor, int glsl_major, int glsl_minor, int units) {
-    ht_caps c;
-    memset(&c, 0, sizeof c);
-    c.gl_major = major;
-    c.gl_minor = minor;
-    int v = major * 10 + minor;
-    c.has_shaders = c.has_vertex_shaders = c.has_fragment_shaders = v >= 20;
-    c.glsl_major = c.has_shaders ? glsl_major : 0;
-    c.glsl_minor = c.has_shaders ? glsl_minor : 0;
-    c.texture_units = units;
-    c.has_multitexture = v >= 13;
-    c.has_combine = v >= 13;
-    c.has_crossbar = v >= 14;
-    c.has_3d_textures = v >= 12;
-    c.has_vbo = v >= 15;
-    return c;
-}
-
 static ht_select_desc request(const ht_caps *caps) {
     return (ht_select_desc){ .caps = caps, .bundle = &bundle };
 }
@@ -66,7 +48,7 @@ static ht_result run(const ht_select_desc *d, ht_selection *s, char *err) {
 
 static void test_select_picks_full_on_a_capable_device(void **state) {
     (void)state;
-    ht_caps c = device(4, 5, 4, 50, 8);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
     ht_select_desc d = request(&c);
     ht_selection s;
     char err[512];
@@ -78,7 +60,7 @@ static void test_select_picks_full_on_a_capable_device(void **state) {
 
 static void test_select_skips_full_without_fragment_shaders(void **state) {
     (void)state;
-    ht_caps c = device(2, 1, 1, 20, 4);
+    ht_caps c = ht_test_caps(2, 1, 1, 20, 4);
     c.has_fragment_shaders = false;
     ht_select_desc d = request(&c);
     ht_selection s;
@@ -92,7 +74,7 @@ static void test_select_skips_full_without_fragment_shaders(void **state) {
 
 static void test_select_skips_full_below_glsl_120(void **state) {
     (void)state;
-    ht_caps c = device(2, 1, 1, 10, 4);
+    ht_caps c = ht_test_caps(2, 1, 1, 10, 4);
     ht_select_desc d = request(&c);
     ht_selection s;
     char err[512];
@@ -103,7 +85,7 @@ static void test_select_skips_full_below_glsl_120(void **state) {
 
 static void test_select_skips_full_below_its_gl_version(void **state) {
     (void)state;
-    ht_caps c = device(2, 0, 1, 10, 4);
+    ht_caps c = ht_test_caps(2, 0, 1, 10, 4);
     ht_select_desc d = request(&c);
     ht_selection s;
     char err[512];
@@ -115,7 +97,7 @@ static void test_select_skips_full_below_its_gl_version(void **state) {
 static void test_select_skips_vertex_without_shaders(void **state) {
     (void)state;
     /* GL 2.1 by its version string, but no shader entry points. */
-    ht_caps c = device(2, 1, 0, 0, 4);
+    ht_caps c = ht_test_caps(2, 1, 0, 0, 4);
     c.has_shaders = c.has_vertex_shaders = c.has_fragment_shaders = false;
     ht_select_desc d = request(&c);
     ht_selection s;
@@ -129,7 +111,7 @@ static void test_select_skips_vertex_without_shaders(void **state) {
 
 static void test_select_fixed_needs_two_units(void **state) {
     (void)state;
-    ht_caps c = device(1, 3, 0, 0, 1);
+    ht_caps c = ht_test_caps(1, 3, 0, 0, 1);
     ht_select_desc d = request(&c);
     ht_selection s;
     char err[512];
@@ -141,7 +123,7 @@ static void test_select_fixed_needs_two_units(void **state) {
 
 static void test_select_fixed_needs_texture_env_combine(void **state) {
     (void)state;
-    ht_caps c = device(1, 2, 0, 0, 2);
+    ht_caps c = ht_test_caps(1, 2, 0, 0, 2);
     c.has_multitexture = true;
     const char *list = "GL_EXT_bgra GL_ARB_multitexture GL_ARB_texture_env_combine_x";
     ht_caps_note_extensions(&c, list);
@@ -156,7 +138,7 @@ static void test_select_fixed_needs_texture_env_combine(void **state) {
 static void test_select_skips_vertex_without_texture_env_combine(void **state) {
     (void)state;
     /* A vertex-shader-only GL 2.0 device whose profile hides combine. */
-    ht_caps c = device(2, 0, 1, 10, 4);
+    ht_caps c = ht_test_caps(2, 0, 1, 10, 4);
     c.has_fragment_shaders = false;
     c.has_combine = false;
     ht_select_desc d = request(&c);
@@ -171,7 +153,7 @@ static void test_select_skips_vertex_without_texture_env_combine(void **state) {
 
 static void test_select_extension_met_by_its_string_on_an_older_gl(void **state) {
     (void)state;
-    ht_caps c = device(1, 2, 0, 0, 2);
+    ht_caps c = ht_test_caps(1, 2, 0, 0, 2);
     c.has_multitexture = c.has_combine = true;
     ht_caps_note_extensions(&c, "GL_ARB_multitexture GL_ARB_texture_env_combine");
     ht_select_desc d = request(&c);
@@ -183,7 +165,7 @@ static void test_select_extension_met_by_its_string_on_an_older_gl(void **state)
 
 static void test_select_extension_met_by_the_core_version_it_entered(void **state) {
     (void)state;
-    ht_caps c = device(1, 3, 0, 0, 2); /* empty extension string */
+    ht_caps c = ht_test_caps(1, 3, 0, 0, 2); /* empty extension string */
     ht_select_desc d = request(&c);
     ht_selection s;
     char err[512];
@@ -193,7 +175,7 @@ static void test_select_extension_met_by_the_core_version_it_entered(void **stat
 
 static void test_select_honours_a_forced_tier(void **state) {
     (void)state;
-    ht_caps c = device(4, 5, 4, 50, 8);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
     ht_select_desc d = request(&c);
     d.requested = HT_TIER_VERTEX;
     ht_selection s;
@@ -206,7 +188,7 @@ static void test_select_honours_a_forced_tier(void **state) {
 
 static void test_select_honours_the_environment(void **state) {
     (void)state;
-    ht_caps c = device(4, 5, 4, 50, 8);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
     ht_select_desc d = request(&c);
     d.env_tier = "vertex";
     ht_selection s;
@@ -221,7 +203,7 @@ static void test_select_honours_the_environment(void **state) {
 
 static void test_select_desc_tier_wins_over_the_environment(void **state) {
     (void)state;
-    ht_caps c = device(4, 5, 4, 50, 8);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
     ht_select_desc d = request(&c);
     d.env_tier = "vertex";
     d.requested = HT_TIER_FULL;
@@ -234,7 +216,7 @@ static void test_select_desc_tier_wins_over_the_environment(void **state) {
 
 static void test_select_rejects_an_unknown_environment_tier(void **state) {
     (void)state;
-    ht_caps c = device(4, 5, 4, 50, 8);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
     ht_select_desc d = request(&c);
     d.env_tier = "fastest";
     ht_selection s;
@@ -246,7 +228,7 @@ static void test_select_rejects_an_unknown_environment_tier(void **state) {
 
 static void test_select_forced_tier_falls_back_unless_strict(void **state) {
     (void)state;
-    ht_caps c = device(2, 1, 1, 10, 4);
+    ht_caps c = ht_test_caps(2, 1, 1, 10, 4);
     ht_select_desc d = request(&c);
     d.requested = HT_TIER_FULL;
     ht_selection s;
@@ -265,7 +247,7 @@ static void test_select_forced_tier_falls_back_unless_strict(void **state) {
 
 static void test_select_strict_without_a_forced_tier_takes_the_best(void **state) {
     (void)state;
-    ht_caps c = device(2, 1, 1, 10, 4);
+    ht_caps c = ht_test_caps(2, 1, 1, 10, 4);
     ht_select_desc d = request(&c);
     d.strict = true;
     ht_selection s;
@@ -276,7 +258,7 @@ static void test_select_strict_without_a_forced_tier_takes_the_best(void **state
 
 static void test_select_runtime_failure_drops_to_the_next_tier(void **state) {
     (void)state;
-    ht_caps c = device(4, 5, 4, 50, 8);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
     ht_select_desc d = request(&c);
     d.failed[0] = "compile failed: full.frag: 0:1(1): error: syntax error";
     ht_selection s;
@@ -288,7 +270,7 @@ static void test_select_runtime_failure_drops_to_the_next_tier(void **state) {
 
 static void test_select_gives_every_skipped_tier_a_reason(void **state) {
     (void)state;
-    ht_caps c = device(1, 1, 0, 0, 1);
+    ht_caps c = ht_test_caps(1, 1, 0, 0, 1);
     ht_select_desc d = request(&c);
     ht_selection s;
     char err[512];
@@ -307,7 +289,7 @@ static void test_select_forced_tier_missing_from_the_bundle(void **state) {
     (void)state;
     ht_manifest b = bundle;
     b.tier_count = 2; /* full and vertex only */
-    ht_caps c = device(4, 5, 4, 50, 8);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
     ht_select_desc d = request(&c);
     d.bundle = &b;
     d.requested = HT_TIER_FIXED;
@@ -322,7 +304,7 @@ static void test_select_forced_tier_missing_from_the_bundle(void **state) {
 
 static void test_select_profile_lowers_a_capable_device(void **state) {
     (void)state;
-    ht_caps c = device(4, 5, 4, 50, 8);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
     ht_caps_note_extensions(&c, "GL_ARB_multitexture GL_ARB_texture_env_combine GL_ARB_fragment_shader");
     ht_caps_apply_profile(&c, &(ht_device_profile){ .gl_major = 1, .gl_minor = 3, .texture_units = 2 });
     assert_int_equal(c.gl_major, 1);
@@ -343,7 +325,7 @@ static void test_select_profile_lowers_a_capable_device(void **state) {
 
 static void test_select_profile_hides_a_core_extension(void **state) {
     (void)state;
-    ht_caps c = device(1, 5, 0, 0, 4);
+    ht_caps c = ht_test_caps(1, 5, 0, 0, 4);
     ht_caps_apply_profile(&c, &(ht_device_profile){ .hide_extensions = "GL_ARB_texture_env_combine" });
     assert_false(c.has_combine);
     ht_select_desc d = request(&c);
@@ -355,7 +337,7 @@ static void test_select_profile_hides_a_core_extension(void **state) {
 
 static void test_select_profile_models_a_vertex_shader_only_device(void **state) {
     (void)state;
-    ht_caps c = device(2, 1, 1, 20, 4);
+    ht_caps c = ht_test_caps(2, 1, 1, 20, 4);
     ht_caps_apply_profile(&c, &(ht_device_profile){ .no_fragment_shaders = true });
     ht_select_desc d = request(&c);
     ht_selection s;
