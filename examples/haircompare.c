@@ -62,21 +62,12 @@ static int usage(const char *why) {
 static int parse_args(int argc, char **argv, options *o) {
     *o = (options){ .view = view_args_defaults(5) };
     const char *why = NULL;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            print_help(stdout);
-            return -1;
-        }
-        int taken = view_args_option(argc, argv, &i, &o->view, MAX_FRAMES, &why);
-        if (taken < 0) return usage(why);
-        if (taken == 0) {
-            char message[300];
-            snprintf(message, sizeof message, "%s: unknown option or missing value", a);
-            return usage(message);
-        }
+    int parsed = view_args_parse(argc, argv, &o->view, MAX_FRAMES, true, &why);
+    if (parsed > 0) {
+        print_help(stdout);
+        return -1;
     }
-    if ((why = view_args_check(&o->view, true))) return usage(why);
+    if (parsed < 0) return usage(why);
     const char *out = o->view.out;
     size_t len = strlen(out);
     while (len > 1 && out[len - 1] == '/') len--;

@@ -268,21 +268,12 @@ static int usage(const char *why) {
 static int parse_args(int argc, char **argv, options *o) {
     *o = view_args_defaults(5);
     const char *why = NULL;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            print_help(stdout);
-            return -1;
-        }
-        int taken = view_args_option(argc, argv, &i, o, MAX_FRAMES, &why);
-        if (taken < 0) return usage(why);
-        if (taken == 0) {
-            char message[300];
-            snprintf(message, sizeof message, "%s: unknown option or missing value", a);
-            return usage(message);
-        }
+    int parsed = view_args_parse(argc, argv, o, MAX_FRAMES, true, &why);
+    if (parsed > 0) {
+        print_help(stdout);
+        return -1;
     }
-    if ((why = view_args_check(o, true))) return usage(why);
+    if (parsed < 0) return usage(why);
     return 0;
 }
 

@@ -40,6 +40,22 @@ int view_args_option(int argc, char **argv, int *i, view_args *v, int max_frames
     return offscreen_option(argc, argv, i, &v->context, &v->egl_device, why);
 }
 
+int view_args_parse(int argc, char **argv, view_args *v, int max_frames, bool need_bundle, const char **why) {
+    static char message[300];
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (named(a, "--help") || named(a, "-h")) return 1;
+        int taken = view_args_option(argc, argv, &i, v, max_frames, why);
+        if (taken < 0) return -1;
+        if (taken == 0) {
+            snprintf(message, sizeof message, "%s: unknown option", a);
+            *why = message;
+            return -1;
+        }
+    }
+    return (*why = view_args_check(v, need_bundle)) ? -1 : 0;
+}
+
 const char *view_args_check(view_args *v, bool need_bundle) {
     if (need_bundle && !v->bundle) return "--bundle: required";
     if (!v->scene) return "--scene: required";

@@ -29,6 +29,10 @@ view_args view_args_defaults(int frames);
    value is missing or bad (--frames: an integer in 1..max_frames). *why
    points at static storage. */
 int view_args_option(int argc, char **argv, int *i, view_args *v, int max_frames, const char **why);
+/* A whole command line of these options and --help / -h only: 0 when
+   parsed and checked (view_args_check), 1 when help was asked for, -1 with
+   *why (static storage) on the first bad or unknown option. */
+int view_args_parse(int argc, char **argv, view_args *v, int max_frames, bool need_bundle, const char **why);
 /* After the loop: NULL, or why the options do not go together (--bundle
    required when need_bundle, --scene and -o always). */
 const char *view_args_check(view_args *v, bool need_bundle);
