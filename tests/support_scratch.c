@@ -3,6 +3,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <cJSON.h>
 #include <cmocka.h>
 
 #include <dirent.h>
@@ -78,4 +79,25 @@ void ht_test_copy_dir(const char *from, const char *to) {
     char cmd[8192 + 64];
     snprintf(cmd, sizeof cmd, "rm -rf %s && cp -r %s %s", to, from, to);
     assert_int_equal(system(cmd), 0);
+}
+
+bool ht_test_path_exists(const char *path) {
+    struct stat st;
+    return lstat(path, &st) == 0;
+}
+
+const char *ht_test_build_dir(void) {
+    const char *b = getenv("HAIRTIER_BUILD");
+    return b ? b : "build";
+}
+
+struct cJSON *ht_test_read_json(const char *dir, const char *name) {
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    char *text = ht_test_read_all(path, NULL);
+    if (!text) fail_msg("%s: cannot be read", path);
+    cJSON *root = cJSON_Parse(text);
+    free(text);
+    if (!root) fail_msg("%s: not JSON", path);
+    return root;
 }

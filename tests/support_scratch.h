@@ -27,6 +27,12 @@ char *ht_test_read_file(const char *dir, const char *name);
 /* The whole file at path, malloc'd and NUL-terminated (free()); its size
    in *size when size is not NULL; NULL when it cannot be opened. */
 char *ht_test_read_all(const char *path, size_t *size);
+/* Anything at path (a link is not followed: a dangling one exists). */
+bool ht_test_path_exists(const char *path);
+/* Where the programs under test were built: $HAIRTIER_BUILD, else "build". */
+const char *ht_test_build_dir(void);
+/* DIR/NAME parsed as JSON (cJSON_Delete), failing the test when it cannot be read or parsed. */
+struct cJSON *ht_test_read_json(const char *dir, const char *name);
 /* to replaced by a copy of the directory from. */
 void ht_test_copy_dir(const char *from, const char *to);
 

@@ -31,11 +31,6 @@ static int remove_work_dir(void **state) {
     return ht_test_scratch_remove(work);
 }
 
-static bool exists(const char *path) {
-    struct stat st;
-    return stat(path, &st) == 0;
-}
-
 static void write_text(const char *path, const char *text) {
     FILE *f = fopen(path, "w");
     assert_non_null(f);
@@ -43,16 +38,7 @@ static void write_text(const char *path, const char *text) {
     fclose(f);
 }
 
-static cJSON *load_manifest(const char *dir) {
-    char path[512];
-    snprintf(path, sizeof path, "%s/manifest.json", dir);
-    char *text = ht_test_read_all(path, NULL);
-    assert_non_null(text);
-    cJSON *m = cJSON_Parse(text);
-    free(text);
-    assert_non_null(m);
-    return m;
-}
+static cJSON *load_manifest(const char *dir) { return ht_test_read_json(dir, "manifest.json"); }
 
 static void generate(const char *material, const char *scene, const char *dir) {
     char err[2048] = "";
@@ -91,7 +77,7 @@ static void test_bundle_lists_every_tier_best_first_with_existing_files(void **s
     cJSON_ArrayForEach(tex, cJSON_GetObjectItem(m, "textures")) {
         char path[512];
         snprintf(path, sizeof path, "%s/%s", dir, cJSON_GetObjectItem(tex, "file")->valuestring);
-        assert_true(exists(path));
+        assert_true(ht_test_path_exists(path));
     }
     cJSON_Delete(m);
 }
@@ -154,7 +140,7 @@ static void test_bundle_failure_writes_nothing(void **state) {
     ht_result r = ht_generate_bundle(material, NULL, dir, NULL, err, sizeof err);
     assert_int_not_equal(r, HT_OK);
     assert_non_null(strstr(err, "no-such-file.png"));
-    assert_false(exists(dir));
+    assert_false(ht_test_path_exists(dir));
     assert_int_equal(count_temporaries(), 0);
 }
 
@@ -217,7 +203,7 @@ static void test_bundle_refuses_to_replace_a_directory_that_is_not_a_bundle(void
     write_text(keep, "mine\n");
     assert_int_equal(ht_generate_bundle("materials/dark-brown.json", NULL, dir, NULL, err, sizeof err), HT_ERR_IO);
     assert_non_null(strstr(err, "not a hairtier bundle"));
-    assert_true(exists(keep));
+    assert_true(ht_test_path_exists(keep));
     assert_int_equal(count_temporaries(), 0);
 }
 
@@ -311,7 +297,7 @@ static void expect_hairgen_refuses(const char *material, const char *field, cons
     if (!strstr(text, want)) fail_msg("no \"%s\" in: %s", want, text);
     assert_ptr_equal(strchr(text, '\n'), text + strlen(text) - 1); /* one line */
     free(text);
-    assert_false(exists(dir));
+    assert_false(ht_test_path_exists(dir));
     assert_int_equal(count_temporaries(), 0);
 }
 

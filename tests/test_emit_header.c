@@ -43,11 +43,6 @@ static int run_hairgen(const char *args) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-static bool exists(const char *path) {
-    struct stat st;
-    return stat(path, &st) == 0;
-}
-
 /* Files in work whose name holds ".tmp-": what a failed write leaves. */
 static int count_temporaries(void) {
     DIR *d = opendir(work);
@@ -123,7 +118,7 @@ static void test_usage_errors_exit_2(void **state) {
     assert_int_equal(run_hairgen("materials/dark-brown.json --emit-header ''"), 2);
     snprintf(args, sizeof args, "materials/dark-brown.json --emit-header %s/a.h --emit-header %s/b.h", work, work);
     assert_int_equal(run_hairgen(args), 2);
-    assert_false(exists("materials/a.h"));
+    assert_false(ht_test_path_exists("materials/a.h"));
 }
 
 static void test_bad_symbol_or_material_writes_nothing_and_keeps_the_old_header(void **state) {
@@ -133,14 +128,14 @@ static void test_bad_symbol_or_material_writes_nothing_and_keeps_the_old_header(
     snprintf(args, sizeof args, "materials/dark-brown.json --emit-header %s --header-symbol 2fast", header);
     assert_int_equal(run_hairgen(args), 1);
     assert_one_line_error("hairgen: --header-symbol: \"2fast\": not a C identifier");
-    assert_false(exists(header));
+    assert_false(ht_test_path_exists(header));
     char dir[128];
     snprintf(dir, sizeof dir, "%s/not-written", work);
     snprintf(args, sizeof args, "materials/dark-brown.json -o %s --emit-header %s --header-symbol struct", dir,
              header);
     assert_int_equal(run_hairgen(args), 1);
     assert_one_line_error("\"struct\": a C or C++ keyword");
-    assert_false(exists(dir)); /* refused before the directory too */
+    assert_false(ht_test_path_exists(dir)); /* refused before the directory too */
 
     snprintf(args, sizeof args, "materials/dark-brown.json --emit-header %s", header);
     assert_int_equal(run_hairgen(args), 0);

@@ -41,11 +41,6 @@ static const char small_scene[] =
 
 static char work[64], scene[128], measured[128], plain[128];
 
-static bool exists(const char *path) {
-    struct stat st;
-    return stat(path, &st) == 0;
-}
-
 /* Runs `env build/hairgen args`; its stdout and stderr go to work/out.txt
    and work/err.txt. The exit status. */
 static int run_hairgen(const char *env, const char *args) {
@@ -106,16 +101,7 @@ static ht_manifest *load(const char *dir) {
     return &m;
 }
 
-static cJSON *manifest_json(const char *dir) {
-    char path[256];
-    snprintf(path, sizeof path, "%s/manifest.json", dir);
-    char *text = ht_test_read_all(path, NULL);
-    assert_non_null(text);
-    cJSON *root = cJSON_Parse(text);
-    free(text);
-    assert_non_null(root);
-    return root;
-}
+static cJSON *manifest_json(const char *dir) { return ht_test_read_json(dir, "manifest.json"); }
 
 static void test_every_tier_carries_a_measured_object_the_runtime_reads(void **state) {
     (void)state;
@@ -339,7 +325,7 @@ static void test_a_failed_measurement_writes_nothing(void **state) {
     assert_string_equal(err, "hairgen: measure: a tier cannot run here: full: needs GL 2.1, have 1.3 "
                              "(forced by desc.tier, strict)\n");
     free(err);
-    assert_false(exists(dir));
+    assert_false(ht_test_path_exists(dir));
     assert_int_equal(count_temporaries(), 0);
 
     /* No NaN ever reaches a manifest. */
@@ -360,7 +346,7 @@ static void test_a_failed_measurement_writes_nothing(void **state) {
     assert_string_equal(err, "hairgen: measure: vertex: ssim: nan is outside [-1, 1] "
                              "(a frame under 11x11 pixels has no SSIM window)\n");
     free(err);
-    assert_false(exists(dir));
+    assert_false(ht_test_path_exists(dir));
     assert_int_equal(count_temporaries(), 0);
 
     char kept[256], path[300];
@@ -403,7 +389,7 @@ static void test_an_output_path_too_long_to_measure_is_refused(void **state) {
         fail_msg("%s", err);
     assert_ptr_equal(strchr(err, '\n'), err + strlen(err) - 1);
     free(err);
-    assert_false(exists(dir));
+    assert_false(ht_test_path_exists(dir));
     dir[n] = '\0';
     DIR *d = opendir(dir);
     assert_non_null(d);

@@ -103,21 +103,11 @@ static void test_egl_and_osmesa_on_llvmpipe_draw_every_tier_identically(void **s
 
 /* ---- the programs ---- */
 
-static const char *build_dir(void) {
-    const char *b = getenv("HAIRTIER_BUILD");
-    return b ? b : "build";
-}
-
-static bool exists(const char *path) {
-    struct stat st;
-    return lstat(path, &st) == 0;
-}
-
 /* `ENV build/PROGRAM ARGS`, stderr into err; the exit status. */
 static int run(const char *env, const char *program, const char *args, char *err, size_t size) {
     char cmd[4096], err_path[256];
     snprintf(err_path, sizeof err_path, "%s/stderr.txt", fx.work);
-    snprintf(cmd, sizeof cmd, "%s %s/%s %s >/dev/null 2>%s", env, build_dir(), program, args, err_path);
+    snprintf(cmd, sizeof cmd, "%s %s/%s %s >/dev/null 2>%s", env, ht_test_build_dir(), program, args, err_path);
     int status = system(cmd);
     assert_true(WIFEXITED(status));
     FILE *f = fopen(err_path, "rb");
@@ -139,7 +129,7 @@ static void expect_fails(const char *env, const char *program, const char *args,
     if (strncmp(err, start, strlen(start)) != 0 || !strstr(err, mentions) || (size_t)(strstr(err, mentions) - err) > len)
         fail_msg("%s %s %s: first line \"%.*s\" does not start \"%s\" and name \"%s\"", env, program, args, (int)len,
                  err, start, mentions);
-    if (out && exists(out)) fail_msg("%s %s: %s left behind", program, args, out);
+    if (out && ht_test_path_exists(out)) fail_msg("%s %s: %s left behind", program, args, out);
 }
 
 /* glvnd reads the vendor list from this variable: a file that does not

@@ -813,16 +813,6 @@ static void test_driver_refusing_every_shader_stage_falls_to_fixed(void **state)
 
 /* ---- the programs ---- */
 
-static const char *build_dir(void) {
-    const char *b = getenv("HAIRTIER_BUILD");
-    return b ? b : "build";
-}
-
-static bool exists(const char *path) {
-    struct stat st;
-    return lstat(path, &st) == 0;
-}
-
 /* No "NAME.tmp-*" left beside an output that failed. */
 static void assert_no_temporary_in(const char *dir) {
     DIR *d = opendir(dir);
@@ -837,7 +827,7 @@ static void assert_no_temporary_in(const char *dir) {
 static int run_program(const char *program, const char *args, char *err, size_t size) {
     char cmd[4096], err_path[256];
     snprintf(err_path, sizeof err_path, "%s/stderr.txt", fx.work);
-    snprintf(cmd, sizeof cmd, "%s/%s %s >/dev/null 2>%s", build_dir(), program, args, err_path);
+    snprintf(cmd, sizeof cmd, "%s/%s %s >/dev/null 2>%s", ht_test_build_dir(), program, args, err_path);
     int status = system(cmd);
     assert_true(WIFEXITED(status));
     FILE *f = fopen(err_path, "rb");
@@ -872,7 +862,7 @@ static void expect_hairview_fails(const char *args, const char *out_png, int sta
     size_t len = strcspn(line, "\n");
     const char *at = strstr(line, mentions);
     if (!at || (size_t)(at - line) >= len) fail_msg("hairview %s: \"%.*s\" does not name %s", cmd, (int)len, line, mentions);
-    if (exists(out_png)) fail_msg("hairview %s: %s left behind", cmd, out_png);
+    if (ht_test_path_exists(out_png)) fail_msg("hairview %s: %s left behind", cmd, out_png);
 }
 
 static void test_hairview_fails_cleanly_on_bad_input(void **state) {
@@ -893,7 +883,7 @@ static void test_hairview_fails_cleanly_on_bad_input(void **state) {
     char err[8192];
     snprintf(args, sizeof args, "%s --scene '%s' -o '%s'", bundle_arg, scene, png);
     if (run_program("hairview", args, err, sizeof err) != 0) fail_msg("hairview %s failed:\n%s", args, err);
-    assert_true(exists(png));
+    assert_true(ht_test_path_exists(png));
     assert_int_equal(unlink(png), 0);
 
     /* --policy: the choice and its reason are logged; frame:MS times every
@@ -974,11 +964,11 @@ static void test_tier_sheet_without_a_bundle_writes_no_sheet(void **state) {
     assert_int_equal(run_program("tier_sheet", args, err, sizeof err), 1);
     assert_non_null(strstr(last_line(err), "tier_sheet: no tier ran: "));
     assert_non_null(strstr(last_line(err), "no-bundle/manifest.json: cannot read"));
-    assert_false(exists(sheet));
+    assert_false(ht_test_path_exists(sheet));
     snprintf(args, sizeof args, "--bundle '%s' --scene '%s/sheet-scene.json' --frames 0 -o '%s'", fx.bundle_dir,
              fx.work, sheet);
     assert_int_equal(run_program("tier_sheet", args, err, sizeof err), 2);
-    assert_false(exists(sheet));
+    assert_false(ht_test_path_exists(sheet));
 }
 
 /* The entries of /tmp whose names start with prefix, one per line. */
@@ -999,7 +989,7 @@ static void tmp_entries(const char *prefix, char *out, size_t size) {
 static void test_benchmarks_failing_early_leave_no_scratch_directory(void **state) {
     (void)state;
     char build[PATH_MAX], before[8192], after[8192], cmd[PATH_MAX * 2 + 256];
-    assert_non_null(realpath(build_dir(), build));
+    assert_non_null(realpath(ht_test_build_dir(), build));
     const char *benches[2] = { "bench_frame", "bench_hairgen" };
     for (int i = 0; i < 2; i++) {
         tmp_entries("hairtier-bench-", before, sizeof before);

@@ -55,11 +55,6 @@ static int teardown(void **state) {
     return ht_test_scratch_remove(work);
 }
 
-static const char *build_dir(void) {
-    const char *b = getenv("HAIRTIER_BUILD");
-    return b ? b : "build";
-}
-
 static void run(const char *cmd) {
     int status = system(cmd);
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) fail_msg("command failed: %s", cmd);
@@ -192,7 +187,7 @@ static void render_every_tier(const char *material, const char *shipped_scene, d
     ht_scene scene;
     assert_int_equal(ht_scene_load(scene_path, &scene, err, sizeof err), HT_OK);
     snprintf(bundle, sizeof bundle, "%s/bundle", work);
-    snprintf(cmd, sizeof cmd, "%s/hairgen %s --scene %s -o %s >/dev/null", build_dir(), material, scene_path, bundle);
+    snprintf(cmd, sizeof cmd, "%s/hairgen %s --scene %s -o %s >/dev/null", ht_test_build_dir(), material, scene_path, bundle);
     run(cmd);
 
     char names[HT_TIER_COUNT][16];
@@ -203,7 +198,7 @@ static void render_every_tier(const char *material, const char *shipped_scene, d
     for (int t = 0; t < count; t++) {
         snprintf(png[t], sizeof png[t], "%s/%s.png", work, tiers[t]);
         snprintf(cmd, sizeof cmd, "%s/hairview --bundle %s --scene %s --tier %s --strict --frames 1 -o %s >/dev/null 2>&1",
-                 build_dir(), bundle, scene_path, tiers[t], png[t]);
+                 ht_test_build_dir(), bundle, scene_path, tiers[t], png[t]);
         run(cmd);
         assert_int_equal(ht_image_read_png(png[t], &img[t], err, sizeof err), HT_OK);
         assert_int_equal(img[t].width, scene.width);
@@ -409,7 +404,7 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
             cJSON_free(small);
             snprintf(path, sizeof path, "%s/sweep.json", work);
             snprintf(bundle, sizeof bundle, "%s/sweep-bundle", work);
-            snprintf(cmd, sizeof cmd, "%s/hairgen materials/%s.json --scene %s -o %s >/dev/null", build_dir(),
+            snprintf(cmd, sizeof cmd, "%s/hairgen materials/%s.json --scene %s -o %s >/dev/null", ht_test_build_dir(),
                      materials[mat], path, bundle);
             run(cmd);
             char names[HT_TIER_COUNT][16];
@@ -419,7 +414,7 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
                 ht_image img;
                 snprintf(png, sizeof png, "%s/sweep-%s.png", work, names[t]);
                 snprintf(cmd, sizeof cmd, "%s/hairview --bundle %s --scene %s --tier %s --strict -o %s >/dev/null 2>&1",
-                         build_dir(), bundle, path, names[t], png);
+                         ht_test_build_dir(), bundle, path, names[t], png);
                 run(cmd);
                 assert_int_equal(ht_image_read_png(png, &img, err, sizeof err), HT_OK);
                 if (t == 0) {

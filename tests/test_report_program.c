@@ -58,11 +58,6 @@ static int run(const char *args, char *out, size_t out_size, char *err, size_t e
     return WEXITSTATUS(status);
 }
 
-static bool exists(const char *path) {
-    struct stat st;
-    return lstat(path, &st) == 0;
-}
-
 static void assert_no_temporary(void) {
     DIR *d = opendir(work);
     assert_non_null(d);
@@ -89,7 +84,7 @@ static void test_report_has_every_tier_image_and_heatmap_and_is_replaced_whole(v
         for (int heat = 0; heat < 2; heat++) {
             snprintf(path, sizeof path, "%s/%s%s.png", report, tiers[t], heat ? "-error" : "");
             if (t == 0 && heat) { /* full is the reference: no heatmap of itself */
-                assert_false(exists(path));
+                assert_false(ht_test_path_exists(path));
                 continue;
             }
             ht_image img = { 0 };
@@ -113,9 +108,9 @@ static void test_report_has_every_tier_image_and_heatmap_and_is_replaced_whole(v
     snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames 1 -o '%s'", bundle, scene, report);
     if (run(args, out, sizeof out, err, sizeof err) != 0) fail_msg("haircompare %s:\n%s", args, err);
     snprintf(path, sizeof path, "%s/stray.txt", report);
-    assert_false(exists(path));
+    assert_false(ht_test_path_exists(path));
     snprintf(path, sizeof path, "%s/index.html", report);
-    assert_true(exists(path));
+    assert_true(ht_test_path_exists(path));
     assert_no_temporary();
 }
 
@@ -132,7 +127,7 @@ static void expect_fails(const char *args, int status, const char *mentions, con
     if (status == 2) line = err; /* usage: the reason first, then the help */
     if (strncmp(line, "haircompare: ", 13) != 0 || !strstr(line, mentions))
         fail_msg("haircompare %s: \"%.300s\" does not name %s", args, line, mentions);
-    if (report && exists(report)) fail_msg("haircompare %s: %s written", args, report);
+    if (report && ht_test_path_exists(report)) fail_msg("haircompare %s: %s written", args, report);
     assert_no_temporary();
 }
 
