@@ -11,21 +11,12 @@
 #include <cmocka.h>
 
 #include "caps.h"
+#include "support_caps.h"
 
-/* A device of the given GL version with what that version brings. */
+/* A device of the given GL version with what that version brings: 4
+   texture units from GL 1.3, one before; GLSL version left 0. */
 static ht_caps device(int major, int minor) {
-    ht_caps c;
-    memset(&c, 0, sizeof c);
-    c.gl_major = major;
-    c.gl_minor = minor;
-    int v = major * 10 + minor;
-    c.has_shaders = c.has_vertex_shaders = c.has_fragment_shaders = v >= 20;
-    c.texture_units = v >= 13 ? 4 : 1;
-    c.has_multitexture = c.has_combine = v >= 13;
-    c.has_crossbar = v >= 14;
-    c.has_3d_textures = v >= 12;
-    c.has_vbo = v >= 15;
-    return c;
+    return ht_test_caps(major, minor, 0, 0, major * 10 + minor >= 13 ? 4 : 1);
 }
 
 static void test_caps_parse_version_survives_driver_strings(void **state) {
