@@ -1,8 +1,9 @@
 /* emit_marschner.c — the marschner tier: Marschner's fibre per pixel from
    the lookup textures of marschner_lut.h, in GLSL 1.20 (and an ESSL 1.00
    port), with the same Z-prime program as the full tier. The fragment
-   shader is ht_marschner_lut_fibre written in GLSL; the textures' scales
-   and sizes are literals. */
+   shader is ht_marschner_lut_fibre written in GLSL (N_R and N_TT are
+   ht_marschner_azimuthal's equations, in float); the textures' scales and
+   sizes and the material's eta and absorption are literals. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -212,7 +213,8 @@ static char *main_fragment(const ht_plan *plan, const ht_marschner_lut *lut, boo
     ht_strbuf_add(&sb, es ? "#version 100\n" : "#version 120\n");
     banner(&sb, plan, es ? "ESSL fragment stage" : "fragment stage");
     if (es)
-        ht_strbuf_add(&sb, "/* asin, acos and the lookups need highp where the device has it. */\n"
+        ht_strbuf_add(&sb, "/* asin, acos, the lookups and N_R, N_TT's equations need highp where the\n"
+                           "   device has it. */\n"
                            "#ifdef GL_FRAGMENT_PRECISION_HIGH\nprecision highp float;\n#else\n"
                            "precision mediump float;\n#endif\n");
     if (albedo) ht_strbuf_addf(&sb, "uniform sampler2D %s; /* rgb = base, a = alpha */\n", HT_U_ALBEDO);
@@ -327,8 +329,10 @@ ht_result ht_emit_marschner(const ht_plan *plan, ht_tier_output *out, char *err,
     if (plan->base) ht_output_add_feature(out, "base");
     if (plan->alpha) ht_output_add_feature(out, "alpha");
     if (plan->ao) ht_output_add_feature(out, "ao");
-    ht_output_add_dropped(out, "the fibre from 16-bit lookup textures (M log-encoded): 0.012/255 mean, 0.31/255 p99 "
-                               "from the oracle (tests/test_marschner_lut.c)");
+    ht_output_add_dropped(out, "M, the rest and N_TRT from 16-bit lookup textures (M log-encoded): 0.010/255 mean, "
+                               "0.30/255 p99, 0.63/255 max from the oracle (tests/test_marschner_lut.c)");
+    ht_output_add_dropped(out, "N_R and N_TT from the equations per pixel: needs 32-bit float fragment arithmetic "
+                               "(ESSL highp); with mediump they lose precision");
 
     r = ht_output_add_text(out, "marschner.vert", "vertex", main_vertex(plan, false), HT_STAGE_VERTEX, 120, false,
                            err, err_size);
