@@ -1,7 +1,10 @@
 /* model_marschner.c — Marschner's fibre model, the equations of
-   model_marschner.h in double precision. The tier that draws it reads
-   lookup textures baked from these functions, so there is no float mirror:
-   the GPU never evaluates the equations themselves. */
+   model_marschner.h in double precision. The tier that draws it reads M,
+   the rest and N_TRT from lookup textures baked from these functions and
+   evaluates N_R and N_TT itself, in float, from the same equations written
+   in GLSL (shadergen/emit_marschner.c: the Fresnel below and the cubic's
+   roots as cubic_roots finds them); the marschner probe holds the two
+   together (tests/test_render_marschner.c). */
 #include "model_marschner.h"
 
 #include <math.h>
@@ -194,7 +197,9 @@ void ht_marschner_azimuthal(const ht_marschner *m, ht_marschner_lobe p,
     }
     for (int i = 0; i < count; i++) {
         double g = gammas[i];
-        double slope = fabs(a1 + 3 * a3 * g * g); /* R and TT: |dphi/dgamma| >= 2 - 6c/pi > 0 */
+        /* R: |dphi/dgamma| = 2; TT: >= 2 - 6c/pi > 0 for eta' > 1.155 (c < pi/3); below, near
+           theta_r = 0, TT has a fold where it reaches 0 (model_marschner.h) */
+        double slope = fabs(a1 + 3 * a3 * g * g);
         double a[3];
         ht_marschner_attenuation(m, p, cos_theta_r, sin(g), a);
         /* 1 / |2 dphi/dh| = cos(gamma) / (2 |dphi/dgamma|) */

@@ -40,8 +40,8 @@
      theta_d = (theta_r - theta_i) / 2: pbrt-v4 does the same, and it is what
      makes the furnace hold: with theta_d, a lobe shifted by alpha_p is
      weighted by another lobe's Fresnel split (measured: 0.84 at theta_r =
-     -60 degrees, beta_R = 0.1). The N lookup texture is indexed by sin(theta_r)
-     and cos(phi) accordingly.
+     -60 degrees, beta_R = 0.1). The N_TRT lookup texture is indexed by
+     theta_r and phi accordingly.
 
    Documented answers at the undefined points (no NaN, no Inf):
    - The TRT caustic, where dphi/dgamma = 0 and the smooth fibre's
@@ -53,8 +53,13 @@
      integral over h of A_TRT(h) / 2 times that Gaussian at phi - phi(2, h)
      (64-point midpoint rule in gamma, exact to 1e-12 for this width):
      finite everywhere, its integral over phi still the mean of A_TRT. R
-     and TT have no caustic (|dphi/dgamma| >= 2 - 6c/pi > 0) and are sums
-     over the cubic's roots.
+     and TT are sums over the cubic's roots. R has no caustic; TT has none
+     while eta' > 1.155 (|dphi/dgamma| >= 2 - 6c/pi > 0 needs c < pi/3),
+     i.e. for every theta_r when eta >= 1.155; below that, near theta_r = 0,
+     TT's exit azimuth folds back near phi = pi and N_TT is unbounded at
+     the fold (measured: 140 at theta_r 7.5 degrees, eta 1.1, against at
+     most 0.69 anywhere at eta 1.55 without absorption), not spread as
+     TRT's is.
    - A parallel-polarisation index eta'' below 1 (theta_r near 90 degrees)
      can reflect totally: Fresnel is then 1 for that polarisation; grazing
      rays (|h| = 1) reflect entirely.

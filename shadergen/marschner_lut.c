@@ -52,17 +52,18 @@ double ht_marschner_lut_decode_log(double t, double scale) {
 }
 
 /* Raw values at every texel, then scaled: per texel M_R, M_TT, M_TRT,
-   REST rgb for the M axes; N_TT rgb, N_R, N_TRT rgb for the N axes. */
+   REST rgb for the M axes; N_TRT rgb for the N axes. */
 ht_result ht_marschner_lut_bake(const ht_marschner *m, ht_marschner_lut *out) {
     memset(out, 0, sizeof *out);
     const int ms = ht_marschner_lut_m_size(m), ns = HT_MARSCHNER_LUT_N_SIZE;
     out->m_size = ms;
     out->n_size = ns;
+    out->fibre = *m;
     double *mv = malloc(sizeof *mv * (size_t)ms * ms * 6);
-    double *nv = malloc(sizeof *nv * (size_t)ns * ns * 7);
+    double *nv = malloc(sizeof *nv * (size_t)ns * ns * 3);
     ht_result r = HT_ERR_OUT_OF_MEMORY;
     if (!mv || !nv || ht_image_alloc(&out->m, 2 * ms, 2 * ms, 4) != HT_OK ||
-        ht_image_alloc(&out->n, 2 * ns, 2 * ns, 4) != HT_OK)
+        ht_image_alloc(&out->n, ns, 2 * ns, 4) != HT_OK)
         goto done;
     /* N_rest depends on theta_r only: once per row. */
     double *rest_n = malloc(sizeof *rest_n * (size_t)ms * 3);
@@ -81,24 +82,14 @@ ht_result ht_marschner_lut_bake(const ht_marschner *m, ht_marschner_lut *out) {
     free(rest_n);
     for (int y = 0; y < ns; y++)
         for (int x = 0; x < ns; x++) {
-            double cos_r = cos(axis(x, ns, 0, HT_PI / 2)), phi = axis(y, ns, 0, HT_PI), n[3];
-            double *v = &nv[((size_t)y * ns + x) * 7];
-            ht_marschner_azimuthal(m, HT_LOBE_TT, cos_r, phi, v);
-            ht_marschner_azimuthal(m, HT_LOBE_R, cos_r, phi, n);
-            v[3] = n[0];
-            ht_marschner_azimuthal(m, HT_LOBE_TRT, cos_r, phi, &v[4]);
+            double cos_r = cos(axis(x, ns, 0, HT_PI / 2)), phi = axis(y, ns, 0, HT_PI);
+            ht_marschner_azimuthal(m, HT_LOBE_TRT, cos_r, phi, &nv[((size_t)y * ns + x) * 3]);
         }
     for (size_t i = 0; i < (size_t)ms * ms; i++) {
         for (int p = 0; p < 3; p++) out->m_scale[p] = fmax(out->m_scale[p], mv[i * 6 + p]);
         for (int c = 0; c < 3; c++) out->rest_scale = fmax(out->rest_scale, mv[i * 6 + 3 + c]);
     }
-    for (size_t i = 0; i < (size_t)ns * ns; i++) {
-        for (int c = 0; c < 3; c++) {
-            out->n1_scale[0] = fmax(out->n1_scale[0], nv[i * 7 + c]);
-            out->n2_scale = fmax(out->n2_scale, nv[i * 7 + 4 + c]);
-        }
-        out->n1_scale[1] = fmax(out->n1_scale[1], nv[i * 7 + 3]);
-    }
+    for (size_t i = 0; i < (size_t)ns * ns * 3; i++) out->n_scale = fmax(out->n_scale, nv[i]);
     memset(out->m.pixels, 255, (size_t)out->m.width * out->m.height * 4); /* the unused alpha: opaque */
     memset(out->n.pixels, 255, (size_t)out->n.width * out->n.height * 4);
     for (int y = 0; y < ms; y++)
@@ -109,12 +100,8 @@ ht_result ht_marschner_lut_bake(const ht_marschner *m, ht_marschner_lut *out) {
         }
     for (int y = 0; y < ns; y++)
         for (int x = 0; x < ns; x++) {
-            const double *v = &nv[((size_t)y * ns + x) * 7];
-            for (int c = 0; c < 3; c++) {
-                put(&out->n, 0, x, y, c, encode(v[c], out->n1_scale[0]));
-                put(&out->n, 1, x, y, c, encode(v[4 + c], out->n2_scale));
-            }
-            put(&out->n, 0, x, y, 3, encode(v[3], out->n1_scale[1]));
+            const double *v = &nv[((size_t)y * ns + x) * 3];
+            for (int c = 0; c < 3; c++) put(&out->n, 0, x, y, c, encode(v[c], out->n_scale));
         }
     r = HT_OK;
 done:
@@ -154,18 +141,20 @@ static void bilinear(const ht_image *img, int half, double x, double lo_x, doubl
 
 void ht_marschner_lut_fibre(const ht_marschner_lut *lut, double sin_i, double sin_r, double cos_phi,
                             double rgb[3]) {
-    double m[4], rest[4], n1[4], n2[4];
+    double m[4], rest[4], ntrt[4], nr[3], ntt[3];
     const double h = HT_PI / 2;
     double theta_i = asin(fmax(-1, fmin(1, sin_i))), theta_r = asin(fmax(-1, fmin(1, sin_r)));
     double phi = acos(fmax(-1, fmin(1, cos_phi)));
     bilinear(&lut->m, 0, theta_i, -h, h, theta_r, -h, h, m);
     bilinear(&lut->m, 1, theta_i, -h, h, theta_r, -h, h, rest);
-    bilinear(&lut->n, 0, fabs(theta_r), 0, h, phi, 0, HT_PI, n1);
-    bilinear(&lut->n, 1, fabs(theta_r), 0, h, phi, 0, HT_PI, n2);
+    bilinear(&lut->n, 0, fabs(theta_r), 0, h, phi, 0, HT_PI, ntrt);
+    /* the shader's N_R and N_TT: these equations in GLSL (emit_marschner.c) */
+    ht_marschner_azimuthal(&lut->fibre, HT_LOBE_R, cos(theta_r), phi, nr);
+    ht_marschner_azimuthal(&lut->fibre, HT_LOBE_TT, cos(theta_r), phi, ntt);
     double mr = ht_marschner_lut_decode_log(m[0], lut->m_scale[0]);
     double mtt = ht_marschner_lut_decode_log(m[1], lut->m_scale[1]);
     double mtrt = ht_marschner_lut_decode_log(m[2], lut->m_scale[2]);
     for (int c = 0; c < 3; c++)
-        rgb[c] = mr * lut->n1_scale[1] * n1[3] + mtt * lut->n1_scale[0] * n1[c] + mtrt * lut->n2_scale * n2[c] +
+        rgb[c] = mr * nr[c] + mtt * ntt[c] + mtrt * lut->n_scale * ntrt[c] +
                  ht_marschner_lut_decode_log(rest[c], lut->rest_scale);
 }
