@@ -56,6 +56,23 @@ int ht_test_furball_teardown(ht_test_furball *f) {
     return ht_test_scratch_remove(f->work);
 }
 
+bool ht_test_scratch_gl_setup(ht_test_scratch_gl *f, const char *name, int size) {
+    memset(f, 0, sizeof *f);
+    unsetenv("HAIRTIER_TIER");
+    if (!ht_test_scratch_create(f->work, sizeof f->work, name)) return false;
+    char err[512];
+    if (!ht_test_gl_create(&f->gl, size, size, NULL, err, sizeof err)) {
+        fprintf(stderr, "setup: %s\n", err);
+        return false;
+    }
+    return true;
+}
+
+int ht_test_scratch_gl_teardown(ht_test_scratch_gl *f) {
+    ht_test_gl_destroy(&f->gl);
+    return ht_test_scratch_remove(f->work);
+}
+
 ht_frame_desc ht_test_furball_frame(float eye_z) {
     return (ht_frame_desc){ .camera = { .eye = { 0, 0.3f, eye_z }, .target = { 0, 0, 0 }, .up = { 0, 1, 0 },
                                         .fov_y = 45 },

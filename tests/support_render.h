@@ -26,6 +26,14 @@ typedef struct ht_test_furball {
    anything cannot be made; name tells the scratch directory apart. */
 bool ht_test_furball_setup(ht_test_furball *f, const char *name, int size);
 int ht_test_furball_teardown(ht_test_furball *f);
+/* A scratch directory and a current size x size context, for tests that
+   write their own bundles; the same contract as the fur-ball fixture. */
+typedef struct ht_test_scratch_gl {
+    char work[64];
+    ht_test_gl gl;
+} ht_test_scratch_gl;
+bool ht_test_scratch_gl_setup(ht_test_scratch_gl *f, const char *name, int size);
+int ht_test_scratch_gl_teardown(ht_test_scratch_gl *f);
 /* The fixture's mesh on its own (for a child process). */
 ht_result ht_test_furball_mesh(ht_mesh *out);
 /* The two lights (directional key, point fill), looked at from (0, 0.3, eye_z). */

@@ -34,25 +34,16 @@
 #define SIZE HT_PROBE_SIZE
 #define TOLERANCE 2 /* per channel, in 1/255: the target */
 
-static char work[64];
-static ht_test_gl gl;
+static ht_test_scratch_gl fx;
 
 static int setup(void **state) {
     (void)state;
-    unsetenv("HAIRTIER_TIER");
-    if (!ht_test_scratch_create(work, sizeof work, "marschner")) return -1;
-    char err[512];
-    if (!ht_test_gl_create(&gl, SIZE, SIZE, NULL, err, sizeof err)) {
-        fprintf(stderr, "setup: %s\n", err);
-        return -1;
-    }
-    return 0;
+    return ht_test_scratch_gl_setup(&fx, "marschner", SIZE) ? 0 : -1;
 }
 
 static int teardown(void **state) {
     (void)state;
-    ht_test_gl_destroy(&gl);
-    return ht_test_scratch_remove(work);
+    return ht_test_scratch_gl_teardown(&fx);
 }
 
 typedef struct fibre_material {
@@ -134,9 +125,9 @@ static void lut_diagnosis(const ht_marschner_lut *lut, const ht_material *m, con
 static void probe(const fibre_material *f, ht_light light, int tolerance) {
     char dir[256], err[2048], path[400];
     ht_material m;
-    snprintf(path, sizeof path, "%s/%s.json", work, f->name);
+    snprintf(path, sizeof path, "%s/%s.json", fx.work, f->name);
     write_material(f, path);
-    ht_probe_make_bundle_from_file(work, f->name, path, &light, dir, sizeof dir, &m);
+    ht_probe_make_bundle_from_file(fx.work, f->name, path, &light, dir, sizeof dir, &m);
     ht_image albedo = { 0 };
     if (f->textured) {
         snprintf(path, sizeof path, "%s/albedo.png", dir);
@@ -153,7 +144,7 @@ static void probe(const fibre_material *f, ht_light light, int tolerance) {
     assert_int_equal(ht_renderer_set_mesh(r, &mesh), HT_OK);
     ht_frame_desc frame = ht_probe_frame(&light);
     ht_image img;
-    ht_test_draw(&gl, r, &frame, (const float[3]){ 0, 0, 0 }, &img);
+    ht_test_draw(&fx.gl, r, &frame, (const float[3]){ 0, 0, 0 }, &img);
 
     ht_marschner_lut lut;
     assert_int_equal(ht_marschner_lut_bake(&m.shading.marschner, &lut), HT_OK);

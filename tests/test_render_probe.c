@@ -39,25 +39,16 @@
 #define GRID HT_PROBE_GRID
 #define TOLERANCE 2       /* per channel, in 1/255 */
 
-static char work[64];
-static ht_test_gl gl;
+static ht_test_scratch_gl fx;
 
 static int setup(void **state) {
     (void)state;
-    unsetenv("HAIRTIER_TIER");
-    if (!ht_test_scratch_create(work, sizeof work, "probe")) return -1;
-    char err[512];
-    if (!ht_test_gl_create(&gl, SIZE, SIZE, NULL, err, sizeof err)) {
-        fprintf(stderr, "setup: %s\n", err);
-        return -1;
-    }
-    return 0;
+    return ht_test_scratch_gl_setup(&fx, "probe", SIZE) ? 0 : -1;
 }
 
 static int teardown(void **state) {
     (void)state;
-    ht_test_gl_destroy(&gl);
-    return ht_test_scratch_remove(work);
+    return ht_test_scratch_gl_teardown(&fx);
 }
 
 /* ---- the oracle, per pixel ---- */
@@ -107,7 +98,7 @@ static probe_result compare(const ht_image *img, const ht_shading *shading, cons
 static void probe(const ht_probe_material *p, ht_light light) {
     char dir[256], err[2048];
     ht_material m;
-    ht_probe_make_bundle(work, p, &light, dir, sizeof dir, &m);
+    ht_probe_make_bundle(fx.work, p, &light, dir, sizeof dir, &m);
 
     textures tex = { 0 };
     char path[400];
@@ -129,7 +120,7 @@ static void probe(const ht_probe_material *p, ht_light light) {
     assert_int_equal(ht_renderer_set_mesh(r, &mesh), HT_OK);
     ht_frame_desc frame = ht_probe_frame(&light);
     ht_image img;
-    ht_test_draw(&gl, r, &frame, (const float[3]){ 0, 0, 0 }, &img);
+    ht_test_draw(&fx.gl, r, &frame, (const float[3]){ 0, 0, 0 }, &img);
 
     probe_result res = compare(&img, &m.shading, &light, &tex);
     printf("probe %-14s %-11s light (%5.2f %5.2f %5.2f): %d pixels, worst %d/255", p->name,
