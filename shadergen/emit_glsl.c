@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "shader_interface.h"
+#include "glsl_stages.h"
 #include "strbuf.h"
 
 /* The ES fragment shader's precision choice: directions (normalisation, the
@@ -33,57 +34,12 @@ static void banner(ht_strbuf *sb, const ht_plan *plan, const char *what) {
                    plan->light_count == 1 ? "" : "s");
 }
 
-/* Varyings shared by the main vertex and fragment shaders; prec is "" on
-   desktop, the direction / colour qualifiers in ES fragment shaders. */
-static void varyings(ht_strbuf *sb, const ht_plan *plan, const char *dp, const char *cp) {
-    ht_strbuf_addf(sb, "varying %svec3 v_position; /* world space */\n", dp);
-    ht_strbuf_addf(sb, "varying %svec3 v_tangent;\n", dp);
-    if (!kajiya_kay(plan)) ht_strbuf_addf(sb, "varying %svec3 v_normal;\n", dp);
-    /* uv addresses texels: mediump's 11-bit mantissa is a whole texel of a
-       2048 texture near uv = 1, so it gets the direction precision. */
-    if (uses_uv(plan)) ht_strbuf_addf(sb, "varying %svec2 v_uv;\n", dp);
-    if (plan->ao) ht_strbuf_addf(sb, "varying %sfloat v_ao;\n", cp);
-}
-
-static char *main_vertex(const ht_plan *plan, bool es) {
-    ht_strbuf sb;
-    ht_strbuf_init(&sb);
-    ht_strbuf_add(&sb, es ? "#version 100\n" : "#version 120\n");
-    banner(&sb, plan, es ? "ESSL vertex stage" : "vertex stage");
-    if (es) {
-        ht_strbuf_addf(&sb, "uniform mat4 %s;\n", HT_ES_U_MVP);
-        ht_strbuf_addf(&sb, "attribute vec3 %s;\n", HT_ES_ATTR_POSITION);
-    } else {
-        ht_strbuf_add(&sb, "/* Generic attributes, not texture coordinates: a device may have only\n"
-                           "   one coordinate set (shader_interface.h). */\n");
-    }
-    ht_strbuf_addf(&sb, "attribute vec3 %s;\n", HT_ATTR_TANGENT);
-    if (es) {
-        if (!kajiya_kay(plan)) ht_strbuf_addf(&sb, "attribute vec3 %s;\n", HT_ES_ATTR_NORMAL);
-        if (uses_uv(plan)) ht_strbuf_addf(&sb, "attribute vec2 %s;\n", HT_ES_ATTR_UV);
-    }
-    if (plan->ao) ht_strbuf_addf(&sb, "attribute float %s;\n", HT_ATTR_AO);
-    varyings(&sb, plan, "", "");
-    ht_strbuf_add(&sb, "\nvoid main() {\n");
-    if (es) {
-        ht_strbuf_addf(&sb, "    gl_Position = %s * vec4(%s, 1.0);\n", HT_ES_U_MVP, HT_ES_ATTR_POSITION);
-        ht_strbuf_addf(&sb, "    v_position = %s; /* the model matrix is identity */\n", HT_ES_ATTR_POSITION);
-        if (!kajiya_kay(plan)) ht_strbuf_addf(&sb, "    v_normal = %s;\n", HT_ES_ATTR_NORMAL);
-        if (uses_uv(plan)) ht_strbuf_addf(&sb, "    v_uv = %s;\n", HT_ES_ATTR_UV);
-    } else {
-        ht_strbuf_add(&sb, "    /* ftransform(): depth bit-identical to every pass of every tier. */\n");
-        ht_strbuf_add(&sb, "    gl_Position = ftransform();\n");
-        ht_strbuf_add(&sb, "    v_position = gl_Vertex.xyz; /* the model matrix is identity */\n");
-        if (!kajiya_kay(plan)) ht_strbuf_add(&sb, "    v_normal = gl_Normal;\n");
-        if (uses_uv(plan)) ht_strbuf_add(&sb, "    v_uv = gl_MultiTexCoord0.xy;\n");
-    }
-    ht_strbuf_addf(&sb, "    v_tangent = %s;\n", HT_ATTR_TANGENT);
-    if (plan->ao) ht_strbuf_addf(&sb, "    v_ao = %s;\n", HT_ATTR_AO);
-    ht_strbuf_add(&sb, "}\n");
-    return ht_strbuf_take(&sb);
+static ht_glsl_vertex_layout layout_of(const ht_plan *plan) {
+    return (ht_glsl_vertex_layout){ .banner = banner, .normal = !kajiya_kay(plan), .uv = uses_uv(plan) };
 }
 
 static char *main_fragment(const ht_plan *plan, bool es) {
+    const ht_glsl_vertex_layout layout = layout_of(plan);
     const bool albedo = plan->base || plan->alpha, detail = plan->shift || plan->sparkle;
     ht_glsl_shading_inputs in = {
         .position = "v_position",
@@ -113,7 +69,7 @@ static char *main_fragment(const ht_plan *plan, bool es) {
         ht_strbuf_addf(&sb, "uniform mediump float %s;\n", HT_ES_U_ALPHA_REF);
         ht_strbuf_addf(&sb, "uniform mediump float %s;\n", HT_ES_U_ALPHA_PASS_OPAQUE);
     }
-    varyings(&sb, plan, dp, cp);
+    ht_glsl_varyings(&sb, plan, &layout, dp, cp);
     ht_strbuf_add(&sb, "\n");
     ht_glsl_shading_functions(&sb, plan, &in);
     ht_strbuf_add(&sb, "void main() {\n");
@@ -131,40 +87,8 @@ static char *main_fragment(const ht_plan *plan, bool es) {
     return ht_strbuf_take(&sb);
 }
 
-/* The Z-prime pass writes no colour: transform, and alpha for the test. */
-static char *prime_vertex(const ht_plan *plan) {
-    ht_strbuf sb;
-    ht_strbuf_init(&sb);
-    ht_strbuf_add(&sb, "#version 120\n");
-    banner(&sb, plan, "Z-prime vertex stage");
-    if (plan->alpha) ht_strbuf_add(&sb, "varying vec2 v_uv;\n");
-    ht_strbuf_add(&sb, "\nvoid main() {\n");
-    ht_strbuf_add(&sb, "    /* ftransform(): depth bit-identical to every pass of every tier. */\n");
-    ht_strbuf_add(&sb, "    gl_Position = ftransform();\n");
-    if (plan->alpha) ht_strbuf_add(&sb, "    v_uv = gl_MultiTexCoord0.xy;\n");
-    ht_strbuf_add(&sb, "}\n");
-    return ht_strbuf_take(&sb);
-}
-
-static char *prime_fragment(const ht_plan *plan) {
-    ht_strbuf sb;
-    ht_strbuf_init(&sb);
-    ht_strbuf_add(&sb, "#version 120\n");
-    banner(&sb, plan, "Z-prime fragment stage");
-    if (plan->alpha) {
-        ht_strbuf_addf(&sb, "uniform sampler2D %s; /* a = alpha */\n", HT_U_ALBEDO);
-        ht_strbuf_add(&sb, "varying vec2 v_uv;\n");
-    }
-    ht_strbuf_add(&sb, "\nvoid main() {\n");
-    if (plan->alpha)
-        ht_strbuf_addf(&sb, "    gl_FragColor = vec4(1.0, 1.0, 1.0, texture2D(%s, v_uv).a);\n", HT_U_ALBEDO);
-    else
-        ht_strbuf_add(&sb, "    gl_FragColor = vec4(1.0);\n");
-    ht_strbuf_add(&sb, "}\n");
-    return ht_strbuf_take(&sb);
-}
-
 ht_result ht_emit_full(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size) {
+    const ht_glsl_vertex_layout layout = layout_of(plan);
     memset(out, 0, sizeof *out);
     out->tier = HT_TIER_FULL;
     snprintf(out->requires.gl, sizeof out->requires.gl, "2.1");
@@ -179,19 +103,19 @@ ht_result ht_emit_full(const ht_plan *plan, ht_tier_output *out, char *err, size
     if (plan->sparkle) ht_output_add_feature(out, "sparkle");
     if (plan->ao) ht_output_add_feature(out, "ao");
 
-    ht_result r = ht_output_add_text(out, "full.vert", "vertex", main_vertex(plan, false),
+    ht_result r = ht_output_add_text(out, "full.vert", "vertex", ht_glsl_main_vertex(plan, &layout, false),
                                      HT_STAGE_VERTEX, 120, false, err, err_size);
     if (r == HT_OK)
         r = ht_output_add_text(out, "full.frag", "fragment", main_fragment(plan, false),
                                HT_STAGE_FRAGMENT, 120, false, err, err_size);
     if (r == HT_OK)
-        r = ht_output_add_text(out, "full-prime.vert", "prime_vertex", prime_vertex(plan),
+        r = ht_output_add_text(out, "full-prime.vert", "prime_vertex", ht_glsl_prime_stage(plan, banner, false),
                                HT_STAGE_VERTEX, 120, false, err, err_size);
     if (r == HT_OK)
-        r = ht_output_add_text(out, "full-prime.frag", "prime_fragment", prime_fragment(plan),
+        r = ht_output_add_text(out, "full-prime.frag", "prime_fragment", ht_glsl_prime_stage(plan, banner, true),
                                HT_STAGE_FRAGMENT, 120, false, err, err_size);
     if (r == HT_OK)
-        r = ht_output_add_text(out, "full-es.vert", "es_vertex", main_vertex(plan, true),
+        r = ht_output_add_text(out, "full-es.vert", "es_vertex", ht_glsl_main_vertex(plan, &layout, true),
                                HT_STAGE_VERTEX, 100, true, err, err_size);
     if (r == HT_OK)
         r = ht_output_add_text(out, "full-es.frag", "es_fragment", main_fragment(plan, true),

@@ -11,6 +11,7 @@
 
 #include "marschner_lut.h"
 #include "shader_interface.h"
+#include "glsl_stages.h"
 #include "strbuf.h"
 
 #define U_M "u_marschner_m"
@@ -25,41 +26,8 @@ static void banner(ht_strbuf *sb, const ht_plan *plan, const char *what) {
                    what, plan->light_count, plan->light_count == 1 ? "" : "s");
 }
 
-static void varyings(ht_strbuf *sb, const ht_plan *plan, const char *dp, const char *cp) {
-    ht_strbuf_addf(sb, "varying %svec3 v_position; /* world space */\n", dp);
-    ht_strbuf_addf(sb, "varying %svec3 v_tangent;\n", dp);
-    if (uses_uv(plan)) ht_strbuf_addf(sb, "varying %svec2 v_uv;\n", dp);
-    if (plan->ao) ht_strbuf_addf(sb, "varying %sfloat v_ao;\n", cp);
-}
-
-static char *main_vertex(const ht_plan *plan, bool es) {
-    ht_strbuf sb;
-    ht_strbuf_init(&sb);
-    ht_strbuf_add(&sb, es ? "#version 100\n" : "#version 120\n");
-    banner(&sb, plan, es ? "ESSL vertex stage" : "vertex stage");
-    if (es) {
-        ht_strbuf_addf(&sb, "uniform mat4 %s;\n", HT_ES_U_MVP);
-        ht_strbuf_addf(&sb, "attribute vec3 %s;\n", HT_ES_ATTR_POSITION);
-        if (uses_uv(plan)) ht_strbuf_addf(&sb, "attribute vec2 %s;\n", HT_ES_ATTR_UV);
-    }
-    ht_strbuf_addf(&sb, "attribute vec3 %s;\n", HT_ATTR_TANGENT);
-    if (plan->ao) ht_strbuf_addf(&sb, "attribute float %s;\n", HT_ATTR_AO);
-    varyings(&sb, plan, "", "");
-    ht_strbuf_add(&sb, "\nvoid main() {\n");
-    if (es) {
-        ht_strbuf_addf(&sb, "    gl_Position = %s * vec4(%s, 1.0);\n", HT_ES_U_MVP, HT_ES_ATTR_POSITION);
-        ht_strbuf_addf(&sb, "    v_position = %s;\n", HT_ES_ATTR_POSITION);
-        if (uses_uv(plan)) ht_strbuf_addf(&sb, "    v_uv = %s;\n", HT_ES_ATTR_UV);
-    } else {
-        ht_strbuf_add(&sb, "    /* ftransform(): depth bit-identical to every pass of every tier. */\n");
-        ht_strbuf_add(&sb, "    gl_Position = ftransform();\n");
-        ht_strbuf_add(&sb, "    v_position = gl_Vertex.xyz; /* the model matrix is identity */\n");
-        if (uses_uv(plan)) ht_strbuf_add(&sb, "    v_uv = gl_MultiTexCoord0.xy;\n");
-    }
-    ht_strbuf_addf(&sb, "    v_tangent = %s;\n", HT_ATTR_TANGENT);
-    if (plan->ao) ht_strbuf_addf(&sb, "    v_ao = %s;\n", HT_ATTR_AO);
-    ht_strbuf_add(&sb, "}\n");
-    return ht_strbuf_take(&sb);
+static ht_glsl_vertex_layout layout_of(const ht_plan *plan) {
+    return (ht_glsl_vertex_layout){ .banner = banner, .normal = false, .uv = uses_uv(plan) };
 }
 
 static void fibre_function(ht_strbuf *sb, const ht_marschner_lut *lut) {
@@ -206,6 +174,7 @@ static void fibre_function(ht_strbuf *sb, const ht_marschner_lut *lut) {
 }
 
 static char *main_fragment(const ht_plan *plan, const ht_marschner_lut *lut, bool es) {
+    const ht_glsl_vertex_layout layout = layout_of(plan);
     const bool albedo = uses_uv(plan);
     char lit[HT_GLSL_FLOAT_SIZE], diffuse[HT_GLSL_VEC3_SIZE];
     ht_strbuf sb;
@@ -231,7 +200,7 @@ static char *main_fragment(const ht_plan *plan, const ht_marschner_lut *lut, boo
         ht_strbuf_addf(&sb, "uniform float %s;\n", HT_ES_U_ALPHA_REF);
         ht_strbuf_addf(&sb, "uniform float %s;\n", HT_ES_U_ALPHA_PASS_OPAQUE);
     }
-    varyings(&sb, plan, "", "");
+    ht_glsl_varyings(&sb, plan, &layout, "", "");
     ht_strbuf_add(&sb, "\n/* Shorter than the model's minimum length: no direction, the zero vector. */\n");
     ht_strbuf_add(&sb, "vec3 normalize_or_zero(vec3 v) {\n    float len2 = dot(v, v);\n");
     ht_strbuf_addf(&sb, "    return len2 > %s ? v * inversesqrt(len2) : vec3(0.0);\n}\n\n",
@@ -264,27 +233,6 @@ static char *main_fragment(const ht_plan *plan, const ht_marschner_lut *lut, boo
     return ht_strbuf_take(&sb);
 }
 
-/* The Z-prime pass writes no colour: transform, and alpha for the test. */
-static char *prime_shader(const ht_plan *plan, bool fragment) {
-    ht_strbuf sb;
-    ht_strbuf_init(&sb);
-    ht_strbuf_add(&sb, "#version 120\n");
-    banner(&sb, plan, fragment ? "Z-prime fragment stage" : "Z-prime vertex stage");
-    if (fragment && plan->alpha) ht_strbuf_addf(&sb, "uniform sampler2D %s; /* a = alpha */\n", HT_U_ALBEDO);
-    if (plan->alpha) ht_strbuf_add(&sb, "varying vec2 v_uv;\n");
-    ht_strbuf_add(&sb, "\nvoid main() {\n");
-    if (!fragment) {
-        ht_strbuf_add(&sb, "    gl_Position = ftransform();\n");
-        if (plan->alpha) ht_strbuf_add(&sb, "    v_uv = gl_MultiTexCoord0.xy;\n");
-    } else if (plan->alpha) {
-        ht_strbuf_addf(&sb, "    gl_FragColor = vec4(1.0, 1.0, 1.0, texture2D(%s, v_uv).a);\n", HT_U_ALBEDO);
-    } else {
-        ht_strbuf_add(&sb, "    gl_FragColor = vec4(1.0);\n");
-    }
-    ht_strbuf_add(&sb, "}\n");
-    return ht_strbuf_take(&sb);
-}
-
 static void add_lut(ht_tier_output *out, const char *name, const char *uniform, ht_image *image, int unit,
                     const char *contents) {
     ht_out_image *img = &out->images[out->image_count++];
@@ -303,6 +251,7 @@ static void add_lut(ht_tier_output *out, const char *name, const char *uniform, 
 }
 
 ht_result ht_emit_marschner(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size) {
+    const ht_glsl_vertex_layout layout = layout_of(plan);
     memset(out, 0, sizeof *out);
     if (plan->shading.model != HT_MODEL_MARSCHNER) {
         snprintf(err, err_size, "marschner: the material's model is not \"marschner\"");
@@ -334,20 +283,20 @@ ht_result ht_emit_marschner(const ht_plan *plan, ht_tier_output *out, char *err,
     ht_output_add_dropped(out, "N_R and N_TT from the equations per pixel: needs 32-bit float fragment arithmetic "
                                "(ESSL highp); with mediump they lose precision");
 
-    r = ht_output_add_text(out, "marschner.vert", "vertex", main_vertex(plan, false), HT_STAGE_VERTEX, 120, false,
+    r = ht_output_add_text(out, "marschner.vert", "vertex", ht_glsl_main_vertex(plan, &layout, false), HT_STAGE_VERTEX, 120, false,
                            err, err_size);
     if (r == HT_OK) {
         r = ht_output_add_text(out, "marschner.frag", "fragment", frag, HT_STAGE_FRAGMENT, 120, false, err, err_size);
         frag = NULL;
     }
     if (r == HT_OK)
-        r = ht_output_add_text(out, "marschner-prime.vert", "prime_vertex", prime_shader(plan, false),
+        r = ht_output_add_text(out, "marschner-prime.vert", "prime_vertex", ht_glsl_prime_stage(plan, banner, false),
                                HT_STAGE_VERTEX, 120, false, err, err_size);
     if (r == HT_OK)
-        r = ht_output_add_text(out, "marschner-prime.frag", "prime_fragment", prime_shader(plan, true),
+        r = ht_output_add_text(out, "marschner-prime.frag", "prime_fragment", ht_glsl_prime_stage(plan, banner, true),
                                HT_STAGE_FRAGMENT, 120, false, err, err_size);
     if (r == HT_OK)
-        r = ht_output_add_text(out, "marschner-es.vert", "es_vertex", main_vertex(plan, true), HT_STAGE_VERTEX, 100,
+        r = ht_output_add_text(out, "marschner-es.vert", "es_vertex", ht_glsl_main_vertex(plan, &layout, true), HT_STAGE_VERTEX, 100,
                                true, err, err_size);
     if (r == HT_OK) {
         r = ht_output_add_text(out, "marschner-es.frag", "es_fragment", frag_es, HT_STAGE_FRAGMENT, 100, true, err,

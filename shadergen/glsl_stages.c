@@ -1,0 +1,75 @@
+/* glsl_stages.c — see glsl_stages.h. */
+#include "glsl_stages.h"
+
+#include "shader_interface.h"
+
+void ht_glsl_varyings(ht_strbuf *sb, const ht_plan *plan, const ht_glsl_vertex_layout *l, const char *dp,
+                      const char *cp) {
+    ht_strbuf_addf(sb, "varying %svec3 v_position; /* world space */\n", dp);
+    ht_strbuf_addf(sb, "varying %svec3 v_tangent;\n", dp);
+    if (l->normal) ht_strbuf_addf(sb, "varying %svec3 v_normal;\n", dp);
+    /* uv addresses texels: mediump's 11-bit mantissa is a whole texel of a
+       2048 texture near uv = 1, so it gets the direction precision. */
+    if (l->uv) ht_strbuf_addf(sb, "varying %svec2 v_uv;\n", dp);
+    if (plan->ao) ht_strbuf_addf(sb, "varying %sfloat v_ao;\n", cp);
+}
+
+char *ht_glsl_main_vertex(const ht_plan *plan, const ht_glsl_vertex_layout *l, bool es) {
+    ht_strbuf sb;
+    ht_strbuf_init(&sb);
+    ht_strbuf_add(&sb, es ? "#version 100\n" : "#version 120\n");
+    l->banner(&sb, plan, es ? "ESSL vertex stage" : "vertex stage");
+    if (es) {
+        ht_strbuf_addf(&sb, "uniform mat4 %s;\n", HT_ES_U_MVP);
+        ht_strbuf_addf(&sb, "attribute vec3 %s;\n", HT_ES_ATTR_POSITION);
+    } else {
+        ht_strbuf_add(&sb, "/* Generic attributes, not texture coordinates: a device may have only\n"
+                           "   one coordinate set (shader_interface.h). */\n");
+    }
+    ht_strbuf_addf(&sb, "attribute vec3 %s;\n", HT_ATTR_TANGENT);
+    if (es) {
+        if (l->normal) ht_strbuf_addf(&sb, "attribute vec3 %s;\n", HT_ES_ATTR_NORMAL);
+        if (l->uv) ht_strbuf_addf(&sb, "attribute vec2 %s;\n", HT_ES_ATTR_UV);
+    }
+    if (plan->ao) ht_strbuf_addf(&sb, "attribute float %s;\n", HT_ATTR_AO);
+    ht_glsl_varyings(&sb, plan, l, "", "");
+    ht_strbuf_add(&sb, "\nvoid main() {\n");
+    if (es) {
+        ht_strbuf_addf(&sb, "    gl_Position = %s * vec4(%s, 1.0);\n", HT_ES_U_MVP, HT_ES_ATTR_POSITION);
+        ht_strbuf_addf(&sb, "    v_position = %s; /* the model matrix is identity */\n", HT_ES_ATTR_POSITION);
+        if (l->normal) ht_strbuf_addf(&sb, "    v_normal = %s;\n", HT_ES_ATTR_NORMAL);
+        if (l->uv) ht_strbuf_addf(&sb, "    v_uv = %s;\n", HT_ES_ATTR_UV);
+    } else {
+        ht_strbuf_add(&sb, "    /* ftransform(): depth bit-identical to every pass of every tier. */\n");
+        ht_strbuf_add(&sb, "    gl_Position = ftransform();\n");
+        ht_strbuf_add(&sb, "    v_position = gl_Vertex.xyz; /* the model matrix is identity */\n");
+        if (l->normal) ht_strbuf_add(&sb, "    v_normal = gl_Normal;\n");
+        if (l->uv) ht_strbuf_add(&sb, "    v_uv = gl_MultiTexCoord0.xy;\n");
+    }
+    ht_strbuf_addf(&sb, "    v_tangent = %s;\n", HT_ATTR_TANGENT);
+    if (plan->ao) ht_strbuf_addf(&sb, "    v_ao = %s;\n", HT_ATTR_AO);
+    ht_strbuf_add(&sb, "}\n");
+    return ht_strbuf_take(&sb);
+}
+
+/* The Z-prime pass writes no colour: transform, and alpha for the test. */
+char *ht_glsl_prime_stage(const ht_plan *plan, ht_glsl_banner_fn banner, bool fragment) {
+    ht_strbuf sb;
+    ht_strbuf_init(&sb);
+    ht_strbuf_add(&sb, "#version 120\n");
+    banner(&sb, plan, fragment ? "Z-prime fragment stage" : "Z-prime vertex stage");
+    if (fragment && plan->alpha) ht_strbuf_addf(&sb, "uniform sampler2D %s; /* a = alpha */\n", HT_U_ALBEDO);
+    if (plan->alpha) ht_strbuf_add(&sb, "varying vec2 v_uv;\n");
+    ht_strbuf_add(&sb, "\nvoid main() {\n");
+    if (!fragment) {
+        ht_strbuf_add(&sb, "    /* ftransform(): depth bit-identical to every pass of every tier. */\n");
+        ht_strbuf_add(&sb, "    gl_Position = ftransform();\n");
+        if (plan->alpha) ht_strbuf_add(&sb, "    v_uv = gl_MultiTexCoord0.xy;\n");
+    } else if (plan->alpha) {
+        ht_strbuf_addf(&sb, "    gl_FragColor = vec4(1.0, 1.0, 1.0, texture2D(%s, v_uv).a);\n", HT_U_ALBEDO);
+    } else {
+        ht_strbuf_add(&sb, "    gl_FragColor = vec4(1.0);\n");
+    }
+    ht_strbuf_add(&sb, "}\n");
+    return ht_strbuf_take(&sb);
+}

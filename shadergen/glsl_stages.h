@@ -1,0 +1,34 @@
+/* glsl_stages.h — the GLSL stages the per-pixel tiers (full, marschner)
+   share: the varyings, the main vertex stage (GLSL 1.20 and ESSL 1.00) and
+   the alpha-only Z-prime pair. Each tier brings its own banner comment and
+   says which varyings its fragment stage reads. */
+#ifndef HT_GLSL_STAGES_H
+#define HT_GLSL_STAGES_H
+
+#include <stdbool.h>
+
+#include "hairgen_internal.h"
+#include "strbuf.h"
+
+/* Writes the tier's comment for one stage ("vertex stage", ...). */
+typedef void (*ht_glsl_banner_fn)(ht_strbuf *sb, const ht_plan *plan, const char *what);
+
+typedef struct ht_glsl_vertex_layout {
+    ht_glsl_banner_fn banner;
+    bool normal; /* v_normal: the shading reads N */
+    bool uv;     /* v_uv: some texture is sampled */
+} ht_glsl_vertex_layout;
+
+/* v_position, v_tangent, and v_normal, v_uv, v_ao as the layout and plan
+   ask; dp and cp are the direction and colour precision qualifiers ("" on
+   desktop). */
+void ht_glsl_varyings(ht_strbuf *sb, const ht_plan *plan, const ht_glsl_vertex_layout *l, const char *dp,
+                      const char *cp);
+/* The main vertex stage (malloc'd): GLSL 1.20 with ftransform(), or ESSL
+   1.00 with the MVP uniform and generic attributes. */
+char *ht_glsl_main_vertex(const ht_plan *plan, const ht_glsl_vertex_layout *l, bool es);
+/* The Z-prime stage (malloc'd): position only, and the albedo's alpha for
+   the alpha test when the plan has alpha. */
+char *ht_glsl_prime_stage(const ht_plan *plan, ht_glsl_banner_fn banner, bool fragment);
+
+#endif
