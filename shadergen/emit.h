@@ -101,8 +101,17 @@ bool ht_glsl_is_warm(void);
 
 /* The textures the GLSL tiers sample, packed as the plan says:
    "albedo" = base.rgb + alpha.a, "detail" = shift.r + sparkle.g. An image
-   whose plan texture is absent is left zeroed (pixels NULL). */
+   whose plan texture is absent is left zeroed (pixels NULL). The two steps
+   below, one after the other. */
 ht_result ht_textures_pack(const ht_material *m, const ht_plan *plan,
                            ht_image *albedo, ht_image *detail, char *err, size_t err_size);
+/* One slot's texture when the plan models it (img zeroed otherwise); a
+   file's error names the material field. The slots are independent. */
+ht_result ht_texture_make_slot(const ht_material *m, const ht_plan *plan, ht_texture_slot slot, ht_image *img,
+                               char *err, size_t err_size);
+/* The four slots' textures (made, indexed by slot; freed here) checked
+   against the bundle's size limits and packed into albedo and detail. */
+ht_result ht_textures_pack_made(const ht_material *m, const ht_plan *plan, ht_image made[HT_TEX_COUNT],
+                                ht_image *albedo, ht_image *detail, char *err, size_t err_size);
 
 #endif

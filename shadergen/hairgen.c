@@ -7,7 +7,9 @@
 #include <string.h>
 
 #include "hairgen.h"
+#include "huge_heap.h"
 #include "measure.h"
+#include "trace.h"
 
 static void usage(FILE *out) {
     fputs("usage: hairgen MATERIAL.json [--scene SCENE.json] -o DIR [-MD | -MF FILE] [-q]\n"
@@ -149,6 +151,8 @@ static int run_measure_or_header(const options *o, const char *material) {
 }
 
 int main(int argc, char **argv) {
+    ht_gen_trace("main");
+    ht_huge_heap(30);
     options o = { 0 };
     const char **materials = calloc((size_t)argc, sizeof *materials);
     int material_count = 0;
@@ -219,5 +223,6 @@ int main(int argc, char **argv) {
     else if (r == HT_OK && !single && !o.quiet)
         printf("hairgen: %d generated, %d up to date, in %s\n", result.generated, result.skipped, o.out_dir);
     free(materials);
+    ht_gen_trace("exit");
     return r == HT_OK ? 0 : 1;
 }
