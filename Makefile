@@ -112,8 +112,8 @@ $(BUILD)/obj/fallback/fixed_soa.o $(BUILD)/obj/fallback/fixed4_program.o: CFLAGS
 # dark-brown's 262144 texels, the same bytes).
 $(BUILD)/obj/shadergen/emit_fixed.o: CFLAGS += -O3 -fno-math-errno -fno-trapping-math
 # The PNG rows' "up" filter: GCC vectorises the byte subtraction at -O3's
-# cost model only (9.2 M -> 1.2 M instructions for dark-brown's textures,
-# the same bytes).
+# cost model only (9.2 M -> 0.75 M instructions for dark-brown's three
+# images, the same bytes).
 $(BUILD)/obj/shadergen/png_encode.o: CFLAGS += -O3
 
 $(LIB): $(call obj,$(RUNTIME_SRC))
@@ -132,8 +132,13 @@ $(EXLIB): $(call obj,$(EXAMPLE_LIB_SRC))
 # (--measure loads libOSMesa with dlopen, measure.c) and libstdc++
 # statically, so a start does not pay for relocating Mesa, LLVM and
 # libstdc++ (callgrind, `hairgen --help`: 26.7 M -> 0.54 M instructions).
+# Likewise libdeflate, libpng and zlib are linked in and the program is not
+# position-independent: no loader work and no copied pages for their
+# relocations at each start (page faults of `hairgen --help` 163 -> 122,
+# where one costs about 13 us on the 2-core VM; README).
 $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
-	$(CC) $(LDFLAGS) $^ $(filter-out -lstdc++,$(GLSLANG_LIBS)) -Wl,-Bstatic -lstdc++ -Wl,-Bdynamic $(GEN_LIBS) $(CORE_LIBS) -o $@
+	$(CC) $(LDFLAGS) -no-pie $^ $(filter-out -lstdc++,$(GLSLANG_LIBS)) \
+	  -Wl,-Bstatic -lstdc++ $(GEN_LIBS) -lpng16 -lz -Wl,-Bdynamic -lcjson -lpthread -lm -o $@
 
 # hairview draws a bundle: the runtime only, no generator, no glslang.
 $(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(EXLIB) $(LIB)

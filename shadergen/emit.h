@@ -92,13 +92,6 @@ ht_result ht_glsl_validate(const char *source, ht_stage stage, int version, bool
    how many found it validated already (the same text, stage, version and
    profile): a batch parses each distinct text once. */
 void ht_glsl_validate_counts(unsigned long *parsed, unsigned long *reused);
-/* Builds glslang's tables for every version and profile the emitters use,
-   once per process (later calls return at once); ht_glsl_is_warm says
-   whether that is done. The generator runs it on a second thread while it
-   makes textures. */
-void ht_glsl_warm_up(void);
-bool ht_glsl_is_warm(void);
-
 /* The textures the GLSL tiers sample, packed as the plan says:
    "albedo" = base.rgb + alpha.a, "detail" = shift.r + sparkle.g. An image
    whose plan texture is absent is left zeroed (pixels NULL). The two steps

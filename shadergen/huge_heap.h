@@ -5,9 +5,10 @@
 #define HT_HUGE_HEAP_H
 
 /* Every thread's malloc from one heap, large blocks from it too, never
-   trimmed, and reserve_mib of address space beyond its end advised for
-   huge pages; where the system offers none (THP "never", not glibc), the
-   heap is as it was. */
-void ht_huge_heap(unsigned reserve_mib);
+   trimmed; reserve_mib of address space beyond its end advised for huge
+   pages (2 MiB of it kept aside, see huge_heap.c) and the first
+   populate_mib of that backed now. Where the system offers no huge pages
+   (THP "never", not glibc, reserve_mib < 4) the heap works as before. */
+void ht_huge_heap(unsigned reserve_mib, unsigned populate_mib);
 
 #endif
