@@ -5,7 +5,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "emit.h"
 #include "hairgen.h"
 #include "huge_heap.h"
 #include "measure.h"
@@ -175,12 +177,18 @@ int main(int argc, char **argv) {
     }
     /* Past the usage checks, before any bundle: the heap hairgen builds in. */
     if (status == 0) ht_huge_heap(HUGE_HEAP_RESERVE_MIB, HUGE_HEAP_POPULATE_MIB);
+    /* One material is always generated (never skipped): glslang's tables,
+       the longest chain of a bundle, start now, beside the reading of the
+       inputs, when there is a second thread to be had. */
+    const long threads = jobs > 0 ? jobs : sysconf(_SC_NPROCESSORS_ONLN);
+    if (status == 0 && material_count == 1 && !o.batch && threads > 1) ht_glsl_warm_start();
     if (status == 0 && (o.measure || o.header || o.symbol)) {
         bool usable = material_count == 1 && !o.batch && !o.depfile && !o.depfile_per_bundle &&
                       (o.out_dir || o.header) && (!o.out_dir || o.out_dir[0]) && (!o.header || o.header[0]) &&
                       (!o.symbol || o.header) && (!o.measure || o.out_dir) && !o.jobs && !o.force;
         if (!usable) usage(stderr);
         status = usable ? run_measure_or_header(&o, materials[0]) : 2;
+        ht_glsl_warm_finish();
         free(materials);
         return status;
     }
@@ -193,6 +201,7 @@ int main(int argc, char **argv) {
         status = 2;
     }
     if (status != 0) {
+        ht_glsl_warm_finish();
         free(materials);
         return status;
     }
@@ -229,6 +238,7 @@ int main(int argc, char **argv) {
         fprintf(stderr, "hairgen: %s\n", err[0] ? err : ht_result_string(r));
     else if (r == HT_OK && !single && !o.quiet)
         printf("hairgen: %d generated, %d up to date, in %s\n", result.generated, result.skipped, o.out_dir);
+    ht_glsl_warm_finish();
     free(materials);
     ht_gen_trace("exit");
     return r == HT_OK ? 0 : 1;
