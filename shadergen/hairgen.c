@@ -176,12 +176,14 @@ int main(int argc, char **argv) {
         return 0;
     }
     /* Past the usage checks, before any bundle: the heap hairgen builds in. */
-    if (status == 0) ht_huge_heap(HUGE_HEAP_RESERVE_MIB, HUGE_HEAP_POPULATE_MIB);
-    /* One material is always generated (never skipped): glslang's tables,
-       the longest chain of a bundle, start now, beside the reading of the
-       inputs, when there is a second thread to be had. */
+    /* One material is always generated (never skipped): its heap is backed
+       now, and glslang's tables, the longest chain of a bundle, start now,
+       beside the reading of the inputs, when there is a second thread to be
+       had. A batch may find every bundle up to date: neither. */
+    const bool always_generates = material_count == 1 && !o.batch;
+    if (status == 0) ht_huge_heap(HUGE_HEAP_RESERVE_MIB, always_generates ? HUGE_HEAP_POPULATE_MIB : 0);
     const long threads = jobs > 0 ? jobs : sysconf(_SC_NPROCESSORS_ONLN);
-    if (status == 0 && material_count == 1 && !o.batch && threads > 1) ht_glsl_warm_start();
+    if (status == 0 && always_generates && threads > 1) ht_glsl_warm_start();
     if (status == 0 && (o.measure || o.header || o.symbol)) {
         bool usable = material_count == 1 && !o.batch && !o.depfile && !o.depfile_per_bundle &&
                       (o.out_dir || o.header) && (!o.out_dir || o.out_dir[0]) && (!o.header || o.header[0]) &&
