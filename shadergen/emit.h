@@ -92,14 +92,6 @@ ht_result ht_glsl_validate(const char *source, ht_stage stage, int version, bool
    how many found it validated already (the same text, stage, version and
    profile): a batch parses each distinct text once. */
 void ht_glsl_validate_counts(unsigned long *parsed, unsigned long *reused);
-/* Starts building glslang's tables for every version the emitters use on a
-   thread of its own (one start per process; ht_glsl_validate waits for a
-   table that is being built), and joins it: for a program that knows it is
-   about to validate, from its start. Call ht_glsl_warm_finish before the
-   process exits. Not thread-safe: the program's main thread only. */
-void ht_glsl_warm_start(void);
-void ht_glsl_warm_finish(void);
-
 /* The textures the GLSL tiers sample, packed as the plan says:
    "albedo" = base.rgb + alpha.a, "detail" = shift.r + sparkle.g. An image
    whose plan texture is absent is left zeroed (pixels NULL). The two steps

@@ -116,39 +116,6 @@ static ht_result parse(const char *source, ht_stage stage, int version, bool es,
     return ht_glslang_parse(source, stage == HT_STAGE_VERTEX, version, es, log, log_size) ? HT_OK : HT_ERR_COMPILE;
 }
 
-/* ---- glslang's tables ahead of the texts ---- */
-
-/* glslang builds its built-in symbol tables the first time it meets a
-   version and profile (about 10 M instructions each, under one global
-   lock, so never two at once): a trivial shader of each version hairgen
-   emits, in the order a bundle needs them (the full tier's 1.20 and ES
-   1.00, the vertex tier's 1.10), builds them on a thread of their own
-   from the start of the process, while the inputs are read and the
-   textures made. */
-static pthread_t warm_thread;
-static bool warm_running;
-
-static void *warm(void *unused) {
-    (void)unused;
-    static const struct { const char *text; ht_stage stage; int version; bool es; } shaders[] = {
-        { "#version 120\nvoid main() { gl_Position = gl_Vertex; }\n", HT_STAGE_VERTEX, 120, false },
-        { "#version 100\nvoid main() { gl_FragColor = vec4(1.0); }\n", HT_STAGE_FRAGMENT, 100, true },
-        { "#version 110\nvoid main() { gl_Position = gl_Vertex; }\n", HT_STAGE_VERTEX, 110, false },
-    };
-    for (size_t i = 0; i < sizeof shaders / sizeof shaders[0]; i++)
-        parse(shaders[i].text, shaders[i].stage, shaders[i].version, shaders[i].es, NULL, 0);
-    return NULL;
-}
-
-void ht_glsl_warm_start(void) {
-    if (!warm_running) warm_running = pthread_create(&warm_thread, NULL, warm, NULL) == 0;
-}
-
-void ht_glsl_warm_finish(void) {
-    if (warm_running) pthread_join(warm_thread, NULL);
-    warm_running = false;
-}
-
 ht_result ht_glsl_validate(const char *source, ht_stage stage, int version, bool es,
                            char *log, size_t log_size) {
     if (log && log_size) log[0] = '\0';

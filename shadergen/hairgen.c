@@ -5,9 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
-#include "emit.h"
 #include "hairgen.h"
 #include "huge_heap.h"
 #include "measure.h"
@@ -177,20 +175,17 @@ int main(int argc, char **argv) {
     }
     /* Past the usage checks, before any bundle: the heap hairgen builds in. */
     /* One material is always generated (never skipped): its heap is backed
-       now, and glslang's tables, the longest chain of a bundle, start now,
-       beside the reading of the inputs, when there is a second thread to be
-       had. A batch may find every bundle up to date: neither. */
+       now. A batch may find every bundle up to date: it is not. (Building
+       glslang's tables on a third thread from here was tried: on 2 cores it
+       took a core from the textures and gained nothing.) */
     const bool always_generates = material_count == 1 && !o.batch;
     if (status == 0) ht_huge_heap(HUGE_HEAP_RESERVE_MIB, always_generates ? HUGE_HEAP_POPULATE_MIB : 0);
-    const long threads = jobs > 0 ? jobs : sysconf(_SC_NPROCESSORS_ONLN);
-    if (status == 0 && always_generates && threads > 1) ht_glsl_warm_start();
     if (status == 0 && (o.measure || o.header || o.symbol)) {
         bool usable = material_count == 1 && !o.batch && !o.depfile && !o.depfile_per_bundle &&
                       (o.out_dir || o.header) && (!o.out_dir || o.out_dir[0]) && (!o.header || o.header[0]) &&
                       (!o.symbol || o.header) && (!o.measure || o.out_dir) && !o.jobs && !o.force;
         if (!usable) usage(stderr);
         status = usable ? run_measure_or_header(&o, materials[0]) : 2;
-        ht_glsl_warm_finish();
         free(materials);
         return status;
     }
@@ -203,7 +198,6 @@ int main(int argc, char **argv) {
         status = 2;
     }
     if (status != 0) {
-        ht_glsl_warm_finish();
         free(materials);
         return status;
     }
@@ -240,7 +234,6 @@ int main(int argc, char **argv) {
         fprintf(stderr, "hairgen: %s\n", err[0] ? err : ht_result_string(r));
     else if (r == HT_OK && !single && !o.quiet)
         printf("hairgen: %d generated, %d up to date, in %s\n", result.generated, result.skipped, o.out_dir);
-    ht_glsl_warm_finish();
     free(materials);
     ht_gen_trace("exit");
     return r == HT_OK ? 0 : 1;
