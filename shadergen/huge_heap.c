@@ -9,9 +9,11 @@
      the break moved up to a huge-page boundary B (glibc takes a break it
        did not set as a new start for its top chunk, as when any other code
        calls sbrk; the gap below is never touched);
-     the heap grown by reserve_mib and given back to malloc's top chunk,
-       which leaves one small page touched at B (the chunk headers);
-     [B, end) advised MADV_HUGEPAGE, then the first 2 MiB at B filled by a
+     the heap grown by reserve_mib in one step (a 2 MiB block with
+       M_TOP_PAD at reserve_mib: one sbrk) and given back to malloc's top
+       chunk, which leaves a small page touched at B and one at B + 2 MiB
+       (the chunk headers);
+     [B, end) advised MADV_HUGEPAGE, then the first 4 MiB at B filled by a
        block that is never freed, so that every later allocation is in
        untouched, advised memory (a range whose first touch happened before
        the advice stays in small pages);
@@ -40,7 +42,7 @@ void ht_huge_heap(unsigned reserve_mib, unsigned populate_mib) {
 #if defined(__GLIBC__) && defined(MADV_HUGEPAGE)
     const size_t huge = (size_t)2 << 20;
     const size_t reserve = (size_t)reserve_mib << 20;
-    if (reserve < 2 * huge) return;
+    if (reserve < 3 * huge) return;
     /* One arena: a thread's own arena would be a separate mapping of small
        pages. Blocks up to glibc's limit (32 MiB) from the heap, not from
        mmap, and nothing returned to the system: a freed buffer is reused,
@@ -52,17 +54,20 @@ void ht_huge_heap(unsigned reserve_mib, unsigned populate_mib) {
     if (lo == (char *)-1) return;
     uintptr_t from = ((uintptr_t)lo + huge - 1) & ~(uintptr_t)(huge - 1);
     if (from > (uintptr_t)lo && sbrk((intptr_t)(from - (uintptr_t)lo)) == (void *)-1) return;
-    void *grow = malloc(reserve);
+    mallopt(M_TOP_PAD, (int)reserve);
+    void *grow = malloc(huge);
     char *hi = sbrk(0);
     free(grow);
+    mallopt(M_TOP_PAD, 128 * 1024); /* glibc's default again */
     if (!grow || hi == (char *)-1) return;
     uintptr_t to = (uintptr_t)hi & ~(uintptr_t)(huge - 1);
-    if (to <= from + huge || madvise((void *)from, to - from, MADV_HUGEPAGE) != 0) return;
-    void *filler = malloc(huge); /* never freed: see above */
+    const size_t kept = 2 * huge;
+    if (to <= from + kept || madvise((void *)from, to - from, MADV_HUGEPAGE) != 0) return;
+    void *filler = malloc(kept); /* never freed: see above */
     if (!filler) return;
     size_t populate = (size_t)populate_mib << 20;
-    if (populate > to - from - huge) populate = to - from - huge;
-    if (populate) madvise((void *)(from + huge), populate, MADV_POPULATE_WRITE);
+    if (populate > to - from - kept) populate = to - from - kept;
+    if (populate) madvise((void *)(from + kept), populate, MADV_POPULATE_WRITE);
 #else
     (void)reserve_mib;
     (void)populate_mib;

@@ -6,9 +6,9 @@
 
 /* Every thread's malloc from one heap, large blocks from it too, never
    trimmed; reserve_mib of address space beyond its end advised for huge
-   pages (2 MiB of it kept aside, see huge_heap.c) and the first
+   pages (4 MiB of it kept aside, see huge_heap.c) and the first
    populate_mib of that backed now. Where the system offers no huge pages
-   (THP "never", not glibc, reserve_mib < 4) the heap works as before. */
+   (THP "never", not glibc, reserve_mib < 6) the heap works as before. */
 void ht_huge_heap(unsigned reserve_mib, unsigned populate_mib);
 
 #endif
