@@ -15,8 +15,9 @@ SAN     ?=
 WERROR  ?= -Werror
 
 # g++: the bundle header's C++ compile check (tests/data/header_use.c).
+# libdeflate-dev: the generator's PNG encoder (shadergen/png_encode.c says why).
 DEB_PACKAGES := libosmesa6-dev libegl-dev libegl-mesa0 glslang-dev glslang-tools libcjson-dev libpng-dev \
-                libcmocka-dev pkg-config g++
+                libdeflate-dev libcmocka-dev pkg-config g++
 
 CPPFLAGS += -Iruntime -Ishadergen -Ifallback -I/usr/include/cjson -I/usr/include/libpng16
 CFLAGS   += -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra $(WERROR) $(OPT) $(SAN) -MMD -MP
@@ -24,12 +25,14 @@ LDFLAGS  += $(SAN)
 # glslang's static libraries are C++; its pkg-config file is read lazily,
 # after the packages are installed.
 GLSLANG_LIBS = $(shell pkg-config --libs glslang) -lglslang-default-resource-limits -lstdc++
+# What libhairgen needs beyond libhairtier and glslang.
+GEN_LIBS     = -ldeflate
 CORE_LIBS    = -lcjson -lpng16 -lz -lpthread -lm
 RUNTIME_LIBS = -lOSMesa $(CORE_LIBS)
 # The offscreen context module (examples/offscreen.h): EGL linked, OSMesa
 # loaded with dlopen, so its programs start where there is no OSMesa.
 OFFSCREEN_LIBS = -lEGL -ldl
-LDLIBS   = $(GLSLANG_LIBS) $(RUNTIME_LIBS)
+LDLIBS   = $(GLSLANG_LIBS) $(GEN_LIBS) $(RUNTIME_LIBS)
 
 RUNTIME_SRC := $(wildcard runtime/*.c fallback/*.c)
 GEN_SRC     := $(filter-out shadergen/hairgen.c,$(wildcard shadergen/*.c))
@@ -109,6 +112,10 @@ $(BUILD)/obj/fallback/fixed_soa.o $(BUILD)/obj/fallback/fixed4_program.o: CFLAGS
 # The fixed tier's LUT bake, likewise (18.2 M -> 15.9 M instructions for
 # dark-brown's 262144 texels, the same bytes).
 $(BUILD)/obj/shadergen/emit_fixed.o: CFLAGS += -O3 -fno-math-errno -fno-trapping-math
+# The PNG rows' "up" filter: GCC vectorises the byte subtraction at -O3's
+# cost model only (9.2 M -> 0.75 M instructions for dark-brown's three
+# images, the same bytes).
+$(BUILD)/obj/shadergen/png_encode.o: CFLAGS += -O3
 
 $(LIB): $(call obj,$(RUNTIME_SRC))
 	@rm -f $@
@@ -126,8 +133,13 @@ $(EXLIB): $(call obj,$(EXAMPLE_LIB_SRC))
 # (--measure loads libOSMesa with dlopen, measure.c) and libstdc++
 # statically, so a start does not pay for relocating Mesa, LLVM and
 # libstdc++ (callgrind, `hairgen --help`: 26.7 M -> 0.54 M instructions).
+# Likewise libdeflate, libpng and zlib are linked in and the program is not
+# position-independent: no loader work and no copied pages for their
+# relocations at each start (page faults of `hairgen --help` 163 -> 122,
+# where one costs about 13 us on the 2-core VM; README).
 $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
-	$(CC) $(LDFLAGS) $^ $(filter-out -lstdc++,$(GLSLANG_LIBS)) -Wl,-Bstatic -lstdc++ -Wl,-Bdynamic $(CORE_LIBS) -o $@
+	$(CC) $(LDFLAGS) -no-pie $^ $(filter-out -lstdc++,$(GLSLANG_LIBS)) \
+	  -Wl,-Bstatic -lstdc++ $(GEN_LIBS) -lpng16 -lz -Wl,-Bdynamic -lcjson -lpthread -lm -o $@
 
 # hairview draws a bundle: the runtime only, no generator, no glslang.
 $(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(EXLIB) $(LIB)

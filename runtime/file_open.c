@@ -47,7 +47,9 @@ ht_result ht_file_open_regular(const char *path, uint64_t max_bytes, FILE **out,
     *out = NULL;
     if (size) *size = 0;
     /* O_NONBLOCK: opening a FIFO for reading would otherwise wait for a
-       writer before fstat could tell what it is. Cleared again below. */
+       writer before fstat could tell what it is. Only a regular file is
+       kept, where the flag has no effect (open(2)), so it is not cleared:
+       two system calls less per file, a fifth of a no-change batch's. */
     int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
     if (fd < 0) {
         ht_set_error(err, err_size, "%s: cannot read: %s", path, strerror(errno));
@@ -65,12 +67,6 @@ ht_result ht_file_open_regular(const char *path, uint64_t max_bytes, FILE **out,
         return HT_ERR_IO;
     }
     if (ht_file_check_size(path, (uint64_t)st.st_size, max_bytes, err, err_size) != HT_OK) {
-        close(fd);
-        return HT_ERR_IO;
-    }
-    int flags = fcntl(fd, F_GETFL);
-    if (flags < 0 || fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) != 0) {
-        ht_set_error(err, err_size, "%s: cannot read: %s", path, strerror(errno));
         close(fd);
         return HT_ERR_IO;
     }

@@ -35,6 +35,7 @@ typedef struct batch_run {
     int next, done;
     ht_batch_result counts;
     double start_ms;
+    int bundle_threads;           /* what each material's build may use (build.h) */
 } batch_run;
 
 static double now_ms(void) {
@@ -93,7 +94,8 @@ static void *worker(void *arg) {
                                                          .scene_size = b->scene_size,
                                                          .out_dir = j->dir,
                                                          .skip_unchanged = !d->force,
-                                                         .summary = summary },
+                                                         .summary = summary,
+                                                         .threads = b->bundle_threads },
                                    &j->report, err, sizeof err);
         double ms = now_ms() - t0;
         if (summary) fclose(summary);
@@ -236,12 +238,18 @@ static ht_result plan_dirs(const ht_batch_desc *d, material_job *jobs, char *err
     return HT_OK;
 }
 
-static int job_count(const ht_batch_desc *d) {
+/* The threads the batch may use: -j, else every online core. */
+static int thread_budget(const ht_batch_desc *d) {
     long jobs = d->jobs > 0 ? d->jobs : sysconf(_SC_NPROCESSORS_ONLN);
     if (jobs < 1) jobs = 1;
     if (jobs > MAX_JOBS) jobs = MAX_JOBS;
-    if (jobs > d->material_count) jobs = d->material_count;
     return (int)jobs;
+}
+
+/* Materials run at once: one per thread, at most one per material. */
+static int job_count(const ht_batch_desc *d) {
+    int jobs = thread_budget(d);
+    return jobs > d->material_count ? d->material_count : jobs;
 }
 
 ht_result ht_generate_batch(const ht_batch_desc *d, ht_batch_result *result, char *err, size_t err_size) {
@@ -280,6 +288,9 @@ ht_result ht_generate_batch(const ht_batch_desc *d, ht_batch_result *result, cha
 
     if (r == HT_OK) {
         int threads = job_count(d);
+        /* The threads left over when there are fewer materials than
+           threads go to each material's own build (one material: all). */
+        b.bundle_threads = thread_budget(d) / threads;
         pthread_t tids[MAX_JOBS];
         int started = 0;
         pthread_mutex_init(&b.lock, NULL);

@@ -92,17 +92,19 @@ ht_result ht_glsl_validate(const char *source, ht_stage stage, int version, bool
    how many found it validated already (the same text, stage, version and
    profile): a batch parses each distinct text once. */
 void ht_glsl_validate_counts(unsigned long *parsed, unsigned long *reused);
-/* Builds glslang's tables for every version and profile the emitters use,
-   once per process (later calls return at once); ht_glsl_is_warm says
-   whether that is done. The generator runs it on a second thread while it
-   makes textures. */
-void ht_glsl_warm_up(void);
-bool ht_glsl_is_warm(void);
-
 /* The textures the GLSL tiers sample, packed as the plan says:
    "albedo" = base.rgb + alpha.a, "detail" = shift.r + sparkle.g. An image
-   whose plan texture is absent is left zeroed (pixels NULL). */
+   whose plan texture is absent is left zeroed (pixels NULL). The two steps
+   below, one after the other. */
 ht_result ht_textures_pack(const ht_material *m, const ht_plan *plan,
                            ht_image *albedo, ht_image *detail, char *err, size_t err_size);
+/* One slot's texture when the plan models it (img zeroed otherwise); a
+   file's error names the material field. The slots are independent. */
+ht_result ht_texture_make_slot(const ht_material *m, const ht_plan *plan, ht_texture_slot slot, ht_image *img,
+                               char *err, size_t err_size);
+/* The four slots' textures (made, indexed by slot; freed here) checked
+   against the bundle's size limits and packed into albedo and detail. */
+ht_result ht_textures_pack_made(const ht_material *m, const ht_plan *plan, ht_image made[HT_TEX_COUNT],
+                                ht_image *albedo, ht_image *detail, char *err, size_t err_size);
 
 #endif

@@ -17,6 +17,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "build.h"
+#include "c_locale.h"
 #include "emit.h"
 #include "errfmt.h"
 #include "file_open.h"
@@ -25,11 +27,12 @@
 #include "manifest.h"
 #include "marschner_fit.h"
 #include "strbuf.h"
+#include "trace.h"
 
 /* Hashed into input_hash and written to the manifest: a new generator
    invalidates caches keyed on the hash. Bump it with any change to what a
    bundle holds. */
-#define GENERATOR_VERSION "hairgen 2"
+#define GENERATOR_VERSION "hairgen 3"
 
 /* FNV-1a 64 over every input file's bytes: the key a build cache can use. */
 typedef struct input_hash { uint64_t value; } input_hash;
@@ -68,14 +71,13 @@ static bool join_path(char *path, size_t size, const char *dir, const char *name
     return n >= 0 && (size_t)n < size;
 }
 
-static ht_result write_file(const char *dir, const char *name, const char *text,
+static ht_result write_file(const char *dir, const char *name, const char *text, size_t len,
                             char *err, size_t err_size) {
     char path[4096];
     if (!join_path(path, sizeof path, dir, name))
         return ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", dir);
     FILE *f = fopen(path, "wb");
     if (!f) return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
-    size_t len = strlen(text);
     bool ok = fwrite(text, 1, len, f) == len;
     ok = (fclose(f) == 0) && ok;
     if (!ok) return ht_fail(err, err_size, HT_ERR_IO, "%s: write failed: %s", path, strerror(errno));
@@ -148,27 +150,6 @@ static cJSON *tier_entry(const ht_tier_output *t) {
         cJSON_AddItemToArray(features, cJSON_CreateString(t->features[i]));
     cJSON_AddItemToObject(o, HT_MANIFEST_KEY_DROPPED, string_array(t->dropped, t->dropped_count));
     return o;
-}
-
-/* Mean of one channel in [0,1]: what a tier that cannot sample the texture
-   uses in its place. */
-static double channel_mean(const ht_image *img, int channel) {
-    size_t n = (size_t)img->width * (size_t)img->height;
-    uint64_t sum = 0;
-    for (size_t i = 0; i < n; i++) sum += img->pixels[i * (size_t)img->channels + (size_t)channel];
-    return n ? (double)sum / (255.0 * (double)n) : 1.0;
-}
-
-/* Brightest rgb channel in [0,1]. */
-static double rgb_max(const ht_image *img) {
-    size_t n = (size_t)img->width * (size_t)img->height;
-    int most = 0;
-    for (size_t i = 0; i < n; i++)
-        for (int c = 0; c < 3 && c < img->channels; c++) {
-            int v = img->pixels[i * (size_t)img->channels + (size_t)c];
-            most = v > most ? v : most;
-        }
-    return (double)most / 255.0;
 }
 
 static const char *light_type_name(ht_light_type t) {
@@ -304,23 +285,6 @@ static ht_result publish(const char *tmp, const char *dir, char *err, size_t err
     return HT_OK;
 }
 
-/* Every number the generator prints (GLSL literals, manifest, program,
-   error lines) must not depend on the caller's locale: same inputs, same
-   bytes. */
-typedef struct c_locale_scope { locale_t c, previous; } c_locale_scope;
-
-static c_locale_scope c_locale_enter(void) {
-    c_locale_scope s = { newlocale(LC_ALL_MASK, "C", (locale_t)0), (locale_t)0 };
-    if (s.c) s.previous = uselocale(s.c);
-    return s;
-}
-
-static void c_locale_leave(c_locale_scope s) {
-    if (!s.c) return;
-    uselocale(s.previous);
-    freelocale(s.c);
-}
-
 /* ---- build step: everything in memory ---- */
 
 /* Takes ownership of text or image (the tier output no longer frees it). */
@@ -374,32 +338,6 @@ static ht_result hash_values(input_hash *h, const ht_material *m, const ht_scene
     return HT_OK;
 }
 
-/* One tier's emitter, run on its own thread; numbers printed in the C
-   locale there too (a thread does not inherit uselocale's). */
-typedef struct emit_job {
-    ht_result (*emit)(const ht_plan *, ht_tier_output *, char *, size_t);
-    const ht_plan *plan;
-    ht_tier_output out;
-    ht_result result;
-    char err[2048];
-    pthread_t thread;
-    bool threaded;
-} emit_job;
-
-static void *run_emitter(void *arg) {
-    emit_job *job = arg;
-    c_locale_scope loc = c_locale_enter();
-    job->result = job->emit(job->plan, &job->out, job->err, sizeof job->err);
-    c_locale_leave(loc);
-    return NULL;
-}
-
-static void *warm_glslang(void *unused) {
-    (void)unused;
-    ht_glsl_warm_up();
-    return NULL;
-}
-
 static char *summary_text(const ht_plan *plan, const ht_tier_output *tiers, int tier_count) {
     char *text = NULL;
     size_t size = 0;
@@ -413,7 +351,22 @@ static char *summary_text(const ht_plan *plan, const ht_tier_output *tiers, int 
     return text;
 }
 
-static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *err, size_t err_size) {
+/* Moves an image and its PNG bytes into a new file of g; false when g is full. */
+static bool add_image_file(ht_generated *g, const char *name, ht_tier tier, const char *role, ht_image *image,
+                           int depth, ht_built_png *png) {
+    ht_generated_file *f = add_file(g, name, tier, role);
+    if (!f) return false;
+    f->image = *image;
+    f->depth = depth;
+    f->png = png->bytes;
+    f->png_size = png->size;
+    *image = (ht_image){ 0 };
+    *png = (ht_built_png){ 0 };
+    return true;
+}
+
+/* threads: what ht_build may use (0: every online core). */
+static ht_result generate(const ht_generate_desc *desc, int threads, ht_generated *g, char *err, size_t err_size) {
     const ht_material *m = desc->material;
     ht_result r = ht_material_check(m, err, err_size);
     if (r != HT_OK) return r;
@@ -434,120 +387,48 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
         g->input_hash = hash.value;
     }
 
-    ht_plan plan;
-    ht_plan_make(m, scene, &plan);
-    /* A Marschner material: its own tier from plan, every lower tier from
-       Scheuermann constants fitted to it (lower_plan); otherwise one plan. */
-    const bool physical = m->shading.model == HT_MODEL_MARSCHNER;
-    ht_marschner_fit fit = { 0 };
-    ht_plan lower_plan = plan;
-    if (physical) {
-        r = ht_marschner_fit_scheuermann(&m->shading, &fit);
-        if (r != HT_OK) return ht_fail(err, err_size, r, "%s: fitting Scheuermann constants: out of memory", file);
-        ht_material *fitted = malloc(sizeof *fitted);
-        if (!fitted) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", file);
-        *fitted = *m;
-        fitted->shading = fit.shading;
-        ht_plan_make(fitted, scene, &lower_plan);
-        free(fitted);
+    ht_built *b = malloc(sizeof *b);
+    if (!b) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", file);
+    r = ht_build(m, scene, threads, b, err, err_size);
+    if (r != HT_OK) {
+        free(b);
+        return r;
+    }
+    if (b->physical) {
+        char line[160];
+        snprintf(line, sizeof line, "the fibre: Scheuermann constants fitted to it, rms %.1f/255, "
+                 "max %.0f/255 over %d samples (manifest \"fit\")", b->fit.rms * 255, b->fit.max_error * 255,
+                 HT_MARSCHNER_FIT_SAMPLES);
+        for (int t = 0; t < b->tier_count; t++)
+            if (b->tiers[t].tier != HT_TIER_MARSCHNER) ht_output_add_dropped(&b->tiers[t], line);
     }
 
-    /* Best first: the order the runtime walks. */
-    enum { EMITTERS = 6 };
-    ht_tier_output tiers[EMITTERS];
-    memset(tiers, 0, sizeof tiers);
-    ht_image albedo = { 0 }, detail = { 0 };
-    ht_result (*const emitters[EMITTERS])(const ht_plan *, ht_tier_output *, char *, size_t) = {
-        ht_emit_marschner, ht_emit_full, ht_emit_vertex, ht_emit_fixed4, ht_emit_fixed, ht_emit_gl11
-    };
-    /* glslang's tables are built on a second thread while the textures
-       are made (once per process: later materials find them built). */
-    pthread_t warm_thread;
-    bool warming = !ht_glsl_is_warm() && pthread_create(&warm_thread, NULL, warm_glslang, NULL) == 0;
-    r = ht_textures_pack(m, &plan, &albedo, &detail, err, err_size);
-    if (warming) pthread_join(warm_thread, NULL);
-    if (r == HT_OK && plan.sparkle) plan.sparkle_mean = channel_mean(&detail, 1);
-    if (r == HT_OK && plan.base) plan.albedo_max = rgb_max(&albedo);
-    /* The tiers are independent given their plan: each emitter on a thread
-       of its own, then kept in order. A tier the plan rules out (marschner
-       for a Scheuermann material, fixed4 under a point light) is left out
-       of the bundle; the runtime then never sees it. The first failure in
-       tier order is the error, as when they ran one after another. */
-    if (physical) lower_plan.albedo_max = plan.albedo_max; /* same textures; no sparkle */
-    else lower_plan = plan;
-    int tier_count = 0;
-    if (r == HT_OK) {
-        emit_job jobs[EMITTERS];
-        for (int i = 0; i < EMITTERS; i++) {
-            jobs[i] = (emit_job){ .emit = emitters[i], .plan = i == 0 ? &plan : &lower_plan };
-            jobs[i].threaded = i > 0 && pthread_create(&jobs[i].thread, NULL, run_emitter, &jobs[i]) == 0;
-        }
-        run_emitter(&jobs[0]);
-        for (int i = 0; i < EMITTERS; i++) {
-            if (i > 0 && jobs[i].threaded) pthread_join(jobs[i].thread, NULL);
-            else if (i > 0) run_emitter(&jobs[i]); /* no thread to be had */
-        }
-        for (int i = 0; i < EMITTERS; i++) {
-            if (jobs[i].result == HT_OK && r == HT_OK) {
-                if (physical && i > 0) {
-                    char line[160];
-                    snprintf(line, sizeof line, "the fibre: Scheuermann constants fitted to it, rms %.1f/255, "
-                             "max %.0f/255 over %d samples (manifest \"fit\")", fit.rms * 255,
-                             fit.max_error * 255, HT_MARSCHNER_FIT_SAMPLES);
-                    ht_output_add_dropped(&jobs[i].out, line);
-                }
-                tiers[tier_count++] = jobs[i].out;
-                continue;
-            }
-            if (jobs[i].result != HT_ERR_UNSUPPORTED && r == HT_OK) {
-                r = jobs[i].result;
-                ht_set_error(err, err_size, "%s", jobs[i].err);
-            }
-            ht_tier_output_free(&jobs[i].out);
-        }
-    }
-
-    char *manifest = NULL;
-    if (r == HT_OK) {
-        char *cj = manifest_text(&plan, m, g->input_hash, &albedo, &detail, tiers, tier_count,
-                                 physical ? &fit : NULL);
-        manifest = cj ? strdup(cj) : NULL;
-        cJSON_free(cj);
-        g->summary = summary_text(&plan, tiers, tier_count);
-        if (!manifest || !g->summary) r = ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", file);
-    }
+    char *cj = manifest_text(&b->plan, m, g->input_hash, &b->albedo, &b->detail, b->tiers, b->tier_count,
+                             b->physical ? &b->fit : NULL);
+    char *manifest = cj ? strdup(cj) : NULL;
+    cJSON_free(cj);
+    g->summary = summary_text(&b->plan, b->tiers, b->tier_count);
+    if (!manifest || !g->summary) r = ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", file);
 
     /* The files in the order a bundle is written: the packed textures, each
        tier's texts then images, the manifest last. Ownership moves into g. */
     if (r == HT_OK) {
-        ht_image *packed[2] = { &albedo, &detail };
-        const char *packed_names[2] = { "albedo", "detail" };
-        bool fits = true;
-        for (int i = 0; i < 2; i++) {
-            if (!packed[i]->pixels) continue;
-            char name[32];
-            snprintf(name, sizeof name, "%s.png", packed_names[i]);
-            ht_generated_file *f = add_file(g, name, HT_TIER_AUTO, packed_names[i]);
-            if (!f) { fits = false; break; }
-            f->image = *packed[i];
-            f->depth = 1;
-            *packed[i] = (ht_image){ 0 };
-        }
-        for (int t = 0; t < tier_count && fits; t++) {
-            for (int i = 0; i < tiers[t].text_count && fits; i++) {
-                ht_out_text *ot = &tiers[t].texts[i];
-                ht_generated_file *f = add_file(g, ot->file, tiers[t].tier, ot->role);
+        bool fits = (!b->albedo.pixels ||
+                     add_image_file(g, "albedo.png", HT_TIER_AUTO, "albedo", &b->albedo, 1, &b->albedo_png)) &&
+                    (!b->detail.pixels ||
+                     add_image_file(g, "detail.png", HT_TIER_AUTO, "detail", &b->detail, 1, &b->detail_png));
+        for (int t = 0; t < b->tier_count && fits; t++) {
+            ht_tier_output *o = &b->tiers[t];
+            for (int i = 0; i < o->text_count && fits; i++) {
+                ht_out_text *ot = &o->texts[i];
+                ht_generated_file *f = add_file(g, ot->file, o->tier, ot->role);
                 if (!f) { fits = false; break; }
                 f->text = ot->text;
                 ot->text = NULL;
             }
-            for (int i = 0; i < tiers[t].image_count && fits; i++) {
-                ht_out_image *oi = &tiers[t].images[i];
-                ht_generated_file *f = add_file(g, oi->file, tiers[t].tier, oi->name);
-                if (!f) { fits = false; break; }
-                f->image = oi->image;
-                f->depth = oi->depth;
-                oi->image = (ht_image){ 0 };
+            for (int i = 0; i < o->image_count && fits; i++) {
+                ht_out_image *oi = &o->images[i];
+                fits = add_image_file(g, oi->file, o->tier, oi->name, &oi->image, oi->depth, &b->tier_png[t][i]);
             }
         }
         ht_generated_file *f = fits ? add_file(g, HT_MANIFEST_FILE, HT_TIER_AUTO, "manifest") : NULL;
@@ -562,9 +443,8 @@ static ht_result generate(const ht_generate_desc *desc, ht_generated *g, char *e
     }
 
     free(manifest);
-    for (int i = 0; i < EMITTERS; i++) ht_tier_output_free(&tiers[i]);
-    ht_image_free(&albedo);
-    ht_image_free(&detail);
+    ht_built_free(b);
+    free(b);
     return r;
 }
 
@@ -573,9 +453,9 @@ ht_result ht_generate(const ht_generate_desc *desc, ht_generated *out, char *err
     memset(out, 0, sizeof *out);
     if (!desc || !desc->material)
         return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "ht_generate: material: required");
-    c_locale_scope loc = c_locale_enter();
-    ht_result r = generate(desc, out, err, err_size);
-    c_locale_leave(loc);
+    ht_c_locale_scope loc = ht_c_locale_enter();
+    ht_result r = generate(desc, 0, out, err, err_size);
+    ht_c_locale_leave(loc);
     if (r != HT_OK) ht_generated_free(out);
     return r;
 }
@@ -584,6 +464,7 @@ void ht_generated_free(ht_generated *g) {
     if (!g) return;
     for (int i = 0; i < g->file_count && i < HT_GENERATED_MAX_FILES; i++) {
         free(g->files[i].text);
+        free(g->files[i].png);
         ht_image_free(&g->files[i].image);
     }
     free(g->summary);
@@ -598,57 +479,25 @@ const ht_generated_file *ht_generated_find(const ht_generated *g, const char *na
 
 /* ---- write step: the generated files into a directory ---- */
 
-/* One image file of a bundle, encoded on a thread of its own: PNG
-   encoding is most of a bundle's cost and the images are independent. */
-typedef struct image_write {
-    char path[4096];
-    const ht_image *image;
-    ht_result result;
-    char err[1200];
-    pthread_t thread;
-    bool threaded;
-} image_write;
-
-static void *write_image(void *arg) {
-    image_write *w = arg;
-    w->result = ht_image_write_png(w->path, w->image, w->err, sizeof w->err);
-    return NULL;
-}
-
-/* Every file into tmp; on failure err names the first file (in bundle
-   order) that failed. */
+/* Every file into tmp, in bundle order (the first that fails is the error).
+   The images' PNG bytes were made with the tiers (build.c). Nothing here
+   is fsync'd: the bundle appears whole or not at all by the rename of its
+   directory (publish), like a compiler's output, and a system crash may
+   lose it as it may lose any file not yet on disk. */
 static ht_result write_bundle(const char *tmp, const ht_generated *g, char *err, size_t err_size) {
-    /* On the heap: 40 paths are too much for a caller's thread stack. */
-    image_write *images = calloc(HT_GENERATED_MAX_FILES, sizeof *images);
-    if (!images) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", tmp);
-    int image_count = 0;
     ht_result r = HT_OK;
     for (int i = 0; i < g->file_count && r == HT_OK; i++) {
         const ht_generated_file *f = &g->files[i];
-        if (f->text) continue;
-        image_write *w = &images[image_count++];
-        w->image = &f->image;
-        w->result = HT_OK;
-        w->err[0] = '\0';
-        if (!join_path(w->path, sizeof w->path, tmp, f->name)) {
-            r = ht_fail(err, err_size, HT_ERR_IO, "%s: path too long", tmp);
-            image_count--;
-            break;
+        if (f->text) {
+            r = write_file(tmp, f->name, f->text, strlen(f->text), err, err_size);
+            continue;
         }
-        w->threaded = pthread_create(&w->thread, NULL, write_image, w) == 0;
+        unsigned char *bytes = f->png;
+        size_t size = f->png_size;
+        if (!bytes) r = ht_generated_file_bytes(f, &bytes, &size, err, err_size);
+        if (r == HT_OK) r = write_file(tmp, f->name, (const char *)bytes, size, err, err_size);
+        if (bytes != f->png) free(bytes);
     }
-    for (int i = 0; i < g->file_count && r == HT_OK; i++)
-        if (g->files[i].text) r = write_file(tmp, g->files[i].name, g->files[i].text, err, err_size);
-    for (int i = 0; i < image_count; i++) {
-        image_write *w = &images[i];
-        if (w->threaded) pthread_join(w->thread, NULL);
-        else write_image(w);  /* no thread to be had: here, in turn */
-        if (w->result != HT_OK && r == HT_OK) {
-            r = w->result;
-            ht_set_error(err, err_size, "%s", w->err);
-        }
-    }
-    free(images);
     return r;
 }
 
@@ -763,7 +612,7 @@ ht_result ht_generate_files(const char *material_path, const char *scene_path, h
     bundle_inputs *in = malloc(sizeof *in);
     ht_bundle_report *rep = calloc(1, sizeof *rep);
     ht_result r = in && rep ? HT_OK : ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", material_path);
-    c_locale_scope loc = c_locale_enter();
+    ht_c_locale_scope loc = ht_c_locale_enter();
     if (r == HT_OK)
         r = read_inputs(&(ht_bundle_request){ .material_path = material_path, .scene_path = scene_path }, rep, in,
                         err, err_size);
@@ -771,7 +620,7 @@ ht_result ht_generate_files(const char *material_path, const char *scene_path, h
         r = ht_generate(&(ht_generate_desc){ .material = &in->material, .scene = in->scene,
                                              .input_hash = in->hash.value },
                         out, err, err_size);
-    c_locale_leave(loc);
+    ht_c_locale_leave(loc);
     if (r == HT_OK && material) *material = in->material;
     free(in);
     free(rep);
@@ -802,10 +651,15 @@ static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep,
         if (r != HT_OK) return r;
     }
 
+    ht_gen_trace("%s: inputs read", out_dir);
     ht_generated g;
-    r = ht_generate(&(ht_generate_desc){ .material = &material, .scene = scene, .input_hash = hash.value },
-                    &g, err, err_size);
-    if (r != HT_OK) return r;
+    memset(&g, 0, sizeof g);
+    r = generate(&(ht_generate_desc){ .material = &material, .scene = scene, .input_hash = hash.value },
+                 rq->threads, &g, err, err_size);
+    if (r != HT_OK) {
+        ht_generated_free(&g);
+        return r;
+    }
 
     char tmp[4096] = "";
     int n = snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", out_dir);
@@ -818,7 +672,9 @@ static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep,
         chmod(tmp, 0777 & ~process_umask);
     }
     if (r == HT_OK) {
+        ht_gen_trace("%s: generated", out_dir);
         r = write_bundle(tmp, &g, err, err_size);
+        ht_gen_trace("%s: written", out_dir);
         if (r == HT_OK && rq->step) r = rq->step(rq->step_user, tmp, scene, err, err_size);
         /* The temporary directory is removed below: name the bundle's own
            path for the file that failed (a full disk, a step), not the
@@ -831,6 +687,7 @@ static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep,
         }
     }
     if (r == HT_OK) r = publish(tmp, out_dir, err, err_size);
+    ht_gen_trace("%s: published", out_dir);
     if (r != HT_OK && tmp[0]) remove_tree(tmp);
     if (r == HT_OK && rq->summary) {
         fprintf(rq->summary, "hairgen: %s -> %s\n", material.name, out_dir);
@@ -863,9 +720,9 @@ ht_result ht_bundle_make(const ht_bundle_request *rq, ht_bundle_report *report, 
     if (r != HT_OK) return r;
     ht_bundle_request in_dir = *rq;
     in_dir.out_dir = dir;
-    c_locale_scope loc = c_locale_enter();
+    ht_c_locale_scope loc = ht_c_locale_enter();
     r = bundle_make(&in_dir, report, err, err_size);
-    c_locale_leave(loc);
+    ht_c_locale_leave(loc);
     return r;
 }
 

@@ -4,7 +4,6 @@
    profile and the whole text), so a batch of materials sharing shaders
    parses each distinct text once. Safe to call from several threads. */
 #include <pthread.h>
-#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -116,30 +115,6 @@ static ht_result parse(const char *source, ht_stage stage, int version, bool es,
     if (!init_ok) return fail(log, log_size, "%s", "glslang failed to initialize");
     return ht_glslang_parse(source, stage == HT_STAGE_VERTEX, version, es, log, log_size) ? HT_OK : HT_ERR_COMPILE;
 }
-
-/* ---- warming up ---- */
-
-/* glslang builds its built-in symbol tables the first time it meets a
-   version and profile (about half of one material's validation); a
-   trivial shader of each version hairgen emits builds them ahead, on a
-   thread of the caller's while it does other work. */
-static pthread_once_t warm_once = PTHREAD_ONCE_INIT;
-static atomic_bool warm_done;
-
-static void warm(void) {
-    static const struct { const char *text; ht_stage stage; int version; bool es; } shaders[] = {
-        { "#version 120\nvoid main() { gl_FragColor = vec4(1.0); }\n", HT_STAGE_FRAGMENT, 120, false },
-        { "#version 110\nvoid main() { gl_Position = gl_Vertex; }\n", HT_STAGE_VERTEX, 110, false },
-        { "#version 100\nvoid main() { gl_FragColor = vec4(1.0); }\n", HT_STAGE_FRAGMENT, 100, true },
-    };
-    for (size_t i = 0; i < sizeof shaders / sizeof shaders[0]; i++)
-        parse(shaders[i].text, shaders[i].stage, shaders[i].version, shaders[i].es, NULL, 0);
-    atomic_store(&warm_done, true);
-}
-
-void ht_glsl_warm_up(void) { pthread_once(&warm_once, warm); }
-
-bool ht_glsl_is_warm(void) { return atomic_load(&warm_done); }
 
 ht_result ht_glsl_validate(const char *source, ht_stage stage, int version, bool es,
                            char *log, size_t log_size) {

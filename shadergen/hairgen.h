@@ -122,6 +122,8 @@ typedef struct ht_generated_file {
     char *text;         /* NUL-terminated; NULL for an image */
     ht_image image;     /* pixels NULL for a text; a 3D texture's slices stacked vertically */
     int depth;          /* image depth in slices (1 for 2D); 0 for a text */
+    unsigned char *png; /* an image's bytes in a bundle directory (its PNG file); NULL for a text */
+    size_t png_size;
 } ht_generated_file;
 
 typedef struct ht_generated {
@@ -149,8 +151,9 @@ const ht_generated_file *ht_generated_find(const ht_generated *g, const char *na
 ht_result ht_generate_files(const char *material_path, const char *scene_path, ht_material *material,
                             ht_generated *out, char *err, size_t err_size);
 
-/* The bytes `f` has in a bundle directory (a text as it is, an image as the
-   PNG ht_image_write_png writes), malloc'd into *data (free()). */
+/* The bytes `f` has in a bundle directory (a text as it is, an image as its
+   PNG file: f->png, or the generator's encoding of f->image when that is
+   NULL), malloc'd into *data (free()). */
 ht_result ht_generated_file_bytes(const ht_generated_file *f, unsigned char **data, size_t *size, char *err,
                                   size_t err_size);
 

@@ -13,6 +13,11 @@
 ht_result ht_texture_make(const ht_texture_source *src, ht_texture_slot slot,
                           ht_image *out, char *err, size_t err_size);
 
+/* The bytes of img as a bundle's PNG file (png_encode.c), malloc'd into
+   *data (free()): HT_ERR_INVALID_ARGUMENT for an image no PNG can hold,
+   HT_ERR_OUT_OF_MEMORY. The same image gives the same bytes. */
+ht_result ht_png_encode(const ht_image *img, unsigned char **data, size_t *size);
+
 /* ---- plan: what the scene needs modelled ---- */
 
 #define HT_MAX_NOTES 16
@@ -72,6 +77,8 @@ typedef struct ht_bundle_request {
     ht_bundle_step_fn step;      /* NULL: none; else run on the written, unpublished bundle
                                     (ht_generate_bundle_then) */
     void *step_user;
+    int threads;                 /* threads one bundle's build may use (build.h); 0: every
+                                    online core */
 } ht_bundle_request;
 
 /* The files a bundle was made from: the material, the scene (when given),

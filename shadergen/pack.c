@@ -10,7 +10,6 @@
    rely on; filtering would change texels even then. */
 #include "emit.h"
 
-#include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -100,11 +99,16 @@ static ht_result pack_two(const ht_image *a, int a_channels, const ht_image *b, 
     return HT_OK;
 }
 
-/* Makes the slot's texture when the plan models it; leaves img zeroed otherwise. */
-static ht_result make_if(bool modelled, const ht_material *m, ht_texture_slot slot,
-                         ht_image *img, char *err, size_t err_size) {
+static bool modelled(const ht_plan *plan, ht_texture_slot slot) {
+    const bool modelled[HT_TEX_COUNT] = { plan->base, plan->alpha, plan->shift, plan->sparkle };
+    return slot >= 0 && slot < HT_TEX_COUNT && modelled[slot];
+}
+
+ht_result ht_texture_make_slot(const ht_material *m, const ht_plan *plan, ht_texture_slot slot, ht_image *img,
+                               char *err, size_t err_size) {
     static const char *const slots[HT_TEX_COUNT] = { "base", "alpha", "shift", "sparkle" };
-    if (!modelled) return HT_OK;
+    *img = (ht_image){ 0 };
+    if (!modelled(plan, slot)) return HT_OK;
     char why[1200];
     ht_result r = ht_texture_make(&m->textures[slot], slot, img, why, sizeof why);
     if (r == HT_OK) return HT_OK;
@@ -117,21 +121,44 @@ static ht_result make_if(bool modelled, const ht_material *m, ht_texture_slot sl
     return r;
 }
 
-typedef struct slot_job {
-    const ht_material *m;
-    ht_texture_slot slot;
-    bool modelled;
-    ht_image image;
-    ht_result result;
-    char err[1400];
-    pthread_t thread;
-    bool threaded;
-} slot_job;
+ht_result ht_textures_pack_made(const ht_material *m, const ht_plan *plan, ht_image made[HT_TEX_COUNT],
+                                ht_image *albedo, ht_image *detail, char *err, size_t err_size) {
+    *albedo = (ht_image){ 0 };
+    *detail = (ht_image){ 0 };
+    ht_image *base = &made[HT_TEX_BASE], *alpha = &made[HT_TEX_ALPHA];
+    ht_image *shift = &made[HT_TEX_SHIFT], *sparkle = &made[HT_TEX_SPARKLE];
+    static const char *const sources[HT_TEX_COUNT] = {
+        "textures.base", "textures.alpha", "textures.shift", "textures.sparkle",
+    };
+    ht_result r = HT_OK;
+    for (int i = 0; i < HT_TEX_COUNT && r == HT_OK; i++)
+        if (made[i].pixels)
+            r = check_size(m, sources[i], "the texture is", made[i].width, made[i].height, err, err_size);
+    int w, h;
+    packed_size(base, alpha, &w, &h);
+    if (r == HT_OK && base->pixels && alpha->pixels)
+        r = check_size(m, "textures.base, textures.alpha", "they pack into an albedo of", w, h, err, err_size);
+    packed_size(shift, sparkle, &w, &h);
+    if (r == HT_OK && shift->pixels && sparkle->pixels)
+        r = check_size(m, "textures.shift, textures.sparkle", "they pack into a detail texture of", w, h,
+                       err, err_size);
+    if (r != HT_OK) goto done;
 
-static void *make_slot(void *arg) {
-    slot_job *job = arg;
-    job->result = make_if(job->modelled, job->m, job->slot, &job->image, job->err, sizeof job->err);
-    return NULL;
+    if (plan->base || plan->alpha)
+        r = pack_two(base, 3, alpha, 3, (const uint8_t[4]){ 255, 255, 255, 255 }, albedo);
+    if (r == HT_OK && (plan->shift || plan->sparkle))
+        r = pack_two(shift, 1, sparkle, 1, (const uint8_t[4]){ 128, 255, 0, 255 }, detail);
+    if (r != HT_OK)
+        ht_set_error(err, err_size, "%s: textures: out of memory packing the albedo and detail textures",
+                     m->file[0] ? m->file : "<material>");
+
+done:
+    for (int i = 0; i < HT_TEX_COUNT; i++) ht_image_free(&made[i]);
+    if (r != HT_OK) {
+        ht_image_free(albedo);
+        ht_image_free(detail);
+    }
+    return r;
 }
 
 ht_result ht_textures_pack(const ht_material *m, const ht_plan *plan,
@@ -140,64 +167,15 @@ ht_result ht_textures_pack(const ht_material *m, const ht_plan *plan,
         ht_set_error(err, err_size, "ht_textures_pack: material, plan and both images are required");
         return HT_ERR_INVALID_ARGUMENT;
     }
+    /* One slot after another; the first failure in slot order is the
+       error (generate.c makes the slots as jobs of their own). */
+    ht_image made[HT_TEX_COUNT] = { { 0 } };
+    ht_result r = HT_OK;
+    for (int i = 0; i < HT_TEX_COUNT && r == HT_OK; i++)
+        r = ht_texture_make_slot(m, plan, (ht_texture_slot)i, &made[i], err, err_size);
+    if (r == HT_OK) return ht_textures_pack_made(m, plan, made, albedo, detail, err, err_size);
+    for (int i = 0; i < HT_TEX_COUNT; i++) ht_image_free(&made[i]);
     *albedo = (ht_image){ 0 };
     *detail = (ht_image){ 0 };
-    /* The four textures are independent: each made on a thread of its
-       own; the first failure in slot order is the error, as when they
-       were made one after another. */
-    const bool modelled[HT_TEX_COUNT] = { plan->base, plan->alpha, plan->shift, plan->sparkle };
-    slot_job jobs[HT_TEX_COUNT];
-    for (int i = 0; i < HT_TEX_COUNT; i++) {
-        jobs[i] = (slot_job){ .m = m, .slot = (ht_texture_slot)i, .modelled = modelled[i] };
-        jobs[i].threaded = i > 0 && modelled[i] && pthread_create(&jobs[i].thread, NULL, make_slot, &jobs[i]) == 0;
-    }
-    make_slot(&jobs[0]);
-    ht_result r = HT_OK;
-    for (int i = 0; i < HT_TEX_COUNT; i++) {
-        if (jobs[i].threaded) pthread_join(jobs[i].thread, NULL);
-        else if (i > 0) make_slot(&jobs[i]); /* not modelled, or no thread to be had */
-        if (jobs[i].result != HT_OK && r == HT_OK) {
-            r = jobs[i].result;
-            ht_set_error(err, err_size, "%s", jobs[i].err);
-        }
-    }
-    ht_image base = jobs[HT_TEX_BASE].image, alpha = jobs[HT_TEX_ALPHA].image;
-    ht_image shift = jobs[HT_TEX_SHIFT].image, sparkle = jobs[HT_TEX_SPARKLE].image;
-    if (r != HT_OK) goto done;
-
-    static const char *const sources[HT_TEX_COUNT] = {
-        "textures.base", "textures.alpha", "textures.shift", "textures.sparkle",
-    };
-    const ht_image *made[HT_TEX_COUNT] = { &base, &alpha, &shift, &sparkle };
-    for (int i = 0; i < HT_TEX_COUNT && r == HT_OK; i++)
-        if (made[i]->pixels)
-            r = check_size(m, sources[i], "the texture is", made[i]->width, made[i]->height, err, err_size);
-    int w, h;
-    packed_size(&base, &alpha, &w, &h);
-    if (r == HT_OK && base.pixels && alpha.pixels)
-        r = check_size(m, "textures.base, textures.alpha", "they pack into an albedo of", w, h, err, err_size);
-    packed_size(&shift, &sparkle, &w, &h);
-    if (r == HT_OK && shift.pixels && sparkle.pixels)
-        r = check_size(m, "textures.shift, textures.sparkle", "they pack into a detail texture of", w, h,
-                       err, err_size);
-    if (r != HT_OK) goto done;
-
-    if (plan->base || plan->alpha)
-        r = pack_two(&base, 3, &alpha, 3, (const uint8_t[4]){ 255, 255, 255, 255 }, albedo);
-    if (r == HT_OK && (plan->shift || plan->sparkle))
-        r = pack_two(&shift, 1, &sparkle, 1, (const uint8_t[4]){ 128, 255, 0, 255 }, detail);
-    if (r != HT_OK)
-        ht_set_error(err, err_size, "%s: textures: out of memory packing the albedo and detail textures",
-                     m->file[0] ? m->file : "<material>");
-
-done:
-    ht_image_free(&base);
-    ht_image_free(&alpha);
-    ht_image_free(&shift);
-    ht_image_free(&sparkle);
-    if (r != HT_OK) {
-        ht_image_free(albedo);
-        ht_image_free(detail);
-    }
     return r;
 }

@@ -34,6 +34,7 @@
 #include "hairgen_internal.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "errfmt.h"
@@ -93,28 +94,50 @@ static void noise_columns_init(noise_columns *c, int size, int cells) {
     }
 }
 
-/* Value noise in [0, 65535] along row y of a size x size image, on a
-   lattice of cols->cells x cells_v cells that wraps around the image
-   (cols->cells at most size / 2). The row's two lattice rows are drawn
-   once, not the four corners again at every texel: the same integers
-   either way. */
-static void value_noise_row(uint64_t key, int y, int size, const noise_columns *cols, int cells_v, int64_t *row) {
+/* One value-noise lattice across a size x size image: cols->cells x
+   cells_v cells that wrap around the image (cols->cells at most size / 2),
+   and the row of lattice cells the last row fell in, interpolated across
+   every column (top: the cell row above, bottom: the one below). Rows of
+   one lattice row share those: a row is then one blend per texel, the same
+   integers as blending the four corners at every texel. On the heap (64
+   KiB): made once per texture. */
+typedef struct noise_lattice {
+    uint64_t key;
+    int cells_v;
+    int row;                       /* the lattice row top and bottom hold; -1 none yet */
+    noise_columns cols;
+    int64_t top[MAX_PROCEDURAL_SIZE], bottom[MAX_PROCEDURAL_SIZE];
+} noise_lattice;
+
+static void noise_lattice_init(noise_lattice *n, uint64_t key, int size, int cells_u, int cells_v) {
+    n->key = key;
+    n->cells_v = cells_v;
+    n->row = -1;
+    noise_columns_init(&n->cols, size, cells_u);
+}
+
+/* Value noise in [0, 65535] along row y of a size x size image. */
+static void value_noise_row(noise_lattice *n, int y, int size, int64_t *row) {
     int64_t span = 2 * (int64_t)size;
-    int64_t pv = (int64_t)(2 * y + 1) * cells_v;
-    int j = (int)(pv / span), j1 = (j + 1) % cells_v;
+    int64_t pv = (int64_t)(2 * y + 1) * n->cells_v;
+    int j = (int)(pv / span), j1 = (j + 1) % n->cells_v;
     int64_t wv = smooth16(pv % span * ONE / span);
-    int64_t above[MAX_PROCEDURAL_SIZE / 2], below[MAX_PROCEDURAL_SIZE / 2];
-    for (int i = 0; i < cols->cells; i++) {
-        above[i] = lattice(key, i, j);
-        below[i] = lattice(key, i, j1);
+    if (j != n->row) {
+        const noise_columns *cols = &n->cols;
+        int64_t above[MAX_PROCEDURAL_SIZE / 2], below[MAX_PROCEDURAL_SIZE / 2];
+        for (int i = 0; i < cols->cells; i++) {
+            above[i] = lattice(n->key, i, j);
+            below[i] = lattice(n->key, i, j1);
+        }
+        for (int x = 0; x < size; x++) {
+            int i = cols->cell[x], i1 = cols->next[x];
+            int64_t wu = cols->weight[x];
+            n->top[x] = above[i] + (above[i1] - above[i]) * wu / ONE;
+            n->bottom[x] = below[i] + (below[i1] - below[i]) * wu / ONE;
+        }
+        n->row = j;
     }
-    for (int x = 0; x < size; x++) {
-        int i = cols->cell[x], i1 = cols->next[x];
-        int64_t wu = cols->weight[x];
-        int64_t top = above[i] + (above[i1] - above[i]) * wu / ONE;
-        int64_t bottom = below[i] + (below[i1] - below[i]) * wu / ONE;
-        row[x] = top + (bottom - top) * wv / ONE;
-    }
+    for (int x = 0; x < size; x++) row[x] = n->top[x] + (n->bottom[x] - n->top[x]) * wv / ONE;
 }
 
 static int at_least_one(int n) { return n < 1 ? 1 : n; }
@@ -126,16 +149,21 @@ static int64_t rng_int(ht_rng *r, int64_t lo, int64_t hi) {
 
 /* ---- generators: out is allocated by the caller ---- */
 
-static void stretched_noise(ht_image *out, ht_rng *keys) {
+/* The generators' scratch memory (make_procedural allocates it): two
+   noise lattices. */
+typedef struct noise_scratch {
+    noise_lattice a, b;
+} noise_scratch;
+
+static void stretched_noise(ht_image *out, ht_rng *keys, noise_scratch *scratch) {
     int size = out->width;
     uint64_t fine_key = ht_rng_next(keys), broad_key = ht_rng_next(keys);
     int64_t fine[MAX_PROCEDURAL_SIZE], broad[MAX_PROCEDURAL_SIZE];
-    static _Thread_local noise_columns fine_cols, broad_cols; /* 32 KiB each: off the stack */
-    noise_columns_init(&fine_cols, size, size / 2);
-    noise_columns_init(&broad_cols, size, size / 16);
+    noise_lattice_init(&scratch->a, fine_key, size, size / 2, at_least_one(size / 64));
+    noise_lattice_init(&scratch->b, broad_key, size, size / 16, at_least_one(size / 128));
     for (int y = 0; y < size; y++) {
-        value_noise_row(fine_key, y, size, &fine_cols, at_least_one(size / 64), fine);
-        value_noise_row(broad_key, y, size, &broad_cols, at_least_one(size / 128), broad);
+        value_noise_row(&scratch->a, y, size, fine);
+        value_noise_row(&scratch->b, y, size, broad);
         for (int x = 0; x < size; x++) {
             int64_t n = (fine[x] * 13 + broad[x] * 7) / 20; /* [0, 65535] */
             /* 0.55 + 0.45 n, in 16.16 */
@@ -146,7 +174,8 @@ static void stretched_noise(ht_image *out, ht_rng *keys) {
     }
 }
 
-static void strand_alpha(ht_image *out, ht_rng *keys) {
+static void strand_alpha(ht_image *out, ht_rng *keys, noise_scratch *scratch) {
+    (void)scratch;
     int size = out->width;
     int strands = size / 8 < 2 ? 2 : (size / 8 > 64 ? 64 : size / 8);
     int width = size / strands;
@@ -174,19 +203,19 @@ static void strand_alpha(ht_image *out, ht_rng *keys) {
     }
 }
 
-static void shift_noise(ht_image *out, ht_rng *keys) {
+static void shift_noise(ht_image *out, ht_rng *keys, noise_scratch *scratch) {
     int size = out->width;
     uint64_t key = ht_rng_next(keys);
     int64_t n[MAX_PROCEDURAL_SIZE];
-    static _Thread_local noise_columns cols;
-    noise_columns_init(&cols, size, at_least_one(size / 2));
+    noise_lattice_init(&scratch->a, key, size, at_least_one(size / 2), 2);
     for (int y = 0; y < size; y++) {
-        value_noise_row(key, y, size, &cols, 2, n);
+        value_noise_row(&scratch->a, y, size, n);
         for (int x = 0; x < size; x++) out->pixels[(size_t)y * size + x] = to_byte(ONE * 38 / 100 + n[x] * 24 / 100);
     }
 }
 
-static void sparkle(ht_image *out, ht_rng *keys) {
+static void sparkle(ht_image *out, ht_rng *keys, noise_scratch *scratch) {
+    (void)scratch;
     int size = out->width;
     int shortest = size / 64 < 2 ? 2 : size / 64, longest = size / 16 < 3 ? 3 : size / 16;
     /* A glint is shortest + longest + 1 texels long on average: this many
@@ -210,7 +239,7 @@ static void sparkle(ht_image *out, ht_rng *keys) {
 typedef struct generator {
     const char *name;
     int channels;
-    void (*make)(ht_image *out, ht_rng *keys);
+    void (*make)(ht_image *out, ht_rng *keys, noise_scratch *scratch);
 } generator;
 
 static const generator generators[] = {
@@ -228,18 +257,23 @@ static uint8_t luminance(const uint8_t *px, int channels) {
     return (uint8_t)((77 * px[0] + 150 * px[1] + 29 * px[2] + 128) >> 8);
 }
 
-static ht_result reduce_to_slot(const ht_image *in, ht_texture_slot slot, ht_image *out) {
+/* in reduced to the slot's channels in out; in is taken (freed or moved). */
+static ht_result reduce_to_slot(ht_image *in, ht_texture_slot slot, ht_image *out) {
     int channels = slot == HT_TEX_BASE ? 3 : 1;
-    ht_result r = ht_image_alloc(out, in->width, in->height, channels);
-    if (r != HT_OK) return r;
-    size_t count = (size_t)in->width * in->height;
     /* Already the slot's channels (every procedural texture): what the
        loop below would copy texel by texel (a 1-channel texel is its own
-       luminance). */
+       luminance), so the image itself. */
     if (in->channels == channels) {
-        memcpy(out->pixels, in->pixels, count * (size_t)channels);
+        *out = *in;
+        *in = (ht_image){ 0 };
         return HT_OK;
     }
+    ht_result r = ht_image_alloc(out, in->width, in->height, channels);
+    if (r != HT_OK) {
+        ht_image_free(in);
+        return r;
+    }
+    size_t count = (size_t)in->width * in->height;
     for (size_t i = 0; i < count; i++) {
         const uint8_t *src = in->pixels + i * in->channels;
         uint8_t *dst = out->pixels + i * channels;
@@ -251,6 +285,7 @@ static ht_result reduce_to_slot(const ht_image *in, ht_texture_slot slot, ht_ima
             dst[0] = luminance(src, in->channels);
         }
     }
+    ht_image_free(in);
     return HT_OK;
 }
 
@@ -272,15 +307,18 @@ static ht_result make_procedural(const ht_texture_source *src, const char *slot_
                 slot_name, src->size);
         return HT_ERR_PARSE;
     }
-    ht_result r = ht_image_alloc(native, src->size, src->size, gen->channels);
+    noise_scratch *scratch = malloc(sizeof *scratch);
+    ht_result r = scratch ? ht_image_alloc(native, src->size, src->size, gen->channels) : HT_ERR_OUT_OF_MEMORY;
     if (r != HT_OK) {
+        free(scratch);
         ht_set_error(err, err_size, "texture %s: out of memory", slot_name);
         return r;
     }
     /* Each generator draws its own stream: the same seed in two slots
        still gives unrelated patterns. */
     ht_rng keys = ht_rng_seed((uint64_t)src->seed ^ (uint64_t)(gen - generators + 1) << 32);
-    gen->make(native, &keys);
+    gen->make(native, &keys, scratch);
+    free(scratch);
     return HT_OK;
 }
 

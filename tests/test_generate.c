@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "emit.h"
 #include "hairgen.h"
 #include "image.h"
 #include "support_scratch.h"
@@ -67,11 +68,12 @@ static void generate_in_memory(const char *material_path, const char *scene_path
 }
 
 /* Every file of the bundle directory equals the in-memory file of that
-   name, byte for byte (images: encoded to PNG by the same writer), and the
+   name, byte for byte (images: the PNG the build made, which decodes to the
+   image's texels), and the
    directory holds nothing else. The input hash differs by design (files'
    bytes vs values), so the manifest is compared with it masked. */
 static void check_same_as_bundle(const char *material_path, const char *scene_path) {
-    char err[1024], dir[256], png[320];
+    char err[1024], dir[256];
     snprintf(dir, sizeof dir, "%s/bundle", work);
     assert_int_equal(ht_generate_bundle(material_path, scene_path, dir, NULL, err, sizeof err), HT_OK);
 
@@ -103,15 +105,21 @@ static void check_same_as_bundle(const char *material_path, const char *scene_pa
             assert_memory_equal(bytes, expect, size);
             free(expect);
         } else {
+            /* The file is the PNG made with the tiers, and it decodes to
+               exactly the image's texels. */
             assert_non_null(f->image.pixels);
             assert_true(f->depth >= 1);
-            snprintf(png, sizeof png, "%s/check.png", work);
-            assert_int_equal(ht_image_write_png(png, &f->image, err, sizeof err), HT_OK);
-            size_t size2;
-            unsigned char *again = read_all(png, &size2);
-            assert_int_equal(size, size2);
-            assert_memory_equal(bytes, again, size);
-            free(again);
+            assert_non_null(f->png);
+            assert_int_equal(size, f->png_size);
+            assert_memory_equal(bytes, f->png, size);
+            ht_image decoded;
+            assert_int_equal(ht_image_decode_png(f->name, f->png, f->png_size, &decoded, err, sizeof err), HT_OK);
+            assert_int_equal(decoded.width, f->image.width);
+            assert_int_equal(decoded.height, f->image.height);
+            assert_int_equal(decoded.channels, f->image.channels);
+            assert_memory_equal(decoded.pixels, f->image.pixels,
+                                (size_t)f->image.width * (size_t)f->image.height * (size_t)f->image.channels);
+            ht_image_free(&decoded);
         }
         free(bytes);
     }
@@ -164,10 +172,56 @@ static void test_two_calls_give_identical_output(void **state) {
             assert_int_equal(x->image.channels, y->image.channels);
             assert_memory_equal(x->image.pixels, y->image.pixels,
                                 (size_t)x->image.width * x->image.height * x->image.channels);
+            assert_int_equal(x->png_size, y->png_size);
+            assert_memory_equal(x->png, y->png, x->png_size);
         }
     }
     ht_generated_free(&a);
     ht_generated_free(&b);
+}
+
+/* The tier's whole output for plan (texts, requirements, lists). */
+static void assert_same_output(const ht_tier_output *a, const ht_tier_output *b) {
+    assert_int_equal(a->text_count, b->text_count);
+    for (int i = 0; i < a->text_count; i++) {
+        assert_string_equal(a->texts[i].file, b->texts[i].file);
+        assert_string_equal(a->texts[i].text, b->texts[i].text);
+    }
+    assert_int_equal(a->image_count, b->image_count);
+    assert_memory_equal(&a->requires, &b->requires, sizeof a->requires);
+    assert_int_equal(a->feature_count, b->feature_count);
+    assert_memory_equal(a->features, b->features, sizeof a->features);
+    assert_int_equal(a->dropped_count, b->dropped_count);
+    assert_memory_equal(a->dropped, b->dropped, sizeof a->dropped);
+    assert_int_equal(a->sampler_count, b->sampler_count);
+    assert_memory_equal(a->samplers, b->samplers, sizeof a->samplers);
+}
+
+/* build.c starts the full and Marschner tiers before the textures exist,
+   with the plan's default measurements: so those emitters must not read
+   the texture measurements (sparkle mean, albedo maximum). */
+static void test_glsl_tiers_do_not_read_texture_measurements(void **state) {
+    (void)state;
+    static const struct { const char *material; ht_result (*emit)(const ht_plan *, ht_tier_output *, char *, size_t); }
+        cases[] = { { "materials/dark-brown.json", ht_emit_full }, { "materials/brown-marschner.json", ht_emit_marschner } };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        char err[1024];
+        ht_material m;
+        ht_scene scene;
+        assert_int_equal(ht_material_load(cases[c].material, &m, err, sizeof err), HT_OK);
+        assert_int_equal(ht_scene_load("scenes/furball.json", &scene, err, sizeof err), HT_OK);
+        ht_plan plan, measured;
+        ht_plan_make(&m, &scene, &plan);
+        measured = plan;
+        measured.sparkle_mean = 0.37;
+        measured.albedo_max = 0.42;
+        ht_tier_output a, b;
+        assert_int_equal(cases[c].emit(&plan, &a, err, sizeof err), HT_OK);
+        assert_int_equal(cases[c].emit(&measured, &b, err, sizeof err), HT_OK);
+        assert_same_output(&a, &b);
+        ht_tier_output_free(&a);
+        ht_tier_output_free(&b);
+    }
 }
 
 static void test_every_tier_has_its_texts_in_memory(void **state) {
@@ -250,6 +304,7 @@ int main(void) {
         cmocka_unit_test(test_in_memory_output_equals_the_bundle_files_kajiya_kay_patches),
         cmocka_unit_test(test_bundle_input_hash_is_the_one_passed),
         cmocka_unit_test(test_two_calls_give_identical_output),
+        cmocka_unit_test(test_glsl_tiers_do_not_read_texture_measurements),
         cmocka_unit_test(test_every_tier_has_its_texts_in_memory),
         cmocka_unit_test(test_bad_material_struct_is_refused_naming_the_field),
     };

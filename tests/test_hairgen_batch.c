@@ -228,6 +228,16 @@ static void test_batch_bytes_do_not_depend_on_thread_count(void **state) {
     /* and a batch's bundle is the single form's */
     assert_int_equal(run_hairgen("kk.json --scene patches.json -o single-kk -q"), 0);
     assert_same_bundle("j1/kk", "single-kk");
+    /* One material spreads its own jobs over the threads (build.c): the
+       same bytes on one thread, on three, and with threads left to each
+       material of a batch (-j 6, two materials: three each). */
+    assert_int_equal(run_hairgen("blond.json --scene patches.json -o single-blond-j1 -j1 -q"), 0);
+    assert_int_equal(run_hairgen("blond.json --scene patches.json -o single-blond-j3 -j3 -q"), 0);
+    assert_int_equal(run_hairgen("-o j6 -j6 blond.json hc.json --scene patches.json -q"), 0);
+    assert_same_bundle("j1/blond", "single-blond-j1");
+    assert_same_bundle("j1/blond", "single-blond-j3");
+    assert_same_bundle("j1/blond", "j6/blond");
+    assert_same_bundle("j1/hc", "j6/hc");
 }
 
 static void test_unchanged_inputs_are_skipped_and_force_regenerates(void **state) {
