@@ -627,6 +627,19 @@ ht_result ht_generate_files(const char *material_path, const char *scene_path, h
     return r;
 }
 
+/* g's manifest replaced by dir/manifest.json as it is now. */
+static ht_result reload_manifest(ht_generated *g, const char *dir, char *err, size_t err_size) {
+    char path[4200];
+    snprintf(path, sizeof path, "%s/manifest.json", dir);
+    char *text = ht_file_read_text(path, HT_FILE_MAX_JSON, err, err_size);
+    if (!text) return HT_ERR_IO;
+    ht_generated_file *f = &g->files[g->file_count - 1]; /* manifest.json is last (hairgen.h) */
+    free(f->text);
+    f->text = text;
+    g->manifest = text;
+    return HT_OK;
+}
+
 static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep, char *err, size_t err_size) {
     const char *out_dir = rq->out_dir;
     /* An up-to-date bundle is a bundle: a batch's re-run checks only its
@@ -686,12 +699,18 @@ static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep,
             ht_set_error(err, err_size, "%s%s (nothing written; %s is as it was)", out_dir, why, out_dir);
         }
     }
+    /* A step may have rewritten the manifest (--measure): the header holds
+       what the directory holds. */
+    if (r == HT_OK && rq->header_path && rq->step) r = reload_manifest(&g, tmp, err, err_size);
     if (r == HT_OK) r = publish(tmp, out_dir, err, err_size);
     ht_gen_trace("%s: published", out_dir);
     if (r != HT_OK && tmp[0]) remove_tree(tmp);
+    if (r == HT_OK && rq->header_path)
+        r = ht_bundle_header_write(&g, material.name, rq->header_symbol, rq->header_path, err, err_size);
     if (r == HT_OK && rq->summary) {
         fprintf(rq->summary, "hairgen: %s -> %s\n", material.name, out_dir);
         fputs(g.summary, rq->summary);
+        if (rq->header_path) fprintf(rq->summary, "hairgen: %s -> %s\n", material.name, rq->header_path);
     }
     ht_generated_free(&g);
     return r;

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "hairgen.h"
+#include "hairgen_internal.h"
 #include "huge_heap.h"
 #include "measure.h"
 #include "trace.h"
@@ -136,19 +137,25 @@ static int parse_jobs(const char *text, int *jobs) {
 }
 
 /* The one-material outputs beside the bundle: --measure (a step on the
-   unpublished bundle) and --emit-header (the bundle as one C header). */
+   unpublished bundle) and --emit-header (the bundle as one C header). With
+   -o and --emit-header both come from one generation: the header holds the
+   directory's files, the measured manifest included. */
 static int run_measure_or_header(const options *o, const char *material) {
     char err[2048] = "";
     /* A bad symbol is refused before DIR is written. */
     ht_result r = o->symbol ? ht_header_symbol_check(o->symbol, err, sizeof err) : HT_OK;
     ht_measure_job job = { .scene_path = o->scene, .out_dir = o->out_dir };
     FILE *summary = o->quiet ? NULL : stdout;
-    if (r == HT_OK && o->out_dir)
-        r = ht_generate_bundle_then(material, o->scene, o->out_dir, summary, o->measure ? ht_measure_step : NULL,
-                                    &job, err, sizeof err);
-    /* The header's generation repeats the directory's (same input, same
-       bytes): the two outputs stay independent steps. */
-    if (r == HT_OK && o->header) r = ht_generate_header(material, o->scene, o->header, o->symbol, summary, err, sizeof err);
+    if (r == HT_OK && o->out_dir) {
+        ht_bundle_report report;
+        r = ht_bundle_make(&(ht_bundle_request){ .material_path = material, .scene_path = o->scene,
+                                                 .out_dir = o->out_dir, .summary = summary,
+                                                 .step = o->measure ? ht_measure_step : NULL, .step_user = &job,
+                                                 .header_path = o->header, .header_symbol = o->symbol },
+                           &report, err, sizeof err);
+    } else if (r == HT_OK && o->header) {
+        r = ht_generate_header(material, o->scene, o->header, o->symbol, summary, err, sizeof err);
+    }
     if (r != HT_OK) {
         fprintf(stderr, "hairgen: %s\n", err[0] ? err : ht_result_string(r));
         return 1;

@@ -77,6 +77,10 @@ typedef struct ht_bundle_request {
     ht_bundle_step_fn step;      /* NULL: none; else run on the written, unpublished bundle
                                     (ht_generate_bundle_then) */
     void *step_user;
+    const char *header_path;     /* NULL: none; else the same bundle as one C header too
+                                    (emit_header.c), from this one generation, its manifest
+                                    as the step left it; written after out_dir is published */
+    const char *header_symbol;   /* NULL: from the material name */
     int threads;                 /* threads one bundle's build may use (build.h); 0: every
                                     online core */
 } ht_bundle_request;

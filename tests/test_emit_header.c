@@ -1,7 +1,9 @@
 /* test_emit_header.c — hairgen --emit-header on the command line: beside
    or instead of -o DIR; the header holds every bundle file under one entry;
    usage errors exit 2, a bad symbol or material exits 1 with one line and
-   writes nothing, and a failed run leaves an existing header as it was.
+   writes nothing, and a failed run leaves an existing header as it was;
+   with -o the header comes from the directory's own generation (its
+   measured manifest included).
    (Drawing from a header, and its bytes against the directory's, are
    test_render_bundle_memory's.) */
 #include <setjmp.h>
@@ -155,11 +157,67 @@ static void test_bad_symbol_or_material_writes_nothing_and_keeps_the_old_header(
     assert_int_equal(count_temporaries(), 0);
 }
 
+/* The bytes of the array the header holds for file `name`, malloc'd. */
+static unsigned char *header_file_bytes(const char *text, const char *name, size_t *size) {
+    char marker[96];
+    snprintf(marker, sizeof marker, "/* %s */\n", name);
+    const char *at = strstr(text, marker);
+    assert_non_null(at);
+    at = strstr(at, "] = {");
+    assert_non_null(at);
+    at += 5;
+    const char *end = strstr(at, "};");
+    assert_non_null(end);
+    unsigned char *bytes = malloc((size_t)(end - at));
+    assert_non_null(bytes);
+    size_t n = 0;
+    while (at < end) {
+        char *next;
+        long v = strtol(at, &next, 10);
+        if (next == at) {
+            at++;
+            continue;
+        }
+        assert_in_range(v, 0, 255);
+        bytes[n++] = (unsigned char)v;
+        at = next;
+    }
+    *size = n;
+    return bytes;
+}
+
+/* -o, --emit-header and --measure in one run: one generation, and the
+   header holds the manifest the measure step wrote into the directory (a
+   second generation for the header would hold one without "measured"). */
+static void test_directory_and_header_from_one_run_hold_the_measured_manifest(void **state) {
+    (void)state;
+    char args[512], header[128], dir[128], manifest[160];
+    snprintf(header, sizeof header, "%s/measured.h", work);
+    snprintf(dir, sizeof dir, "%s/measured", work);
+    snprintf(args, sizeof args, "materials/kajiya-kay.json -o %s --emit-header %s --measure", dir, header);
+    assert_int_equal(run_hairgen(args), 0);
+    snprintf(manifest, sizeof manifest, "%s/manifest.json", dir);
+    size_t file_size, header_size;
+    char *file = ht_test_read_all(manifest, &file_size);
+    char *text = ht_test_read_all(header, NULL);
+    assert_non_null(file);
+    assert_non_null(text);
+    assert_non_null(strstr(file, "\"measured\""));
+    unsigned char *held = header_file_bytes(text, "manifest.json", &header_size);
+    assert_int_equal(header_size, file_size);
+    assert_memory_equal(held, file, file_size);
+    free(held);
+    free(file);
+    free(text);
+    assert_int_equal(count_temporaries(), 0);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_header_instead_of_a_directory_holds_every_file_under_one_entry),
         cmocka_unit_test(test_usage_errors_exit_2),
         cmocka_unit_test(test_bad_symbol_or_material_writes_nothing_and_keeps_the_old_header),
+        cmocka_unit_test(test_directory_and_header_from_one_run_hold_the_measured_manifest),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
