@@ -1,4 +1,4 @@
-/* fixed.c — the `fixed` tier's backend (about 560 lines, one job: applying
+/* fixed.c — the `fixed` tier's backend (about 650 lines, one job: applying
    a combiner program and feeding its stages; the CPU coordinates live in
    fixed_soa.c, the texture matrix in fixed_coords.c): a GL 1.3 texture-combiner program
    (fixed.json, combiner.h) applied as data, over a lookup texture of the
@@ -8,9 +8,9 @@
 
    Per frame, by the LUT stage's rule (combiner.h): "cpu-dots" computes the
    LUT coordinates and primary colours per vertex on the CPU
-   (fixed_coords.h) for the frame's lights and eye; "texture-matrix" loads
+   (fixed_coords.h) for the frame's lights and eye; "texture-matrix" makes
    the LUT unit's texture matrix (16 floats, infinite viewer: the view
-   matrix's view direction), points the unit's texture coordinates at the
+   matrix's view direction; loaded by each sub-pass for its light), points the unit's texture coordinates at the
    mesh's tangents (normalized once, in set_mesh, and uploaded there with
    the uv into a buffer object of its own) and recomputes the
    primary colours only when the light's colour changes. A frame whose key
