@@ -99,6 +99,13 @@ ht_combiner_coords ht_combiner_lut_coords(const ht_combiner_program *p) {
     return HT_COORDS_UV;
 }
 
+int ht_combiner_sub_passes(const ht_combiner_program *p) { return p ? 1 + p->add_light_count : 1; }
+
+int ht_combiner_sub_pass_light(const ht_combiner_program *p, int sub) {
+    if (!p || sub < 0 || sub > p->add_light_count) return -1;
+    return sub == 0 ? p->light : p->add_lights[sub - 1];
+}
+
 int ht_combiner_dot_names(ht_model_kind model, const char *names[3]) {
     if (model == HT_MODEL_KAJIYA_KAY) {
         names[0] = "T.L";
@@ -210,6 +217,20 @@ static ht_result check_program(const ht_jctx *c, const ht_combiner_program *p) {
         return ht_json_fail(c, "model", "unknown model %d", (int)p->model);
     if (p->light < 0 || p->light >= HT_MAX_LIGHTS)
         return ht_json_fail(c, "primary_color", "light %d is outside 0..%d", p->light, HT_MAX_LIGHTS - 1);
+    if (p->add_light_count < 0 || p->add_light_count > HT_MAX_LIGHTS - 1)
+        return ht_json_fail(c, "add_lights", "%d lights, expected 0..%d", p->add_light_count, HT_MAX_LIGHTS - 1);
+    for (int i = 0; i < p->add_light_count; i++) {
+        char field[32];
+        snprintf(field, sizeof field, "add_lights[%d]", i);
+        const int l = p->add_lights[i];
+        if (l < 0 || l >= HT_MAX_LIGHTS)
+            return ht_json_fail(c, field, "light %d is outside 0..%d", l, HT_MAX_LIGHTS - 1);
+        if (l == p->light) return ht_json_fail(c, field, "light %d is the key light (primary_color)", l);
+        for (int j = 0; j < i; j++)
+            if (p->add_lights[j] == l) return ht_json_fail(c, field, "light %d is listed twice", l);
+    }
+    if (!(p->light_scale >= 1.0 && p->light_scale <= 4.0))
+        return ht_json_fail(c, "lut.light_scale", "must be a number in [1,4]");
     for (int i = 0; i < 2; i++)
         if (!(fabs(p->shift[i]) <= 100.0)) {
             char field[32];
@@ -291,6 +312,7 @@ ht_result ht_combiner_write(const ht_combiner_program *p, char **text, char *err
     char primary[32];
     snprintf(primary, sizeof primary, p->ao ? "light%d.color*ao" : "light%d.color", p->light);
     cJSON_AddStringToObject(root, "primary_color", primary);
+    cJSON_AddItemToObject(root, "add_lights", cJSON_CreateIntArray(p->add_lights, p->add_light_count));
     const char *dots[3];
     int dot_count = ht_combiner_dot_names(p->model, dots);
     cJSON_AddItemToObject(root, "dots", cJSON_CreateStringArray(dots, dot_count));
@@ -300,6 +322,7 @@ ht_result ht_combiner_write(const ht_combiner_program *p, char **text, char *err
     cJSON_AddStringToObject(lut, "texture", p->lut_texture);
     cJSON_AddItemToObject(lut, "size", cJSON_CreateIntArray(p->lut_size, 3));
     cJSON_AddNumberToObject(lut, "scale", p->lut_scale);
+    cJSON_AddNumberToObject(lut, "light_scale", p->light_scale);
     cJSON_AddStringToObject(lut, "centres", "endpoints");
     cJSON *stages = cJSON_AddArrayToObject(root, "stages");
     for (int i = 0; i < p->stage_count; i++) cJSON_AddItemToArray(stages, stage_json(&p->stages[i]));
@@ -418,9 +441,9 @@ static ht_result parse_stage(const ht_jctx *c, const cJSON *o, int index, ht_com
 
 ht_result ht_combiner_parse(const char *json_text, const char *file_name, ht_combiner_program *out,
                             char *err, size_t err_size) {
-    static const char *const keys[] = { "format", "model", "primary_color", "dots", "shifts",
+    static const char *const keys[] = { "format", "model", "primary_color", "add_lights", "dots", "shifts",
                                         "lut", "stages", NULL };
-    static const char *const lut_keys[] = { "texture", "size", "scale", "centres", NULL };
+    static const char *const lut_keys[] = { "texture", "size", "scale", "light_scale", "centres", NULL };
     ht_jctx c = { file_name ? file_name : "<program>", err, err_size };
     cJSON *root = NULL;
     ht_result r = ht_json_parse_entry(&c, json_text, out, &root);
@@ -437,6 +460,17 @@ ht_result ht_combiner_parse(const char *json_text, const char *file_name, ht_com
     if (r == HT_OK) r = ht_json_string(&c, root, "", "primary_color", NULL, text, sizeof text);
     if (r == HT_OK && !primary_rule(text, &out->light, &out->ao))
         r = ht_json_fail(&c, "primary_color", "\"%s\", expected \"lightN.color*ao\" or \"lightN.color\"", text);
+
+    /* optional (programs written before sub-passes): none */
+    if (r == HT_OK) r = ht_json_array(&c, root, "", "add_lights", false, 0, HT_MAX_LIGHTS - 1, &item, &n);
+    if (r == HT_OK) out->add_light_count = item ? n : 0;
+    for (int i = 0; r == HT_OK && i < out->add_light_count; i++) {
+        char field[HT_JSON_PATH_MAX];
+        int64_t light = 0;
+        ht_json_path_index(field, "add_lights", i);
+        r = ht_json_int_item(&c, cJSON_GetArrayItem(item, i), field, 0, HT_MAX_LIGHTS - 1, &light);
+        out->add_lights[i] = (int)light;
+    }
 
     const char *want[3];
     int want_count = ht_combiner_dot_names(out->model, want);
@@ -466,6 +500,9 @@ ht_result ht_combiner_parse(const char *json_text, const char *file_name, ht_com
         out->lut_size[i] = (int)size;
     }
     if (r == HT_OK) r = ht_json_int32(&c, lut, "lut", "scale", NULL, 1, 4, &out->lut_scale);
+    /* optional (programs written before it): light colours up to 1 */
+    const double unit_light = 1.0;
+    if (r == HT_OK) r = ht_json_number(&c, lut, "lut", "light_scale", &unit_light, HT_JRANGE(1, 4), &out->light_scale);
     if (r == HT_OK) r = ht_json_string(&c, lut, "lut", "centres", NULL, text, sizeof text);
     if (r == HT_OK && strcmp(text, "endpoints") != 0)
         r = ht_json_fail(&c, "lut.centres", "\"%s\", expected \"endpoints\" (texel centres from d = -1 to d = 1)",

@@ -31,12 +31,37 @@
                        primary colour 0, the model's answer there (sin = 0,
                        S = 0), because the matrix cannot tell T = 0.
    Typical program (shadergen/emit_fixed.c writes it):
-       unit 0: LUT,    rgb = MODULATE(TEXTURE, PRIMARY_COLOR)   primary = light0.color * ao
+       unit 0: LUT,    rgb = MODULATE(TEXTURE, PRIMARY_COLOR)
+                       primary = light0.color * ao / light_scale
        unit 1: albedo, rgb = MODULATE(TEXTURE, PREVIOUS) x RGB_SCALE lut_scale,
                        alpha = REPLACE(TEXTURE)
    The LUT scale is restored on the last stage, not on the LUT's own: every
    stage clamps to [0,1], and clamping lighting above 1 before it is
    multiplied by a dark base would cut highlights the model keeps.
+
+   Light colours above 1 ("light_scale", in "lut"): the primary colour is
+   clamped to [0,1] by GL, so it carries light.color * ao / light_scale and
+   the LUT holds dot_terms * light_scale / lut_scale: their product is
+   dot_terms * light.color * ao / lut_scale again. light_scale (in [1,4])
+   is the scene's brightest channel of the lights drawn, so no channel of
+   theirs clamps; GL_RGB_SCALE reaching at most 4 is the one limit left
+   (lighting above 4 clamps, as in every combiner tier).
+
+   More lights ("add_lights"): each listed light is drawn by one more
+   sub-pass of every pass that writes colour, after the key light's
+   (sub-pass 0), over the same index range with the same stages: its own
+   LUT coordinates (or texture matrix) and primary colour by the same rule,
+   added to the framebuffer: blend (ONE, ONE) in the opaque pass and
+   (SRC_ALPHA, ONE) in the transparent ones, depth EQUAL (the opaque and
+   front passes: only the fragments sub-pass 0 left in the depth buffer) or
+   the pass's own LESS (the back pass writes no depth, so sub-pass 0 and
+   this one pass the same fragments), no depth or alpha writes. Exact for
+   opaque fragments and for a single transparent layer (a (c0 + c1) + (1 - a)
+   dst is a c0 + (1 - a) dst, then + a c1); where transparent layers overlap
+   a deeper layer's added light is not attenuated by the layers blended over
+   it in the same pass (back pass: too bright by a_deep a_over c1) or not
+   added (front pass: the deeper layer fails EQUAL; too dark by
+   (1 - a_over) a_deep c1); measured in README "Accuracy".
 
    LUT texel mapping ("centres": "endpoints"): along an axis of n texels,
    texel x holds the function at d = 2x/(n-1) - 1, so the first and last
@@ -109,8 +134,11 @@ typedef struct ht_combiner_stage {
 
 typedef struct ht_combiner_program {
     ht_model_kind model;               /* which dot products index the LUT */
-    int light;                         /* the one light lit (0: the key light) */
-    bool ao;                           /* primary = light.color * ao, else light.color */
+    int light;                         /* the key light, sub-pass 0 (0: the scene's first) */
+    int add_lights[HT_MAX_LIGHTS - 1]; /* lights drawn by additive sub-passes, in order */
+    int add_light_count;
+    bool ao;                           /* primary = light.color * ao, else light.color (/ light_scale) */
+    double light_scale;                /* [1,4]: the light colour the LUT carries (above) */
     double shift[2];                   /* Scheuermann: t1, t2 = normalize(T + shift * N); 0 for Kajiya-Kay */
     char lut_texture[HT_COMBINER_NAME_SIZE]; /* "fixed-lut" */
     int lut_size[3];                   /* texels along a, b, c; c = 1 for a 2D LUT */
@@ -136,6 +164,12 @@ float ht_combiner_lut_coord(double d, int size);
 /* How the LUT stage's coordinates are made (HT_COORDS_UV when no stage
    reads the LUT, which validation refuses). */
 ht_combiner_coords ht_combiner_lut_coords(const ht_combiner_program *p);
+
+/* Sub-passes of a pass that writes colour: the key light's and one per
+   add_lights entry. */
+int ht_combiner_sub_passes(const ht_combiner_program *p);
+/* The light sub-pass `sub` draws (-1 outside 0..sub_passes-1). */
+int ht_combiner_sub_pass_light(const ht_combiner_program *p, int sub);
 
 /* The names of the dot products along the LUT's axes ("N.L", "t1.H",
    "t2.H"; "T.L", "T.H"); returns how many (3 or 2). */

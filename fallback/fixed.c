@@ -1,4 +1,4 @@
-/* fixed.c — the `fixed` tier's backend (about 560 lines, one job: applying
+/* fixed.c — the `fixed` tier's backend (about 650 lines, one job: applying
    a combiner program and feeding its stages; the CPU coordinates live in
    fixed_soa.c, the texture matrix in fixed_coords.c): a GL 1.3 texture-combiner program
    (fixed.json, combiner.h) applied as data, over a lookup texture of the
@@ -8,15 +8,22 @@
 
    Per frame, by the LUT stage's rule (combiner.h): "cpu-dots" computes the
    LUT coordinates and primary colours per vertex on the CPU
-   (fixed_coords.h) for the frame's lights and eye; "texture-matrix" loads
+   (fixed_coords.h) for the frame's lights and eye; "texture-matrix" makes
    the LUT unit's texture matrix (16 floats, infinite viewer: the view
-   matrix's view direction), points the unit's texture coordinates at the
+   matrix's view direction; loaded by each sub-pass for its light), points the unit's texture coordinates at the
    mesh's tangents (normalized once, in set_mesh, and uploaded there with
    the uv into a buffer object of its own) and recomputes the
    primary colours only when the light's colour changes. A frame whose key
    light is a point light cannot use the matrix (the renderer shades lights
    as the bundle plans them, so only a caller driving the backend directly
    gets there): it gets CPU coordinates, with one log line the first time.
+
+   A program with "add_lights" (combiner.h) draws each further light as
+   one more sub-pass of every pass that writes colour: the same stages,
+   that light's coordinates (or texture matrix) and primary colours, kept
+   per light exactly as the key light's are, added to the framebuffer
+   (bind_pass sets the blend and depth test for it; the renderer's next
+   pass sets its own state again).
 
    Per pass: every stage of the program is set up on its unit (bind_pass);
    the prime-Z pass enables only the stages its alpha depends on (the
@@ -48,6 +55,22 @@
 #include "image.h"
 #include "vecmath.h"
 
+/* What one sub-pass's light needs per vertex: sub-pass 0 the key light,
+   the others the program's add_lights. */
+typedef struct light_slot {
+    int light;                                /* index into the frame's lights */
+    float *coords;                            /* 3 per vertex: CPU LUT texcoords (NULL until needed) */
+    float *colors;                            /* 4 per vertex: primary colour */
+    bool colors_valid;                        /* colors hold color_key's light */
+    float color_key[4];                       /* lit (0/1), light colour rgb */
+    bool coords_valid;                        /* coords hold coords_key's eye and light */
+    float coords_key[8];                      /* eye, light vector, lit (0/1), point (0/1) */
+    GLuint coord_buffer, color_buffer;        /* where the device reads them (VBOs, when it has them) */
+    float matrix[16];                         /* "texture-matrix": this frame's */
+    bool frame_matrix;                        /* this frame's matrix is valid */
+    bool lit;                                 /* the frame has this light */
+} light_slot;
+
 typedef struct fixed_state {
     const ht_gl *gl;
     const ht_caps *caps;
@@ -56,19 +79,14 @@ typedef struct fixed_state {
     int prime_first;                          /* first stage the prime-Z pass enables */
     int lut_unit;                             /* the unit of the stage reading the LUT */
     bool matrix_rule;                         /* the program's LUT coords are "texture-matrix" */
-    bool frame_matrix;                        /* this frame loaded the texture matrix */
+    bool matrix_loaded;                       /* the LUT unit's texture matrix is not identity */
     bool point_light_logged;
     ht_vertex *vertices;                      /* copy of the mesh's, for coords, tangents and uv */
     uint32_t vertex_count;
-    float *coords;                            /* 3 per vertex: CPU LUT texcoords (NULL until needed) */
-    float *colors;                            /* 4 per vertex: primary colour */
-    bool colors_valid;                        /* colors hold color_key's light */
-    float color_key[4];                       /* lit (0/1), light colour rgb */
+    light_slot slots[HT_MAX_LIGHTS];          /* per sub-pass */
+    int slot_count;
     ht_fixed_soa soa;                         /* "cpu-dots": the static part, float, per mesh */
-    bool coords_valid;                        /* coords hold coords_key's eye and light */
-    float coords_key[8];                      /* eye, light vector, lit (0/1), point (0/1) */
     GLuint vertex_buffer;                     /* vertices' copy: tangents and uv (VBO, when it has them) */
-    GLuint coord_buffer, color_buffer;        /* where the device reads them (VBOs, when it has them) */
     uint64_t cpu_vertices;                    /* per-vertex CPU work so far */
     ht_log_fn log;
     void *log_user;
@@ -111,12 +129,15 @@ static void destroy(void *state) {
     for (int i = 0; i < HT_COMBINER_MAX_STAGES; i++)
         if (s->textures[i]) s->gl->DeleteTextures(1, &s->textures[i]);
     free(s->vertices);
-    free(s->coords);
-    free(s->colors);
+    for (int k = 0; k < s->slot_count; k++) {
+        light_slot *slot = &s->slots[k];
+        free(slot->coords);
+        free(slot->colors);
+        if (slot->coord_buffer) s->gl->DeleteBuffers(1, &slot->coord_buffer);
+        if (slot->color_buffer) s->gl->DeleteBuffers(1, &slot->color_buffer);
+    }
     ht_fixed_soa_free(&s->soa);
     if (s->vertex_buffer) s->gl->DeleteBuffers(1, &s->vertex_buffer);
-    if (s->coord_buffer) s->gl->DeleteBuffers(1, &s->coord_buffer);
-    if (s->color_buffer) s->gl->DeleteBuffers(1, &s->color_buffer);
     free(s);
 }
 
@@ -158,12 +179,14 @@ static ht_result check_device(const fixed_state *s, const ht_tier_context *ctx, 
         snprintf(err, err_size, "needs GL_ARB_multitexture for %d stages", p->stage_count);
         return HT_ERR_UNSUPPORTED;
     }
-    /* The primary colour's light must be one the bundle plans (defect F):
-       a light beyond them is never set, and the hair would draw unlit. */
-    if (p->light >= ctx->bundle->light_count) {
-        snprintf(err, err_size, "%s: primary_color: light %d, the bundle has %d light%s (%s/manifest.json: lights)",
-                 path, p->light, ctx->bundle->light_count, ctx->bundle->light_count == 1 ? "" : "s",
-                 ctx->bundle->dir);
+    /* Every light the program draws must be one the bundle plans (defect
+       F): a light beyond them is never set, and the hair would draw unlit. */
+    for (int sub = 0; sub < ht_combiner_sub_passes(p); sub++) {
+        const int light = ht_combiner_sub_pass_light(p, sub);
+        if (light < ctx->bundle->light_count) continue;
+        snprintf(err, err_size, "%s: %s: light %d, the bundle has %d light%s (%s/manifest.json: lights)", path,
+                 sub == 0 ? "primary_color" : "add_lights", light, ctx->bundle->light_count,
+                 ctx->bundle->light_count == 1 ? "" : "s", ctx->bundle->dir);
         return HT_ERR_PARSE;
     }
     const int *n = p->lut_size;
@@ -255,6 +278,8 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
         destroy(s);
         return r;
     }
+    s->slot_count = ht_combiner_sub_passes(&s->program);
+    for (int k = 0; k < s->slot_count; k++) s->slots[k].light = ht_combiner_sub_pass_light(&s->program, k);
     s->prime_first = prime_first_stage(&s->program);
     s->matrix_rule = ht_combiner_lut_coords(&s->program) == HT_COORDS_TEXTURE_MATRIX;
     for (int i = 0; i < s->program.stage_count; i++)
@@ -263,8 +288,10 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
     char prime[48] = "no stage";
     if (s->prime_first < s->program.stage_count)
         snprintf(prime, sizeof prime, "stages %d..%d", s->prime_first, s->program.stage_count - 1);
-    ht_log_linef(s->log, s->log_user, "hairtier: fixed: %d combiner stages, LUT %dx%dx%d scale %d, prime Z uses "
-                 "%s, coordinates %s", s->program.stage_count, n[0], n[1], n[2], s->program.lut_scale, prime,
+    ht_log_linef(s->log, s->log_user, "hairtier: fixed: %d combiner stages, LUT %dx%dx%d scale %d light scale %g, "
+                 "%d light%s (%d additive sub-pass%s), prime Z uses %s, coordinates %s", s->program.stage_count, n[0],
+                 n[1], n[2], s->program.lut_scale, s->program.light_scale, s->slot_count, s->slot_count == 1 ? "" : "s",
+                 s->slot_count - 1, s->slot_count == 2 ? "" : "es", prime,
                  s->matrix_rule ? "by the texture matrix (infinite viewer)" : "on the CPU per vertex");
     *out = s;
     return HT_OK;
@@ -305,50 +332,61 @@ static GLenum upload(fixed_state *s, GLuint *buffer, const void *data, size_t by
     return e;
 }
 
+/* Until the first frame: unlit, inside the LUT. */
+static void unlit(float *coords, float *colors, size_t n) {
+    for (size_t i = 0; coords && i < 3 * n; i++) coords[i] = 0.5f;
+    for (size_t i = 0; i < 4 * n; i++) colors[i] = (i % 4 == 3) ? 1.0f : 0.0f;
+}
+
 static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     fixed_state *s = state;
     size_t n = mesh->vertex_count;
     ht_vertex *v = malloc(n ? n * sizeof *v : 1);
-    float *coords = s->matrix_rule ? NULL : malloc(n ? n * 3 * sizeof *coords : 1);
-    float *colors = malloc(n ? n * 4 * sizeof *colors : 1);
-    if (!v || (!s->matrix_rule && !coords) || !colors) {
-        free(v);
-        free(coords);
-        free(colors);
-        return HT_ERR_OUT_OF_MEMORY;
+    float *coords[HT_MAX_LIGHTS] = { NULL }, *colors[HT_MAX_LIGHTS] = { NULL };
+    bool ok = v != NULL;
+    for (int k = 0; ok && k < s->slot_count; k++) {
+        coords[k] = s->matrix_rule ? NULL : malloc(n ? n * 3 * sizeof(float) : 1);
+        colors[k] = malloc(n ? n * 4 * sizeof(float) : 1);
+        ok = (s->matrix_rule || coords[k]) && colors[k];
     }
-    if (n) memcpy(v, mesh->vertices, n * sizeof *v);
-    if (s->matrix_rule) normalize_tangents(v, n);
     ht_fixed_soa soa = { 0 };
-    if (!s->matrix_rule && ht_fixed_soa_make(&s->program, mesh->vertices, n, &soa) != HT_OK) {
+    if (ok && n) memcpy(v, mesh->vertices, n * sizeof *v);
+    if (ok && s->matrix_rule) normalize_tangents(v, n);
+    if (ok && !s->matrix_rule) ok = ht_fixed_soa_make(&s->program, mesh->vertices, n, &soa) == HT_OK;
+    if (!ok) {
         free(v);
-        free(coords);
-        free(colors);
+        for (int k = 0; k < s->slot_count; k++) {
+            free(coords[k]);
+            free(colors[k]);
+        }
         return HT_ERR_OUT_OF_MEMORY;
     }
     ht_fixed_soa_free(&s->soa);
     s->soa = soa;
-    s->coords_valid = false;
     free(s->vertices);
-    free(s->coords);
-    free(s->colors);
     s->vertices = v;
-    s->coords = coords;
-    s->colors = colors;
-    s->colors_valid = false;
     s->vertex_count = mesh->vertex_count;
-    /* Until the first frame: unlit, inside the LUT. */
-    for (size_t i = 0; coords && i < 3 * n; i++) coords[i] = 0.5f;
-    for (size_t i = 0; i < 4 * n; i++) colors[i] = (i % 4 == 3) ? 1.0f : 0.0f;
+    for (int k = 0; k < s->slot_count; k++) {
+        light_slot *slot = &s->slots[k];
+        free(slot->coords);
+        free(slot->colors);
+        slot->coords = coords[k];
+        slot->colors = colors[k];
+        slot->coords_valid = slot->colors_valid = false;
+        unlit(coords[k], colors[k], n);
+    }
     /* On the device from here: the tangents and uv for good, the others
        until a frame changes them (every buffer the size of this mesh). */
     if (s->caps->has_vbo)
         while (s->gl->GetError() != GL_NO_ERROR) {}
     /* refused: the renderer drops the mesh with its one line (as fixed4) */
     GLenum e = upload(s, &s->vertex_buffer, v, n * sizeof *v, GL_STATIC_DRAW, NULL);
-    if (e == GL_NO_ERROR) e = upload(s, &s->color_buffer, colors, n * 4 * sizeof *colors, GL_DYNAMIC_DRAW, NULL);
-    if (e == GL_NO_ERROR && coords)
-        e = upload(s, &s->coord_buffer, coords, n * 3 * sizeof *coords, GL_DYNAMIC_DRAW, NULL);
+    for (int k = 0; e == GL_NO_ERROR && k < s->slot_count; k++) {
+        light_slot *slot = &s->slots[k];
+        e = upload(s, &slot->color_buffer, slot->colors, n * 4 * sizeof(float), GL_DYNAMIC_DRAW, NULL);
+        if (e == GL_NO_ERROR && slot->coords)
+            e = upload(s, &slot->coord_buffer, slot->coords, n * 3 * sizeof(float), GL_DYNAMIC_DRAW, NULL);
+    }
     if (e != GL_NO_ERROR) return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
     return HT_OK;
 }
@@ -370,72 +408,89 @@ static void load_texture_matrix(const fixed_state *s, int unit, const float *m) 
     gl->MatrixMode((GLenum)mode);
 }
 
-/* "cpu-dots": the LUT coordinates, only when the eye or the light moved
-   (float, structure of arrays: fixed_soa.h). */
-static void update_coords(fixed_state *s, const ht_tier_frame *f) {
-    const ht_light *light = s->program.light < f->light_count ? &f->lights[s->program.light] : NULL;
+static const ht_light *slot_light(const light_slot *slot, const ht_tier_frame *f) {
+    return slot->light < f->light_count ? &f->lights[slot->light] : NULL;
+}
+
+/* "cpu-dots": a slot's LUT coordinates, only when the eye or its light
+   moved (float, structure of arrays: fixed_soa.h). */
+static void update_coords(fixed_state *s, light_slot *slot, const ht_tier_frame *f) {
+    const ht_light *light = slot_light(slot, f);
     const float key[8] = { f->eye[0], f->eye[1], f->eye[2], light ? light->vector[0] : 0.0f,
                            light ? light->vector[1] : 0.0f, light ? light->vector[2] : 0.0f, light ? 1.0f : 0.0f,
                            light && light->type == HT_LIGHT_POINT ? 1.0f : 0.0f };
-    if (s->coords_valid && memcmp(key, s->coords_key, sizeof key) == 0) return;
-    ht_fixed_soa_coords(&s->program, &s->soa, light, f->eye, s->coords);
-    memcpy(s->coords_key, key, sizeof key);
-    s->coords_valid = true;
+    if (slot->coords_valid && memcmp(key, slot->coords_key, sizeof key) == 0) return;
+    ht_fixed_soa_coords(&s->program, &s->soa, light, f->eye, slot->coords);
+    memcpy(slot->coords_key, key, sizeof key);
+    slot->coords_valid = true;
     s->cpu_vertices += s->vertex_count;
-    upload(s, &s->coord_buffer, s->coords, (size_t)s->vertex_count * 3 * sizeof(float), GL_DYNAMIC_DRAW,
+    upload(s, &slot->coord_buffer, slot->coords, (size_t)s->vertex_count * 3 * sizeof(float), GL_DYNAMIC_DRAW,
            "client arrays instead");
 }
 
-/* Primary colours for the "texture-matrix" rule: per vertex, but only when
-   what they depend on (is the light there, its colour) changed. */
-static void update_colors(fixed_state *s, const ht_tier_frame *f) {
-    const ht_light *light = s->program.light < f->light_count ? &f->lights[s->program.light] : NULL;
+/* A slot's primary colours: per vertex, but only when what they depend on
+   (is the light there, its colour) changed. */
+static void update_colors(fixed_state *s, light_slot *slot, const ht_tier_frame *f) {
+    const ht_light *light = slot_light(slot, f);
     const float key[4] = { light ? 1.0f : 0.0f, light ? light->color[0] : 0.0f, light ? light->color[1] : 0.0f,
                            light ? light->color[2] : 0.0f };
-    if (s->colors_valid && memcmp(key, s->color_key, sizeof key) == 0) return;
+    if (slot->colors_valid && memcmp(key, slot->color_key, sizeof key) == 0) return;
     char err[256];
-    if (ht_fixed_coords_colors(&s->program, s->vertices, s->vertex_count, f->lights, f->light_count, s->colors, err,
-                               sizeof err) != HT_OK) {
+    if (ht_fixed_coords_colors_of(&s->program, slot->light, s->vertices, s->vertex_count, f->lights, f->light_count,
+                                  slot->colors, err, sizeof err) != HT_OK) {
         ht_log_linef(s->log, s->log_user, "hairtier: fixed: %s", err);
         return;
     }
-    memcpy(s->color_key, key, sizeof key);
-    s->colors_valid = true;
+    memcpy(slot->color_key, key, sizeof key);
+    slot->colors_valid = true;
     s->cpu_vertices += s->vertex_count;
-    upload(s, &s->color_buffer, s->colors, (size_t)s->vertex_count * 4 * sizeof(float), GL_DYNAMIC_DRAW,
+    upload(s, &slot->color_buffer, slot->colors, (size_t)s->vertex_count * 4 * sizeof(float), GL_DYNAMIC_DRAW,
            "client arrays instead");
+}
+
+/* The "texture-matrix" rule for one slot: its matrix, or (a point light)
+   CPU coordinates, made on first need. */
+static void begin_matrix_slot(fixed_state *s, light_slot *slot, const ht_tier_frame *f) {
+    char err[256];
+    /* the view matrix's third row is the unit direction from the target to the eye */
+    const float view_dir[3] = { f->view[2], f->view[6], f->view[10] };
+    ht_result r = ht_fixed_coords_texture_matrix_of(&s->program, slot->light, f->lights, f->light_count, view_dir,
+                                                    slot->matrix, err, sizeof err);
+    if (r == HT_OK) {
+        slot->frame_matrix = true;
+        update_colors(s, slot, f);
+        return;
+    }
+    if (!s->point_light_logged)
+        ht_log_linef(s->log, s->log_user, "hairtier: fixed: %s: CPU coordinates for such frames", err);
+    s->point_light_logged = true;
+    if (!slot->coords) slot->coords = malloc(s->vertex_count ? (size_t)s->vertex_count * 3 * sizeof(float) : 1);
+    if (!slot->coords ||
+        (!s->soa.px && ht_fixed_soa_make(&s->program, s->vertices, s->vertex_count, &s->soa) != HT_OK)) {
+        ht_log_linef(s->log, s->log_user, "hairtier: fixed: out of memory for CPU coordinates: light %d not drawn",
+                     slot->light + 1);
+        free(slot->coords);
+        slot->coords = NULL;
+        return;
+    }
+    update_colors(s, slot, f);
+    update_coords(s, slot, f);
 }
 
 static void begin_frame(void *state, const ht_tier_frame *f) {
     fixed_state *s = state;
-    char err[256];
-    s->frame_matrix = false;
     if (!s->vertices) return;
-    if (s->matrix_rule) {
-        /* the view matrix's third row is the unit direction from the target to the eye */
-        const float view_dir[3] = { f->view[2], f->view[6], f->view[10] };
-        float m[16];
-        ht_result r = ht_fixed_coords_texture_matrix(&s->program, f->lights, f->light_count, view_dir, m, err,
-                                                     sizeof err);
-        if (r == HT_OK) {
-            load_texture_matrix(s, s->lut_unit, m);
-            s->frame_matrix = true;
-            update_colors(s, f);
-            return;
-        }
-        if (!s->point_light_logged)
-            ht_log_linef(s->log, s->log_user, "hairtier: fixed: %s: CPU coordinates for such frames", err);
-        s->point_light_logged = true;
-        if (!s->coords) s->coords = malloc(s->vertex_count ? (size_t)s->vertex_count * 3 * sizeof *s->coords : 1);
-        if (!s->coords || (!s->soa.px && ht_fixed_soa_make(&s->program, s->vertices, s->vertex_count, &s->soa) != HT_OK)) {
-            ht_log_linef(s->log, s->log_user, "hairtier: fixed: out of memory for CPU coordinates: hair not drawn");
-            free(s->coords);
-            s->coords = NULL;
-            return;
+    for (int k = 0; k < s->slot_count; k++) {
+        light_slot *slot = &s->slots[k];
+        slot->frame_matrix = false;
+        slot->lit = slot->light < f->light_count;
+        if (s->matrix_rule) {
+            begin_matrix_slot(s, slot, f);
+        } else {
+            update_colors(s, slot, f);
+            update_coords(s, slot, f);
         }
     }
-    update_colors(s, f);
-    update_coords(s, f);
 }
 
 /* One stage's texture environment, exactly as the program states it. */
@@ -462,12 +517,30 @@ static void disable_targets(const fixed_state *s) {
     if (s->caps->has_3d_textures) s->gl->Disable(GL_TEXTURE_3D);
 }
 
+static int sub_passes(void *state, ht_pass pass) {
+    const fixed_state *s = state;
+    return pass == HT_PASS_PRIME_Z ? 1 : s->slot_count;
+}
+
+/* A light after the key's, added over the fragments sub-pass 0 drew
+   (combiner.h): the pass's own cull and alpha test, no depth or alpha
+   writes, depth EQUAL where the pass wrote depth or tests EQUAL already,
+   the pass's LESS in the back pass (which writes none, so both sub-passes
+   pass the same fragments). */
+static void additive_state(const ht_gl *gl, ht_pass pass) {
+    gl->Enable(GL_BLEND);
+    gl->BlendFunc(pass == HT_PASS_OPAQUE ? GL_ONE : GL_SRC_ALPHA, GL_ONE);
+    gl->DepthMask(GL_FALSE);
+    if (pass != HT_PASS_BACK) gl->DepthFunc(GL_EQUAL);
+    gl->ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
+}
+
 static void bind_pass(void *state, ht_pass pass, int sub_pass) {
-    (void)sub_pass;
     fixed_state *s = state;
     const ht_gl *gl = s->gl;
+    if (sub_pass > 0) additive_state(gl, pass);
     const int first = pass == HT_PASS_PRIME_Z ? s->prime_first : 0;
-    for (int i = 0; i < s->program.stage_count; i++) {
+    for (int i = 0; sub_pass == 0 && i < s->program.stage_count; i++) {
         const ht_combiner_stage *st = &s->program.stages[i];
         active_unit(s, st->unit);
         disable_targets(s);
@@ -476,6 +549,11 @@ static void bind_pass(void *state, ht_pass pass, int sub_pass) {
         gl->Enable(st->target);
         gl->TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
         apply_env(gl, st);
+    }
+    const light_slot *slot = sub_pass < s->slot_count ? &s->slots[sub_pass] : NULL;
+    if (slot && slot->frame_matrix) {
+        load_texture_matrix(s, s->lut_unit, slot->matrix);
+        s->matrix_loaded = true;
     }
     active_unit(s, 0);
 }
@@ -488,18 +566,21 @@ static const void *array_source(const ht_gl *gl, GLuint buffer, const void *clie
     return buffer ? (const void *)(uintptr_t)offset : (const void *)((const char *)client + offset);
 }
 
-/* Points each stage's texture coordinates and the colour array at this
-   backend's buffers; the renderer then draws its own index range and gets
-   its array buffer binding back. */
+/* Points each stage's texture coordinates and the colour array at the
+   sub-pass's light's buffers; the renderer then draws its own index range
+   and gets its array buffer binding back. */
 static bool point_stage_arrays(void *state, ht_pass pass, int sub_pass) {
     (void)pass;
-    (void)sub_pass;
     fixed_state *s = state;
     const ht_gl *gl = s->gl;
     if (!s->vertices) return true; /* no mesh of its own: the renderer's arrays */
+    if (sub_pass < 0 || sub_pass >= s->slot_count) return false;
+    const light_slot *slot = &s->slots[sub_pass];
+    /* a light the frame does not have adds nothing: no draw */
+    if (sub_pass > 0 && !slot->lit) return false;
     /* a point-light frame of a texture-matrix program without memory for its
        coordinates (logged in begin_frame): draw nothing rather than garbage */
-    if (!s->frame_matrix && !s->coords) return false;
+    if (!slot->frame_matrix && !slot->coords) return false;
     GLint bound = 0;
     if (gl->BindBuffer) gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
     const GLsizei stride = (GLsizei)sizeof(ht_vertex);
@@ -507,18 +588,18 @@ static bool point_stage_arrays(void *state, ht_pass pass, int sub_pass) {
         const ht_combiner_stage *st = &s->program.stages[i];
         if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)st->unit);
         gl->EnableClientState(GL_TEXTURE_COORD_ARRAY);
-        if (st->coords == HT_COORDS_TEXTURE_MATRIX && s->frame_matrix)
+        if (st->coords == HT_COORDS_TEXTURE_MATRIX && slot->frame_matrix)
             gl->TexCoordPointer(3, GL_FLOAT, stride,
                                 array_source(gl, s->vertex_buffer, s->vertices, offsetof(ht_vertex, tangent)));
         else if (st->coords != HT_COORDS_UV)
-            gl->TexCoordPointer(3, GL_FLOAT, 0, array_source(gl, s->coord_buffer, s->coords, 0));
+            gl->TexCoordPointer(3, GL_FLOAT, 0, array_source(gl, slot->coord_buffer, slot->coords, 0));
         else
             gl->TexCoordPointer(2, GL_FLOAT, stride,
                                 array_source(gl, s->vertex_buffer, s->vertices, offsetof(ht_vertex, uv)));
     }
     if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0);
     gl->EnableClientState(GL_COLOR_ARRAY);
-    gl->ColorPointer(4, GL_FLOAT, 0, array_source(gl, s->color_buffer, s->colors, 0));
+    gl->ColorPointer(4, GL_FLOAT, 0, array_source(gl, slot->color_buffer, slot->colors, 0));
     if (gl->BindBuffer) gl->BindBuffer(GL_ARRAY_BUFFER, (GLuint)bound);
     return true;
 }
@@ -538,8 +619,9 @@ static void end_frame(void *state) {
         if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)st->unit);
         gl->DisableClientState(GL_TEXTURE_COORD_ARRAY);
     }
-    if (s->frame_matrix) load_texture_matrix(s, s->lut_unit, NULL);
-    s->frame_matrix = false;
+    if (s->matrix_loaded) load_texture_matrix(s, s->lut_unit, NULL);
+    s->matrix_loaded = false;
+    for (int k = 0; k < s->slot_count; k++) s->slots[k].frame_matrix = false;
     active_unit(s, 0);
     if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0);
     gl->DisableClientState(GL_COLOR_ARRAY);
@@ -554,6 +636,7 @@ const ht_tier_backend ht_tier_fixed_backend = {
     .create = create,
     .set_mesh = set_mesh,
     .begin_frame = begin_frame,
+    .sub_passes = sub_passes,
     .bind_pass = bind_pass,
     .set_arrays = point_stage_arrays,
     .end_frame = end_frame,

@@ -280,19 +280,19 @@ static void load_texture_matrix(const fixed4_state *s, int unit, const float *m)
     gl->MatrixMode(GL_MODELVIEW);
 }
 
-/* GL lighting for Scheuermann's wrapped diffuse, per light l:
-       primary = sum_l kd lc_l (wrap + (1 - wrap) max(N.L_l, 0)) / scale
-   (ambient + diffuse terms), alpha = the colour array's ao. With one light a
-   second GL light along -L with the negated diffuse makes the sum exactly
-   kd lc (wrap + (1 - wrap) N.L), which the primary colour's clamp at 0
-   turns into the model's saturate(); with two, a light behind the strand
-   keeps up to wrap kd lc where the model falls to 0 (measured in the
-   README). */
+/* GL lighting for Scheuermann's wrapped diffuse, per light l along L_l
+   (ambient + diffuse) and, when back[l] > 0, a second GL light along -L_l
+   with a negative diffuse (ht_fixed4_back_slopes says which slope and why):
+       primary = sum_l kd lc_l (wrap + (1 - wrap) max(N.L_l, 0)
+                                - back_l max(-N.L_l, 0)) / scale
+   clamped to [0, 1] by GL, alpha = the colour array's ao. */
 static void set_lighting(const fixed4_state *s) {
     const ht_gl *gl = s->gl;
     const ht_fixed4_program *p = &s->program;
     const double w = p->shading.wrap, inv = 1.0 / (double)s->scale;
     static const float zero[4] = { 0, 0, 0, 1 }, one[4] = { 1, 1, 1, 1 };
+    double back[HT_FIXED4_MAX_LIGHTS];
+    ht_fixed4_back_slopes(p, (const float(*)[3])s->light_colors, back);
     gl->MatrixMode(GL_MODELVIEW);
     gl->LoadIdentity(); /* positions given in eye space below */
     int gl_light = 0;
@@ -307,7 +307,7 @@ static void set_lighting(const fixed4_state *s) {
             double kl = p->shading.diffuse_color[i] * (double)s->light_colors[l][i] * inv;
             ambient[i] = (float)(w * kl);
             diffuse[i] = (float)((1.0 - w) * kl);
-            negative[i] = -diffuse[i];
+            negative[i] = (float)(-back[l] * kl);
         }
         const float pos[4] = { (float)eye[0], (float)eye[1], (float)eye[2], 0.0f };
         GLenum id = GL_LIGHT0 + (GLenum)gl_light++;
@@ -316,7 +316,7 @@ static void set_lighting(const fixed4_state *s) {
         gl->Lightfv(id, GL_DIFFUSE, diffuse);
         gl->Lightfv(id, GL_SPECULAR, zero);
         gl->Lightfv(id, GL_POSITION, pos);
-        if (p->lights == 1) {
+        if (back[l] > 0.0) {
             const float back[4] = { -pos[0], -pos[1], -pos[2], 0.0f };
             id = GL_LIGHT0 + (GLenum)gl_light++;
             gl->Enable(id);

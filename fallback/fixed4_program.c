@@ -145,6 +145,27 @@ int ht_fixed4_scale_lights(const ht_fixed4_program *p, const float light_colors[
     return worst <= 1.0 ? 1 : (worst <= 2.0 ? 2 : 4);
 }
 
+void ht_fixed4_back_slopes(const ht_fixed4_program *p, const float light_colors[][3],
+                           double back[HT_FIXED4_MAX_LIGHTS]) {
+    const double w = p->shading.wrap;
+    const double chord = fmin(w, 1.0 - w);
+    int brightest = 0;
+    double best = -1.0;
+    for (int l = 0; l < p->lights && l < HT_FIXED4_MAX_LIGHTS; l++) {
+        double sum = 0.0;
+        for (int ch = 0; ch < 3; ch++)
+            sum += p->shading.diffuse_color[ch] * (light_colors ? fmax(0.0, (double)light_colors[l][ch]) : 0.0);
+        if (sum > best) {
+            best = sum;
+            brightest = l;
+        }
+    }
+    /* with wrap 0 or at least 1/2 the chord is the model's own diffuse */
+    const bool chord_exact = w <= 0.0 || w >= 0.5;
+    for (int l = 0; l < HT_FIXED4_MAX_LIGHTS; l++)
+        back[l] = !chord_exact && l < p->lights && l == brightest ? 1.0 - w : chord;
+}
+
 static uint8_t texel(double v) {
     if (!(v > 0.0)) return 0;
     if (v >= 1.0) return 255;

@@ -92,6 +92,25 @@ int ht_fixed4_scale(const ht_fixed4_program *p, const float light_colors[][3]);
    the program's into its primary colour, which the scale also divides). */
 int ht_fixed4_scale_lights(const ht_fixed4_program *p, const float light_colors[][3], int light_count);
 
+/* The slope of each light's diffuse behind the strand in GL lighting
+   (fixed4.c): GL sums, per light, kd lc (wrap + (1 - wrap) max(N.L, 0)
+   - back[l] max(-N.L, 0)) and clamps the sum once, where the model clamps
+   each light's wrap + (1 - wrap) N.L at 0 before summing. back is
+   1 - wrap (exact: the model's line) or min(wrap, 1 - wrap) (the chord
+   from the model's value at N.L = -1 to its value at 0: never negative,
+   so it takes nothing from another light, and at most
+   wrap (1 - 2 wrap) / (1 - wrap) kd lc too bright, at the model's kink).
+   The chord is the model itself when wrap is 0 or at least 1/2, and is
+   taken for every light then. Otherwise one light alone takes the line,
+   exact under the sum's clamp, and with two the brighter
+   one (kd . lc summed over channels) is exact and the other takes the
+   chord: measured on the shipped scenes it beats the chord for both
+   (blond x backlit, key of colour 2 from behind: 33.3 against 31.3 dB)
+   and the line for both (which lets the key's negative part darken the
+   fill: 31.96 against 32.09 on blond x patches). */
+void ht_fixed4_back_slopes(const ht_fixed4_program *p, const float light_colors[][3],
+                           double back[HT_FIXED4_MAX_LIGHTS]);
+
 /* Bakes LUT k for the light colours and scale into out (RGB8, allocated). */
 ht_result ht_fixed4_bake_lut(const ht_fixed4_program *p, int k, const float light_colors[][3], int scale,
                              ht_image *out);

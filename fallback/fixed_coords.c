@@ -19,11 +19,12 @@ static double shifted_dot(const double T[3], const double N[3], double shift, co
     return ht_clamp_unit(ht_vec3_dot(t, H));
 }
 
-static const ht_light *program_light(const ht_combiner_program *p, const ht_light *lights, int light_count) {
-    return p->light < light_count ? &lights[p->light] : NULL;
+static const ht_light *nth_light(int index, const ht_light *lights, int light_count) {
+    return index >= 0 && index < light_count ? &lights[index] : NULL;
 }
 
-/* The primary colour of one vertex: clamp(light.color * ao), alpha 1. */
+/* The primary colour of one vertex: clamp(light.color * ao / light_scale),
+   alpha 1. */
 static void vertex_color(const ht_combiner_program *p, const ht_vertex *v, const double color[3], bool black,
                          float out[4]) {
     double ao = p->ao ? ht_clamp01((double)v->ao) : 1.0;
@@ -31,19 +32,29 @@ static void vertex_color(const ht_combiner_program *p, const ht_vertex *v, const
     out[3] = 1.0f;
 }
 
-static void light_color(const ht_light *light, double color[3]) {
-    for (int i = 0; i < 3; i++) color[i] = light && isfinite(light->color[i]) ? (double)light->color[i] : 0.0;
+/* The light's colour over the program's light scale (0 without a light). */
+static void light_color(const ht_combiner_program *p, const ht_light *light, double color[3]) {
+    const double scale = p->light_scale >= 1.0 ? p->light_scale : 1.0;
+    for (int i = 0; i < 3; i++)
+        color[i] = light && isfinite(light->color[i]) ? (double)light->color[i] / scale : 0.0;
 }
 
 ht_result ht_fixed_coords_colors(const ht_combiner_program *p, const ht_vertex *vertices, size_t count,
                                  const ht_light *lights, int light_count, float *colors,
                                  char *err, size_t err_size) {
+    return ht_fixed_coords_colors_of(p, p ? p->light : 0, vertices, count, lights, light_count, colors, err,
+                                     err_size);
+}
+
+ht_result ht_fixed_coords_colors_of(const ht_combiner_program *p, int light, const ht_vertex *vertices,
+                                    size_t count, const ht_light *lights, int light_count, float *colors,
+                                    char *err, size_t err_size) {
     if (!p || (count > 0 && (!vertices || !colors)) || (light_count > 0 && !lights)) {
         snprintf(err, err_size, "fixed_coords: NULL argument");
         return HT_ERR_INVALID_ARGUMENT;
     }
     double color[3];
-    light_color(program_light(p, lights, light_count), color);
+    light_color(p, nth_light(light, lights, light_count), color);
     const bool matrix = ht_combiner_lut_coords(p) == HT_COORDS_TEXTURE_MATRIX;
     for (size_t vi = 0; vi < count; vi++) {
         double T[3], unit[3];
@@ -67,6 +78,13 @@ static void matrix_row(float m[16], int row, int size, const double dir[3], bool
 ht_result ht_fixed_coords_texture_matrix(const ht_combiner_program *p, const ht_light *lights,
                                          int light_count, const float view_dir[3], float m[16],
                                          char *err, size_t err_size) {
+    return ht_fixed_coords_texture_matrix_of(p, p ? p->light : 0, lights, light_count, view_dir, m, err,
+                                             err_size);
+}
+
+ht_result ht_fixed_coords_texture_matrix_of(const ht_combiner_program *p, int light_index,
+                                            const ht_light *lights, int light_count, const float view_dir[3],
+                                            float m[16], char *err, size_t err_size) {
     if (m) {
         memset(m, 0, 16 * sizeof *m);
         m[0] = m[5] = m[10] = m[15] = 1.0f;
@@ -79,10 +97,10 @@ ht_result ht_fixed_coords_texture_matrix(const ht_combiner_program *p, const ht_
         snprintf(err, err_size, "fixed_coords: the program's LUT stage is not texture-matrix");
         return HT_ERR_INVALID_ARGUMENT;
     }
-    const ht_light *light = program_light(p, lights, light_count);
+    const ht_light *light = nth_light(light_index, lights, light_count);
     if (light && light->type == HT_LIGHT_POINT) {
         snprintf(err, err_size, "fixed_coords: light %d is a point light: its L varies per vertex, the "
-                 "texture matrix needs a directional one", p->light);
+                 "texture matrix needs a directional one", light_index);
         return HT_ERR_UNSUPPORTED;
     }
     double raw[3] = { 0, 0, 0 }, L[3], V[3], H[3];
@@ -109,7 +127,7 @@ ht_result ht_fixed_coords_compute(const ht_combiner_program *p, const ht_vertex 
         snprintf(err, err_size, "fixed_coords: NULL argument");
         return HT_ERR_INVALID_ARGUMENT;
     }
-    const ht_light *light = program_light(p, lights, light_count);
+    const ht_light *light = nth_light(p->light, lights, light_count);
     double eye_d[3], light_v[3] = { 0, 0, 0 };
     ht_vec3_from_float(eye_d, eye);
     if (light) ht_vec3_from_float(light_v, light->vector);

@@ -9,10 +9,11 @@
        Kajiya-Kay:  (T.L, T.H, -)
        H = normalize(L + V), V = eye - position, L = light vector
            (directional: towards the light; point: position - vertex)
-       primary = (clamp(light.color * ao, 0, 1), 1)
+       primary = (clamp(light.color * ao / light_scale, 0, 1), 1)
 
    Each dot product goes through ht_combiner_lut_coord (combiner.h). Only the
-   program's light is lit; the shift texture's jitter and the sparkle mask
+   program's key light is lit (an additive sub-pass's light: the _of
+   functions, and ht_fixed_soa_coords for its coordinates); the shift texture's jitter and the sparkle mask
    are not available per vertex and are dropped (the emitter lists them).
    Where the model has no direction (model.c: a vector shorter than
    sqrt(HT_MODEL_MIN_LENGTH2)) the coordinate is one where the LUT holds the
@@ -64,6 +65,12 @@ ht_result ht_fixed_coords_colors(const ht_combiner_program *p, const ht_vertex *
                                  const ht_light *lights, int light_count, float *colors,
                                  char *err, size_t err_size);
 
+/* The same for light `light` of lights (an additive sub-pass's, combiner.h);
+   no such light: black. */
+ht_result ht_fixed_coords_colors_of(const ht_combiner_program *p, int light, const ht_vertex *vertices,
+                                    size_t count, const ht_light *lights, int light_count, float *colors,
+                                    char *err, size_t err_size);
+
 /* The "texture-matrix" rule's GL_TEXTURE matrix for unit 0, column-major
    (glLoadMatrixf), for the program's light and the infinite viewer
    view_dir (any length; no direction means V = 0, H = L). Rows as in
@@ -75,5 +82,9 @@ ht_result ht_fixed_coords_colors(const ht_combiner_program *p, const ht_vertex *
 ht_result ht_fixed_coords_texture_matrix(const ht_combiner_program *p, const ht_light *lights,
                                          int light_count, const float view_dir[3], float m[16],
                                          char *err, size_t err_size);
+/* The same for light `light` of lights (an additive sub-pass's). */
+ht_result ht_fixed_coords_texture_matrix_of(const ht_combiner_program *p, int light, const ht_light *lights,
+                                            int light_count, const float view_dir[3], float m[16],
+                                            char *err, size_t err_size);
 
 #endif

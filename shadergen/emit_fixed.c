@@ -49,6 +49,9 @@
 #define MAX_AXIS 256
 #define DIFFUSE_AXIS 32
 #define KAJIYA_KAY_DIFFUSE_AXIS 256
+/* 4/255: the fixed tier's error against the model on the probe
+   (tests/test_render_fixed.c, measured max 4/255). */
+#define FILL_MIN_CONTRIBUTION (4.0 / 255.0)
 
 static bool is_black(const double c[3]) { return c[0] <= 0.0 && c[1] <= 0.0 && c[2] <= 0.0; }
 
@@ -120,8 +123,38 @@ static void choose_sizes(const ht_shading *s, const char *const axis_names[3],
     }
 }
 
-static int choose_scale(const ht_shading *s, ht_tier_output *out) {
-    double most = ht_model_dot_terms_max(s);
+/* Which lights after the key get an additive sub-pass (combiner.h), each
+   costing the lit passes' geometry again: every light that can add more
+   than the LUT's own error to a pixel (FILL_MIN_CONTRIBUTION: its
+   brightest channel x the LUT's largest value), under "cpu-dots" only.
+   The texture-matrix rule's infinite viewer misplaces a second light's
+   highlight by as much as the light adds (measured on Kajiya-Kay x
+   ratboy: 33.9 dB with the sub-pass, 35.3 without), so it keeps the key
+   light alone. Measured gains on the sweep (README): 0 to 8.3 dB. */
+static void choose_add_lights(const ht_plan *plan, const ht_shading *s, ht_combiner_coords coords,
+                              ht_combiner_program *p) {
+    if (coords != HT_COORDS_CPU_DOTS) return;
+    const double lut_most = ht_model_dot_terms_max(s);
+    for (int l = 1; l < plan->light_count && p->add_light_count < HT_MAX_LIGHTS - 1; l++) {
+        double most = 0.0;
+        for (int c = 0; c < 3; c++) most = fmax(most, plan->light_colors[l][c]);
+        if (most * lut_most >= FILL_MIN_CONTRIBUTION) p->add_lights[p->add_light_count++] = l;
+    }
+}
+
+/* The light colour the LUT carries: the brightest channel of the lights
+   drawn, at least 1 (combiner.h). */
+static double choose_light_scale(const ht_plan *plan, const ht_combiner_program *p) {
+    double most = 1.0;
+    for (int sub = 0; sub < ht_combiner_sub_passes(p); sub++) {
+        int l = ht_combiner_sub_pass_light(p, sub);
+        for (int c = 0; c < 3 && l < plan->light_count; c++) most = fmax(most, plan->light_colors[l][c]);
+    }
+    return most > 4.0 ? 4.0 : most;
+}
+
+static int choose_scale(const ht_shading *s, double light_scale, ht_tier_output *out) {
+    double most = ht_model_dot_terms_max(s) * light_scale;
     if (most <= 1.0) return 1;
     if (most <= 2.0) return 2;
     if (most > 4.0)
@@ -172,8 +205,8 @@ static ht_result bake_lut(const ht_shading *s, const ht_combiner_program *p, ht_
         return HT_ERR_OUT_OF_MEMORY;
     }
     /* lut_scale is 1, 2 or 4: dividing by it is exact, as multiplying by
-       its inverse is. */
-    const double inverse_scale = 1.0 / p->lut_scale;
+       its inverse is (light_scale 1 keeps the bytes of dot_terms / scale). */
+    const double inverse_scale = p->light_scale / p->lut_scale;
     uint8_t *px = img->pixels;
     for (int z = 0; z < n[2]; z++)
         for (int y = 0; y < n[1]; y++) {
@@ -235,19 +268,32 @@ static void add_albedo_sampler(ht_tier_output *out, const ht_plan *plan) {
     t->unit = 1;
 }
 
-static void list_dropped(const ht_plan *plan, ht_combiner_coords coords, ht_tier_output *out) {
+static bool drawn(const ht_combiner_program *p, int light) {
+    for (int sub = 0; sub < ht_combiner_sub_passes(p); sub++)
+        if (ht_combiner_sub_pass_light(p, sub) == light) return true;
+    return false;
+}
+
+static void list_dropped(const ht_plan *plan, const ht_combiner_program *p, ht_combiner_coords coords,
+                         ht_tier_output *out) {
     if (plan->shift)
         ht_output_add_dropped(out, "shift: jitter dropped, the LUT holds the constant shifts only "
                                    "(shift texture read as 0.5)");
     if (plan->sparkle)
         note_dropped(out, "sparkle: approximated by its mean %.3f scaling the secondary highlight: "
                           "no texture unit left to read the mask", plan->sparkle_mean);
-    if (plan->light_count == 2)
-        ht_output_add_dropped(out, "light 2: dropped, only light 1 (the key light) is lit: one LUT lookup per pixel");
-    else if (plan->light_count > 2)
-        note_dropped(out, "lights 2..%d: dropped, only light 1 (the key light) is lit: one LUT "
-                          "lookup per pixel", plan->light_count);
-    ht_output_add_dropped(out, "light colour: clamped to 1 per channel (it is the primary colour)");
+    for (int l = 1; l < plan->light_count; l++)
+        if (!drawn(p, l))
+            note_dropped(out, "light %d: dropped: %s", l + 1,
+                         coords == HT_COORDS_TEXTURE_MATRIX
+                             ? "the texture matrix's infinite viewer would misplace its highlight"
+                             : "it adds under 4/255 to any pixel (an additive sub-pass costs the lit "
+                               "passes' geometry again)");
+    if (p->add_light_count > 0)
+        ht_output_add_dropped(out, "lights after the key: additive sub-passes, exact but where transparent "
+                                   "layers overlap (a deeper layer's light: not attenuated, back; not added, front)");
+    note_dropped(out, "light colour: channels above %g clamp (the LUT carries the brightest drawn; the primary "
+                      "colour is light colour / %g)", p->light_scale, p->light_scale);
     if (coords == HT_COORDS_TEXTURE_MATRIX) {
         ht_output_add_dropped(out, "infinite viewer for H: V is the camera's view direction, constant per "
                                    "frame (the texture matrix cannot form eye - position per vertex)");
@@ -263,18 +309,20 @@ static void list_dropped(const ht_plan *plan, ht_combiner_coords coords, ht_tier
 
 static void list_features(const ht_plan *plan, const ht_combiner_program *p, ht_combiner_coords coords,
                           ht_tier_output *out) {
-    char line[64];
+    char line[80];
     ht_output_add_feature(out, plan->shading.model == HT_MODEL_KAJIYA_KAY ? "kajiya-kay" : "scheuermann");
-    if (plan->light_count > 0) {
-        snprintf(line, sizeof line, "1 %s light",
-                 plan->light_types[0] == HT_LIGHT_POINT ? "point" : "directional");
+    for (int sub = 0; sub < ht_combiner_sub_passes(p) && plan->light_count > 0; sub++) {
+        const int l = ht_combiner_sub_pass_light(p, sub);
+        snprintf(line, sizeof line, "light %d %s%s", l + 1,
+                 plan->light_types[l] == HT_LIGHT_POINT ? "point" : "directional",
+                 sub == 0 ? "" : ", additive sub-pass");
         ht_output_add_feature(out, line);
     }
     if (plan->base) ht_output_add_feature(out, "base");
     if (plan->alpha) ht_output_add_feature(out, "alpha");
     if (plan->ao) ht_output_add_feature(out, "ao");
-    snprintf(line, sizeof line, "lut %dx%dx%d rgb8 scale %d", p->lut_size[0], p->lut_size[1],
-             p->lut_size[2], p->lut_scale);
+    snprintf(line, sizeof line, "lut %dx%dx%d rgb8 scale %d, light scale %g", p->lut_size[0], p->lut_size[1],
+             p->lut_size[2], p->lut_scale, p->light_scale);
     ht_output_add_feature(out, line);
     ht_output_add_feature(out, coords == HT_COORDS_TEXTURE_MATRIX ? "coords texture-matrix" : "coords cpu-dots");
 }
@@ -301,9 +349,11 @@ ht_result ht_emit_fixed(const ht_plan *plan, ht_tier_output *out, char *err, siz
     }
     snprintf(p.lut_texture, sizeof p.lut_texture, "%s", LUT_NAME);
     const ht_combiner_coords coords = coords_rule(plan, shading.model);
-    list_dropped(plan, coords, out);
+    choose_add_lights(plan, &shading, coords, &p);
+    p.light_scale = choose_light_scale(plan, &p);
+    list_dropped(plan, &p, coords, out);
     choose_sizes(&shading, axis_names, out, p.lut_size);
-    p.lut_scale = choose_scale(&shading, out);
+    p.lut_scale = choose_scale(&shading, p.light_scale, out);
 
     const bool albedo = plan->base || plan->alpha;
     p.stage_count = albedo ? 2 : 1;
@@ -333,10 +383,11 @@ ht_result ht_emit_fixed(const ht_plan *plan, ht_tier_output *out, char *err, siz
         snprintf(img->file, sizeof img->file, "%s.png", LUT_NAME);
         img->depth = p.lut_size[2];
         if (shading.model == HT_MODEL_KAJIYA_KAY)
-            snprintf(img->contents, sizeof img->contents, "rgb = dot_terms(T.L, T.H) / %d", p.lut_scale);
+            snprintf(img->contents, sizeof img->contents, "rgb = dot_terms(T.L, T.H) x %g / %d", p.light_scale,
+                     p.lut_scale);
         else
-            snprintf(img->contents, sizeof img->contents, "rgb = dot_terms(N.L, t1.H, t2.H) / %d, "
-                     "slices t2.H", p.lut_scale);
+            snprintf(img->contents, sizeof img->contents, "rgb = dot_terms(N.L, t1.H, t2.H) x %g / %d, "
+                     "slices t2.H", p.light_scale, p.lut_scale);
         r = bake_lut(&shading, &p, &img->image);
         if (r == HT_OK) out->image_count++;
         else snprintf(err, err_size, "%s.png: out of memory", LUT_NAME);

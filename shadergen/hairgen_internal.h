@@ -34,6 +34,7 @@ typedef struct ht_plan {
     ht_shading shading;
     int light_count;
     ht_light_type light_types[HT_MAX_LIGHTS];
+    double light_colors[HT_MAX_LIGHTS][3];  /* the scene's, [0,4] each */
     bool base, alpha, shift, sparkle, secondary, ao;  /* modelled features */
     double opaque_cutoff;
     /* Mean of the sparkle texture (1 until generate.c measures it): the

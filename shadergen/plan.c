@@ -70,7 +70,10 @@ void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out) {
     if (lights < 0) lights = 0;
     if (lights > HT_MAX_LIGHTS) lights = HT_MAX_LIGHTS;
     out->light_count = lights;
-    for (int i = 0; i < lights; i++) out->light_types[i] = scene->lights[i].type;
+    for (int i = 0; i < lights; i++) {
+        out->light_types[i] = scene->lights[i].type;
+        for (int c = 0; c < 3; c++) out->light_colors[i][c] = scene->lights[i].color[c];
+    }
 
     out->base = has(m, HT_TEX_BASE);
     out->alpha = has(m, HT_TEX_ALPHA);

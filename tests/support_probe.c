@@ -165,14 +165,18 @@ static void write_material(const ht_probe_material *p, const char *path) {
     fclose(f);
 }
 
-static void write_scene(const char *path, const char *light_type) {
+/* One light of the probe light's type and colour (the fixed tier's LUT
+   carries the scene's light colours above 1). */
+static void write_scene(const char *path, const ht_light *light) {
     FILE *f = fopen(path, "w");
     assert_non_null(f);
+    const bool point = light->type == HT_LIGHT_POINT;
     fprintf(f, "{ \"format\": \"hairtier-scene/1\", \"resolution\": [%d, %d],\n"
                "  \"camera\": {\"eye\": [0, 0, %g], \"target\": [0, 0, 0], \"fov_y\": %g},\n"
-               "  \"lights\": [{\"type\": \"%s\", \"%s\": [0, 0, 1]}],\n"
+               "  \"lights\": [{\"type\": \"%s\", \"%s\": [0, 0, 1], \"color\": [%.9g, %.9g, %.9g]}],\n"
                "  \"geometry\": {\"type\": \"furball\"} }\n",
-            SIZE, SIZE, EYE_Z, FOV_Y, light_type, strcmp(light_type, "point") == 0 ? "position" : "direction");
+            SIZE, SIZE, EYE_Z, FOV_Y, point ? "point" : "directional", point ? "position" : "direction",
+            (double)light->color[0], (double)light->color[1], (double)light->color[2]);
     fclose(f);
 }
 
@@ -190,7 +194,7 @@ void ht_probe_make_bundle_from_file(const char *work, const char *name, const ch
     char scene[256], err[2048];
     snprintf(scene, sizeof scene, "%s/scene-%s.json", work, type);
     snprintf(dir, dir_size, "%s/probe-%s-%s", work, name, type);
-    write_scene(scene, type);
+    write_scene(scene, light);
     if (ht_generate_bundle(material_path, scene, dir, NULL, err, sizeof err) != HT_OK)
         fail_msg("hairgen %s: %s", name, err);
     assert_int_equal(ht_material_load(material_path, material, err, sizeof err), HT_OK);

@@ -134,6 +134,9 @@ static void test_lut_texels_are_the_rounded_dot_terms_at_texel_centres(void **st
     for (size_t k = 0; k < sizeof materials / sizeof materials[0]; k++) {
         ht_plan plan;
         plan_for_material(materials[k], &plan);
+        /* the first under a light of colour 2 (its LUT carries it) */
+        if (k == 0)
+            for (int c = 0; c < 3; c++) plan.light_colors[0][c] = c == 0 ? 2.0 : 1.5;
         ht_tier_output out;
         ht_combiner_program p;
         emit(&plan, &out, &p);
@@ -143,7 +146,7 @@ static void test_lut_texels_are_the_rounded_dot_terms_at_texel_centres(void **st
         assert_int_equal(lut->image.height, n[1] * n[2]);
         assert_int_equal(lut->depth, n[2]);
         assert_int_equal(lut->image.channels, 3);
-        const double tol = 0.5 / 255.0 * p.lut_scale + 1e-9;
+        const double tol = 0.5 / 255.0 * p.lut_scale / p.light_scale + 1e-9;
         double worst = 0.0;
         long changed = 0;
         for (int z = 0; z < n[2]; z++)
@@ -155,20 +158,25 @@ static void test_lut_texels_are_the_rounded_dot_terms_at_texel_centres(void **st
                                          ht_combiner_lut_centre(z, n[2]), want);
                     const uint8_t *px = lut->image.pixels + 3 * ((size_t)(z * n[1] + y) * n[0] + x);
                     for (int i = 0; i < 3; i++) {
-                        double got = px[i] / 255.0 * p.lut_scale;
+                        double got = px[i] / 255.0 * p.lut_scale / p.light_scale;
                         double e = fabs(got - want[i]);
                         if (e > worst) worst = e;
                         /* the byte the per-texel bake wrote (before the
                            per-axis sums): the bake's speed-ups keep it */
-                        double v = want[i] / p.lut_scale;
+                        double v = want[i] * p.light_scale / p.lut_scale;
                         v = v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0;
                         if (px[i] != (uint8_t)lround(v * 255.0)) changed++;
                     }
                 }
         if (worst > tol) fail_msg("%s: LUT off by %g > %g", materials[k], worst, tol);
-        if (changed) fail_msg("%s: %ld LUT bytes differ from lround(dot_terms / scale * 255)", materials[k], changed);
-        /* the scale is the smallest of 1, 2, 4 that holds the brightest term */
-        double most = ht_model_dot_terms_max(&plan.shading);
+        if (changed)
+            fail_msg("%s: %ld LUT bytes differ from lround(dot_terms x light_scale / scale * 255)", materials[k],
+                     changed);
+        /* the light scale is the scene's brightest channel (at least 1), and
+           the scale the smallest of 1, 2, 4 that holds the brightest term
+           under it */
+        assert_true(p.light_scale == (k == 0 ? 2.0 : 1.0));
+        double most = ht_model_dot_terms_max(&plan.shading) * p.light_scale;
         assert_true(most <= p.lut_scale);
         assert_true(p.lut_scale == 1 || most > p.lut_scale / 2);
         long texels = (long)n[0] * n[1] * n[2];
@@ -326,6 +334,10 @@ static void test_program_round_trips_through_json(void **state) {
     snprintf(p.lut_texture, sizeof p.lut_texture, "fixed-lut");
     p.lut_size[0] = 16, p.lut_size[1] = 64, p.lut_size[2] = 32;
     p.lut_scale = 4;
+    p.light_scale = 1.0 / 0.7; /* any number in [1, 4] */
+    p.add_lights[0] = 0;
+    p.add_lights[1] = 3;
+    p.add_light_count = 2;
     p.stage_count = 4;
     for (int i = 0; i < 4; i++) ht_combiner_stage_defaults(&p.stages[i], i);
     snprintf(p.stages[0].texture, sizeof p.stages[0].texture, "fixed-lut");
@@ -445,6 +457,13 @@ static void test_malformed_program_errors_name_the_field(void **state) {
         { "lut.size[1]", "100", "fixed.json: lut.size[1]:" },
         { "lut.size[2]", "64.5", "fixed.json: lut.size[2]: must be an integer, got 64.5" },
         { "lut.centres", "\"half-texel\"", "fixed.json: lut.centres:" },
+        { "lut.light_scale", "0.5", "fixed.json: lut.light_scale: must be in [1, 4], got 0.5" },
+        { "lut.light_scale", "\"2\"", "fixed.json: lut.light_scale:" },
+        { "add_lights", "[0]", "fixed.json: add_lights[0]: light 0 is the key light (primary_color)" },
+        { "add_lights", "[1, 1]", "fixed.json: add_lights[1]: light 1 is listed twice" },
+        { "add_lights", "[4]", "fixed.json: add_lights[0]:" },
+        { "add_lights", "[1, 2, 3, 1]", "fixed.json: add_lights: expected 0 to 3 elements, got 4" },
+        { "add_lights", "1", "fixed.json: add_lights:" },
         { "stages", "[]", "fixed.json: stages: expected 1 to 4 elements, got 0" },
         { "stages[1]", "5", "fixed.json: stages[1]: expected an object, got number 5" },
         { "stages[0].unit", "1", "fixed.json: stages[0].unit:" },
@@ -672,6 +691,120 @@ static void test_program_contains_no_glsl(void **state) {
             found = found || strncmp(out.dropped[i], dropped[k], strlen(dropped[k])) == 0;
         if (!found) fail_msg("dropped list lacks %s", dropped[k]);
     }
+    ht_tier_output_free(&out);
+}
+
+/* Programs written before the light scale and the sub-passes read as one
+   light of colour up to 1. */
+static void test_program_without_light_scale_or_sub_passes_reads_as_before(void **state) {
+    (void)state;
+    ht_plan plan = simple_plan(HT_MODEL_SCHEUERMANN, true);
+    ht_tier_output out;
+    ht_combiner_program p, old;
+    emit(&plan, &out, &p);
+    cJSON *root = cJSON_Parse(out.texts[0].text);
+    cJSON_DeleteItemFromObjectCaseSensitive(root, "add_lights");
+    cJSON_DeleteItemFromObjectCaseSensitive(cJSON_GetObjectItem(root, "lut"), "light_scale");
+    char *text = cJSON_Print(root), err[256] = "";
+    cJSON_Delete(root);
+    if (ht_combiner_parse(text, "fixed.json", &old, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    assert_true(old.light_scale == 1.0);
+    assert_int_equal(old.add_light_count, 0);
+    assert_int_equal(ht_combiner_sub_passes(&old), 1);
+    assert_memory_equal(&p, &old, sizeof p);
+    cJSON_free(text);
+    ht_tier_output_free(&out);
+}
+
+/* The scene's lights after the key get additive sub-passes when they can
+   change a pixel and the coordinates are the CPU's; the LUT carries the
+   brightest colour drawn, and the primary colours divide by it. */
+static void test_second_light_gets_an_additive_sub_pass_and_bright_lights_a_light_scale(void **state) {
+    (void)state;
+    const struct {
+        ht_model_kind model;
+        int lights;
+        double fill;          /* the second light's grey level */
+        double key;           /* the key light's grey level */
+        int want_add;         /* sub-passes after the key's */
+        double light_scale;
+    } cases[] = {
+        { HT_MODEL_SCHEUERMANN, 2, 0.3, 2.0, 1, 2.0 },
+        { HT_MODEL_SCHEUERMANN, 2, 3.0, 1.0, 1, 3.0 }, /* a fill brighter than the key sets the scale */
+        { HT_MODEL_SCHEUERMANN, 1, 0.0, 1.0, 0, 1.0 },
+        { HT_MODEL_SCHEUERMANN, 2, 1.0 / 1024, 1.0, 0, 1.0 }, /* adds under 4/255 anywhere */
+        { HT_MODEL_SCHEUERMANN, 3, 0.5, 0.5, 2, 1.0 },
+        { HT_MODEL_KAJIYA_KAY, 2, 0.5, 1.0, 0, 1.0 }, /* texture matrix: the key light alone */
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        ht_plan plan = simple_plan(cases[k].model, true);
+        plan.light_count = cases[k].lights;
+        for (int l = 0; l < plan.light_count; l++) {
+            plan.light_types[l] = HT_LIGHT_DIRECTIONAL;
+            for (int c = 0; c < 3; c++) plan.light_colors[l][c] = l == 0 ? cases[k].key : cases[k].fill;
+        }
+        ht_tier_output out;
+        ht_combiner_program p;
+        emit(&plan, &out, &p);
+        assert_int_equal(p.add_light_count, cases[k].want_add);
+        assert_int_equal(ht_combiner_sub_passes(&p), 1 + cases[k].want_add);
+        for (int i = 0; i < p.add_light_count; i++) assert_int_equal(ht_combiner_sub_pass_light(&p, 1 + i), 1 + i);
+        assert_int_equal(ht_combiner_sub_pass_light(&p, 0), 0);
+        assert_int_equal(ht_combiner_sub_pass_light(&p, 1 + p.add_light_count), -1);
+        assert_true(p.light_scale == cases[k].light_scale);
+        /* lighting above 4 clamps (GL_RGB_SCALE stops there), and says so */
+        const double most = ht_model_dot_terms_max(&plan.shading) * p.light_scale;
+        assert_true(most <= p.lut_scale || p.lut_scale == 4);
+        assert_int_equal(listed(out.dropped, out.dropped_count, "LUT: lighting up to"), most > 4.0);
+        assert_true(has_feature(&out, cases[k].want_add ? "light 2 directional, additive sub-pass"
+                                                        : "light 1 directional"));
+        assert_int_equal(listed(out.dropped, out.dropped_count, "lights after the key: additive sub-passes"),
+                         cases[k].want_add > 0);
+        assert_int_equal(listed(out.dropped, out.dropped_count, "light 2: dropped"),
+                         cases[k].lights > 1 && cases[k].want_add == 0);
+        char want[96];
+        snprintf(want, sizeof want, "light colour: channels above %g clamp", cases[k].light_scale);
+        assert_true(listed(out.dropped, out.dropped_count, want));
+        ht_tier_output_free(&out);
+    }
+}
+
+/* The primary colour is light colour x ao / light_scale, so a light of
+   colour 2 is not clamped at 1: LUT x primary x scale is the model's. */
+static void test_primary_colours_divide_by_the_light_scale(void **state) {
+    (void)state;
+    ht_plan plan = simple_plan(HT_MODEL_SCHEUERMANN, true);
+    plan.light_count = 2;
+    plan.light_types[1] = HT_LIGHT_DIRECTIONAL;
+    for (int c = 0; c < 3; c++) {
+        plan.light_colors[0][c] = 2.0;
+        plan.light_colors[1][c] = 0.5;
+    }
+    ht_tier_output out;
+    ht_combiner_program p;
+    emit(&plan, &out, &p);
+    assert_true(p.light_scale == 2.0);
+    ht_vertex v[2];
+    memset(v, 0, sizeof v);
+    for (int i = 0; i < 2; i++) {
+        v[i].tangent[1] = 1.0f;
+        v[i].normal[2] = 1.0f;
+        v[i].ao = i == 0 ? 1.0f : 0.5f;
+    }
+    const ht_light lights[2] = { { HT_LIGHT_DIRECTIONAL, { 0, 0, 1 }, { 2.0f, 1.0f, 0.5f } },
+                                 { HT_LIGHT_DIRECTIONAL, { 1, 0, 0 }, { 0.5f, 0.25f, 3.0f } } };
+    float colors[8];
+    char err[256];
+    assert_int_equal(ht_fixed_coords_colors(&p, v, 2, lights, 2, colors, err, sizeof err), HT_OK);
+    const float key[8] = { 1.0f, 0.5f, 0.25f, 1.0f, 0.5f, 0.25f, 0.125f, 1.0f };
+    for (int i = 0; i < 8; i++) assert_true(fabsf(colors[i] - key[i]) < 1e-6f);
+    /* the sub-pass's light, by the same rule; above the light scale it clamps */
+    assert_int_equal(ht_fixed_coords_colors_of(&p, 1, v, 2, lights, 2, colors, err, sizeof err), HT_OK);
+    const float fill[8] = { 0.25f, 0.125f, 1.0f, 1.0f, 0.125f, 0.0625f, 0.75f, 1.0f };
+    for (int i = 0; i < 8; i++) assert_true(fabsf(colors[i] - fill[i]) < 1e-6f);
+    /* a light the frame does not have is black */
+    assert_int_equal(ht_fixed_coords_colors_of(&p, 1, v, 2, lights, 1, colors, err, sizeof err), HT_OK);
+    for (int i = 0; i < 8; i++) assert_true(colors[i] == (i % 4 == 3 ? 1.0f : 0.0f));
     ht_tier_output_free(&out);
 }
 
@@ -1153,6 +1286,9 @@ int main(void) {
         cmocka_unit_test(test_clamped_axis_is_listed_as_dropped),
         cmocka_unit_test(test_narrow_highlight_keeps_its_peak_at_zero),
         cmocka_unit_test(test_program_round_trips_through_json),
+        cmocka_unit_test(test_program_without_light_scale_or_sub_passes_reads_as_before),
+        cmocka_unit_test(test_second_light_gets_an_additive_sub_pass_and_bright_lights_a_light_scale),
+        cmocka_unit_test(test_primary_colours_divide_by_the_light_scale),
         cmocka_unit_test(test_malformed_program_errors_name_the_field),
         cmocka_unit_test(test_write_refuses_an_invalid_program),
         cmocka_unit_test(test_emitter_is_deterministic),

@@ -301,6 +301,60 @@ static void test_scale_covers_the_brightest_channel(void **state) {
     assert_int_equal(ht_fixed4_scale(&p, NULL), 1);
 }
 
+/* What GL lighting sums for one channel (fixed4.c's set_lighting): per
+   light kd lc (wrap + (1 - wrap) max(x, 0) - back max(-x, 0)), the sum
+   clamped at 0. */
+static double gl_diffuse(const ht_fixed4_program *p, const double back[], const double x[], const double k[]) {
+    const double w = p->shading.wrap;
+    double sum = 0.0;
+    for (int l = 0; l < p->lights; l++) sum += k[l] * (w + (1.0 - w) * fmax(x[l], 0.0) - back[l] * fmax(-x[l], 0.0));
+    return fmax(sum, 0.0);
+}
+
+/* GL clamps the lights' sum once, the model each light: one light is exact
+   for any wrap; with two, the brighter light is exact and the other's term
+   never negative and at most wrap (1 - 2 wrap) / (1 - wrap) kd lc above
+   the model's; wrap 0 is exact for both. */
+static void test_gl_lighting_slopes_keep_each_light_near_the_models_wrapped_diffuse(void **state) {
+    (void)state;
+    const double wraps[] = { 0.0, 0.25, 0.35, 0.6 };
+    for (size_t i = 0; i < sizeof wraps / sizeof wraps[0]; i++) {
+        const double w = wraps[i];
+        for (int lights = 1; lights <= 2; lights++) {
+            ht_fixed4_program p = scheuermann(lights);
+            p.shading.wrap = w;
+            /* the second light twice the first: it is the exact one */
+            const float colors[2][3] = { { 0.3f, 0.3f, 0.3f }, { 0.6f, 0.5f, 0.7f } };
+            double back[HT_FIXED4_MAX_LIGHTS];
+            ht_fixed4_back_slopes(&p, colors, back);
+            const double chord = fmin(w, 1.0 - w), excess = w > 0.0 && w < 0.5 ? w * (1.0 - 2.0 * w) / (1.0 - w) : 0.0;
+            assert_true(back[lights - 1] == (w > 0.0 && w < 0.5 ? 1.0 - w : chord));
+            if (lights == 2) assert_true(back[0] == chord);
+            const double k[2] = { p.shading.diffuse_color[0] * colors[0][0], p.shading.diffuse_color[0] * colors[1][0] };
+            for (int a = 0; a <= 40; a++)
+                for (int b = 0; b <= (lights == 2 ? 40 : 0); b++) {
+                    const double x[2] = { a / 20.0 - 1.0, b / 20.0 - 1.0 };
+                    double model = 0.0, exact_other = 0.0;
+                    for (int l = 0; l < lights; l++) model += k[l] * ht_model_wrap_diffuse_d(x[l], w);
+                    const double got = gl_diffuse(&p, back, x, k);
+                    if (lights == 1 || w == 0.0 || w >= 0.5) {
+                        assert_true(fabs(got - model) < 1e-12);
+                        continue;
+                    }
+                    /* light 0 alone (light 1 exact by itself): a chord, never below the model */
+                    const double x0[2] = { x[0], 1.0 };
+                    const double kd0[2] = { k[0], 0.0 };
+                    exact_other = gl_diffuse(&p, back, x0, kd0) - k[0] * ht_model_wrap_diffuse_d(x[0], w);
+                    assert_true(exact_other >= -1e-12 && exact_other <= excess * k[0] + 1e-12);
+                    /* both lit on their wrapped side: exact */
+                    if (w + (1.0 - w) * x[1] >= 0.0) assert_true(fabs(got - model) <= excess * k[0] + 1e-12);
+                    /* the brighter light behind its kink can only take from the other */
+                    else assert_true(got <= model + excess * k[0] + 1e-12);
+                }
+        }
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_program_round_trips_byte_identically),
@@ -310,6 +364,7 @@ int main(void) {
         cmocka_unit_test(test_local_viewer_coordinates_track_the_double_dot_products),
         cmocka_unit_test(test_static_tangents_are_the_models_shifted_tangents),
         cmocka_unit_test(test_scale_covers_the_brightest_channel),
+        cmocka_unit_test(test_gl_lighting_slopes_keep_each_light_near_the_models_wrapped_diffuse),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

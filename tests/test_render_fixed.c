@@ -68,6 +68,10 @@
    stage: measured max 3, mean 0.2-0.4. softpipe filters in float: measured
    max 1 (one pixel), mean 0.00. */
 #define EMULATOR_TOLERANCE 3
+/* At LUT scale 4 (a light of colour 2 folded into the LUT, combiner.h) the
+   last stage multiplies the LUT stage's rounding by 4 instead of 2:
+   measured max 5 on llvmpipe. */
+#define EMULATOR_TOLERANCE_SCALE_4 5
 /* Fixed tier vs the oracle with the tier's documented drops, per channel in
    1/255, on cases within the LUT's resolution: an 8-bit LUT at scale 2
    (0.5/255 x 2 x base), linear interpolation between LUT texels, and dot
@@ -333,6 +337,52 @@ static int largest_lut_axis(const ht_combiner_program *p) {
     return n;
 }
 
+/* The fixed tier's trace against the full tier's: sub-pass 0 of every pass
+   is the full tier's line, and each additive sub-pass (combiner.h) follows
+   it with the same pass, cull, alpha test and range, blending on, no
+   depth write, depth EQUAL (LESS in the back pass, as its sub-pass 0). */
+static void check_nested_trace(const char *fixed_trace, const char *full_trace, int sub_passes) {
+    char main_lines[4096] = "", want[256], got[256];
+    const char *line = fixed_trace;
+    int subs_seen = 0;
+    char last_main[256] = "";
+    while (*line) {
+        const char *end = strchr(line, '\n');
+        size_t n = end ? (size_t)(end - line) + 1 : strlen(line);
+        assert_true(n < sizeof got);
+        memcpy(got, line, n);
+        got[n] = '\0';
+        int pass = -1, sub = -1;
+        assert_int_equal(sscanf(got, "trace pass %d.%d", &pass, &sub), 2);
+        if (sub == 0) {
+            strncat(main_lines, got, sizeof main_lines - strlen(main_lines) - 1);
+            snprintf(last_main, sizeof last_main, "%s", got);
+        } else {
+            /* the line the sub-pass must give: its pass's sub-pass 0 line, changed where it must */
+            char depth[32], blend[16];
+            unsigned func = 0;
+            int write = 0;
+            const char *d = strstr(last_main, "depth 0x"), *b = strstr(last_main, "blend ");
+            assert_non_null(d);
+            assert_non_null(b);
+            assert_int_equal(sscanf(d, "depth 0x%x/%d", &func, &write), 2);
+            snprintf(depth, sizeof depth, "depth 0x%04x/0", pass == HT_PASS_BACK ? func : (unsigned)GL_EQUAL);
+            snprintf(blend, sizeof blend, "blend 1");
+            const char *after_depth = strchr(d, ' ');
+            after_depth = strchr(after_depth + 1, ' ');
+            snprintf(want, sizeof want, "trace pass %d.%d%.*s%s%.*s%s%s", pass, sub,
+                     (int)(d - strchr(last_main, ' ') - strlen(" pass 0.0")), strchr(last_main, ' ') + strlen(" pass 0.0"),
+                     depth, (int)(b - after_depth), after_depth, blend, b + strlen("blend 0"));
+            assert_string_equal(got, want);
+            assert_true(pass != HT_PASS_PRIME_Z);
+            subs_seen++;
+        }
+        line += n;
+    }
+    assert_string_equal(main_lines, full_trace);
+    assert_int_equal(subs_seen, (HT_PASS_COUNT - 1) * (sub_passes - 1));
+}
+
 /* ---- selection and the fur ball ---- */
 
 static void test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes(void **state) {
@@ -360,10 +410,13 @@ static void test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes(void
         ht_image img;
         render(r, &f, &img);
         ht_test_format_trace(ht_renderer_trace(r), fixed_trace, sizeof fixed_trace);
-        assert_int_equal(ht_renderer_trace(r)->count, HT_PASS_COUNT);
-        for (int i = 0; i < HT_PASS_COUNT; i++)
+        /* the fixture's scene has a fill light: one additive sub-pass per lit pass */
+        const int subs = ht_combiner_sub_passes(&(ht_combiner_program){ .add_light_count = 1 });
+        assert_int_equal(bundle_program(fx.bundle_dir).add_light_count, 1);
+        assert_int_equal(ht_renderer_trace(r)->count, HT_PASS_COUNT + (HT_PASS_COUNT - 1) * (subs - 1));
+        for (int i = 0; i < ht_renderer_trace(r)->count; i++)
             assert_int_equal(ht_renderer_trace(r)->entries[i].gl_error, GL_NO_ERROR);
-        assert_string_equal(fixed_trace, full_trace);
+        check_nested_trace(fixed_trace, full_trace, subs);
 
         ht_test_pixel_stats s = stats(&img), sf = stats(&full_img);
         printf("fur ball (%s): fixed covers %d pixels, full %d\n", ht_renderer_caps(r)->has_vbo ? "VBOs" : "client arrays",
@@ -437,7 +490,99 @@ static void test_mesa_gl13_driver_runs_fixed_with_the_full_tiers_trace(void **st
     assert_true(changed > SIZE * SIZE / 20);
     const char *trace = strstr(out, "trace pass");
     assert_non_null(trace);
-    assert_string_equal(trace, full_trace);
+    check_nested_trace(trace, full_trace, 1 + bundle_program(fx.bundle_dir).add_light_count);
+}
+
+/* ---- the additive sub-pass ---- */
+
+/* A copy of the fixture's bundle with another opaque cutoff. */
+static void bundle_with_cutoff(const char *name, double cutoff, char *dir, size_t size) {
+    ht_test_furball_copy_bundle(&fx, name, dir, size);
+    cJSON *root = cJSON_Parse(ht_test_read_file(dir, "manifest.json"));
+    assert_non_null(root);
+    cJSON_ReplaceItemInObject(root, "opaque_cutoff", cJSON_CreateNumber(cutoff));
+    char *text = cJSON_Print(root);
+    ht_test_write_file(dir, "manifest.json", text);
+    free(text);
+    cJSON_Delete(root);
+}
+
+typedef struct layering {
+    double mean, psnr; /* of A against B + C over every channel of the frame */
+    int max;
+    long added;        /* sum of A - B: what the second light added */
+    int fill_lit;      /* pixels the fill light alone lights */
+} layering;
+
+/* The fur ball with both lights (A), the key light alone (B) and the fill
+   light alone drawn as the key (C: sub-pass 0, composited exactly), on
+   black. Alpha compositing is linear in the colours, so an exact second
+   light gives A = B + C; A - (B + C) is the additive sub-pass's error. */
+static layering measure_layering(const char *dir) {
+    ht_renderer *r = create((ht_renderer_desc){ .bundle_dir = dir, .tier = HT_TIER_FIXED, .strict = true }, HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(r, &fx.mesh), HT_OK);
+    ht_frame_desc f = furball_frame();
+    ht_light both[2] = { f.lights[0], f.lights[1] }, key[2] = { f.lights[0], f.lights[1] },
+             fill[2] = { f.lights[1], f.lights[0] };
+    for (int k = 0; k < 3; k++) key[1].color[k] = fill[1].color[k] = 0.0f;
+    const ht_light *sets[3] = { both, key, fill };
+    ht_image img[3];
+    static const float black[3] = { 0, 0, 0 };
+    for (int i = 0; i < 3; i++) {
+        f.lights = sets[i];
+        ht_test_draw(&fx.gl, r, &f, black, &img[i]);
+    }
+    layering m = { 0, 0, 0, 0, 0 };
+    double se = 0.0, sum = 0.0;
+    const size_t n = (size_t)SIZE * SIZE;
+    for (size_t p = 0; p < n; p++) {
+        bool lit = false;
+        for (int c = 0; c < 3; c++) {
+            int a = img[0].pixels[4 * p + c], b = img[1].pixels[4 * p + c], fc = img[2].pixels[4 * p + c];
+            int e = a - (b + fc > 255 ? 255 : b + fc);
+            se += (double)e * e;
+            sum += abs(e);
+            m.max = abs(e) > m.max ? abs(e) : m.max;
+            m.added += a - b;
+            lit = lit || fc > 2;
+        }
+        m.fill_lit += lit;
+    }
+    m.mean = sum / (3.0 * (double)n);
+    m.psnr = se > 0 ? 10.0 * log10(255.0 * 255.0 * 3.0 * (double)n / se) : 99.0;
+    for (int i = 0; i < 3; i++) ht_image_free(&img[i]);
+    ht_renderer_destroy(r);
+    return m;
+}
+
+/* The second light is drawn (the fill alone lights the hair; with the key
+   it adds), exactly where the hair is opaque, and within a measured error
+   where transparent layers overlap (combiner.h says which way). */
+static void test_additive_sub_pass_adds_the_second_light_exactly_on_opaque_hair(void **state) {
+    (void)state;
+    char opaque[256];
+    /* a tiny cutoff: every texel opaque, every fragment in the depth-EQUAL pass */
+    bundle_with_cutoff("all-opaque", 0.004, opaque, sizeof opaque);
+    const char *dirs[2] = { opaque, fx.bundle_dir };
+    layering m[2];
+    for (int i = 0; i < 2; i++) {
+        m[i] = measure_layering(dirs[i]);
+        printf("additive sub-pass, %s: A - (B + C) mean %.3f/255, max %d/255, PSNR %.1f dB; the fill lights %d "
+               "pixels, adds %ld in all\n", i == 0 ? "all opaque" : "shipped cutoff", m[i].mean, m[i].max, m[i].psnr,
+               m[i].fill_lit, m[i].added);
+        assert_true(m[i].fill_lit > SIZE * SIZE / 20);
+        assert_true(m[i].added > 50L * SIZE * SIZE / 20);
+    }
+    /* opaque: exact but for 8-bit rounding per sub-pass and the few texels
+       under even this cutoff (measured mean 0.000/255, max 4 on llvmpipe;
+       mean 0.070, max 1 on softpipe, which rounds the other way more often) */
+    assert_true(m[0].max <= 4);
+    assert_true(m[0].mean < 0.1);
+    /* overlapping transparent layers: measured mean 0.076/255, max 53, PSNR
+       48.1 dB on llvmpipe, 0.132, 53, 47.5 dB on softpipe (deeper layers'
+       fill mostly missing: the front pass) */
+    assert_true(m[1].mean < 0.2);
+    assert_true(m[1].psnr > 45.0);
 }
 
 /* ---- the shading probe ---- */
@@ -508,6 +653,7 @@ typedef struct probe_result {
     channel_error emulator, oracle;
     channel_error local;  /* texture matrix only: vs the oracle with the true, local V */
     bool matrix;         /* the texture-matrix rule drew it */
+    int lut_scale;
 } probe_result;
 
 /* Renders the probe with the bundle's fixed tier and compares every covered
@@ -576,6 +722,7 @@ static probe_result probe(const probe_case *pc) {
     memset(&res, 0, sizeof res);
     res.emulator.worst_cell = res.oracle.worst_cell = res.local.worst_cell = -1;
     res.matrix = matrix;
+    res.lut_scale = prog.lut_scale;
     for (int row = 0; row < SIZE; row++)
         for (int x = 0; x < SIZE; x++) {
             double P[3];
@@ -653,9 +800,10 @@ static void run_probes(const probe_case *cases, int n) {
             fail_msg("%s: drawn with %s, expected %s", cases[i].material.name,
                      res.matrix ? "the texture matrix" : "CPU coordinates",
                      cases[i].matrix ? "the texture matrix" : "CPU coordinates");
-        if (max_of(&res.emulator) > EMULATOR_TOLERANCE)
+        const int tolerance = res.lut_scale == 4 ? EMULATOR_TOLERANCE_SCALE_4 : EMULATOR_TOLERANCE;
+        if (max_of(&res.emulator) > tolerance)
             fail_msg("%s: fixed tier differs from its emulator by %d/255 (cell %d), tolerance %d",
-                     cases[i].material.name, max_of(&res.emulator), res.emulator.worst_cell, EMULATOR_TOLERANCE);
+                     cases[i].material.name, max_of(&res.emulator), res.emulator.worst_cell, tolerance);
         if (!cases[i].in_budget) continue;
         for (int k = 0; k < 3; k++) {
             all.max[k] = res.oracle.max[k] > all.max[k] ? res.oracle.max[k] : all.max[k];
@@ -666,10 +814,14 @@ static void run_probes(const probe_case *cases, int n) {
         if (max_of(&res.oracle) > budget)
             fail_msg("%s: fixed tier differs from the oracle by %d/255 (cell %d), budget %d",
                      cases[i].material.name, max_of(&res.oracle), res.oracle.worst_cell, budget);
+        /* a mean in output units grows with the light (the LUT's errors are
+           multiplied by its colour): measured 0.65 at colour 2 */
+        double brightest = 1.0;
+        for (int k = 0; k < 3; k++) brightest = fmax(brightest, (double)cases[i].light.color[k]);
         for (int k = 0; res.matrix && k < 3; k++)
-            if (mean_of(&res.oracle, k) > MATRIX_ORACLE_MEAN)
+            if (mean_of(&res.oracle, k) > MATRIX_ORACLE_MEAN * brightest)
                 fail_msg("%s: channel %d: mean error vs the infinite-viewer oracle %.2f/255, budget %.2f",
-                         cases[i].material.name, k, mean_of(&res.oracle, k), MATRIX_ORACLE_MEAN);
+                         cases[i].material.name, k, mean_of(&res.oracle, k), MATRIX_ORACLE_MEAN * brightest);
     }
     if (all.pixels) {
         print_channel_error("budget", &all);
@@ -680,9 +832,19 @@ static void run_probes(const probe_case *cases, int n) {
     }
 }
 
+/* backlit.json's key light: colour 2, which the primary colour alone would clamp to 1 */
+static ht_light bright_light(void) {
+    ht_light l = first_light();
+    l.color[0] = 2.0f, l.color[1] = 1.9f, l.color[2] = 1.75f;
+    return l;
+}
+
 static void test_fixed_probe_tracks_emulator_and_oracle_on_generic_cells(void **state) {
     (void)state;
     const probe_case cases[] = {
+        { ht_probe_plain, bright_light(), true, false },
+        { { "textured", "scheuermann", 80, -0.1, 24, 0.15, true }, bright_light(), true, false },
+        { { "kajiya-kay", "kajiya-kay", 60, 0, 0, 0, false }, bright_light(), true, true },
         { ht_probe_plain, first_light(), true, false },
         { { "textured", "scheuermann", 80, -0.1, 24, 0.15, true },
           first_light(), true, false },
@@ -836,7 +998,7 @@ static void test_kajiya_kay_frames_read_tangents_through_the_texture_matrix_with
     ht_frame_desc f = furball_frame();
     render(r, &f, &img);
     ht_image_free(&img);
-    assert_int_equal(draw_count, HT_PASS_COUNT);
+    assert_int_equal(draw_count, HT_PASS_COUNT + (HT_PASS_COUNT - 1) * fur.add_light_count);
     for (int i = 0; i < draw_count; i++) {
         assert_int_equal(draws[i].coord_stride, 0);
         static const float identity[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
@@ -1143,13 +1305,13 @@ static void test_frame_calls_no_shaders_and_primes_z_without_the_lut(void **stat
     ht_image_free(&img);
     ht_renderer_destroy(r);
     assert_int_equal(shader_calls, 0);
-    assert_int_equal(draw_count, HT_PASS_COUNT);
     ht_combiner_program p = bundle_program(fx.bundle_dir);
+    assert_int_equal(draw_count, HT_PASS_COUNT + (HT_PASS_COUNT - 1) * p.add_light_count);
     assert_int_equal(p.stage_count, 2);
     for (int i = 0; i < draw_count; i++) {
         const draw_state *d = &draws[i];
         assert_int_equal(d->program, 0);
-        bool prime = i == HT_PASS_PRIME_Z;
+        bool prime = i == 0; /* the prime-Z pass has no sub-passes: its draw is the first */
         assert_int_equal(d->color_write, !prime);
         /* unit 0: the LUT, off while priming Z; unit 1: albedo, whose alpha primes */
         assert_int_equal(d->unit_3d[0], !prime);
@@ -1183,7 +1345,7 @@ static void test_frame_restores_texture_env_and_leaves_other_tiers_unchanged(voi
     render(fixed, &f, &fixed_img);
     read_depth(depth_fixed);
     const ht_trace *t = ht_renderer_trace(fixed);
-    assert_int_equal(t->count, HT_PASS_COUNT);
+    assert_int_equal(t->count, HT_PASS_COUNT + (HT_PASS_COUNT - 1) * bundle_program(fx.bundle_dir).add_light_count);
     for (int i = 0; i < t->count; i++) assert_int_equal(t->entries[i].gl_error, GL_NO_ERROR);
     check_env_defaults(ht_renderer_caps(fixed)->texture_units < 4 ? ht_renderer_caps(fixed)->texture_units : 4);
 
@@ -1241,6 +1403,7 @@ int main(int argc, char **argv) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes),
         cmocka_unit_test(test_mesa_gl13_driver_runs_fixed_with_the_full_tiers_trace),
+        cmocka_unit_test(test_additive_sub_pass_adds_the_second_light_exactly_on_opaque_hair),
         cmocka_unit_test(test_fixed_probe_tracks_emulator_and_oracle_on_generic_cells),
         cmocka_unit_test(test_fixed_probe_tracks_emulator_at_the_models_extremes),
         cmocka_unit_test(test_kajiya_kay_probe_through_the_texture_matrix_tracks_emulator_and_oracle),

@@ -16,8 +16,10 @@
 
 #include <GL/gl.h>
 
+#include "fixed4_program.h"
 #include "hairgen.h"
 #include "support_log.h"
+#include "support_probe.h"
 #include "support_render.h"
 #include "support_scratch.h"
 
@@ -25,7 +27,8 @@ static ht_test_furball fx;
 
 static int setup(void **state) {
     (void)state;
-    return ht_test_furball_setup(&fx, "fixed4", 128) ? 0 : -1;
+    /* the probe's size, so its flat cells can be drawn here too */
+    return ht_test_furball_setup(&fx, "fixed4", HT_PROBE_SIZE) ? 0 : -1;
 }
 
 static int teardown(void **state) {
@@ -150,6 +153,107 @@ static void test_fixed4_texture_matrix_rule_does_no_per_vertex_cpu_work(void **s
     ht_renderer_destroy(r);
 }
 
+/* GL lighting's wrapped diffuse with two lights, on the probe's flat cells
+   (support_probe.h: one T, N and ao per cell) under a diffuse-only
+   material, so every pixel is the primary colour: each cell as
+   ht_fixed4_back_slopes says GL sums it (the brighter light exact, the
+   other's chord), and within that chord's bound of the model. */
+static void test_fixed4_two_lights_diffuse_follows_the_documented_slopes(void **state) {
+    (void)state;
+    char material[256], scene[256], dir[256], err[1024];
+    snprintf(material, sizeof material, "%s/diffuse-only.json", fx.work);
+    snprintf(scene, sizeof scene, "%s/two-lights.json", fx.work);
+    snprintf(dir, sizeof dir, "%s/diffuse-bundle", fx.work);
+    ht_test_write_file(fx.work, "diffuse-only.json",
+                       "{ \"format\": \"hairtier-material/1\", \"name\": \"diffuse-only\", \"model\": \"scheuermann\",\n"
+                       "  \"diffuse\": {\"color\": [0.8, 0.6, 0.4], \"wrap\": 0.3},\n"
+                       "  \"primary\": {\"color\": [0, 0, 0], \"exponent\": 60, \"shift\": 0},\n"
+                       "  \"secondary\": {\"color\": [0, 0, 0], \"exponent\": 20, \"shift\": 0} }\n");
+    const ht_light lights[2] = { { HT_LIGHT_DIRECTIONAL, { 0.3f, 0.5f, 0.8f }, { 0.5f, 0.45f, 0.4f } },
+                                 { HT_LIGHT_DIRECTIONAL, { -0.6f, -0.2f, -0.7f }, { 0.9f, 0.95f, 1.0f } } };
+    char text[1024];
+    snprintf(text, sizeof text,
+             "{ \"format\": \"hairtier-scene/1\", \"resolution\": [%d, %d],\n"
+             "  \"camera\": {\"eye\": [0, 0, %g], \"target\": [0, 0, 0], \"fov_y\": %g},\n"
+             "  \"lights\": [{\"type\": \"directional\", \"direction\": [0.3, 0.5, 0.8], \"color\": [0.5, 0.45, 0.4]},\n"
+             "             {\"type\": \"directional\", \"direction\": [-0.6, -0.2, -0.7], \"color\": [0.9, 0.95, 1.0]}],\n"
+             "  \"geometry\": {\"type\": \"furball\"} }\n", HT_PROBE_SIZE, HT_PROBE_SIZE, HT_PROBE_EYE_Z, HT_PROBE_FOV_Y);
+    ht_test_write_file(fx.work, "two-lights.json", text);
+    if (ht_generate_bundle(material, scene, dir, NULL, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    ht_fixed4_program p;
+    if (ht_fixed4_parse(ht_test_read_file(dir, "fixed4.json"), "fixed4.json", &p, err, sizeof err) != HT_OK)
+        fail_msg("%s", err);
+    assert_int_equal(p.lights, 2);
+    const float colors[2][3] = { { 0.5f, 0.45f, 0.4f }, { 0.9f, 0.95f, 1.0f } };
+    double back[HT_FIXED4_MAX_LIGHTS];
+    ht_fixed4_back_slopes(&p, colors, back);
+    const int scale = ht_fixed4_scale(&p, colors);
+    const double w = p.shading.wrap, excess = w * (1.0 - 2.0 * w) / (1.0 - w);
+
+    ht_probe_make_cells();
+    ht_mesh mesh;
+    ht_probe_build_mesh(&mesh);
+    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FIXED4, .strict = true }, dir, HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(r, &mesh), HT_OK);
+    ht_frame_desc f = ht_probe_frame(&lights[0]);
+    f.lights = lights;
+    f.light_count = 2;
+    ht_image img;
+    static const float black[3] = { 0, 0, 0 };
+    ht_test_draw(&fx.gl, r, &f, black, &img);
+    int worst_gl = 0, worst_model = 0, pixels = 0, behind = 0;
+    for (int row = 0; row < HT_PROBE_SIZE; row++)
+        for (int x = 0; x < HT_PROBE_SIZE; x++) {
+            double P[3];
+            int ci = ht_probe_cell_at(x, HT_PROBE_SIZE - 1 - row, P);
+            if (ci < 0) continue;
+            const ht_probe_cell *c = &ht_probe_cells[ci];
+            /* a vertex without a tangent is black, documented (fixed4_program.h) */
+            if (c->T[0] == 0 && c->T[1] == 0 && c->T[2] == 0) continue;
+            double N[3] = { c->N[0], c->N[1], c->N[2] }, len = sqrt(N[0] * N[0] + N[1] * N[1] + N[2] * N[2]);
+            double n_dot_l[2] = { 0, 0 };
+            for (int l = 0; l < 2 && len > 0; l++) {
+                double L[3] = { lights[l].vector[0], lights[l].vector[1], lights[l].vector[2] };
+                double ll = sqrt(L[0] * L[0] + L[1] * L[1] + L[2] * L[2]);
+                n_dot_l[l] = (N[0] * L[0] + N[1] * L[1] + N[2] * L[2]) / (len * ll);
+            }
+            behind += n_dot_l[0] < 0.0 || n_dot_l[1] < 0.0;
+            const uint8_t *got = img.pixels + ((size_t)row * HT_PROBE_SIZE + x) * 4;
+            for (int k = 0; k < 3; k++) {
+                double sum = 0.0, model = 0.0, chord_room = 0.0, deficit = 0.0;
+                for (int l = 0; l < 2; l++) {
+                    const double kl = p.shading.diffuse_color[k] * colors[l][k], xl = n_dot_l[l];
+                    sum += kl * (w + (1.0 - w) * fmax(xl, 0.0) - back[l] * fmax(-xl, 0.0));
+                    model += kl * ht_model_wrap_diffuse_d(xl, w);
+                    /* the chord light may be too bright by up to excess; the
+                       exact one, past its kink, takes from the other */
+                    if (back[l] < 1.0 - w) chord_room += kl * excess;
+                    else deficit += kl * fmax(0.0, -(w + (1.0 - w) * xl));
+                }
+                /* GL: the sum over the scale, clamped, then x scale x ao on the last stage */
+                const double gl_value = fmin(1.0, fmin(1.0, fmax(0.0, sum) / scale) * scale * c->ao);
+                const int e_gl = abs(got[k] - ht_probe_to_byte(gl_value));
+                worst_gl = e_gl > worst_gl ? e_gl : worst_gl;
+                /* the model, give or take what the slopes document */
+                const double lo = (model - deficit) * c->ao - 2.0 / 255.0,
+                             hi = (model + chord_room) * c->ao + 2.0 / 255.0;
+                const double v = got[k] / 255.0;
+                const int e_model = v < lo ? (int)lround((lo - v) * 255.0) : v > hi ? (int)lround((v - hi) * 255.0) : 0;
+                worst_model = e_model > worst_model ? e_model : worst_model;
+            }
+            pixels++;
+        }
+    printf("fixed4 two-light diffuse: %d pixels (%d behind a light), max %d/255 from the documented GL sum, "
+           "%d/255 outside the model's chord bound\n", pixels, behind, worst_gl, worst_model);
+    assert_true(pixels > HT_PROBE_GRID * HT_PROBE_GRID * 20);
+    assert_true(behind > pixels / 4);
+    assert_true(worst_gl <= 2);
+    assert_int_equal(worst_model, 0);
+    ht_image_free(&img);
+    ht_renderer_destroy(r);
+    ht_mesh_free(&mesh);
+}
+
 static void test_fixed4_needs_four_units_and_says_so(void **state) {
     (void)state;
     ht_test_log_clear();
@@ -182,6 +286,7 @@ int main(int argc, char **argv) {
         cmocka_unit_test(test_fixed4_draws_the_full_tiers_passes_over_the_same_ranges),
         cmocka_unit_test(test_fixed4_local_viewer_works_only_when_the_eye_moves),
         cmocka_unit_test(test_fixed4_texture_matrix_rule_does_no_per_vertex_cpu_work),
+        cmocka_unit_test(test_fixed4_two_lights_diffuse_follows_the_documented_slopes),
         cmocka_unit_test(test_fixed4_needs_four_units_and_says_so),
         cmocka_unit_test(test_mesa_gl13_override_picks_fixed4),
     };
