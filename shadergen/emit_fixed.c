@@ -49,9 +49,16 @@
 #define MAX_AXIS 256
 #define DIFFUSE_AXIS 32
 #define KAJIYA_KAY_DIFFUSE_AXIS 256
-/* 4/255: the fixed tier's error against the model on the probe
-   (tests/test_render_fixed.c, measured max 4/255). */
-#define FILL_MIN_CONTRIBUTION (4.0 / 255.0)
+/* An extra light gets a sub-pass when its diffuse term (light colour x
+   diffuse colour, brightest channel, before the base colour) can reach
+   32/255: a broad term over the whole side a light faces, which at that
+   size costs about the tier's 28 dB target by itself (blond's fills,
+   0.20-0.27, took its fur ball to 27.7 dB and its back-lit scene to 26.6
+   dB without a sub-pass). A dimmer light shows in narrow highlights only:
+   dark-brown's fills (0.06-0.09) cost it 0-2.9 dB, not worth the lit
+   passes' geometry a second time (1.9x full on llvmpipe). README's
+   accuracy and cost sections have the measurements. */
+#define FILL_MIN_DIFFUSE (32.0 / 255.0)
 
 static bool is_black(const double c[3]) { return c[0] <= 0.0 && c[1] <= 0.0 && c[2] <= 0.0; }
 
@@ -124,22 +131,30 @@ static void choose_sizes(const ht_shading *s, const char *const axis_names[3],
 }
 
 /* Which lights after the key get an additive sub-pass (combiner.h), each
-   costing the lit passes' geometry again: every light that can add more
-   than the LUT's own error to a pixel (FILL_MIN_CONTRIBUTION: its
-   brightest channel x the LUT's largest value), under "cpu-dots" only.
-   The texture-matrix rule's infinite viewer misplaces a second light's
-   highlight by as much as the light adds (measured on Kajiya-Kay x
-   ratboy: 33.9 dB with the sub-pass, 35.3 without), so it keeps the key
-   light alone. Measured gains on the sweep (README): 0 to 8.3 dB. */
+   costing the lit passes' geometry again: every light whose diffuse term
+   reaches FILL_MIN_DIFFUSE, under "cpu-dots" only. The texture-matrix
+   rule's infinite viewer misplaces a second light's highlight by as much
+   as the light adds (measured on Kajiya-Kay x ratboy: 33.9 dB with the
+   sub-pass, 35.3 without), so it keeps the key light alone. */
+static double light_diffuse(const ht_plan *plan, const ht_shading *s, int light) {
+    double most = 0.0;
+    for (int c = 0; c < 3; c++) most = fmax(most, plan->light_colors[light][c] * s->diffuse_color[c]);
+    return most;
+}
+
+/* The most the light adds anywhere (its brightest channel times the
+   model's largest sum of terms), before the base colour. */
+static double light_peak(const ht_plan *plan, const ht_shading *s, int light) {
+    double most = 0.0;
+    for (int c = 0; c < 3; c++) most = fmax(most, plan->light_colors[light][c]);
+    return most * ht_model_dot_terms_max(s);
+}
+
 static void choose_add_lights(const ht_plan *plan, const ht_shading *s, ht_combiner_coords coords,
                               ht_combiner_program *p) {
     if (coords != HT_COORDS_CPU_DOTS) return;
-    const double lut_most = ht_model_dot_terms_max(s);
-    for (int l = 1; l < plan->light_count && p->add_light_count < HT_MAX_LIGHTS - 1; l++) {
-        double most = 0.0;
-        for (int c = 0; c < 3; c++) most = fmax(most, plan->light_colors[l][c]);
-        if (most * lut_most >= FILL_MIN_CONTRIBUTION) p->add_lights[p->add_light_count++] = l;
-    }
+    for (int l = 1; l < plan->light_count && p->add_light_count < HT_MAX_LIGHTS - 1; l++)
+        if (light_diffuse(plan, s, l) >= FILL_MIN_DIFFUSE) p->add_lights[p->add_light_count++] = l;
 }
 
 /* The light colour the LUT carries: the brightest channel of the lights
@@ -282,13 +297,17 @@ static void list_dropped(const ht_plan *plan, const ht_combiner_program *p, ht_c
     if (plan->sparkle)
         note_dropped(out, "sparkle: approximated by its mean %.3f scaling the secondary highlight: "
                           "no texture unit left to read the mask", plan->sparkle_mean);
-    for (int l = 1; l < plan->light_count; l++)
-        if (!drawn(p, l))
-            note_dropped(out, "light %d: dropped: %s", l + 1,
-                         coords == HT_COORDS_TEXTURE_MATRIX
-                             ? "the texture matrix's infinite viewer would misplace its highlight"
-                             : "it adds under 4/255 to any pixel (an additive sub-pass costs the lit "
-                               "passes' geometry again)");
+    const ht_shading shading = lut_shading(plan);
+    for (int l = 1; l < plan->light_count; l++) {
+        if (drawn(p, l)) continue;
+        if (coords == HT_COORDS_TEXTURE_MATRIX)
+            note_dropped(out, "light %d: dropped: the texture matrix's infinite viewer would misplace its "
+                              "highlight", l + 1);
+        else
+            note_dropped(out, "light %d: dropped: diffuse %.3f < %.3f (32/255), narrow highlights only (peak "
+                              "%.3f x base); a sub-pass redraws the lit passes", l + 1,
+                         light_diffuse(plan, &shading, l), FILL_MIN_DIFFUSE, light_peak(plan, &shading, l));
+    }
     if (p->add_light_count > 0)
         ht_output_add_dropped(out, "lights after the key: additive sub-passes, exact but where transparent "
                                    "layers overlap (a deeper layer's light: not attenuated, back; not added, front)");

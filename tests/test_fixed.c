@@ -716,9 +716,10 @@ static void test_program_without_light_scale_or_sub_passes_reads_as_before(void 
     ht_tier_output_free(&out);
 }
 
-/* The scene's lights after the key get additive sub-passes when they can
-   change a pixel and the coordinates are the CPU's; the LUT carries the
-   brightest colour drawn, and the primary colours divide by it. */
+/* The scene's lights after the key get additive sub-passes when their
+   diffuse term (light x diffuse colour 0.3) reaches 32/255 and the
+   coordinates are the CPU's; the LUT carries the brightest colour drawn,
+   and the primary colours divide by it. */
 static void test_second_light_gets_an_additive_sub_pass_and_bright_lights_a_light_scale(void **state) {
     (void)state;
     const struct {
@@ -729,10 +730,12 @@ static void test_second_light_gets_an_additive_sub_pass_and_bright_lights_a_ligh
         int want_add;         /* sub-passes after the key's */
         double light_scale;
     } cases[] = {
-        { HT_MODEL_SCHEUERMANN, 2, 0.3, 2.0, 1, 2.0 },
-        { HT_MODEL_SCHEUERMANN, 2, 3.0, 1.0, 1, 3.0 }, /* a fill brighter than the key sets the scale */
+        { HT_MODEL_SCHEUERMANN, 2, 0.5, 2.0, 1, 2.0 },  /* diffuse 0.15 */
+        { HT_MODEL_SCHEUERMANN, 2, 3.0, 1.0, 1, 3.0 },  /* a fill brighter than the key sets the scale */
         { HT_MODEL_SCHEUERMANN, 1, 0.0, 1.0, 0, 1.0 },
-        { HT_MODEL_SCHEUERMANN, 2, 1.0 / 1024, 1.0, 0, 1.0 }, /* adds under 4/255 anywhere */
+        { HT_MODEL_SCHEUERMANN, 2, 0.4, 1.0, 0, 1.0 },  /* diffuse 0.12: highlights only, dropped */
+        { HT_MODEL_SCHEUERMANN, 2, 0.42, 1.0, 1, 1.0 }, /* diffuse 0.126: drawn */
+        { HT_MODEL_SCHEUERMANN, 2, 1.0 / 1024, 1.0, 0, 1.0 },
         { HT_MODEL_SCHEUERMANN, 3, 0.5, 0.5, 2, 1.0 },
         { HT_MODEL_KAJIYA_KAY, 2, 0.5, 1.0, 0, 1.0 }, /* texture matrix: the key light alone */
     };

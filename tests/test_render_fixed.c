@@ -283,10 +283,21 @@ static bool keep_only_fixed_below_vertex(const char *dir) {
     return true;
 }
 
+/* blond's fill light has a diffuse term above the sub-pass rule's 32/255
+   (dark-brown's, the fixture's, stays under it): the fur ball with one. */
+static char fill_dir[192];
+
 static int setup(void **state) {
     (void)state;
     if (!ht_test_furball_setup(&fx, "fixed", SIZE)) return -1;
     if (!keep_only_fixed_below_vertex(fx.bundle_dir)) return -1;
+    snprintf(fill_dir, sizeof fill_dir, "%s/blond", fx.work);
+    char err[1024];
+    if (ht_generate_bundle("materials/blond.json", "scenes/furball.json", fill_dir, NULL, err, sizeof err) != HT_OK) {
+        fprintf(stderr, "setup: %s\n", err);
+        return -1;
+    }
+    if (!keep_only_fixed_below_vertex(fill_dir)) return -1;
     void *p = ht_test_getproc("glActiveTexture");
     memcpy(&active_texture, &p, sizeof p);
     p = ht_test_getproc("glClientActiveTexture");
@@ -312,8 +323,8 @@ static void render(ht_renderer *r, const ht_frame_desc *f, ht_image *img) {
 static ht_test_pixel_stats stats(const ht_image *img) { return ht_test_pixel_stats_of(img, ht_test_background); }
 
 /* One line per trace entry: what the tiers must agree on. */
-static void full_tier_trace(char *out, size_t size) {
-    ht_renderer *r = create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true }, HT_OK);
+static void full_tier_trace(const char *dir, char *out, size_t size) {
+    ht_renderer *r = create((ht_renderer_desc){ .bundle_dir = dir, .tier = HT_TIER_FULL, .strict = true }, HT_OK);
     assert_int_equal(ht_renderer_set_mesh(r, &fx.mesh), HT_OK);
     ht_image img;
     ht_frame_desc f = furball_frame();
@@ -387,19 +398,28 @@ static void check_nested_trace(const char *fixed_trace, const char *full_trace, 
 
 static void test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes(void **state) {
     (void)state;
-    static char full_trace[4096], fixed_trace[4096];
-    full_tier_trace(full_trace, sizeof full_trace);
-    ht_image full_img;
-    ht_renderer *full = create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true }, HT_OK);
-    assert_int_equal(ht_renderer_set_mesh(full, &fx.mesh), HT_OK);
+    /* dark-brown (the fixture): the key light alone; blond: its fill light
+       as one additive sub-pass per lit pass */
+    const char *dirs[2] = { fx.bundle_dir, fill_dir };
+    static char full_trace[2][4096], fixed_trace[4096];
+    ht_image full_img[2];
     ht_frame_desc f = furball_frame();
-    render(full, &f, &full_img);
-    ht_renderer_destroy(full);
+    for (int b = 0; b < 2; b++) {
+        full_tier_trace(dirs[b], full_trace[b], sizeof full_trace[b]);
+        ht_renderer *full = create((ht_renderer_desc){ .bundle_dir = dirs[b], .tier = HT_TIER_FULL, .strict = true },
+                                   HT_OK);
+        assert_int_equal(ht_renderer_set_mesh(full, &fx.mesh), HT_OK);
+        render(full, &f, &full_img[b]);
+        ht_renderer_destroy(full);
+    }
 
     /* With the mesh in VBOs (the extension survives GL 1.3 on Mesa) and in
        client arrays. */
-    for (int no_vbo = 0; no_vbo < 2; no_vbo++) {
-        ht_renderer *r = create((ht_renderer_desc){ .profile = { .gl_major = 1, .gl_minor = 3, .texture_units = 2,
+    for (int run = 0; run < 4; run++) {
+        const int no_vbo = run & 1, b = run / 2;
+        const char *dir = dirs[b];
+        ht_renderer *r = create((ht_renderer_desc){ .bundle_dir = dir,
+                                                    .profile = { .gl_major = 1, .gl_minor = 3, .texture_units = 2,
                                                                  .no_vbo = no_vbo } }, HT_OK);
         assert_int_equal(ht_renderer_tier(r), HT_TIER_FIXED);
         assert_true(ht_test_logged("skipped full: needs GL 2.1, have 1.3"));
@@ -410,17 +430,17 @@ static void test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes(void
         ht_image img;
         render(r, &f, &img);
         ht_test_format_trace(ht_renderer_trace(r), fixed_trace, sizeof fixed_trace);
-        /* the fixture's scene has a fill light: one additive sub-pass per lit pass */
-        const int subs = ht_combiner_sub_passes(&(ht_combiner_program){ .add_light_count = 1 });
-        assert_int_equal(bundle_program(fx.bundle_dir).add_light_count, 1);
+        const int adds = b;
+        const int subs = ht_combiner_sub_passes(&(ht_combiner_program){ .add_light_count = adds });
+        assert_int_equal(bundle_program(dir).add_light_count, adds);
         assert_int_equal(ht_renderer_trace(r)->count, HT_PASS_COUNT + (HT_PASS_COUNT - 1) * (subs - 1));
         for (int i = 0; i < ht_renderer_trace(r)->count; i++)
             assert_int_equal(ht_renderer_trace(r)->entries[i].gl_error, GL_NO_ERROR);
-        check_nested_trace(fixed_trace, full_trace, subs);
+        check_nested_trace(fixed_trace, full_trace[b], subs);
 
-        ht_test_pixel_stats s = stats(&img), sf = stats(&full_img);
-        printf("fur ball (%s): fixed covers %d pixels, full %d\n", ht_renderer_caps(r)->has_vbo ? "VBOs" : "client arrays",
-               s.changed, sf.changed);
+        ht_test_pixel_stats s = stats(&img), sf = stats(&full_img[b]);
+        printf("fur ball, %s (%s): fixed covers %d pixels, full %d\n", b ? "blond" : "dark-brown",
+               ht_renderer_caps(r)->has_vbo ? "VBOs" : "client arrays", s.changed, sf.changed);
         assert_int_equal(s.magenta, 0);
         assert_true(s.changed > SIZE * SIZE / 20);
         /* Same alpha, same passes: the same hair shows, shaded differently. */
@@ -428,7 +448,7 @@ static void test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes(void
         ht_image_free(&img);
         ht_renderer_destroy(r);
     }
-    ht_image_free(&full_img);
+    for (int b = 0; b < 2; b++) ht_image_free(&full_img[b]);
 }
 
 /* Child mode: argv = exe --child BUNDLE, with MESA_GL_VERSION_OVERRIDE=1.3. */
@@ -475,7 +495,7 @@ static int child_main(const char *bundle) {
 static void test_mesa_gl13_driver_runs_fixed_with_the_full_tiers_trace(void **state) {
     (void)state;
     static char out[16384], full_trace[4096];
-    full_tier_trace(full_trace, sizeof full_trace);
+    full_tier_trace(fx.bundle_dir, full_trace, sizeof full_trace);
     ht_test_run_child("1.3", fx.bundle_dir, out, sizeof out);
     if (!strstr(out, "version=1.3")) fail_msg("child did not get a GL 1.3 context:\n%s", out);
     if (!strstr(out, "result=ok tier=fixed")) fail_msg("child did not pick fixed:\n%s", out);
@@ -496,8 +516,9 @@ static void test_mesa_gl13_driver_runs_fixed_with_the_full_tiers_trace(void **st
 /* ---- the additive sub-pass ---- */
 
 /* A copy of the fixture's bundle with another opaque cutoff. */
-static void bundle_with_cutoff(const char *name, double cutoff, char *dir, size_t size) {
-    ht_test_furball_copy_bundle(&fx, name, dir, size);
+static void bundle_with_cutoff(const char *from, const char *name, double cutoff, char *dir, size_t size) {
+    snprintf(dir, size, "%s/%s", fx.work, name);
+    ht_test_copy_dir(from, dir);
     cJSON *root = cJSON_Parse(ht_test_read_file(dir, "manifest.json"));
     assert_non_null(root);
     cJSON_ReplaceItemInObject(root, "opaque_cutoff", cJSON_CreateNumber(cutoff));
@@ -562,8 +583,8 @@ static void test_additive_sub_pass_adds_the_second_light_exactly_on_opaque_hair(
     (void)state;
     char opaque[256];
     /* a tiny cutoff: every texel opaque, every fragment in the depth-EQUAL pass */
-    bundle_with_cutoff("all-opaque", 0.004, opaque, sizeof opaque);
-    const char *dirs[2] = { opaque, fx.bundle_dir };
+    bundle_with_cutoff(fill_dir, "all-opaque", 0.004, opaque, sizeof opaque);
+    const char *dirs[2] = { opaque, fill_dir };
     layering m[2];
     for (int i = 0; i < 2; i++) {
         m[i] = measure_layering(dirs[i]);
@@ -574,15 +595,17 @@ static void test_additive_sub_pass_adds_the_second_light_exactly_on_opaque_hair(
         assert_true(m[i].added > 50L * SIZE * SIZE / 20);
     }
     /* opaque: exact but for 8-bit rounding per sub-pass and the few texels
-       under even this cutoff (measured mean 0.000/255, max 4 on llvmpipe;
-       mean 0.070, max 1 on softpipe, which rounds the other way more often) */
-    assert_true(m[0].max <= 4);
+       under even this cutoff (blond, measured mean 0.001/255 with one pixel
+       at 16 on llvmpipe, where two strands meet at one depth and depth-EQUAL
+       lets the other's fill through; mean 0.077, max 1 on softpipe, which
+       rounds the other way more often) */
+    assert_true(m[0].max <= 16);
     assert_true(m[0].mean < 0.1);
-    /* overlapping transparent layers: measured mean 0.076/255, max 53, PSNR
-       48.1 dB on llvmpipe, 0.132, 53, 47.5 dB on softpipe (deeper layers'
+    /* overlapping transparent layers: measured mean 0.127/255, max 65, PSNR
+       46.3 dB on llvmpipe, 0.190, 85, 45.3 dB on softpipe (deeper layers'
        fill mostly missing: the front pass) */
-    assert_true(m[1].mean < 0.2);
-    assert_true(m[1].psnr > 45.0);
+    assert_true(m[1].mean < 0.25);
+    assert_true(m[1].psnr > 44.0);
 }
 
 /* ---- the shading probe ---- */

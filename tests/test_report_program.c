@@ -100,7 +100,7 @@ static void test_report_has_every_tier_image_and_heatmap_and_is_replaced_whole(v
     expect_in(html, "<img src=\"fixed-error.png\"");
     expect_in(html, "<tr><th scope=\"row\">gl11</th><td class=\"needs\">GL 1.1, 1 texture unit</td>");
     expect_in(html, "<td class=\"num\">&infin;</td>"); /* full against itself */
-    expect_in(html, "lights after the key: additive sub-passes"); /* the fixed tier draws the fill */
+    expect_in(html, "light 2: dropped: diffuse"); /* dark-brown's fill: highlights only, no sub-pass */
     assert_no_temporary();
 
     /* Again into the same directory: replaced whole (a stray file goes). */
