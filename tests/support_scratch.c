@@ -101,3 +101,14 @@ struct cJSON *ht_test_read_json(const char *dir, const char *name) {
     if (!root) fail_msg("%s: not JSON", path);
     return root;
 }
+
+void ht_test_set_json_number(const char *dir, const char *name, const char *key, double value) {
+    cJSON *root = ht_test_read_json(dir, name);
+    cJSON_DeleteItemFromObjectCaseSensitive(root, key);
+    assert_non_null(cJSON_AddNumberToObject(root, key, value));
+    char *text = cJSON_Print(root);
+    assert_non_null(text);
+    ht_test_write_file(dir, name, text);
+    free(text);
+    cJSON_Delete(root);
+}

@@ -33,6 +33,8 @@ bool ht_test_path_exists(const char *path);
 const char *ht_test_build_dir(void);
 /* DIR/NAME parsed as JSON (cJSON_Delete), failing the test when it cannot be read or parsed. */
 struct cJSON *ht_test_read_json(const char *dir, const char *name);
+/* DIR/NAME, a JSON object, rewritten with its top-level key set to value. */
+void ht_test_set_json_number(const char *dir, const char *name, const char *key, double value);
 /* to replaced by a copy of the directory from. */
 void ht_test_copy_dir(const char *from, const char *to);
 

@@ -515,17 +515,11 @@ static void test_mesa_gl13_driver_runs_fixed_with_the_full_tiers_trace(void **st
 
 /* ---- the additive sub-pass ---- */
 
-/* A copy of the fixture's bundle with another opaque cutoff. */
+/* A copy of the bundle from with another opaque cutoff. */
 static void bundle_with_cutoff(const char *from, const char *name, double cutoff, char *dir, size_t size) {
     snprintf(dir, size, "%s/%s", fx.work, name);
     ht_test_copy_dir(from, dir);
-    cJSON *root = cJSON_Parse(ht_test_read_file(dir, "manifest.json"));
-    assert_non_null(root);
-    cJSON_ReplaceItemInObject(root, "opaque_cutoff", cJSON_CreateNumber(cutoff));
-    char *text = cJSON_Print(root);
-    ht_test_write_file(dir, "manifest.json", text);
-    free(text);
-    cJSON_Delete(root);
+    ht_test_set_json_number(dir, "manifest.json", "opaque_cutoff", cutoff);
 }
 
 typedef struct layering {

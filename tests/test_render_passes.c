@@ -115,17 +115,6 @@ static bool same_pass_list(const ht_trace *a, const ht_trace *b) {
     return true;
 }
 
-/* Rewrites one number of a bundle's manifest (a copy under work). */
-static void set_manifest_cutoff(const char *dir, double cutoff) {
-    cJSON *root = cJSON_Parse(ht_test_read_file(dir, "manifest.json"));
-    assert_non_null(root);
-    cJSON_ReplaceItemInObject(root, "opaque_cutoff", cJSON_CreateNumber(cutoff));
-    char *out = cJSON_Print(root);
-    ht_test_write_file(dir, "manifest.json", out);
-    free(out);
-    cJSON_Delete(root);
-}
-
 /* ---- tests ---- */
 
 static void test_render_flat_mode_draws_the_four_passes_in_order(void **state) {
@@ -197,7 +186,7 @@ static void test_render_depth_equal_pass_colours_opaque_texels(void **state) {
        transform that is not bit-identical across passes leaves it blank. */
     char dir[256];
     ht_test_furball_copy_bundle(&fx, "low-cutoff", dir, sizeof dir);
-    set_manifest_cutoff(dir, 0.004);
+    ht_test_set_json_number(dir, "manifest.json", "opaque_cutoff", 0.004);
     ht_image flat_img, img;
     ht_renderer *flat = create((ht_renderer_desc){ .flat = true, .bundle_dir = dir }, HT_OK);
     render(flat, &flat_img);
