@@ -289,15 +289,14 @@ static bool drawn(const ht_combiner_program *p, int light) {
     return false;
 }
 
-static void list_dropped(const ht_plan *plan, const ht_combiner_program *p, ht_combiner_coords coords,
-                         ht_tier_output *out) {
+static void list_dropped(const ht_plan *plan, const ht_shading *shading, const ht_combiner_program *p,
+                         ht_combiner_coords coords, ht_tier_output *out) {
     if (plan->shift)
         ht_output_add_dropped(out, "shift: jitter dropped, the LUT holds the constant shifts only "
                                    "(shift texture read as 0.5)");
     if (plan->sparkle)
         note_dropped(out, "sparkle: approximated by its mean %.3f scaling the secondary highlight: "
                           "no texture unit left to read the mask", plan->sparkle_mean);
-    const ht_shading shading = lut_shading(plan);
     for (int l = 1; l < plan->light_count; l++) {
         if (drawn(p, l)) continue;
         if (coords == HT_COORDS_TEXTURE_MATRIX)
@@ -306,7 +305,7 @@ static void list_dropped(const ht_plan *plan, const ht_combiner_program *p, ht_c
         else
             note_dropped(out, "light %d: dropped: diffuse %.3f < %.3f (32/255), narrow highlights only (peak "
                               "%.3f x base); a sub-pass redraws the lit passes", l + 1,
-                         light_diffuse(plan, &shading, l), FILL_MIN_DIFFUSE, light_peak(plan, &shading, l));
+                         light_diffuse(plan, shading, l), FILL_MIN_DIFFUSE, light_peak(plan, shading, l));
     }
     if (p->add_light_count > 0)
         ht_output_add_dropped(out, "lights after the key: additive sub-passes, exact but where transparent "
@@ -370,7 +369,7 @@ ht_result ht_emit_fixed(const ht_plan *plan, ht_tier_output *out, char *err, siz
     const ht_combiner_coords coords = coords_rule(plan, shading.model);
     choose_add_lights(plan, &shading, coords, &p);
     p.light_scale = choose_light_scale(plan, &p);
-    list_dropped(plan, &p, coords, out);
+    list_dropped(plan, &shading, &p, coords, out);
     choose_sizes(&shading, axis_names, out, p.lut_size);
     p.lut_scale = choose_scale(&shading, p.light_scale, out);
 
