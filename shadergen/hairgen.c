@@ -181,8 +181,8 @@ int main(int argc, char **argv) {
         free(materials);
         return 0;
     }
-    /* Past the usage checks, before any bundle: the heap hairgen builds in. */
-    /* One material is always generated (never skipped): its heap is backed
+    /* Past the usage checks, before any bundle: the heap hairgen builds in.
+       One material is always generated (never skipped): its heap is backed
        now. A batch may find every bundle up to date: it is not. (Building
        glslang's tables on a third thread from here was tried: on 2 cores it
        took a core from the textures and gained nothing.) */

@@ -130,6 +130,23 @@ static void test_render_flat_mode_draws_the_four_passes_in_order(void **state) {
     ht_renderer_destroy(r);
 }
 
+/* r, expected to draw `tier`, draws the flat renderer's pass list (same
+   passes, state and ranges) and hair without a failed shader's magenta;
+   r is destroyed. */
+static void expect_flat_pass_list(const ht_renderer *flat, ht_renderer *r, ht_tier tier) {
+    ht_image img;
+    assert_int_equal(ht_renderer_tier(r), tier);
+    render(r, &img);
+    check_trace(ht_renderer_trace(r), 0.98f);
+    if (!same_pass_list(ht_renderer_trace(flat), ht_renderer_trace(r)))
+        fail_msg("%s tier's pass list differs from flat mode's", ht_tier_name(tier));
+    ht_test_pixel_stats s = stats(&img);
+    assert_true(s.changed > 0);
+    assert_int_equal(s.magenta, 0);
+    ht_image_free(&img);
+    ht_renderer_destroy(r);
+}
+
 static void test_render_glsl_tiers_share_the_flat_pass_list(void **state) {
     (void)state;
     ht_renderer *flat = create((ht_renderer_desc){ .flat = true }, HT_OK);
@@ -137,19 +154,8 @@ static void test_render_glsl_tiers_share_the_flat_pass_list(void **state) {
     render(flat, &img);
     ht_image_free(&img);
     const ht_tier tiers[2] = { HT_TIER_FULL, HT_TIER_VERTEX };
-    for (int i = 0; i < 2; i++) {
-        ht_renderer *r = create((ht_renderer_desc){ .tier = tiers[i], .strict = true }, HT_OK);
-        assert_int_equal(ht_renderer_tier(r), tiers[i]);
-        render(r, &img);
-        check_trace(ht_renderer_trace(r), 0.98f);
-        if (!same_pass_list(ht_renderer_trace(flat), ht_renderer_trace(r)))
-            fail_msg("%s tier's pass list differs from flat mode's", ht_tier_name(tiers[i]));
-        ht_test_pixel_stats s = stats(&img);
-        assert_true(s.changed > 0);
-        assert_int_equal(s.magenta, 0);
-        ht_image_free(&img);
-        ht_renderer_destroy(r);
-    }
+    for (int i = 0; i < 2; i++)
+        expect_flat_pass_list(flat, create((ht_renderer_desc){ .tier = tiers[i], .strict = true }, HT_OK), tiers[i]);
     ht_renderer_destroy(flat);
 }
 
@@ -165,17 +171,7 @@ static void test_render_marschner_tier_shares_the_flat_pass_list(void **state) {
     ht_image img;
     render(flat, &img);
     ht_image_free(&img);
-    ht_renderer *r = create((ht_renderer_desc){ .bundle_dir = dir }, HT_OK);
-    assert_int_equal(ht_renderer_tier(r), HT_TIER_MARSCHNER);
-    render(r, &img);
-    check_trace(ht_renderer_trace(r), 0.98f);
-    if (!same_pass_list(ht_renderer_trace(flat), ht_renderer_trace(r)))
-        fail_msg("marschner tier's pass list differs from flat mode's");
-    ht_test_pixel_stats s = stats(&img);
-    assert_true(s.changed > 0);
-    assert_int_equal(s.magenta, 0);
-    ht_image_free(&img);
-    ht_renderer_destroy(r);
+    expect_flat_pass_list(flat, create((ht_renderer_desc){ .bundle_dir = dir }, HT_OK), HT_TIER_MARSCHNER);
     ht_renderer_destroy(flat);
 }
 
