@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -42,10 +43,9 @@ char *ht_text_from_bytes(const char *path, const void *data, size_t size, char *
     return text;
 }
 
-ht_result ht_file_open_regular(const char *path, uint64_t max_bytes, FILE **out, uint64_t *size,
-                               char *err, size_t err_size) {
-    *out = NULL;
-    if (size) *size = 0;
+/* The descriptor of path when it is a regular file of at most max_bytes
+   (its size in *size), or -1 with "PATH: why" in err. */
+static int open_regular_fd(const char *path, uint64_t max_bytes, uint64_t *size, char *err, size_t err_size) {
     /* O_NONBLOCK: opening a FIFO for reading would otherwise wait for a
        writer before fstat could tell what it is. Only a regular file is
        kept, where the flag has no effect (open(2)), so it is not cleared:
@@ -53,23 +53,34 @@ ht_result ht_file_open_regular(const char *path, uint64_t max_bytes, FILE **out,
     int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
     if (fd < 0) {
         ht_set_error(err, err_size, "%s: cannot read: %s", path, strerror(errno));
-        return HT_ERR_IO;
+        return -1;
     }
     struct stat st;
     if (fstat(fd, &st) != 0) {
         ht_set_error(err, err_size, "%s: cannot stat: %s", path, strerror(errno));
         close(fd);
-        return HT_ERR_IO;
+        return -1;
     }
     if (!S_ISREG(st.st_mode)) {
         ht_set_error(err, err_size, "%s: not a regular file (%s)", path, kind_of(st.st_mode));
         close(fd);
-        return HT_ERR_IO;
+        return -1;
     }
     if (ht_file_check_size(path, (uint64_t)st.st_size, max_bytes, err, err_size) != HT_OK) {
         close(fd);
-        return HT_ERR_IO;
+        return -1;
     }
+    *size = (uint64_t)st.st_size;
+    return fd;
+}
+
+ht_result ht_file_open_regular(const char *path, uint64_t max_bytes, FILE **out, uint64_t *size,
+                               char *err, size_t err_size) {
+    *out = NULL;
+    if (size) *size = 0;
+    uint64_t file_size = 0;
+    int fd = open_regular_fd(path, max_bytes, &file_size, err, err_size);
+    if (fd < 0) return HT_ERR_IO;
     FILE *f = fdopen(fd, "rb");
     if (!f) {
         ht_set_error(err, err_size, "%s: cannot read: %s", path, strerror(errno));
@@ -77,32 +88,48 @@ ht_result ht_file_open_regular(const char *path, uint64_t max_bytes, FILE **out,
         return HT_ERR_IO;
     }
     *out = f;
-    if (size) *size = (uint64_t)st.st_size;
+    if (size) *size = file_size;
     return HT_OK;
 }
 
+/* Up to want bytes from fd into data: how many (fewer only at the end of
+   the file), or -1 with errno set. */
+static ptrdiff_t read_all(int fd, unsigned char *data, size_t want) {
+    size_t got = 0;
+    while (got < want) {
+        ssize_t n = read(fd, data + got, want - got);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) return -1;
+        if (n == 0) break;
+        got += (size_t)n;
+    }
+    return (ptrdiff_t)got;
+}
+
+/* Read with read(2), not stdio: a FILE costs two more system calls per
+   file (fdopen's fcntl, stdio's own fstat), and a no-change batch reads
+   two small files per material. */
 void *ht_file_read_bytes(const char *path, uint64_t max_bytes, size_t *size, char *err, size_t err_size) {
-    FILE *f;
-    uint64_t file_size;
-    if (ht_file_open_regular(path, max_bytes, &f, &file_size, err, err_size) != HT_OK) return NULL;
+    uint64_t file_size = 0;
+    int fd = open_regular_fd(path, max_bytes, &file_size, err, err_size);
+    if (fd < 0) return NULL;
     /* One byte more than fstat saw, to notice a file that grew. */
     unsigned char *data = malloc((size_t)file_size + 1);
     if (!data) {
-        fclose(f);
+        close(fd);
         ht_set_error(err, err_size, "%s: out of memory (%llu bytes)", path, (unsigned long long)file_size);
         return NULL;
     }
-    size_t got = fread(data, 1, (size_t)file_size + 1, f);
-    bool bad = ferror(f) != 0;
+    ptrdiff_t got = read_all(fd, data, (size_t)file_size + 1);
     int e = errno;
-    fclose(f);
-    if (bad || got != file_size) {
+    close(fd);
+    if (got < 0 || (uint64_t)got != file_size) {
         free(data);
-        if (bad) ht_set_error(err, err_size, "%s: cannot read: %s", path, strerror(e));
+        if (got < 0) ht_set_error(err, err_size, "%s: cannot read: %s", path, strerror(e));
         else ht_set_error(err, err_size, "%s: changed size while being read", path);
         return NULL;
     }
-    *size = got;
+    *size = (size_t)got;
     return data;
 }
 

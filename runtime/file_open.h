@@ -47,7 +47,8 @@ char *ht_text_from_bytes(const char *path, const void *data, size_t size, char *
 /* The whole of a regular file of at most max_bytes, malloc'd (free()),
    its length in *size, or NULL with "PATH: why" in err (what
    ht_file_open_regular refuses, a read error, a file that changed size
-   while read, out of memory). */
+   while read, out of memory). The block has one byte more than *size, so
+   a caller may end a text in place. Read with read(2), not stdio. */
 void *ht_file_read_bytes(const char *path, uint64_t max_bytes, size_t *size, char *err, size_t err_size);
 /* The whole of a regular text file of at most max_bytes, malloc'd and
    NUL-terminated, or NULL with "PATH: why" in err (what

@@ -155,59 +155,23 @@ ht_result ht_json_text_from_bytes(const char *path, const void *data, size_t siz
 }
 
 ht_result ht_json_read_file(const char *path, char **text, char *err, size_t err_size) {
-    ht_jctx c = { path, err, err_size };
     *text = NULL;
-    FILE *f = NULL;
-    ht_result opened = ht_file_open_regular(path, MAX_FILE_BYTES, &f, NULL, err, err_size);
-    if (opened != HT_OK) {
+    size_t size = 0;
+    void *bytes = ht_file_read_bytes(path, MAX_FILE_BYTES, &size, err, err_size);
+    if (!bytes) {
         if (err && err_size) one_line(err);
-        return opened;
+        return HT_ERR_IO;
     }
-    size_t cap = 4096, len = 0;
-    char *buf = malloc(cap + 1);
-    if (!buf) { fclose(f); goto no_memory; }
-    for (;;) {
-        if (len == cap) {
-            if (cap >= MAX_FILE_BYTES) {
-                free(buf);
-                fclose(f);
-                return ht_json_fail(&c, "line 1", "file larger than %u MiB", MAX_FILE_BYTES >> 20);
-            }
-            char *grown = realloc(buf, cap * 2 + 1);
-            if (!grown) { free(buf); fclose(f); goto no_memory; }
-            buf = grown;
-            cap *= 2;
-        }
-        size_t got = fread(buf + len, 1, cap - len, f);
-        len += got;
-        if (got == 0) break;
-    }
-    if (ferror(f)) {
-        int e = errno;
-        free(buf);
-        fclose(f);
-        errno = e;
-        goto io_error;
-    }
-    fclose(f);
-    buf[len] = '\0';
-    ht_result r = check_no_nul(&c, buf, len);
+    /* ht_file_read_bytes leaves a byte past the end: the text is made in
+       place, not copied. */
+    ht_result r = check_no_nul(&(ht_jctx){ path, err, err_size }, bytes, size);
     if (r != HT_OK) {
-        free(buf);
+        free(bytes);
         return r;
     }
-    *text = buf;
+    ((char *)bytes)[size] = '\0';
+    *text = bytes;
     return HT_OK;
-
-io_error:
-    if (err && err_size) {
-        snprintf(err, err_size, "%s: cannot read: %s", path, strerror(errno));
-        one_line(err);
-    }
-    return HT_ERR_IO;
-no_memory:
-    if (err && err_size) snprintf(err, err_size, "%s: out of memory", path);
-    return HT_ERR_OUT_OF_MEMORY;
 }
 
 static bool blank(const char *s) {

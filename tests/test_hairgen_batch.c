@@ -309,6 +309,57 @@ static void test_a_changed_texture_material_or_scene_regenerates_only_its_bundle
     assert_true(manifest_inode("chg/kk") != kk);
 }
 
+/* A re-run decides most materials without parsing them (a text that
+   names no file is keyed by its bytes and the scene's): a file key spelt
+   with an escape is still a file, and a strands scene's strand file is
+   still an input. */
+static void test_a_re_run_still_sees_an_escaped_file_key_and_the_strand_file(void **state) {
+    (void)state;
+    write_png("base.png", 100);
+    write_textured_material("tex.json", "base.png");
+    char *text = scratch_text("tex.json");
+    char *key = strstr(text, "\"file\"");
+    assert_non_null(key);
+    char escaped[2048];
+    snprintf(escaped, sizeof escaped, "%.*s\"fi\\u006ce\"%s", (int)(key - text), text, key + 6);
+    free(text);
+    ht_test_write_file(work, "esc.json", escaped);
+    assert_int_equal(run_hairgen("-o esc --batch esc.json -q"), 0);
+    ino_t esc = manifest_inode("esc/esc");
+    assert_int_equal(run_hairgen("-o esc --batch esc.json -q"), 0);
+    assert_true(manifest_inode("esc/esc") == esc);
+    write_png("base.png", 101);
+    assert_int_equal(run_hairgen("-o esc --batch esc.json -q"), 0);
+    assert_true(manifest_inode("esc/esc") != esc);
+
+    copy_material("kajiya-kay", "kk.json");
+    copy_scene("ratboy", "rat.json");
+    char from[PATH_MAX + 64];
+    snprintf(from, sizeof from, "%s/scenes/ratboy-mohawk.tfx", repo);
+    size_t size = 0;
+    char *strands = ht_test_read_all(from, &size);
+    assert_non_null(strands);
+    char to[600];
+    snprintf(to, sizeof to, "%s/ratboy-mohawk.tfx", work);
+    FILE *f = fopen(to, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(strands, 1, size, f), size);
+    fclose(f);
+    const char *args = "-o rat --batch kk.json --scene rat.json -q";
+    assert_int_equal(run_hairgen(args), 0);
+    ino_t kk = manifest_inode("rat/kk");
+    assert_int_equal(run_hairgen(args), 0);
+    assert_true(manifest_inode("rat/kk") == kk);
+    strands[size - 4] ^= 1; /* the last float's lowest mantissa bit: still a valid strand file */
+    f = fopen(to, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(strands, 1, size, f), size);
+    fclose(f);
+    free(strands);
+    assert_int_equal(run_hairgen(args), 0);
+    assert_true(manifest_inode("rat/kk") != kk);
+}
+
 static void test_depfiles_list_the_material_scene_and_texture_files(void **state) {
     (void)state;
     write_png("my base.png", 90);
@@ -528,6 +579,8 @@ int main(void) {
         cmocka_unit_test_setup_teardown(test_unchanged_inputs_are_skipped_and_force_regenerates, setup, teardown),
         cmocka_unit_test_setup_teardown(test_a_changed_texture_material_or_scene_regenerates_only_its_bundles,
                                         setup, teardown),
+        cmocka_unit_test_setup_teardown(test_a_re_run_still_sees_an_escaped_file_key_and_the_strand_file, setup,
+                                        teardown),
         cmocka_unit_test_setup_teardown(test_depfiles_list_the_material_scene_and_texture_files, setup, teardown),
         cmocka_unit_test_setup_teardown(test_make_rebuilds_exactly_when_a_listed_input_changes, setup, teardown),
         cmocka_unit_test_setup_teardown(test_a_bad_material_fails_alone_and_leaves_its_old_bundle, setup, teardown),
