@@ -188,6 +188,7 @@ int main(int argc, char **argv) {
        took a core from the textures and gained nothing.) */
     const bool always_generates = material_count == 1 && !o.batch;
     if (status == 0) ht_huge_heap(HUGE_HEAP_RESERVE_MIB, always_generates ? HUGE_HEAP_POPULATE_MIB : 0);
+    ht_gen_trace("heap");
     if (status == 0 && (o.measure || o.header || o.symbol)) {
         bool usable = material_count == 1 && !o.batch && !o.depfile && !o.depfile_per_bundle &&
                       (o.out_dir || o.header) && (!o.out_dir || o.out_dir[0]) && (!o.header || o.header[0]) &&

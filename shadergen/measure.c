@@ -27,8 +27,14 @@
 /* libOSMesa is loaded with dlopen on the first --measure, not linked: it
    pulls in LLVM and the rest of Mesa, whose dynamic linking was about half
    of the instructions of every hairgen start (callgrind, `hairgen --help`),
-   which only --measure needs. */
+   which only --measure needs. HAIRGEN_OSMESA names another file to load
+   (a Mesa built elsewhere). */
 #define OSMESA_LIBRARY "libOSMesa.so.8"
+
+static const char *osmesa_library(void) {
+    const char *named = getenv("HAIRGEN_OSMESA");
+    return named && named[0] ? named : OSMESA_LIBRARY;
+}
 
 static struct {
     void *library;
@@ -58,7 +64,7 @@ static bool osmesa_gl(const char *name, void *fn_out, size_t fn_size) {
 }
 
 static void osmesa_load(void) {
-    osmesa.library = dlopen(OSMESA_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+    osmesa.library = dlopen(osmesa_library(), RTLD_NOW | RTLD_LOCAL);
     if (osmesa.library &&
         osmesa_symbol("OSMesaCreateContextAttribs", &osmesa.create_attribs, sizeof osmesa.create_attribs) &&
         osmesa_symbol("OSMesaMakeCurrent", &osmesa.make_current, sizeof osmesa.make_current) &&
@@ -76,7 +82,9 @@ static void osmesa_load(void) {
 /* Whether libOSMesa is there, with "why not" in err. */
 static bool osmesa_available(char *err, size_t err_size) {
     pthread_once(&osmesa_once, osmesa_load);
-    if (!osmesa.library) ht_set_error(err, err_size, "measure: cannot load %s with its OSMesa and GL functions", OSMESA_LIBRARY);
+    if (!osmesa.library)
+        ht_set_error(err, err_size, "measure: cannot load %s with its OSMesa and GL functions (HAIRGEN_OSMESA names "
+                     "another)", osmesa_library());
     return osmesa.library != NULL;
 }
 

@@ -364,6 +364,29 @@ static void test_a_failed_measurement_writes_nothing(void **state) {
     assert_int_equal(count_temporaries(), 0);
 }
 
+/* No libOSMesa (HAIRGEN_OSMESA naming a file that is not there, or a
+   library without OSMesa's functions): one line naming it, exit 1, no
+   bundle and no temporary. */
+static void test_measure_without_libosmesa_writes_nothing(void **state) {
+    (void)state;
+    static const char *const libraries[] = { "/nonexistent/libOSMesa.so.8", "libm.so.6" };
+    for (int i = 0; i < 2; i++) {
+        char dir[256], args[700], env[128], want[300];
+        snprintf(dir, sizeof dir, "%s/no-osmesa", work);
+        snprintf(args, sizeof args, "materials/dark-brown.json --scene %s --measure -o %s", scene, dir);
+        snprintf(env, sizeof env, "HAIRGEN_OSMESA=%s", libraries[i]);
+        assert_int_equal(run_hairgen(env, args), 1);
+        char *err = work_file("err.txt");
+        snprintf(want, sizeof want,
+                 "hairgen: measure: cannot load %s with its OSMesa and GL functions (HAIRGEN_OSMESA names "
+                 "another)\n", libraries[i]);
+        assert_string_equal(err, want);
+        free(err);
+        assert_false(ht_test_path_exists(dir));
+        assert_int_equal(count_temporaries(), 0);
+    }
+}
+
 /* An -o the generator accepts (at most 1023 bytes) whose temporary sibling
    the runtime could not read: refused with one line, nothing left. */
 static void test_an_output_path_too_long_to_measure_is_refused(void **state) {
@@ -492,6 +515,7 @@ int main(void) {
         cmocka_unit_test(test_every_tier_carries_a_measured_object_the_runtime_reads),
         cmocka_unit_test(test_measure_adds_only_the_measured_objects),
         cmocka_unit_test(test_hairgen_prints_the_measured_table),
+        cmocka_unit_test(test_measure_without_libosmesa_writes_nothing),
         cmocka_unit_test(test_the_image_numbers_repeat_across_runs),
         cmocka_unit_test(test_error_policy_picks_the_cheapest_measured_tier_that_reaches_it),
         cmocka_unit_test(test_hairview_error_30_says_which_tier_and_why),
