@@ -22,12 +22,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "file_atomic.h"
 #include "hairgen.h"
 #include "hairtier.h"
 #include "metrics.h"
 #include "offscreen.h"
 #include "scene.h"
-#include "bench/support_atomic_file.h"
 #include "bench/support_results.h"
 #include "tempdir.h"
 #include "timing.h"
@@ -155,7 +155,10 @@ static double median_ms(const contender *c) {
     return median(samples, FRAMES);
 }
 
-static bool write_rows(FILE *f, void *rows) { return bench_rows_write_csv(f, rows); }
+static bool write_rows(FILE *f, void *rows, char *why, size_t why_size) {
+    (void)why, (void)why_size;
+    return bench_rows_write_csv(f, rows);
+}
 
 /* The run's rows, in the benchmark's CSV (support_results.h). */
 static bool write_csv(const contender *c, int count, const ht_scene *scene, uint32_t triangles) {
@@ -186,7 +189,7 @@ static bool write_csv(const contender *c, int count, const ht_scene *scene, uint
         r->cpu_orbit = ORBIT ? (double)c[k].cpu_orbit / ORBIT_FRAMES : NAN;
     }
     char err[512] = "out of memory";
-    if (ok) ok = bench_write_atomic(CSV, write_rows, &rows, err, sizeof err);
+    if (ok) ok = ht_file_write_atomic(CSV, write_rows, &rows, err, sizeof err) == HT_OK;
     if (!ok) fprintf(stderr, "bench_frame: %s\n", err);
     bench_rows_free(&rows);
     return ok;

@@ -29,7 +29,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "bench/support_atomic_file.h"
+#include "file_atomic.h"
 #include "bench/support_figures.h"
 #include "bench/support_progress.h"
 #include "bench/support_results.h"
@@ -249,14 +249,26 @@ typedef struct report_ctx {
     const char *preamble;
 } report_ctx;
 
-static bool write_csv(FILE *f, void *c) { return bench_rows_write_csv(f, ((report_ctx *)c)->rows); }
-static bool write_md(FILE *f, void *c) {
+/* ht_file_writer_fn's: each writer fails only as its stream does, with
+   no reason of its own. */
+static bool write_csv(FILE *f, void *c, char *why, size_t why_size) {
+    (void)why, (void)why_size;
+    return bench_rows_write_csv(f, ((report_ctx *)c)->rows);
+}
+static bool write_md(FILE *f, void *c, char *why, size_t why_size) {
+    (void)why, (void)why_size;
     const report_ctx *r = c;
     return bench_write_markdown(f, r->rows, &(bench_markdown){ .preamble = r->preamble, .cost_svg = "results.svg",
                                                                 .scaling_svg = "scaling.svg" });
 }
-static bool write_cost(FILE *f, void *c) { return bench_write_cost_svg(f, ((report_ctx *)c)->rows); }
-static bool write_scaling(FILE *f, void *c) { return bench_write_scaling_svg(f, ((report_ctx *)c)->rows); }
+static bool write_cost(FILE *f, void *c, char *why, size_t why_size) {
+    (void)why, (void)why_size;
+    return bench_write_cost_svg(f, ((report_ctx *)c)->rows);
+}
+static bool write_scaling(FILE *f, void *c, char *why, size_t why_size) {
+    (void)why, (void)why_size;
+    return bench_write_scaling_svg(f, ((report_ctx *)c)->rows);
+}
 
 /* The results directory, made before any measurement so a bad -o fails at once. */
 static bool make_out_dir(const char *dir) {
@@ -276,13 +288,13 @@ static int write_report(const char *dir, const bench_rows *rows, const machine *
     report_ctx ctx = { rows, text };
     static const struct {
         const char *name;
-        bench_writer_fn fn;
+        ht_file_writer_fn fn;
     } files[] = { { "results.csv", write_csv }, { "results.md", write_md }, { "results.svg", write_cost },
                   { "scaling.svg", write_scaling } };
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
         char path[1024], err[1200];
         snprintf(path, sizeof path, "%s/%s", dir, files[i].name);
-        if (!bench_write_atomic(path, files[i].fn, &ctx, err, sizeof err)) {
+        if (ht_file_write_atomic(path, files[i].fn, &ctx, err, sizeof err) != HT_OK) {
             fprintf(stderr, "bench_suite: %s\n", err);
             return 1;
         }

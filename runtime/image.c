@@ -20,6 +20,7 @@
 #include <png.h>
 
 #include "errfmt.h"
+#include "file_atomic.h"
 #include "file_open.h"
 
 /* Bytes of a width x height x channels image, 0 when it does not fit. */
@@ -252,73 +253,25 @@ static int write_body(png_session *s, const ht_image *img) {
     return 0;
 }
 
+/* ht_file_writer_fn: img as a PNG into f. */
+static bool write_png_to(FILE *f, void *ctx, char *why, size_t why_size) {
+    png_session s = { .file = f };
+    s.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &s, on_png_error, on_png_warning);
+    if (s.png) s.info = png_create_info_struct(s.png);
+    bool ok = s.png && s.info;
+    if (!ok) snprintf(s.message, sizeof s.message, "out of memory");
+    else ok = write_body(&s, ctx) == 0;
+    if (!ok) snprintf(why, why_size, "%s", s.message);
+    if (s.png) png_destroy_write_struct(&s.png, s.info ? &s.info : NULL);
+    return ok;
+}
+
 ht_result ht_image_write_png(const char *path, const ht_image *img, char *err, size_t err_size) {
     if (!path || !img || !img->pixels || image_bytes(img->width, img->height, img->channels) == 0) {
         ht_set_error(err, err_size, "%s: not a valid image to write", path ? path : "(null)");
         return HT_ERR_INVALID_ARGUMENT;
     }
-    static const char suffix[] = ".tmp-XXXXXX";
-    size_t path_len = strlen(path);
-    char *temp = malloc(path_len + sizeof suffix);
-    if (!temp) {
-        ht_set_error(err, err_size, "%s: out of memory", path);
-        return HT_ERR_OUT_OF_MEMORY;
-    }
-    memcpy(temp, path, path_len);
-    memcpy(temp + path_len, suffix, sizeof suffix);
-
-    png_session s = { 0 };
-    ht_result result = HT_ERR_IO;
-    bool temp_exists = false;
-
-    int fd = mkstemp(temp);
-    if (fd < 0) {
-        snprintf(s.message, sizeof s.message, "cannot create a temporary file beside it: %s",
-                 strerror(errno));
-        goto done;
-    }
-    temp_exists = true;
-    /* mkstemp creates 0600; an image is as readable as any file we write. */
-    if (fchmod(fd, 0644) != 0 || !(s.file = fdopen(fd, "wb"))) {
-        snprintf(s.message, sizeof s.message, "cannot write: %s", strerror(errno));
-        close(fd);
-        goto done;
-    }
-    s.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &s, on_png_error, on_png_warning);
-    if (s.png) s.info = png_create_info_struct(s.png);
-    if (!s.png || !s.info) {
-        snprintf(s.message, sizeof s.message, "out of memory");
-        result = HT_ERR_OUT_OF_MEMORY;
-        goto done;
-    }
-    if (write_body(&s, img) != 0) goto done;
-    /* Durable before it becomes visible: a crash leaves the old file or the
-       new one, never a half-written one under the final name. */
-    if (fflush(s.file) != 0 || fsync(fileno(s.file)) != 0) {
-        snprintf(s.message, sizeof s.message, "write failed: %s", strerror(errno));
-        goto done;
-    }
-    FILE *file = s.file;
-    s.file = NULL;
-    if (fclose(file) != 0) {
-        snprintf(s.message, sizeof s.message, "write failed: %s", strerror(errno));
-        goto done;
-    }
-    if (rename(temp, path) != 0) {
-        snprintf(s.message, sizeof s.message, "cannot rename the temporary file into place: %s",
-                 strerror(errno));
-        goto done;
-    }
-    temp_exists = false;
-    result = HT_OK;
-
-done:
-    if (s.png) png_destroy_write_struct(&s.png, s.info ? &s.info : NULL);
-    if (s.file) fclose(s.file);
-    if (temp_exists) remove(temp);
-    free(temp);
-    if (result != HT_OK) ht_set_error(err, err_size, "%s: %s", path, s.message);
-    return result;
+    return ht_file_write_atomic(path, write_png_to, (void *)img, err, err_size);
 }
 
 ht_result ht_image_encode_png(const ht_image *img, unsigned char **data, size_t *size, char *err, size_t err_size) {

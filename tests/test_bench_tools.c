@@ -1,9 +1,8 @@
 /* test_bench_tools — the benchmark's small parts (examples/): the ETA and
    durations of its progress line (support_progress.h), the median
    (timing.h), figures read back from a program's printed lines
-   (support_figures.h) and result files written atomically
-   (support_atomic_file.h). No GL, no timing. */
-#include <dirent.h>
+   (support_figures.h). No GL, no timing. (Result files are written by
+   ht_file_write_atomic: tests/test_file_atomic.c.) */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -14,7 +13,6 @@
 
 #include <cmocka.h>
 
-#include "support_atomic_file.h"
 #include "support_figures.h"
 #include "support_progress.h"
 #include "support_scratch.h"
@@ -117,50 +115,6 @@ static void test_other_lines_are_not_figures(void **state) {
     assert_false(bench_parse_figure("a: 1 ms", "a-series-name-far-too-long", &r));
 }
 
-static bool write_hello(FILE *f, void *ctx) { return fprintf(f, "hello %s\n", (const char *)ctx) > 0; }
-static bool write_half_then_fail(FILE *f, void *ctx) {
-    (void)ctx;
-    fputs("half", f);
-    return false;
-}
-
-/* Files in the scratch directory: a temporary left behind shows here. */
-static int files_in_work(void) {
-    DIR *d = opendir(work);
-    assert_non_null(d);
-    int n = 0;
-    for (struct dirent *e; (e = readdir(d));)
-        if (e->d_name[0] != '.') n++;
-    closedir(d);
-    return n;
-}
-
-static void test_atomic_write_replaces_the_file_whole(void **state) {
-    (void)state;
-    char path[128], err[256];
-    snprintf(path, sizeof path, "%s/out.txt", work);
-    ht_test_write_file(work, "out.txt", "old\n");
-    assert_true(bench_write_atomic(path, write_hello, "world", err, sizeof err));
-    assert_string_equal(ht_test_read_file(work, "out.txt"), "hello world\n");
-    assert_int_equal(files_in_work(), 1);
-}
-
-static void test_a_failed_write_leaves_the_old_file_and_no_temporary(void **state) {
-    (void)state;
-    char path[128], err[256] = "";
-    snprintf(path, sizeof path, "%s/keep.txt", work);
-    ht_test_write_file(work, "keep.txt", "old\n");
-    int before = files_in_work();
-    assert_false(bench_write_atomic(path, write_half_then_fail, NULL, err, sizeof err));
-    assert_string_equal(strstr(err, "keep.txt: "), "keep.txt: write failed"); /* no system error to name */
-    assert_string_equal(ht_test_read_file(work, "keep.txt"), "old\n");
-    assert_int_equal(files_in_work(), before);
-
-    snprintf(path, sizeof path, "%s/no-such-dir/out.txt", work);
-    assert_false(bench_write_atomic(path, write_hello, "x", err, sizeof err));
-    assert_non_null(strstr(err, "no-such-dir/out.txt: cannot create a temporary file beside it: "));
-}
-
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_eta_is_the_remaining_weight_at_the_pace_so_far),
@@ -168,8 +122,6 @@ int main(void) {
         cmocka_unit_test(test_median_of_odd_and_even_counts),
         cmocka_unit_test(test_figures_are_read_from_bench_hairgen_lines),
         cmocka_unit_test(test_other_lines_are_not_figures),
-        cmocka_unit_test(test_atomic_write_replaces_the_file_whole),
-        cmocka_unit_test(test_a_failed_write_leaves_the_old_file_and_no_temporary),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
