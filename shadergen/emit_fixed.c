@@ -20,9 +20,18 @@
        256 texels; below e ~ 0.5 the drop to 0 at d = +-1 still spans a
        texel (a known approximation at grazing t, H).
      - a term whose colour is 0 needs no resolution: 1 texel.
-   Budget: at most 2^20 texels (4 MiB even if the driver widens RGB8 to
-   RGBA8): the diffuse axis drops to 16 first, then the larger highlight
-   axis halves. dark-brown (e 80 / 24): 32 x 128 x 64 = 262144 texels.
+   Budget, a 2D LUT (Kajiya-Kay): at most 2^20 texels (4 MiB even if the
+   driver widens RGB8 to RGBA8): the diffuse axis drops to 16 first, then
+   the larger highlight axis halves. A 3D LUT (Scheuermann): at most 16
+   depth slices (the t2.H axis) and 2^14 texels, the larger of the other
+   two axes halving until it fits: what a 3D fetch costs a software
+   rasteriser grows with the LUT, mostly with its slices (softpipe, 256²
+   fur ball, instructions per frame: 32 x 128 x 64 7210 M, 16 x 64 x 32
+   5536 M, 16 x 32 x 32 5390 M, 32 x 32 x 16 5166 M, 16 x 16 x 16
+   5167 M; gl11 3411 M), while the accuracy sweep against full moved by
+   -0.4..+0.7 dB per pair (the error fixed keeps is full's jitter and
+   sparkle, not the LUT's resolution; README "Accuracy"). Every shipped
+   Scheuermann material gets 32 x 32 x 16.
 
    Coordinates (combiner.h): Kajiya-Kay under a directional key light gets
    "texture-matrix" (T as texture coordinate, (T.L, T.H) from the texture
@@ -45,6 +54,8 @@
 
 #define LUT_NAME "fixed-lut"
 #define MAX_TEXELS (1 << 20)
+#define MAX_3D_TEXELS (1 << 14)
+#define MAX_3D_DEPTH 16
 #define MIN_AXIS 16
 #define MAX_AXIS 256
 #define DIFFUSE_AXIS 32
@@ -102,6 +113,27 @@ static ht_shading lut_shading(const ht_plan *plan) {
     return s;
 }
 
+/* The 3D LUT's budget (header): the depth axis first, then the larger of
+   the other two halves (the highlight's on a tie: the diffuse axis is
+   piecewise linear and wants few texels anyway). One dropped line per
+   highlight axis it shrank, with the peak that axis now reads. */
+static void fit_3d(const ht_shading *s, const char *const axis_names[3], ht_tier_output *out, int size[3]) {
+    const int wanted[3] = { size[0], size[1], size[2] };
+    if (size[2] > MAX_3D_DEPTH) size[2] = MAX_3D_DEPTH;
+    while (texels(size) > MAX_3D_TEXELS) size[size[1] >= size[0] ? 1 : 0] /= 2;
+    const double exponents[3] = { 0.0, s->primary.exponent, s->secondary.exponent };
+    for (int i = 0; i < 3; i++) {
+        if (size[i] == wanted[i]) continue;
+        if (i == 0)
+            note_dropped(out, "LUT axis %s: %d texels, not %d, to keep the 3D LUT within %d slices and %d texels",
+                         axis_names[i], size[i], wanted[i], MAX_3D_DEPTH, MAX_3D_TEXELS);
+        else
+            note_dropped(out, "LUT axis %s: %d texels, not %d, to keep the 3D LUT within %d slices and %d texels: "
+                         "lobe widened, peak read as %.3f", axis_names[i], size[i], wanted[i], MAX_3D_DEPTH,
+                         MAX_3D_TEXELS, peak_read(exponents[i], size[i]));
+    }
+}
+
 static void choose_sizes(const ht_shading *s, const char *const axis_names[3],
                          ht_tier_output *out, int size[3]) {
     const bool kk = s->model == HT_MODEL_KAJIYA_KAY;
@@ -120,6 +152,10 @@ static void choose_sizes(const ht_shading *s, const char *const axis_names[3],
             note_dropped(out, "LUT axis %s: exponent %g wants %d texels, clamped to %d: lobe widened, "
                          "peak read as %.3f", axis_names[1 + i], l->exponent, want, *n,
                          peak_read(l->exponent, *n));
+    }
+    if (size[2] > 1) {
+        fit_3d(s, axis_names, out, size);
+        return;
     }
     if (texels(size) > MAX_TEXELS && size[0] > MIN_AXIS) size[0] = MIN_AXIS;
     while (texels(size) > MAX_TEXELS) {

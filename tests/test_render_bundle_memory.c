@@ -324,7 +324,7 @@ static void test_broken_memory_bundle_fails_like_the_broken_directory(void **sta
         { "albedo.png", TRUNCATE, 1000, NULL, HT_TIER_GL11, HT_ERR_UNSUPPORTED, "albedo.png: file is truncated" },
         { "albedo.png", TRUNCATE, 0, NULL, HT_TIER_FIXED4, HT_ERR_UNSUPPORTED, "albedo.png: file is empty" },
         { "fixed-lut.png", REPLACE_WITH, 0, "albedo.png", HT_TIER_FIXED, HT_ERR_UNSUPPORTED,
-          "fixed-lut.png: 256x256, manifest says 32x8192" },
+          "fixed-lut.png: 256x256, manifest says 32x512" },
         { "detail.png", REPLACE_WITH, 0, "fixed.json", HT_TIER_FULL, HT_ERR_UNSUPPORTED, "detail.png: not a PNG file" },
         { "fixed.json", TRUNCATE, 300, NULL, HT_TIER_FIXED, HT_ERR_UNSUPPORTED, "fixed.json: line " },
         { "gl11.json", REMOVE, 0, NULL, HT_TIER_GL11, HT_ERR_UNSUPPORTED,

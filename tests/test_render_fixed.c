@@ -75,9 +75,12 @@
 /* Fixed tier vs the oracle with the tier's documented drops, per channel in
    1/255, on cases within the LUT's resolution: an 8-bit LUT at scale 2
    (0.5/255 x 2 x base), linear interpolation between LUT texels, and dot
-   products computed per vertex and interpolated across a cell. Measured:
-   max 4, mean <= 0.51 (llvmpipe and softpipe alike). */
-#define ORACLE_MAX 6
+   products computed per vertex and interpolated across a cell. Measured
+   with the 3D LUT's budget (32 x 32 x 16, emit_fixed.c): max 12 (shift
+   100; 11 the plain probe under a light of colour 2), mean <= 0.91 over
+   the cases (llvmpipe); before it (axes of 8 sqrt(e)) max 4, mean 0.51.
+   The highlight's curvature between the coarser texels is the difference. */
+#define ORACLE_MAX 14
 #define ORACLE_MEAN 1.0
 /* The texture-matrix rule (Kajiya-Kay, directional key light) vs the oracle
    evaluated with the rule's infinite viewer, per channel in 1/255: the same
