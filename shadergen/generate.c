@@ -32,7 +32,7 @@
 /* Hashed into input_hash and written to the manifest: a new generator
    invalidates caches keyed on the hash. Bump it with any change to what a
    bundle holds. */
-#define GENERATOR_VERSION "hairgen 3"
+#define GENERATOR_VERSION "hairgen 4"
 
 /* FNV-1a 64 over every input file's bytes: the key a build cache can use. */
 typedef struct input_hash { uint64_t value; } input_hash;
