@@ -28,11 +28,16 @@ ht_result ht_file_check_size(const char *path, uint64_t size, uint64_t max_bytes
     return HT_ERR_IO;
 }
 
+/* Whether size bytes may be a text: no NUL among them ("PATH: why" in err
+   when not). One check for files and memory bundles (bundle_source.c). */
+static bool text_bytes_ok(const char *path, const void *data, size_t size, char *err, size_t err_size) {
+    if (!memchr(data, '\0', size)) return true;
+    ht_set_error(err, err_size, "%s: NUL byte in a text file", path);
+    return false;
+}
+
 char *ht_text_from_bytes(const char *path, const void *data, size_t size, char *err, size_t err_size) {
-    if (memchr(data, '\0', size)) {
-        ht_set_error(err, err_size, "%s: NUL byte in a text file", path);
-        return NULL;
-    }
+    if (!text_bytes_ok(path, data, size, err, err_size)) return NULL;
     char *text = malloc(size + 1);
     if (!text) {
         ht_set_error(err, err_size, "%s: out of memory (%llu bytes)", path, (unsigned long long)size);
@@ -135,10 +140,12 @@ void *ht_file_read_bytes(const char *path, uint64_t max_bytes, size_t *size, cha
 
 char *ht_file_read_text(const char *path, uint64_t max_bytes, char *err, size_t err_size) {
     size_t size = 0;
-    void *bytes = ht_file_read_bytes(path, max_bytes, &size, err, err_size);
-    if (!bytes) return NULL;
-    /* One check for files and memory bundles (bundle_source.c). */
-    char *checked = ht_text_from_bytes(path, bytes, size, err, err_size);
-    free(bytes);
-    return checked;
+    char *text = ht_file_read_bytes(path, max_bytes, &size, err, err_size);
+    if (!text) return NULL;
+    if (!text_bytes_ok(path, text, size, err, err_size)) {
+        free(text);
+        return NULL;
+    }
+    text[size] = '\0'; /* ht_file_read_bytes leaves the byte past the end: ended in place, not copied */
+    return text;
 }

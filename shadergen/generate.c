@@ -529,10 +529,10 @@ static void read_umask(void) {
     umask(process_umask);
 }
 
-/* Whether dir's manifest holds input_hash `hash`. hairgen
-   writes the key third, within the first few hundred bytes; the text is
-   read there, not parsed whole (parsing every manifest was half of a
-   no-change batch's time). */
+/* Whether dir's manifest holds input_hash `hash`. hairgen writes the key
+   third, within the first few hundred bytes: it is searched for there,
+   not parsed (parsing every manifest was half of a no-change batch's
+   time). */
 static bool bundle_has_hash(const char *dir, input_hash hash) {
     char want[HASH_TEXT_SIZE];
     hash_as_text(hash.value, want);
@@ -606,20 +606,26 @@ static ht_result hash_scene(const ht_bundle_request *rq, const ht_scene *scene, 
     return r;
 }
 
-static ht_result read_inputs(const ht_bundle_request *rq, ht_bundle_report *rep, bundle_inputs *in, char *err,
-                             size_t err_size) {
+/* Every part of the key but the texture files, which only the parsed
+   material names: the generator, the material's bytes, the scene's and a
+   strands scene's strand file, their paths listed in rep->inputs. */
+static ht_result key_before_textures(const ht_bundle_request *rq, const ht_scene *scene, const char *material_text,
+                                     ht_bundle_report *rep, input_hash *h, char *err, size_t err_size) {
+    *h = material_key(material_text);
+    snprintf(rep->inputs[rep->input_count++], sizeof rep->inputs[0], "%s", rq->material_path);
+    return hash_scene(rq, scene, rep, h, err, err_size);
+}
+
+/* The material's text (read by the caller, once) parsed, the scene loaded
+   unless rq->scene is given, and the key finished with the texture files'
+   bytes. keyed: in->hash and rep->inputs already hold key_before_textures'
+   part, made from this text and rq->scene. */
+static ht_result read_inputs(const ht_bundle_request *rq, ht_bundle_report *rep, bundle_inputs *in,
+                             const char *material_text, bool keyed, char *err, size_t err_size) {
     const char *material_path = rq->material_path, *scene_path = rq->scene_path;
     in->scene = rq->scene;
-    /* Read once: parsed here, hashed below (ht_material_load's steps). */
-    char *material_text = NULL;
-    ht_result r = ht_json_read_file(material_path, &material_text, err, err_size);
-    if (r == HT_OK) r = ht_material_parse(material_text, material_path, &in->material, err, err_size);
-    /* The bundle's key is its input files' bytes; the files are the
-       bundle's dependencies. */
-    if (r == HT_OK) in->hash = material_key(material_text);
-    free(material_text);
+    ht_result r = ht_material_parse(material_text, material_path, &in->material, err, err_size);
     if (r != HT_OK) return r;
-    snprintf(rep->inputs[rep->input_count++], sizeof rep->inputs[0], "%s", material_path);
     snprintf(rep->material_name, sizeof rep->material_name, "%s", in->material.name);
     if (!in->scene) {
         if (scene_path) r = ht_scene_load(scene_path, &in->loaded_scene, err, err_size);
@@ -627,7 +633,9 @@ static ht_result read_inputs(const ht_bundle_request *rq, ht_bundle_report *rep,
         if (r != HT_OK) return r;
         in->scene = &in->loaded_scene;
     }
-    r = hash_scene(rq, in->scene, rep, &in->hash, err, err_size);
+    /* The bundle's key is its input files' bytes; the files are the
+       bundle's dependencies. */
+    if (!keyed) r = key_before_textures(rq, in->scene, material_text, rep, &in->hash, err, err_size);
     static const char *const slots[HT_TEX_COUNT] = { "base", "alpha", "shift", "sparkle" };
     for (int i = 0; i < HT_TEX_COUNT && r == HT_OK; i++)
         if (in->material.textures[i].origin == HT_TEXTURE_FILE) {
@@ -639,30 +647,24 @@ static ht_result read_inputs(const ht_bundle_request *rq, ht_bundle_report *rep,
     return r;
 }
 
-/* A no-change re-run's shortcut: a material whose text names no file is
-   keyed by its own bytes and the scene's alone, so whether its bundle is
-   up to date is known without parsing it (the parse was 70% of a no-change
-   batch's instructions: callgrind, 100 materials). Sound by construction:
-   the key is made by the same steps read_inputs takes, so it equals the
-   bundle's only when the bundle was made from these very bytes (a material
-   that names files was keyed with their bytes too, so it never matches
-   here, however its key is spelt) and identical bytes parse as they did.
-   A text holding "file" is not tried. Anything else (a scene not loaded by
-   the caller, a file that cannot be read, another key) answers false and
-   leaves the full reading to decide and to say why. */
-static bool up_to_date_unparsed(const ht_bundle_request *rq, ht_bundle_report *rep) {
-    if (!rq->scene) return false;
-    char *text = NULL, err[1200];
-    if (ht_json_read_file(rq->material_path, &text, err, sizeof err) != HT_OK) return false;
-    bool current = false;
-    if (!strstr(text, "\"file\"")) {
-        input_hash h = material_key(text);
-        snprintf(rep->inputs[rep->input_count++], sizeof rep->inputs[0], "%s", rq->material_path);
-        current = hash_scene(rq, rq->scene, rep, &h, err, sizeof err) == HT_OK && bundle_has_hash(rq->out_dir, h);
-    }
-    free(text);
-    if (!current) rep->input_count = 0; /* read_inputs lists them again */
-    return current;
+/* A batch's key before the textures, made once from the text already read
+   (read_inputs goes on from it), and a no-change re-run's shortcut: a
+   material whose text names no file is keyed by that part alone, so
+   whether its bundle is up to date is known without parsing it (the parse
+   was 70% of a no-change batch's instructions: callgrind, 100 materials).
+   Sound by construction: the key is made by the same steps as a full
+   reading, so it equals the bundle's only when the bundle was made from
+   these very bytes (a material that names files was keyed with their bytes
+   too, so it never matches here, however its key is spelt) and identical
+   bytes parse as they did. A text holding "file" is not compared. A scene
+   the caller did not load, or a part that cannot be hashed, leaves *keyed
+   false and the full reading to make the key and to say why. */
+static bool up_to_date_unparsed(const ht_bundle_request *rq, const char *material_text, ht_bundle_report *rep,
+                                input_hash *h, bool *keyed) {
+    char err[1200];
+    *keyed = rq->scene && key_before_textures(rq, rq->scene, material_text, rep, h, err, sizeof err) == HT_OK;
+    if (!*keyed) rep->input_count = 0; /* read_inputs lists them again */
+    return *keyed && !strstr(material_text, "\"file\"") && bundle_has_hash(rq->out_dir, *h);
 }
 
 ht_result ht_generate_files(const char *material_path, const char *scene_path, ht_material *material,
@@ -675,9 +677,12 @@ ht_result ht_generate_files(const char *material_path, const char *scene_path, h
     ht_bundle_report *rep = calloc(1, sizeof *rep);
     ht_result r = in && rep ? HT_OK : ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", material_path);
     ht_c_locale_scope loc = ht_c_locale_enter();
+    char *material_text = NULL;
+    if (r == HT_OK) r = ht_json_read_file(material_path, &material_text, err, err_size);
     if (r == HT_OK)
         r = read_inputs(&(ht_bundle_request){ .material_path = material_path, .scene_path = scene_path }, rep, in,
-                        err, err_size);
+                        material_text, false, err, err_size);
+    free(material_text);
     if (r == HT_OK)
         r = ht_generate(&(ht_generate_desc){ .material = &in->material, .scene = in->scene,
                                              .input_hash = in->hash.value },
@@ -706,14 +711,19 @@ static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep,
     const char *out_dir = rq->out_dir;
     /* An up-to-date bundle is a bundle: a batch's re-run checks only its
        hash; any other run checks the target first, as it always has. */
-    if (rq->skip_unchanged && up_to_date_unparsed(rq, rep)) {
+    ht_result r = rq->skip_unchanged ? HT_OK : check_target(out_dir, err, err_size);
+    char *material_text = NULL;
+    if (r == HT_OK) r = ht_json_read_file(rq->material_path, &material_text, err, err_size);
+    if (r != HT_OK) return r;
+    bundle_inputs inputs;
+    bool keyed = false;
+    if (rq->skip_unchanged && up_to_date_unparsed(rq, material_text, rep, &inputs.hash, &keyed)) {
+        free(material_text);
         rep->skipped = true;
         return HT_OK;
     }
-    ht_result r = rq->skip_unchanged ? HT_OK : check_target(out_dir, err, err_size);
-    if (r != HT_OK) return r;
-    bundle_inputs inputs;
-    r = read_inputs(rq, rep, &inputs, err, err_size);
+    r = read_inputs(rq, rep, &inputs, material_text, keyed, err, err_size);
+    free(material_text);
     if (r != HT_OK) return r;
     const ht_material material = inputs.material;
     const ht_scene *scene = inputs.scene;
