@@ -59,7 +59,7 @@ PROGRAMS  := $(patsubst examples/%.c,$(BUILD)/%,$(EXAMPLE_SRC))
 TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 # Tests that render and so run a second time on softpipe (GALLIUM_DRIVER=
 # softpipe), Mesa's second driver; every test runs on llvmpipe.
-SOFTPIPE_TESTS := test_render_app_state test_render_buffer_arrays test_render_marschner test_render_fixed test_render_fixed4 test_render_gl11 test_render_glsl_compile \
+SOFTPIPE_TESTS := test_render_app_state test_render_drivers test_render_buffer_arrays test_render_marschner test_render_fixed test_render_fixed4 test_render_gl11 test_render_glsl_compile \
                   test_render_passes test_render_probe test_render_robustness test_render_scenes
 $(foreach t,$(filter-out $(notdir $(TESTS)),$(SOFTPIPE_TESTS)),$(error SOFTPIPE_TESTS: no tests/$(t).c))
 # Render tests that run once more on llvmpipe through EGL (a pbuffer on

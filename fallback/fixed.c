@@ -562,7 +562,7 @@ static void bind_pass(void *state, ht_pass pass, int sub_pass) {
    offset into buffer, or (buffer 0: no VBOs, or its upload was refused)
    the client memory, read with no array buffer bound. */
 static const void *array_source(const ht_gl *gl, GLuint buffer, const void *client, size_t offset) {
-    if (gl->BindBuffer) gl->BindBuffer(GL_ARRAY_BUFFER, buffer);
+    ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, buffer);
     return buffer ? (const void *)(uintptr_t)offset : (const void *)((const char *)client + offset);
 }
 
@@ -581,8 +581,7 @@ static bool point_stage_arrays(void *state, ht_pass pass, int sub_pass) {
     /* a point-light frame of a texture-matrix program without memory for its
        coordinates (logged in begin_frame): draw nothing rather than garbage */
     if (!slot->frame_matrix && !slot->coords) return false;
-    GLint bound = 0;
-    if (gl->BindBuffer) gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
+    const GLuint bound = ht_gl_array_buffer_binding(gl);
     const GLsizei stride = (GLsizei)sizeof(ht_vertex);
     for (int i = 0; i < s->program.stage_count; i++) {
         const ht_combiner_stage *st = &s->program.stages[i];
@@ -600,7 +599,7 @@ static bool point_stage_arrays(void *state, ht_pass pass, int sub_pass) {
     if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0);
     gl->EnableClientState(GL_COLOR_ARRAY);
     gl->ColorPointer(4, GL_FLOAT, 0, array_source(gl, slot->color_buffer, slot->colors, 0));
-    if (gl->BindBuffer) gl->BindBuffer(GL_ARRAY_BUFFER, (GLuint)bound);
+    ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, bound);
     return true;
 }
 

@@ -133,9 +133,11 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
     }
     int w = 0, h = 0;
     ht_fixed4_lut_size(&s->program, 0, &w, &h);
-    ht_log_linef(s->log, s->log_user, "hairtier: fixed4: %d units, %d LUT%s %dx%d, %d light%s, coordinates by the "
-                 "texture matrix (infinite viewer), diffuse by GL lighting%s", s->units, s->luts,
+    ht_log_linef(s->log, s->log_user, "hairtier: fixed4: %d units, %d LUT%s %dx%d, %d light%s, coordinates %s, "
+                 "diffuse by GL lighting%s", s->units, s->luts,
                  s->luts == 1 ? "" : "s", w, h, s->program.lights, s->program.lights == 1 ? "" : "s",
+                 s->program.viewer == HT_FIXED4_VIEWER_LOCAL ? "per vertex on the CPU (local viewer)"
+                                                             : "by the texture matrix (infinite viewer)",
                  s->program.shading.model == HT_MODEL_KAJIYA_KAY ? " (none: Kajiya-Kay's is in the LUT)" : "");
     *out = s;
     return HT_OK;
@@ -362,7 +364,7 @@ static const void *array_pointer(const fixed4_state *s, array_kind k) {
         s->gl->BindBuffer(GL_ARRAY_BUFFER, s->buffers[k]);
         return NULL; /* offset 0 in the bound buffer */
     }
-    if (s->gl->BindBuffer) s->gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    ht_gl_bind_buffer(s->gl, GL_ARRAY_BUFFER, 0);
     return s->arrays[k];
 }
 
@@ -373,13 +375,12 @@ static bool set_arrays(void *state, ht_pass pass, int sub_pass) {
     const ht_gl *gl = s->gl;
     if (!s->have_mesh || !ht_fixed4_stages_ready(&s->stages)) return false;
     if (s->program.viewer == HT_FIXED4_VIEWER_LOCAL && !s->coords_valid) return false;
-    GLint bound = 0;
-    if (gl->BindBuffer) gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
+    const GLuint bound = ht_gl_array_buffer_binding(gl);
     for (int u = 0; u < s->units; u++) {
         gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)u);
         gl->EnableClientState(GL_TEXTURE_COORD_ARRAY);
         if (u < s->luts && s->program.viewer == HT_FIXED4_VIEWER_LOCAL) {
-            gl->BindBuffer(GL_ARRAY_BUFFER, s->coord_buffers[u]);
+            ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, s->coord_buffers[u]);
             gl->TexCoordPointer(2, GL_FLOAT, 0, s->coord_buffers[u] ? NULL : s->coords[u]);
         } else if (u < s->luts) {
             const void *ptr = array_pointer(s, u == 0 ? ARRAY_VEC0 : ARRAY_VEC1);
@@ -391,7 +392,7 @@ static bool set_arrays(void *state, ht_pass pass, int sub_pass) {
     gl->ClientActiveTexture(GL_TEXTURE0);
     gl->EnableClientState(GL_COLOR_ARRAY);
     gl->ColorPointer(4, GL_FLOAT, 0, array_pointer(s, ARRAY_COLOR));
-    if (gl->BindBuffer) gl->BindBuffer(GL_ARRAY_BUFFER, (GLuint)bound);
+    ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, bound);
     return true;
 }
 

@@ -227,14 +227,11 @@ static bool set_arrays(void *state, ht_pass pass, int sub_pass) {
     }
     /* the buffer, or (none: no VBOs, or its upload was refused) client
        memory with no array buffer bound; the renderer's binding back after */
-    GLint bound = 0;
-    if (gl->BindBuffer) {
-        gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
-        gl->BindBuffer(GL_ARRAY_BUFFER, s->color_buffer);
-    }
+    const GLuint bound = ht_gl_array_buffer_binding(gl);
+    ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, s->color_buffer);
     gl->EnableClientState(GL_COLOR_ARRAY);
     gl->ColorPointer(4, GL_FLOAT, 0, s->color_buffer ? NULL : s->colors);
-    if (gl->BindBuffer) gl->BindBuffer(GL_ARRAY_BUFFER, (GLuint)bound);
+    ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, bound);
     return true;
 }
 

@@ -123,4 +123,16 @@ ht_result ht_gl_load(ht_gl *gl, ht_getproc_fn getproc, char *err, size_t err_siz
    extensions): their pointers become NULL, their flag false. */
 void ht_gl_restrict(ht_gl *gl, bool tex3d, bool multitexture, bool vbo, bool shaders);
 
+/* The one place buffer-object bindings are made or read. Without buffer
+   objects GL reads every array from client memory, which is what binding 0
+   means: buffer must be 0 there, and nothing is called. */
+static inline void ht_gl_bind_buffer(const ht_gl *gl, GLenum target, GLuint buffer) {
+    if (gl->has_vbo) gl->BindBuffer(target, buffer);
+}
+static inline GLuint ht_gl_array_buffer_binding(const ht_gl *gl) {
+    GLint bound = 0;
+    if (gl->has_vbo) gl->GetIntegerv(GL_ARRAY_BUFFER_BINDING, &bound);
+    return (GLuint)bound;
+}
+
 #endif

@@ -8,10 +8,8 @@
 void ht_renderer_draw_opaque(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f) {
     const ht_gl *gl = &r->gl;
     if (!m->vertices || !m->indices || m->index_count == 0) return;
-    if (r->caps.has_vbo) {
-        gl->BindBuffer(GL_ARRAY_BUFFER, 0);
-        gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
-    }
+    ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, 0);
+    ht_gl_bind_buffer(gl, GL_ELEMENT_ARRAY_BUFFER, 0);
     gl->Disable(GL_CULL_FACE);
     gl->Disable(GL_BLEND);
     gl->Disable(GL_ALPHA_TEST);

@@ -81,10 +81,8 @@ static void bind_flat(ht_renderer *r) {
 ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf) {
     const ht_gl *gl = &r->gl;
     if (!r->has_mesh || r->index_count == 0) return HT_OK;
-    if (r->caps.has_vbo) {
-        gl->BindBuffer(GL_ARRAY_BUFFER, r->vbo);
-        gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo);
-    }
+    ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, r->vbo);
+    ht_gl_bind_buffer(gl, GL_ELEMENT_ARRAY_BUFFER, r->ibo);
     ht_renderer_set_arrays(r, r->caps.has_vbo ? NULL : r->vertices, true);
     const void *indices = r->caps.has_vbo ? NULL : r->indices;
 
