@@ -61,7 +61,7 @@
    a deeper layer's added light is not attenuated by the layers blended over
    it in the same pass (back pass: too bright by a_deep a_over c1) or not
    added (front pass: the deeper layer fails EQUAL; too dark by
-   (1 - a_over) a_deep c1); measured in README "Accuracy".
+   (1 - a_over) a_deep c1); measured in docs/accuracy.md.
 
    LUT texel mapping ("centres": "endpoints"): along an axis of n texels,
    texel x holds the function at d = 2x/(n-1) - 1, so the first and last

@@ -1,7 +1,8 @@
 /* hairtier.h — draw anisotropic hair from a hairgen bundle on any GL context,
    with the best shader tier the device can run.
 
-   The one public header of libhairtier.a. A bundle is a directory written
+   The API of libhairtier (the other installed headers serve hairgen.h and
+   scene files). A bundle is a directory written
    offline by `hairgen` (manifest.json, the shaders of every tier, the
    fixed-function combiner program and its textures), or the same files
    compiled in (`hairgen --emit-header`); this library probes

@@ -10,7 +10,10 @@
        char err[512];
        if (ht_scene_load("scenes/furball.json", &s, err, sizeof err) != HT_OK) puts(err);
        ht_mesh hair, head;
-       if (ht_scene_build_meshes(&s, &hair, &head, err, sizeof err) != HT_OK) puts(err);
+       if (ht_scene_build_meshes(&s, "scenes/furball.json", &hair, &head, err, sizeof err) != HT_OK)
+           puts(err);
+       ...
+       ht_mesh_free(&hair); ht_mesh_free(&head);
 
    Errors are one line "FILE: FIELD: what is wrong".
 

@@ -24,13 +24,10 @@
    driver widens RGB8 to RGBA8): the diffuse axis drops to 16 first, then
    the larger highlight axis halves. A 3D LUT (Scheuermann): at most 16
    depth slices (the t2.H axis) and 2^14 texels, the larger of the other
-   two axes halving until it fits: what a 3D fetch costs a software
-   rasteriser grows with the LUT, mostly with its slices (softpipe, 256²
-   fur ball, instructions per frame: 32 x 128 x 64 7210 M, 16 x 64 x 32
-   5536 M, 16 x 32 x 32 5390 M, 32 x 32 x 16 5166 M, 16 x 16 x 16
-   5167 M; gl11 3411 M), while the accuracy sweep against full moved by
-   -0.4..+0.7 dB per pair (the error fixed keeps is full's jitter and
-   sparkle, not the LUT's resolution; README "Accuracy"). Every shipped
+   two axes halving until it fits: a 3D fetch on a software rasteriser
+   costs more the larger the LUT, mostly its slices, while the error fixed
+   keeps is full's jitter and sparkle, not the LUT's resolution
+   (docs/performance.md, docs/accuracy.md). Every shipped
    Scheuermann material gets 32 x 32 x 16.
 
    Coordinates (combiner.h): Kajiya-Kay under a directional key light gets
@@ -67,8 +64,8 @@
    0.20-0.27, took its fur ball to 27.7 dB and its back-lit scene to 26.6
    dB without a sub-pass). A dimmer light shows in narrow highlights only:
    dark-brown's fills (0.06-0.09) cost it 0-2.9 dB, not worth the lit
-   passes' geometry a second time (1.9x full on llvmpipe). README's
-   accuracy and cost sections have the measurements. */
+   passes' geometry a second time (1.9x full on llvmpipe).
+   docs/accuracy.md and docs/performance.md have the measurements. */
 #define FILL_MIN_DIFFUSE (32.0 / 255.0)
 
 static bool is_black(const double c[3]) { return c[0] <= 0.0 && c[1] <= 0.0 && c[2] <= 0.0; }

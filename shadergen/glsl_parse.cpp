@@ -1,8 +1,8 @@
 /* glsl_parse.cpp — glsl_parse.h: the one piece of hairgen in C++, because
    glslang's C API validates a text in two passes (glslang_shader_preprocess
    writes the preprocessed text, glslang_shader_parse parses that again),
-   and TShader::parse does both in one: dark-brown's 8 texts took 34 M
-   instructions in glslang, now 21 M (callgrind). The same arguments as the C API's preprocess step;
+   and TShader::parse does both in one (a third fewer instructions,
+   docs/performance.md). The same arguments as the C API's preprocess step;
    no exception leaves this file. */
 #include <cstdio>
 #include <new>

@@ -1,27 +1,14 @@
-/* huge_heap.c — huge_heap.h. A bundle touches about 6 MiB of fresh memory
-   (glslang's symbol tables, textures, the LUT, PNG buffers); on the 2-core
-   virtual machine the first touch of a 4 KiB page costs about 13 us (1500
-   page faults were a third of one material's CPU time), and a 2 MiB huge
-   page costs about what one small page does (README). glibc's tunable
-   glibc.malloc.hugetlb would do this from the environment; a program cannot
-   set its own, so the heap is laid out here once with malloc's own calls:
-
-     the break moved up to a huge-page boundary B (glibc takes a break it
-       did not set as a new start for its top chunk, as when any other code
-       calls sbrk; the gap below is never touched);
-     the heap grown by reserve_mib in one step (a 2 MiB block with
-       M_TOP_PAD at reserve_mib: one sbrk) and given back to malloc's top
-       chunk, which leaves a small page touched at B and one at B + 2 MiB
-       (the chunk headers);
-     [B, end) advised MADV_HUGEPAGE, then the first 4 MiB at B filled by a
-       block that is never freed, so that every later allocation is in
-       untouched, advised memory (a range whose first touch happened before
-       the advice stays in small pages);
-     the next populate_mib populated as huge pages (MADV_POPULATE_WRITE):
-       a range whose first touch is a read maps the shared huge zero page,
-       and a write there then splits it into small pages, one fault each
-       (without it, one of dark-brown's three 2 MiB ranges went to small
-       pages in each of 8 runs; with 8 MiB, none). */
+/* huge_heap.c — huge_heap.h. hairgen's heap on transparent huge pages:
+   where a first touch of a small page is expensive (a VM under nested
+   paging), page faults were a third of one material's CPU time
+   (docs/performance.md). A program cannot set glibc.malloc.hugetlb for
+   itself, so the heap is laid out once with malloc's own calls: the break
+   moved up to a 2 MiB boundary, the heap grown in one step and advised
+   MADV_HUGEPAGE before anything touches it (a range touched before the
+   advice stays in small pages), a first block never freed so every later
+   allocation lands in advised memory, and the next populate_mib populated
+   with MADV_POPULATE_WRITE (a first read maps the shared huge zero page,
+   which a later write splits into small pages). */
 #define _GNU_SOURCE /* MADV_POPULATE_WRITE */
 #include "huge_heap.h"
 

@@ -1,6 +1,6 @@
 /* marschner_fit.h — Scheuermann constants fitted to a Marschner material,
    so the tiers below `marschner` (full, vertex, fixed4, fixed, gl11) draw
-   a physical material too (issue 12, step 3).
+   a physical material too.
 
    Least squares over a fixed, seeded set of HT_MARSCHNER_FIT_SAMPLES
    shading points (T, N perpendicular to T, L and V anywhere on the sphere

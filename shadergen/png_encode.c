@@ -2,11 +2,9 @@
    whole in memory: every row "up"-filtered (the first row unfiltered, which
    is what "up" means there) into one buffer, that buffer compressed in one
    call by libdeflate at level 1, and the PNG chunks (IHDR, one IDAT, IEND)
-   laid around it. libpng with zlib at level 1 and the same filter cost 2.3
-   times as many instructions for the same texels and wrote larger files
-   (dark-brown's three images for the fur ball: 67.1 M against 29.4 M
-   instructions, callgrind; 157 744 against 127 843 bytes): zlib compresses
-   row by row through libpng, libdeflate the whole image at once. Any PNG reader
+   laid around it: libdeflate compresses the whole image at once, libpng
+   with zlib row by row, at about twice the instructions and larger files
+   (docs/performance.md). Any PNG reader
    decodes these; the runtime reads them with libpng (runtime/image.c). */
 #include <libdeflate.h>
 #include <stdint.h>

@@ -551,7 +551,7 @@ static void test_each_distinct_shader_text_is_validated_once_per_run(void **stat
 
 /* A build farm starts hairgen once per material: it loads no GL (--measure
    dlopens libOSMesa) and no shared libstdc++, whose relocations were most
-   of a start (README, "Generating many bundles"). ld.so lists what it
+   of a start (docs/performance.md, "The generator"). ld.so lists what it
    would load and exits (what ldd does). */
 static void test_hairgen_starts_without_gl_or_a_shared_libstdcxx(void **state) {
     (void)state;

@@ -1,5 +1,5 @@
 /* test_hostile_limits.c — hostile files and sizes at the generator and the
-   manifest reader (issue 8): a material texture that is /dev/zero or a FIFO
+   manifest reader (rows of docs/robustness.md): a material texture that is /dev/zero or a FIFO
    (C2, C3), a bundle directory path longer than the manifest keeps (D), a
    scene too big for the machine (G), a version with extra parts, and the
    messages that named the wrong thing (the texture file without its

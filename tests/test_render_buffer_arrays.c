@@ -1,6 +1,6 @@
 /* test_render_buffer_arrays — the fixed and gl11 tiers draw from buffer
-   objects (issue 7: "a frame ... draws from buffer objects uploaded once;
-   client arrays only where the device has no VBOs"). Through the GL fault
+   objects uploaded once (client arrays only where the device has no VBOs:
+   NVIDIA copies client arrays across the bus at every draw). Through the GL fault
    layer (support_gl_fault.h, which counts every gl*Pointer call and those
    made with no GL_ARRAY_BUFFER bound), on the fur ball:
 

@@ -78,8 +78,8 @@
    products computed per vertex and interpolated across a cell. Measured
    with the 3D LUT's budget (32 x 32 x 16, emit_fixed.c): max 12 (shift
    100; 11 the plain probe under a light of colour 2), mean <= 0.91 over
-   the cases (llvmpipe); before it (axes of 8 sqrt(e)) max 4, mean 0.51.
-   The highlight's curvature between the coarser texels is the difference. */
+   the cases (llvmpipe): the highlight's curvature between the budget's
+   coarse texels (docs/accuracy.md). */
 #define ORACLE_MAX 14
 #define ORACLE_MEAN 1.0
 /* The texture-matrix rule (Kajiya-Kay, directional key light) vs the oracle

@@ -1,4 +1,4 @@
-/* test_render_hostile — issue 8's runtime rows on OSMesa: a shader source
+/* test_render_hostile — docs/robustness.md's runtime rows on OSMesa: a shader source
    over its size cap or a FIFO (C1), a combiner program naming a light the
    bundle does not plan (F), a non-power-of-two fixed-tier texture on a
    GL 1.3 device without NPOT (E). Each drops the tier (or fails a strict

@@ -29,16 +29,10 @@
 #include "support_scratch.h"
 
 /* The tiers' mean difference from the full tier over hair pixels, in /255:
-   what their documented drops cost on the demo scenes. Measured 2.0 to 10.3
-   on llvmpipe at 512² with the mohawk and the reframed patches head (the
-   printed lines); before them 5.4 to 10.3 on llvmpipe and softpipe at 512²,
-   5.3 to 10.1 on softpipe at 256² (same bound for both sizes); without the
-   sparkle-mean stand-in it was 19 to 31. */
+   what their documented drops cost on the demo scenes (docs/accuracy.md). */
 #define MAX_MEAN_TIER_DIFFERENCE 14.0
-/* The vertex tier looks its highlights up per pixel in fixed4's LUTs:
-   measured 2.00 to 6.75 on llvmpipe at 512² (5.35 to 7.90 before the
-   mohawk and the reframed patches head) (6.6 to 8.5 when it lit per
-   vertex), so it holds a tighter bound. */
+/* The vertex tier looks its highlights up per pixel in fixed4's LUTs, so
+   it holds a tighter bound (docs/accuracy.md). */
 #define MAX_MEAN_VERTEX_DIFFERENCE 9.0
 /* Side of the softpipe run (see the top). */
 #define SOFTPIPE_SIZE 256

@@ -1,5 +1,5 @@
 #!/bin/sh
-# tools/device_nvidia.sh — issue 10 part 4: the same runtime, bundles and
+# tools/device_nvidia.sh — the same runtime, bundles and
 # scenes on NVIDIA's GL driver through EGL (headless, no X), compared tier by
 # tier with llvmpipe. Two halves, run from the repository root:
 #
