@@ -7,10 +7,13 @@
 
    For each tier of the manifest, best first: the tier forced and strict on
    its own offscreen context (examples/compare/tier_render.h, as tier_sheet),
-   its image at full size, its per-pixel CIEDE2000 against full as a
-   heatmap (examples/compare/heatmap.h), and a table row: needs, frame ms,
-   cost ratio to full, PSNR, SSIM, ΔE00 mean and p95 (runtime/metrics.h),
-   and the features the manifest says the tier drops; then an SVG plot of
+   its image at full size, its per-pixel CIEDE2000 against the reference
+   (marschner when it runs, else full) as a heatmap
+   (examples/compare/heatmap.h), both cut and enlarged where the
+   reference's highlight is brightest (examples/compare/crop.h), and a
+   table row: frame ms, cost ratio to the reference, PSNR, SSIM, ΔE00 mean
+   and p95 (runtime/metrics.h) beside the bundle's measured numbers, and
+   the features the manifest says the tier drops; then an SVG plot of
    error against cost. Why not grow tier_sheet: its one PNG is the quick
    look on a terminal and in docs; a report is a directory written whole
    (temporary sibling, renamed at the end) with a table and plot that a PNG
@@ -24,6 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "compare/crop.h"
 #include "compare/heatmap.h"
 #include "compare/report.h"
 #include "compare/report_dir.h"
@@ -44,13 +48,15 @@ static void print_help(FILE *f) {
                "                   -o REPORT_DIR\n"
                "Renders SCENE with every tier of the bundle the device runs (forced, strict) and writes\n"
                "REPORT_DIR/index.html: the tier images side by side, each tier's per-pixel CIEDE2000\n"
-               "against full as a heatmap (0 black to %g white, cubehelix), a table (needs, frame ms,\n"
-               "cost ratio to full, PSNR, SSIM, dE00 mean and p95, features dropped) and a plot of error\n"
-               "against cost. Frame ms: median of N frames (default 5) after a warm-up, each ended by\n"
-               "glFinish. The report is written whole or not at all; an existing REPORT_DIR is replaced\n"
+               "against the reference (marschner when it runs, else full) as a heatmap (0 black to %g\n"
+               "white, cubehelix), %dx enlarged crops of the reference's brightest highlight, a table\n"
+               "(frame ms, cost ratio to the reference, PSNR, SSIM, dE00 mean and p95, beside the\n"
+               "bundle's measured numbers; needs, features dropped) and a plot of error against cost.\n"
+               "Frame ms: median of N frames (default 5) after a warm-up, each ended by glFinish.\n"
+               "The report is written whole or not at all; an existing REPORT_DIR is replaced\n"
                "only when it is empty or an earlier report. --context, --egl-device: the GL context,\n"
                "as hairview's (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl).\n",
-            REPORT_HEAT_MAX);
+            REPORT_HEAT_MAX, REPORT_CROP_SCALE);
 }
 
 static int usage(const char *why) {
@@ -77,30 +83,28 @@ static int parse_args(int argc, char **argv, options *o) {
     return 0;
 }
 
-/* A GL (bottom-up RGBA) frame as a top-down RGB PNG. */
-static ht_result write_frame(const char *path, const unsigned char *rgba, int w, int h, char *err, size_t err_size) {
-    ht_image img = { 0 };
-    ht_result r = ht_image_alloc(&img, w, h, 3);
+/* A GL (bottom-up RGBA) frame as a top-down RGB image, written as PNG
+   and kept in img for the crops. */
+static ht_result write_frame(const char *path, const unsigned char *rgba, int w, int h, ht_image *img, char *err,
+                             size_t err_size) {
+    ht_result r = ht_image_alloc(img, w, h, 3);
     if (r != HT_OK) {
         snprintf(err, err_size, "%s: out of memory", path);
         return r;
     }
     for (int y = 0; y < h; y++) {
         const unsigned char *src = offscreen_row(rgba, w, h, y);
-        unsigned char *dst = img.pixels + (size_t)y * (size_t)w * 3;
+        unsigned char *dst = img->pixels + (size_t)y * (size_t)w * 3;
         for (int x = 0; x < w; x++) memcpy(dst + 3 * x, src + 4 * x, 3);
     }
-    r = ht_image_write_png(path, &img, err, err_size);
-    ht_image_free(&img);
-    return r;
+    return ht_image_write_png(path, img, err, err_size);
 }
 
-/* Metrics, cost and heatmap of tier t against the reference frame. */
-static ht_result compare_tier(const options *o, const char *tmp, const tier_scene *ts, const tier_frame *ref,
-                              const tier_frame *frame, bool is_reference, report_tier *p, char *err, size_t err_size) {
+/* Metrics, cost and heatmap (kept in heat) of tier t against the reference frame. */
+static ht_result compare_tier(const options *o, const char *tmp, const tier_scene *ts, const uint8_t bg[3],
+                              const tier_frame *ref, const tier_frame *frame, bool is_reference, report_tier *p,
+                              ht_image *heat, char *err, size_t err_size) {
     const ht_scene *s = &ts->scene;
-    uint8_t bg[3];
-    for (int c = 0; c < 3; c++) bg[c] = (uint8_t)(s->background[c] * 255.0f + 0.5f);
     const ht_metrics_desc d = { .reference = ref->rgba, .test = frame->rgba, .width = s->width, .height = s->height,
                                 .background = bg };
     ht_result r = ht_metrics_compare(&d, &p->whole, &p->hair, err, err_size);
@@ -109,10 +113,9 @@ static ht_result compare_tier(const options *o, const char *tmp, const tier_scen
     p->compared = true;
     if (is_reference) return HT_OK;
     double *map = malloc(sizeof *map * (size_t)s->width * (size_t)s->height);
-    ht_image img = { 0 };
     if (!map) r = HT_ERR_OUT_OF_MEMORY;
     if (r == HT_OK) r = ht_metrics_delta_e00_map(&d, map, err, err_size);
-    if (r == HT_OK) r = heatmap_image(map, s->width, s->height, true, REPORT_HEAT_MAX, &img);
+    if (r == HT_OK) r = heatmap_image(map, s->width, s->height, true, REPORT_HEAT_MAX, heat);
     if (r == HT_OK) {
         char path[4300];
         /* a copy: GCC's -O1 -Wrestrict takes two fields of one struct for
@@ -121,12 +124,47 @@ static ht_result compare_tier(const options *o, const char *tmp, const tier_scen
         memcpy(name, p->name, sizeof name);
         snprintf(p->heatmap, sizeof p->heatmap, "%s-error.png", name);
         snprintf(path, sizeof path, "%s/%s", tmp, p->heatmap);
-        r = ht_image_write_png(path, &img, err, err_size);
+        r = ht_image_write_png(path, heat, err, err_size);
     } else if (r == HT_ERR_OUT_OF_MEMORY) {
         snprintf(err, err_size, "%s: out of memory for the %s heatmap", o->out, p->name);
     }
-    ht_image_free(&img);
     free(map);
+    return r;
+}
+
+/* region of src, enlarged, as tmp/file. */
+static ht_result write_crop(const char *out, const char *tmp, const char *file, const ht_image *src,
+                            const crop_region *region, char *err, size_t err_size) {
+    ht_image zoomed = { 0 };
+    char path[4300];
+    snprintf(path, sizeof path, "%s/%s", tmp, file);
+    ht_result r = crop_zoom(src, region, REPORT_CROP_SCALE, &zoomed);
+    if (r == HT_OK) r = ht_image_write_png(path, &zoomed, err, err_size);
+    else snprintf(err, err_size, "%s/%s: cannot make the crop: %s", out, file, ht_result_string(r));
+    ht_image_free(&zoomed);
+    return r;
+}
+
+/* The reference's brightest highlight, cut from every tier's image and heatmap. */
+static ht_result write_crops(const options *o, const char *tmp, report *rep, const uint8_t bg[3],
+                             const ht_image *images, const ht_image *heats, char *err, size_t err_size) {
+    ht_result r = crop_find_brightest(&images[rep->reference], bg, REPORT_CROP_SIZE, &rep->crop);
+    if (r != HT_OK) {
+        snprintf(err, err_size, "%s: cannot find the crop: %s", o->out, ht_result_string(r));
+        return r;
+    }
+    for (int t = 0; t < rep->tier_count && r == HT_OK; t++) {
+        report_tier *p = &rep->tiers[t];
+        char name[sizeof p->name]; /* a copy, as in compare_tier (-Wrestrict) */
+        memcpy(name, p->name, sizeof name);
+        if (!p->ran) continue;
+        snprintf(p->crop, sizeof p->crop, "%s-crop.png", name);
+        r = write_crop(o->out, tmp, p->crop, &images[t], &rep->crop, err, err_size);
+        if (r == HT_OK && heats[t].pixels) {
+            snprintf(p->heatmap_crop, sizeof p->heatmap_crop, "%s-error-crop.png", name);
+            r = write_crop(o->out, tmp, p->heatmap_crop, &heats[t], &rep->crop, err, err_size);
+        }
+    }
     return r;
 }
 
@@ -145,42 +183,44 @@ static void print_table(const report *r) {
 /* Renders, measures and writes every file into tmp; 0 or 1. */
 static int build(const options *o, const char *tmp, const tier_scene *ts, report *rep, char *err, size_t err_size) {
     tier_frame frames[REPORT_MAX_TIERS] = { 0 };
-    int full = -1, rc = 1;
+    ht_image images[REPORT_MAX_TIERS] = { 0 }, heats[REPORT_MAX_TIERS] = { 0 };
+    int rc = 1;
     bool any = false;
+    uint8_t bg[3];
+    for (int c = 0; c < 3; c++) bg[c] = (uint8_t)(ts->scene.background[c] * 255.0f + 0.5f);
     tier_render_use_context(o->view.context, o->view.egl_device);
     for (int t = 0; t < rep->tier_count; t++) {
         report_tier *p = &rep->tiers[t];
-        ht_tier tier = ht_tier_from_name(p->name);
-        if (!p->known || tier == HT_TIER_COUNT) {
+        if (!p->known) {
             snprintf(p->reason, sizeof p->reason, "a tier this runtime does not know");
             continue;
         }
         fprintf(stderr, "haircompare: rendering %s\n", p->name);
-        tier_render(o->view.bundle, ts, tier, o->view.frames, &frames[t]);
+        tier_render(o->view.bundle, ts, p->tier, o->view.frames, &frames[t]);
         p->ran = frames[t].ran;
         p->frame_ms = frames[t].frame_ms;
         snprintf(p->reason, sizeof p->reason, "%s", frames[t].reason);
         if (!rep->driver[0]) snprintf(rep->driver, sizeof rep->driver, "%s", frames[t].driver);
         if (!p->ran) continue;
         any = true;
-        /* The reference: marschner when it runs (a Marschner material's
-           lower tiers draw constants fitted to it), else full. */
-        if (tier == HT_TIER_MARSCHNER || (tier == HT_TIER_FULL && full < 0)) full = t;
         char path[4300];
         char name[sizeof p->name]; /* a copy, as in compare_tier (-Wrestrict) */
         memcpy(name, p->name, sizeof name);
         snprintf(p->image, sizeof p->image, "%s.png", name);
         snprintf(path, sizeof path, "%s/%s", tmp, p->image);
-        if (write_frame(path, frames[t].rgba, ts->scene.width, ts->scene.height, err, err_size) != HT_OK) goto done;
+        if (write_frame(path, frames[t].rgba, ts->scene.width, ts->scene.height, &images[t], err, err_size) != HT_OK)
+            goto done;
     }
     if (!any) {
         snprintf(err, err_size, "no tier ran: %s", rep->tier_count ? rep->tiers[0].reason : "the bundle lists none");
         goto done;
     }
-    for (int t = 0; full >= 0 && t < rep->tier_count; t++)
-        if (rep->tiers[t].ran &&
-            compare_tier(o, tmp, ts, &frames[full], &frames[t], t == full, &rep->tiers[t], err, err_size) != HT_OK)
+    int ref = rep->reference = report_pick_reference(rep);
+    for (int t = 0; ref >= 0 && t < rep->tier_count; t++)
+        if (rep->tiers[t].ran && compare_tier(o, tmp, ts, bg, &frames[ref], &frames[t], t == ref, &rep->tiers[t],
+                                              &heats[t], err, err_size) != HT_OK)
             goto done;
+    if (ref >= 0 && write_crops(o, tmp, rep, bg, images, heats, err, err_size) != HT_OK) goto done;
 
     char path[4300];
     snprintf(path, sizeof path, "%s/index.html", tmp);
@@ -196,7 +236,11 @@ static int build(const options *o, const char *tmp, const tier_scene *ts, report
     }
     rc = 0;
 done:
-    for (int t = 0; t < rep->tier_count; t++) tier_frame_free(&frames[t]);
+    for (int t = 0; t < rep->tier_count; t++) {
+        tier_frame_free(&frames[t]);
+        ht_image_free(&images[t]);
+        ht_image_free(&heats[t]);
+    }
     return rc;
 }
 

@@ -251,6 +251,7 @@ static ht_result measure_all(tier_run *runs, int count, int full, const char *di
     if (r != HT_OK) goto done;
 
     snprintf(out->driver, sizeof out->driver, "%s", ht_renderer_caps(runs[full].renderer)->renderer);
+    snprintf(out->reference, sizeof out->reference, "%s", runs[full].entry->name);
     double full_ms = median(runs[full].ms, HT_MEASURE_TIMED_FRAMES);
     for (int i = 0; i < count && r == HT_OK; i++) {
         ht_measure_tier *m = &out->tiers[i];
@@ -442,9 +443,11 @@ ht_result ht_measure_write_manifest(const char *dir, const ht_measure_result *m,
 }
 
 void ht_measure_print(FILE *out, const ht_measure_result *m) {
-    fprintf(out, "measured: scene %s (%dx%d), driver %s; whole frame against full; frame ms: median of %d "
-                 "after %d warm-up, tiers round-robin; cost = ms / full's ms\n",
-            m->scene, m->width, m->height, m->driver, HT_MEASURE_TIMED_FRAMES, HT_MEASURE_WARMUP_FRAMES);
+    /* Named: a Marschner bundle is measured against its marschner tier. */
+    const char *ref = m->reference[0] ? m->reference : "full";
+    fprintf(out, "measured: scene %s (%dx%d), driver %s; whole frame against %s; frame ms: median of %d "
+                 "after %d warm-up, tiers round-robin; cost = ms / %s's ms\n",
+            m->scene, m->width, m->height, m->driver, ref, HT_MEASURE_TIMED_FRAMES, HT_MEASURE_WARMUP_FRAMES, ref);
     fprintf(out, "%-7s %9s %6s %9s %7s %10s %9s\n", "tier", "frame_ms", "cost", "psnr_db", "ssim", "de00_mean",
             "de00_p95");
     for (int i = 0; i < m->tier_count; i++) {

@@ -42,6 +42,7 @@ typedef struct ht_measure_result {
     int tier_count;
     char scene[64];          /* the scene file's base name, or HT_MEASURE_BUILT_IN_SCENE */
     char driver[128];        /* GL_RENDERER as the driver reports it */
+    char reference[16];      /* the tier measured against: marschner for a Marschner bundle, else full */
     int width, height;
 } ht_measure_result;
 

@@ -1,8 +1,10 @@
 /* test_report — haircompare's report pieces without a browser or GL
-   (examples/compare/): HTML escaping, the table's contents, the plot's
-   axes, point coordinates and labels, the heatmap colours, the manifest's
-   lists, and the report directory written whole or not at all. The page
-   in a real browser is `make report-check`. */
+   (examples/compare/): HTML escaping, the table's contents beside the
+   bundle's measured numbers, the reference every label names, the plot's
+   axes, point coordinates and labels, the heatmap colours, the highlight
+   crops, the manifest's lists and measured objects, and the report
+   directory written whole or not at all. The page in a real browser (it
+   fits a 1400 px window) is `make report-check`. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -14,8 +16,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cJSON.h>
 #include <cmocka.h>
 
+#include "../examples/compare/crop.h"
 #include "../examples/compare/heatmap.h"
 #include "../examples/compare/report.h"
 #include "../examples/compare/report_dir.h"
@@ -82,21 +86,23 @@ static void sample_report(report *r) {
     r->width = r->height = 64;
     r->frames = 5;
     r->tier_count = 4;
+    r->reference = 0;
     report_tier *full = &r->tiers[0], *vertex = &r->tiers[1], *fixed = &r->tiers[2], *gl11 = &r->tiers[3];
-    *full = (report_tier){ .name = "full", .needs = "GL 2.1, GLSL 1.20", .known = true, .ran = true, .frame_ms = 10.0,
+    *full = (report_tier){ .name = "full", .needs = "GL 2.1, GLSL 1.20", .tier = HT_TIER_FULL, .known = true, .ran = true, .frame_ms = 10.0,
                            .compared = true, .cost_ratio = 1.0, .image = "full.png" };
     full->whole = full->hair = (ht_metrics){ .psnr_db = INFINITY, .ssim = 1.0 };
-    *vertex = (report_tier){ .name = "vertex", .needs = "GL 2.0, GLSL 1.10", .known = true, .ran = true,
+    *vertex = (report_tier){ .name = "vertex", .needs = "GL 2.0, GLSL 1.10", .tier = HT_TIER_VERTEX, .known = true, .ran = true,
                              .frame_ms = 5.25, .compared = true, .cost_ratio = 0.525, .image = "vertex.png",
                              .heatmap = "vertex-error.png" };
     vertex->whole = (ht_metrics){ .psnr_db = 34.437, .ssim = 0.96891, .delta_e00_mean = 0.5249,
                                   .delta_e00_p95 = 3.2204 };
     vertex->hair = (ht_metrics){ .psnr_db = 25.0, .ssim = 0.8, .delta_e00_mean = 2.611, .delta_e00_p95 = 9.28 };
     add_dropped(vertex, "sparkle: approximated by its mean <0.134> & more");
-    *fixed = (report_tier){ .name = "fixed", .needs = "GL 1.2, GL_ARB_multitexture", .known = true,
+    *fixed = (report_tier){ .name = "fixed", .needs = "GL 1.2, GL_ARB_multitexture", .tier = HT_TIER_FIXED,
+                            .known = true,
                             .reason = "fixed: needs <script>alert(1)</script>" };
     add_dropped(fixed, "light 2: dropped");
-    *gl11 = (report_tier){ .name = "gl11", .needs = "GL 1.1, 1 texture unit", .known = true, .ran = true,
+    *gl11 = (report_tier){ .name = "gl11", .needs = "GL 1.1, 1 texture unit", .tier = HT_TIER_GL11, .known = true, .ran = true,
                            .frame_ms = 13.1, .compared = true, .cost_ratio = 1.31, .image = "gl11.png",
                            .heatmap = "gl11-error.png" };
     gl11->whole = (ht_metrics){ .psnr_db = 34.18, .ssim = 0.9667, .delta_e00_mean = 0.7204, .delta_e00_p95 = 3.53 };
@@ -122,21 +128,117 @@ static void test_table_has_a_row_per_tier_with_its_numbers_needs_and_drops(void 
     report_write_table(capture_open(&c), &r);
     char *t = capture_close(&c);
     assert_int_equal(count_of(t, "<tr><th scope=\"row\">"), 4);
+    expect_in(t, "this run, against <b>full</b>");
     const char *full = row_of(t, "full");
     expect_in(full, "<td class=\"num\">10.0</td><td class=\"num\">1.00&times;</td><td class=\"num\">&infin;</td>"
                     "<td class=\"num\">1.0000</td><td class=\"num\">0.00</td><td class=\"num\">0.00</td>");
-    expect_in(full, "<td class=\"dropped\">nothing</td>");
     const char *vertex = row_of(t, "vertex");
-    expect_in(vertex, "<td class=\"needs\">GL 2.0, GLSL 1.10</td>");
     expect_in(vertex, "<td class=\"num\">5.2</td><td class=\"num\">0.53&times;</td><td class=\"num\">34.4</td>"
                       "<td class=\"num\">0.9689</td><td class=\"num\">0.52</td><td class=\"num\">3.22</td>"
                       "<td class=\"num\">2.61 / 9.28</td>");
-    expect_in(vertex, "<li>sparkle: approximated by its mean &lt;0.134&gt; &amp; more</li>");
     const char *fixed = row_of(t, "fixed");
     expect_in(fixed, "<td colspan=\"7\" class=\"notrun\">not run: fixed: needs &lt;script&gt;alert(1)&lt;/script&gt;</td>");
-    expect_in(fixed, "<li>light 2: dropped</li>");
     assert_null(strstr(t, "<script"));
     free(t);
+
+    report_write_needs(capture_open(&c), &r);
+    t = capture_close(&c);
+    assert_int_equal(count_of(t, "<tr><th scope=\"row\">"), 4);
+    expect_in(row_of(t, "full"), "<td class=\"dropped\">nothing</td>");
+    vertex = row_of(t, "vertex");
+    expect_in(vertex, "<td class=\"needs\">GL 2.0, GLSL 1.10</td>");
+    expect_in(vertex, "<li>sparkle: approximated by its mean &lt;0.134&gt; &amp; more</li>");
+    expect_in(row_of(t, "fixed"), "<li>light 2: dropped</li>");
+    free(t);
+    report_free(&r);
+}
+
+/* The manifest's measured numbers sit beside this run's, in the
+   manifest's precision, labelled; a tier without them says so, and a
+   bundle without any says that instead of showing empty columns. */
+static void test_table_shows_the_bundles_measured_numbers_beside_its_own(void **state) {
+    (void)state;
+    report r;
+    sample_report(&r);
+    r.tiers[0].measured = (ht_manifest_measured){ .present = true, .psnr_db = INFINITY, .ssim = 1.0,
+                                                  .cost_ratio = 1.0, .scene = "furball.json",
+                                                  .driver = "llvmpipe <LLVM>" };
+    r.tiers[1].measured = (ht_manifest_measured){ .present = true, .psnr_db = 41.23, .ssim = 0.9712,
+                                                  .delta_e00_mean = 0.431, .delta_e00_p95 = 2.875,
+                                                  .cost_ratio = 0.6789, .scene = "furball.json",
+                                                  .driver = "llvmpipe <LLVM>" };
+    capture c;
+    report_write_table(capture_open(&c), &r);
+    char *t = capture_close(&c);
+    expect_in(t, "the bundle&#8217;s <code>measured</code> (manifest.json, hairgen --measure)");
+    expect_in(row_of(t, "vertex"), "<td class=\"num\">2.61 / 9.28</td>"
+                                   "<td class=\"num measured\">0.68&times;</td><td class=\"num measured\">41.23</td>"
+                                   "<td class=\"num measured\">0.9712</td><td class=\"num measured\">0.431</td>"
+                                   "<td class=\"num measured\">2.875</td>");
+    expect_in(row_of(t, "full"), "<td class=\"num measured\">&infin;</td>");
+    expect_in(row_of(t, "gl11"), "<td colspan=\"5\" class=\"measured none\">not measured</td>");
+    /* a tier that cannot run here still shows what the bundle measured for it */
+    expect_in(row_of(t, "fixed"), "not measured");
+    expect_in(t, "on scene <code>furball.json</code> and driver <code>llvmpipe &lt;LLVM&gt;</code>");
+    assert_null(strstr(t, "has no measured numbers"));
+    free(t);
+
+    for (int i = 0; i < r.tier_count; i++) r.tiers[i].measured.present = false;
+    report_write_table(capture_open(&c), &r);
+    t = capture_close(&c);
+    assert_null(strstr(t, "class=\"num measured\""));
+    assert_null(strstr(t, "<th class=\"measured\">"));
+    expect_in(t, "The bundle has no measured numbers: no tier of its manifest.json carries a <code>measured</code>");
+    free(t);
+    report_free(&r);
+}
+
+/* A Marschner bundle: marschner is the reference, and no label on the
+   page says "full" is. */
+static void test_every_label_names_the_reference_it_used(void **state) {
+    (void)state;
+    report r;
+    sample_report(&r);
+    /* marschner first, then full: the sample's tiers shift down one */
+    memmove(&r.tiers[1], &r.tiers[0], sizeof r.tiers[0] * 4);
+    r.tier_count = 5;
+    r.tiers[0] = (report_tier){ .name = "marschner", .needs = "GL 2.1, GLSL 1.20", .tier = HT_TIER_MARSCHNER,
+                                .known = true, .ran = true, .frame_ms = 20.0, .compared = true, .cost_ratio = 1.0,
+                                .image = "marschner.png" };
+    r.tiers[0].whole = r.tiers[0].hair = (ht_metrics){ .psnr_db = INFINITY, .ssim = 1.0 };
+    r.tiers[1].dropped_count = 0; /* full's drops moved with it: none */
+    snprintf(r.tiers[1].heatmap, sizeof r.tiers[1].heatmap, "full-error.png");
+    r.tiers[1].cost_ratio = 0.5;
+
+    assert_int_equal(report_pick_reference(&r), 0);
+    r.reference = report_pick_reference(&r);
+    assert_string_equal(report_reference_name(&r), "marschner");
+    capture c;
+    assert_int_equal(report_write_page(capture_open(&c), &r), 0);
+    char *html = capture_close(&c);
+    expect_in(html, "reference: <b>marschner</b>");
+    expect_in(html, "<h2>Measurements against marschner</h2>");
+    expect_in(html, "this run, against <b>marschner</b>");
+    expect_in(html, "vs marschner: &#916;E00 mean");
+    expect_in(html, "0.50&times; marschner&#8217;s cost");
+    expect_in(html, "the reference: marschner<br>no error to show");
+    expect_in(html, "per-pixel CIEDE2000 (&#916;E00) against marschner</text>");
+    expect_in(html, "cost: frame time / marschner&#8217;s</text>");
+    expect_in(html, "&#916;E00 mean against marschner (lower is better)");
+    expect_in(html, "median frame time over marschner&#8217;s");
+    for (const char *const *w = (const char *const[]){ "against full", "against <b>full", "vs full", "full&#8217;s",
+                                                       "reference (full)", "reference: full", "&#215; full", NULL };
+         *w; w++)
+        if (strstr(html, *w)) fail_msg("\"%s\" on a page whose reference is marschner", *w);
+    free(html);
+
+    /* marschner did not run: full is the reference; neither: none */
+    r.tiers[0].ran = false;
+    assert_int_equal(report_pick_reference(&r), 1);
+    r.tiers[1].ran = false;
+    assert_int_equal(report_pick_reference(&r), -1);
+    r.reference = -1;
+    assert_string_equal(report_reference_name(&r), "the reference");
     report_free(&r);
 }
 
@@ -228,7 +330,7 @@ static void test_plot_puts_each_compared_tier_at_its_cost_and_error(void **state
     report_write_plot(capture_open(&c), &r);
     svg = capture_close(&c);
     assert_null(strstr(svg, "<svg"));
-    expect_in(svg, "the full tier did not run here");
+    expect_in(svg, "no reference tier (marschner or full) ran here");
     free(svg);
     report_free(&r);
 }
@@ -324,13 +426,84 @@ static void test_page_links_every_image_relatively_and_runs_no_script(void **sta
     expect_in(html, "this device cannot run this tier:<br>fixed: needs &lt;script&gt;");
     expect_in(html, "<linearGradient id=\"heat\"");
     expect_in(html, ">&#8805; 20</text>");
-    /* the layout the screenshot check relies on: fixed sizes */
-    expect_in(html, "img,.box{display:block;width:64px;height:64px}");
-    char css[64];
-    snprintf(css, sizeof css, "body{margin:0;padding:24px;width:%dpx;", report_page_width(&r) - 48);
-    expect_in(html, css);
-    report_rect rc = report_image_rect(&r, 3, 1);
-    assert_true(rc.x == 24 + 3 * (64 + 16) && rc.y == 24 + 120 + 32 + 64 + 32 && rc.w == 64 && rc.h == 64);
+    /* cards that wrap, images at their pixel size where they fit (the
+       screenshot check finds them) and scaled down where they do not */
+    expect_in(html, ".tiers{display:flex;flex-wrap:wrap;");
+    expect_in(html, ".tier{width:64px;max-width:100%;");
+    expect_in(html, "<img src=\"vertex.png\" width=\"64\" height=\"64\"");
+    assert_null(strstr(html, "body{margin:0;padding:24px;width:"));
+    free(html);
+    report_free(&r);
+}
+
+/* ---- the highlight crops ---- */
+
+static void test_brightest_window_is_found_over_hair_pixels_only(void **state) {
+    (void)state;
+    ht_image img = { 0 };
+    assert_int_equal(ht_image_alloc(&img, 96, 64, 3), HT_OK);
+    const uint8_t bg[3] = { 240, 240, 250 }; /* a bright sky: never the highlight */
+    for (size_t i = 0; i < (size_t)96 * 64; i++) memcpy(img.pixels + 3 * i, bg, 3);
+    /* dim hair over the left (less in any window than the patch), a bright 6x5 patch at (70, 40) */
+    for (int y = 0; y < 64; y++)
+        for (int x = 0; x < 40; x++) memset(img.pixels + 3 * ((size_t)y * 96 + (size_t)x), 10, 3);
+    for (int y = 40; y < 45; y++)
+        for (int x = 70; x < 76; x++) memset(img.pixels + 3 * ((size_t)y * 96 + (size_t)x), 250, 3);
+    crop_region r;
+    assert_int_equal(crop_find_brightest(&img, bg, 16, &r), HT_OK);
+    assert_true(r.w == 16 && r.h == 16);
+    /* the patch whole inside, and the first such window (top, then left) */
+    assert_true(r.x == 76 - 16 && r.y == 45 - 16);
+    /* larger than the image: the image */
+    assert_int_equal(crop_find_brightest(&img, bg, 100, &r), HT_OK);
+    assert_true(r.x == 0 && r.y == 0 && r.w == 96 && r.h == 64);
+    assert_int_equal(crop_find_brightest(&img, bg, 0, &r), HT_ERR_INVALID_ARGUMENT);
+    ht_image_free(&img);
+}
+
+static void test_zoom_repeats_each_pixel_scale_times(void **state) {
+    (void)state;
+    ht_image src = { 0 }, out = { 0 };
+    assert_int_equal(ht_image_alloc(&src, 4, 3, 3), HT_OK);
+    for (int i = 0; i < 4 * 3 * 3; i++) src.pixels[i] = (uint8_t)(i * 7);
+    const crop_region r = { .x = 1, .y = 1, .w = 2, .h = 2 };
+    assert_int_equal(crop_zoom(&src, &r, 4, &out), HT_OK);
+    assert_true(out.width == 8 && out.height == 8 && out.channels == 3);
+    for (int y = 0; y < 8; y++)
+        for (int x = 0; x < 8; x++)
+            assert_memory_equal(out.pixels + 3 * (y * 8 + x), src.pixels + 3 * ((1 + y / 4) * 4 + 1 + x / 4), 3);
+    ht_image_free(&out);
+    const crop_region outside = { .x = 3, .y = 0, .w = 2, .h = 2 };
+    assert_int_equal(crop_zoom(&src, &outside, 4, &out), HT_ERR_INVALID_ARGUMENT);
+    ht_image_free(&src);
+}
+
+static void test_page_shows_each_tiers_crop_over_its_heatmaps(void **state) {
+    (void)state;
+    report r;
+    sample_report(&r);
+    r.crop = (crop_region){ .x = 12, .y = 7, .w = 32, .h = 32 };
+    for (int t = 0; t < r.tier_count; t++) {
+        if (!r.tiers[t].ran) continue;
+        snprintf(r.tiers[t].crop, sizeof r.tiers[t].crop, "%s-crop.png", r.tiers[t].name);
+        if (t != r.reference)
+            snprintf(r.tiers[t].heatmap_crop, sizeof r.tiers[t].heatmap_crop, "%s-error-crop.png", r.tiers[t].name);
+    }
+    capture c;
+    assert_int_equal(report_write_page(capture_open(&c), &r), 0);
+    char *html = capture_close(&c);
+    expect_in(html, "<h2>Brightest highlight, 4&times;</h2>");
+    expect_in(html, "The 32&times;32 pixels at (12, 7)");
+    expect_in(html, "where <b>full</b>&#8217;s hair is brightest");
+    expect_in(html, "<img src=\"full-crop.png\" width=\"128\" height=\"128\"");
+    expect_in(html, "<img src=\"vertex-error-crop.png\" width=\"128\" height=\"128\"");
+    assert_int_equal(count_of(html, "-crop.png\""), 3 + 2); /* full, vertex, gl11; heatmaps but full's */
+    free(html);
+
+    r.crop.w = 0; /* no reference ran: no crops */
+    report_write_page(capture_open(&c), &r);
+    html = capture_close(&c);
+    assert_null(strstr(html, "Brightest highlight"));
     free(html);
     report_free(&r);
 }
@@ -376,6 +549,26 @@ static void test_bundle_gives_tiers_in_order_with_needs_and_drops(void **state) 
     for (int i = 0; i < r.tiers[3].dropped_count; i++)
         second_light |= strncmp(r.tiers[3].dropped[i], "light 2: dropped: diffuse", 25) == 0;
     assert_true(second_light);
+    for (int i = 0; i < 5; i++) assert_false(r.tiers[i].measured.present); /* hairgen without --measure */
+    report_free(&r);
+
+    /* The manifest's measured objects are read as the runtime reads them. */
+    cJSON *root = ht_test_read_json(bundle, "manifest.json");
+    cJSON *vertex = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(root, "tiers"), 1);
+    cJSON_AddItemToObject(vertex, "measured",
+                          cJSON_Parse("{\"psnr_db\": 41.23, \"ssim\": 0.9712, \"delta_e00_mean\": 0.431, "
+                                      "\"delta_e00_p95\": 2.875, \"cost_ratio\": 0.6789, \"scene\": \"x.json\"}"));
+    char *measured = cJSON_Print(root);
+    ht_test_write_file(bundle, "manifest.json", measured);
+    free(measured);
+    cJSON_Delete(root);
+    report_init(&r);
+    if (report_read_bundle(&r, bundle, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    assert_false(r.tiers[0].measured.present);
+    assert_true(r.tiers[1].measured.present);
+    assert_true(r.tiers[1].measured.psnr_db == 41.23 && r.tiers[1].measured.cost_ratio == 0.6789);
+    assert_string_equal(r.tiers[1].measured.scene, "x.json");
+    assert_int_equal(r.tiers[1].tier, HT_TIER_VERTEX);
     report_free(&r);
 
     /* A list holding something else than strings is named by its field. */
@@ -463,6 +656,8 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_escape_writes_every_markup_character_as_a_reference),
         cmocka_unit_test(test_table_has_a_row_per_tier_with_its_numbers_needs_and_drops),
+        cmocka_unit_test(test_table_shows_the_bundles_measured_numbers_beside_its_own),
+        cmocka_unit_test(test_every_label_names_the_reference_it_used),
         cmocka_unit_test(test_table_shows_dashes_where_full_did_not_run),
         cmocka_unit_test(test_axis_fits_round_steps_from_zero_to_at_or_above_the_maximum),
         cmocka_unit_test(test_plot_puts_each_compared_tier_at_its_cost_and_error),
@@ -470,6 +665,9 @@ int main(void) {
         cmocka_unit_test(test_heatmap_runs_black_to_white_with_rising_luminance),
         cmocka_unit_test(test_heatmap_image_scales_and_flips_gl_rows),
         cmocka_unit_test(test_page_links_every_image_relatively_and_runs_no_script),
+        cmocka_unit_test(test_brightest_window_is_found_over_hair_pixels_only),
+        cmocka_unit_test(test_zoom_repeats_each_pixel_scale_times),
+        cmocka_unit_test(test_page_shows_each_tiers_crop_over_its_heatmaps),
         cmocka_unit_test_setup_teardown(test_bundle_gives_tiers_in_order_with_needs_and_drops, setup_scratch,
                                         teardown_scratch),
         cmocka_unit_test_setup_teardown(test_report_dir_is_written_whole_and_replaces_only_a_report, setup_scratch,

@@ -12,16 +12,19 @@
        report_write_page(stdout, &r);
        report_free(&r);
 
-   Layout: fixed pixel sizes (REPORT_* below), so a page with N tiers is
-   report_page_width(N) wide and its images sit where report_image_rect
-   says, whatever the fonts; tests/report_screenshot_check.c finds them in
-   a headless Chromium screenshot. */
+   Layout: the tiers' cards wrap (CSS flex-wrap), so the page fits a
+   REPORT_FIT_WIDTH window without scrolling sideways; images keep their
+   pixel size where they fit and scale down where they do not.
+   tests/report_screenshot_check.c finds every image, full size, in a
+   headless Chromium screenshot of that width (make report-check). */
 #ifndef HT_EXAMPLES_REPORT_H
 #define HT_EXAMPLES_REPORT_H
 
 #include <stdbool.h>
 #include <stdio.h>
 
+#include "crop.h"
+#include "manifest.h"
 #include "metrics.h"
 
 #define REPORT_MAX_TIERS 8
@@ -35,25 +38,33 @@
 #define REPORT_HEAT_MAX 20.0
 
 /* Page geometry, CSS pixels. */
+#define REPORT_FIT_WIDTH 1400     /* the window the page fits without a sideways scroll */
 #define REPORT_MARGIN 24          /* around the page */
-#define REPORT_GAP 16             /* between tier columns */
-#define REPORT_HEADER_H 120       /* title and scene line, clipped to this */
-#define REPORT_CAPTION_H 32       /* a tier's name above its image, its heatmap's line above that */
+#define REPORT_GAP 16             /* between tier cards */
+/* The zoomed crops: the reference's brightest REPORT_CROP_SIZE² window
+   (crop.h), every tier's image and heatmap cut there and enlarged
+   REPORT_CROP_SCALE times, nearest neighbour: 128 px, so five tiers'
+   crops sit in one line of the page. */
+#define REPORT_CROP_SIZE 32
+#define REPORT_CROP_SCALE 4
 
 typedef struct report_tier {
     char name[16];                 /* as the manifest spells it */
     char needs[256];               /* "GL 2.0, GLSL 1.10, GL_ARB_texture_env_combine, 4 units" */
     char *dropped[REPORT_MAX_DROPPED]; /* the manifest's "dropped" (malloc'd) */
     int dropped_count;
+    ht_tier tier;                  /* HT_TIER_COUNT: a tier this runtime does not know */
     bool known;                    /* a tier this runtime knows (else not rendered) */
     bool ran;
     char reason[512];              /* why it did not run; the renderer's reason when it did */
     double frame_ms;
-    bool compared;                 /* full ran, so the metrics below are set */
-    double cost_ratio;             /* frame_ms / full's */
-    ht_metrics whole, hair;        /* against full, over the frame and over hair pixels */
+    bool compared;                 /* the reference ran, so the metrics below are set */
+    double cost_ratio;             /* frame_ms / the reference's */
+    ht_metrics whole, hair;        /* against the reference, over the frame and over hair pixels */
+    ht_manifest_measured measured; /* the manifest's (hairgen --measure); .present false when absent */
     char image[64];                /* file beside index.html, "" when the tier did not run */
-    char heatmap[64];              /* "" for full itself and for tiers not compared */
+    char heatmap[64];              /* "" for the reference itself and for tiers not compared */
+    char crop[64], heatmap_crop[64]; /* the zoomed crops of those two, "" when absent */
 } report_tier;
 
 typedef struct report {
@@ -64,8 +75,10 @@ typedef struct report {
     char driver[128];              /* GL_RENDERER the tiers ran on */
     int width, height;             /* of every image */
     int frames;                    /* timed frames per tier */
-    report_tier tiers[REPORT_MAX_TIERS]; /* bundle order, best first; [0] is the reference when named full */
+    report_tier tiers[REPORT_MAX_TIERS]; /* bundle order, best first */
     int tier_count;
+    int reference;                 /* the tier every other is measured against; -1 when none ran */
+    crop_region crop;              /* where the crops were cut (w 0: none) */
 } report;
 
 void report_init(report *r);
@@ -81,12 +94,13 @@ ht_result report_read_bundle(report *r, const char *bundle, char *err, size_t er
    attribute values. NULL writes nothing. */
 void report_escape(FILE *f, const char *s);
 
-/* Where a tier's image (row 0) or heatmap (row 1) sits on the page. */
-typedef struct report_rect {
-    int x, y, w, h;
-} report_rect;
-report_rect report_image_rect(const report *r, int column, int row);
-int report_page_width(const report *r);
+/* The reference among the tiers that ran: marschner (a Marschner
+   material's lower tiers draw constants fitted to it, and hairgen
+   --measure measures against it), else full; -1 when neither ran. */
+int report_pick_reference(const report *r);
+/* tiers[reference].name, or "the reference" when none ran: what every
+   label that says "against ..." names. */
+const char *report_reference_name(const report *r);
 
 /* ---- the plot of error against cost (report_plot.c) ---- */
 
@@ -113,10 +127,14 @@ void plot_place_labels(const double *px, const double *py, const double *x, cons
    point per compared tier; a note instead when none was compared. */
 void report_write_plot(FILE *f, const report *r);
 /* The colour scale of the heatmaps as an SVG bar with numbers. */
-void report_write_legend(FILE *f);
-/* The table: tier, needs, frame ms, cost, PSNR, SSIM, ΔE00 mean and p95
-   over the frame, ΔE00 over hair pixels, features dropped. */
+void report_write_legend(FILE *f, const report *r);
+/* The measurements: tier, frame ms; this run's cost, PSNR, SSIM, ΔE00
+   mean and p95 over the frame and ΔE00 over hair pixels; beside them the
+   bundle's measured numbers when any tier has them, else a sentence
+   saying the bundle has none. */
 void report_write_table(FILE *f, const report *r);
+/* What each tier needs and the features it drops. */
+void report_write_needs(FILE *f, const report *r);
 /* The whole page. 0, or -1 when the stream reports an error. */
 int report_write_page(FILE *f, const report *r);
 

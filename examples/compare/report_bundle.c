@@ -1,5 +1,6 @@
 /* report_bundle.c — what the report shows of a bundle's manifest: tier
-   names and requirements (runtime/manifest.h reads and checks them), and
+   names, requirements and measured numbers (runtime/manifest.h reads and
+   checks them), and
    the free-text lists the runtime does not keep, each tier's "dropped" and
    the root's "notes", read here through json_check.h. */
 #include <stdlib.h>
@@ -58,7 +59,9 @@ ht_result report_read_bundle(report *r, const char *bundle, char *err, size_t er
         report_tier *p = &r->tiers[t];
         snprintf(p->name, sizeof p->name, "%s", m->tiers[t].name);
         describe_needs(&m->tiers[t], p->needs, sizeof p->needs);
-        p->known = m->tiers[t].tier != HT_TIER_COUNT;
+        p->tier = m->tiers[t].tier;
+        p->known = p->tier != HT_TIER_COUNT;
+        p->measured = m->tiers[t].measured;
     }
     free(m);
 

@@ -8,7 +8,10 @@
 #include "heatmap.h"
 #include "report.h"
 
-void report_init(report *r) { memset(r, 0, sizeof *r); }
+void report_init(report *r) {
+    memset(r, 0, sizeof *r);
+    r->reference = -1;
+}
 
 void report_free(report *r) {
     for (int i = 0; i < r->note_count; i++) free(r->notes[i]);
@@ -31,27 +34,20 @@ void report_escape(FILE *f, const char *s) {
     }
 }
 
-report_rect report_image_rect(const report *r, int column, int row) {
-    return (report_rect){ .x = REPORT_MARGIN + column * (r->width + REPORT_GAP),
-                          .y = REPORT_MARGIN + REPORT_HEADER_H + REPORT_CAPTION_H + row * (r->height + REPORT_CAPTION_H),
-                          .w = r->width,
-                          .h = r->height };
+int report_pick_reference(const report *r) {
+    int ref = -1;
+    for (int t = 0; t < r->tier_count; t++) {
+        const report_tier *p = &r->tiers[t];
+        if (p->ran && (p->tier == HT_TIER_MARSCHNER || (p->tier == HT_TIER_FULL && ref < 0))) ref = t;
+    }
+    return ref;
 }
 
-int report_page_width(const report *r) {
-    int n = r->tier_count > 0 ? r->tier_count : 1;
-    return 2 * REPORT_MARGIN + n * r->width + (n - 1) * REPORT_GAP;
+const char *report_reference_name(const report *r) {
+    return r->reference >= 0 && r->reference < r->tier_count ? r->tiers[r->reference].name : "the reference";
 }
 
-/* A number, or an en dash when there is none; infinite PSNR is "∞". */
-static void number(FILE *f, bool have, double v, const char *fmt) {
-    if (!have) fputs("&ndash;", f);
-    else if (isinf(v)) fputs("&infin;", f);
-    else if (isnan(v)) fputs("n/a", f);
-    else fprintf(f, fmt, v);
-}
-
-void report_write_legend(FILE *f) {
+void report_write_legend(FILE *f, const report *r) {
     enum { BAR_W = 512, BAR_H = 18, LEFT = 16, W = BAR_W + 2 * LEFT, H = 64, STOPS = 33, TICKS = 5 };
     fprintf(f, "<svg class=\"legend\" width=\"%d\" height=\"%d\" viewBox=\"0 0 %d %d\" "
                "xmlns=\"http://www.w3.org/2000/svg\" font-size=\"13\" role=\"img\" "
@@ -76,99 +72,61 @@ void report_write_legend(FILE *f) {
                 i == 0 ? "start" : i == TICKS - 1 ? "end" : "middle", i == TICKS - 1 ? "&#8805; " : "", v);
     }
     fprintf(f, "<text x=\"%d\" y=\"%d\" text-anchor=\"middle\" fill=\"#aaa\">"
-               "per-pixel CIEDE2000 (&#916;E00) against full</text>\n",
-            LEFT + BAR_W / 2, H - 4);
+               "per-pixel CIEDE2000 (&#916;E00) against ", LEFT + BAR_W / 2, H - 4);
+    report_escape(f, report_reference_name(r));
+    fputs("</text>\n", f);
     fputs("</svg>\n", f);
 }
 
-void report_write_table(FILE *f, const report *r) {
-    fputs("<table class=\"metrics\">\n<thead><tr><th>tier</th><th>needs</th><th>frame ms</th><th>cost vs full</th>"
-          "<th>PSNR dB</th><th>SSIM</th><th>&#916;E00 mean</th><th>&#916;E00 p95</th>"
-          "<th>hair pixels: &#916;E00 mean / p95</th><th>features dropped</th></tr></thead>\n<tbody>\n", f);
-    for (int t = 0; t < r->tier_count; t++) {
-        const report_tier *p = &r->tiers[t];
-        fputs("<tr><th scope=\"row\">", f);
-        report_escape(f, p->name);
-        fputs("</th><td class=\"needs\">", f);
-        report_escape(f, p->needs);
-        fputs("</td>", f);
-        if (!p->ran) {
-            fputs("<td colspan=\"7\" class=\"notrun\">not run: ", f);
-            report_escape(f, p->reason);
-            fputs("</td>", f);
-        } else {
-            fputs("<td class=\"num\">", f);
-            number(f, true, p->frame_ms, "%.1f");
-            fputs("</td><td class=\"num\">", f);
-            number(f, p->compared, p->cost_ratio, "%.2f&times;");
-            fputs("</td><td class=\"num\">", f);
-            number(f, p->compared, p->whole.psnr_db, "%.1f");
-            fputs("</td><td class=\"num\">", f);
-            number(f, p->compared, p->whole.ssim, "%.4f");
-            fputs("</td><td class=\"num\">", f);
-            number(f, p->compared, p->whole.delta_e00_mean, "%.2f");
-            fputs("</td><td class=\"num\">", f);
-            number(f, p->compared, p->whole.delta_e00_p95, "%.2f");
-            fputs("</td><td class=\"num\">", f);
-            number(f, p->compared, p->hair.delta_e00_mean, "%.2f");
-            fputs(" / ", f);
-            number(f, p->compared, p->hair.delta_e00_p95, "%.2f");
-            fputs("</td>", f);
-        }
-        fputs("<td class=\"dropped\">", f);
-        if (p->dropped_count == 0) fputs("nothing", f);
-        else {
-            fputs("<ul>", f);
-            for (int i = 0; i < p->dropped_count; i++) {
-                fputs("<li>", f);
-                report_escape(f, p->dropped[i]);
-                fputs("</li>", f);
-            }
-            fputs("</ul>", f);
-        }
-        fputs("</td></tr>\n", f);
-    }
-    fputs("</tbody>\n</table>\n", f);
-}
 
+/* Cards wrap and images scale down where the window is narrower than one
+   (max-width), so nothing needs a sideways scroll; where they fit they
+   keep their pixel size, as the screenshot check needs. */
 static void write_style(FILE *f, const report *r) {
     fprintf(f,
             "<style>\n"
             "html{background:#15161a}\n"
-            "body{margin:0;padding:%dpx;width:%dpx;color:#e4e4e4;background:#15161a;"
+            "body{margin:0;padding:%dpx;color:#e4e4e4;background:#15161a;"
             "font:14px/1.45 'DejaVu Sans',Verdana,sans-serif}\n"
-            "header{height:%dpx;overflow:hidden}\n"
             "h1{margin:0 0 6px;font-size:24px;font-weight:600}\n"
             "header p{margin:2px 0;color:#b8b8b8}\n"
-            "code{font-family:'DejaVu Sans Mono',monospace;font-size:13px;color:#f0d9a8}\n"
-            ".row{display:flex;gap:%dpx}\n"
-            ".col{width:%dpx;flex:none}\n"
-            ".cap{height:%dpx;line-height:%dpx;margin:0;overflow:hidden;white-space:nowrap;text-overflow:ellipsis}\n"
+            "header p.ref{color:#e4e4e4}\n"
+            "code{font-family:'DejaVu Sans Mono',monospace;font-size:13px;color:#f0d9a8;overflow-wrap:anywhere}\n"
+            ".tiers{display:flex;flex-wrap:wrap;gap:%dpx;margin-top:16px}\n"
+            ".tier{width:%dpx;max-width:100%%;margin:0}\n"
+            ".crops .tier{width:%dpx}\n"
+            ".cap{height:32px;line-height:32px;margin:0;overflow:hidden;white-space:nowrap;text-overflow:ellipsis}\n"
             ".cap b{font-size:17px;margin-right:8px}\n"
             ".cap span{color:#b0b0b0}\n"
-            "img,.box{display:block;width:%dpx;height:%dpx}\n"
+            ".tier img,.box{display:block;width:100%%;height:auto;aspect-ratio:%d/%d}\n"
+            ".crops img,.crops .box{aspect-ratio:1/1;image-rendering:pixelated;margin-bottom:6px}\n"
             "img{outline:1px solid #303139}\n"
-            ".box{box-sizing:border-box;padding:32px;background:#1d1e23;color:#a8a8a8;border:1px dashed #4a4b52;"
-            "overflow:hidden;display:flex;flex-direction:column;justify-content:center;text-align:center}\n"
+            ".box{box-sizing:border-box;padding:4%%;background:#1d1e23;color:#a8a8a8;border:1px dashed #4a4b52;"
+            "overflow:hidden;display:flex;flex-direction:column;justify-content:center;text-align:center;"
+            "font-size:13px}\n"
             "h2{font-size:18px;margin:28px 0 10px;font-weight:600}\n"
-            "table{border-collapse:collapse;max-width:1800px}\n"
+            "table{border-collapse:collapse}\n"
             "th,td{border:1px solid #3a3b42;padding:6px 9px;vertical-align:top;text-align:left}\n"
             "thead th{background:#23242a;font-weight:600}\n"
+            "thead th.group{text-align:center}\n"
+            "th.measured,td.measured{background:#1b2126}\n"
+            "thead th.measured{background:#222b31}\n"
+            "td.none{color:#8a8a8a;text-align:center}\n"
             "tbody th{font-size:15px}\n"
             "td.num{text-align:right;white-space:nowrap;font-variant-numeric:tabular-nums}\n"
-            "td.needs{max-width:220px}\n"
+            "td.needs{max-width:360px}\n"
             "td.notrun{color:#e0a070}\n"
-            "td.dropped{max-width:640px;font-size:13px;color:#c8c8c8}\n"
+            "td.dropped{max-width:760px;font-size:13px;color:#c8c8c8}\n"
             "td.dropped ul{margin:0;padding-left:18px}\n"
             "p.note,ul.notes{color:#b8b8b8;max-width:1100px}\n"
-            ".plot{background:#1c1d22;border:1px solid #3a3b42}\n"
-            ".side{display:flex;gap:40px;align-items:flex-start}\n"
+            ".plot{display:block;max-width:100%%;height:auto;background:#1c1d22;border:1px solid #3a3b42}\n"
+            ".legend{display:block;max-width:100%%;height:auto}\n"
             "</style>\n",
-            REPORT_MARGIN, report_page_width(r) - 2 * REPORT_MARGIN, REPORT_HEADER_H, REPORT_GAP, r->width,
-            REPORT_CAPTION_H, REPORT_CAPTION_H, r->width, r->height);
+            REPORT_MARGIN, REPORT_GAP, r->width, REPORT_CROP_SIZE * REPORT_CROP_SCALE, r->width, r->height);
 }
 
 static void write_header(FILE *f, const report *r) {
+    const char *ref = report_reference_name(r);
     fputs("<header>\n<h1>hairtier tiers: ", f);
     report_escape(f, r->material);
     fputs("</h1>\n<p>bundle <code>", f);
@@ -178,12 +136,22 @@ static void write_header(FILE *f, const report *r) {
     fprintf(f, "</code>, %d&times;%d</p>\n<p>every tier forced (strict) on <code>", r->width, r->height);
     report_escape(f, r->driver[0] ? r->driver : "no context");
     fprintf(f, "</code>; frame ms: median of %d frames after one warm-up, each ended by glFinish</p>\n", r->frames);
-    fputs("<p>top: each tier's image; below it: its per-pixel CIEDE2000 against <b>full</b> "
-          "(scale under the images)</p>\n</header>\n", f);
+    if (r->reference >= 0) {
+        fputs("<p class=\"ref\">reference: <b>", f);
+        report_escape(f, ref);
+        fputs("</b> (the marschner tier when it runs, else full): every heatmap, error and cost on this page is "
+              "measured against it</p>\n<p>each tier: its image, below it its per-pixel CIEDE2000 against <b>", f);
+        report_escape(f, ref);
+        fputs("</b> (scale under the images)</p>\n", f);
+    } else {
+        fputs("<p class=\"ref\">no reference: neither marschner nor full ran here, so nothing is compared</p>\n", f);
+    }
+    fputs("</header>\n", f);
 }
 
-static void write_missing(FILE *f, const char *what, const char *why) {
+static void write_missing(FILE *f, const char *what, const char *what_name, const char *why) {
     fprintf(f, "<div class=\"box\">%s", what);
+    report_escape(f, what_name);
     if (why) {
         fputs("<br>", f);
         report_escape(f, why);
@@ -191,69 +159,105 @@ static void write_missing(FILE *f, const char *what, const char *why) {
     fputs("</div>\n", f);
 }
 
+static void write_img(FILE *f, const char *file, int w, int h, const char *name, const char *what) {
+    fputs("<img src=\"", f);
+    report_escape(f, file);
+    fprintf(f, "\" width=\"%d\" height=\"%d\" alt=\"", w, h);
+    report_escape(f, name);
+    fputs(what, f);
+    fputs("\">\n", f);
+}
+
 static void write_images(FILE *f, const report *r) {
-    fputs("<div class=\"row\">\n", f);
+    const char *ref = report_reference_name(r);
+    fputs("<div class=\"tiers\">\n", f);
     for (int t = 0; t < r->tier_count; t++) {
         const report_tier *p = &r->tiers[t];
-        fputs("<div class=\"col\">\n<p class=\"cap\"><b>", f);
+        fputs("<figure class=\"tier\">\n<p class=\"cap\"><b>", f);
         report_escape(f, p->name);
         fputs("</b><span>", f);
         if (p->ran) fprintf(f, "%.1f ms", p->frame_ms);
-        if (p->compared && t > 0) fprintf(f, ", %.2f&times; full&#8217;s cost", p->cost_ratio);
+        if (p->compared && t != r->reference) {
+            fprintf(f, ", %.2f&times; ", p->cost_ratio);
+            report_escape(f, ref);
+            fputs("&#8217;s cost", f);
+        }
         if (!p->ran) fputs("not run", f);
         fputs("</span></p>\n", f);
-        if (p->image[0]) {
-            fputs("<img src=\"", f);
-            report_escape(f, p->image);
-            fputs("\" alt=\"", f);
-            report_escape(f, p->name);
-            fputs(" tier\">\n", f);
-        } else {
-            write_missing(f, "this device cannot run this tier:", p->reason);
-        }
+        if (p->image[0]) write_img(f, p->image, r->width, r->height, p->name, " tier");
+        else write_missing(f, "this device cannot run this tier:", NULL, p->reason);
         fputs("<p class=\"cap\"><span>", f);
-        if (p->heatmap[0]) fprintf(f, "vs full: &#916;E00 mean %.2f, p95 %.2f; PSNR %.1f dB", p->whole.delta_e00_mean,
-                                   p->whole.delta_e00_p95, p->whole.psnr_db);
-        else if (p->compared) fputs("the reference every heatmap is measured against", f);
-        fputs("</span></p>\n", f);
         if (p->heatmap[0]) {
-            fputs("<img src=\"", f);
-            report_escape(f, p->heatmap);
-            fputs("\" alt=\"", f);
-            report_escape(f, p->name);
-            fputs(" error against full\">\n", f);
+            fputs("vs ", f);
+            report_escape(f, ref);
+            fprintf(f, ": &#916;E00 mean %.2f, p95 %.2f; PSNR %.1f dB", p->whole.delta_e00_mean,
+                    p->whole.delta_e00_p95, p->whole.psnr_db);
         } else if (p->compared) {
-            write_missing(f, "reference (full): no error to show", NULL);
-        } else {
-            write_missing(f, p->ran ? "no heatmap: full did not run here, nothing to compare with" : "no image",
-                          NULL);
+            fputs("the reference every heatmap is measured against", f);
         }
-        fputs("</div>\n", f);
+        fputs("</span></p>\n", f);
+        if (p->heatmap[0]) write_img(f, p->heatmap, r->width, r->height, p->name, " error");
+        else if (p->compared) write_missing(f, "the reference: ", p->name, "no error to show");
+        else write_missing(f, p->ran ? "no heatmap: no reference tier (marschner or full) ran here" : "no image",
+                           NULL, NULL);
+        fputs("</figure>\n", f);
+    }
+    fputs("</div>\n", f);
+}
+
+/* Each tier's crop over its heatmap's, one line of cards. */
+static void write_crops(FILE *f, const report *r) {
+    if (r->crop.w == 0) return;
+    const int size = REPORT_CROP_SIZE * REPORT_CROP_SCALE;
+    const char *ref = report_reference_name(r);
+    fprintf(f, "<h2>Brightest highlight, %d&times;</h2>\n<p class=\"note\">The %d&times;%d pixels at (%d, %d) "
+               "(top-left corner, image pixels from the top-left) where <b>", REPORT_CROP_SCALE, r->crop.w,
+            r->crop.h, r->crop.x, r->crop.y);
+    report_escape(f, ref);
+    fprintf(f, "</b>&#8217;s hair is brightest (the most luminance summed over hair pixels), cut from every tier&#8217;s "
+               "image (top) and heatmap (below it) and enlarged %d&times; with nearest-neighbour pixels.</p>\n"
+               "<div class=\"tiers crops\">\n", REPORT_CROP_SCALE);
+    for (int t = 0; t < r->tier_count; t++) {
+        const report_tier *p = &r->tiers[t];
+        if (!p->crop[0]) continue;
+        fputs("<figure class=\"tier\">\n<p class=\"cap\"><b>", f);
+        report_escape(f, p->name);
+        fputs("</b></p>\n", f);
+        write_img(f, p->crop, size, size, p->name, " highlight");
+        if (p->heatmap_crop[0]) write_img(f, p->heatmap_crop, size, size, p->name, " highlight error");
+        else write_missing(f, t == r->reference ? "the reference" : "no heatmap", NULL, NULL);
+        fputs("</figure>\n", f);
     }
     fputs("</div>\n", f);
 }
 
 static void write_definitions(FILE *f, const report *r) {
+    const char *ref = report_reference_name(r);
     fputs("<p class=\"note\">PSNR, SSIM and &#916;E00 over the whole frame; the hair-pixel column counts the "
           "pixels where either image differs from the background. Definitions: <code>runtime/metrics.h</code> "
           "(SSIM: Wang et al. 2004 on luminance; &#916;E00: CIEDE2000 after sRGB &#8594; CIELAB D65, mean and "
-          "nearest-rank 95th percentile). Cost: the tier&#8217;s median frame time over full&#8217;s, on ", f);
+          "nearest-rank 95th percentile). Cost: the tier&#8217;s median frame time over ", f);
+    report_escape(f, ref);
+    fputs("&#8217;s, on ", f);
     report_escape(f, r->driver[0] ? r->driver : "no context");
     fputs(" (a ratio measured in this run, side by side; not a prediction for other devices). "
           "Heatmap colours: cubehelix (Green 2011), luminance rising with the error.</p>\n", f);
-    if (r->note_count) {
-        fputs("<p class=\"note\">The bundle&#8217;s notes (what the plan did not model):</p>\n<ul class=\"notes\">\n", f);
-        for (int i = 0; i < r->note_count; i++) {
-            fputs("<li>", f);
-            report_escape(f, r->notes[i]);
-            fputs("</li>\n", f);
-        }
-        fputs("</ul>\n", f);
+}
+
+static void write_notes(FILE *f, const report *r) {
+    if (!r->note_count) return;
+    fputs("<p class=\"note\">The bundle&#8217;s notes (what the plan did not model):</p>\n<ul class=\"notes\">\n", f);
+    for (int i = 0; i < r->note_count; i++) {
+        fputs("<li>", f);
+        report_escape(f, r->notes[i]);
+        fputs("</li>\n", f);
     }
+    fputs("</ul>\n", f);
 }
 
 int report_write_page(FILE *f, const report *r) {
     fputs("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+          "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
           "<meta name=\"generator\" content=\"haircompare\">\n<title>hairtier tiers: ", f);
     report_escape(f, r->material);
     fputs("</title>\n", f);
@@ -262,13 +266,18 @@ int report_write_page(FILE *f, const report *r) {
     write_header(f, r);
     write_images(f, r);
     fputs("<h2>Colour scale</h2>\n", f);
-    report_write_legend(f);
-    fputs("<div class=\"side\">\n<section>\n<h2>Measurements against full</h2>\n", f);
+    report_write_legend(f, r);
+    write_crops(f, r);
+    fputs("<h2>Measurements against ", f);
+    report_escape(f, report_reference_name(r));
+    fputs("</h2>\n", f);
     report_write_table(f, r);
     write_definitions(f, r);
-    fputs("</section>\n<section>\n<h2>Error against cost</h2>\n", f);
+    fputs("<h2>Error against cost</h2>\n", f);
     report_write_plot(f, r);
-    fputs("</section>\n</div>\n", f);
+    fputs("<h2>What each tier needs and drops</h2>\n", f);
+    report_write_needs(f, r);
+    write_notes(f, r);
     fputs("</body>\n</html>\n", f);
     return ferror(f) ? -1 : 0;
 }

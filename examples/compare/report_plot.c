@@ -114,8 +114,8 @@ void report_write_plot(FILE *f, const report *r) {
         if (p->whole.delta_e00_mean > max_err) max_err = p->whole.delta_e00_mean;
     }
     if (n == 0) {
-        fputs("<p class=\"note\">No plot: the full tier did not run here, so no tier has an error or a cost "
-              "against it.</p>\n", f);
+        fputs("<p class=\"note\">No plot: no reference tier (marschner or full) ran here, so no tier has an error "
+              "or a cost against it.</p>\n", f);
         return;
     }
     plot_axis ax = plot_axis_fit(max_cost * 1.15), ay = plot_axis_fit(max_err * 1.1);
@@ -130,10 +130,14 @@ void report_write_plot(FILE *f, const report *r) {
     double one = plot_map(&ax, 1.0, x0, x1);
     fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#777\" stroke-dasharray=\"4 4\"/>\n",
             one, axis_y, one, y1);
-    fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">cost: frame time / full&#8217;s</text>\n",
-            (x0 + x1) / 2, (double)PLOT_H - 14);
-    fprintf(f, "<text transform=\"translate(18 %.1f) rotate(-90)\" text-anchor=\"middle\">"
-               "&#916;E00 mean against full (lower is better)</text>\n", (y0 + y1) / 2);
+    const char *ref = report_reference_name(r);
+    fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">cost: frame time / ", (x0 + x1) / 2,
+            (double)PLOT_H - 14);
+    report_escape(f, ref);
+    fprintf(f, "&#8217;s</text>\n<text transform=\"translate(18 %.1f) rotate(-90)\" text-anchor=\"middle\">"
+               "&#916;E00 mean against ", (y0 + y1) / 2);
+    report_escape(f, ref);
+    fputs(" (lower is better)</text>\n", f);
 
     double px[REPORT_MAX_TIERS], py[REPORT_MAX_TIERS], lx[REPORT_MAX_TIERS], lw[REPORT_MAX_TIERS],
         ly[REPORT_MAX_TIERS];
@@ -152,8 +156,9 @@ void report_write_plot(FILE *f, const report *r) {
         fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"%d\" fill=\"%s\" stroke=\"#111\"><title>", px[k], py[k],
                 POINT_R, c);
         report_escape(f, label[k]);
-        fprintf(f, ": cost %.2f&#215; full, &#916;E00 mean %.2f</title></circle>\n", r->tiers[idx[k]].cost_ratio,
-                r->tiers[idx[k]].whole.delta_e00_mean);
+        fprintf(f, ": cost %.2f&#215; ", r->tiers[idx[k]].cost_ratio);
+        report_escape(f, ref);
+        fprintf(f, ", &#916;E00 mean %.2f</title></circle>\n", r->tiers[idx[k]].whole.delta_e00_mean);
         if (fabs(ly[k] - (py[k] + 4.0)) > 0.5) /* moved off its point: a leader line */
             fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" stroke-width=\"0.8\"/>\n",
                     px[k], py[k], lx[k] < px[k] ? lx[k] + lw[k] : lx[k], ly[k] - 4.0, c);
