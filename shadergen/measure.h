@@ -5,8 +5,9 @@
    (a context of its own per tier, forced and strict, through hairtier.h),
    frames round-robin across the tiers so that a change in the machine's
    load falls on every tier alike. Each tier's last frame is compared with
-   full's over the whole frame (runtime/metrics.h) and its median frame time
-   divided by full's. The result goes into each tier's `measured` object
+   the reference's ("full" below: the full tier, or for a Marschner
+   material its marschner tier) over the whole frame (runtime/metrics.h)
+   and its median frame time divided by the reference's. The result goes into each tier's `measured` object
    (docs/bundle.md), which the runtime's error:DB and fastest policies read.
 
    Usage (what hairgen does; the step runs before the bundle is published):

@@ -157,11 +157,26 @@ static void test_hairgen_prints_the_measured_table(void **state) {
     measure_into(dir, scene);
     char *out = work_file("out.txt");
     assert_non_null(strstr(out, "measured: scene small.json (96x96), driver "));
+    assert_non_null(strstr(out, "; whole frame against full; "));
     const char *table = strstr(out, "\ntier     frame_ms");
     assert_non_null(table);
     const char *names[] = { "\nfull ", "\nvertex ", "\nfixed4 ", "\nfixed ", "\ngl11 " };
     for (int i = 0; i < 5; i++)
         if (!strstr(table, names[i])) fail_msg("no row%s in:\n%s", names[i], out);
+    free(out);
+}
+
+/* A Marschner bundle is measured against its marschner tier, and the
+   printed table says so (not "against full"). */
+static void test_hairgen_names_marschner_as_the_reference_of_a_marschner_bundle(void **state) {
+    (void)state;
+    char args[700];
+    snprintf(args, sizeof args, "materials/brown-marschner.json --scene %s --measure -o %s/marschner", scene, work);
+    if (run_hairgen(NULL, args) != 0) fail_msg("hairgen %s: %s", args, work_file("err.txt"));
+    char *out = work_file("out.txt");
+    if (!strstr(out, "; whole frame against marschner; ") || !strstr(out, "cost = ms / marschner's ms") ||
+        strstr(out, "against full") || !strstr(out, "\nmarschner "))
+        fail_msg("the table does not name marschner as its reference:\n%s", out);
     free(out);
 }
 
@@ -515,6 +530,7 @@ int main(void) {
         cmocka_unit_test(test_every_tier_carries_a_measured_object_the_runtime_reads),
         cmocka_unit_test(test_measure_adds_only_the_measured_objects),
         cmocka_unit_test(test_hairgen_prints_the_measured_table),
+        cmocka_unit_test(test_hairgen_names_marschner_as_the_reference_of_a_marschner_bundle),
         cmocka_unit_test(test_measure_without_libosmesa_writes_nothing),
         cmocka_unit_test(test_the_image_numbers_repeat_across_runs),
         cmocka_unit_test(test_error_policy_picks_the_cheapest_measured_tier_that_reaches_it),

@@ -1,6 +1,9 @@
 /* test_report_program — build/haircompare end to end on llvmpipe, on a
    small scene: a report with every tier's image and heatmap, replaced
-   whole by a second run; and every bad input (no bundle, a bundle no tier
+   whole by a second run; a Marschner bundle's report naming marschner as
+   its reference, with each tier's 4x crop of marschner's brightest
+   highlight; the bundle's measured numbers on the page, or a sentence
+   saying it has none; and every bad input (no bundle, a bundle no tier
    can draw, a bad scene, an output it must not or cannot write, bad
    options) one line on stderr, a non-zero exit, and no report and no
    temporary directory left. The page in a browser is `make report-check`. */
@@ -16,13 +19,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cJSON.h>
 #include <cmocka.h>
 
 #include "hairgen.h"
 #include "image.h"
 #include "support_scratch.h"
 
-static char work[64], bundle[128], scene[128];
+static char work[64], bundle[128], marschner_bundle[128], scene[128];
 
 static int setup(void **state) {
     (void)state;
@@ -37,7 +41,12 @@ static int setup(void **state) {
         " \"background\": [0.1, 0.2, 0.3],\n"
         " \"geometry\": {\"type\": \"furball\", \"hairs\": 300, \"joints\": 6, \"length\": 0.1, \"width\": 0.02}}\n");
     char err[1024];
-    return ht_generate_bundle("materials/dark-brown.json", scene, bundle, NULL, err, sizeof err) == HT_OK ? 0 : -1;
+    snprintf(marschner_bundle, sizeof marschner_bundle, "%s/marschner-bundle", work);
+    return ht_generate_bundle("materials/dark-brown.json", scene, bundle, NULL, err, sizeof err) == HT_OK &&
+                   ht_generate_bundle("materials/brown-marschner.json", scene, marschner_bundle, NULL, err,
+                                      sizeof err) == HT_OK
+               ? 0
+               : -1;
 }
 
 static int teardown(void **state) {
@@ -114,6 +123,116 @@ static void test_report_has_every_tier_image_and_heatmap_and_is_replaced_whole(v
     assert_no_temporary();
 }
 
+static void read_png(const char *dir, const char *name, ht_image *img) {
+    char path[512], e[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    if (ht_image_read_png(path, img, e, sizeof e) != HT_OK) fail_msg("%s", e);
+}
+
+/* A Marschner bundle is measured against its marschner tier, and the page
+   says so everywhere; each tier's crop is marschner's brightest 32x32
+   (as the page names it) of that tier's image, 4x, nearest neighbour. */
+static void test_marschner_report_names_its_reference_and_crops_its_highlight(void **state) {
+    (void)state;
+    char args[1024], out[8192], err[8192], report[256];
+    snprintf(report, sizeof report, "%s/marschner-report", work);
+    snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames 1 -o '%s'", marschner_bundle, scene, report);
+    if (run(args, out, sizeof out, err, sizeof err) != 0) fail_msg("haircompare %s:\n%s", args, err);
+    char *html = ht_test_read_file(report, "index.html");
+    expect_in(html, "reference: <b>marschner</b>");
+    expect_in(html, "<h2>Measurements against marschner</h2>");
+    expect_in(html, "the reference: marschner<br>no error to show");
+    expect_in(html, "<img src=\"full-error.png\"");
+    for (const char *const *w = (const char *const[]){ "against full", "against <b>full", "vs full", "full&#8217;s",
+                                                       "reference (full)", NULL };
+         *w; w++)
+        if (strstr(html, *w)) fail_msg("\"%s\" in the report of a Marschner bundle", *w);
+    /* hairgen without --measure: the page says the bundle has no measured numbers */
+    expect_in(html, "The bundle has no measured numbers");
+
+    int x, y, w, h;
+    const char *at = strstr(html, "pixels at (");
+    assert_non_null(at);
+    assert_int_equal(sscanf(at, "pixels at (%d, %d)", &x, &y), 2);
+    assert_int_equal(sscanf(strstr(html, "<p class=\"note\">The "), "<p class=\"note\">The %d&times;%d", &w, &h), 2);
+    assert_true(w == 32 && h == 32 && x >= 0 && y >= 0 && x + w <= 48 && y + h <= 40);
+    static const char *const tiers[] = { "marschner", "full", "vertex", "fixed4", "fixed", "gl11" };
+    for (int t = 0; t < 6; t++)
+        for (int heat = 0; heat < 2; heat++) {
+            char name[64], crop_name[64];
+            snprintf(name, sizeof name, "%s%s.png", tiers[t], heat ? "-error" : "");
+            snprintf(crop_name, sizeof crop_name, "%s%s-crop.png", tiers[t], heat ? "-error" : "");
+            char path[512];
+            snprintf(path, sizeof path, "%s/%s", report, crop_name);
+            if (t == 0 && heat) { /* the reference has no heatmap, so no crop of one */
+                assert_false(ht_test_path_exists(path));
+                continue;
+            }
+            ht_image full_size = { 0 }, crop = { 0 };
+            read_png(report, name, &full_size);
+            read_png(report, crop_name, &crop);
+            assert_true(crop.width == 128 && crop.height == 128 && crop.channels == 3);
+            for (int cy = 0; cy < 128; cy++)
+                for (int cx = 0; cx < 128; cx++)
+                    if (memcmp(crop.pixels + 3 * ((size_t)cy * 128 + (size_t)cx),
+                               full_size.pixels + 3 * ((size_t)(y + cy / 4) * 48 + (size_t)(x + cx / 4)), 3) != 0)
+                        fail_msg("%s (%d, %d) is not %s (%d, %d)", crop_name, cx, cy, name, x + cx / 4, y + cy / 4);
+            char tag[160];
+            snprintf(tag, sizeof tag, "<img src=\"%s\" width=\"128\" height=\"128\"", crop_name);
+            expect_in(html, tag);
+            ht_image_free(&full_size);
+            ht_image_free(&crop);
+        }
+    /* the window holds hair: marschner's crop is not one colour */
+    ht_image ref = { 0 };
+    read_png(report, "marschner-crop.png", &ref);
+    bool varied = false;
+    for (size_t i = 3; i < (size_t)128 * 128 * 3 && !varied; i++) varied = ref.pixels[i] != ref.pixels[i % 3];
+    assert_true(varied);
+    ht_image_free(&ref);
+}
+
+/* The manifest's measured numbers, as hairgen --measure writes them,
+   shown beside the report's own and labelled. */
+static void test_report_shows_the_bundles_measured_numbers(void **state) {
+    (void)state;
+    char measured[256], report[256], args[1024], out[8192], err[8192];
+    snprintf(measured, sizeof measured, "%s/measured-bundle", work);
+    snprintf(report, sizeof report, "%s/measured-report", work);
+    ht_test_copy_dir(bundle, measured);
+    cJSON *root = ht_test_read_json(measured, "manifest.json");
+    cJSON *tier;
+    int i = 0;
+    cJSON_ArrayForEach(tier, cJSON_GetObjectItemCaseSensitive(root, "tiers")) {
+        char object[256];
+        snprintf(object, sizeof object, "{\"psnr_db\": %s, \"ssim\": 0.97%d1, \"delta_e00_mean\": 0.4%d3, "
+                 "\"delta_e00_p95\": 2.8%d5, \"cost_ratio\": 0.6%d, \"scene\": \"elsewhere.json\", "
+                 "\"driver\": \"a GPU\"}", i ? "41.23" : "null", i, i, i, i);
+        cJSON_AddItemToObject(tier, "measured", cJSON_Parse(object));
+        i++;
+    }
+    char *text = cJSON_Print(root);
+    ht_test_write_file(measured, "manifest.json", text);
+    free(text);
+    cJSON_Delete(root);
+    snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames 1 -o '%s'", measured, scene, report);
+    if (run(args, out, sizeof out, err, sizeof err) != 0) fail_msg("haircompare %s:\n%s", args, err);
+    char *html = ht_test_read_file(report, "index.html");
+    expect_in(html, "the bundle&#8217;s <code>measured</code> (manifest.json, hairgen --measure)");
+    expect_in(html, "on scene <code>elsewhere.json</code> and driver <code>a GPU</code>");
+    /* gl11, the fifth tier: its own numbers, then the manifest's */
+    const char *row = strstr(html, "<tr><th scope=\"row\">gl11</th>");
+    assert_non_null(row);
+    char want[512];
+    snprintf(want, sizeof want, "<td class=\"num measured\">0.64&times;</td><td class=\"num measured\">41.23</td>"
+             "<td class=\"num measured\">0.9741</td><td class=\"num measured\">0.443</td>"
+             "<td class=\"num measured\">2.845</td></tr>");
+    if (strncmp(strstr(row, "<td class=\"num measured\">"), want, strlen(want)) != 0)
+        fail_msg("gl11's measured cells are not %s in:\n%.1500s", want, row);
+    expect_in(strstr(html, "<tr><th scope=\"row\">full</th>"), "<td class=\"num measured\">&infin;</td>");
+    assert_null(strstr(html, "has no measured numbers"));
+}
+
 /* Exit status, one line on stderr starting "haircompare: " and naming
    `mentions`, and no report at `report`. */
 static void expect_fails(const char *args, int status, const char *mentions, const char *report) {
@@ -174,6 +293,8 @@ static void test_bad_input_is_one_line_and_writes_nothing(void **state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_report_has_every_tier_image_and_heatmap_and_is_replaced_whole),
+        cmocka_unit_test(test_marschner_report_names_its_reference_and_crops_its_highlight),
+        cmocka_unit_test(test_report_shows_the_bundles_measured_numbers),
         cmocka_unit_test(test_bad_input_is_one_line_and_writes_nothing),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
