@@ -337,19 +337,33 @@ check-valgrind: all
 
 # ---- haircompare's report in a real browser ----
 # Debian's chromium is installed here only (it is big, and nothing else
-# needs it). The report of the fur ball's five 512² tiers is 2672 px wide;
-# every <img> of it must be found, full size, in the screenshot
-# (tests/report_screenshot_check.c). Then the checker must fail on a
-# screenshot of the same page with one image deleted, so it can fail.
+# needs it). The report of the fur ball's five 512² tiers must fit a
+# REPORT_WIDTH px window: laid out by Chromium at that width, its
+# scrollWidth is at most REPORT_WIDTH. Then every <img> of it must be found,
+# full size, in a screenshot of the whole page at that width
+# (tests/report_screenshot_check.c). Then each check must fail on a page
+# made to fail it (one image deleted; a block 2000 px wide), so both can.
 REPORT_CHECK := out/report-check
+REPORT_WIDTH := 1400
 CHROMIUM := chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
             --disable-background-networking --disable-component-update --disable-sync \
-            --force-device-scale-factor=1 --force-color-profile=srgb --hide-scrollbars --window-size=2800,1400
-# $(1): page, $(2): screenshot; Chromium's chatter goes to a log shown on failure.
+            --force-device-scale-factor=1 --force-color-profile=srgb --hide-scrollbars
+# $(1): page, $(2): screenshot, $(3): its height; Chromium's chatter goes to a log shown on failure.
 define screenshot
-	@profile=$$(mktemp -d) && $(CHROMIUM) --user-data-dir=$$profile --screenshot=$(CURDIR)/$(2) \
-	  file://$(CURDIR)/$(1) >$(REPORT_CHECK)/chromium.log 2>&1; rc=$$?; rm -rf $$profile; \
+	@profile=$$(mktemp -d) && $(CHROMIUM) --window-size=$(REPORT_WIDTH),$(3) --user-data-dir=$$profile \
+	  --screenshot=$(CURDIR)/$(2) file://$(CURDIR)/$(1) >$(REPORT_CHECK)/chromium.log 2>&1; rc=$$?; rm -rf $$profile; \
 	[ $$rc -eq 0 ] && [ -s $(2) ] || { cat $(REPORT_CHECK)/chromium.log; echo "report-check: chromium failed"; exit 1; }
+endef
+# "WIDTH HEIGHT" of page $(1) laid out at REPORT_WIDTH into file $(2): a copy
+# beside it (the report runs no script) gets one that writes the root's
+# scroll size into the DOM after load, which --dump-dom prints.
+define page_size
+	@sed 's|</body>|<script>addEventListener("load",function(){var e=document.documentElement;document.body.setAttribute("data-page-size",e.scrollWidth+" "+e.scrollHeight)})</script></body>|' \
+	  $(1) >$(1).size.html && profile=$$(mktemp -d) && \
+	$(CHROMIUM) --window-size=$(REPORT_WIDTH),1000 --user-data-dir=$$profile --dump-dom file://$(CURDIR)/$(1).size.html \
+	  2>$(REPORT_CHECK)/chromium.log | sed -n 's/.*data-page-size="\([0-9]*\) \([0-9]*\)".*/\1 \2/p' >$(2); \
+	rm -rf $$profile $(1).size.html; \
+	[ -s $(2) ] || { cat $(REPORT_CHECK)/chromium.log; echo "report-check: chromium did not lay out $(1)"; exit 1; }
 endef
 
 report-check: all $(BUILD)/tests/report_screenshot_check
@@ -357,14 +371,21 @@ report-check: all $(BUILD)/tests/report_screenshot_check
 	@rm -rf $(REPORT_CHECK) && mkdir -p $(REPORT_CHECK)
 	$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json -o $(REPORT_CHECK)/bundle >/dev/null
 	$(BUILD)/haircompare --bundle $(REPORT_CHECK)/bundle --scene scenes/furball.json --frames 3 -o $(REPORT_CHECK)/report
-	$(call screenshot,$(REPORT_CHECK)/report/index.html,$(REPORT_CHECK)/screenshot.png)
+	$(call page_size,$(REPORT_CHECK)/report/index.html,$(REPORT_CHECK)/size)
+	@read w h <$(REPORT_CHECK)/size; echo "report-check: the page is $$w x $$h px in a $(REPORT_WIDTH) px window"; \
+	[ $$w -le $(REPORT_WIDTH) ] || { echo "report-check: the page is $$w px wide: it needs a sideways scroll"; exit 1; }
+	$(call screenshot,$(REPORT_CHECK)/report/index.html,$(REPORT_CHECK)/screenshot.png,$$(cut -d' ' -f2 $(REPORT_CHECK)/size))
 	$(BUILD)/tests/report_screenshot_check $(REPORT_CHECK)/screenshot.png $(REPORT_CHECK)/report
 	@cp -r $(REPORT_CHECK)/report $(REPORT_CHECK)/broken && rm $(REPORT_CHECK)/broken/vertex-error.png
-	$(call screenshot,$(REPORT_CHECK)/broken/index.html,$(REPORT_CHECK)/broken.png)
+	$(call screenshot,$(REPORT_CHECK)/broken/index.html,$(REPORT_CHECK)/broken.png,$$(cut -d' ' -f2 $(REPORT_CHECK)/size))
 	@if $(BUILD)/tests/report_screenshot_check $(REPORT_CHECK)/broken.png $(REPORT_CHECK)/report >/dev/null 2>&1; then \
 	  echo "report-check: the checker found an image the page could not load"; exit 1; fi
-	@echo "report-check: every image of $(REPORT_CHECK)/report/index.html loaded in Chromium" \
-	  "(screenshot $(REPORT_CHECK)/screenshot.png); a missing one is caught"
+	@sed 's|</body>|<div style="width:2000px">wide</div></body>|' $(REPORT_CHECK)/report/index.html >$(REPORT_CHECK)/broken/wide.html
+	$(call page_size,$(REPORT_CHECK)/broken/wide.html,$(REPORT_CHECK)/wide-size)
+	@read w h <$(REPORT_CHECK)/wide-size; if [ $$w -le $(REPORT_WIDTH) ]; then \
+	  echo "report-check: the width check missed a 2000 px block ($$w px)"; exit 1; fi
+	@echo "report-check: $(REPORT_CHECK)/report/index.html fits a $(REPORT_WIDTH) px window and every image of it" \
+	  "loaded in Chromium (screenshot $(REPORT_CHECK)/screenshot.png); a missing image and a wide page are caught"
 
 clean:
 	rm -rf build build-asan build-fuzz out
