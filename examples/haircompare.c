@@ -169,6 +169,7 @@ static ht_result write_crops(const options *o, const char *tmp, report *rep, con
 }
 
 static void print_table(const report *r) {
+    printf("against %s:\n", report_reference_name(r));
     printf("%-7s %9s %6s %7s %7s %7s %7s\n", "tier", "frame_ms", "cost", "psnr_db", "ssim", "de_mean", "de_p95");
     for (int t = 0; t < r->tier_count; t++) {
         const report_tier *p = &r->tiers[t];

@@ -13,7 +13,7 @@
        report_free(&r);
 
    Layout: the tiers' cards wrap (CSS flex-wrap), so the page fits a
-   REPORT_FIT_WIDTH window without scrolling sideways; images keep their
+   1400 px window (the Makefile's REPORT_WIDTH) without scrolling sideways; images keep their
    pixel size where they fit and scale down where they do not.
    tests/report_screenshot_check.c finds every image, full size, in a
    headless Chromium screenshot of that width (make report-check). */
@@ -38,7 +38,6 @@
 #define REPORT_HEAT_MAX 20.0
 
 /* Page geometry, CSS pixels. */
-#define REPORT_FIT_WIDTH 1400     /* the window the page fits without a sideways scroll */
 #define REPORT_MARGIN 24          /* around the page */
 #define REPORT_GAP 16             /* between tier cards */
 /* The zoomed crops: the reference's brightest REPORT_CROP_SIZE² window

@@ -1,7 +1,7 @@
-/* report_html.c — index.html: header, image and heatmap rows, legend,
-   table, plot (report.h). Numbers are written with printf in the C locale
-   (the programs never call setlocale). */
-#include <math.h>
+/* report_html.c — index.html: header, the tiers' image and heatmap cards,
+   legend, highlight crops, then the tables (report_table.c) and the plot
+   (report_plot.c); report.h. Numbers are written with printf in the C
+   locale (the programs never call setlocale). */
 #include <stdlib.h>
 #include <string.h>
 
