@@ -501,6 +501,14 @@ static void test_page_shows_each_tiers_crop_over_its_heatmaps(void **state) {
     assert_int_equal(count_of(html, "-crop.png\""), 3 + 2); /* full, vertex, gl11; heatmaps but full's */
     free(html);
 
+    /* a frame smaller than the window: the crops are as large as it, 4x */
+    r.crop = (crop_region){ .x = 0, .y = 0, .w = 20, .h = 10 };
+    report_write_page(capture_open(&c), &r);
+    html = capture_close(&c);
+    expect_in(html, "<img src=\"vertex-crop.png\" width=\"80\" height=\"40\"");
+    expect_in(html, ".crops .tier{width:80px}");
+    free(html);
+
     r.crop.w = 0; /* no reference ran: no crops */
     report_write_page(capture_open(&c), &r);
     html = capture_close(&c);

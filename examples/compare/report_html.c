@@ -99,13 +99,14 @@ static void write_style(FILE *f, const report *r) {
             ".cap b{font-size:17px;margin-right:8px}\n"
             ".cap span{color:#b0b0b0}\n"
             ".tier img,.box{display:block;width:100%%;height:auto;aspect-ratio:%d/%d}\n"
-            ".crops img,.crops .box{aspect-ratio:1/1;image-rendering:pixelated;margin-bottom:6px}\n"
+            ".crops img,.crops .box{aspect-ratio:%d/%d;image-rendering:pixelated;margin-bottom:6px}\n"
             "img{outline:1px solid #303139}\n"
             ".box{box-sizing:border-box;padding:4%%;background:#1d1e23;color:#a8a8a8;border:1px dashed #4a4b52;"
             "overflow:hidden;display:flex;flex-direction:column;justify-content:center;text-align:center;"
             "font-size:13px}\n"
             "h2{font-size:18px;margin:28px 0 10px;font-weight:600}\n"
             "table{border-collapse:collapse}\n"
+            ".wide{overflow-x:auto}\n"
             "th,td{border:1px solid #3a3b42;padding:6px 9px;vertical-align:top;text-align:left}\n"
             "thead th{background:#23242a;font-weight:600}\n"
             "thead th.group{text-align:center}\n"
@@ -122,7 +123,8 @@ static void write_style(FILE *f, const report *r) {
             ".plot{display:block;max-width:100%%;height:auto;background:#1c1d22;border:1px solid #3a3b42}\n"
             ".legend{display:block;max-width:100%%;height:auto}\n"
             "</style>\n",
-            REPORT_MARGIN, REPORT_GAP, r->width, REPORT_CROP_SIZE * REPORT_CROP_SCALE, r->width, r->height);
+            REPORT_MARGIN, REPORT_GAP, r->width, r->crop.w * REPORT_CROP_SCALE, r->width, r->height,
+            r->crop.w > 0 ? r->crop.w : 1, r->crop.h > 0 ? r->crop.h : 1);
 }
 
 static void write_header(FILE *f, const report *r) {
@@ -208,7 +210,8 @@ static void write_images(FILE *f, const report *r) {
 /* Each tier's crop over its heatmap's, one line of cards. */
 static void write_crops(FILE *f, const report *r) {
     if (r->crop.w == 0) return;
-    const int size = REPORT_CROP_SIZE * REPORT_CROP_SCALE;
+    /* the region shrinks to a frame smaller than REPORT_CROP_SIZE */
+    const int w = r->crop.w * REPORT_CROP_SCALE, h = r->crop.h * REPORT_CROP_SCALE;
     const char *ref = report_reference_name(r);
     fprintf(f, "<h2>Brightest highlight, %d&times;</h2>\n<p class=\"note\">The %d&times;%d pixels at (%d, %d) "
                "(top-left corner, image pixels from the top-left) where <b>", REPORT_CROP_SCALE, r->crop.w,
@@ -223,8 +226,8 @@ static void write_crops(FILE *f, const report *r) {
         fputs("<figure class=\"tier\">\n<p class=\"cap\"><b>", f);
         report_escape(f, p->name);
         fputs("</b></p>\n", f);
-        write_img(f, p->crop, size, size, p->name, " highlight");
-        if (p->heatmap_crop[0]) write_img(f, p->heatmap_crop, size, size, p->name, " highlight error");
+        write_img(f, p->crop, w, h, p->name, " highlight");
+        if (p->heatmap_crop[0]) write_img(f, p->heatmap_crop, w, h, p->name, " highlight error");
         else write_missing(f, t == r->reference ? "the reference" : "no heatmap", NULL, NULL);
         fputs("</figure>\n", f);
     }
@@ -271,12 +274,17 @@ int report_write_page(FILE *f, const report *r) {
     fputs("<h2>Measurements against ", f);
     report_escape(f, report_reference_name(r));
     fputs("</h2>\n", f);
+    /* a window narrower than a table scrolls the table, not the page */
+    fputs("<div class=\"wide\">\n", f);
     report_write_table(f, r);
+    fputs("</div>\n", f);
     write_definitions(f, r);
     fputs("<h2>Error against cost</h2>\n", f);
     report_write_plot(f, r);
     fputs("<h2>What each tier needs and drops</h2>\n", f);
+    fputs("<div class=\"wide\">\n", f);
     report_write_needs(f, r);
+    fputs("</div>\n", f);
     write_notes(f, r);
     fputs("</body>\n</html>\n", f);
     return ferror(f) ? -1 : 0;
