@@ -23,11 +23,11 @@
 #include <string.h>
 
 #include "file_atomic.h"
-#include "hairgen.h"
-#include "hairtier.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/hairtier.h>
 #include "metrics.h"
 #include "offscreen.h"
-#include "scene.h"
+#include <hairtier/scene.h>
 #include "bench/support_results.h"
 #include "tempdir.h"
 #include "timing.h"

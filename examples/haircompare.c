@@ -28,7 +28,7 @@
 #include "compare/report.h"
 #include "compare/report_dir.h"
 #include "compare/tier_render.h"
-#include "image.h"
+#include <hairtier/image.h>
 #include "offscreen.h"
 #include "view_args.h"
 

@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "image.h"
+#include <hairtier/image.h>
 #include "metrics.h"
 
 /* RGBA8 from any channel count ht_image_read_png returns. */

@@ -99,9 +99,9 @@
 
 #include <GL/gl.h>
 
-#include "hairtier.h"
-#include "image.h"
-#include "model.h"
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
+#include <hairtier/model.h>
 
 #define HT_COMBINER_FORMAT "hairtier-combiner/1"
 #define HT_COMBINER_MAX_STAGES 4

@@ -52,7 +52,7 @@
 #include "fixed_soa.h"
 #include "gl_error.h"
 #include "gl_texture.h"
-#include "image.h"
+#include <hairtier/image.h>
 #include "vecmath.h"
 
 /* What one sub-pass's light needs per vertex: sub-pass 0 the key light,

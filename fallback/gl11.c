@@ -28,7 +28,7 @@
 #include "gl11_program.h"
 #include "gl_error.h"
 #include "gl_texture.h"
-#include "image.h"
+#include <hairtier/image.h>
 
 static _Atomic uint64_t cpu_vertices_total;
 

@@ -11,7 +11,7 @@
 
 #include "errfmt.h"
 #include "file_open.h"
-#include "ht_limits.h"
+#include <hairtier/ht_limits.h>
 #include "json_check.h"
 
 const char *ht_bundle_memory_label(const ht_bundle_memory *m) {

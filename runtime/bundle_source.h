@@ -19,8 +19,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "hairtier.h"
-#include "image.h"
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
 
 typedef struct ht_bundle_source {
     const char *label;               /* the directory, or the memory bundle's name */

@@ -24,7 +24,7 @@
 #include <stddef.h>
 
 #include "gl_api.h"
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 
 /* ht_caps_probe through a table already loaded from the context, before
    any ht_gl_restrict. extensions (may be NULL) receives the device's whole

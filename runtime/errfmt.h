@@ -9,7 +9,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 
 /* Longest log line ht_log_linef hands on; longer ones are cut. */
 #define HT_LOG_LINE_MAX 1024

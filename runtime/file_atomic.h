@@ -20,7 +20,7 @@
 #include <stddef.h>
 #include <stdio.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 
 typedef bool (*ht_file_writer_fn)(FILE *f, void *ctx, char *why, size_t why_size);
 

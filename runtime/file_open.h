@@ -20,8 +20,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include "hairtier.h"
-#include "ht_limits.h"
+#include <hairtier/hairtier.h>
+#include <hairtier/ht_limits.h>
 
 #define HT_FILE_MAX_JSON    HT_LIMIT_FILE_JSON
 #define HT_FILE_MAX_SHADER  HT_LIMIT_FILE_SHADER

@@ -24,7 +24,7 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 
 /* X(group, return type, Name without "gl", parameter list) */
 #define HT_GL_FUNCTIONS(X) \

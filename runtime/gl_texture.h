@@ -16,7 +16,7 @@
 
 #include "gl_api.h"
 #include "caps.h"
-#include "image.h"
+#include <hairtier/image.h>
 
 typedef struct ht_gl_texture_desc {
     GLenum target;           /* GL_TEXTURE_2D or GL_TEXTURE_3D */

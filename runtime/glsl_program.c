@@ -8,7 +8,7 @@
 #include "errfmt.h"
 #include "gl_error.h"
 #include "gl_texture.h"
-#include "image.h"
+#include <hairtier/image.h>
 #include "shader_interface.h"
 
 /* The first non-empty line of a driver's info log. */

@@ -5,7 +5,7 @@
    by the caller, and the setjmp lives in a small function whose own locals
    never change after setjmp; after a longjmp the caller frees what the
    state holds, so no error path leaks and no local is left indeterminate. */
-#include "image.h"
+#include <hairtier/image.h>
 
 #include <errno.h>
 #include <limits.h>

@@ -28,7 +28,7 @@
 
 #include <cJSON.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 
 /* Longest JSON path we report; deeper paths are cut, never overflow. */
 #define HT_JSON_PATH_MAX 256

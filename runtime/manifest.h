@@ -18,10 +18,10 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 #include "bundle_source.h"
-#include "image.h"
-#include "ht_limits.h"
+#include <hairtier/image.h>
+#include <hairtier/ht_limits.h>
 
 /* The schema's one home: shadergen/generate.c writes what this reader
    accepts and checks these limits before writing, so hairgen never makes a

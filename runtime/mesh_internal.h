@@ -7,7 +7,7 @@
 #include <math.h>
 #include <stdint.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 #include "vecmath.h"
 
 /* Zeroes *m, then allocates the three arrays and sets the counts.

@@ -43,7 +43,7 @@
 
 #include "errfmt.h"
 #include "mesh_internal.h"
-#include "strands.h"
+#include <hairtier/strands.h>
 
 #define AO_GRID 64
 #define AO_FLOOR 0.25

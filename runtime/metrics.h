@@ -34,7 +34,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 
 typedef struct ht_metrics_desc {
     const uint8_t *reference;   /* required: RGBA8 (alpha ignored), rows tightly packed */

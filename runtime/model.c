@@ -17,7 +17,7 @@
    - smoothstep(-1,0,x) is 0 at x <= -1 and 1 at x >= 0.
    - Kajiya-Kay diffuse sin(T,L) is 0 when T or L has no direction. */
 #ifndef HT_MODEL_PASS
-#include "model.h"
+#include <hairtier/model.h>
 
 #include <tgmath.h>
 

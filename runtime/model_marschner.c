@@ -5,11 +5,11 @@
    in GLSL (shadergen/emit_marschner.c: the Fresnel below and the cubic's
    roots as cubic_roots finds them); the marschner probe holds the two
    together (tests/test_render_marschner.c). */
-#include "model_marschner.h"
+#include <hairtier/model_marschner.h>
 
 #include <math.h>
 
-#include "model.h"
+#include <hairtier/model.h>
 
 static double clamp1(double x) { return x < -1 ? -1 : (x > 1 ? 1 : x); }
 

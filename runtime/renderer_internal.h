@@ -6,7 +6,7 @@
 
 #include "manifest.h"
 #include "gl_api.h"
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 #include "select.h"
 #include "tier.h"
 

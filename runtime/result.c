@@ -1,7 +1,7 @@
 /* result.c — names for result codes and tiers. */
 #include <string.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 
 const char *ht_result_string(ht_result r) {
     switch (r) {

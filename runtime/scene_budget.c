@@ -5,8 +5,8 @@
 #include <stdio.h>
 
 #include "errfmt.h"
-#include "ht_limits.h"
-#include "scene.h"
+#include <hairtier/ht_limits.h>
+#include <hairtier/scene.h>
 
 /* Every strand file the readers accept fits: two vertices per point, at
    most six indices per point. */

@@ -6,9 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "scene.h"
+#include <hairtier/scene.h>
 #include "json_check.h"
-#include "model.h"
+#include <hairtier/model.h>
 
 #define SCENE_FORMAT "hairtier-scene/1"
 

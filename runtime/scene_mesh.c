@@ -4,7 +4,7 @@
 
 #include "errfmt.h"
 #include "mesh_internal.h"
-#include "scene.h"
+#include <hairtier/scene.h>
 
 static ht_result build_strands(const ht_scene *s, const char *scene_file, ht_mesh *hair, ht_mesh *head, char *err,
                                size_t err_size) {

@@ -33,7 +33,7 @@
 
 #include "manifest.h"
 #include "caps.h"
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 
 #define HT_SELECT_REASON 320
 

@@ -9,7 +9,7 @@
 
 #include "errfmt.h"
 #include "file_open.h"
-#include "ht_limits.h"
+#include <hairtier/ht_limits.h>
 #include "strands_internal.h"
 
 uint8_t *ht_strands_read_file(const char *path, size_t *size, char *err, size_t err_size) {

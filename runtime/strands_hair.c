@@ -31,7 +31,7 @@
 #include <stdlib.h>
 
 #include "errfmt.h"
-#include "ht_limits.h"
+#include <hairtier/ht_limits.h>
 #include "strands_internal.h"
 #include "vecmath.h"
 

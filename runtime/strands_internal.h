@@ -8,7 +8,7 @@
 #include <stdbool.h>
 #include <string.h>
 
-#include "strands.h"
+#include <hairtier/strands.h>
 
 static inline uint32_t ht_le_u32(const uint8_t *p) {
     return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;

@@ -23,7 +23,7 @@
 #include <stdlib.h>
 
 #include "errfmt.h"
-#include "ht_limits.h"
+#include <hairtier/ht_limits.h>
 #include "strands_internal.h"
 
 #define TFX_HEADER_BYTES 160u

@@ -35,7 +35,7 @@
 
 #include "manifest.h"
 #include "gl_api.h"
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 
 /* What the renderer hands a backend at creation. All pointers outlive it. */
 typedef struct ht_tier_context {

@@ -19,7 +19,7 @@
 #include <stdbool.h>
 #include <string.h>
 
-#include "model.h"
+#include <hairtier/model.h>
 
 static inline void ht_vec3_set(double r[3], double x, double y, double z) { r[0] = x; r[1] = y; r[2] = z; }
 static inline void ht_vec3_copy(double r[3], const double a[3]) { r[0] = a[0]; r[1] = a[1]; r[2] = a[2]; }

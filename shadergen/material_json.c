@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "errfmt.h"
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "json_check.h"
 #include "material_marschner.h"
 

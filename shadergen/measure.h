@@ -21,10 +21,10 @@
 
 #include <stdio.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 #include "manifest.h"
 #include "metrics.h"
-#include "scene.h"
+#include <hairtier/scene.h>
 
 #define HT_MEASURE_WARMUP_FRAMES 2   /* per tier, untimed: shader variants, uploads, caches */
 #define HT_MEASURE_TIMED_FRAMES 5    /* per tier; the median is the tier's frame time */

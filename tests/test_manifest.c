@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "manifest.h"
 #include "support_scratch.h"
 

@@ -21,8 +21,8 @@
 
 #include <cmocka.h>
 
-#include "model.h"
-#include "model_marschner.h"
+#include <hairtier/model.h>
+#include <hairtier/model_marschner.h>
 #include "rng.h"
 
 #define DEG (HT_PI / 180)

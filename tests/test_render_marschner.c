@@ -19,12 +19,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hairgen.h"
-#include "hairtier.h"
-#include "image.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
 #include "marschner_lut.h"
 #include <math.h>
-#include "model.h"
+#include <hairtier/model.h>
 #include "support_log.h"
 #include "support_osmesa.h"
 #include "support_probe.h"

@@ -65,6 +65,8 @@
 #ifndef HAIRTIER_H
 #define HAIRTIER_H
 
+#include "export.h"
+
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -85,7 +87,7 @@ typedef enum ht_result {
     HT_ERR_OUT_OF_MEMORY,
 } ht_result;
 
-const char *ht_result_string(ht_result r);
+HT_API const char *ht_result_string(ht_result r);
 
 typedef enum ht_tier {
     HT_TIER_AUTO = 0,  /* best the device runs */
@@ -98,8 +100,8 @@ typedef enum ht_tier {
     HT_TIER_COUNT
 } ht_tier;
 
-const char *ht_tier_name(ht_tier t);          /* "auto", "full", ... */
-ht_tier ht_tier_from_name(const char *name);  /* HT_TIER_COUNT when unknown */
+HT_API const char *ht_tier_name(ht_tier t);          /* "auto", "full", ... */
+HT_API ht_tier ht_tier_from_name(const char *name);  /* HT_TIER_COUNT when unknown */
 
 /* ---- lights, camera, hair geometry (a whole scene: scene.h) ---- */
 
@@ -168,14 +170,14 @@ typedef struct ht_mesh {
                                     (written by them; the sort reads only sort_key) */
 } ht_mesh;
 
-ht_result ht_mesh_build_furball(const ht_furball_desc *desc, ht_mesh *out);
+HT_API ht_result ht_mesh_build_furball(const ht_furball_desc *desc, ht_mesh *out);
 /* hair strips around a head; `head` (may be NULL) receives the head sphere,
    an opaque mesh drawn before the hair. */
-ht_result ht_mesh_build_patches(const ht_patches_desc *desc, ht_mesh *out, ht_mesh *head);
+HT_API ht_result ht_mesh_build_patches(const ht_patches_desc *desc, ht_mesh *out, ht_mesh *head);
 /* Reorders components (and the index buffer) by ascending sort_key; ties
    keep build order. Done once at load time. */
-void ht_mesh_sort_inside_out(ht_mesh *mesh);
-void ht_mesh_free(ht_mesh *mesh);
+HT_API void ht_mesh_sort_inside_out(ht_mesh *mesh);
+HT_API void ht_mesh_free(ht_mesh *mesh);
 
 /* ---- device capabilities ---- */
 
@@ -221,9 +223,9 @@ typedef struct ht_device_profile {
 } ht_device_profile;
 
 /* Probes the current context: versions, the flags above, units. */
-ht_result ht_caps_probe(ht_getproc_fn getproc, ht_caps *out);
+HT_API ht_result ht_caps_probe(ht_getproc_fn getproc, ht_caps *out);
 /* Lowers caps to what the profile allows (NULL or all-zero: unchanged). */
-void ht_caps_apply_profile(ht_caps *caps, const ht_device_profile *profile);
+HT_API void ht_caps_apply_profile(ht_caps *caps, const ht_device_profile *profile);
 /* A named profile: "gl11" (GL 1.1, one unit, no multitexture, combine,
    VBOs, shaders or 3D textures: the gl11 tier), "gl13" (GL 1.3, the
    driver's units and extensions: what MESA_GL_VERSION_OVERRIDE=1.3 leaves),
@@ -231,8 +233,8 @@ void ht_caps_apply_profile(ht_caps *caps, const ht_device_profile *profile);
    text: HT_ERR_INVALID_ARGUMENT with one line in err. This is what
    HAIRTIER_DEVICE_PROFILE names; it stands in for old hardware on any
    driver, NVIDIA's too, where Mesa's overrides do not exist. */
-ht_result ht_device_profile_parse(const char *text, ht_device_profile *out, char *err, size_t err_size);
-bool ht_device_profile_is_zero(const ht_device_profile *profile);
+HT_API ht_result ht_device_profile_parse(const char *text, ht_device_profile *out, char *err, size_t err_size);
+HT_API bool ht_device_profile_is_zero(const ht_device_profile *profile);
 
 /* ---- the renderer ---- */
 
@@ -284,7 +286,7 @@ typedef struct ht_policy {
 
 /* "best", "fastest", "error:<dB>" (a finite number >= 0), "frame:<ms>" (> 0)
    into a policy; HT_ERR_INVALID_ARGUMENT with one line in err otherwise. */
-ht_result ht_policy_parse(const char *text, ht_policy *out, char *err, size_t err_size);
+HT_API ht_result ht_policy_parse(const char *text, ht_policy *out, char *err, size_t err_size);
 
 /* ---- a bundle held in memory (hairgen --emit-header writes one) ---- */
 
@@ -341,15 +343,15 @@ typedef struct ht_frame_desc {
     const ht_mesh *opaque;        /* NULL, or drawn lit before the hair (the head) */
 } ht_frame_desc;
 
-ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out);
-ht_tier ht_renderer_tier(const ht_renderer *r);
+HT_API ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out);
+HT_API ht_tier ht_renderer_tier(const ht_renderer *r);
 /* Why this tier: "best supported", "forced by HAIRTIER_TIER", ... */
-const char *ht_renderer_reason(const ht_renderer *r);
+HT_API const char *ht_renderer_reason(const ht_renderer *r);
 /* Uploads the hair mesh (VBOs where the GL has them). Non-finite vertex
    data, indices out of range or a partial triangle are refused with
    HT_ERR_INVALID_ARGUMENT and one log line naming the element; the
    previously set mesh stays in place. */
-ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh);
+HT_API ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh);
 /* Draws the opaque mesh, then the hair in the four passes. The frame is
    checked first (finite camera with eye != target and up not parallel to
    the view, fov_y in (0,180), finite lights with colours in [0,4]); a bad
@@ -375,8 +377,8 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh);
    they leave the current program 0, the active unit's 2D (and 3D) texture
    binding 0, GL_UNPACK_ALIGNMENT 4 and GL_ARRAY_BUFFER and
    GL_ELEMENT_ARRAY_BUFFER bound to 0, and clear glGetError. */
-ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *frame);
-const ht_trace *ht_renderer_trace(const ht_renderer *r);
+HT_API ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *frame);
+HT_API const ht_trace *ht_renderer_trace(const ht_renderer *r);
 #define HT_FRAME_TIMING_FRAMES 5
 /* The frame:MS policy's step after set_mesh: draws every tier the device
    runs for HT_FRAME_TIMING_FRAMES frames of `mesh` and `frame` after one
@@ -386,10 +388,10 @@ const ht_trace *ht_renderer_trace(const ht_renderer *r);
    neither is set), else the fastest. The mesh is uploaded again for each
    tier and stays set. A tier whose backend fails to create is skipped with
    its reason. */
-ht_result ht_renderer_choose_by_frame_time(ht_renderer *r, const ht_mesh *mesh, const ht_frame_desc *frame,
+HT_API ht_result ht_renderer_choose_by_frame_time(ht_renderer *r, const ht_mesh *mesh, const ht_frame_desc *frame,
                                            double budget_ms);
 /* What the renderer saw of the device, after the desc's profile. */
-const ht_caps *ht_renderer_caps(const ht_renderer *r);
+HT_API const ht_caps *ht_renderer_caps(const ht_renderer *r);
 
 /* What the renderer has done so far: frames drawn, and the CPU work per
    vertex it did for them (a tier whose coordinates or colours the CPU
@@ -401,8 +403,8 @@ typedef struct ht_renderer_stats {
     uint64_t cpu_vertices;
 } ht_renderer_stats;
 
-ht_renderer_stats ht_renderer_get_stats(const ht_renderer *r);
-void ht_renderer_destroy(ht_renderer *r);
+HT_API ht_renderer_stats ht_renderer_get_stats(const ht_renderer *r);
+HT_API void ht_renderer_destroy(ht_renderer *r);
 
 #ifdef __cplusplus
 }

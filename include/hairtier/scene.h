@@ -22,12 +22,18 @@
 #ifndef HT_SCENE_H
 #define HT_SCENE_H
 
+#include "export.h"
+
 #include <stddef.h>
 #include <stdint.h>
 
 #include "hairtier.h"
 #include "ht_limits.h"
 #include "strands.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef enum ht_geometry_kind {
     HT_GEOMETRY_FURBALL = 0,
@@ -54,24 +60,28 @@ typedef struct ht_scene {
     ht_strands_scene strands;
 } ht_scene;
 
-ht_result ht_scene_load(const char *path, ht_scene *out, char *err, size_t err_size);
-ht_result ht_scene_parse(const char *json_text, const char *file_name,
+HT_API ht_result ht_scene_load(const char *path, ht_scene *out, char *err, size_t err_size);
+HT_API ht_result ht_scene_parse(const char *json_text, const char *file_name,
                          ht_scene *out, char *err, size_t err_size);
 /* Bytes the scene's hair needs, every copy together (ht_limits.h), and the
    check every parse runs: above HT_LIMIT_SCENE_BYTES it fails with
    "FILE: geometry.hairs: needs about N GB ...". A strands scene counts the
    most points a strand file may hold (its file is read later, by
    ht_scene_build_meshes), which fits by construction. */
-uint64_t ht_scene_memory_estimate(const ht_scene *s);
-ht_result ht_scene_check_budget(const ht_scene *s, const char *file_name, char *err, size_t err_size);
+HT_API uint64_t ht_scene_memory_estimate(const ht_scene *s);
+HT_API ht_result ht_scene_check_budget(const ht_scene *s, const char *file_name, char *err, size_t err_size);
 /* The scene's hair, sorted inside out, and its opaque head (zeroed when
    the geometry has none; head may be NULL). A strands scene reads its file
    here: its errors name that file and field; the others say
    "FILE: geometry: cannot build the mesh: why". On failure both are zeroed. */
-ht_result ht_scene_build_meshes(const ht_scene *s, const char *scene_file, ht_mesh *hair, ht_mesh *head,
+HT_API ht_result ht_scene_build_meshes(const ht_scene *s, const char *scene_file, ht_mesh *hair, ht_mesh *head,
                                 char *err, size_t err_size);
 /* The scene a material is planned for when none is given: one white
    directional light, the fur ball. */
-void ht_scene_default(ht_scene *out);
+HT_API void ht_scene_default(ht_scene *out);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -18,11 +18,17 @@
 #ifndef HT_STRANDS_H
 #define HT_STRANDS_H
 
+#include "export.h"
+
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
 #include "hairtier.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef struct ht_strands {
     uint32_t strand_count;  /* >= 1 */
@@ -33,16 +39,16 @@ typedef struct ht_strands {
 } ht_strands;
 
 /* By extension: ".tfx" or ".hair" (any case); anything else is refused. */
-ht_result ht_strands_load(const char *path, ht_strands *out, char *err, size_t err_size);
-ht_result ht_strands_load_tfx(const char *path, ht_strands *out, char *err, size_t err_size);
-ht_result ht_strands_load_hair(const char *path, ht_strands *out, char *err, size_t err_size);
+HT_API ht_result ht_strands_load(const char *path, ht_strands *out, char *err, size_t err_size);
+HT_API ht_result ht_strands_load_tfx(const char *path, ht_strands *out, char *err, size_t err_size);
+HT_API ht_result ht_strands_load_hair(const char *path, ht_strands *out, char *err, size_t err_size);
 /* The same readers on a file's bytes already in memory; file_name names it
    in messages. The fuzz targets call these. */
-ht_result ht_strands_parse_tfx(const uint8_t *data, size_t size, const char *file_name, ht_strands *out,
+HT_API ht_result ht_strands_parse_tfx(const uint8_t *data, size_t size, const char *file_name, ht_strands *out,
                                char *err, size_t err_size);
-ht_result ht_strands_parse_hair(const uint8_t *data, size_t size, const char *file_name, ht_strands *out,
+HT_API ht_result ht_strands_parse_hair(const uint8_t *data, size_t size, const char *file_name, ht_strands *out,
                                 char *err, size_t err_size);
-void ht_strands_free(ht_strands *s);
+HT_API void ht_strands_free(ht_strands *s);
 
 /* How mesh_strands.c turns strands into ribbons (scene units are the
    file's units times scale, the point `center` of the file at the origin). */
@@ -61,7 +67,11 @@ typedef struct ht_strands_ribbon_desc {
    HT_ERR_INVALID_ARGUMENT with err "FIELD: why" for a bad desc (or
    use_thickness on strands without thickness), HT_ERR_OUT_OF_MEMORY; on
    failure *out is zeroed. */
-ht_result ht_mesh_build_strands(const ht_strands *strands, const ht_strands_ribbon_desc *desc, ht_mesh *out,
+HT_API ht_result ht_mesh_build_strands(const ht_strands *strands, const ht_strands_ribbon_desc *desc, ht_mesh *out,
                                 char *err, size_t err_size);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

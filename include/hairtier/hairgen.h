@@ -40,6 +40,8 @@
 #ifndef HT_HAIRGEN_H
 #define HT_HAIRGEN_H
 
+#include "export.h"
+
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -49,6 +51,10 @@
 #include "model.h"
 #include "scene.h"
 #include "image.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* ---- material (materials/NAME.json, format "hairtier-material/1") ---- */
 
@@ -60,7 +66,7 @@ typedef enum ht_texture_slot {
     HT_TEX_COUNT
 } ht_texture_slot;
 
-const char *ht_texture_slot_name(ht_texture_slot s); /* "base", ... */
+HT_API const char *ht_texture_slot_name(ht_texture_slot s); /* "base", ... */
 
 typedef enum ht_texture_origin {
     HT_TEXTURE_ABSENT = 0,     /* not modelled anywhere */
@@ -86,8 +92,8 @@ typedef struct ht_material {
 } ht_material;
 
 /* Errors are one line "FILE: FIELD: what is wrong" written to err. */
-ht_result ht_material_load(const char *path, ht_material *out, char *err, size_t err_size);
-ht_result ht_material_parse(const char *json_text, const char *file_name,
+HT_API ht_result ht_material_load(const char *path, ht_material *out, char *err, size_t err_size);
+HT_API ht_result ht_material_parse(const char *json_text, const char *file_name,
                             ht_material *out, char *err, size_t err_size);
 /* Checks a material built in memory against the rules the file reader
    enforces (docs/materials.md): finite colours in [0,1], exponents in
@@ -95,7 +101,7 @@ ht_result ht_material_parse(const char *json_text, const char *file_name,
    (0,1], known texture generators and power-of-two sizes 16..2048. FILE is
    m->file, or "<material>" when empty; FIELD is the JSON path
    ("primary.exponent"). */
-ht_result ht_material_check(const ht_material *m, char *err, size_t err_size);
+HT_API ht_result ht_material_check(const ht_material *m, char *err, size_t err_size);
 
 /* ---- generator (shadergen/generate.c) ---- */
 
@@ -138,23 +144,23 @@ typedef struct ht_generated {
 /* Generates every tier for desc->material and desc->scene into *out; writes
    no file. On failure *out is empty (safe to ht_generated_free) and err
    holds one line. */
-ht_result ht_generate(const ht_generate_desc *desc, ht_generated *out, char *err, size_t err_size);
+HT_API ht_result ht_generate(const ht_generate_desc *desc, ht_generated *out, char *err, size_t err_size);
 /* Frees what ht_generate allocated and zeroes *g; NULL and zeroed are fine. */
-void ht_generated_free(ht_generated *g);
+HT_API void ht_generated_free(ht_generated *g);
 /* The file named `name`, or NULL. */
-const ht_generated_file *ht_generated_find(const ht_generated *g, const char *name);
+HT_API const ht_generated_file *ht_generated_find(const ht_generated *g, const char *name);
 
 /* Loads the material (and scene; scene_path may be NULL: ht_scene_default)
    and runs ht_generate keyed by the files' bytes: in memory, the bundle
    ht_generate_bundle writes. material, when not NULL, receives the material
    read. On failure *out is empty and err holds one line. */
-ht_result ht_generate_files(const char *material_path, const char *scene_path, ht_material *material,
+HT_API ht_result ht_generate_files(const char *material_path, const char *scene_path, ht_material *material,
                             ht_generated *out, char *err, size_t err_size);
 
 /* The bytes `f` has in a bundle directory (a text as it is, an image as its
    PNG file: f->png, or the generator's encoding of f->image when that is
    NULL), malloc'd into *data (free()). */
-ht_result ht_generated_file_bytes(const ht_generated_file *f, unsigned char **data, size_t *size, char *err,
+HT_API ht_result ht_generated_file_bytes(const ht_generated_file *f, unsigned char **data, size_t *size, char *err,
                                   size_t err_size);
 
 /* Loads the material (and scene; scene_path may be NULL: ht_scene_default),
@@ -162,7 +168,7 @@ ht_result ht_generated_file_bytes(const ht_generated_file *f, unsigned char **da
    into place; an existing DIR is replaced only after the new one is
    complete, and only when it is empty or a bundle). summary, when not NULL,
    receives the human-readable table. */
-ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
+HT_API ht_result ht_generate_bundle(const char *material_path, const char *scene_path,
                              const char *out_dir, FILE *summary, char *err, size_t err_size);
 
 /* A step over the finished bundle before it is published: dir is the
@@ -175,7 +181,7 @@ typedef ht_result (*ht_bundle_step_fn)(void *user, const char *dir, const ht_sce
 /* ht_generate_bundle with step (NULL: none, exactly ht_generate_bundle) run
    between writing and publishing; `hairgen --measure` passes
    ht_measure_step (shadergen/measure.h). */
-ht_result ht_generate_bundle_then(const char *material_path, const char *scene_path, const char *out_dir,
+HT_API ht_result ht_generate_bundle_then(const char *material_path, const char *scene_path, const char *out_dir,
                                   FILE *summary, ht_bundle_step_fn step, void *step_user, char *err,
                                   size_t err_size);
 
@@ -191,20 +197,20 @@ ht_result ht_generate_bundle_then(const char *material_path, const char *scene_p
    symbol NULL: from the material name (ht_header_symbol_default). The text
    depends only on g and symbol (same bundle, same bytes) and compiles
    warning-free as C99 and C++ with -Wall -Wextra -pedantic. */
-ht_result ht_bundle_header_write(const ht_generated *g, const char *material_name, const char *symbol,
+HT_API ht_result ht_bundle_header_write(const ht_generated *g, const char *material_name, const char *symbol,
                                  const char *path, char *err, size_t err_size);
 /* The same text in memory, malloc'd into *text (free()). */
-ht_result ht_bundle_header_text(const ht_generated *g, const char *material_name, const char *symbol,
+HT_API ht_result ht_bundle_header_text(const ht_generated *g, const char *material_name, const char *symbol,
                                 char **text, char *err, size_t err_size);
 /* "dark-brown" → "dark_brown_bundle": letters, digits and _ kept, any other
    byte _, "_bundle" appended, cut to fit HT_HEADER_SYMBOL_MAX. */
-void ht_header_symbol_default(const char *material_name, char out[HT_HEADER_SYMBOL_MAX + 1]);
+HT_API void ht_header_symbol_default(const char *material_name, char out[HT_HEADER_SYMBOL_MAX + 1]);
 /* A usable symbol: a C identifier of 1..HT_HEADER_SYMBOL_MAX bytes, not
    starting with _ (reserved), not a C or C++ keyword; else one line. */
-ht_result ht_header_symbol_check(const char *symbol, char *err, size_t err_size);
+HT_API ht_result ht_header_symbol_check(const char *symbol, char *err, size_t err_size);
 /* What hairgen --emit-header runs: ht_generate_files, then the header at
    path; summary, when not NULL, receives hairgen's table. */
-ht_result ht_generate_header(const char *material_path, const char *scene_path, const char *path,
+HT_API ht_result ht_generate_header(const char *material_path, const char *scene_path, const char *path,
                              const char *symbol, FILE *summary, char *err, size_t err_size);
 
 /* ---- batches (shadergen/batch.c, what `hairgen` runs) ---- */
@@ -242,6 +248,10 @@ typedef struct ht_batch_result {
    says how many failed), or a code before anything ran (no material, two
    materials with the same file name, an unreadable scene). Output bytes do
    not depend on jobs. */
-ht_result ht_generate_batch(const ht_batch_desc *desc, ht_batch_result *result, char *err, size_t err_size);
+HT_API ht_result ht_generate_batch(const ht_batch_desc *desc, ht_batch_result *result, char *err, size_t err_size);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

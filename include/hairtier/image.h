@@ -5,10 +5,16 @@
 #ifndef HT_IMAGE_H
 #define HT_IMAGE_H
 
+#include "export.h"
+
 #include <stddef.h>
 #include <stdint.h>
 
 #include "hairtier.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef struct ht_image {
     int width, height;
@@ -28,24 +34,28 @@ typedef struct ht_image {
    held whole; only ancillary chunks are buffered). */
 #define HT_IMAGE_MAX_CHUNK_BYTES (8u << 20)
 
-ht_result ht_image_alloc(ht_image *img, int width, int height, int channels);
-void ht_image_free(ht_image *img);
+HT_API ht_result ht_image_alloc(ht_image *img, int width, int height, int channels);
+HT_API void ht_image_free(ht_image *img);
 /* Reads any PNG libpng reads; expands palette and low bit depths, strips 16
    bit to 8. A missing, truncated or corrupt file is HT_ERR_IO with a line
    naming the file in err. */
-ht_result ht_image_read_png(const char *path, ht_image *out, char *err, size_t err_size);
+HT_API ht_result ht_image_read_png(const char *path, ht_image *out, char *err, size_t err_size);
 /* The same decoder, limits and messages over a PNG file's bytes in memory
    (a bundle compiled in); `name` stands for the path in the error line. */
-ht_result ht_image_decode_png(const char *name, const void *data, size_t size, ht_image *out, char *err,
+HT_API ht_result ht_image_decode_png(const char *name, const void *data, size_t size, ht_image *out, char *err,
                               size_t err_size);
 /* The size a PNG's header declares, read before decoding (so a hostile
    header is refused before anything is allocated); false when the file
    (or the bytes) does not start like a PNG (the decoder then says why). */
-bool ht_image_png_header_size(const char *path, uint32_t *width, uint32_t *height);
-bool ht_image_png_header_size_bytes(const void *data, size_t size, uint32_t *width, uint32_t *height);
+HT_API bool ht_image_png_header_size(const char *path, uint32_t *width, uint32_t *height);
+HT_API bool ht_image_png_header_size_bytes(const void *data, size_t size, uint32_t *width, uint32_t *height);
 /* Writes to a temporary name beside path and renames it into place. */
-ht_result ht_image_write_png(const char *path, const ht_image *img, char *err, size_t err_size);
+HT_API ht_result ht_image_write_png(const char *path, const ht_image *img, char *err, size_t err_size);
 /* The bytes ht_image_write_png would write, malloc'd into *data (free()). */
-ht_result ht_image_encode_png(const ht_image *img, unsigned char **data, size_t *size, char *err, size_t err_size);
+HT_API ht_result ht_image_encode_png(const ht_image *img, unsigned char **data, size_t *size, char *err, size_t err_size);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -12,6 +12,12 @@
 #ifndef HT_HT_LIMITS_H
 #define HT_HT_LIMITS_H
 
+#include "export.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* ---- files: the most bytes read from one file of each kind (file_open.h) ---- */
 #define HT_LIMIT_FILE_JSON    (16u << 20)   /* materials, scenes, manifests, combiner programs */
 #define HT_LIMIT_FILE_SHADER  (1u << 20)    /* one GLSL source */
@@ -71,5 +77,9 @@
 /* |coordinate| and thickness in a strand file, in the file's units: beyond,
    the ribbon builder's float arithmetic loses the hair's width. */
 #define HT_LIMIT_STRANDS_COORD 1e7
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -27,9 +27,15 @@
 #ifndef HT_MODEL_H
 #define HT_MODEL_H
 
+#include "export.h"
+
 #include <stdbool.h>
 
 #include "model_marschner.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef enum ht_model_kind {
     HT_MODEL_SCHEUERMANN = 0, /* two shifted highlights, wrapped diffuse */
@@ -74,21 +80,21 @@ typedef struct ht_light_ray {
 
 /* rgb = the model's colour, before any framebuffer clamp. Always finite,
    within [0, sum of light.color * (diffuse + primary + secondary colour)]. */
-void ht_model_shade_d(const ht_shading *m, const ht_surface *s,
+HT_API void ht_model_shade_d(const ht_shading *m, const ht_surface *s,
                       const ht_light_ray *lights, int light_count, double rgb[3]);
 /* The same computed in 32-bit float throughout (inputs rounded to float). */
-void ht_model_shade_f(const ht_shading *m, const ht_surface *s,
+HT_API void ht_model_shade_f(const ht_shading *m, const ht_surface *s,
                       const ht_light_ray *lights, int light_count, double rgb[3]);
 
 /* S(t,e) for t and h of any length; 0 when either has no direction. */
-double ht_model_highlight_d(const double t[3], const double h[3], double exponent);
-float ht_model_highlight_f(const float t[3], const float h[3], float exponent);
+HT_API double ht_model_highlight_d(const double t[3], const double h[3], double exponent);
+HT_API float ht_model_highlight_f(const float t[3], const float h[3], float exponent);
 
 /* S as a function of c = dot(t,H) of unit vectors (what a LUT indexes). */
-double ht_model_highlight_of_cos_d(double c, double exponent);
+HT_API double ht_model_highlight_of_cos_d(double c, double exponent);
 
 /* saturate(mix(wrap, 1, n_dot_l)) */
-double ht_model_wrap_diffuse_d(double n_dot_l, double wrap);
+HT_API double ht_model_wrap_diffuse_d(double n_dot_l, double wrap);
 
 /* The shading as a function of three dot products of unit vectors, for one
    white light with base = ao = sparkle = 1 and no shift texture (Heidrich-
@@ -98,7 +104,7 @@ double ht_model_wrap_diffuse_d(double n_dot_l, double wrap);
      Kajiya-Kay:  a = T.L, b = T.H, c unused
        diffuse.color * sqrt(1 - a^2) + primary.color * S(b)
    The fixed tier bakes its LUT from this. */
-void ht_model_dot_terms_d(const ht_shading *m, double a, double b, double c,
+HT_API void ht_model_dot_terms_d(const ht_shading *m, double a, double b, double c,
                           double rgb[3]);
 
 /* ht_model_dot_terms_d is separable: each dot product feeds one scalar
@@ -106,10 +112,14 @@ void ht_model_dot_terms_d(const ht_shading *m, double a, double b, double c,
    + secondary.color[i] * f[2]. A LUT baker evaluates each axis once
    (axis 0, 1, 2 = a, b, c) and combines; the result is bit-identical to
    ht_model_dot_terms_d. */
-double ht_model_dot_factor_d(const ht_shading *m, int axis, double value);
-void ht_model_dot_combine_d(const ht_shading *m, const double factors[3], double rgb[3]);
+HT_API double ht_model_dot_factor_d(const ht_shading *m, int axis, double value);
+HT_API void ht_model_dot_combine_d(const ht_shading *m, const double factors[3], double rgb[3]);
 
 /* The largest value any channel of ht_model_dot_terms_d can take. */
-double ht_model_dot_terms_max(const ht_shading *m);
+HT_API double ht_model_dot_terms_max(const ht_shading *m);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -74,7 +74,13 @@
 #ifndef HT_MODEL_MARSCHNER_H
 #define HT_MODEL_MARSCHNER_H
 
+#include "export.h"
+
 #include <stdbool.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define HT_PI 3.14159265358979323846
 
@@ -98,34 +104,38 @@ typedef struct ht_marschner {
 #define HT_MARSCHNER_CAUSTIC_WIDTH (15 * HT_PI / 180)
 
 /* alpha_p and beta_p of lobe p from alpha_R and beta_R. */
-double ht_marschner_shift(const ht_marschner *m, ht_marschner_lobe p);
-double ht_marschner_width(const ht_marschner *m, ht_marschner_lobe p);
+HT_API double ht_marschner_shift(const ht_marschner *m, ht_marschner_lobe p);
+HT_API double ht_marschner_width(const ht_marschner *m, ht_marschner_lobe p);
 
 /* M_p with sin(theta_i) and sin(theta_r) (clamped to [-1, 1]). */
-double ht_marschner_longitudinal(const ht_marschner *m, ht_marschner_lobe p,
+HT_API double ht_marschner_longitudinal(const ht_marschner *m, ht_marschner_lobe p,
                                  double sin_i, double sin_r);
 /* M normalised for a variance v > 0 and unshifted angles (d'Eon 2011). */
-double ht_marschner_longitudinal_v(double v, double sin_i, double sin_r);
+HT_API double ht_marschner_longitudinal_v(double v, double sin_i, double sin_r);
 
 /* Fresnel reflectance for the Bravais indices of cos(theta_r) at the
    in-plane incidence gamma_i with sin(gamma_i) = h. */
-double ht_marschner_fresnel(double eta, double cos_theta_r, double h);
+HT_API double ht_marschner_fresnel(double eta, double cos_theta_r, double h);
 
 /* A_p(h) for cos(theta_r), RGB. */
-void ht_marschner_attenuation(const ht_marschner *m, ht_marschner_lobe p,
+HT_API void ht_marschner_attenuation(const ht_marschner *m, ht_marschner_lobe p,
                               double cos_theta_r, double h, double out[3]);
 
 /* N_p(phi) for cos(theta_r) in [0, 1] and phi (radians, any value), RGB. */
-void ht_marschner_azimuthal(const ht_marschner *m, ht_marschner_lobe p,
+HT_API void ht_marschner_azimuthal(const ht_marschner *m, ht_marschner_lobe p,
                             double cos_theta_r, double phi, double out[3]);
 
 /* sum_p M_p N_p for the angles (see the normalisation above), RGB. */
-void ht_marschner_fibre(const ht_marschner *m, double sin_i, double sin_r, double cos_phi,
+HT_API void ht_marschner_fibre(const ht_marschner *m, double sin_i, double sin_r, double cos_phi,
                         double rgb[3]);
 
 /* The same from unit-or-zero vectors T (fibre), L (to the light), V (to
    the viewer). */
-void ht_marschner_fibre_vectors(const ht_marschner *m, const double T[3], const double L[3],
+HT_API void ht_marschner_fibre_vectors(const ht_marschner *m, const double T[3], const double L[3],
                                 const double V[3], double rgb[3]);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif
