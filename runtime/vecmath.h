@@ -64,6 +64,17 @@ static inline bool ht_vec3_direction(double r[3], const double v[3]) {
     return true;
 }
 
+/* The shifted tangent, the shading model's one rule (model.c):
+   r = normalize(T + shift * N) for a unit or zero T and N. A strand without
+   a direction (has_t false) has none after the shift either: T + shift * N
+   alone would turn a zero T into N. False, and r zero, when r has none. */
+static inline bool ht_vec3_shifted_tangent(double r[3], const double T[3], bool has_t, const double N[3],
+                                           double shift) {
+    double v[3];
+    for (int i = 0; i < 3; i++) v[i] = T[i] + shift * N[i];
+    return has_t ? ht_vec3_direction(r, v) : (ht_vec3_set(r, 0, 0, 0), false);
+}
+
 /* A unit vector perpendicular to unit a: crossed with the world axis a is
    least aligned with, so the choice is stable (the same a gives the same
    answer) and never degenerate. */

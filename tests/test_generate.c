@@ -278,6 +278,11 @@ static void test_bad_material_struct_is_refused_naming_the_field(void **state) {
     m.shading.wrap = INFINITY;
     expect_refused(&m, "diffuse.wrap: must be a finite number");
 
+    /* the range every tier program holds (ht_limits.h), not any finite shift */
+    m = good;
+    m.shading.secondary.shift = 150;
+    expect_refused(&m, "materials/dark-brown.json: secondary.shift: must be in [-100, 100], got 150");
+
     m = good;
     m.opaque_cutoff = 1.5;
     expect_refused(&m, "alpha.opaque_cutoff: must be 0 (default) or in (0, 1], got 1.5");

@@ -18,6 +18,10 @@
 extern "C" {
 #endif
 
+/* ---- shading constants (a material and every tier program alike) ---- */
+#define HT_LIMIT_EXPONENT 10000.0   /* a highlight's exponent: 0 .. this */
+#define HT_LIMIT_SHIFT    100.0     /* a highlight's tangent shift: -this .. this */
+
 /* ---- files: the most bytes read from one file of each kind (file_open.h) ---- */
 #define HT_LIMIT_FILE_JSON    (16u << 20)   /* materials, scenes, manifests, combiner programs */
 #define HT_LIMIT_FILE_SHADER  (1u << 20)    /* one GLSL source */
