@@ -174,9 +174,9 @@ $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
 $(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(EXLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) $(OFFSCREEN_LIBS) -o $@
 
-# png_metrics compares two PNGs: the runtime's metrics, no GL (it runs on a
-# device machine beside hairview).
-$(BUILD)/png_metrics: $(BUILD)/obj/examples/png_metrics.o $(LIB)
+# png_metrics compares two PNGs: the generator's metrics (libhairgen), no
+# GL (it runs on a device machine beside hairview).
+$(BUILD)/png_metrics: $(BUILD)/obj/examples/png_metrics.o $(GENLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) -o $@
 
 # The programs that draw get the context module from EXLIB: OSMesa by

@@ -1,6 +1,7 @@
 /* metrics.h — how far one rendered frame is from another: PSNR, SSIM and
    CIEDE2000, over the whole frame and over the hair's pixels. Internal to
-   libhairtier; hairgen's measuring step and the tests use it, and the
+   libhairgen (no runtime code compares images); hairgen's measuring step,
+   the comparison programs and the tests use it, and the
    numbers it gives are what a bundle's per-tier `measured` object records
    (manifest.h) and what the `error:<dB>` policy reads.
 
