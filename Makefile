@@ -20,7 +20,7 @@ WERROR  ?= -Werror
 DEB_PACKAGES := libosmesa6-dev libegl-dev libegl-mesa0 glslang-dev glslang-tools libcjson-dev libpng-dev \
                 libdeflate-dev libcmocka-dev pkg-config g++ cmake
 
-CPPFLAGS += -Iinclude -Iruntime -Ishadergen -Ifallback -I/usr/include/cjson -I/usr/include/libpng16
+CPPFLAGS += -Iinclude -Iruntime/io -Iruntime/shading -Iruntime/mesh -Iruntime/render -Ishadergen -Ifallback -I/usr/include/cjson -I/usr/include/libpng16
 CFLAGS   += -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra $(WERROR) $(OPT) $(SAN) -MMD -MP
 LDFLAGS  += $(SAN)
 # glslang's static libraries are C++; its pkg-config file is read lazily,
@@ -35,7 +35,7 @@ RUNTIME_LIBS = -lOSMesa $(CORE_LIBS)
 OFFSCREEN_LIBS = -lEGL -ldl
 LDLIBS   = $(GLSLANG_LIBS) $(GEN_LIBS) $(RUNTIME_LIBS)
 
-RUNTIME_SRC := $(wildcard runtime/*.c fallback/*.c)
+RUNTIME_SRC := $(wildcard runtime/*/*.c runtime/*.c fallback/*.c)
 GEN_SRC     := $(filter-out shadergen/hairgen.c,$(wildcard shadergen/*.c))
 # glslang's one-pass parse is C++ only (shadergen/glsl_parse.cpp says why).
 GEN_CXX_SRC := $(wildcard shadergen/*.cpp)

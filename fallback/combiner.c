@@ -1,5 +1,5 @@
 /* combiner.c — the fixed tier's combiner program: validation, JSON write
-   (cJSON) and parse (runtime/json_check.h's getters, so its messages read
+   (cJSON) and parse (runtime/io/json_check.h's getters, so its messages read
    like every other format's). */
 #include "combiner.h"
 

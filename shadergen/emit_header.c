@@ -4,7 +4,7 @@
    furball bundle's three PNGs are 127 843 bytes against 1 310 720 bytes of
    texels, 10 times less in the program), and read back by
    the runtime through the very decoder and checks a directory's files go
-   through (runtime/bundle_source.c), so a header is exactly a directory in
+   through (runtime/io/bundle_source.c), so a header is exactly a directory in
    another place. Bytes are decimal array initialisers, not string literals:
    C99 promises only 4095 characters in one literal (-pedantic warns past
    it) and a text may hold any byte. The text depends only on the bundle

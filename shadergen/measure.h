@@ -5,7 +5,7 @@
    (a context of its own per tier, forced and strict, through hairtier.h),
    frames round-robin across the tiers so that a change in the machine's
    load falls on every tier alike. Each tier's last frame is compared with
-   full's over the whole frame (runtime/metrics.h) and its median frame time
+   full's over the whole frame (shadergen/metrics.h) and its median frame time
    divided by full's. The result goes into each tier's `measured` object
    (docs/bundle.md), which the runtime's error:DB and fastest policies read.
 

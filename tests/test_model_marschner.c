@@ -1,4 +1,4 @@
-/* test_model_marschner.c — the Marschner oracle (runtime/model_marschner.c)
+/* test_model_marschner.c — the Marschner oracle (runtime/shading/model_marschner.c)
    against published behaviour, not against itself:
    - the white furnace (pbrt-v4's hair test in spirit): with sigma_a = 0 the
      integral over the sphere of the scattering times cos(theta_i), i.e. of

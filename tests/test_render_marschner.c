@@ -1,5 +1,5 @@
 /* test_render_marschner — the marschner tier's pixels against the Marschner
-   oracle (runtime/model_marschner.c through ht_model_shade_d), on the probe
+   oracle (runtime/shading/model_marschner.c through ht_model_shade_d), on the probe
    of support_probe.h: every covered pixel within TOLERANCE per channel of
    the oracle clamped to [0,1] and rounded to 8 bits. Lights: the probe's
    first light, behind the cells (L = -V at the centre pixel: TT's glow;

@@ -1,5 +1,5 @@
 /* test_render_probe — the full tier's pixels against the double-precision
-   oracle (runtime/model.c), on whichever Mesa driver runs it (make test
+   oracle (runtime/shading/model.c), on whichever Mesa driver runs it (make test
    runs it on llvmpipe and on softpipe).
 
    The probe (support_probe.h) is a grid of flat cells in the plane z = 0,

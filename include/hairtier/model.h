@@ -75,8 +75,7 @@ typedef struct ht_light_ray {
     double color[3];
 } ht_light_ray;
 
-/* Below this squared length a vector has no direction (see model.c). */
-#define HT_MODEL_MIN_LENGTH2 1e-12
+/* HT_MODEL_MIN_LENGTH2, the direction rule: in model_marschner.h. */
 
 /* rgb = the model's colour, before any framebuffer clamp. Always finite,
    within [0, sum of light.color * (diffuse + primary + secondary colour)]. */

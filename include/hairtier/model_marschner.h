@@ -82,6 +82,10 @@
 extern "C" {
 #endif
 
+/* Below this squared length a vector has no direction: the rule of every
+   shading function, Marschner's and model.h's (which includes this file). */
+#define HT_MODEL_MIN_LENGTH2 1e-12
+
 #define HT_PI 3.14159265358979323846
 
 typedef enum ht_marschner_lobe {

@@ -2,7 +2,7 @@
    geometry to build; read from "hairtier-scene/1" files (docs/materials.md).
    Not needed to draw hair (hairtier.h is): the generator plans a material
    for a scene, and the examples and tests build and render one. The reader
-   (runtime/scene_json.c) needs only cJSON, so hairview links it without the
+   (runtime/io/scene_json.c) needs only cJSON, so hairview links it without the
    generator or glslang.
 
    Usage:

@@ -9,7 +9,6 @@
 
 #include <math.h>
 
-#include <hairtier/model.h>
 
 static double clamp1(double x) { return x < -1 ? -1 : (x > 1 ? 1 : x); }
 

@@ -1,11 +1,10 @@
-/* strands.c — what the two strand file readers share: the bounded read of
-   a whole file, allocation, the coordinate check, errors; and the loader
-   that picks a reader by extension. */
+/* strands_common.c — what the two strand file readers (strands_tfx.c,
+   strands_hair.c) share: the bounded read of a whole file, allocation, the
+   coordinate check, errors (strands_internal.h). */
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
-#include <strings.h>
 
 #include "errfmt.h"
 #include "file_open.h"
@@ -63,17 +62,4 @@ ht_result ht_strands_load_with(ht_strands_parse_fn parse, const char *path, ht_s
     ht_result r = parse(data, size, path, out, err, err_size);
     free(data);
     return r;
-}
-
-static bool has_extension(const char *path, const char *ext) {
-    size_t n = strlen(path), e = strlen(ext);
-    return n > e && strcasecmp(path + n - e, ext) == 0;
-}
-
-ht_result ht_strands_load(const char *path, ht_strands *out, char *err, size_t err_size) {
-    memset(out, 0, sizeof *out);
-    if (has_extension(path, ".tfx")) return ht_strands_load_tfx(path, out, err, err_size);
-    if (has_extension(path, ".hair")) return ht_strands_load_hair(path, out, err, err_size);
-    ht_set_error(err, err_size, "%s: not a strand file: the name must end in .tfx (TressFX 4.0) or .hair", path);
-    return HT_ERR_PARSE;
 }

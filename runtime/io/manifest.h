@@ -37,7 +37,7 @@
 _Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader reads every bundle texture");
 
 /* Every key of the manifest, written by shadergen/generate.c and read by
-   runtime/manifest_read.c (docs/bundle.md describes them). */
+   runtime/io/manifest_read.c (docs/bundle.md describes them). */
 #define HT_MANIFEST_KEY_FORMAT "format"
 #define HT_MANIFEST_KEY_GENERATOR "generator"
 #define HT_MANIFEST_KEY_INPUT_HASH "input_hash"
@@ -69,7 +69,7 @@ _Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader r
 #define HT_MANIFEST_KEY_FEATURES "features"
 #define HT_MANIFEST_KEY_DROPPED "dropped"
 /* a tier's optional "measured" object: how the tier compares with full on
-   one scene, measured offline (hairgen --measure; runtime/metrics.h has the
+   one scene, measured offline (hairgen --measure; shadergen/metrics.h has the
    definitions). psnr_db null means identical (infinite). */
 #define HT_MANIFEST_KEY_MEASURED "measured"
 #define HT_MANIFEST_KEY_PSNR_DB "psnr_db"

@@ -1,5 +1,5 @@
 /* strands_internal.h — what the strand file readers (strands_tfx.c,
-   strands_hair.c) share with strands.c: reading a whole file, little-endian
+   strands_hair.c) share (strands_common.c): reading a whole file, little-endian
    fields, allocation after the counts are known good, the checks on
    coordinates. Not part of any API. */
 #ifndef HT_STRANDS_INTERNAL_H

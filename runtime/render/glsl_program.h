@@ -1,5 +1,5 @@
 /* glsl_program.h — what the GLSL tiers share (the full tier here in
-   runtime/tier_glsl.c, the vertex tier in fallback/vertex.c): a program
+   runtime/render/tier_glsl.c, the vertex tier in fallback/vertex.c): a program
    built from the bundle's shader files with one-line errors and the info
    log echoed, its per-frame uniforms, and a bundle texture uploaded for a
    sampler. Internal to libhairtier.
