@@ -214,7 +214,7 @@ $(BUILD)/obj/tests/test_render_bundle_memory.o: $(GEN_HEADER) $(BUILD)/gen/heade
 # OSMesa; those in SOFTPIPE_TESTS run again on softpipe, those in EGL_TESTS
 # again on llvmpipe through EGL. Then the test scripts (make install into a
 # temporary prefix and programs built against it).
-TEST_SCRIPTS := tests/install_test.sh
+TEST_SCRIPTS := tests/install_test.sh tests/header_examples.sh
 test: all $(TESTS)
 	@pass=0; fail=0; failed=""; \
 	for t in $(TESTS); do \

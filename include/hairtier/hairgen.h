@@ -21,11 +21,14 @@
        ht_generated_free(&g);
 
    Usage (files, what hairgen does):
-       ht_generate_bundle("materials/blond.json", "scenes/furball.json", "out/bundle",
-                          stdout, err, sizeof err);
+       char err[1024];
+       if (ht_generate_bundle("materials/blond.json", "scenes/furball.json", "out/bundle",
+                              stdout, err, sizeof err) != HT_OK)
+           puts(err);
 
    Usage (many materials, what `hairgen -o DIR A.json B.json` does):
        const char *files[] = { "materials/blond.json", "materials/dark-brown.json" };
+       char err[1024];
        ht_batch_result res;
        ht_generate_batch(&(ht_batch_desc){ .materials = files, .material_count = 2,
                                            .scene = "scenes/furball.json", .out_dir = "out",

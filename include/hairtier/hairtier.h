@@ -10,25 +10,26 @@
    others, and draws hair in Scheuermann's four passes over a mesh whose
    strands are sorted inside to outside once, at load time.
 
-   Usage:
-       1. Make a GL context current (any GL 1.1+ compatibility context).
-       2. Build the hair mesh once:
-              ht_mesh mesh;
-              ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 10000 }, &mesh);
-              ht_mesh_sort_inside_out(&mesh);
-       3. Create a renderer from the bundle:
-              ht_renderer *r;
-              if (ht_renderer_create(&(ht_renderer_desc){
-                      .getproc = my_getproc, .bundle_dir = "out/bundle",
-                      .log = my_log }, &r) != HT_OK) { ... }
-          or from a header written by `hairgen --emit-header bundle.h`:
-              #include "bundle.h"   (static const ht_bundle_memory dark_brown_bundle)
-              ... .bundle_memory = &dark_brown_bundle ...
-              ht_renderer_set_mesh(r, &mesh);
-       4. Every frame:
-              ht_renderer_draw(r, &(ht_frame_desc){ .camera = cam,
-                      .lights = lights, .light_count = 1 });
-       5. ht_renderer_destroy(r); ht_mesh_free(&mesh);
+   Usage (any GL 1.1+ compatibility context current; my_getproc hands out
+   its entry points, my_log gets each log line):
+       ht_mesh mesh;   // built once, sorted inside out once
+       if (ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 10000 }, &mesh) != HT_OK) return;
+       ht_mesh_sort_inside_out(&mesh);
+       ht_renderer *r;
+       if (ht_renderer_create(&(ht_renderer_desc){ .getproc = my_getproc, .bundle_dir = "out/bundle",
+                                                   .log = my_log },
+                              &r) != HT_OK) {
+           ht_mesh_free(&mesh);   // the log said why
+           return;
+       }
+       // or .bundle_memory = &dark_brown_bundle, from the header that
+       // `hairgen --emit-header bundle.h` writes, instead of .bundle_dir
+       ht_renderer_set_mesh(r, &mesh);
+       ht_camera cam = { .eye = { 0, 0, 3 }, .target = { 0, 0, 0 }, .up = { 0, 1, 0 }, .fov_y = 40 };
+       ht_light key = { .type = HT_LIGHT_DIRECTIONAL, .vector = { 0.6f, 0.8f, 0.7f }, .color = { 1, 1, 1 } };
+       ht_renderer_draw(r, &(ht_frame_desc){ .camera = cam, .lights = &key, .light_count = 1 });   // every frame
+       ht_renderer_destroy(r);
+       ht_mesh_free(&mesh);
 
    Environment: HAIRTIER_TIER=marschner|full|vertex|fixed4|fixed|gl11 forces a tier
    like ht_renderer_desc.tier does (the desc wins when both are set); gl11,

@@ -5,8 +5,11 @@
    lists every refusal with its message). Internal to libhairtier and hairgen.
 
    Usage:
-       if (strlen(dir) > HT_LIMIT_DIR_PATH) refuse("DIR: ... at most 1023");
-       if (ht_scene_memory_estimate(&scene) > HT_LIMIT_SCENE_BYTES) refuse(...);
+       const char *dir = "out/bundle";
+       if (strlen(dir) > HT_LIMIT_DIR_PATH) return;   // refused: "DIR: ... at most 1023"
+       int width = 4096, height = 4096;
+       if (width > HT_LIMIT_TEXTURE_SIDE || (unsigned)(width * height) > HT_LIMIT_TEXTURE_PIXELS) return;
+       // a scene: ht_scene_memory_estimate (scene.h) against HT_LIMIT_SCENE_BYTES
 
    Configuration: none; change a value here and both sides follow. */
 #ifndef HT_HT_LIMITS_H

@@ -1,7 +1,17 @@
 /* image.h — 8-bit images and PNG files (libpng), shared by hairgen (textures,
    LUTs), the runtime (loading a bundle) and hairview (writing frames).
    Public: installed beside hairtier.h (hairgen.h's generated files hold
-   ht_images); it includes only hairtier.h. */
+   ht_images); it includes only hairtier.h.
+
+   Usage:
+       ht_image img;
+       char err[512];
+       if (ht_image_read_png("out/bundle/albedo.png", &img, err, sizeof err) != HT_OK) {
+           puts(err);   // "PATH: not a PNG file", "PATH: file is truncated", ...
+           return;
+       }
+       printf("%dx%d, %d channels\n", img.width, img.height, img.channels);
+       ht_image_free(&img); */
 #ifndef HT_IMAGE_H
 #define HT_IMAGE_H
 

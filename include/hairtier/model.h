@@ -23,7 +23,18 @@
    finite inputs.
 
    Public: installed beside hairtier.h because hairgen.h's materials carry
-   an ht_shading; it includes nothing of ours. */
+   an ht_shading; it includes nothing of ours.
+
+   Usage (one point lit by one light, in double: what every tier is held to):
+       ht_shading m = { .model = HT_MODEL_SCHEUERMANN, .diffuse_color = { 0.3, 0.2, 0.1 }, .wrap = 0.25,
+                        .primary = { .color = { 1, 1, 1 }, .exponent = 80, .shift = -0.1 },
+                        .secondary = { .color = { 0.5, 0.4, 0.3 }, .exponent = 20, .shift = 0.1 } };
+       ht_surface s = { .T = { 0, 1, 0 }, .N = { 0, 0, 1 }, .V = { 0, 0, 1 }, .base = { 1, 1, 1 },
+                        .shift_tex = 0.5, .sparkle = 1, .ao = 1 };
+       ht_light_ray light = { .L = { 0.6, 0.8, 0.7 }, .color = { 1, 1, 1 } };
+       double rgb[3];
+       ht_model_shade_d(&m, &s, &light, 1, rgb);
+       printf("%g %g %g\n", rgb[0], rgb[1], rgb[2]); */
 #ifndef HT_MODEL_H
 #define HT_MODEL_H
 

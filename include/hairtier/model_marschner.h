@@ -70,7 +70,15 @@
    - M_p is evaluated in logarithms (I0 and sinh overflow for narrow lobes).
 
    Colour: sigma_a is RGB, so N_TT, N_TRT and the rest are RGB; M and N_R
-   are grey. */
+   are grey.
+
+   Usage (a blond fibre lit from behind; degrees to radians with HT_PI):
+       ht_marschner m = { .absorption = { 0.06, 0.10, 0.20 }, .shift_r = -5 * HT_PI / 180,
+                          .width_r = 10 * HT_PI / 180, .eta = 1.55 };
+       const double T[3] = { 0, 1, 0 }, L[3] = { 0, 0.2, -1 }, V[3] = { 0, 0, 1 };
+       double rgb[3];
+       ht_marschner_fibre_vectors(&m, T, L, V, rgb);   // mostly TT: forward scattering
+       printf("%g %g %g\n", rgb[0], rgb[1], rgb[2]); */
 #ifndef HT_MODEL_MARSCHNER_H
 #define HT_MODEL_MARSCHNER_H
 

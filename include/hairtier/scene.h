@@ -12,8 +12,9 @@
        ht_mesh hair, head;
        if (ht_scene_build_meshes(&s, "scenes/furball.json", &hair, &head, err, sizeof err) != HT_OK)
            puts(err);
-       ...
-       ht_mesh_free(&hair); ht_mesh_free(&head);
+       // ... draw hair (and head, when it has triangles) with s.camera and s.lights ...
+       ht_mesh_free(&hair);
+       ht_mesh_free(&head);
 
    Errors are one line "FILE: FIELD: what is wrong".
 

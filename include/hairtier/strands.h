@@ -7,7 +7,8 @@
        ht_strands s;
        char err[512];
        if (ht_strands_load("scenes/ratboy-mohawk.tfx", &s, err, sizeof err) != HT_OK) puts(err);
-       ... s.points[s.first_point[i] .. s.first_point[i + 1]) is strand i, root first ...
+       for (uint32_t i = 0; i < s.strand_count; i++)   // strand i: its points, root first
+           printf("%u points\n", s.first_point[i + 1] - s.first_point[i]);
        ht_strands_free(&s);
 
    Every reader is hostile-input safe: each header field, count and offset
