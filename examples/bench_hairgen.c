@@ -27,7 +27,7 @@
 #include <sys/resource.h>
 #include <sys/wait.h>
 
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "tempdir.h"
 #include "timing.h"
 

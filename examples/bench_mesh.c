@@ -6,7 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 #include "timing.h"
 
 #define RUNS 5

@@ -12,7 +12,7 @@
    (examples/compare/heatmap.h), both cut and enlarged where the
    reference's highlight is brightest (examples/compare/crop.h), and a
    table row: frame ms, cost ratio to the reference, PSNR, SSIM, ΔE00 mean
-   and p95 (runtime/metrics.h) beside the bundle's measured numbers, and
+   and p95 (shadergen/metrics.h) beside the bundle's measured numbers, and
    the features the manifest says the tier drops; then an SVG plot of
    error against cost. Why not grow tier_sheet: its one PNG is the quick
    look on a terminal and in docs; a report is a directory written whole
@@ -32,7 +32,7 @@
 #include "compare/report.h"
 #include "compare/report_dir.h"
 #include "compare/tier_render.h"
-#include "image.h"
+#include <hairtier/image.h>
 #include "offscreen.h"
 #include "view_args.h"
 

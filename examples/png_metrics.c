@@ -1,4 +1,4 @@
-/* png_metrics — how far one rendered PNG is from another, by runtime/metrics.h:
+/* png_metrics — how far one rendered PNG is from another, by shadergen/metrics.h:
    PSNR, SSIM and CIEDE2000 over the whole frame and over the hair's pixels
    (those that differ from the background, the reference's first pixel).
 
@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "image.h"
+#include <hairtier/image.h>
 #include "metrics.h"
 
 /* RGBA8 from any channel count ht_image_read_png returns. */

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "hairgen_internal.h"
 #include "huge_heap.h"
 #include "measure.h"

@@ -6,9 +6,10 @@
    frames round-robin across the tiers so that a change in the machine's
    load falls on every tier alike. Each tier's last frame is compared with
    the reference's ("full" below: the full tier, or for a Marschner
-   material its marschner tier) over the whole frame (runtime/metrics.h)
-   and its median frame time divided by the reference's. The result goes into each tier's `measured` object
-   (docs/bundle.md), which the runtime's error:DB and fastest policies read.
+   material its marschner tier) over the whole frame (shadergen/metrics.h)
+   and its median frame time divided by the reference's. The result goes
+   into each tier's `measured` object (docs/bundle.md), which the
+   runtime's error:DB and fastest policies read.
 
    Usage (what hairgen does; the step runs before the bundle is published):
        ht_measure_job job = { .scene_path = scene_path, .out_dir = out_dir };
@@ -22,10 +23,10 @@
 
 #include <stdio.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 #include "manifest.h"
 #include "metrics.h"
-#include "scene.h"
+#include <hairtier/scene.h>
 
 #define HT_MEASURE_WARMUP_FRAMES 2   /* per tier, untimed: shader variants, uploads, caches */
 #define HT_MEASURE_TIMED_FRAMES 5    /* per tier; the median is the tier's frame time */

@@ -14,7 +14,7 @@
 
 #include <stdint.h>
 
-#include "image.h"
+#include <hairtier/image.h>
 
 typedef struct crop_region {
     int x, y;       /* top-left, image pixels, rows top-down */
@@ -23,7 +23,7 @@ typedef struct crop_region {
 
 /* The size x size window of img (RGB or RGBA, top-down) with the largest
    sum of luminance over hair pixels (those unlike `background` in any of
-   R, G, B, as runtime/metrics.h counts them; background counts 0), so a
+   R, G, B, as shadergen/metrics.h counts them; background counts 0), so a
    bright sky never wins over the hair. The window shrinks to the image
    when it is smaller; ties go to the topmost, then leftmost. */
 ht_result crop_find_brightest(const ht_image *img, const uint8_t background[3], int size, crop_region *out);
