@@ -137,7 +137,8 @@ static void write_header(FILE *f, const report *r) {
     report_escape(f, r->scene);
     fprintf(f, "</code>, %d&times;%d</p>\n<p>every tier forced (strict) on <code>", r->width, r->height);
     report_escape(f, r->driver[0] ? r->driver : "no context");
-    fprintf(f, "</code>; frame ms: median of %d frames after one warm-up, each ended by glFinish</p>\n", r->frames);
+    fprintf(f, "</code>; frame ms: median of %d frame%s after one warm-up, each ended by glFinish</p>\n", r->frames,
+            r->frames == 1 ? "" : "s");
     if (r->reference >= 0) {
         fputs("<p class=\"ref\">reference: <b>", f);
         report_escape(f, ref);
