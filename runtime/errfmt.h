@@ -2,7 +2,9 @@
    libhairtier and libhairgen): a line written to a caller's err buffer,
    optionally prefixed "FILE: FIELD: ", and a formatted line handed to an
    ht_log_fn. A message longer than its buffer is cut, never overflows; a
-   NULL err or a size of 0 writes nothing. */
+   NULL err or a size of 0 writes nothing. Control characters in a message
+   (a newline in a file name, a policy or an environment variable) are
+   escaped as \n, \r, \t or \xNN, so a message is always one line. */
 #ifndef HT_ERRFMT_H
 #define HT_ERRFMT_H
 
@@ -20,6 +22,9 @@ ht_result ht_fail(char *err, size_t size, ht_result r, const char *fmt, ...) __a
 /* "FILE: FIELD: " followed by fmt; what parsers report. */
 void ht_set_field_error_v(char *err, size_t size, const char *file, const char *field, const char *fmt,
                           va_list ap) __attribute__((format(printf, 5, 0)));
+/* s rewritten in place with its control characters escaped (\n, \xNN),
+   cut to size bytes: the rule every message above follows. */
+void ht_escape_controls(char *s, size_t size);
 void ht_log_linef(ht_log_fn log, void *user, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 
 #endif

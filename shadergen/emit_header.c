@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "errfmt.h"
+#include "file_atomic.h"
 #include "hairgen.h"
 #include "hairgen_internal.h"
 #include "strbuf.h"
@@ -209,30 +210,11 @@ ht_result ht_bundle_header_text(const ht_generated *g, const char *material_name
     return r;
 }
 
-/* text into path through a temporary sibling: a failure leaves no header
-   and an existing one as it was. */
-static ht_result write_atomically(const char *path, const char *text, char *err, size_t err_size) {
-    char tmp[4096];
-    int n = snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", path);
-    if (n < 0 || (size_t)n >= sizeof tmp) return ht_fail(err, err_size, HT_ERR_IO, "%.200s...: path too long", path);
-    int fd = mkstemp(tmp);
-    if (fd < 0)
-        return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot create a temporary file beside it: %s", path,
-                       strerror(errno));
-    /* mkstemp creates 0600; a header is as readable as any file we write. */
-    mode_t mask = umask(0);
-    umask(mask);
-    FILE *f = fchmod(fd, 0666 & ~mask) == 0 ? fdopen(fd, "wb") : NULL;
-    if (!f) close(fd);
+static bool put_text(FILE *f, void *ctx, char *why, size_t why_size) {
+    (void)why, (void)why_size;
+    const char *text = ctx;
     size_t len = strlen(text);
-    bool ok = f && fwrite(text, 1, len, f) == len;
-    ok = ok && fflush(f) == 0 && fsync(fileno(f)) == 0;
-    int e = errno;
-    ok = (f && fclose(f) == 0) && ok;
-    if (ok && rename(tmp, path) == 0) return HT_OK;
-    if (ok) e = errno;
-    remove(tmp);
-    return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot write: %s (nothing written)", path, strerror(e));
+    return fwrite(text, 1, len, f) == len;
 }
 
 ht_result ht_bundle_header_write(const ht_generated *g, const char *material_name, const char *symbol,
@@ -241,7 +223,8 @@ ht_result ht_bundle_header_write(const ht_generated *g, const char *material_nam
     char *text;
     ht_result r = ht_bundle_header_text(g, material_name, symbol, &text, err, err_size);
     if (r != HT_OK) return r;
-    r = write_atomically(path, text, err, err_size);
+    /* Whole or not at all, never over a device or a FIFO (file_atomic.h). */
+    r = ht_file_write_atomic(path, put_text, text, err, err_size);
     free(text);
     return r;
 }

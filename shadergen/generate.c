@@ -19,6 +19,7 @@
 
 #include "build.h"
 #include "c_locale.h"
+#include "depfile.h"
 #include "emit.h"
 #include "errfmt.h"
 #include "file_open.h"
@@ -720,10 +721,11 @@ static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep,
     if (rq->skip_unchanged && up_to_date_unparsed(rq, material_text, rep, &inputs.hash, &keyed)) {
         free(material_text);
         rep->skipped = true;
-        return HT_OK;
+        return rq->depfile_names ? ht_depfile_check_report(out_dir, rep, err, err_size) : HT_OK;
     }
     r = read_inputs(rq, rep, &inputs, material_text, keyed, err, err_size);
     free(material_text);
+    if (r == HT_OK && rq->depfile_names) r = ht_depfile_check_report(out_dir, rep, err, err_size);
     if (r != HT_OK) return r;
     const ht_material material = inputs.material;
     const ht_scene *scene = inputs.scene;
