@@ -15,6 +15,7 @@
 
 #include "depfile.h"
 #include "errfmt.h"
+#include "file_atomic.h"
 #include "file_open.h"
 #include "hairgen_internal.h"
 
@@ -213,6 +214,14 @@ ht_result ht_generate_batch(const ht_batch_desc *d, ht_batch_result *result, cha
     b.jobs = calloc((size_t)d->material_count, sizeof *b.jobs);
     if (!b.jobs) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "ht_generate_batch: out of memory");
     ht_result r = plan_dirs(d, b.jobs, err, err_size);
+    /* The depfiles' paths before any work: a device or a FIFO there is
+       refused with nothing written (file_atomic.h). */
+    if (r == HT_OK && d->depfile && !d->depfile_per_bundle) r = ht_file_check_output(d->depfile, err, err_size);
+    for (int i = 0; r == HT_OK && d->depfile_per_bundle && i < d->material_count; i++) {
+        char path[4200];
+        snprintf(path, sizeof path, "%s.d", b.jobs[i].dir);
+        r = ht_file_check_output(path, err, err_size);
+    }
 
     /* The scene once for every material: parsed, and its bytes kept for
        each bundle's input hash. */

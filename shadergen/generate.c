@@ -22,6 +22,7 @@
 #include "depfile.h"
 #include "emit.h"
 #include "errfmt.h"
+#include "file_atomic.h"
 #include "file_open.h"
 #include "json_check.h"
 #include "hairgen_internal.h"
@@ -269,16 +270,18 @@ static ht_result check_target(const char *dir, char *err, size_t err_size) {
     char path[4096];
     bool bundle = false;
     if (join_path(path, sizeof path, dir, HT_MANIFEST_FILE)) {
-        FILE *f = fopen(path, "rb");
-        char text[4096];
-        size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
-        if (f) fclose(f);
-        text[n] = '\0';
-        cJSON *m = cJSON_Parse(text);
-        const cJSON *format = cJSON_GetObjectItemCaseSensitive(m, HT_MANIFEST_KEY_FORMAT);
-        bundle = cJSON_IsString(format) && strcmp(format->valuestring, HT_MANIFEST_FORMAT) == 0;
-        cJSON_Delete(m);
-        if (!bundle && n == sizeof text - 1) bundle = strstr(text, "\"" HT_MANIFEST_FORMAT "\"") != NULL;
+        /* The regular-file opener: a FIFO there must not hang hairgen. */
+        char why[256];
+        size_t n = 0;
+        char *text = ht_file_read_bytes(path, HT_FILE_MAX_JSON, &n, why, sizeof why);
+        if (text) {
+            text[n] = '\0'; /* ht_file_read_bytes leaves the byte past the end */
+            cJSON *m = cJSON_ParseWithLength(text, n);
+            const cJSON *format = cJSON_GetObjectItemCaseSensitive(m, HT_MANIFEST_KEY_FORMAT);
+            bundle = cJSON_IsString(format) && strcmp(format->valuestring, HT_MANIFEST_FORMAT) == 0;
+            cJSON_Delete(m);
+            free(text);
+        }
     }
     if (!bundle)
         return ht_fail(err, err_size, HT_ERR_IO,
@@ -713,6 +716,7 @@ static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep,
     /* An up-to-date bundle is a bundle: a batch's re-run checks only its
        hash; any other run checks the target first, as it always has. */
     ht_result r = rq->skip_unchanged ? HT_OK : check_target(out_dir, err, err_size);
+    if (r == HT_OK && rq->header_path) r = ht_file_check_output(rq->header_path, err, err_size);
     char *material_text = NULL;
     if (r == HT_OK) r = ht_json_read_file(rq->material_path, &material_text, err, err_size);
     if (r != HT_OK) return r;
