@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "build.h"
+#include "bundle_sums.h"
 #include "c_locale.h"
 #include "depfile.h"
 #include "emit.h"
@@ -34,7 +35,7 @@
 /* Hashed into input_hash and written to the manifest: a new generator
    invalidates caches keyed on the hash. Bump it with any change to what a
    bundle holds. */
-#define GENERATOR_VERSION "hairgen 4"
+#define GENERATOR_VERSION "hairgen 5"
 
 /* FNV-1a 64 over every input file's bytes: the key a build cache can use. */
 typedef struct input_hash { uint64_t value; } input_hash;
@@ -197,7 +198,7 @@ static cJSON *fit_entry(const ht_marschner_fit *fit) {
     return o;
 }
 
-static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t hash,
+static cJSON *manifest_json(const ht_plan *plan, const ht_material *m, uint64_t hash,
                            const ht_image *albedo, const ht_image *detail,
                            const ht_tier_output *tiers, int tier_count, const ht_marschner_fit *fit) {
     cJSON *root = cJSON_CreateObject();
@@ -227,9 +228,7 @@ static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t h
     if (fit) cJSON_AddItemToObject(root, "fit", fit_entry(fit));
     cJSON *tier_list = cJSON_AddArrayToObject(root, HT_MANIFEST_KEY_TIERS);
     for (int i = 0; i < tier_count; i++) cJSON_AddItemToArray(tier_list, tier_entry(&tiers[i]));
-    char *text = cJSON_Print(root);
-    cJSON_Delete(root);
-    return text;
+    return root;
 }
 
 /* The tier table hairgen prints after its "hairgen: NAME -> DIR" line. */
@@ -422,12 +421,13 @@ static ht_result generate(const ht_generate_desc *desc, int threads, ht_generate
             if (b->tiers[t].tier != HT_TIER_MARSCHNER) ht_output_add_dropped(&b->tiers[t], line);
     }
 
-    char *cj = manifest_text(&b->plan, m, g->input_hash, &b->albedo, &b->detail, b->tiers, b->tier_count,
-                             b->physical ? &b->fit : NULL);
-    char *manifest = cj ? strdup(cj) : NULL;
-    cJSON_free(cj);
+    /* The manifest is printed once the other files are in g: it lists
+       their sizes and checksums (bundle_sums.h). */
+    cJSON *root = manifest_json(&b->plan, m, g->input_hash, &b->albedo, &b->detail, b->tiers, b->tier_count,
+                                b->physical ? &b->fit : NULL);
+    char *manifest = NULL;
     g->summary = summary_text(&b->plan, b->tiers, b->tier_count);
-    if (!manifest || !g->summary) r = ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", file);
+    if (!root || !g->summary) r = ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", file);
 
     /* The files in the order a bundle is written: the packed textures, each
        tier's texts then images, the manifest last. Ownership moves into g. */
@@ -450,11 +450,18 @@ static ht_result generate(const ht_generate_desc *desc, int threads, ht_generate
                 fits = add_image_file(g, oi->file, o->tier, oi->name, &oi->image, oi->depth, &b->tier_png[t][i]);
             }
         }
-        ht_generated_file *f = fits ? add_file(g, HT_MANIFEST_FILE, HT_TIER_AUTO, "manifest") : NULL;
+        cJSON *sums = fits ? ht_bundle_sums_json(g) : NULL;
+        if (sums) cJSON_AddItemToObject(root, HT_MANIFEST_KEY_FILE_SUMS, sums);
+        char *cj = sums ? cJSON_Print(root) : NULL;
+        manifest = cj ? strdup(cj) : NULL;
+        cJSON_free(cj);
+        ht_generated_file *f = manifest ? add_file(g, HT_MANIFEST_FILE, HT_TIER_AUTO, "manifest") : NULL;
         if (f) {
             f->text = manifest;
             g->manifest = manifest;
             manifest = NULL;
+        } else if (fits && !manifest) {
+            r = ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", file);
         } else {
             r = ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "%s: more than %d bundle files", file,
                         HT_GENERATED_MAX_FILES);
@@ -462,6 +469,7 @@ static ht_result generate(const ht_generate_desc *desc, int threads, ht_generate
     }
 
     free(manifest);
+    cJSON_Delete(root);
     ht_built_free(b);
     free(b);
     return r;
@@ -546,9 +554,14 @@ static bool bundle_has_hash(const char *dir, input_hash hash) {
                      ? ht_file_read_bytes(path, HT_FILE_MAX_JSON, &size, why, sizeof why)
                      : NULL;
     if (!head) return false;
-    head[size < 1023 ? size : 1023] = '\0'; /* ht_file_read_bytes leaves the byte past the end */
+    head[size] = '\0'; /* ht_file_read_bytes leaves the byte past the end */
+    /* The key is searched for in the first 1023 bytes (a copy), the
+       checksums in the whole text. */
+    char head_text[1024];
+    memcpy(head_text, head, size < 1023 ? size : 1023);
+    head_text[size < 1023 ? size : 1023] = '\0';
     const char *key = "\"" HT_MANIFEST_KEY_INPUT_HASH "\"";
-    const char *p = strstr(head, key);
+    const char *p = strstr(head_text, key);
     bool same = false;
     if (p) {
         p += strlen(key);
@@ -559,6 +572,9 @@ static bool bundle_has_hash(const char *dir, input_hash hash) {
             same = *p == '"' && strncmp(p + 1, want, len) == 0 && p[1 + len] == '"';
         }
     }
+    /* The bundle it would keep, checked whole: every file the manifest
+       lists, with its size and checksum. */
+    same = same && ht_bundle_sums_match(dir, head, size);
     free(head);
     return same;
 }

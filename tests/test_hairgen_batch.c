@@ -457,6 +457,44 @@ static void test_make_rebuilds_exactly_when_a_listed_input_changes(void **state)
     }
 }
 
+/* Row 4 of issue 19: the no-change check looked at the manifest only, so a
+   bundle with a file deleted, cut short or changed in place was "up to
+   date". Each is regenerated now; a whole bundle is still skipped. */
+static void test_no_change_check_regenerates_a_bundle_with_a_missing_cut_or_changed_file(void **state) {
+    (void)state;
+    copy_material("dark-brown", "db.json");
+    assert_int_equal(run_hairgen("--batch db.json -o out -q"), 0);
+    char *frag = scratch_text("out/db/full.frag");
+    const char *damage[] = { "rm out/db/full.frag", "truncate -s 100 out/db/albedo.png",
+                             "sed -i 's/void main/void mein/' out/db/full.frag", "rm out/db/albedo.png && mkfifo out/db/albedo.png" };
+    for (size_t i = 0; i < sizeof damage / sizeof *damage; i++) {
+        char cmd[512];
+        snprintf(cmd, sizeof cmd, "cd %s && %s", work, damage[i]);
+        assert_int_equal(system(cmd), 0);
+        ino_t before = manifest_inode("out/db");
+        assert_int_equal(run_hairgen("--batch db.json -o out"), 0);
+        char *out = scratch_text("out.txt");
+        if (strstr(out, "up to date, skipped")) fail_msg("after `%s`: %s", damage[i], out);
+        free(out);
+        assert_true(manifest_inode("out/db") != before);
+        char *again = scratch_text("out/db/full.frag");
+        assert_string_equal(again, frag);
+        free(again);
+        struct stat st;
+        char png[512];
+        snprintf(png, sizeof png, "%s/out/db/albedo.png", work);
+        assert_int_equal(stat(png, &st), 0);
+        assert_true(S_ISREG(st.st_mode) && st.st_size > 100);
+    }
+    free(frag);
+    ino_t kept = manifest_inode("out/db");
+    assert_int_equal(run_hairgen("--batch db.json -o out"), 0);
+    char *out = scratch_text("out.txt");
+    assert_non_null(strstr(out, "up to date, skipped"));
+    free(out);
+    assert_true(manifest_inode("out/db") == kept);
+}
+
 static void test_a_bad_material_fails_alone_and_leaves_its_old_bundle(void **state) {
     (void)state;
     copy_material("blond", "good.json");
@@ -590,6 +628,8 @@ int main(void) {
                                         teardown),
         cmocka_unit_test_setup_teardown(test_batch_bytes_do_not_depend_on_thread_count, setup, teardown),
         cmocka_unit_test_setup_teardown(test_unchanged_inputs_are_skipped_and_force_regenerates, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_no_change_check_regenerates_a_bundle_with_a_missing_cut_or_changed_file,
+                                        setup, teardown),
         cmocka_unit_test_setup_teardown(test_a_changed_texture_material_or_scene_regenerates_only_its_bundles,
                                         setup, teardown),
         cmocka_unit_test_setup_teardown(test_a_re_run_still_sees_an_escaped_file_key_and_the_strand_file, setup,
