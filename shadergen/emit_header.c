@@ -65,6 +65,27 @@ static const char *const keywords[] = {
     "wchar_t", "while", "xor", "xor_eq", NULL
 };
 
+/* Why symbol (and SYMBOL_files, SYMBOL_fN, which the header also
+   defines) could name what the headers it includes define, or NULL. The
+   header includes hairtier.h, which includes stdbool.h, stddef.h and
+   stdint.h: their macros are all capitals (NULL, SIZE_MAX, INT8_C), their
+   types end in _t (size_t, uint8_t), offsetof is the one lowercase macro,
+   and hairtier's own names start with ht_ or HT_. A rule by shape, not a
+   list of today's names, so a name added to hairtier.h cannot collide. */
+static const char *colliding(const char *symbol) {
+    if ((symbol[0] == 'h' || symbol[0] == 'H') && (symbol[1] == 't' || symbol[1] == 'T') &&
+        (symbol[2] == '_' || symbol[2] == '\0'))
+        return "ht_ and HT_ are hairtier's own names (ht_bundle_memory, HT_OK)";
+    bool lower = false;
+    for (const char *p = symbol; *p; p++) lower = lower || (*p >= 'a' && *p <= 'z');
+    if (!lower) return "no lower-case letter: all-capital names are the standard headers' macros (NULL, SIZE_MAX)";
+    size_t n = strlen(symbol);
+    if (n >= 2 && strcmp(symbol + n - 2, "_t") == 0) return "a _t suffix names types (size_t, uint8_t)";
+    if (strcmp(symbol, "offsetof") == 0) return "a macro of stddef.h";
+    if (strcmp(symbol, "std") == 0) return "C++'s standard namespace";
+    return NULL;
+}
+
 static bool ident_char(char c, bool first) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || (!first && c >= '0' && c <= '9');
 }
@@ -87,6 +108,8 @@ ht_result ht_header_symbol_check(const char *symbol, char *err, size_t err_size)
         if (strcmp(symbol, keywords[i]) == 0)
             return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "--header-symbol: \"%s\": a C or C++ keyword",
                            symbol);
+    const char *why = colliding(symbol);
+    if (why) return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "--header-symbol: \"%s\": %s", symbol, why);
     return HT_OK;
 }
 
@@ -98,6 +121,11 @@ void ht_header_symbol_default(const char *material_name, char out[HT_HEADER_SYMB
        the symbol is an identifier outside the reserved space. */
     const char *name = material_name ? material_name : "";
     if (!ident_char(name[0], true) || name[0] == '_') n = (size_t)snprintf(out, room + 1, "hair");
+    /* A name hairtier's own (ht_...) gets a prefix too, so that the
+       default always passes ht_header_symbol_check. */
+    if (n == 0 && (name[0] == 'h' || name[0] == 'H') && (name[1] == 't' || name[1] == 'T') &&
+        (name[2] == '_' || !ident_char(name[2], false)))
+        n = (size_t)snprintf(out, room + 1, "hair_");
     for (const char *p = name; *p && n < room; p++) out[n++] = ident_char(*p, false) ? *p : '_';
     memcpy(out + n, suffix, sizeof suffix);
 }
