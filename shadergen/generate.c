@@ -9,6 +9,7 @@
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <ftw.h>
 #include <locale.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -102,20 +103,15 @@ static ht_result write_file(const char *dir, const char *name, const char *text,
     return HT_OK;
 }
 
-/* The temporary directory holds only regular files this module wrote. */
-static void remove_tree(const char *dir) {
-    DIR *d = opendir(dir);
-    if (d) {
-        struct dirent *e;
-        char path[4096];
-        while ((e = readdir(d)) != NULL) {
-            if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
-            if (join_path(path, sizeof path, dir, e->d_name)) unlink(path);
-        }
-        closedir(d);
-    }
-    rmdir(dir);
+static int remove_entry(const char *path, const struct stat *st, int flag, struct FTW *ftw) {
+    (void)st, (void)flag, (void)ftw;
+    return remove(path) == 0 ? 0 : -1;
 }
+
+/* The temporary directory, whole: what this module wrote, or after a
+   swap the old bundle (check_target let no folder in, but one may have
+   been made since). Links are removed, never followed. */
+static void remove_tree(const char *dir) { nftw(dir, remove_entry, 16, FTW_DEPTH | FTW_PHYS); }
 
 static cJSON *string_array(const char (*items)[160], int count) {
     cJSON *a = cJSON_CreateArray();
@@ -261,10 +257,26 @@ static ht_result check_target(const char *dir, char *err, size_t err_size) {
     DIR *d = opendir(dir);
     if (!d) return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot read: %s", dir, strerror(errno));
     bool empty = true;
+    char sub[256] = "";
     struct dirent *e;
-    while (empty && (e = readdir(d)) != NULL) empty = strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0;
+    /* A folder inside is none of hairgen's (a bundle is flat): replacing
+       the bundle would delete it, so it is refused like any folder
+       hairgen did not write. */
+    while (!sub[0] && (e = readdir(d)) != NULL) {
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
+        empty = false;
+        struct stat est;
+        char path[4096];
+        bool is_dir = e->d_type == DT_DIR ||
+                      (e->d_type == DT_UNKNOWN && join_path(path, sizeof path, dir, e->d_name) &&
+                       lstat(path, &est) == 0 && S_ISDIR(est.st_mode));
+        if (is_dir) snprintf(sub, sizeof sub, "%s", e->d_name);
+    }
     closedir(d);
     if (empty) return HT_OK;
+    if (sub[0])
+        return ht_fail(err, err_size, HT_ERR_IO, "%s: holds a folder hairgen did not write (%s); refusing to "
+                       "replace it", dir, sub);
 
     char path[4096];
     bool bundle = false;

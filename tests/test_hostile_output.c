@@ -23,6 +23,7 @@
 
 #include "compare/report_dir.h"
 #include "file_atomic.h"
+#include "hairgen.h"
 #include "image.h"
 #include "support_scratch.h"
 
@@ -239,8 +240,68 @@ static void test_haircompare_report_refuses_a_fifo_or_device_as_its_folder(void 
     }
 }
 
+/* Row 10: replacing a bundle folder that held a subfolder exited 0 and
+   left the old bundle behind as DIR.tmp-XXXXXX. */
+static int count_temporaries(void) {
+    char cmd[256];
+    snprintf(cmd, sizeof cmd, "ls -a %s | grep -c tmp- >%s/count.txt", work, work);
+    (void)system(cmd);
+    return atoi(ht_test_read_file(work, "count.txt"));
+}
+
+static void test_publish_refuses_a_bundle_folder_holding_a_folder_and_leaves_no_temporary(void **state) {
+    (void)state;
+    copy_material("kk.json");
+    assert_int_equal(run_hairgen("kk.json -o bundle -q"), 0);
+    char path[128];
+    assert_int_equal(mkdir(strcat(strcpy(path, work), "/bundle/mine"), 0755), 0);
+    ht_test_write_file(path, "notes.txt", "kept\n");
+    assert_int_equal(run_hairgen("kk.json -o bundle -q"), 1);
+    assert_one_line("bundle: holds a folder hairgen did not write (mine); refusing to replace it");
+    assert_string_equal(ht_test_read_file(path, "notes.txt"), "kept\n");
+    assert_int_equal(count_temporaries(), 0);
+}
+
+/* A step that makes a folder where publishing must clean up after it:
+   inside the temporary bundle (then fails), or inside the bundle being
+   replaced (made after the target was checked). */
+static ht_result folder_step(void *user, const char *dir, const ht_scene *scene, char *err, size_t err_size) {
+    (void)scene;
+    const char *where = user;
+    char path[512];
+    snprintf(path, sizeof path, "%s/sub", where ? where : dir);
+    if (mkdir(path, 0755) != 0) return HT_ERR_IO;
+    ht_test_write_file(path, "f.txt", "x");
+    if (where) return HT_OK;
+    snprintf(err, err_size, "%s: step failed", dir);
+    return HT_ERR_IO;
+}
+
+static void test_publish_leaves_no_temporary_folder_on_any_path(void **state) {
+    (void)state;
+    copy_material("kk.json");
+    char material[128], bundle[128], err[1024];
+    snprintf(material, sizeof material, "%s/kk.json", work);
+    snprintf(bundle, sizeof bundle, "%s/bundle", work);
+    /* a failed step that made a folder in the temporary bundle */
+    assert_int_equal(ht_generate_bundle_then(material, NULL, bundle, NULL, folder_step, NULL, err, sizeof err),
+                     HT_ERR_IO);
+    assert_false(ht_test_path_exists(bundle));
+    assert_int_equal(count_temporaries(), 0);
+    /* a folder made in the old bundle after it was checked: the old bundle
+       goes whole */
+    assert_int_equal(ht_generate_bundle(material, NULL, bundle, NULL, err, sizeof err), HT_OK);
+    if (ht_generate_bundle_then(material, NULL, bundle, NULL, folder_step, bundle, err, sizeof err) != HT_OK)
+        fail_msg("%s", err);
+    assert_int_equal(count_temporaries(), 0);
+    assert_true(ht_test_path_exists(strcat(strcpy(err, bundle), "/manifest.json")));
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(test_publish_refuses_a_bundle_folder_holding_a_folder_and_leaves_no_temporary,
+                                        setup, teardown),
+        cmocka_unit_test_setup_teardown(test_publish_leaves_no_temporary_folder_on_any_path, setup, teardown),
         cmocka_unit_test_setup_teardown(test_png_writer_refuses_a_fifo_or_device_and_leaves_it, setup, teardown),
         cmocka_unit_test_setup_teardown(test_hairgen_depfile_refuses_a_fifo_or_device_before_any_work, setup,
                                         teardown),
