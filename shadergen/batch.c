@@ -229,6 +229,7 @@ ht_result ht_generate_batch(const ht_batch_desc *d, ht_batch_result *result, cha
     char *scene_text = NULL;
     if (r == HT_OK && d->scene) {
         r = ht_scene_load(d->scene, &scene, err, err_size);
+        if (r == HT_OK) r = ht_scene_check_strands(&scene, d->scene, err, err_size);
         if (r == HT_OK) {
             scene_text = ht_file_read_text(d->scene, HT_FILE_MAX_JSON, err, err_size);
             if (!scene_text) r = HT_ERR_IO;

@@ -662,6 +662,7 @@ static ht_result read_inputs(const ht_bundle_request *rq, ht_bundle_report *rep,
     if (!in->scene) {
         if (scene_path) r = ht_scene_load(scene_path, &in->loaded_scene, err, err_size);
         else ht_scene_default(&in->loaded_scene);
+        if (r == HT_OK) r = ht_scene_check_strands(&in->loaded_scene, scene_path, err, err_size);
         if (r != HT_OK) return r;
         in->scene = &in->loaded_scene;
     }

@@ -100,6 +100,11 @@ typedef struct ht_bundle_report {
     int input_count;
 } ht_bundle_report;
 
+/* A strands scene's strand file read whole by the runtime's reader
+   (scene_check.c): HT_OK for any other scene; else the reader's one line
+   after "SCENE: geometry.file: ". */
+ht_result ht_scene_check_strands(const ht_scene *scene, const char *scene_path, char *err, size_t err_size);
+
 /* Loads, hashes, (unless skipped) generates and publishes one bundle
    atomically. Thread-safe: a batch runs it on several threads at once for
    different out_dirs. */

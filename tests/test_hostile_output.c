@@ -297,8 +297,52 @@ static void test_publish_leaves_no_temporary_folder_on_any_path(void **state) {
     assert_true(ht_test_path_exists(strcat(strcpy(err, bundle), "/manifest.json")));
 }
 
+/* Row 11: hairgen only hashed a strands scene's strand file, so it
+   published bundles for files the runtime refuses. The runtime's reader
+   now reads it first: one line naming the scene, the file and the field. */
+static void write_strands_scene(const char *name, const char *strand_file) {
+    char text[1024];
+    snprintf(text, sizeof text,
+             "{\"format\": \"hairtier-scene/1\", \"resolution\": [64, 64],\n"
+             " \"camera\": {\"eye\": [0, 0, 3], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 40},\n"
+             " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1], \"color\": [1, 1, 1]}],\n"
+             " \"geometry\": {\"type\": \"strands\", \"file\": \"%s\"}}\n", strand_file);
+    ht_test_write_file(work, name, text);
+}
+
+static void test_hairgen_reads_a_strands_scene_file_with_the_runtime_reader(void **state) {
+    (void)state;
+    copy_material("kk.json");
+    char cmd[2 * PATH_MAX];
+    snprintf(cmd, sizeof cmd, "cp %s/tests/data/strands/three-strands.tfx %s/good.tfx && "
+             "cp %s/good.tfx %s/good.bin && cp %s/good.tfx %s/v3.tfx && "
+             "printf '\\000\\000\\100\\100' | dd of=%s/v3.tfx conv=notrunc status=none",
+             repo, work, work, work, work, work, work);
+    assert_int_equal(system(cmd), 0);
+    write_strands_scene("good.json", "good.tfx");
+    assert_int_equal(run_hairgen("kk.json --scene good.json -o ok -q"), 0);
+    static const struct { const char *file, *want; } bad[] = {
+        { "v3.tfx", "bad.json: geometry.file: " },
+        { "good.bin", "good.bin: not a strand file" },
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        write_strands_scene("bad.json", bad[i].file);
+        assert_int_equal(run_hairgen("kk.json --scene bad.json -o bundle -q"), 1);
+        assert_one_line(bad[i].want);
+        assert_int_equal(run_hairgen("--batch kk.json --scene bad.json -o out -q"), 1);
+        assert_one_line(bad[i].want);
+        char dir[128];
+        snprintf(dir, sizeof dir, "%s/bundle", work);
+        assert_false(ht_test_path_exists(dir));
+        snprintf(dir, sizeof dir, "%s/out/kk", work);
+        assert_false(ht_test_path_exists(dir));
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(test_hairgen_reads_a_strands_scene_file_with_the_runtime_reader, setup,
+                                        teardown),
         cmocka_unit_test_setup_teardown(test_publish_refuses_a_bundle_folder_holding_a_folder_and_leaves_no_temporary,
                                         setup, teardown),
         cmocka_unit_test_setup_teardown(test_publish_leaves_no_temporary_folder_on_any_path, setup, teardown),
