@@ -65,3 +65,14 @@ void ht_log_linef(ht_log_fn log, void *user, const char *fmt, ...) {
     ht_escape_controls(line, sizeof line);
     log(user, line);
 }
+
+void ht_print_line(FILE *f, const char *fmt, ...) {
+    char line[HT_LOG_LINE_MAX * 4];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    ht_escape_controls(line, sizeof line);
+    fputs(line, f);
+    fputc('\n', f);
+}

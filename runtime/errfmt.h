@@ -10,6 +10,7 @@
 
 #include <stdarg.h>
 #include <stddef.h>
+#include <stdio.h>
 
 #include "hairtier.h"
 
@@ -26,5 +27,8 @@ void ht_set_field_error_v(char *err, size_t size, const char *file, const char *
    cut to size bytes: the rule every message above follows. */
 void ht_escape_controls(char *s, size_t size);
 void ht_log_linef(ht_log_fn log, void *user, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/* One line to f, escaped as above, then '\n': what the programs print
+   about files and names ("hairgen: NAME -> DIR"). */
+void ht_print_line(FILE *f, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 #endif

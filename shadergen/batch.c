@@ -64,10 +64,10 @@ static void report_progress(batch_run *b, int i, double ms) {
     double elapsed_s = (now_ms() - b->start_ms) / 1e3;
     double eta_s = elapsed_s / b->done * (d->material_count - b->done);
     if (j->report.skipped)
-        fprintf(d->progress, "hairgen: [%d/%d] %s: up to date, skipped (--force regenerates)\n", b->done,
+        ht_print_line(d->progress, "hairgen: [%d/%d] %s: up to date, skipped (--force regenerates)", b->done,
                 d->material_count, j->dir);
     else
-        fprintf(d->progress, "hairgen: [%d/%d] %s -> %s: %.0f ms, ETA %.1f s\n", b->done, d->material_count,
+        ht_print_line(d->progress, "hairgen: [%d/%d] %s -> %s: %.0f ms, ETA %.1f s", b->done, d->material_count,
                 d->materials[i], j->dir, ms, eta_s);
     fflush(d->progress);
 }
@@ -111,7 +111,7 @@ static void *worker(void *arg) {
                bundle); a generic code's message is given the material. */
             fprintf(d->errors ? d->errors : stderr, "hairgen: %s\n",
                     err[0] ? err : ht_result_string(j->result));
-            if (!err[0]) fprintf(d->errors ? d->errors : stderr, "hairgen: (in %s)\n", d->materials[i]);
+            if (!err[0]) ht_print_line(d->errors ? d->errors : stderr, "hairgen: (in %s)", d->materials[i]);
         } else if (j->report.skipped) {
             b->counts.skipped++;
         } else {

@@ -273,7 +273,7 @@ ht_result ht_generate_header(const char *material_path, const char *scene_path, 
     ht_result r = ht_generate_files(material_path, scene_path, &material, &g, err, err_size);
     if (r == HT_OK) r = ht_bundle_header_write(&g, material.name, symbol, path, err, err_size);
     if (r == HT_OK && summary) {
-        fprintf(summary, "hairgen: %s -> %s\n", material.name, path);
+        ht_print_line(summary, "hairgen: %s -> %s", material.name, path);
         fputs(g.summary, summary);
     }
     ht_generated_free(&g);

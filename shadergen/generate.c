@@ -817,9 +817,9 @@ static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep,
     if (r == HT_OK && rq->header_path)
         r = ht_bundle_header_write(&g, material.name, rq->header_symbol, rq->header_path, err, err_size);
     if (r == HT_OK && rq->summary) {
-        fprintf(rq->summary, "hairgen: %s -> %s\n", material.name, out_dir);
+        ht_print_line(rq->summary, "hairgen: %s -> %s", material.name, out_dir);
         fputs(g.summary, rq->summary);
-        if (rq->header_path) fprintf(rq->summary, "hairgen: %s -> %s\n", material.name, rq->header_path);
+        if (rq->header_path) ht_print_line(rq->summary, "hairgen: %s -> %s", material.name, rq->header_path);
     }
     ht_generated_free(&g);
     return r;

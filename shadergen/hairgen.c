@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "errfmt.h"
 #include "hairgen.h"
 #include "hairgen_internal.h"
 #include "huge_heap.h"
@@ -99,7 +100,7 @@ static int parse_args(int argc, char **argv, options *o, const char **materials,
         }
         if (!spec) {
             if (arg[0] == '-' && arg[1]) {
-                fprintf(stderr, "hairgen: %s: unknown option (see --help)\n", arg);
+                ht_print_line(stderr, "hairgen: %s: unknown option (see --help)", arg);
                 return 2;
             }
             materials[(*material_count)++] = arg;
@@ -111,11 +112,11 @@ static int parse_args(int argc, char **argv, options *o, const char **materials,
         }
         const char **slot = (const char **)((char *)o + spec->field);
         if (*slot) {
-            fprintf(stderr, "hairgen: %s: given twice (see --help)\n", arg);
+            ht_print_line(stderr, "hairgen: %s: given twice (see --help)", arg);
             return 2;
         }
         if (!joined && i + 1 >= argc) {
-            fprintf(stderr, "hairgen: %s: missing value (see --help)\n", arg);
+            ht_print_line(stderr, "hairgen: %s: missing value (see --help)", arg);
             return 2;
         }
         *slot = joined ? joined : argv[++i];
@@ -129,7 +130,7 @@ static int parse_jobs(const char *text, int *jobs) {
     char *end;
     long n = strtol(text, &end, 10);
     if (end == text || *end || n < 1 || n > 256) {
-        fprintf(stderr, "hairgen: -j: %s: expected a thread count in 1..256\n", text);
+        ht_print_line(stderr, "hairgen: -j: %s: expected a thread count in 1..256", text);
         return 2;
     }
     *jobs = (int)n;
@@ -242,7 +243,7 @@ int main(int argc, char **argv) {
     if (r != HT_OK && (result.failed == 0 || !single))
         fprintf(stderr, "hairgen: %s\n", err[0] ? err : ht_result_string(r));
     else if (r == HT_OK && !single && !o.quiet)
-        printf("hairgen: %d generated, %d up to date, in %s\n", result.generated, result.skipped, o.out_dir);
+        ht_print_line(stdout, "hairgen: %d generated, %d up to date, in %s", result.generated, result.skipped, o.out_dir);
     free(materials);
     ht_gen_trace("exit");
     return r == HT_OK ? 0 : 1;

@@ -339,8 +339,21 @@ static void test_hairgen_reads_a_strands_scene_file_with_the_runtime_reader(void
     }
 }
 
+/* Row 8: hairgen's own lines (progress, summary, usage) echo names
+   escaped, so a newline in a file name stays in one line. */
+static void test_hairgen_lines_escape_a_newline_in_a_file_name(void **state) {
+    (void)state;
+    copy_material("a\nb.json");
+    assert_int_equal(run_hairgen("--batch 'a\nb.json' -o out"), 0);
+    const char *out = ht_test_read_file(work, "out.txt");
+    if (!strstr(out, "hairgen: [1/1] a\\nb.json -> out/a\\nb: ")) fail_msg("%s", out);
+    assert_int_equal(run_hairgen("'--x\ny'"), 2);
+    assert_one_line("hairgen: --x\\ny: unknown option");
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(test_hairgen_lines_escape_a_newline_in_a_file_name, setup, teardown),
         cmocka_unit_test_setup_teardown(test_hairgen_reads_a_strands_scene_file_with_the_runtime_reader, setup,
                                         teardown),
         cmocka_unit_test_setup_teardown(test_publish_refuses_a_bundle_folder_holding_a_folder_and_leaves_no_temporary,
