@@ -17,8 +17,9 @@ WERROR  ?= -Werror
 # g++: the bundle header's C++ compile check (tests/data/header_use.c);
 # cmake: the install test's find_package(hairtier) consumer.
 # libdeflate-dev: the generator's PNG encoder (shadergen/png_encode.c says why).
+# ninja-build: the depfile test reads hairgen's depfiles back with ninja (tests/test_depfile.c).
 DEB_PACKAGES := libosmesa6-dev libegl-dev libegl-mesa0 glslang-dev glslang-tools libcjson-dev libpng-dev \
-                libdeflate-dev libcmocka-dev pkg-config g++ cmake
+                libdeflate-dev libcmocka-dev pkg-config g++ cmake ninja-build
 
 CPPFLAGS += -Iinclude -Iruntime/io -Iruntime/shading -Iruntime/mesh -Iruntime/render -Ishadergen -Ifallback -I/usr/include/cjson -I/usr/include/libpng16
 CFLAGS   += -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra $(WERROR) $(OPT) $(SAN) -MMD -MP

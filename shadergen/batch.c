@@ -13,7 +13,9 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "depfile.h"
 #include "errfmt.h"
+#include "file_atomic.h"
 #include "file_open.h"
 #include "hairgen_internal.h"
 
@@ -62,10 +64,10 @@ static void report_progress(batch_run *b, int i, double ms) {
     double elapsed_s = (now_ms() - b->start_ms) / 1e3;
     double eta_s = elapsed_s / b->done * (d->material_count - b->done);
     if (j->report.skipped)
-        fprintf(d->progress, "hairgen: [%d/%d] %s: up to date, skipped (--force regenerates)\n", b->done,
+        ht_print_line(d->progress, "hairgen: [%d/%d] %s: up to date, skipped (--force regenerates)", b->done,
                 d->material_count, j->dir);
     else
-        fprintf(d->progress, "hairgen: [%d/%d] %s -> %s: %.0f ms, ETA %.1f s\n", b->done, d->material_count,
+        ht_print_line(d->progress, "hairgen: [%d/%d] %s -> %s: %.0f ms, ETA %.1f s", b->done, d->material_count,
                 d->materials[i], j->dir, ms, eta_s);
     fflush(d->progress);
 }
@@ -94,6 +96,7 @@ static void *worker(void *arg) {
                                                          .scene_size = b->scene_size,
                                                          .out_dir = j->dir,
                                                          .skip_unchanged = !d->force,
+                                                         .depfile_names = d->depfile || d->depfile_per_bundle,
                                                          .summary = summary,
                                                          .threads = b->bundle_threads },
                                    &j->report, err, sizeof err);
@@ -108,7 +111,7 @@ static void *worker(void *arg) {
                bundle); a generic code's message is given the material. */
             fprintf(d->errors ? d->errors : stderr, "hairgen: %s\n",
                     err[0] ? err : ht_result_string(j->result));
-            if (!err[0]) fprintf(d->errors ? d->errors : stderr, "hairgen: (in %s)\n", d->materials[i]);
+            if (!err[0]) ht_print_line(d->errors ? d->errors : stderr, "hairgen: (in %s)", d->materials[i]);
         } else if (j->report.skipped) {
             b->counts.skipped++;
         } else {
@@ -123,88 +126,35 @@ static void *worker(void *arg) {
 
 /* ---- depfiles ---- */
 
-/* A path as make reads it in a rule: spaces and '#' escaped with a
-   backslash, '$' doubled (what GCC's -MD writes). */
-static void put_make_path(FILE *f, const char *path) {
-    for (const char *p = path; *p; p++) {
-        if (*p == ' ' || *p == '#' || *p == '\t') fputc('\\', f);
-        else if (*p == '$') fputc('$', f);
-        fputc(*p, f);
-    }
-}
-
-/* "BUNDLE/manifest.json: INPUTS..." then, as GCC's -MP, an empty rule per
-   input so that make does not stop when an input is deleted but rebuilds. */
-static void put_rule(FILE *f, const material_job *j) {
-    put_make_path(f, j->dir);
-    fputs("/manifest.json:", f);
-    for (int k = 0; k < j->report.input_count; k++) {
-        fputs(" \\\n  ", f);
-        put_make_path(f, j->report.inputs[k]);
-    }
-    fputc('\n', f);
-    for (int k = 0; k < j->report.input_count; k++) {
-        fputc('\n', f);
-        put_make_path(f, j->report.inputs[k]);
-        fputs(":\n", f);
-    }
-}
-
-/* Writes the rules of jobs [first, first + count) that have a bundle to
-   path, through a temporary name renamed into place. */
-static ht_result write_depfile(const char *path, const material_job *jobs, int first, int count,
-                               char *err, size_t err_size) {
-    /* make has no escape for a newline in a file name */
-    for (int i = first; i < first + count; i++)
-        for (int k = 0; jobs[i].result == HT_OK && k < jobs[i].report.input_count; k++)
-            if (strchr(jobs[i].report.inputs[k], '\n'))
-                return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT,
-                               "%s: cannot list %s: a file name with a newline has no make spelling", path,
-                               jobs[i].report.inputs[k]);
-    char tmp[4200];
-    int n = snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", path);
-    int fd = n > 0 && (size_t)n < sizeof tmp ? mkstemp(tmp) : -1;
-    FILE *f = fd >= 0 ? fdopen(fd, "w") : NULL;
-    if (!f) {
-        if (fd >= 0) {
-            close(fd);
-            unlink(tmp);
-        }
-        return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot write the depfile: %s", path, strerror(errno));
-    }
-    bool first_rule = true;
-    for (int i = first; i < first + count; i++) {
-        if (jobs[i].result != HT_OK) continue;
-        if (!first_rule) fputc('\n', f);
-        put_rule(f, &jobs[i]);
-        first_rule = false;
-    }
-    /* mkstemp makes it owner-only; a depfile is as readable as any file
-       (the workers are done: reading the umask races with nothing). */
-    mode_t mask = umask(0);
-    umask(mask);
-    bool ok = fchmod(fd, 0666 & ~mask) == 0 && !ferror(f);
-    ok = fclose(f) == 0 && ok;
-    if (!ok || rename(tmp, path) != 0) {
-        int e = errno;
-        unlink(tmp);
-        return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot write the depfile: %s", path, strerror(e));
-    }
-    return HT_OK;
-}
-
+/* The depfiles of the bundles made or up to date. A failed material's
+   depfile is left as it was: it still names the inputs that were wrong, so
+   once they are fixed make or ninja runs hairgen again (an emptied one
+   would say the stale bundle is up to date). */
 static ht_result write_depfiles(const ht_batch_desc *d, const material_job *jobs, char *err, size_t err_size) {
-    if (d->depfile_per_bundle) {
-        for (int i = 0; i < d->material_count; i++) {
-            if (jobs[i].result != HT_OK) continue;
+    if (!d->depfile && !d->depfile_per_bundle) return HT_OK;
+    ht_depfile_rule *rules = malloc(sizeof *rules * (size_t)d->material_count);
+    if (!rules) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "depfile: out of memory");
+    int count = 0;
+    bool failed = false;
+    ht_result r = HT_OK;
+    for (int i = 0; i < d->material_count && r == HT_OK; i++) {
+        if (jobs[i].result != HT_OK) {
+            failed = true;
+            continue;
+        }
+        rules[count] = (ht_depfile_rule){ jobs[i].dir, &jobs[i].report };
+        if (d->depfile_per_bundle) {
             char path[4200];
             snprintf(path, sizeof path, "%s.d", jobs[i].dir);
-            ht_result r = write_depfile(path, jobs, i, 1, err, err_size);
-            if (r != HT_OK) return r;
+            r = ht_depfile_write(path, &rules[count], 1, err, err_size);
         }
-        return HT_OK;
+        count++;
     }
-    return d->depfile ? write_depfile(d->depfile, jobs, 0, d->material_count, err, err_size) : HT_OK;
+    /* One depfile for the batch: a failure anywhere leaves it as it was. */
+    if (r == HT_OK && d->depfile && !d->depfile_per_bundle && !failed)
+        r = ht_depfile_write(d->depfile, rules, count, err, err_size);
+    free(rules);
+    return r;
 }
 
 /* ---- the batch ---- */
@@ -264,6 +214,14 @@ ht_result ht_generate_batch(const ht_batch_desc *d, ht_batch_result *result, cha
     b.jobs = calloc((size_t)d->material_count, sizeof *b.jobs);
     if (!b.jobs) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "ht_generate_batch: out of memory");
     ht_result r = plan_dirs(d, b.jobs, err, err_size);
+    /* The depfiles' paths before any work: a device or a FIFO there is
+       refused with nothing written (file_atomic.h). */
+    if (r == HT_OK && d->depfile && !d->depfile_per_bundle) r = ht_file_check_output(d->depfile, err, err_size);
+    for (int i = 0; r == HT_OK && d->depfile_per_bundle && i < d->material_count; i++) {
+        char path[4200];
+        snprintf(path, sizeof path, "%s.d", b.jobs[i].dir);
+        r = ht_file_check_output(path, err, err_size);
+    }
 
     /* The scene once for every material: parsed, and its bytes kept for
        each bundle's input hash. */
@@ -271,6 +229,7 @@ ht_result ht_generate_batch(const ht_batch_desc *d, ht_batch_result *result, cha
     char *scene_text = NULL;
     if (r == HT_OK && d->scene) {
         r = ht_scene_load(d->scene, &scene, err, err_size);
+        if (r == HT_OK) r = ht_scene_check_strands(&scene, d->scene, err, err_size);
         if (r == HT_OK) {
             scene_text = ht_file_read_text(d->scene, HT_FILE_MAX_JSON, err, err_size);
             if (!scene_text) r = HT_ERR_IO;

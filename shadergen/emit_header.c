@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "errfmt.h"
+#include "file_atomic.h"
 #include <hairtier/hairgen.h>
 #include "hairgen_internal.h"
 #include "strbuf.h"
@@ -64,6 +65,27 @@ static const char *const keywords[] = {
     "wchar_t", "while", "xor", "xor_eq", NULL
 };
 
+/* Why symbol (and SYMBOL_files, SYMBOL_fN, which the header also
+   defines) could name what the headers it includes define, or NULL. The
+   header includes hairtier.h, which includes stdbool.h, stddef.h and
+   stdint.h: their macros are all capitals (NULL, SIZE_MAX, INT8_C), their
+   types end in _t (size_t, uint8_t), offsetof is the one lowercase macro,
+   and hairtier's own names start with ht_ or HT_. A rule by shape, not a
+   list of today's names, so a name added to hairtier.h cannot collide. */
+static const char *colliding(const char *symbol) {
+    if ((symbol[0] == 'h' || symbol[0] == 'H') && (symbol[1] == 't' || symbol[1] == 'T') &&
+        (symbol[2] == '_' || symbol[2] == '\0'))
+        return "ht_ and HT_ are hairtier's own names (ht_bundle_memory, HT_OK)";
+    bool lower = false;
+    for (const char *p = symbol; *p; p++) lower = lower || (*p >= 'a' && *p <= 'z');
+    if (!lower) return "no lower-case letter: all-capital names are the standard headers' macros (NULL, SIZE_MAX)";
+    size_t n = strlen(symbol);
+    if (n >= 2 && strcmp(symbol + n - 2, "_t") == 0) return "a _t suffix names types (size_t, uint8_t)";
+    if (strcmp(symbol, "offsetof") == 0) return "a macro of stddef.h";
+    if (strcmp(symbol, "std") == 0) return "C++'s standard namespace";
+    return NULL;
+}
+
 static bool ident_char(char c, bool first) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || (!first && c >= '0' && c <= '9');
 }
@@ -86,6 +108,8 @@ ht_result ht_header_symbol_check(const char *symbol, char *err, size_t err_size)
         if (strcmp(symbol, keywords[i]) == 0)
             return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "--header-symbol: \"%s\": a C or C++ keyword",
                            symbol);
+    const char *why = colliding(symbol);
+    if (why) return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "--header-symbol: \"%s\": %s", symbol, why);
     return HT_OK;
 }
 
@@ -97,6 +121,11 @@ void ht_header_symbol_default(const char *material_name, char out[HT_HEADER_SYMB
        the symbol is an identifier outside the reserved space. */
     const char *name = material_name ? material_name : "";
     if (!ident_char(name[0], true) || name[0] == '_') n = (size_t)snprintf(out, room + 1, "hair");
+    /* A name hairtier's own (ht_...) gets a prefix too, so that the
+       default always passes ht_header_symbol_check. */
+    if (n == 0 && (name[0] == 'h' || name[0] == 'H') && (name[1] == 't' || name[1] == 'T') &&
+        (name[2] == '_' || !ident_char(name[2], false)))
+        n = (size_t)snprintf(out, room + 1, "hair_");
     for (const char *p = name; *p && n < room; p++) out[n++] = ident_char(*p, false) ? *p : '_';
     memcpy(out + n, suffix, sizeof suffix);
 }
@@ -209,30 +238,11 @@ ht_result ht_bundle_header_text(const ht_generated *g, const char *material_name
     return r;
 }
 
-/* text into path through a temporary sibling: a failure leaves no header
-   and an existing one as it was. */
-static ht_result write_atomically(const char *path, const char *text, char *err, size_t err_size) {
-    char tmp[4096];
-    int n = snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", path);
-    if (n < 0 || (size_t)n >= sizeof tmp) return ht_fail(err, err_size, HT_ERR_IO, "%.200s...: path too long", path);
-    int fd = mkstemp(tmp);
-    if (fd < 0)
-        return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot create a temporary file beside it: %s", path,
-                       strerror(errno));
-    /* mkstemp creates 0600; a header is as readable as any file we write. */
-    mode_t mask = umask(0);
-    umask(mask);
-    FILE *f = fchmod(fd, 0666 & ~mask) == 0 ? fdopen(fd, "wb") : NULL;
-    if (!f) close(fd);
+static bool put_text(FILE *f, void *ctx, char *why, size_t why_size) {
+    (void)why, (void)why_size;
+    const char *text = ctx;
     size_t len = strlen(text);
-    bool ok = f && fwrite(text, 1, len, f) == len;
-    ok = ok && fflush(f) == 0 && fsync(fileno(f)) == 0;
-    int e = errno;
-    ok = (f && fclose(f) == 0) && ok;
-    if (ok && rename(tmp, path) == 0) return HT_OK;
-    if (ok) e = errno;
-    remove(tmp);
-    return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot write: %s (nothing written)", path, strerror(e));
+    return fwrite(text, 1, len, f) == len;
 }
 
 ht_result ht_bundle_header_write(const ht_generated *g, const char *material_name, const char *symbol,
@@ -241,16 +251,21 @@ ht_result ht_bundle_header_write(const ht_generated *g, const char *material_nam
     char *text;
     ht_result r = ht_bundle_header_text(g, material_name, symbol, &text, err, err_size);
     if (r != HT_OK) return r;
-    r = write_atomically(path, text, err, err_size);
+    /* Whole or not at all, never over a device or a FIFO (file_atomic.h). */
+    r = ht_file_write_atomic(path, put_text, text, err, err_size);
     free(text);
     return r;
 }
 
 ht_result ht_generate_header(const char *material_path, const char *scene_path, const char *path,
                              const char *symbol, FILE *summary, char *err, size_t err_size) {
-    /* A bad symbol is refused before anything is generated. */
+    /* A bad symbol or output path is refused before anything is generated. */
     if (symbol) {
         ht_result r = ht_header_symbol_check(symbol, err, err_size);
+        if (r != HT_OK) return r;
+    }
+    if (path) {
+        ht_result r = ht_file_check_output(path, err, err_size);
         if (r != HT_OK) return r;
     }
     ht_material material;
@@ -258,7 +273,7 @@ ht_result ht_generate_header(const char *material_path, const char *scene_path, 
     ht_result r = ht_generate_files(material_path, scene_path, &material, &g, err, err_size);
     if (r == HT_OK) r = ht_bundle_header_write(&g, material.name, symbol, path, err, err_size);
     if (r == HT_OK && summary) {
-        fprintf(summary, "hairgen: %s -> %s\n", material.name, path);
+        ht_print_line(summary, "hairgen: %s -> %s", material.name, path);
         fputs(g.summary, summary);
     }
     ht_generated_free(&g);

@@ -9,6 +9,7 @@
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <ftw.h>
 #include <locale.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -18,9 +19,12 @@
 #include <unistd.h>
 
 #include "build.h"
+#include "bundle_sums.h"
 #include "c_locale.h"
+#include "depfile.h"
 #include "emit.h"
 #include "errfmt.h"
+#include "file_atomic.h"
 #include "file_open.h"
 #include "json_check.h"
 #include "hairgen_internal.h"
@@ -32,7 +36,7 @@
 /* Hashed into input_hash and written to the manifest: a new generator
    invalidates caches keyed on the hash. Bump it with any change to what a
    bundle holds. */
-#define GENERATOR_VERSION "hairgen 4"
+#define GENERATOR_VERSION "hairgen 5"
 
 /* FNV-1a 64 over every input file's bytes: the key a build cache can use. */
 typedef struct input_hash { uint64_t value; } input_hash;
@@ -99,20 +103,15 @@ static ht_result write_file(const char *dir, const char *name, const char *text,
     return HT_OK;
 }
 
-/* The temporary directory holds only regular files this module wrote. */
-static void remove_tree(const char *dir) {
-    DIR *d = opendir(dir);
-    if (d) {
-        struct dirent *e;
-        char path[4096];
-        while ((e = readdir(d)) != NULL) {
-            if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
-            if (join_path(path, sizeof path, dir, e->d_name)) unlink(path);
-        }
-        closedir(d);
-    }
-    rmdir(dir);
+static int remove_entry(const char *path, const struct stat *st, int flag, struct FTW *ftw) {
+    (void)st, (void)flag, (void)ftw;
+    return remove(path) == 0 ? 0 : -1;
 }
+
+/* The temporary directory, whole: what this module wrote, or after a
+   swap the old bundle (check_target let no folder in, but one may have
+   been made since). Links are removed, never followed. */
+static void remove_tree(const char *dir) { nftw(dir, remove_entry, 16, FTW_DEPTH | FTW_PHYS); }
 
 static cJSON *string_array(const char (*items)[160], int count) {
     cJSON *a = cJSON_CreateArray();
@@ -195,7 +194,7 @@ static cJSON *fit_entry(const ht_marschner_fit *fit) {
     return o;
 }
 
-static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t hash,
+static cJSON *manifest_json(const ht_plan *plan, const ht_material *m, uint64_t hash,
                            const ht_image *albedo, const ht_image *detail,
                            const ht_tier_output *tiers, int tier_count, const ht_marschner_fit *fit) {
     cJSON *root = cJSON_CreateObject();
@@ -225,9 +224,7 @@ static char *manifest_text(const ht_plan *plan, const ht_material *m, uint64_t h
     if (fit) cJSON_AddItemToObject(root, "fit", fit_entry(fit));
     cJSON *tier_list = cJSON_AddArrayToObject(root, HT_MANIFEST_KEY_TIERS);
     for (int i = 0; i < tier_count; i++) cJSON_AddItemToArray(tier_list, tier_entry(&tiers[i]));
-    char *text = cJSON_Print(root);
-    cJSON_Delete(root);
-    return text;
+    return root;
 }
 
 /* The tier table hairgen prints after its "hairgen: NAME -> DIR" line. */
@@ -260,24 +257,42 @@ static ht_result check_target(const char *dir, char *err, size_t err_size) {
     DIR *d = opendir(dir);
     if (!d) return ht_fail(err, err_size, HT_ERR_IO, "%s: cannot read: %s", dir, strerror(errno));
     bool empty = true;
+    char sub[256] = "";
     struct dirent *e;
-    while (empty && (e = readdir(d)) != NULL) empty = strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0;
+    /* A folder inside is none of hairgen's (a bundle is flat): replacing
+       the bundle would delete it, so it is refused like any folder
+       hairgen did not write. */
+    while (!sub[0] && (e = readdir(d)) != NULL) {
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
+        empty = false;
+        struct stat est;
+        char path[4096];
+        bool is_dir = e->d_type == DT_DIR ||
+                      (e->d_type == DT_UNKNOWN && join_path(path, sizeof path, dir, e->d_name) &&
+                       lstat(path, &est) == 0 && S_ISDIR(est.st_mode));
+        if (is_dir) snprintf(sub, sizeof sub, "%s", e->d_name);
+    }
     closedir(d);
     if (empty) return HT_OK;
+    if (sub[0])
+        return ht_fail(err, err_size, HT_ERR_IO, "%s: holds a folder hairgen did not write (%s); refusing to "
+                       "replace it", dir, sub);
 
     char path[4096];
     bool bundle = false;
     if (join_path(path, sizeof path, dir, HT_MANIFEST_FILE)) {
-        FILE *f = fopen(path, "rb");
-        char text[4096];
-        size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
-        if (f) fclose(f);
-        text[n] = '\0';
-        cJSON *m = cJSON_Parse(text);
-        const cJSON *format = cJSON_GetObjectItemCaseSensitive(m, HT_MANIFEST_KEY_FORMAT);
-        bundle = cJSON_IsString(format) && strcmp(format->valuestring, HT_MANIFEST_FORMAT) == 0;
-        cJSON_Delete(m);
-        if (!bundle && n == sizeof text - 1) bundle = strstr(text, "\"" HT_MANIFEST_FORMAT "\"") != NULL;
+        /* The regular-file opener: a FIFO there must not hang hairgen. */
+        char why[256];
+        size_t n = 0;
+        char *text = ht_file_read_bytes(path, HT_FILE_MAX_JSON, &n, why, sizeof why);
+        if (text) {
+            text[n] = '\0'; /* ht_file_read_bytes leaves the byte past the end */
+            cJSON *m = cJSON_ParseWithLength(text, n);
+            const cJSON *format = cJSON_GetObjectItemCaseSensitive(m, HT_MANIFEST_KEY_FORMAT);
+            bundle = cJSON_IsString(format) && strcmp(format->valuestring, HT_MANIFEST_FORMAT) == 0;
+            cJSON_Delete(m);
+            free(text);
+        }
     }
     if (!bundle)
         return ht_fail(err, err_size, HT_ERR_IO,
@@ -418,12 +433,13 @@ static ht_result generate(const ht_generate_desc *desc, int threads, ht_generate
             if (b->tiers[t].tier != HT_TIER_MARSCHNER) ht_output_add_dropped(&b->tiers[t], line);
     }
 
-    char *cj = manifest_text(&b->plan, m, g->input_hash, &b->albedo, &b->detail, b->tiers, b->tier_count,
-                             b->physical ? &b->fit : NULL);
-    char *manifest = cj ? strdup(cj) : NULL;
-    cJSON_free(cj);
+    /* The manifest is printed once the other files are in g: it lists
+       their sizes and checksums (bundle_sums.h). */
+    cJSON *root = manifest_json(&b->plan, m, g->input_hash, &b->albedo, &b->detail, b->tiers, b->tier_count,
+                                b->physical ? &b->fit : NULL);
+    char *manifest = NULL;
     g->summary = summary_text(&b->plan, b->tiers, b->tier_count);
-    if (!manifest || !g->summary) r = ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", file);
+    if (!root || !g->summary) r = ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", file);
 
     /* The files in the order a bundle is written: the packed textures, each
        tier's texts then images, the manifest last. Ownership moves into g. */
@@ -446,11 +462,18 @@ static ht_result generate(const ht_generate_desc *desc, int threads, ht_generate
                 fits = add_image_file(g, oi->file, o->tier, oi->name, &oi->image, oi->depth, &b->tier_png[t][i]);
             }
         }
-        ht_generated_file *f = fits ? add_file(g, HT_MANIFEST_FILE, HT_TIER_AUTO, "manifest") : NULL;
+        cJSON *sums = fits ? ht_bundle_sums_json(g) : NULL;
+        if (sums) cJSON_AddItemToObject(root, HT_MANIFEST_KEY_FILE_SUMS, sums);
+        char *cj = sums ? cJSON_Print(root) : NULL;
+        manifest = cj ? strdup(cj) : NULL;
+        cJSON_free(cj);
+        ht_generated_file *f = manifest ? add_file(g, HT_MANIFEST_FILE, HT_TIER_AUTO, "manifest") : NULL;
         if (f) {
             f->text = manifest;
             g->manifest = manifest;
             manifest = NULL;
+        } else if (fits && !manifest) {
+            r = ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: out of memory", file);
         } else {
             r = ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "%s: more than %d bundle files", file,
                         HT_GENERATED_MAX_FILES);
@@ -458,6 +481,7 @@ static ht_result generate(const ht_generate_desc *desc, int threads, ht_generate
     }
 
     free(manifest);
+    cJSON_Delete(root);
     ht_built_free(b);
     free(b);
     return r;
@@ -542,9 +566,14 @@ static bool bundle_has_hash(const char *dir, input_hash hash) {
                      ? ht_file_read_bytes(path, HT_FILE_MAX_JSON, &size, why, sizeof why)
                      : NULL;
     if (!head) return false;
-    head[size < 1023 ? size : 1023] = '\0'; /* ht_file_read_bytes leaves the byte past the end */
+    head[size] = '\0'; /* ht_file_read_bytes leaves the byte past the end */
+    /* The key is searched for in the first 1023 bytes (a copy), the
+       checksums in the whole text. */
+    char head_text[1024];
+    memcpy(head_text, head, size < 1023 ? size : 1023);
+    head_text[size < 1023 ? size : 1023] = '\0';
     const char *key = "\"" HT_MANIFEST_KEY_INPUT_HASH "\"";
-    const char *p = strstr(head, key);
+    const char *p = strstr(head_text, key);
     bool same = false;
     if (p) {
         p += strlen(key);
@@ -555,6 +584,9 @@ static bool bundle_has_hash(const char *dir, input_hash hash) {
             same = *p == '"' && strncmp(p + 1, want, len) == 0 && p[1 + len] == '"';
         }
     }
+    /* The bundle it would keep, checked whole: every file the manifest
+       lists, with its size and checksum. */
+    same = same && ht_bundle_sums_match(dir, head, size);
     free(head);
     return same;
 }
@@ -630,6 +662,7 @@ static ht_result read_inputs(const ht_bundle_request *rq, ht_bundle_report *rep,
     if (!in->scene) {
         if (scene_path) r = ht_scene_load(scene_path, &in->loaded_scene, err, err_size);
         else ht_scene_default(&in->loaded_scene);
+        if (r == HT_OK) r = ht_scene_check_strands(&in->loaded_scene, scene_path, err, err_size);
         if (r != HT_OK) return r;
         in->scene = &in->loaded_scene;
     }
@@ -712,6 +745,7 @@ static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep,
     /* An up-to-date bundle is a bundle: a batch's re-run checks only its
        hash; any other run checks the target first, as it always has. */
     ht_result r = rq->skip_unchanged ? HT_OK : check_target(out_dir, err, err_size);
+    if (r == HT_OK && rq->header_path) r = ht_file_check_output(rq->header_path, err, err_size);
     char *material_text = NULL;
     if (r == HT_OK) r = ht_json_read_file(rq->material_path, &material_text, err, err_size);
     if (r != HT_OK) return r;
@@ -720,10 +754,11 @@ static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep,
     if (rq->skip_unchanged && up_to_date_unparsed(rq, material_text, rep, &inputs.hash, &keyed)) {
         free(material_text);
         rep->skipped = true;
-        return HT_OK;
+        return rq->depfile_names ? ht_depfile_check_report(out_dir, rep, err, err_size) : HT_OK;
     }
     r = read_inputs(rq, rep, &inputs, material_text, keyed, err, err_size);
     free(material_text);
+    if (r == HT_OK && rq->depfile_names) r = ht_depfile_check_report(out_dir, rep, err, err_size);
     if (r != HT_OK) return r;
     const ht_material material = inputs.material;
     const ht_scene *scene = inputs.scene;
@@ -782,9 +817,9 @@ static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep,
     if (r == HT_OK && rq->header_path)
         r = ht_bundle_header_write(&g, material.name, rq->header_symbol, rq->header_path, err, err_size);
     if (r == HT_OK && rq->summary) {
-        fprintf(rq->summary, "hairgen: %s -> %s\n", material.name, out_dir);
+        ht_print_line(rq->summary, "hairgen: %s -> %s", material.name, out_dir);
         fputs(g.summary, rq->summary);
-        if (rq->header_path) fprintf(rq->summary, "hairgen: %s -> %s\n", material.name, rq->header_path);
+        if (rq->header_path) ht_print_line(rq->summary, "hairgen: %s -> %s", material.name, rq->header_path);
     }
     ht_generated_free(&g);
     return r;

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "errfmt.h"
 #include <hairtier/hairgen.h>
 #include "hairgen_internal.h"
 #include "huge_heap.h"
@@ -40,8 +41,11 @@ static void usage(FILE *out) {
           "(NAME: the material's file name without .json), materials run on N threads\n"
           "(default: every core), each distinct shader text is validated once, and a\n"
           "material whose inputs (material, scene and texture bytes, generator\n"
-          "version) hash to its bundle's input_hash is skipped (--force regenerates).\n"
-          "A material that fails leaves its bundle as it was; the others still run.\n"
+          "version) hash to its bundle's input_hash, and whose bundle files all have\n"
+          "the sizes and checksums its manifest lists, is skipped (--force regenerates).\n"
+          "A material that fails leaves its bundle (and depfile) as it was; the others\n"
+          "still run. A depfile lists the inputs and hairgen itself; a file name make\n"
+          "and ninja cannot both read is refused. See docs/robustness.md.\n"
           "\n"
           "  --scene FILE  the scene every material is planned for\n"
           "  -o DIR        the bundle (one material) or the folder of bundles (a batch)\n"
@@ -99,7 +103,7 @@ static int parse_args(int argc, char **argv, options *o, const char **materials,
         }
         if (!spec) {
             if (arg[0] == '-' && arg[1]) {
-                fprintf(stderr, "hairgen: %s: unknown option (see --help)\n", arg);
+                ht_print_line(stderr, "hairgen: %s: unknown option (see --help)", arg);
                 return 2;
             }
             materials[(*material_count)++] = arg;
@@ -111,11 +115,11 @@ static int parse_args(int argc, char **argv, options *o, const char **materials,
         }
         const char **slot = (const char **)((char *)o + spec->field);
         if (*slot) {
-            fprintf(stderr, "hairgen: %s: given twice (see --help)\n", arg);
+            ht_print_line(stderr, "hairgen: %s: given twice (see --help)", arg);
             return 2;
         }
         if (!joined && i + 1 >= argc) {
-            fprintf(stderr, "hairgen: %s: missing value (see --help)\n", arg);
+            ht_print_line(stderr, "hairgen: %s: missing value (see --help)", arg);
             return 2;
         }
         *slot = joined ? joined : argv[++i];
@@ -129,7 +133,7 @@ static int parse_jobs(const char *text, int *jobs) {
     char *end;
     long n = strtol(text, &end, 10);
     if (end == text || *end || n < 1 || n > 256) {
-        fprintf(stderr, "hairgen: -j: %s: expected a thread count in 1..256\n", text);
+        ht_print_line(stderr, "hairgen: -j: %s: expected a thread count in 1..256", text);
         return 2;
     }
     *jobs = (int)n;
@@ -242,7 +246,7 @@ int main(int argc, char **argv) {
     if (r != HT_OK && (result.failed == 0 || !single))
         fprintf(stderr, "hairgen: %s\n", err[0] ? err : ht_result_string(r));
     else if (r == HT_OK && !single && !o.quiet)
-        printf("hairgen: %d generated, %d up to date, in %s\n", result.generated, result.skipped, o.out_dir);
+        ht_print_line(stdout, "hairgen: %d generated, %d up to date, in %s", result.generated, result.skipped, o.out_dir);
     free(materials);
     ht_gen_trace("exit");
     return r == HT_OK ? 0 : 1;

@@ -84,6 +84,8 @@ typedef struct ht_bundle_request {
     const char *header_symbol;   /* NULL: from the material name */
     int threads;                 /* threads one bundle's build may use (build.h); 0: every
                                     online core */
+    bool depfile_names;          /* a depfile will list the inputs: refuse, before any
+                                    work, a name make and ninja cannot both read (depfile.h) */
 } ht_bundle_request;
 
 /* The files a bundle was made from: the material, the scene (when given),
@@ -97,6 +99,11 @@ typedef struct ht_bundle_report {
     char inputs[HT_BUNDLE_MAX_INPUTS][1024];
     int input_count;
 } ht_bundle_report;
+
+/* A strands scene's strand file read whole by the runtime's reader
+   (scene_check.c): HT_OK for any other scene; else the reader's one line
+   after "SCENE: geometry.file: ". */
+ht_result ht_scene_check_strands(const ht_scene *scene, const char *scene_path, char *err, size_t err_size);
 
 /* Loads, hashes, (unless skipped) generates and publishes one bundle
    atomically. Thread-safe: a batch runs it on several threads at once for

@@ -225,6 +225,21 @@ static void stop_tier(tier_run *t, const ht_scene *s) {
     *t = (tier_run){ 0 };
 }
 
+/* Pixels of a frame that are not the scene's background (more than one
+   step of 255 off in a channel: the clear colour is quantised). */
+static long hair_pixels(const unsigned char *rgba, const ht_scene *s) {
+    int bg[3];
+    for (int c = 0; c < 3; c++) bg[c] = (int)lrintf(s->background[c] * 255.0f);
+    long n = 0;
+    for (size_t i = 0; i < (size_t)s->width * (size_t)s->height; i++)
+        for (int c = 0; c < 3; c++)
+            if (abs(rgba[i * 4 + c] - bg[c]) > 1) {
+                n++;
+                break;
+            }
+    return n;
+}
+
 static ht_result measure_all(tier_run *runs, int count, int full, const char *dir, const ht_scene *s,
                              const char *scene_file, const char *scene_label, ht_measure_result *out, char *err,
                              size_t err_size) {
@@ -264,6 +279,18 @@ static ht_result measure_all(tier_run *runs, int count, int full, const char *di
                                &m->whole, NULL, why, sizeof why);
         if (r != HT_OK) ht_set_error(err, err_size, "measure: %s: %s", m->name, why);
     }
+    /* A blank comparison scores every tier "identical": the reference must
+       draw hair. Counted on a frame of the hair alone, so a head in view
+       does not count as hair. */
+    if (r == HT_OK && head.index_count) {
+        frame.opaque = NULL;
+        double ms;
+        r = draw_frame(&runs[full], s, &frame, &ms, err, err_size);
+    }
+    if (r == HT_OK && hair_pixels(runs[full].rgba, s) == 0)
+        r = ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: %s: the reference tier (%s) draws no hair "
+                    "pixel over the background: no hair in view to measure the tiers on", scene_label,
+                    runs[full].entry->name);
     out->tier_count = count;
 done:
     ht_mesh_free(&hair);

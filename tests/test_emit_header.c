@@ -20,6 +20,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "hairgen.h"
 #include "support_scratch.h"
 
 static char work[64];
@@ -157,6 +158,33 @@ static void test_bad_symbol_or_material_writes_nothing_and_keeps_the_old_header(
     assert_int_equal(count_temporaries(), 0);
 }
 
+/* Issue 19 row 6: identifiers the included headers define gave a header
+   that does not compile, with exit 0. Each is refused with one line, and
+   the default symbol of a material named like hairtier's own names passes. */
+static void test_header_symbol_refuses_names_the_included_headers_define(void **state) {
+    (void)state;
+    static const char *const taken[] = { "size_t", "uint8_t", "NULL", "HT_OK", "ht_bundle_memory",
+                                         "ht_renderer_create", "offsetof", "SIZE_MAX", "INT8_C", "ht", "Ht_x",
+                                         "std", NULL };
+    char args[512], header[128];
+    snprintf(header, sizeof header, "%s/taken.h", work);
+    for (int i = 0; taken[i]; i++) {
+        snprintf(args, sizeof args, "materials/dark-brown.json --emit-header %s --header-symbol %s", header,
+                 taken[i]);
+        if (run_hairgen(args) != 1) fail_msg("--header-symbol %s: accepted", taken[i]);
+        char want[96];
+        snprintf(want, sizeof want, "--header-symbol: \"%s\": ", taken[i]);
+        assert_one_line_error(want);
+        assert_false(ht_test_path_exists(header));
+    }
+    char sym[HT_HEADER_SYMBOL_MAX + 1];
+    ht_header_symbol_default("ht-renderer", sym);
+    assert_string_equal(sym, "hair_ht_renderer_bundle");
+    assert_int_equal(ht_header_symbol_check(sym, args, sizeof args), HT_OK);
+    ht_header_symbol_default("HT_OK", sym);
+    assert_int_equal(ht_header_symbol_check(sym, args, sizeof args), HT_OK);
+}
+
 /* The bytes of the array the header holds for file `name`, malloc'd. */
 static unsigned char *header_file_bytes(const char *text, const char *name, size_t *size) {
     char marker[96];
@@ -217,6 +245,7 @@ int main(void) {
         cmocka_unit_test(test_header_instead_of_a_directory_holds_every_file_under_one_entry),
         cmocka_unit_test(test_usage_errors_exit_2),
         cmocka_unit_test(test_bad_symbol_or_material_writes_nothing_and_keeps_the_old_header),
+        cmocka_unit_test(test_header_symbol_refuses_names_the_included_headers_define),
         cmocka_unit_test(test_directory_and_header_from_one_run_hold_the_measured_manifest),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

@@ -369,23 +369,31 @@ static void test_depfiles_list_the_material_scene_and_texture_files(void **state
     assert_int_equal(run_hairgen("-o dep tex.json kk.json --scene scene.json -MF deps.d -q"), 0);
     char *d = scratch_text("deps.d");
     /* one rule per bundle, its target the manifest; the space escaped as
-       make reads it; an empty rule per input, as GCC's -MP writes */
-    const char *want =
-        "dep/tex/manifest.json: \\\n  tex.json \\\n  scene.json \\\n  my\\ base.png\n"
-        "\ntex.json:\n\nscene.json:\n\nmy\\ base.png:\n"
-        "\ndep/kk/manifest.json: \\\n  kk.json \\\n  scene.json\n\nkk.json:\n\nscene.json:\n";
+       make reads it; hairgen itself last, so a new hairgen rebuilds; an
+       empty rule per prerequisite, as GCC's -MP writes */
+    char want[5 * PATH_MAX];
+    snprintf(want, sizeof want,
+             "dep/tex/manifest.json: \\\n  tex.json \\\n  scene.json \\\n  my\\ base.png \\\n  %s\n"
+             "\ntex.json:\n\nscene.json:\n\nmy\\ base.png:\n\n%s:\n"
+             "\ndep/kk/manifest.json: \\\n  kk.json \\\n  scene.json \\\n  %s\n\nkk.json:\n\nscene.json:\n\n%s:\n",
+             hairgen, hairgen, hairgen, hairgen);
     if (strcmp(d, want) != 0) fail_msg("depfile:\n%s\nwanted:\n%s", d, want);
     free(d);
     /* -MD: one beside each bundle; written for skipped bundles too */
     assert_int_equal(run_hairgen("-o dep tex.json kk.json --scene scene.json -MD -q"), 0);
     char *kk = scratch_text("dep/kk.d");
-    assert_string_equal(kk, "dep/kk/manifest.json: \\\n  kk.json \\\n  scene.json\n\nkk.json:\n\nscene.json:\n");
+    snprintf(want, sizeof want,
+             "dep/kk/manifest.json: \\\n  kk.json \\\n  scene.json \\\n  %s\n\nkk.json:\n\nscene.json:\n\n%s:\n",
+             hairgen, hairgen);
+    assert_string_equal(kk, want);
     free(kk);
     assert_true(scratch_exists("dep/tex.d"));
     /* the single form's -MD is DIR.d */
     assert_int_equal(run_hairgen("kk.json -o lone/ -MD -q"), 0);
     char *lone = scratch_text("lone.d");
-    assert_string_equal(lone, "lone/manifest.json: \\\n  kk.json\n\nkk.json:\n");
+    snprintf(want, sizeof want, "lone/manifest.json: \\\n  kk.json \\\n  %s\n\nkk.json:\n\n%s:\n", hairgen,
+             hairgen);
+    assert_string_equal(lone, want);
     free(lone);
     assert_int_equal(run_hairgen("kk.json -o lone -MD -MF x.d"), 2);
 }
@@ -418,15 +426,20 @@ static void test_make_rebuilds_exactly_when_a_listed_input_changes(void **state)
     copy_scene("furball", "scene.json");
     ht_test_write_file(work, "unrelated.txt", "not an input\n");
     char rules[PATH_MAX + 256];
+    /* A copy of hairgen, whose time the test sets like the inputs' (the
+       depfile lists the program too). */
+    char cmd[2 * PATH_MAX];
+    snprintf(cmd, sizeof cmd, "cp %s %s/hairgen-copy", hairgen, work);
+    assert_int_equal(system(cmd), 0);
     snprintf(rules, sizeof rules,
-             "bundle/manifest.json:\n\t%s tex.json --scene scene.json -o bundle -MD -q\n-include bundle.d\n",
-             hairgen);
+             "bundle/manifest.json:\n\t%s/hairgen-copy tex.json --scene scene.json -o bundle -MD -q\n"
+             "-include bundle.d\n", work);
     ht_test_write_file(work, "rules.mk", rules);
     /* Times are set, not waited for: every input an hour old, the bundle
        ten minutes old after each build; a changed input is then newer. */
     time_t now = time(NULL);
-    const char *inputs[] = { "tex.json", "scene.json", "base.png", "unrelated.txt" };
-    for (int i = 0; i < 4; i++) set_mtime(inputs[i], now - 3600);
+    const char *inputs[] = { "tex.json", "scene.json", "base.png", "hairgen-copy", "unrelated.txt" };
+    for (int i = 0; i < 5; i++) set_mtime(inputs[i], now - 3600);
     assert_int_equal(make_question(), 1); /* no bundle yet */
     make_build();
     assert_true(scratch_exists("bundle.d"));
@@ -434,7 +447,7 @@ static void test_make_rebuilds_exactly_when_a_listed_input_changes(void **state)
     assert_int_equal(make_question(), 0);
     set_mtime("unrelated.txt", now - 60);
     assert_int_equal(make_question(), 0);
-    for (int i = 0; i < 3; i++) {
+    for (int i = 0; i < 4; i++) { /* a new hairgen too */
         set_mtime(inputs[i], now - 60);
         if (make_question() != 1) fail_msg("make does not rebuild when %s changes", inputs[i]);
         make_build();
@@ -442,6 +455,44 @@ static void test_make_rebuilds_exactly_when_a_listed_input_changes(void **state)
         set_mtime(inputs[i], now - 3600);
         assert_int_equal(make_question(), 0);
     }
+}
+
+/* Row 4 of issue 19: the no-change check looked at the manifest only, so a
+   bundle with a file deleted, cut short or changed in place was "up to
+   date". Each is regenerated now; a whole bundle is still skipped. */
+static void test_no_change_check_regenerates_a_bundle_with_a_missing_cut_or_changed_file(void **state) {
+    (void)state;
+    copy_material("dark-brown", "db.json");
+    assert_int_equal(run_hairgen("--batch db.json -o out -q"), 0);
+    char *frag = scratch_text("out/db/full.frag");
+    const char *damage[] = { "rm out/db/full.frag", "truncate -s 100 out/db/albedo.png",
+                             "sed -i 's/void main/void mein/' out/db/full.frag", "rm out/db/albedo.png && mkfifo out/db/albedo.png" };
+    for (size_t i = 0; i < sizeof damage / sizeof *damage; i++) {
+        char cmd[512];
+        snprintf(cmd, sizeof cmd, "cd %s && %s", work, damage[i]);
+        assert_int_equal(system(cmd), 0);
+        ino_t before = manifest_inode("out/db");
+        assert_int_equal(run_hairgen("--batch db.json -o out"), 0);
+        char *out = scratch_text("out.txt");
+        if (strstr(out, "up to date, skipped")) fail_msg("after `%s`: %s", damage[i], out);
+        free(out);
+        assert_true(manifest_inode("out/db") != before);
+        char *again = scratch_text("out/db/full.frag");
+        assert_string_equal(again, frag);
+        free(again);
+        struct stat st;
+        char png[512];
+        snprintf(png, sizeof png, "%s/out/db/albedo.png", work);
+        assert_int_equal(stat(png, &st), 0);
+        assert_true(S_ISREG(st.st_mode) && st.st_size > 100);
+    }
+    free(frag);
+    ino_t kept = manifest_inode("out/db");
+    assert_int_equal(run_hairgen("--batch db.json -o out"), 0);
+    char *out = scratch_text("out.txt");
+    assert_non_null(strstr(out, "up to date, skipped"));
+    free(out);
+    assert_true(manifest_inode("out/db") == kept);
 }
 
 static void test_a_bad_material_fails_alone_and_leaves_its_old_bundle(void **state) {
@@ -577,6 +628,8 @@ int main(void) {
                                         teardown),
         cmocka_unit_test_setup_teardown(test_batch_bytes_do_not_depend_on_thread_count, setup, teardown),
         cmocka_unit_test_setup_teardown(test_unchanged_inputs_are_skipped_and_force_regenerates, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_no_change_check_regenerates_a_bundle_with_a_missing_cut_or_changed_file,
+                                        setup, teardown),
         cmocka_unit_test_setup_teardown(test_a_changed_texture_material_or_scene_regenerates_only_its_bundles,
                                         setup, teardown),
         cmocka_unit_test_setup_teardown(test_a_re_run_still_sees_an_escaped_file_key_and_the_strand_file, setup,

@@ -379,6 +379,33 @@ static void test_a_failed_measurement_writes_nothing(void **state) {
     assert_int_equal(count_temporaries(), 0);
 }
 
+/* Issue 19 row 9: with no hair in view every tier scored "identical", so
+   error: and fastest picked gl11 on a blank comparison. Refused now, one
+   line, nothing written. */
+static void test_measure_refuses_a_scene_with_no_hair_in_view(void **state) {
+    (void)state;
+    char away[256], dir[256], args[700];
+    snprintf(away, sizeof away, "%s/away.json", work);
+    char *text = ht_test_read_all(scene, NULL);
+    char *target = strstr(text, "\"target\": [0, -0.1, 0]");
+    assert_non_null(target);
+    memcpy(target, "\"target\": [9,  9.0, 9]", strlen("\"target\": [0, -0.1, 0]")); /* looking away */
+    FILE *f = fopen(away, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+    free(text);
+    snprintf(dir, sizeof dir, "%s/blank", work);
+    snprintf(args, sizeof args, "materials/dark-brown.json --scene %s --measure -o %s", away, dir);
+    assert_int_equal(run_hairgen(NULL, args), 1);
+    char *err = work_file("err.txt");
+    assert_string_equal(err, "hairgen: measure: away.json: the reference tier (full) draws no hair pixel over the "
+                             "background: no hair in view to measure the tiers on\n");
+    free(err);
+    assert_false(ht_test_path_exists(dir));
+    assert_int_equal(count_temporaries(), 0);
+}
+
 /* No libOSMesa (HAIRGEN_OSMESA naming a file that is not there, or a
    library without OSMesa's functions): one line naming it, exit 1, no
    bundle and no temporary. */
@@ -536,6 +563,7 @@ int main(void) {
         cmocka_unit_test(test_error_policy_picks_the_cheapest_measured_tier_that_reaches_it),
         cmocka_unit_test(test_hairview_error_30_says_which_tier_and_why),
         cmocka_unit_test(test_a_failed_measurement_writes_nothing),
+        cmocka_unit_test(test_measure_refuses_a_scene_with_no_hair_in_view),
         cmocka_unit_test(test_write_manifest_refuses_numbers_out_of_range),
         cmocka_unit_test(test_an_output_path_too_long_to_measure_is_refused),
         cmocka_unit_test(test_without_a_scene_the_built_in_one_is_measured),

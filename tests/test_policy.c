@@ -85,6 +85,27 @@ static void test_policy_parse_accepts_the_four_and_names_what_is_wrong(void **st
     }
 }
 
+/* Issue 19 row 8: strtod took a space, a sign and hex, so "error: 30",
+   "error:0x1e" and "error:-0" were policies; a newline split the message. */
+static void test_policy_numbers_are_plain_decimals_and_messages_one_line(void **state) {
+    (void)state;
+    ht_policy p;
+    char err[256];
+    const char *bad[] = { "error: 30", "error:0x1e", "error:-0", "error:+5", "error:30 ", "error:1e3",
+                          "error:.5", "error:5.", "frame:\t16", "frame:0x10", "error:nan", "error:30\n" };
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        err[0] = '\0';
+        if (ht_policy_parse(bad[i], &p, err, sizeof err) != HT_ERR_INVALID_ARGUMENT) fail_msg("accepted: %s", bad[i]);
+        if (strchr(err, '\n') || strchr(err, '\t')) fail_msg("not one line: %s", err);
+    }
+    assert_int_equal(policy("error:0").kind, HT_POLICY_ERROR);
+    assert_true(policy("error:30").value == 30.0);
+    assert_true(policy("frame:0.5").value == 0.5);
+    /* a newline in a policy's name is escaped, not printed */
+    assert_int_equal(ht_policy_parse("best\nhairtier: tier full", &p, err, sizeof err), HT_ERR_INVALID_ARGUMENT);
+    if (strchr(err, '\n') || !strstr(err, "best\\nhairtier")) fail_msg("%s", err);
+}
+
 static void test_manifest_reads_the_measured_object_and_null_psnr_as_identical(void **state) {
     (void)state;
     ht_manifest m = parse(measured_manifest);
@@ -380,6 +401,7 @@ int main(void) {
     unsetenv("HAIRTIER_TIER");
     const struct CMUnitTest pure[] = {
         cmocka_unit_test(test_policy_parse_accepts_the_four_and_names_what_is_wrong),
+        cmocka_unit_test(test_policy_numbers_are_plain_decimals_and_messages_one_line),
         cmocka_unit_test(test_manifest_reads_the_measured_object_and_null_psnr_as_identical),
         cmocka_unit_test(test_manifest_refuses_a_bad_measured_object_naming_the_field),
         cmocka_unit_test(test_best_is_the_default_and_picks_as_before),

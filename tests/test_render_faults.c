@@ -178,7 +178,7 @@ static outcome run(ht_tier tier, ht_fault_class cls, long n) {
     return o;
 }
 
-static const ht_tier modes[] = { HT_TIER_AUTO, HT_TIER_FULL, HT_TIER_VERTEX, HT_TIER_FIXED4, HT_TIER_FIXED };
+static const ht_tier modes[] = { HT_TIER_AUTO, HT_TIER_FULL, HT_TIER_VERTEX, HT_TIER_FIXED4, HT_TIER_FIXED, HT_TIER_GL11 };
 #define MODE_COUNT (int)(sizeof modes / sizeof modes[0])
 
 /* What the log says an injected fault was. */

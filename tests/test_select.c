@@ -226,6 +226,18 @@ static void test_select_rejects_an_unknown_environment_tier(void **state) {
     assert_non_null(strstr(err, "fastest"));
 }
 
+/* Issue 19 row 8: a newline in HAIRTIER_TIER made the one-line message two. */
+static void test_select_unknown_environment_tier_with_a_newline_stays_one_line(void **state) {
+    (void)state;
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
+    ht_select_desc d = request(&c);
+    d.env_tier = "full\nhairtier: tier gl11 (forged)";
+    ht_selection s;
+    char err[512];
+    assert_int_equal(run(&d, &s, err), HT_ERR_INVALID_ARGUMENT);
+    if (strchr(err, '\n') || !strstr(err, "full\\nhairtier")) fail_msg("%s", err);
+}
+
 static void test_select_forced_tier_falls_back_unless_strict(void **state) {
     (void)state;
     ht_caps c = ht_test_caps(2, 1, 1, 10, 4);
@@ -417,6 +429,7 @@ int main(void) {
         cmocka_unit_test(test_select_honours_the_environment),
         cmocka_unit_test(test_select_desc_tier_wins_over_the_environment),
         cmocka_unit_test(test_select_rejects_an_unknown_environment_tier),
+        cmocka_unit_test(test_select_unknown_environment_tier_with_a_newline_stays_one_line),
         cmocka_unit_test(test_select_forced_tier_falls_back_unless_strict),
         cmocka_unit_test(test_select_strict_without_a_forced_tier_takes_the_best),
         cmocka_unit_test(test_select_runtime_failure_drops_to_the_next_tier),

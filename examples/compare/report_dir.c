@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "file_open.h"
 #include "report_dir.h"
 
 static bool is_empty_dir(const char *dir, bool *empty) {
@@ -26,8 +27,10 @@ static bool is_empty_dir(const char *dir, bool *empty) {
 static bool is_report(const char *dir) {
     char path[4200], head[2048];
     snprintf(path, sizeof path, "%s/index.html", dir);
-    FILE *f = fopen(path, "rb");
-    if (!f) return false;
+    /* The regular-file opener: a FIFO there must not hang haircompare. */
+    FILE *f;
+    char why[256];
+    if (ht_file_open_regular(path, HT_FILE_MAX_JSON, &f, NULL, why, sizeof why) != HT_OK) return false;
     size_t n = fread(head, 1, sizeof head - 1, f);
     fclose(f);
     head[n] = '\0';

@@ -206,10 +206,16 @@ HT_API ht_result ht_bundle_header_write(const ht_generated *g, const char *mater
 HT_API ht_result ht_bundle_header_text(const ht_generated *g, const char *material_name, const char *symbol,
                                 char **text, char *err, size_t err_size);
 /* "dark-brown" → "dark_brown_bundle": letters, digits and _ kept, any other
-   byte _, "_bundle" appended, cut to fit HT_HEADER_SYMBOL_MAX. */
+   byte _, "_bundle" appended, cut to fit HT_HEADER_SYMBOL_MAX; "hair"
+   before a name starting with a digit or _, "hair_" before one starting
+   with ht_ (so the default always passes ht_header_symbol_check). */
 HT_API void ht_header_symbol_default(const char *material_name, char out[HT_HEADER_SYMBOL_MAX + 1]);
 /* A usable symbol: a C identifier of 1..HT_HEADER_SYMBOL_MAX bytes, not
-   starting with _ (reserved), not a C or C++ keyword; else one line. */
+   starting with _ (reserved), not a C or C++ keyword, and shaped so that
+   it and the names derived from it cannot collide with what the header
+   includes: not starting with ht_/HT_ (hairtier's), with a lower-case
+   letter (the standard headers' macros are capitals: NULL), not ending in
+   _t (size_t, uint8_t), not offsetof or std; else one line. */
 HT_API ht_result ht_header_symbol_check(const char *symbol, char *err, size_t err_size);
 /* What hairgen --emit-header runs: ht_generate_files, then the header at
    path; summary, when not NULL, receives hairgen's table. */

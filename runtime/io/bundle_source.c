@@ -26,6 +26,8 @@ static const char *bad_name(const char *name) {
     if (strlen(name) > HT_LIMIT_BUNDLE_NAME) return "longer than a bundle file name may be";
     if (strchr(name, '/') || strchr(name, '\\') || strcmp(name, ".") == 0 || strcmp(name, "..") == 0)
         return "not a plain file name inside the bundle";
+    for (const char *p = name; *p; p++)
+        if ((unsigned char)*p < 0x20 || *p == 0x7f) return "a control character in a file name";
     return NULL;
 }
 

@@ -8,8 +8,19 @@
 #include <unistd.h>
 
 #include "errfmt.h"
+#include "file_open.h"
+
+ht_result ht_file_check_output(const char *path, char *err, size_t err_size) {
+    struct stat st;
+    if (stat(path, &st) != 0 || S_ISREG(st.st_mode)) return HT_OK; /* what cannot be seen is for the write to say */
+    return ht_fail(err, err_size, HT_ERR_IO, "%s: exists and is not a regular file (%s); refusing to replace it",
+                   path, ht_file_kind(st.st_mode));
+}
 
 ht_result ht_file_write_atomic(const char *path, ht_file_writer_fn fn, void *ctx, char *err, size_t err_size) {
+    /* rename would put a regular file where a device or a FIFO was */
+    ht_result r = ht_file_check_output(path, err, err_size);
+    if (r != HT_OK) return r;
     static const char suffix[] = ".tmp-XXXXXX";
     size_t len = strlen(path);
     char *temp = malloc(len + sizeof suffix);

@@ -12,7 +12,8 @@
 
    A writer that fails says why in `why` (without the path), or leaves it
    empty for "write failed" and errno's reason. Errors are one line naming
-   the file; on any failure the file is untouched and no temporary is left. */
+   the file; on any failure the file is untouched and no temporary is left. A path that exists and is
+   not a regular file is refused before anything is written. */
 #ifndef HT_FILE_ATOMIC_H
 #define HT_FILE_ATOMIC_H
 
@@ -23,6 +24,12 @@
 #include <hairtier/hairtier.h>
 
 typedef bool (*ht_file_writer_fn)(FILE *f, void *ctx, char *why, size_t why_size);
+
+/* Every writer's rule for its output path: HT_OK when nothing is there or
+   a regular file is (it will be replaced); HT_ERR_IO with "PATH: exists and
+   is not a regular file (a FIFO); refusing to replace it" for a device, a
+   FIFO, a socket or a directory. ht_file_write_atomic checks it first. */
+ht_result ht_file_check_output(const char *path, char *err, size_t err_size);
 
 /* HT_OK, or HT_ERR_IO (HT_ERR_OUT_OF_MEMORY when the temporary's name
    cannot be made) with "PATH: why" in err. */

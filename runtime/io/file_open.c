@@ -12,7 +12,7 @@
 
 #include "errfmt.h"
 
-static const char *kind_of(mode_t mode) {
+const char *ht_file_kind(mode_t mode) {
     if (S_ISDIR(mode)) return "a directory";
     if (S_ISFIFO(mode)) return "a FIFO";
     if (S_ISCHR(mode)) return "a character device";
@@ -31,7 +31,7 @@ ht_result ht_file_check_size(const char *path, uint64_t size, uint64_t max_bytes
 /* Whether size bytes may be a text: no NUL among them ("PATH: why" in err
    when not). One check for files and memory bundles (bundle_source.c). */
 static bool text_bytes_ok(const char *path, const void *data, size_t size, char *err, size_t err_size) {
-    if (!memchr(data, '\0', size)) return true;
+    if (size == 0 || !memchr(data, '\0', size)) return true; /* memchr(NULL, 0, 0) is undefined */
     ht_set_error(err, err_size, "%s: NUL byte in a text file", path);
     return false;
 }
@@ -67,7 +67,7 @@ static int open_regular_fd(const char *path, uint64_t max_bytes, uint64_t *size,
         return -1;
     }
     if (!S_ISREG(st.st_mode)) {
-        ht_set_error(err, err_size, "%s: not a regular file (%s)", path, kind_of(st.st_mode));
+        ht_set_error(err, err_size, "%s: not a regular file (%s)", path, ht_file_kind(st.st_mode));
         close(fd);
         return -1;
     }

@@ -19,6 +19,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <sys/types.h>
 
 #include <hairtier/hairtier.h>
 #include <hairtier/ht_limits.h>
@@ -26,6 +27,9 @@
 #define HT_FILE_MAX_JSON    HT_LIMIT_FILE_JSON
 #define HT_FILE_MAX_SHADER  HT_LIMIT_FILE_SHADER
 #define HT_FILE_MAX_PNG     HT_LIMIT_FILE_PNG
+
+/* What a file that is not regular is, for messages: "a FIFO", "a directory"... */
+const char *ht_file_kind(mode_t mode);
 
 /* Opens path for reading ("rb"). Refuses (HT_ERR_IO, err "PATH: why") a
    missing or unreadable file, anything but a regular file (naming what it

@@ -26,20 +26,14 @@
 
 /* ---- messages ---- */
 
-/* Control characters (a newline in a key, a file name) would break the
-   one-line promise, so they never reach the caller. */
-static void one_line(char *s) {
-    for (; *s; s++)
-        if ((unsigned char)*s < 0x20 || *s == 0x7f) *s = '?';
-}
-
+/* Control characters (a newline in a key, a file name) are escaped by
+   errfmt.c, as in every message. */
 ht_result ht_json_fail(const ht_jctx *c, const char *field, const char *fmt, ...) {
     if (!c->err || c->err_size == 0) return HT_ERR_PARSE;
     va_list ap;
     va_start(ap, fmt);
     ht_set_field_error_v(c->err, c->err_size, c->file ? c->file : "<input>", field, fmt, ap);
     va_end(ap);
-    one_line(c->err);
     return HT_ERR_PARSE;
 }
 
@@ -124,7 +118,7 @@ void ht_json_path_index(char out[HT_JSON_PATH_MAX], const char *parent, int inde
 
 /* A NUL byte inside a JSON text: "FILE: line N: NUL byte in a text file". */
 static ht_result check_no_nul(const ht_jctx *c, const char *buf, size_t len) {
-    const char *nul = memchr(buf, '\0', len);
+    const char *nul = len ? memchr(buf, '\0', len) : NULL; /* memchr(NULL, 0, 0) is undefined */
     if (!nul) return HT_OK;
     int line = 1;
     for (const char *p = buf; p < nul; p++) line += *p == '\n';
@@ -139,7 +133,6 @@ ht_result ht_json_text_from_bytes(const char *path, const void *data, size_t siz
     *text = NULL;
     ht_result r = ht_file_check_size(path, size, MAX_FILE_BYTES, err, err_size);
     if (r != HT_OK) {
-        if (err && err_size) one_line(err);
         return r;
     }
     if ((r = check_no_nul(&c, data, size)) != HT_OK) return r;
@@ -159,7 +152,6 @@ ht_result ht_json_read_file(const char *path, char **text, char *err, size_t err
     size_t size = 0;
     void *bytes = ht_file_read_bytes(path, MAX_FILE_BYTES, &size, err, err_size);
     if (!bytes) {
-        if (err && err_size) one_line(err);
         return HT_ERR_IO;
     }
     /* ht_file_read_bytes leaves a byte past the end: the text is made in

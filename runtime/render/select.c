@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "select.h"
+#include "errfmt.h"
 
 bool ht_select_check_requirements(const ht_caps *c, const char *extensions, const ht_manifest_tier *t,
                                   char *why, size_t why_size) {
@@ -73,6 +74,21 @@ static void join_skips(const ht_selection *s, char *out, size_t size) {
     }
 }
 
+/* A policy's number as a person writes it: digits, optionally a point and
+   more digits. No sign (-0), space, exponent, hex or inf that strtod would
+   take as well. */
+static bool plain_decimal(const char *s) {
+    size_t digits = strspn(s, "0123456789");
+    if (digits == 0) return false;
+    s += digits;
+    if (*s == '.') {
+        size_t frac = strspn(s + 1, "0123456789");
+        if (frac == 0) return false;
+        s += 1 + frac;
+    }
+    return *s == '\0';
+}
+
 ht_result ht_policy_parse(const char *text, ht_policy *out, char *err, size_t err_size) {
     if (!out) return HT_ERR_INVALID_ARGUMENT;
     *out = (ht_policy){ HT_POLICY_BEST, 0.0 };
@@ -87,16 +103,16 @@ ht_result ht_policy_parse(const char *text, ht_policy *out, char *err, size_t er
         char *end;
         errno = 0;
         double v = strtod(num, &end);
-        bool ok = *num && *end == '\0' && errno == 0 && isfinite(v) && (error ? v >= 0.0 : v > 0.0);
+        bool ok = plain_decimal(num) && *end == '\0' && errno == 0 && isfinite(v) && (error ? v >= 0.0 : v > 0.0);
         if (ok) {
             *out = (ht_policy){ error ? HT_POLICY_ERROR : HT_POLICY_FRAME, v };
             return HT_OK;
         }
-        snprintf(err, err_size, "policy: \"%.40s\": %s", text,
+        ht_set_error(err, err_size, "policy: \"%.40s\": %s", text,
                  error ? "error: needs a number of dB >= 0, like error:30" : "frame: needs a number of ms > 0, like frame:16.7");
         return HT_ERR_INVALID_ARGUMENT;
     }
-    snprintf(err, err_size, "policy: \"%.40s\" is not best, fastest, error:DB or frame:MS", text);
+    ht_set_error(err, err_size, "policy: \"%.40s\" is not best, fastest, error:DB or frame:MS", text);
     return HT_ERR_INVALID_ARGUMENT;
 }
 
@@ -148,7 +164,7 @@ static ht_result pick_by_policy(const ht_select_desc *d, const bool ok[], ht_sel
         bool any = false;
         for (int i = 0; i < b->tier_count; i++) any = any || b->tiers[i].measured.present;
         if (!any) {
-            snprintf(err, err_size, "%s/manifest.json: policy error:%g: no tier has measured numbers (hairgen --measure writes them)",
+            ht_set_error(err, err_size, "%s/manifest.json: policy error:%g: no tier has measured numbers (hairgen --measure writes them)",
                      b->dir, p->value);
             return HT_ERR_INVALID_ARGUMENT;
         }
@@ -176,7 +192,7 @@ static ht_result pick_by_policy(const ht_select_desc *d, const bool ok[], ht_sel
             snprintf(out->reason, sizeof out->reason, "error:%g: no tier that runs reaches %g dB; the most accurate: %s%s",
                      p->value, p->value, db, cost);
         } else {
-            snprintf(err, err_size, "%s/manifest.json: policy error:%g: no tier that runs here has measured numbers",
+            ht_set_error(err, err_size, "%s/manifest.json: policy error:%g: no tier that runs here has measured numbers",
                      b->dir, p->value);
             return HT_ERR_INVALID_ARGUMENT;
         }
@@ -220,14 +236,14 @@ ht_result ht_select_tier(const ht_select_desc *d, ht_selection *out, char *err, 
     out->tier = HT_TIER_COUNT;
     out->forced = HT_TIER_AUTO;
     if (!d || !d->caps || !d->bundle) {
-        snprintf(err, err_size, "select: caps and bundle are required");
+        ht_set_error(err, err_size, "select: caps and bundle are required");
         return HT_ERR_INVALID_ARGUMENT;
     }
     const ht_manifest *b = d->bundle;
     const char *source = NULL;
     if (d->requested != HT_TIER_AUTO) {
         if (d->requested < 0 || d->requested >= HT_TIER_COUNT) {
-            snprintf(err, err_size, "ht_renderer_desc: tier: %d is not a tier", (int)d->requested);
+            ht_set_error(err, err_size, "ht_renderer_desc: tier: %d is not a tier", (int)d->requested);
             return HT_ERR_INVALID_ARGUMENT;
         }
         out->forced = d->requested;
@@ -235,7 +251,7 @@ ht_result ht_select_tier(const ht_select_desc *d, ht_selection *out, char *err, 
     } else if (d->env_tier && d->env_tier[0]) {
         ht_tier t = ht_tier_from_name(d->env_tier);
         if (t == HT_TIER_COUNT) {
-            snprintf(err, err_size, "HAIRTIER_TIER: \"%.40s\" is not auto, marschner, full, vertex, fixed4, fixed or gl11", d->env_tier);
+            ht_set_error(err, err_size, "HAIRTIER_TIER: \"%.40s\" is not auto, marschner, full, vertex, fixed4, fixed or gl11", d->env_tier);
             return HT_ERR_INVALID_ARGUMENT;
         }
         out->forced = t;
@@ -254,7 +270,7 @@ ht_result ht_select_tier(const ht_select_desc *d, ht_selection *out, char *err, 
             snprintf(line, sizeof line, "%s: not in this bundle", ht_tier_name(out->forced));
             add_skip(out, line);
             if (d->strict) {
-                snprintf(err, err_size, "%s (forced by %s, strict)", line, source);
+                ht_set_error(err, err_size, "%s (forced by %s, strict)", line, source);
                 return HT_ERR_UNSUPPORTED;
             }
             for (int i = 0; i < b->tier_count; i++)
@@ -289,7 +305,7 @@ ht_result ht_select_tier(const ht_select_desc *d, ht_selection *out, char *err, 
         if (tier_blocked(d, i, line, sizeof line)) {
             add_skip(out, line);
             if (out->forced != HT_TIER_AUTO && d->strict) {
-                snprintf(err, err_size, "%s (forced by %s, strict)", line, source);
+                ht_set_error(err, err_size, "%s (forced by %s, strict)", line, source);
                 return HT_ERR_UNSUPPORTED;
             }
             continue;
@@ -305,7 +321,7 @@ ht_result ht_select_tier(const ht_select_desc *d, ht_selection *out, char *err, 
         }
         return HT_OK;
     }
-    snprintf(err, err_size, "%s/manifest.json: tiers: none runs here: ", b->dir);
+    ht_set_error(err, err_size, "%s/manifest.json: tiers: none runs here: ", b->dir);
     join_skips(out, err, err_size);
     return HT_ERR_NO_TIER;
 }
