@@ -8,7 +8,7 @@
        L_l    = normalize(light vector)  or normalize(light position - position)
        colour = ao * sum over the planned lights of
                 (diff_l + spec_l) * light colour_l / albedo_scale
-   with diff and spec as runtime/model.h (Scheuermann: wrapped diffuse and
+   with diff and spec as include/hairtier/model.h (Scheuermann: wrapped diffuse and
    two shifted highlights; Kajiya-Kay: sin(T,L) and one highlight), the
    shift texture at its centre (no jitter) and the sparkle texture replaced
    by its mean (already in secondary.color), alpha 1. Where the model has a

@@ -15,7 +15,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 
 #define HT_MANIFEST_KEY_FILE_SUMS "file_sums"
 

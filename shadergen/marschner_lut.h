@@ -1,5 +1,5 @@
 /* marschner_lut.h — the Marschner tier's lookup textures, baked from the
-   oracle (runtime/model_marschner.h), and the lookup the tier's fragment
+   oracle (include/hairtier/model_marschner.h), and the lookup the tier's fragment
    shader makes (the same arithmetic in C, so tests can hold the textures
    to the oracle without a GL context).
 

@@ -6,7 +6,7 @@
 
 #include "errfmt.h"
 #include "hairgen_internal.h"
-#include "strands.h"
+#include <hairtier/strands.h>
 
 ht_result ht_scene_check_strands(const ht_scene *scene, const char *scene_path, char *err, size_t err_size) {
     if (!scene || scene->geometry != HT_GEOMETRY_STRANDS) return HT_OK;

@@ -20,7 +20,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "support_scratch.h"
 
 static char work[64];

@@ -1,4 +1,4 @@
-/* test_generate.c — the generator as a library (shadergen/hairgen.h): the
+/* test_generate.c — the generator as a library (include/hairtier/hairgen.h): the
    in-memory call ht_generate gives exactly the files ht_generate_bundle
    writes, gives the same bytes every time, and refuses a bad material struct
    with one line naming the field. */

@@ -23,8 +23,8 @@
 
 #include "compare/report_dir.h"
 #include "file_atomic.h"
-#include "hairgen.h"
-#include "image.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/image.h>
 #include "support_scratch.h"
 
 static char work[64];
