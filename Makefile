@@ -191,11 +191,15 @@ TEST_RESULTS := $(BUILD)/test-results
 TEST_SCRIPTS := tests/install_test.sh
 # Tests that run the programs (HAIRTIER_BUILD) wait for them.
 PROGRAM_TESTS := $(notdir $(basename $(shell grep -l 'HAIRTIER_BUILD\|ht_test_build_dir' $(TEST_SRC))))
-# The slow runs first, so the last ones to end are short.
-SLOW_RUNS := $(SOFTPIPE_TESTS:%=%.llvmpipe) $(SOFTPIPE_TESTS:%=%.softpipe)
-TEST_RUNS := $(addprefix $(TEST_RESULTS)/,$(SLOW_RUNS) \
-               $(filter-out $(SLOW_RUNS),$(notdir $(TESTS:%=%.llvmpipe))) $(EGL_TESTS:%=%.egl) \
-               $(notdir $(TEST_SCRIPTS:%.sh=%.script)))
+# The slowest runs first (most CPU first), so the last ones to end are short.
+SLOW_RUNS := test_render_accuracy.llvmpipe test_render_scenes.llvmpipe test_model_marschner.llvmpipe \
+             test_render_marschner.llvmpipe test_render_marschner.softpipe test_render_scenes.softpipe \
+             test_render_faults.llvmpipe test_marschner_lut.llvmpipe test_render_passes.softpipe \
+             test_marschner_fit.llvmpipe test_render_fixed.softpipe test_measure.llvmpipe
+ALL_RUNS  := $(notdir $(TESTS:%=%.llvmpipe)) $(SOFTPIPE_TESTS:%=%.softpipe) $(EGL_TESTS:%=%.egl) \
+             $(notdir $(TEST_SCRIPTS:%.sh=%.script))
+$(foreach r,$(filter-out $(ALL_RUNS),$(SLOW_RUNS)),$(error SLOW_RUNS: no run $(r)))
+TEST_RUNS := $(addprefix $(TEST_RESULTS)/,$(SLOW_RUNS) $(filter-out $(SLOW_RUNS),$(ALL_RUNS)))
 RUN_TEST = HAIRTIER_BUILD=$(BUILD) tests/run_test.sh
 
 $(foreach t,$(PROGRAM_TESTS),$(eval $(TEST_RESULTS)/$(t).llvmpipe $(TEST_RESULTS)/$(t).softpipe \
@@ -213,10 +217,11 @@ $(TEST_RESULTS)/.dir:
 	@mkdir -p $(dir $@) && touch $@
 
 test-runs: $(TEST_RUNS) all
-# -jJOBS unless make was given -j.
+# -jJOBS for a sub-make, unless make was given -j.
+PARALLEL = $(if $(filter -j%,$(MAKEFLAGS)),,-j$(JOBS))
 test:
 	@rm -rf $(TEST_RESULTS)
-	@$(MAKE) --no-print-directory $(if $(filter -j%,$(MAKEFLAGS)),,-j$(JOBS)) test-runs
+	@$(MAKE) --no-print-directory $(PARALLEL) test-runs
 	@tests/test_summary.sh $(TEST_RESULTS)
 
 asan:
@@ -293,7 +298,7 @@ FUZZ_DEB_PACKAGES := clang libclang-rt-14-dev
 
 fuzz-build: deps
 	$(call install_missing,$(FUZZ_DEB_PACKAGES))
-	$(MAKE) BUILD=$(FUZZ_BUILD) CC=clang CXX=clang++ OPT="-O1 -g -fno-omit-frame-pointer" SAN="$(FUZZ_SAN)" \
+	$(MAKE) $(PARALLEL) BUILD=$(FUZZ_BUILD) CC=clang CXX=clang++ OPT="-O1 -g -fno-omit-frame-pointer" SAN="$(FUZZ_SAN)" \
 	  $(patsubst %,$(FUZZ_BUILD)/fuzz/%,$(FUZZ_TARGETS))
 
 # Seeds: the shipped materials and scenes, a generated bundle's manifest,
