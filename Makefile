@@ -71,13 +71,13 @@ SOFTPIPE_TESTS := test_render_app_state test_render_drivers test_render_buffer_a
 $(foreach t,$(filter-out $(notdir $(TESTS)),$(SOFTPIPE_TESTS)),$(error SOFTPIPE_TESTS: no tests/$(t).c))
 # Render tests that run once more on llvmpipe through EGL (a pbuffer on
 # Mesa's surfaceless platform) instead of OSMesa: HAIRTIER_CONTEXT=egl
-# (tests/support_osmesa.h). A representative set, about 20 s: both GLSL
-# tiers and the profiles (passes), the oracle probe, fixed4 and gl11.
+# (tests/support_osmesa.h). A representative set: both GLSL tiers and the
+# profiles (passes), the oracle probe, fixed4 and gl11.
 EGL_TESTS := test_render_passes test_render_probe test_render_fixed4 test_render_gl11
 $(foreach t,$(filter-out $(notdir $(TESTS)),$(EGL_TESTS)),$(error EGL_TESTS: no tests/$(t).c))
 DEPS_STAMP := $(BUILD)/.deps-installed
 
-.PHONY: all deps test asan bench demo clean fuzz fuzz-build fuzz-seeds fuzz-smoke check-valgrind install uninstall report-check
+.PHONY: all deps test test-runs asan bench demo clean fuzz fuzz-build fuzz-seeds fuzz-smoke check-valgrind install uninstall report-check
 # Keep objects that pattern rules build on the way (tests, examples).
 .SECONDARY:
 .DEFAULT_GOAL := all
@@ -108,20 +108,16 @@ $(BUILD)/obj/%.o: %.cpp | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -std=c++17 -fno-rtti -Wall -Wextra $(WERROR) $(OPT) $(SAN) $(if $(SAN),-fno-sanitize=vptr) -MMD -MP -c $< -o $@
 
-# The gl11 tier's per-vertex shading loops: sqrtf inline and selects
-# if-converted, so GCC's -O2 vectoriser takes them (neither flag changes a
-# result; fallback/gl11_program.c says why).
+# The gl11 tier's per-vertex loops vectorise with sqrtf inline and selects
+# if-converted (neither flag changes a result; fallback/gl11_program.c).
 # The per-vertex loops of the tiers that do CPU work (structure of arrays)
 # vectorise only without errno from sqrtf and at -O3's cost model; neither
 # flag changes a result.
 $(BUILD)/obj/fallback/gl11_program.o: CFLAGS += -fno-math-errno -fno-trapping-math
 $(BUILD)/obj/fallback/fixed_soa.o $(BUILD)/obj/fallback/fixed4_program.o: CFLAGS += -O3 -fno-math-errno -fno-trapping-math
-# The fixed tier's LUT bake, likewise (18.2 M -> 15.9 M instructions for
-# dark-brown's 262144 texels, the same bytes).
+# The fixed tier's LUT bake, likewise (the same bytes, fewer instructions).
 $(BUILD)/obj/shadergen/emit_fixed.o: CFLAGS += -O3 -fno-math-errno -fno-trapping-math
-# The PNG rows' "up" filter: GCC vectorises the byte subtraction at -O3's
-# cost model only (9.2 M -> 0.75 M instructions for dark-brown's three
-# images, the same bytes).
+# The PNG rows' "up" filter: GCC vectorises it at -O3's cost model only.
 $(BUILD)/obj/shadergen/png_encode.o: CFLAGS += -O3
 
 # The libraries' objects serve the archives and the shared libraries alike:
@@ -159,14 +155,9 @@ $(EXLIB): $(call obj,$(EXAMPLE_LIB_SRC))
 	@rm -f $@
 	ar rcs $@ $^
 
-# hairgen starts in a build farm once per material: it links no GL
-# (--measure loads libOSMesa with dlopen, measure.c) and libstdc++
-# statically, so a start does not pay for relocating Mesa, LLVM and
-# libstdc++ (callgrind, `hairgen --help`: 26.7 M -> 0.54 M instructions).
-# Likewise libdeflate, libpng and zlib are linked in and the program is not
-# position-independent: no loader work and no copied pages for their
-# relocations at each start (page faults of `hairgen --help` 163 -> 122,
-# where one costs about 13 us on the 2-core VM; README).
+# hairgen starts once per material in a build farm: no GL linked (--measure
+# loads libOSMesa with dlopen), libstdc++, libdeflate, libpng and zlib linked
+# in, not position-independent, so a start relocates almost nothing.
 $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
 	$(CC) $(LDFLAGS) -no-pie $^ $(filter-out -lstdc++,$(GLSLANG_LIBS)) \
 	  -Wl,-Bstatic -lstdc++ $(GEN_LIBS) -lpng16 -lz -Wl,-Bdynamic -lcjson -lpthread -lm -o $@
@@ -191,7 +182,14 @@ $(BUILD)/%: $(BUILD)/obj/examples/%.o $(EXLIB) $(GENLIB) $(LIB)
 $(BUILD)/obj/tests/%.o: CPPFLAGS += -Iexamples
 $(BUILD)/obj/tests/test_bench%.o: CPPFLAGS += -Iexamples/bench
 
-$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(EXLIB) $(GENLIB) $(LIB)
+# The tests' support modules are an archive too: a test links the ones it
+# calls, and glslang only if it generates.
+TESTLIB := $(BUILD)/libtestsupport.a
+$(TESTLIB): $(call obj,$(TEST_SUPPORT_SRC))
+	@rm -f $@
+	ar rcs $@ $^
+
+$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(TESTLIB) $(EXLIB) $(GENLIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) $(OFFSCREEN_LIBS) -lcmocka -o $@
 
@@ -211,32 +209,50 @@ $(BUILD)/obj/tests/test_render_bundle_memory.o: CPPFLAGS += -I$(BUILD)/gen
 $(BUILD)/obj/tests/test_render_bundle_memory.o: $(GEN_HEADER) $(BUILD)/gen/header_use_c99.o \
                                                 $(BUILD)/gen/header_use_cxx.o
 
+# ---- make test: each run a target of its own, JOBS at a time ----
 # Every test binary runs from the repository root, on llvmpipe through
 # OSMesa; those in SOFTPIPE_TESTS run again on softpipe, those in EGL_TESTS
-# again on llvmpipe through EGL. Then the test scripts (make install into a
-# temporary prefix and programs built against it).
+# again on llvmpipe through EGL; then the test scripts (make install into a
+# temporary prefix and programs built against it). Each run's output goes to
+# TEST_RESULTS/RUN.log (tests/run_test.sh); tests/test_summary.sh prints the
+# failed runs' logs and "binaries: N passed, N failed".
+JOBS         ?= $(shell nproc)
+TEST_RESULTS := $(BUILD)/test-results
 TEST_SCRIPTS := tests/install_test.sh tests/header_examples.sh
-test: all $(TESTS)
-	@pass=0; fail=0; failed=""; \
-	for t in $(TESTS); do \
-	  for run in llvmpipe softpipe egl; do \
-	    case $$run in softpipe) list="$(SOFTPIPE_TESTS)";; egl) list="$(EGL_TESTS)";; *) list=$$(basename $$t);; esac; \
-	    case " $$list " in *" $$(basename $$t) "*) ;; *) continue;; esac; \
-	    driver=$$run; context=osmesa; [ $$run = egl ] && driver=llvmpipe context=egl; \
-	    echo "== $$t ($$driver, $$context)"; \
-	    if GALLIUM_DRIVER=$$driver HAIRTIER_CONTEXT=$$context EGL_PLATFORM=surfaceless HAIRTIER_BUILD=$(BUILD) $$t; \
-	    then pass=$$((pass+1)); \
-	    else fail=$$((fail+1)); failed="$$failed $$t($$driver,$$context)"; fi; \
-	  done; \
-	done; \
-	for s in $(TEST_SCRIPTS); do \
-	  echo "== $$s"; \
-	  if BUILD=$(BUILD) CC="$(CC)" SAN="$(SAN)" sh $$s; then pass=$$((pass+1)); \
-	  else fail=$$((fail+1)); failed="$$failed $$s"; fi; \
-	done; \
-	echo; [ -z "$$failed" ] || echo "failed:$$failed"; \
-	echo "binaries: $$pass passed, $$fail failed"; \
-	[ $$fail -eq 0 ]
+# Tests that run the programs (HAIRTIER_BUILD) wait for them.
+PROGRAM_TESTS := $(notdir $(basename $(shell grep -l 'HAIRTIER_BUILD\|ht_test_build_dir' $(TEST_SRC))))
+# The slowest runs first (most CPU first), so the last ones to end are short.
+SLOW_RUNS := test_render_accuracy.llvmpipe test_render_scenes.llvmpipe test_model_marschner.llvmpipe \
+             test_render_marschner.llvmpipe test_render_marschner.softpipe test_render_scenes.softpipe \
+             test_render_faults.llvmpipe test_marschner_lut.llvmpipe test_render_passes.softpipe \
+             test_marschner_fit.llvmpipe test_render_fixed.softpipe test_measure.llvmpipe
+ALL_RUNS  := $(notdir $(TESTS:%=%.llvmpipe)) $(SOFTPIPE_TESTS:%=%.softpipe) $(EGL_TESTS:%=%.egl) \
+             $(notdir $(TEST_SCRIPTS:%.sh=%.script))
+$(foreach r,$(filter-out $(ALL_RUNS),$(SLOW_RUNS)),$(error SLOW_RUNS: no run $(r)))
+TEST_RUNS := $(addprefix $(TEST_RESULTS)/,$(SLOW_RUNS) $(filter-out $(SLOW_RUNS),$(ALL_RUNS)))
+RUN_TEST = HAIRTIER_BUILD=$(BUILD) tests/run_test.sh
+
+$(foreach t,$(PROGRAM_TESTS),$(eval $(TEST_RESULTS)/$(t).llvmpipe $(TEST_RESULTS)/$(t).softpipe \
+  $(TEST_RESULTS)/$(t).egl: $(HAIRGEN) $(PROGRAMS)))
+$(TEST_RESULTS)/%.llvmpipe: $(BUILD)/tests/% | $(TEST_RESULTS)/.dir
+	@$(RUN_TEST) $@ llvmpipe osmesa $<
+# On softpipe only the cases whose outcome is the driver's (tests/support_driver.h).
+$(TEST_RESULTS)/%.softpipe: $(BUILD)/tests/% | $(TEST_RESULTS)/.dir
+	@HAIRTIER_DRIVER_CASES=1 $(RUN_TEST) $@ softpipe osmesa $<
+$(TEST_RESULTS)/%.egl: $(BUILD)/tests/% | $(TEST_RESULTS)/.dir
+	@$(RUN_TEST) $@ llvmpipe egl $<
+$(TEST_RESULTS)/%.script: tests/%.sh all | $(TEST_RESULTS)/.dir
+	@BUILD=$(BUILD) CC="$(CC)" SAN="$(SAN)" $(RUN_TEST) $@ llvmpipe osmesa sh $<
+$(TEST_RESULTS)/.dir:
+	@mkdir -p $(dir $@) && touch $@
+
+test-runs: $(TEST_RUNS) all
+# -jJOBS for a sub-make, unless make was given -j.
+PARALLEL = $(if $(filter -j%,$(MAKEFLAGS)),,-j$(JOBS))
+test:
+	@rm -rf $(TEST_RESULTS)
+	@$(MAKE) --no-print-directory $(PARALLEL) test-runs
+	@tests/test_summary.sh $(TEST_RESULTS)
 
 asan:
 	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 \
@@ -321,7 +337,7 @@ FUZZ_DEB_PACKAGES := clang libclang-rt-14-dev
 
 fuzz-build: deps
 	$(call install_missing,$(FUZZ_DEB_PACKAGES))
-	$(MAKE) BUILD=$(FUZZ_BUILD) CC=clang CXX=clang++ OPT="-O1 -g -fno-omit-frame-pointer" SAN="$(FUZZ_SAN)" \
+	$(MAKE) $(PARALLEL) BUILD=$(FUZZ_BUILD) CC=clang CXX=clang++ OPT="-O1 -g -fno-omit-frame-pointer" SAN="$(FUZZ_SAN)" \
 	  $(patsubst %,$(FUZZ_BUILD)/fuzz/%,$(FUZZ_TARGETS))
 
 # Seeds: the shipped materials and scenes, a generated bundle's manifest,

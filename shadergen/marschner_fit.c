@@ -70,23 +70,20 @@ static void to_shading(const double x[PARAMS], ht_shading *s) {
 }
 
 /* For fixed wrap, exponents and shifts: the three factors per sample
-   (colours at 1), then per channel the colours in [0, 1] that minimise the
+   (colours at 1; the model treats the channels alike and is linear in the
+   colours, so one call with each colour on a channel of its own gives all
+   three, bit for bit), then per channel the colours in [0, 1] that minimise the
    squared error (normal equations; a colour outside [0, 1] is pinned to
    its bound and the rest solved again). Returns the sum of squares. */
 static double solve_colours(const sample *ps, const double x[PARAMS], ht_shading *out, double *f_buf) {
     ht_shading s;
     to_shading(x, &s);
-    const double unit[3] = { 1, 1, 1 }, zero[3] = { 0, 0, 0 };
+    ht_shading split = s;
+    memcpy(split.diffuse_color, (const double[3]){ 1, 0, 0 }, sizeof split.diffuse_color);
+    memcpy(split.primary.color, (const double[3]){ 0, 1, 0 }, sizeof split.primary.color);
+    memcpy(split.secondary.color, (const double[3]){ 0, 0, 1 }, sizeof split.secondary.color);
     for (int n = 0; n < HT_MARSCHNER_FIT_SAMPLES; n++)
-        for (int k = 0; k < 3; k++) {
-            ht_shading one = s;
-            memcpy(one.diffuse_color, k == 0 ? unit : zero, sizeof unit);
-            memcpy(one.primary.color, k == 1 ? unit : zero, sizeof unit);
-            memcpy(one.secondary.color, k == 2 ? unit : zero, sizeof unit);
-            double rgb[3];
-            ht_model_shade_d(&one, &ps[n].s, &ps[n].light, 1, rgb);
-            f_buf[n * 3 + k] = rgb[0];
-        }
+        ht_model_shade_d(&split, &ps[n].s, &ps[n].light, 1, &f_buf[n * 3]);
     double total = 0;
     for (int c = 0; c < 3; c++) {
         double coef[3] = { 0, 0, 0 };

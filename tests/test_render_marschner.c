@@ -8,7 +8,9 @@
    (L = V), grazing, and a point light; materials: brown hair, a light one
    that lets TT through, wide and narrow lobes, and a base texture sampled
    at texel centres. Also: hairview --tier marschner
-   picks the tier and the selection ranks it above full. */
+   picks the tier and the selection ranks it above full. `make test`'s
+   softpipe run (support_driver.h) leaves out the back-lit and grazing
+   angles. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -27,6 +29,7 @@
 #include <hairtier/model.h>
 #include "support_log.h"
 #include "support_osmesa.h"
+#include "support_driver.h"
 #include "support_probe.h"
 #include "support_render.h"
 #include "support_scratch.h"
@@ -122,12 +125,26 @@ static void lut_diagnosis(const ht_marschner_lut *lut, const ht_material *m, con
            "textures on the CPU %.4f\n", channel, si, sr, cphi, oracle[channel], from_lut[channel]);
 }
 
+/* A bundle depends on its scene's light types only (support_probe.h), so
+   each material's bundle for a light type is generated once, by the first
+   probe that needs it. */
+static void bundle_for(const fibre_material *f, const ht_light *light, char *dir, size_t size, ht_material *m) {
+    char path[400], manifest[400], err[256];
+    snprintf(path, sizeof path, "%s/%s.json", fx.work, f->name);
+    snprintf(dir, size, "%s/probe-%s-%s", fx.work, f->name, ht_probe_light_type(light));
+    snprintf(manifest, sizeof manifest, "%s/manifest.json", dir);
+    if (ht_test_path_exists(manifest)) {
+        assert_int_equal(ht_material_load(path, m, err, sizeof err), HT_OK);
+        return;
+    }
+    write_material(f, path);
+    ht_probe_make_bundle_from_file(fx.work, f->name, path, light, dir, size, m);
+}
+
 static void probe(const fibre_material *f, ht_light light, int tolerance) {
     char dir[256], err[2048], path[400];
     ht_material m;
-    snprintf(path, sizeof path, "%s/%s.json", fx.work, f->name);
-    write_material(f, path);
-    ht_probe_make_bundle_from_file(fx.work, f->name, path, &light, dir, sizeof dir, &m);
+    bundle_for(f, &light, dir, sizeof dir, &m);
     ht_image albedo = { 0 };
     if (f->textured) {
         snprintf(path, sizeof path, "%s/albedo.png", dir);
@@ -213,6 +230,7 @@ static void tier_matches_the_oracle_front_lit(void **state) {
 
 static void tier_matches_the_oracle_back_lit_and_grazing(void **state) {
     (void)state;
+    HT_TEST_DRIVER_INDEPENDENT(); /* the front-lit shader's arithmetic at other angles */
     probe(&blond, ht_probe_directional(0, 0, -1), TOLERANCE); /* L = -V at the centre pixel: TT glows */
     probe(&brown, ht_probe_directional(0, 0, -1), TOLERANCE);
     probe(&blond, ht_probe_directional(0, 0, 1), TOLERANCE); /* L = V */

@@ -11,7 +11,10 @@
    buffers, so a NaN or Inf a shader computes stays visible there and every
    pixel can be checked. (Compile failures of broken shader text and missing
    shader files are covered by test_render_passes.c; bad manifest JSON at
-   the parser by test_select.c.) */
+   the parser by test_select.c.) `make test`'s softpipe run keeps the cases
+   whose outcome is the driver's (support_driver.h): finite pixels from
+   degenerate lights and meshes, the device's sampler units, refused shader
+   stages. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -36,6 +39,7 @@
 #include "support_log.h"
 #include "support_osmesa.h"
 #include "support_render.h"
+#include "support_driver.h"
 #include "support_scratch.h"
 
 #define SIZE 64
@@ -205,6 +209,7 @@ static void copy_with_manifest_value(const char *name, const char *path, const c
 
 static void test_missing_detail_texture_drops_full_to_vertex_naming_the_file(void **state) {
     (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
     char dir[256], path[512], want[600];
     ht_test_furball_copy_bundle(&fx, "no-detail", dir, sizeof dir);
     path_of(dir, "detail.png", path, sizeof path);
@@ -253,6 +258,7 @@ static void expect_albedo_fails_every_tier(const char *name, const void *bytes, 
 
 static void test_broken_albedo_leaves_no_tier_and_names_the_file(void **state) {
     (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
     size_t n;
     unsigned char *png = read_bytes(fx.bundle_dir, "albedo.png", &n);
     expect_albedo_fails_every_tier("albedo-missing", NULL, 0, "cannot read: No such file or directory");
@@ -285,6 +291,7 @@ static void test_broken_albedo_leaves_no_tier_and_names_the_file(void **state) {
 
 static void test_texture_header_claiming_a_huge_size_is_refused_before_decoding(void **state) {
     (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
     /* A PNG signature, a well-formed IHDR (its CRC right) claiming
        100000 x 100000 RGBA, 40 GB decoded, and the start of an IDAT: what
        a decoder allocates the image for. Refused from the header. */
@@ -310,6 +317,7 @@ static void test_texture_header_claiming_a_huge_size_is_refused_before_decoding(
 
 static void test_bad_manifest_fields_fail_creation_naming_file_and_field(void **state) {
     (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
     static const struct { const char *path, *value, *field; } cases[] = {
         { "textures/albedo/width", "\"wide\"", "textures.albedo.width: expected an integer, got string \"wide\"" },
         { "textures/albedo/width", "1.5", "textures.albedo.width: must be an integer, got 1.5" },
@@ -347,6 +355,7 @@ static void test_bad_manifest_fields_fail_creation_naming_file_and_field(void **
 
 static void test_unknown_tier_is_skipped_by_name(void **state) {
     (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
     char dir[256];
     ht_test_furball_copy_bundle(&fx, "unknown-tier", dir, sizeof dir);
     cJSON *root = cJSON_Parse(ht_test_read_file(dir, "manifest.json"));
@@ -427,6 +436,7 @@ static void expect_frame_rejected(ht_renderer *r, const ht_frame_desc *f, const 
 
 static void test_draw_refuses_non_finite_and_degenerate_cameras_naming_the_field(void **state) {
     (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
     const float nan = NAN, inf = INFINITY;
     for (int t = 0; t < EVERY_TIER; t++) {
         ht_renderer *r = create_tier(every_tier[t]);
@@ -496,6 +506,7 @@ static void test_draw_refuses_non_finite_and_degenerate_cameras_naming_the_field
 
 static void test_draw_refuses_bad_lights_naming_the_field(void **state) {
     (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
     ht_renderer *r = create_tier(HT_TIER_FULL);
     ht_light lights[HT_MAX_LIGHTS + 1];
     const ht_frame_desc base = frame();
@@ -567,6 +578,7 @@ static void test_degenerate_lights_draw_finite_pixels_in_every_tier(void **state
 
 static void test_lights_beyond_the_plan_are_ignored_with_one_log_line(void **state) {
     (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
     static float two[SIZE * SIZE * 4];
     const ht_frame_desc base = frame();
     ht_light lights[HT_MAX_LIGHTS] = { base.lights[0], base.lights[0], base.lights[0], base.lights[0] };
@@ -628,6 +640,7 @@ static void expect_mesh_rejected(ht_renderer *r, const ht_mesh *m, const char *f
 
 static void test_set_mesh_refuses_bad_meshes_and_keeps_the_previous_one(void **state) {
     (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
     static float before[SIZE * SIZE * 4];
     ht_renderer *r = create_tier(HT_TIER_FULL);
     ht_frame_desc f = frame();
@@ -728,6 +741,7 @@ static void test_degenerate_meshes_draw_finite_pixels_in_every_tier(void **state
 
 static void test_draw_refuses_a_bad_opaque_mesh(void **state) {
     (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
     ht_mesh hair = { 0 }, head = { 0 };
     assert_int_equal(ht_mesh_build_patches(&(ht_patches_desc){ .layers = 1, .strips = 8, .segments = 4, .seed = 1 },
                                            &hair, &head), HT_OK);
@@ -867,6 +881,7 @@ static void expect_hairview_fails(const char *args, const char *out_png, int sta
 
 static void test_hairview_fails_cleanly_on_bad_input(void **state) {
     (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
     char scene[256], bundle_arg[512], args[2048], png[256], path[512], dir[256];
     snprintf(scene, sizeof scene, "%s/scene.json", fx.work);
     ht_test_write_file(fx.work, "scene.json",
@@ -952,6 +967,7 @@ static void test_hairview_fails_cleanly_on_bad_input(void **state) {
 
 static void test_tier_sheet_without_a_bundle_writes_no_sheet(void **state) {
     (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
     char args[1024], err[8192], sheet[256];
     snprintf(sheet, sizeof sheet, "%s/sheet.png", fx.work);
     ht_test_write_file(fx.work, "sheet-scene.json",
@@ -988,6 +1004,7 @@ static void tmp_entries(const char *prefix, char *out, size_t size) {
    their first step; the scratch directory each made goes with them. */
 static void test_benchmarks_failing_early_leave_no_scratch_directory(void **state) {
     (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
     char build[PATH_MAX], before[8192], after[8192], cmd[PATH_MAX * 2 + 256];
     assert_non_null(realpath(ht_test_build_dir(), build));
     const char *benches[2] = { "bench_frame", "bench_hairgen" };

@@ -1,6 +1,6 @@
 /* material, scene, tier, then each tier's whole-frame distance from full
    (a Marschner material: from its marschner tier) as the sweep in
-   tests/test_render_scenes.c measured it on llvmpipe (256², a 2000-hair
+   tests/test_render_accuracy.c measured it on llvmpipe (256², a 2000-hair
    fur ball): minimum PSNR in dB, minimum SSIM, maximum CIEDE2000 mean and
    95th percentile (shadergen/metrics.h's definitions).
 
@@ -14,7 +14,7 @@
    covers.
 
    To re-pin after a change that is meant to move them:
-       HAIRTIER_PRINT_PINS=1 ./build/tests/test_render_scenes | grep '^{'
+       HAIRTIER_PRINT_PINS=1 ./build/tests/test_render_accuracy | grep '^{'
    prints these lines, margins applied. */
 { "blond", "backlit", "vertex", 34.70, 0.9868, 0.391, 2.313 },
 { "blond", "backlit", "fixed4", 32.97, 0.9756, 0.557, 3.894 },

@@ -1,0 +1,23 @@
+/* support_scene.h — what the tests that run the programs on shipped scenes
+   share (test_render_scenes.c, test_render_accuracy.c): a command that must
+   succeed, a scene copied elsewhere that still finds its strand file, and a
+   bundle's tier names.
+
+   Helpers that check fail the running cmocka test. */
+#ifndef HT_SUPPORT_SCENE_H
+#define HT_SUPPORT_SCENE_H
+
+#include "hairtier.h"
+
+struct cJSON;
+
+/* system(cmd); fails the test unless it exits 0. */
+void ht_test_run_command(const char *cmd);
+/* A scene's strand file path made absolute against the shipped scene's
+   folder, so a copy of root written elsewhere draws the same file. */
+void ht_test_keep_strand_file(struct cJSON *root, const char *shipped_scene);
+/* The bundle's tiers, best first; the first must be `first`, and there are
+   at least two. Returns how many. */
+int ht_test_bundle_tiers(const char *bundle, char names[HT_TIER_COUNT][16], const char *first);
+
+#endif
