@@ -7,7 +7,7 @@
 #ifndef HT_SUPPORT_SCENE_H
 #define HT_SUPPORT_SCENE_H
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 
 struct cJSON;
 
