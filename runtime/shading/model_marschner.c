@@ -200,7 +200,7 @@ static void integrand_at(const integrand *f, double x, double out[3]) {
     }
     attenuation_at(f->s, f->p, fabs(h), cos_g, out);
     double w = dh;
-    if (f->p == HT_LOBE_TRT) { /* A / 2 times the Gaussian; the nearest image is exact to 1e-31 */
+    if (f->p == HT_LOBE_TRT) { /* A / 2 times the Gaussian; other images weigh < 1e-31 */
         const double sigma = HT_MARSCHNER_CAUSTIC_WIDTH;
         double d = remainder(f->phi - (f->a1 * g + f->a3 * g * g * g + 2 * HT_PI), 2 * HT_PI); /* p pi, p = 2 */
         w *= 0.5 * exp(-d * d / (2 * sigma * sigma)) / (sqrt(2 * HT_PI) * sigma);
@@ -258,7 +258,8 @@ static void adaptive(const integrand *f, double a, double b, double tol, int dep
     for (int i = 0; i < 3; i++) out[i] = left[i] + right[i];
 }
 
-/* The integral of f over h in [lo, 1] (lo = 0 or -1), split at eta''. */
+/* The integral of f over h in [-1, 1] (both_sides) or [0, 1], split at
+   eta''. The tolerance is a thousandth of the 1e-9 the header promises. */
 static void integrate_h(integrand *f, bool both_sides, double out[3]) {
     const double tol = 1e-12;
     double part[3], eta_par = f->s->eta_par;
