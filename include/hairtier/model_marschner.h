@@ -50,8 +50,7 @@
      function convolved in phi with a unit-area Gaussian of width
      HT_MARSCHNER_CAUSTIC_WIDTH, as Marschner 2003 spreads the caustic over
      an azimuthal width w_c (10 to 25 degrees there). It is evaluated as the
-     integral over h of A_TRT(h) / 2 times that Gaussian at phi - phi(2, h)
-     (64-point midpoint rule in gamma, exact to 1e-12 for this width):
+     integral over h of A_TRT(h) / 2 times that Gaussian at phi - phi(2, h):
      finite everywhere, its integral over phi still the mean of A_TRT. R
      and TT are sums over the cubic's roots. R has no caustic; TT has none
      while eta' > 1.155 (|dphi/dgamma| >= 2 - 6c/pi > 0 needs c < pi/3),
@@ -68,6 +67,17 @@
      (no strand or no ray, no scattering); L or V parallel to T has no
      azimuth and takes cos(phi) = 1.
    - M_p is evaluated in logarithms (I0 and sinh overflow for narrow lobes).
+
+   Precision: N_TRT and the rest are integrals over h, computed by adaptive
+   Gauss-Kronrod (7-15) on panels split where A(h) has a kink (|h| = eta'',
+   where the parallel polarisation begins to reflect totally, and |h| = 1),
+   each in a variable smooth at its ends. Measured against an independent
+   mpmath reference (tests/data/marschner_reference.h, 790 values, theta_r
+   up to 89.99 degrees, eta 1.1 to 3, sigma_a 0 to 50): every lobe within
+   1e-6 of the reference's value or 1e-9 absolute, the tests' criterion;
+   worst seen 2.2e-9 relative for N_TRT, 3.5e-10 for M_p (its asymptotic
+   I0), 2e-14 for A_p, N_R and N_TT, and 1e-14 absolute for the rest
+   (docs/accuracy.md says how to measure it).
 
    Colour: sigma_a is RGB, so N_TT, N_TRT and the rest are RGB; M and N_R
    are grey.

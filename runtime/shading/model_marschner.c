@@ -86,40 +86,64 @@ static double fresnel_one(double n, double cos_i, double sin_i, bool parallel) {
     return r * r;
 }
 
-double ht_marschner_fresnel(double eta, double cos_theta_r, double h) {
-    double sin_g = fabs(clamp1(h));
-    double cos_g = sqrt(1 - sin_g * sin_g);
-    if (cos_g <= 0) return 1; /* grazing */
-    double eta_perp, eta_par;
-    bravais(eta, cos_theta_r, &eta_perp, &eta_par);
-    return 0.5 * (fresnel_one(eta_perp, cos_g, sin_g, false) + fresnel_one(eta_par, cos_g, sin_g, true));
+/* What every ray through one cross-section shares: the Bravais indices and
+   the longitudinal part of the internal path. */
+typedef struct section {
+    double eta_perp, eta_par, cos_tt;
+    double absorption[3];
+} section;
+
+static section section_of(const ht_marschner *m, double cos_theta_r) {
+    section s;
+    bravais(m->eta, cos_theta_r, &s.eta_perp, &s.eta_par);
+    double c = fmax(fmin(cos_theta_r, 1), 0);
+    double sin_tt = sqrt(1 - c * c) / m->eta;
+    s.cos_tt = sqrt(1 - sin_tt * sin_tt);
+    for (int i = 0; i < 3; i++) s.absorption[i] = m->absorption[i];
+    return s;
 }
 
-void ht_marschner_attenuation(const ht_marschner *m, ht_marschner_lobe p,
-                              double cos_theta_r, double h, double out[3]) {
-    h = clamp1(h);
-    double f = ht_marschner_fresnel(m->eta, cos_theta_r, h);
+/* Fresnel at the in-plane incidence gamma (sin_g = |h| >= 0, cos_g). */
+static double section_fresnel(const section *s, double sin_g, double cos_g) {
+    if (cos_g <= 0) return 1; /* grazing */
+    return 0.5 * (fresnel_one(s->eta_perp, cos_g, sin_g, false) + fresnel_one(s->eta_par, cos_g, sin_g, true));
+}
+
+double ht_marschner_fresnel(double eta, double cos_theta_r, double h) {
+    double sin_g = fabs(clamp1(h));
+    double eta_perp, eta_par;
+    bravais(eta, cos_theta_r, &eta_perp, &eta_par);
+    section s = { .eta_perp = eta_perp, .eta_par = eta_par };
+    return section_fresnel(&s, sin_g, sqrt(1 - sin_g * sin_g));
+}
+
+/* A_p for |h| = sin_g (cos_g given, so that callers integrating in gamma
+   keep it exact near grazing). */
+static void attenuation_at(const section *s, ht_marschner_lobe p, double sin_g, double cos_g, double out[3]) {
+    double f = section_fresnel(s, sin_g, cos_g);
     if (p == HT_LOBE_R) {
         out[0] = out[1] = out[2] = f;
         return;
     }
-    double eta_perp, eta_par;
-    bravais(m->eta, cos_theta_r, &eta_perp, &eta_par);
-    double sin_gt = h / eta_perp;
+    double sin_gt = sin_g / s->eta_perp;
     double cos_gt = sqrt(1 - sin_gt * sin_gt);
-    double c = fmax(fmin(cos_theta_r, 1), 0);
-    double sin_tt = sqrt(1 - c * c) / m->eta;
-    double cos_tt = sqrt(1 - sin_tt * sin_tt);
     /* The internal reflections have the entry's reflectance: a dielectric
        interface reflects the same both ways. */
     double through = (1 - f) * (1 - f);
     for (int i = 0; i < 3; i++) {
-        double t = exp(-2 * m->absorption[i] * cos_gt / cos_tt);
+        double t = exp(-2 * s->absorption[i] * cos_gt / s->cos_tt);
         if (p == HT_LOBE_TT) out[i] = through * t;
         else if (p == HT_LOBE_TRT) out[i] = through * f * t * t;
         else /* the rest of the series: (1-F)^2 F^2 T^3 / (1 - F T); 0 in the limit F T -> 1 */
             out[i] = 1 - f * t > 1e-12 ? through * f * f * t * t * t / (1 - f * t) : 0;
     }
+}
+
+void ht_marschner_attenuation(const ht_marschner *m, ht_marschner_lobe p,
+                              double cos_theta_r, double h, double out[3]) {
+    double sin_g = fabs(clamp1(h));
+    section s = section_of(m, cos_theta_r);
+    attenuation_at(&s, p, sin_g, sqrt(1 - sin_g * sin_g), out);
 }
 
 /* Real roots of x^3 + P x + Q = 0, polished by Newton's method. */
@@ -147,39 +171,133 @@ static int cubic_roots(double P, double Q, double roots[3]) {
     return n;
 }
 
+/* The integrals over h of TRT (times the caustic's Gaussian) and of the
+   rest. A(h) has two kinds of kinks: at |h| = 1 (cos(gamma) = sqrt(1 - h^2))
+   and, where eta'' < 1, at |h| = eta'' (the parallel polarisation's
+   critical angle: Fresnel jumps to 1 with an infinite slope). Each panel is
+   integrated in a variable that makes its ends smooth: gamma outside
+   (h = sin gamma), u inside (h = eta'' sin u), by adaptive Gauss-Kronrod. */
+typedef struct integrand {
+    const section *s;
+    ht_marschner_lobe p;
+    double phi, a1, a3; /* TRT: the azimuth and its exit-azimuth cubic */
+    bool inner;         /* the variable: u (h = eta'' sin u) or gamma */
+} integrand;
+
+/* f(h) dh/dx at x, RGB. */
+static void integrand_at(const integrand *f, double x, double out[3]) {
+    double h, cos_g, dh, g;
+    if (f->inner) {
+        h = f->s->eta_par * sin(x);
+        cos_g = sqrt(1 - h * h);
+        dh = f->s->eta_par * cos(x);
+        g = asin(h);
+    } else {
+        h = sin(x);
+        cos_g = cos(x);
+        dh = cos_g;
+        g = x;
+    }
+    attenuation_at(f->s, f->p, fabs(h), cos_g, out);
+    double w = dh;
+    if (f->p == HT_LOBE_TRT) { /* A / 2 times the Gaussian; other images weigh < 1e-31 */
+        const double sigma = HT_MARSCHNER_CAUSTIC_WIDTH;
+        double d = remainder(f->phi - (f->a1 * g + f->a3 * g * g * g + 2 * HT_PI), 2 * HT_PI); /* p pi, p = 2 */
+        w *= 0.5 * exp(-d * d / (2 * sigma * sigma)) / (sqrt(2 * HT_PI) * sigma);
+    }
+    for (int i = 0; i < 3; i++) out[i] *= w;
+}
+
+/* Gauss-Kronrod 7-15 (QUADPACK's qk15) on [a, b], RGB, with QUADPACK's
+   error estimate per channel (|Kronrod - Gauss| scaled by how smooth the
+   panel is). */
+static void gauss_kronrod(const integrand *f, double a, double b, double out[3], double err[3]) {
+    static const double xk[8] = { 0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
+                                  0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
+                                  0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
+                                  0.207784955007898467600689403773245, 0 };
+    static const double wk[8] = { 0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
+                                  0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
+                                  0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
+                                  0.204432940075298892414161999234649, 0.209482141084727828012999174891714 };
+    static const double wg[4] = { 0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
+                                  0.381830050505118944950369775488975, 0.417959183673469387755102040816327 };
+    double mid = (a + b) / 2, half = (b - a) / 2, kron[3] = { 0, 0, 0 }, gauss[3] = { 0, 0, 0 }, v[15][3];
+    for (int k = 0, n = 0; k < 8; k++)
+        for (int side = 0; side < (k == 7 ? 1 : 2); side++, n++) {
+            integrand_at(f, mid + (side ? -1 : 1) * half * xk[k], v[n]);
+            for (int i = 0; i < 3; i++) {
+                kron[i] += wk[k] * v[n][i];
+                if (k % 2 == 1) gauss[i] += wg[k / 2] * v[n][i];
+            }
+        }
+    for (int i = 0; i < 3; i++) {
+        double spread = 0, mean = kron[i] / 2; /* the integral of |f - mean|, as qk15's resasc */
+        for (int k = 0, n = 0; k < 8; k++)
+            for (int side = 0; side < (k == 7 ? 1 : 2); side++, n++) spread += wk[k] * fabs(v[n][i] - mean);
+        double e = fabs(kron[i] - gauss[i]) * half;
+        spread *= fabs(half);
+        if (spread > 0 && e > 0) e = spread * fmin(1, pow(200 * e / spread, 1.5));
+        out[i] = kron[i] * half;
+        err[i] = e;
+    }
+}
+
+/* Bisects until every channel's error estimate is below tol (absolute,
+   halved with each split) or below 1e-10 of the channel's value. */
+static void adaptive(const integrand *f, double a, double b, double tol, int depth, double out[3]) {
+    double err[3];
+    gauss_kronrod(f, a, b, out, err);
+    bool converged = true; /* a NaN estimate counts as converged: no endless split */
+    for (int i = 0; i < 3; i++)
+        if (err[i] > tol && err[i] > 1e-10 * fabs(out[i])) converged = false;
+    if (converged || depth >= 24) return;
+    double left[3], right[3], mid = (a + b) / 2;
+    adaptive(f, a, mid, tol / 2, depth + 1, left);
+    adaptive(f, mid, b, tol / 2, depth + 1, right);
+    for (int i = 0; i < 3; i++) out[i] = left[i] + right[i];
+}
+
+/* The integral of f over h in [-1, 1] (both_sides) or [0, 1], split at
+   eta''. The tolerance is a thousandth of the 1e-9 the header promises. */
+static void integrate_h(integrand *f, bool both_sides, double out[3]) {
+    const double tol = 1e-12;
+    double part[3], eta_par = f->s->eta_par;
+    out[0] = out[1] = out[2] = 0;
+    double edge = eta_par < 1 ? asin(eta_par) : 0; /* where the outer panels begin, in gamma */
+    if (eta_par < 1) {
+        f->inner = true;
+        adaptive(f, both_sides ? -HT_PI / 2 : 0, HT_PI / 2, tol, 0, part);
+        for (int i = 0; i < 3; i++) out[i] += part[i];
+    }
+    f->inner = false;
+    adaptive(f, edge, HT_PI / 2, tol, 0, part);
+    for (int i = 0; i < 3; i++) out[i] += part[i];
+    if (both_sides) {
+        adaptive(f, -HT_PI / 2, -edge, tol, 0, part);
+        for (int i = 0; i < 3; i++) out[i] += part[i];
+    }
+}
+
 void ht_marschner_azimuthal(const ht_marschner *m, ht_marschner_lobe p,
                             double cos_theta_r, double phi, double out[3]) {
     out[0] = out[1] = out[2] = 0;
-    if (p == HT_LOBE_REST) { /* uniform in phi: the mean of A over h, over 2 pi */
-        const int steps = 64;
-        for (int k = 0; k < steps; k++) {
-            double g = -HT_PI / 2 + (k + 0.5) * HT_PI / steps, a[3];
-            ht_marschner_attenuation(m, p, cos_theta_r, sin(g), a);
-            /* dh = cos(gamma) dgamma; the mean over h in [-1, 1] halves it */
-            for (int i = 0; i < 3; i++) out[i] += a[i] * cos(g) * (HT_PI / steps) / (2 * 2 * HT_PI);
-        }
+    section s = section_of(m, cos_theta_r);
+    if (p == HT_LOBE_REST) { /* uniform in phi: the mean of A over h (even in h), over 2 pi */
+        integrand f = { .s = &s, .p = p };
+        integrate_h(&f, false, out);
+        for (int i = 0; i < 3; i++) out[i] /= 2 * HT_PI;
         return;
     }
     double phi_w = remainder(phi, 2 * HT_PI); /* [-pi, pi] */
     if (!isfinite(phi_w)) phi_w = 0;
-    double eta_perp, eta_par;
-    bravais(m->eta, cos_theta_r, &eta_perp, &eta_par);
-    double c = asin(1 / eta_perp);
+    double c = asin(1 / s.eta_perp);
     /* phi(gamma) = a1 gamma + a3 gamma^3 + p pi (Marschner 2003, eq. 10) */
     const double k_p = (double)p; /* the lobe's number of internal paths */
     double a1 = 6 * k_p * c / HT_PI - 2, a3 = -8 * k_p * c / (HT_PI * HT_PI * HT_PI);
     if (p == HT_LOBE_TRT) { /* the caustic, spread: the integral over h */
-        const int steps = 64;
-        const double dg = HT_PI / steps, w = HT_MARSCHNER_CAUSTIC_WIDTH;
-        for (int k = 0; k < steps; k++) {
-            double g = -HT_PI / 2 + (k + 0.5) * dg, a[3];
-            double d = remainder(phi_w - (a1 * g + a3 * g * g * g + k_p * HT_PI), 2 * HT_PI), spread = 0;
-            for (int j = -1; j <= 1; j++) spread += exp(-(d + 2 * HT_PI * j) * (d + 2 * HT_PI * j) / (2 * w * w));
-            spread /= sqrt(2 * HT_PI) * w;
-            ht_marschner_attenuation(m, p, cos_theta_r, sin(g), a);
-            /* A(h) / 2 dh, dh = cos(gamma) dgamma */
-            for (int ch = 0; ch < 3; ch++) out[ch] += a[ch] * cos(g) * dg / 2 * spread;
-        }
+        integrand f = { .s = &s, .p = p, .phi = phi_w, .a1 = a1, .a3 = a3 };
+        integrate_h(&f, true, out);
         return;
     }
     double gammas[16];
@@ -200,7 +318,7 @@ void ht_marschner_azimuthal(const ht_marschner *m, ht_marschner_lobe p,
            theta_r = 0, TT has a fold where it reaches 0 (model_marschner.h) */
         double slope = fabs(a1 + 3 * a3 * g * g);
         double a[3];
-        ht_marschner_attenuation(m, p, cos_theta_r, sin(g), a);
+        attenuation_at(&s, p, fabs(sin(g)), cos(g), a);
         /* 1 / |2 dphi/dh| = cos(gamma) / (2 |dphi/dgamma|) */
         for (int ch = 0; ch < 3; ch++) out[ch] += a[ch] * cos(g) / (2 * slope);
     }
