@@ -49,6 +49,7 @@
 #include "errfmt.h"
 #include "fixed.h"
 #include "fixed_coords.h"
+#include "fixed_device.h"
 #include "fixed_soa.h"
 #include "gl_error.h"
 #include "gl_texture.h"
@@ -79,6 +80,7 @@ typedef struct fixed_state {
     int prime_first;                          /* first stage the prime-Z pass enables */
     int lut_unit;                             /* the unit of the stage reading the LUT */
     bool matrix_rule;                         /* the program's LUT coords are "texture-matrix" */
+    bool device_variant;                      /* the program is fixed_device.h's, over t1 (ht_variant) */
     bool matrix_loaded;                       /* the LUT unit's texture matrix is not identity */
     bool point_light_logged;
     ht_vertex *vertices;                      /* copy of the mesh's, for coords, tangents and uv */
@@ -262,6 +264,26 @@ static ht_result upload_stage(fixed_state *s, const ht_tier_context *ctx, int st
     return r;
 }
 
+/* The device-only variant's LUT: the bundle's 3D LUT resampled into 2D
+   (fixed_device.h), uploaded on the stage's unit. */
+static ht_result upload_device_lut(fixed_state *s, const ht_tier_context *ctx, int stage, char *err,
+                                   size_t err_size) {
+    const ht_combiner_stage *st = &s->program.stages[stage];
+    char path[HT_LIMIT_BUNDLE_FILE_PATH];
+    ht_image img = { 0 }, lut = { 0 };
+    int depth = 1;
+    ht_result r = read_stage_image(s, ctx, stage, &img, &depth, path, sizeof path, err, err_size);
+    if (r != HT_OK) return r;
+    r = ht_fixed_device_lut(&s->program, &img, &lut);
+    ht_image_free(&img);
+    if (r != HT_OK) return ht_fail(err, err_size, r, "%s: cannot resample the LUT for the device variant", path);
+    r = ht_gl_texture_upload(s->gl, &(ht_gl_texture_desc){ .target = GL_TEXTURE_2D, .image = &lut, .depth = 1,
+                                                           .filter = st->filter, .wrap = st->wrap, .name = path },
+                             &s->textures[stage], err, err_size);
+    ht_image_free(&lut);
+    return r;
+}
+
 static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_t err_size) {
     *out = NULL;
     fixed_state *s = calloc(1, sizeof *s);
@@ -273,11 +295,16 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
     char path[HT_LIMIT_BUNDLE_FILE_PATH];
     ht_result r = load_program(s, ctx, path, sizeof path, err, err_size);
     if (r == HT_OK) r = check_device(s, ctx, path, err, err_size);
-    for (int i = 0; r == HT_OK && i < s->program.stage_count; i++) r = upload_stage(s, ctx, i, err, err_size);
+    s->device_variant = r == HT_OK && ctx->device_variant && ht_fixed_device_applies(&s->program);
+    for (int i = 0; r == HT_OK && i < s->program.stage_count; i++)
+        r = s->device_variant && s->program.stages[i].coords == HT_COORDS_CPU_DOTS
+                ? upload_device_lut(s, ctx, i, err, err_size)
+                : upload_stage(s, ctx, i, err, err_size);
     if (r != HT_OK) {
         destroy(s);
         return r;
     }
+    if (s->device_variant) ht_fixed_device_program(&s->program, &s->program);
     s->slot_count = ht_combiner_sub_passes(&s->program);
     for (int k = 0; k < s->slot_count; k++) s->slots[k].light = ht_combiner_sub_pass_light(&s->program, k);
     s->prime_first = prime_first_stage(&s->program);
@@ -292,7 +319,9 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
                  "%d light%s (%d additive sub-pass%s), prime Z uses %s, coordinates %s", s->program.stage_count, n[0],
                  n[1], n[2], s->program.lut_scale, s->program.light_scale, s->slot_count, s->slot_count == 1 ? "" : "s",
                  s->slot_count - 1, s->slot_count == 2 ? "" : "es", prime,
-                 s->matrix_rule ? "by the texture matrix (infinite viewer)" : "on the CPU per vertex");
+                 s->device_variant ? "by the texture matrix over t1 (infinite viewer: the device-only variant)"
+                 : s->matrix_rule  ? "by the texture matrix (infinite viewer)"
+                                   : "on the CPU per vertex");
     *out = s;
     return HT_OK;
 }
@@ -351,6 +380,7 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     }
     ht_fixed_soa soa = { 0 };
     if (ok && n) memcpy(v, mesh->vertices, n * sizeof *v);
+    if (ok && s->device_variant) ht_fixed_device_vectors(&s->program, v, n);
     if (ok && s->matrix_rule) normalize_tangents(v, n);
     if (ok && !s->matrix_rule) ok = ht_fixed_soa_make(&s->program, mesh->vertices, n, &soa) == HT_OK;
     if (!ok) {
@@ -629,6 +659,7 @@ static void end_frame(void *state) {
 }
 
 static uint64_t cpu_vertices(void *state) { return ((const fixed_state *)state)->cpu_vertices; }
+static bool device_variant(void *state) { return ((const fixed_state *)state)->device_variant; }
 
 const ht_tier_backend ht_tier_fixed_backend = {
     .tier = HT_TIER_FIXED,
@@ -641,4 +672,5 @@ const ht_tier_backend ht_tier_fixed_backend = {
     .end_frame = end_frame,
     .destroy = destroy,
     .cpu_vertices = cpu_vertices,
+    .device_variant = device_variant,
 };
