@@ -1073,7 +1073,7 @@ static void test_backend_gives_a_point_key_light_cpu_coordinates_logged_once(voi
     assert_int_equal(ht_caps_probe(ht_test_getproc, &caps), HT_OK);
     ht_test_log_clear();
     const ht_tier_context ctx = { &gl, &caps, &bundle, ht_manifest_find_tier(&bundle, HT_TIER_FIXED),
-                                  ht_test_log_capture, NULL };
+                                  ht_test_log_capture, NULL, false };
     assert_non_null(ctx.tier);
     void *backend = NULL;
     if (ht_tier_fixed_backend.create(&ctx, &backend, err, sizeof err) != HT_OK) fail_msg("%s", err);
