@@ -88,7 +88,12 @@ typedef struct fixed_state {
     light_slot slots[HT_MAX_LIGHTS];          /* per sub-pass */
     int slot_count;
     ht_fixed_soa soa;                         /* "cpu-dots": the static part, float, per mesh */
-    GLuint vertex_buffer;                     /* vertices' copy: tangents and uv (VBO, when it has them) */
+    /* What the draws read per vertex besides the renderer's positions:
+       packed, (tangent, uv) under "texture-matrix", else uv alone, so a
+       still frame fetches no more than it uses (VBO, when it has them) */
+    float *statics;
+    int static_width;                         /* floats per vertex: 5 or 2 */
+    GLuint vertex_buffer;
     uint64_t cpu_vertices;                    /* per-vertex CPU work so far */
     ht_log_fn log;
     void *log_user;
@@ -131,6 +136,7 @@ static void destroy(void *state) {
     for (int i = 0; i < HT_COMBINER_MAX_STAGES; i++)
         if (s->textures[i]) s->gl->DeleteTextures(1, &s->textures[i]);
     free(s->vertices);
+    free(s->statics);
     for (int k = 0; k < s->slot_count; k++) {
         light_slot *slot = &s->slots[k];
         free(slot->coords);
@@ -371,8 +377,10 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     fixed_state *s = state;
     size_t n = mesh->vertex_count;
     ht_vertex *v = malloc(n ? n * sizeof *v : 1);
+    const int width = s->matrix_rule ? 5 : 2;
+    float *statics = malloc(n ? n * (size_t)width * sizeof(float) : 1);
     float *coords[HT_MAX_LIGHTS] = { NULL }, *colors[HT_MAX_LIGHTS] = { NULL };
-    bool ok = v != NULL;
+    bool ok = v != NULL && statics != NULL;
     for (int k = 0; ok && k < s->slot_count; k++) {
         coords[k] = s->matrix_rule ? NULL : malloc(n ? n * 3 * sizeof(float) : 1);
         colors[k] = malloc(n ? n * 4 * sizeof(float) : 1);
@@ -385,6 +393,7 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     if (ok && !s->matrix_rule) ok = ht_fixed_soa_make(&s->program, mesh->vertices, n, &soa) == HT_OK;
     if (!ok) {
         free(v);
+        free(statics);
         for (int k = 0; k < s->slot_count; k++) {
             free(coords[k]);
             free(colors[k]);
@@ -393,8 +402,16 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     }
     ht_fixed_soa_free(&s->soa);
     s->soa = soa;
+    for (size_t i = 0; i < n; i++) {
+        float *out = statics + i * (size_t)width;
+        if (s->matrix_rule) memcpy(out, v[i].tangent, 3 * sizeof(float));
+        memcpy(out + width - 2, v[i].uv, 2 * sizeof(float));
+    }
     free(s->vertices);
     s->vertices = v;
+    free(s->statics);
+    s->statics = statics;
+    s->static_width = width;
     s->vertex_count = mesh->vertex_count;
     for (int k = 0; k < s->slot_count; k++) {
         light_slot *slot = &s->slots[k];
@@ -410,7 +427,7 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     if (s->caps->has_vbo)
         while (s->gl->GetError() != GL_NO_ERROR) {}
     /* refused: the renderer drops the mesh with its one line (as fixed4) */
-    GLenum e = upload(s, &s->vertex_buffer, v, n * sizeof *v, GL_STATIC_DRAW, NULL);
+    GLenum e = upload(s, &s->vertex_buffer, statics, n * (size_t)width * sizeof(float), GL_STATIC_DRAW, NULL);
     for (int k = 0; e == GL_NO_ERROR && k < s->slot_count; k++) {
         light_slot *slot = &s->slots[k];
         e = upload(s, &slot->color_buffer, slot->colors, n * 4 * sizeof(float), GL_DYNAMIC_DRAW, NULL);
@@ -612,23 +629,26 @@ static bool point_stage_arrays(void *state, ht_pass pass, int sub_pass) {
        coordinates (logged in begin_frame): draw nothing rather than garbage */
     if (!slot->frame_matrix && !slot->coords) return false;
     const GLuint bound = ht_gl_array_buffer_binding(gl);
-    const GLsizei stride = (GLsizei)sizeof(ht_vertex);
+    const GLsizei stride = (GLsizei)((size_t)s->static_width * sizeof(float));
+    const size_t uv_offset = (size_t)(s->static_width - 2) * sizeof(float);
     for (int i = 0; i < s->program.stage_count; i++) {
         const ht_combiner_stage *st = &s->program.stages[i];
         if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)st->unit);
         gl->EnableClientState(GL_TEXTURE_COORD_ARRAY);
         if (st->coords == HT_COORDS_TEXTURE_MATRIX && slot->frame_matrix)
             gl->TexCoordPointer(3, GL_FLOAT, stride,
-                                array_source(gl, s->vertex_buffer, s->vertices, offsetof(ht_vertex, tangent)));
+                                array_source(gl, s->vertex_buffer, s->statics, 0));
         else if (st->coords != HT_COORDS_UV)
             gl->TexCoordPointer(3, GL_FLOAT, 0, array_source(gl, slot->coord_buffer, slot->coords, 0));
         else
             gl->TexCoordPointer(2, GL_FLOAT, stride,
-                                array_source(gl, s->vertex_buffer, s->vertices, offsetof(ht_vertex, uv)));
+                                array_source(gl, s->vertex_buffer, s->statics, uv_offset));
     }
     if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0);
     gl->EnableClientState(GL_COLOR_ARRAY);
     gl->ColorPointer(4, GL_FLOAT, 0, array_source(gl, slot->color_buffer, slot->colors, 0));
+    /* no GL lighting here: the renderer's normals would be fetched for nothing */
+    gl->DisableClientState(GL_NORMAL_ARRAY);
     ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, bound);
     return true;
 }
