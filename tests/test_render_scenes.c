@@ -289,6 +289,14 @@ static ht_metrics whole_frame_metrics(const ht_image *reference, const ht_image 
    forty frames stay a few seconds of `make test`. */
 #define ACCURACY_SIZE 256
 #define ACCURACY_HAIRS 2000
+/* HAIRTIER_SWEEP=shipped: every scene as shipped (its own size and hair
+   count, what a user sees; about 25 times the pinned sweep's pixels x
+   hairs), fixed4 and fixed also as their device-only variants
+   ("fixed4-device", "fixed-device": HAIRTIER_VARIANT=device), checked
+   against the targets below instead of the pins; docs/accuracy.md keeps
+   its table and the reason for each miss. */
+#define TARGET_FIXED_DB 28.0
+#define TARGET_VERTEX_DB 30.0
 
 /* Each tier's measured distance from full over the whole frame (runtime/
    metrics.h), at ACCURACY_SIZE² on llvmpipe, pinned so a regression in any
@@ -372,6 +380,8 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
     int mn = json_files("materials", materials, 16), sn = json_files("scenes", scenes, 8);
     assert_true(mn >= 4 && sn >= 2);
     const bool print_pins = getenv("HAIRTIER_PRINT_PINS") && strcmp(getenv("HAIRTIER_PRINT_PINS"), "1") == 0;
+    const bool shipped = getenv("HAIRTIER_SWEEP") && strcmp(getenv("HAIRTIER_SWEEP"), "shipped") == 0;
+    int below_target = 0;
     int failures = 0;
     for (int mat = 0; mat < mn; mat++) {
         char material_path[1100], err[1024];
@@ -386,11 +396,12 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
             snprintf(path, sizeof path, "scenes/%s.json", scenes[sc]);
             cJSON *root = cJSON_Parse(ht_test_read_file(".", path));
             assert_non_null(root);
-            cJSON_ReplaceItemInObjectCaseSensitive(root, "resolution",
-                cJSON_CreateIntArray((const int[]){ ACCURACY_SIZE, ACCURACY_SIZE }, 2));
+            if (!shipped)
+                cJSON_ReplaceItemInObjectCaseSensitive(root, "resolution",
+                    cJSON_CreateIntArray((const int[]){ ACCURACY_SIZE, ACCURACY_SIZE }, 2));
             keep_strand_file(root, path);
             cJSON *geometry = cJSON_GetObjectItem(root, "geometry");
-            if (cJSON_GetObjectItem(geometry, "hairs"))
+            if (!shipped && cJSON_GetObjectItem(geometry, "hairs"))
                 cJSON_ReplaceItemInObjectCaseSensitive(geometry, "hairs", cJSON_CreateNumber(ACCURACY_HAIRS));
             char *small = cJSON_Print(root);
             cJSON_Delete(root);
@@ -401,14 +412,20 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
             snprintf(cmd, sizeof cmd, "%s/hairgen materials/%s.json --scene %s -o %s >/dev/null", ht_test_build_dir(),
                      materials[mat], path, bundle);
             run(cmd);
-            char names[HT_TIER_COUNT][16];
+            char names[2 * HT_TIER_COUNT][16];
             int count = bundle_tiers(bundle, names, reference);
+            for (int t = 0, n = count; shipped && t < n; t++)
+                if (strcmp(names[t], "fixed4") == 0 || strcmp(names[t], "fixed") == 0)
+                    snprintf(names[count++], 16, "%.6s-device", names[t]);
             ht_image full = { 0 };
             for (int t = 0; t < count; t++) {
                 ht_image img;
+                const char *device = strstr(names[t], "-device");
                 snprintf(png, sizeof png, "%s/sweep-%s.png", work, names[t]);
-                snprintf(cmd, sizeof cmd, "%s/hairview --bundle %s --scene %s --tier %s --strict -o %s >/dev/null 2>&1",
-                         ht_test_build_dir(), bundle, path, names[t], png);
+                snprintf(cmd, sizeof cmd,
+                         "HAIRTIER_VARIANT=%s %s/hairview --bundle %s --scene %s --tier %.*s --strict -o %s >/dev/null 2>&1",
+                         device ? "device" : "exact", ht_test_build_dir(), bundle, path,
+                         device ? (int)(device - names[t]) : (int)strlen(names[t]), names[t], png);
                 run(cmd);
                 assert_int_equal(ht_image_read_png(png, &img, err, sizeof err), HT_OK);
                 if (t == 0) {
@@ -416,6 +433,17 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
                     continue;
                 }
                 ht_metrics m = whole_frame_metrics(&full, &img);
+                if (shipped) {
+                    const double target = strcmp(names[t], "vertex") == 0  ? TARGET_VERTEX_DB
+                                          : strcmp(names[t], "fixed") == 0 ? TARGET_FIXED_DB
+                                                                           : 0.0;
+                    printf("shipped %-14s x %-8s %-13s %6.2f dB, SSIM %.4f, CIEDE2000 mean %.3f p95 %.3f%s\n",
+                           materials[mat], scenes[sc], names[t], m.psnr_db, m.ssim, m.delta_e00_mean,
+                           m.delta_e00_p95, m.psnr_db < target ? " BELOW TARGET" : "");
+                    below_target += m.psnr_db < target;
+                    ht_image_free(&img);
+                    continue;
+                }
                 const accuracy_pin *pin = pinned(materials[mat], scenes[sc], names[t]);
                 printf("accuracy %-14s x %-8s %-7s %6.2f dB, SSIM %.4f, CIEDE2000 mean %.3f p95 %.3f", materials[mat],
                        scenes[sc], names[t], m.psnr_db, m.ssim, m.delta_e00_mean, m.delta_e00_p95);
@@ -431,6 +459,7 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
             ht_image_free(&full);
         }
     }
+    if (shipped) printf("shipped sweep: %d below target (docs/accuracy.md says why)\n", below_target);
     assert_int_equal(failures, 0);
 }
 
