@@ -8,9 +8,11 @@
    with a flat colour and no textures or shaders (ht_renderer_desc.flat).
    Prints the median frame time of each, the ratios tier / floor and
    tier / full, PSNR against full (shadergen/metrics.h, whole frame) and the
-   per-vertex CPU work per frame (ht_renderer_get_stats) with the camera
-   still and with it orbiting (--no-orbit skips that); frames are taken
-   round-robin. --csv FILE also writes the rows (support_results.h) with
+   per-vertex CPU work per frame (ht_renderer_get_stats), with the camera
+   still and again with the eye orbiting the target by ORBIT_STEP every
+   frame, as in a game (--no-orbit skips that); frames are taken
+   round-robin. fixed4 and fixed run twice: exact, and as their device-only
+   variant ("fixed4-device", "fixed-device"; hairtier.h ht_variant). --csv FILE also writes the rows (support_results.h) with
    series NAME (--series, default "matrix"), atomically.
    Run: make bench (build/bench_suite runs it per scene and driver).
    --context osmesa|egl and --egl-device N pick the GL context as hairview's
@@ -33,7 +35,8 @@
 #include "timing.h"
 
 #define MAX_FRAMES 64
-#define ORBIT_FRAMES 4
+#define MAX_CONTENDERS 10
+#define ORBIT_STEP 0.0175f /* radians a frame: one degree */
 
 static int WIDTH = 512, HEIGHT = 512, FRAMES = 9, HAIRS = 10000;
 #define MAX_HAIRS 1000000
@@ -50,7 +53,7 @@ typedef struct contender {
     const char *name;        /* as printed */
     const char *tier;        /* as recorded: "floor", "full", ... */
     ht_renderer *renderer;   /* NULL: the tier does not run here */
-    double samples[MAX_FRAMES];
+    double samples[MAX_FRAMES], orbit_samples[MAX_FRAMES];
     uint64_t cpu_still, cpu_orbit;   /* per-vertex CPU work over the timed frames */
     unsigned char *image;    /* the last timed frame, GL rows; what the metrics compare */
     ht_metrics whole, hair;  /* against full's image */
@@ -73,11 +76,18 @@ static void clear(const ht_scene *s) {
     gl->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 }
 
-static ht_renderer *create(const char *bundle, ht_tier tier, bool flat, const ht_mesh *mesh) {
+/* NULL when the tier does not run here (or, for HT_VARIANT_DEVICE, has no
+   device-only variant for this bundle). */
+static ht_renderer *create(const char *bundle, ht_tier tier, bool flat, ht_variant variant, const ht_mesh *mesh) {
     ht_renderer *r = NULL;
     if (ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = bundle, .tier = tier,
-                                                .strict = true, .flat = flat, .log = quiet }, &r) != HT_OK)
+                                                .strict = true, .flat = flat, .log = quiet,
+                                                .variant = variant ? variant : HT_VARIANT_EXACT }, &r) != HT_OK)
         return NULL;
+    if (variant == HT_VARIANT_DEVICE && ht_renderer_variant(r) != HT_VARIANT_DEVICE) {
+        ht_renderer_destroy(r);
+        return NULL;
+    }
     if (ht_renderer_set_mesh(r, mesh) != HT_OK) {
         ht_renderer_destroy(r);
         return NULL;
@@ -85,12 +95,26 @@ static ht_renderer *create(const char *bundle, ht_tier tier, bool flat, const ht
     return r;
 }
 
-/* Frames are taken round-robin (floor, full, vertex, fixed, floor, ...), so
-   a change in machine load during the run falls on every contender alike. */
-static bool time_round_robin(contender *c, int count, const stage *st) {
+/* Frame i of a run: the scene's view, or with orbit the eye turned round
+   the target's vertical by ORBIT_STEP more each frame (the warm-up, i = -1,
+   too: every timed frame has an eye its tier has not seen). */
+static ht_frame_desc run_frame(const stage *st, int i, bool orbit) {
     ht_frame_desc frame = frame_of(st);
-    uint64_t before[8] = { 0 };
+    if (!orbit) return frame;
+    const float *t = frame.camera.target, a = ORBIT_STEP * (float)(i + 2);
+    const float x = frame.camera.eye[0] - t[0], z = frame.camera.eye[2] - t[2];
+    frame.camera.eye[0] = t[0] + x * cosf(a) - z * sinf(a);
+    frame.camera.eye[2] = t[2] + x * sinf(a) + z * cosf(a);
+    return frame;
+}
+
+/* Frames are taken round-robin (floor, full, vertex, fixed, floor, ...), so
+   a change in machine load during the run falls on every contender alike.
+   Still frames keep the last one's image (what the metrics compare). */
+static bool time_round_robin(contender *c, int count, const stage *st, bool orbit) {
+    uint64_t before[MAX_CONTENDERS] = { 0 };
     for (int i = -1; i < FRAMES; i++) { /* frame -1 warms up */
+        ht_frame_desc frame = run_frame(st, i, orbit);
         for (int k = 0; k < count; k++) {
             if (!c[k].renderer) continue;
             if (i == 0) before[k] = ht_renderer_get_stats(c[k].renderer).cpu_vertices;
@@ -98,31 +122,17 @@ static bool time_round_robin(contender *c, int count, const stage *st) {
             double t0 = now_ms();
             if (ht_renderer_draw(c[k].renderer, &frame) != HT_OK) return false;
             gl->gl.Finish();
-            if (i >= 0) c[k].samples[i] = now_ms() - t0;
-            if (i == FRAMES - 1) memcpy(c[k].image, offscreen_read(gl), (size_t)WIDTH * HEIGHT * 4);
+            if (i >= 0) (orbit ? c[k].orbit_samples : c[k].samples)[i] = now_ms() - t0;
+            if (i == FRAMES - 1 && !orbit) memcpy(c[k].image, offscreen_read(gl), (size_t)WIDTH * HEIGHT * 4);
         }
     }
-    for (int k = 0; k < count; k++)
-        if (c[k].renderer) c[k].cpu_still = ht_renderer_get_stats(c[k].renderer).cpu_vertices - before[k];
-    return true;
-}
-
-/* The camera orbiting the ball, one step per frame (untimed): what per-vertex
-   CPU work a moving camera costs each tier. */
-static void count_orbit(contender *c, int count, const stage *st) {
     for (int k = 0; k < count; k++) {
         if (!c[k].renderer) continue;
-        uint64_t before = ht_renderer_get_stats(c[k].renderer).cpu_vertices;
-        for (int i = 0; i < ORBIT_FRAMES; i++) {
-            ht_frame_desc frame = frame_of(st);
-            float a = 0.2f * (float)(i + 1), x = frame.camera.eye[0], z = frame.camera.eye[2];
-            frame.camera.eye[0] = x * cosf(a) - z * sinf(a);
-            frame.camera.eye[2] = x * sinf(a) + z * cosf(a);
-            clear(st->scene);
-            ht_renderer_draw(c[k].renderer, &frame);
-        }
-        c[k].cpu_orbit = ht_renderer_get_stats(c[k].renderer).cpu_vertices - before;
+        uint64_t n = ht_renderer_get_stats(c[k].renderer).cpu_vertices - before[k];
+        if (orbit) c[k].cpu_orbit = n;
+        else c[k].cpu_still = n;
     }
+    return true;
 }
 
 /* Each tier's error against full's image of this run. */
@@ -152,6 +162,12 @@ static void scene_name(const char *path, char *out, size_t size) {
 static double median_ms(const contender *c) {
     double samples[MAX_FRAMES];
     memcpy(samples, c->samples, sizeof samples);
+    return median(samples, FRAMES);
+}
+
+static double median_orbit_ms(const contender *c) {
+    double samples[MAX_FRAMES];
+    memcpy(samples, c->orbit_samples, sizeof samples);
     return median(samples, FRAMES);
 }
 
@@ -186,7 +202,9 @@ static bool write_csv(const contender *c, int count, const ht_scene *scene, uint
         r->per_full = r->median_ms / full_ms;
         r->whole = c[k].whole, r->hair = c[k].hair;
         r->cpu_still = (double)c[k].cpu_still / FRAMES;
-        r->cpu_orbit = ORBIT ? (double)c[k].cpu_orbit / ORBIT_FRAMES : NAN;
+        r->cpu_orbit = ORBIT ? (double)c[k].cpu_orbit / FRAMES : NAN;
+        r->orbit_ms = ORBIT ? median_orbit_ms(&c[k]) : NAN;
+        r->orbit_per_full = ORBIT ? r->orbit_ms / median_orbit_ms(&c[1]) : NAN;
     }
     char err[512] = "out of memory";
     if (ok) ok = ht_file_write_atomic(CSV, write_rows, &rows, err, sizeof err) == HT_OK;
@@ -197,19 +215,26 @@ static bool write_csv(const contender *c, int count, const ht_scene *scene, uint
 
 static void print_table(const contender *c, int count) {
     const double floor_ms = median_ms(&c[0]), full_ms = median_ms(&c[1]);
-    printf("  %-14s %9s %11s %10s %22s %9s\n", "", "median", "/ floor", "/ full", "CPU vertices per frame",
+    const double full_orbit = ORBIT ? median_orbit_ms(&c[1]) : NAN;
+    printf("  %-14s %31s %21s %22s %9s\n", "", "camera still", "eye orbiting", "CPU vertices per frame",
            "PSNR dB");
-    printf("  %-14s %9s %11s %10s %11s %10s %9s\n", "", "", "", "", "still", "orbiting", "vs full");
+    printf("  %-14s %9s %10s %10s %10s %10s %11s %10s %9s\n", "", "median", "/ floor", "/ full", "median", "/ full",
+           "still", "orbiting", "vs full");
     for (int k = 0; k < count; k++) {
         if (!c[k].renderer) {
             printf("  %-14s       n/a (does not run here)\n", c[k].name);
             continue;
         }
         double ms = median_ms(&c[k]);
-        char orbit[32] = "-";
-        if (ORBIT) snprintf(orbit, sizeof orbit, "%.0f", (double)c[k].cpu_orbit / ORBIT_FRAMES);
-        printf("  %-14s %8.2f ms %10.2fx %9.2fx %11.0f %10s %9.1f\n", c[k].name, ms, ms / floor_ms, ms / full_ms,
-               (double)c[k].cpu_still / FRAMES, orbit, c[k].whole.psnr_db);
+        char orbit[32] = "-", orbit_ms[32] = "-", orbit_ratio[32] = "-";
+        if (ORBIT) {
+            double oms = median_orbit_ms(&c[k]);
+            snprintf(orbit, sizeof orbit, "%.0f", (double)c[k].cpu_orbit / FRAMES);
+            snprintf(orbit_ms, sizeof orbit_ms, "%.2f ms", oms);
+            snprintf(orbit_ratio, sizeof orbit_ratio, "%.2fx", oms / full_orbit);
+        }
+        printf("  %-14s %8.2f ms %9.2fx %9.2fx %10s %10s %11.0f %10s %9.1f\n", c[k].name, ms, ms / floor_ms,
+               ms / full_ms, orbit_ms, orbit_ratio, (double)c[k].cpu_still / FRAMES, orbit, c[k].whole.psnr_db);
     }
 }
 
@@ -259,14 +284,21 @@ static int run(const char *work) {
     printf(", %dx%d, %s (%s), median of %d frames\n", WIDTH, HEIGHT, (const char *)gl->gl.GetString(GL_RENDERER),
            gl->display, FRAMES);
     /* Best first, as the bundle lists them; a tier this build lacks is skipped. */
-    const char *names[] = { "full", "vertex", "fixed4", "fixed", "gl11" };
-    enum { TIERS = sizeof names / sizeof names[0] };
+    static const struct { const char *name, *tier; ht_variant variant; } runs[] = {
+        { "full", "full", HT_VARIANT_EXACT },     { "vertex", "vertex", HT_VARIANT_EXACT },
+        { "fixed4", "fixed4", HT_VARIANT_EXACT }, { "fixed4-device", "fixed4", HT_VARIANT_DEVICE },
+        { "fixed", "fixed", HT_VARIANT_EXACT },   { "fixed-device", "fixed", HT_VARIANT_DEVICE },
+        { "gl11", "gl11", HT_VARIANT_EXACT },
+    };
+    enum { TIERS = sizeof runs / sizeof runs[0] };
+    _Static_assert(TIERS + 1 <= MAX_CONTENDERS, "MAX_CONTENDERS");
     contender c[TIERS + 1] = { { .name = "geometry floor", .tier = "floor",
-                                 .renderer = create(dir, HT_TIER_AUTO, true, &mesh) } };
+                                 .renderer = create(dir, HT_TIER_AUTO, true, HT_VARIANT_EXACT, &mesh) } };
     for (int k = 0; k < TIERS; k++) {
-        ht_tier t = ht_tier_from_name(names[k]);
-        c[k + 1] = (contender){ .name = names[k], .tier = names[k],
-                                .renderer = t == HT_TIER_COUNT ? NULL : create(dir, t, false, &mesh) };
+        ht_tier t = ht_tier_from_name(runs[k].tier);
+        c[k + 1] = (contender){ .name = runs[k].name, .tier = runs[k].name,
+                                .renderer = t == HT_TIER_COUNT ? NULL
+                                                               : create(dir, t, false, runs[k].variant, &mesh) };
     }
     bool images = true;
     for (int k = 0; k <= TIERS; k++)
@@ -274,10 +306,10 @@ static int run(const char *work) {
     stage st = { &scene, head.index_count ? &head : NULL };
     if (!images) {
         fprintf(stderr, "bench_frame: out of memory for the tiers' images\n");
-    } else if (!c[0].renderer || !c[1].renderer || !time_round_robin(c, TIERS + 1, &st)) {
+    } else if (!c[0].renderer || !c[1].renderer || !time_round_robin(c, TIERS + 1, &st, false) ||
+               (ORBIT && !time_round_robin(c, TIERS + 1, &st, true))) {
         fprintf(stderr, "bench_frame: the geometry floor or the full tier did not render\n");
     } else if (measure_errors(c, TIERS + 1)) {
-        if (ORBIT) count_orbit(c, TIERS + 1, &st);
         print_table(c, TIERS + 1);
         status = CSV && !write_csv(c, TIERS + 1, &scene, mesh.index_count / 3) ? 1 : 0;
     }

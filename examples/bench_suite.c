@@ -7,8 +7,9 @@
    (GALLIUM_DRIVER, read once per process by Mesa):
    1. build/bench_hairgen (the generator's figures) and build/bench_mesh;
    2. build/bench_frame for every scene × driver (the matrix): every tier's
-      median frame ms, its ratios to the geometry floor and to full taken in
-      that same run, and its error against full's image;
+      median frame ms with the camera still and (llvmpipe) with the eye
+      orbiting a little every frame, its ratios to the geometry floor and
+      to full taken in that same run, and its error against full's image;
    3. build/bench_frame on the fur ball at 1k, 5k, 20k and 40k hairs on
       llvmpipe (the scaling series; the matrix's 10k run is its fifth point).
    Their own tables print as they run; after each step a progress line with
@@ -60,9 +61,8 @@ static const int scaling_hairs[] = { 1000, 5000, 20000, 40000 };
 enum { SCALING_FRAMES = 5 };
 
 #define MAX_STEPS 32
-#define CONTENDERS 6   /* the floor and five tiers */
+#define CONTENDERS 8   /* the floor, five tiers and the device variants of fixed4 and fixed */
 #define WARM_UP 1
-#define ORBIT 4
 
 typedef enum step_kind { FIGURES, PRINT_ONLY, FRAME } step_kind;
 
@@ -85,7 +85,7 @@ typedef struct step {
 static double frame_weight(const driver *d, bool furball, int hairs, int size, int frames, bool orbit) {
     double pixels = (double)size * size / (512.0 * 512.0);
     double per_frame = d->frame_s * pixels * (furball ? 0.27 + 0.73 * hairs / 10000.0 : 0.13);
-    return CONTENDERS * (frames + WARM_UP + (orbit ? ORBIT : 0)) * per_frame;
+    return CONTENDERS * (frames + WARM_UP) * (orbit ? 2 : 1) * per_frame;
 }
 
 static int plan(step *s, bool quick) {
@@ -98,7 +98,8 @@ static int plan(step *s, bool quick) {
             bool furball = strstr(scenes[k], "furball") != NULL;
             int size = quick ? 96 : dr->size, frames = quick ? 2 : dr->frames;
             int hairs = furball ? (quick ? dr->furball_hairs / 10 : dr->furball_hairs) : 0;
-            /* The CPU's per-vertex work is the driver's business not at all: counted on the first only. */
+            /* Orbiting frames (timed, beside the still ones) on the first driver only: the CPU's
+               per-vertex work is the driver's business not at all, and softpipe's frames are long. */
             bool orbit = d == 0;
             s[n++] = (step){ .kind = FRAME, .program = "bench_frame", .driver = dr->name, .scene = scenes[k],
                              .hairs = hairs, .size = size, .frames = frames, .orbit = orbit, .series = "matrix",

@@ -49,6 +49,7 @@
 #include "errfmt.h"
 #include "fixed.h"
 #include "fixed_coords.h"
+#include "fixed_device.h"
 #include "fixed_soa.h"
 #include "gl_error.h"
 #include "tier_program.h"
@@ -80,6 +81,7 @@ typedef struct fixed_state {
     int prime_first;                          /* first stage the prime-Z pass enables */
     int lut_unit;                             /* the unit of the stage reading the LUT */
     bool matrix_rule;                         /* the program's LUT coords are "texture-matrix" */
+    bool device_variant;                      /* the program is fixed_device.h's, over t1 (ht_variant) */
     bool matrix_loaded;                       /* the LUT unit's texture matrix is not identity */
     bool point_light_logged;
     ht_vertex *vertices;                      /* copy of the mesh's, for coords, tangents and uv */
@@ -87,7 +89,12 @@ typedef struct fixed_state {
     light_slot slots[HT_MAX_LIGHTS];          /* per sub-pass */
     int slot_count;
     ht_fixed_soa soa;                         /* "cpu-dots": the static part, float, per mesh */
-    GLuint vertex_buffer;                     /* vertices' copy: tangents and uv (VBO, when it has them) */
+    /* What the draws read per vertex besides the renderer's positions:
+       packed, (tangent, uv) under "texture-matrix", else uv alone, so a
+       still frame fetches no more than it uses (VBO, when it has them) */
+    float *statics;
+    int static_width;                         /* floats per vertex: 5 or 2 */
+    GLuint vertex_buffer;
     uint64_t cpu_vertices;                    /* per-vertex CPU work so far */
     ht_log_fn log;
     void *log_user;
@@ -130,6 +137,7 @@ static void destroy(void *state) {
     for (int i = 0; i < HT_COMBINER_MAX_STAGES; i++)
         if (s->textures[i]) s->gl->DeleteTextures(1, &s->textures[i]);
     free(s->vertices);
+    free(s->statics);
     for (int k = 0; k < s->slot_count; k++) {
         light_slot *slot = &s->slots[k];
         free(slot->coords);
@@ -254,6 +262,26 @@ static ht_result upload_stage(fixed_state *s, const ht_tier_context *ctx, int st
     return r;
 }
 
+/* The device-only variant's LUT: the bundle's 3D LUT resampled into 2D
+   (fixed_device.h), uploaded on the stage's unit. */
+static ht_result upload_device_lut(fixed_state *s, const ht_tier_context *ctx, int stage, char *err,
+                                   size_t err_size) {
+    const ht_combiner_stage *st = &s->program.stages[stage];
+    char path[HT_LIMIT_BUNDLE_FILE_PATH];
+    ht_image img = { 0 }, lut = { 0 };
+    int depth = 1;
+    ht_result r = read_stage_image(s, ctx, stage, &img, &depth, path, sizeof path, err, err_size);
+    if (r != HT_OK) return r;
+    r = ht_fixed_device_lut(&s->program, &img, &lut);
+    ht_image_free(&img);
+    if (r != HT_OK) return ht_fail(err, err_size, r, "%s: cannot resample the LUT for the device variant", path);
+    r = ht_gl_texture_upload(s->gl, &(ht_gl_texture_desc){ .target = GL_TEXTURE_2D, .image = &lut, .depth = 1,
+                                                           .filter = st->filter, .wrap = st->wrap, .name = path },
+                             &s->textures[stage], err, err_size);
+    ht_image_free(&lut);
+    return r;
+}
+
 static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_t err_size) {
     *out = NULL;
     fixed_state *s = calloc(1, sizeof *s);
@@ -265,11 +293,16 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
     char path[HT_LIMIT_BUNDLE_FILE_PATH];
     ht_result r = load_program(s, ctx, path, sizeof path, err, err_size);
     if (r == HT_OK) r = check_device(s, ctx, path, err, err_size);
-    for (int i = 0; r == HT_OK && i < s->program.stage_count; i++) r = upload_stage(s, ctx, i, err, err_size);
+    s->device_variant = r == HT_OK && ctx->device_variant && ht_fixed_device_applies(&s->program);
+    for (int i = 0; r == HT_OK && i < s->program.stage_count; i++)
+        r = s->device_variant && s->program.stages[i].coords == HT_COORDS_CPU_DOTS
+                ? upload_device_lut(s, ctx, i, err, err_size)
+                : upload_stage(s, ctx, i, err, err_size);
     if (r != HT_OK) {
         destroy(s);
         return r;
     }
+    if (s->device_variant) ht_fixed_device_program(&s->program, &s->program);
     s->slot_count = ht_combiner_sub_passes(&s->program);
     for (int k = 0; k < s->slot_count; k++) s->slots[k].light = ht_combiner_sub_pass_light(&s->program, k);
     s->prime_first = prime_first_stage(&s->program);
@@ -284,7 +317,9 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
                  "%d light%s (%d additive sub-pass%s), prime Z uses %s, coordinates %s", s->program.stage_count, n[0],
                  n[1], n[2], s->program.lut_scale, s->program.light_scale, s->slot_count, s->slot_count == 1 ? "" : "s",
                  s->slot_count - 1, s->slot_count == 2 ? "" : "es", prime,
-                 s->matrix_rule ? "by the texture matrix (infinite viewer)" : "on the CPU per vertex");
+                 s->device_variant ? "by the texture matrix over t1 (infinite viewer: the device-only variant)"
+                 : s->matrix_rule  ? "by the texture matrix (infinite viewer)"
+                                   : "on the CPU per vertex");
     *out = s;
     return HT_OK;
 }
@@ -334,8 +369,10 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     fixed_state *s = state;
     size_t n = mesh->vertex_count;
     ht_vertex *v = malloc(n ? n * sizeof *v : 1);
+    const int width = s->matrix_rule ? 5 : 2;
+    float *statics = malloc(n ? n * (size_t)width * sizeof(float) : 1);
     float *coords[HT_MAX_LIGHTS] = { NULL }, *colors[HT_MAX_LIGHTS] = { NULL };
-    bool ok = v != NULL;
+    bool ok = v != NULL && statics != NULL;
     for (int k = 0; ok && k < s->slot_count; k++) {
         coords[k] = s->matrix_rule ? NULL : malloc(n ? n * 3 * sizeof(float) : 1);
         colors[k] = malloc(n ? n * 4 * sizeof(float) : 1);
@@ -343,10 +380,12 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     }
     ht_fixed_soa soa = { 0 };
     if (ok && n) memcpy(v, mesh->vertices, n * sizeof *v);
+    if (ok && s->device_variant) ht_fixed_device_vectors(&s->program, v, n);
     if (ok && s->matrix_rule) normalize_tangents(v, n);
     if (ok && !s->matrix_rule) ok = ht_fixed_soa_make(&s->program, mesh->vertices, n, &soa) == HT_OK;
     if (!ok) {
         free(v);
+        free(statics);
         for (int k = 0; k < s->slot_count; k++) {
             free(coords[k]);
             free(colors[k]);
@@ -355,8 +394,16 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     }
     ht_fixed_soa_free(&s->soa);
     s->soa = soa;
+    for (size_t i = 0; i < n; i++) {
+        float *out = statics + i * (size_t)width;
+        if (s->matrix_rule) memcpy(out, v[i].tangent, 3 * sizeof(float));
+        memcpy(out + width - 2, v[i].uv, 2 * sizeof(float));
+    }
     free(s->vertices);
     s->vertices = v;
+    free(s->statics);
+    s->statics = statics;
+    s->static_width = width;
     s->vertex_count = mesh->vertex_count;
     for (int k = 0; k < s->slot_count; k++) {
         light_slot *slot = &s->slots[k];
@@ -372,7 +419,7 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     if (s->caps->has_vbo)
         while (s->gl->GetError() != GL_NO_ERROR) {}
     /* refused: the renderer drops the mesh with its one line (as fixed4) */
-    GLenum e = upload(s, &s->vertex_buffer, v, n * sizeof *v, GL_STATIC_DRAW, NULL);
+    GLenum e = upload(s, &s->vertex_buffer, statics, n * (size_t)width * sizeof(float), GL_STATIC_DRAW, NULL);
     for (int k = 0; e == GL_NO_ERROR && k < s->slot_count; k++) {
         light_slot *slot = &s->slots[k];
         e = upload(s, &slot->color_buffer, slot->colors, n * 4 * sizeof(float), GL_DYNAMIC_DRAW, NULL);
@@ -574,23 +621,26 @@ static bool point_stage_arrays(void *state, ht_pass pass, int sub_pass) {
        coordinates (logged in begin_frame): draw nothing rather than garbage */
     if (!slot->frame_matrix && !slot->coords) return false;
     const GLuint bound = ht_gl_array_buffer_binding(gl);
-    const GLsizei stride = (GLsizei)sizeof(ht_vertex);
+    const GLsizei stride = (GLsizei)((size_t)s->static_width * sizeof(float));
+    const size_t uv_offset = (size_t)(s->static_width - 2) * sizeof(float);
     for (int i = 0; i < s->program.stage_count; i++) {
         const ht_combiner_stage *st = &s->program.stages[i];
         if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0 + (GLenum)st->unit);
         gl->EnableClientState(GL_TEXTURE_COORD_ARRAY);
         if (st->coords == HT_COORDS_TEXTURE_MATRIX && slot->frame_matrix)
             gl->TexCoordPointer(3, GL_FLOAT, stride,
-                                array_source(gl, s->vertex_buffer, s->vertices, offsetof(ht_vertex, tangent)));
+                                array_source(gl, s->vertex_buffer, s->statics, 0));
         else if (st->coords != HT_COORDS_UV)
             gl->TexCoordPointer(3, GL_FLOAT, 0, array_source(gl, slot->coord_buffer, slot->coords, 0));
         else
             gl->TexCoordPointer(2, GL_FLOAT, stride,
-                                array_source(gl, s->vertex_buffer, s->vertices, offsetof(ht_vertex, uv)));
+                                array_source(gl, s->vertex_buffer, s->statics, uv_offset));
     }
     if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0);
     gl->EnableClientState(GL_COLOR_ARRAY);
     gl->ColorPointer(4, GL_FLOAT, 0, array_source(gl, slot->color_buffer, slot->colors, 0));
+    /* no GL lighting here: the renderer's normals would be fetched for nothing */
+    gl->DisableClientState(GL_NORMAL_ARRAY);
     ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, bound);
     return true;
 }
@@ -621,6 +671,7 @@ static void end_frame(void *state) {
 }
 
 static uint64_t cpu_vertices(void *state) { return ((const fixed_state *)state)->cpu_vertices; }
+static bool device_variant(void *state) { return ((const fixed_state *)state)->device_variant; }
 
 const ht_tier_backend ht_tier_fixed_backend = {
     .tier = HT_TIER_FIXED,
@@ -633,4 +684,5 @@ const ht_tier_backend ht_tier_fixed_backend = {
     .end_frame = end_frame,
     .destroy = destroy,
     .cpu_vertices = cpu_vertices,
+    .device_variant = device_variant,
 };

@@ -48,6 +48,7 @@ typedef struct fixed4_state {
     float coords_key[3 + 3 * HT_FIXED4_MAX_LIGHTS];
     uint64_t cpu_vertices;
     int scale;
+    bool device_variant;   /* a local-viewer program drawn with the infinite viewer (ht_variant) */
     /* this frame */
     float matrices[HT_FIXED4_MAX_LUTS][16];
     float light_dirs[HT_FIXED4_MAX_LIGHTS][3];
@@ -104,6 +105,12 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
     s->log = ctx->log;
     s->log_user = ctx->log_user;
     ht_result r = load_program(s, ctx, err, err_size);
+    /* The device-only variant: the texture matrices' infinite viewer in
+       place of the local viewer's per-vertex CPU coordinates. */
+    if (r == HT_OK && ctx->device_variant && s->program.viewer == HT_FIXED4_VIEWER_LOCAL) {
+        s->program.viewer = HT_FIXED4_VIEWER_INFINITE;
+        s->device_variant = true;
+    }
     if (r == HT_OK) {
         s->luts = ht_fixed4_lut_count(&s->program);
         s->units = ht_fixed4_units(&s->program);
@@ -129,7 +136,8 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
                  "diffuse by GL lighting%s", s->units, s->luts,
                  s->luts == 1 ? "" : "s", w, h, s->program.lights, s->program.lights == 1 ? "" : "s",
                  s->program.viewer == HT_FIXED4_VIEWER_LOCAL ? "per vertex on the CPU (local viewer)"
-                                                             : "by the texture matrix (infinite viewer)",
+                 : s->device_variant ? "by the texture matrix (infinite viewer: the device-only variant)"
+                                     : "by the texture matrix (infinite viewer)",
                  s->program.shading.model == HT_MODEL_KAJIYA_KAY ? " (none: Kajiya-Kay's is in the LUT)" : "");
     *out = s;
     return HT_OK;
@@ -405,6 +413,7 @@ static void end_frame(void *state) {
 }
 
 static uint64_t cpu_vertices(void *state) { return ((const fixed4_state *)state)->cpu_vertices; }
+static bool device_variant(void *state) { return ((const fixed4_state *)state)->device_variant; }
 
 const ht_tier_backend ht_tier_fixed4_backend = {
     .tier = HT_TIER_FIXED4,
@@ -416,4 +425,5 @@ const ht_tier_backend ht_tier_fixed4_backend = {
     .end_frame = end_frame,
     .destroy = destroy,
     .cpu_vertices = cpu_vertices,
+    .device_variant = device_variant,
 };

@@ -47,6 +47,12 @@ typedef struct ht_plan {
        highlight by more than a quarter of its width (1/sqrt(e)). */
     double viewer_spread;
     bool local_viewer;
+    /* The key light (light 0) is directional and shines from behind the
+       hair as the scene's camera sees it (L . (eye - target) < 0): it
+       lights little of what the camera sees, so a fill light's diffuse
+       matters more than where an infinite viewer puts its highlight
+       (emit_fixed.c choose_add_lights). */
+    bool key_behind;
     /* Brightest rgb channel of the packed albedo in [0, 1] (1 until
        generate.c measures it): the gl11 tier's headroom (gl11_program.h). */
     double albedo_max;

@@ -131,6 +131,7 @@ static double median(double *v, int n) {
    tier's GL state from leaking into the next, as tier_sheet does. */
 typedef struct tier_run {
     const ht_manifest_tier *entry;
+    ht_variant variant;           /* HT_VARIANT_DEVICE: the tier's device-only variant */
     unsigned char *rgba;          /* its frame, rows bottom-up */
     OSMesaContext ctx;
     ht_renderer *renderer;
@@ -177,7 +178,8 @@ static ht_result start_tier(tier_run *t, const char *dir, const ht_scene *s, con
     t->last_log[0] = '\0';
     ht_result r = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = dir,
                                                           .tier = t->entry->tier, .strict = true,
-                                                          .log = keep_last_line, .log_user = t, .policy = "best" },
+                                                          .log = keep_last_line, .log_user = t, .policy = "best",
+                                                          .variant = t->variant ? t->variant : HT_VARIANT_EXACT },
                                      &t->renderer);
     if (r == HT_OK) {
         t->last_log[0] = '\0';
@@ -251,6 +253,15 @@ static ht_result measure_all(tier_run *runs, int count, int full, const char *di
         goto done;
     }
     for (int i = 0; i < count && r == HT_OK; i++) r = start_tier(&runs[i], dir, s, &hair, err, err_size);
+    /* Each tier's device-only variant, where its backend has one here. */
+    for (int i = 0; i < count && r == HT_OK; i++) {
+        tier_run *d = &runs[count + i];
+        d->entry = runs[i].entry;
+        d->variant = HT_VARIANT_DEVICE;
+        r = start_tier(d, dir, s, &hair, err, err_size);
+        if (r == HT_OK && ht_renderer_variant(d->renderer) != HT_VARIANT_DEVICE) stop_tier(d, s);
+    }
+    const int all = 2 * count;
 
     ht_frame_desc frame = { .camera = s->camera, .lights = s->lights, .light_count = s->light_count,
                             .aspect = (float)s->width / (float)s->height,
@@ -258,7 +269,8 @@ static ht_result measure_all(tier_run *runs, int count, int full, const char *di
     /* Round-robin: frame k of every tier before frame k + 1 of any, so a
        change in the machine's load lands on every tier alike. */
     for (int k = 0; k < FRAMES && r == HT_OK; k++)
-        for (int i = 0; i < count && r == HT_OK; i++) {
+        for (int i = 0; i < all && r == HT_OK; i++) {
+            if (!runs[i].renderer) continue;
             double ms = 0;
             r = draw_frame(&runs[i], s, &frame, &ms, err, err_size);
             if (k >= HT_MEASURE_WARMUP_FRAMES) runs[i].ms[k - HT_MEASURE_WARMUP_FRAMES] = ms;
@@ -278,6 +290,15 @@ static ht_result measure_all(tier_run *runs, int count, int full, const char *di
                                                    .width = s->width, .height = s->height },
                                &m->whole, NULL, why, sizeof why);
         if (r != HT_OK) ht_set_error(err, err_size, "measure: %s: %s", m->name, why);
+        const tier_run *d = &runs[count + i];
+        if (r != HT_OK || !d->renderer) continue;
+        m->device.present = true;
+        m->device.frame_ms = median(runs[count + i].ms, HT_MEASURE_TIMED_FRAMES);
+        m->device.cost_ratio = m->device.frame_ms / full_ms;
+        r = ht_metrics_compare(&(ht_metrics_desc){ .reference = runs[full].rgba, .test = d->rgba,
+                                                   .width = s->width, .height = s->height },
+                               &m->device.whole, NULL, why, sizeof why);
+        if (r != HT_OK) ht_set_error(err, err_size, "measure: %s (device variant): %s", m->name, why);
     }
     /* A blank comparison scores every tier "identical": the reference must
        draw hair. Counted on a frame of the hair alone, so a head in view
@@ -308,7 +329,7 @@ ht_result ht_measure_bundle(const char *dir, const ht_scene *scene, const char *
     out->height = scene->height;
 
     ht_manifest *bundle = malloc(sizeof *bundle);
-    tier_run *runs = calloc(HT_MANIFEST_MAX_TIERS, sizeof *runs);
+    tier_run *runs = calloc(2 * HT_MANIFEST_MAX_TIERS, sizeof *runs); /* each tier, then its device variant */
     if (!bundle || !runs) {
         free(bundle);
         free(runs);
@@ -331,7 +352,7 @@ ht_result ht_measure_bundle(const char *dir, const ht_scene *scene, const char *
                     dir, HT_MANIFEST_FILE);
     if (r == HT_OK)
         r = measure_all(runs, count, full, dir, scene, scene_file, scene_label, out, err, err_size);
-    for (int i = 0; i < count; i++) stop_tier(&runs[i], scene);
+    for (int i = 0; i < 2 * count; i++) stop_tier(&runs[i], scene);
     free(runs);
     free(bundle);
     if (r != HT_OK) out->tier_count = 0;
@@ -350,33 +371,40 @@ static double round_significant(double v, int digits) {
 
 /* The reader's ranges (manifest.h), checked before anything is written so
    that hairgen never makes a manifest the runtime refuses. */
-static ht_result check_tier(const ht_measure_tier *m, char *err, size_t err_size) {
+static ht_result check_numbers(const char *name, const ht_metrics *w, double cost_ratio, char *err,
+                               size_t err_size) {
     const char *field = NULL, *range = NULL;
     double v = 0;
-    if (!(m->whole.psnr_db == INFINITY || (m->whole.psnr_db >= 0 && m->whole.psnr_db <= HT_MANIFEST_MAX_PSNR_DB)))
-        field = HT_MANIFEST_KEY_PSNR_DB, v = m->whole.psnr_db, range = "[0, 1000] or infinite";
-    else if (!(m->whole.ssim >= -1 && m->whole.ssim <= 1))
-        field = HT_MANIFEST_KEY_SSIM, v = m->whole.ssim,
+    if (!(w->psnr_db == INFINITY || (w->psnr_db >= 0 && w->psnr_db <= HT_MANIFEST_MAX_PSNR_DB)))
+        field = HT_MANIFEST_KEY_PSNR_DB, v = w->psnr_db, range = "[0, 1000] or infinite";
+    else if (!(w->ssim >= -1 && w->ssim <= 1))
+        field = HT_MANIFEST_KEY_SSIM, v = w->ssim,
         range = "[-1, 1] (a frame under 11x11 pixels has no SSIM window)";
-    else if (!(m->whole.delta_e00_mean >= 0 && m->whole.delta_e00_mean <= HT_MANIFEST_MAX_DELTA_E))
-        field = HT_MANIFEST_KEY_DELTA_E00_MEAN, v = m->whole.delta_e00_mean, range = "[0, 1000]";
-    else if (!(m->whole.delta_e00_p95 >= 0 && m->whole.delta_e00_p95 <= HT_MANIFEST_MAX_DELTA_E))
-        field = HT_MANIFEST_KEY_DELTA_E00_P95, v = m->whole.delta_e00_p95, range = "[0, 1000]";
-    else if (!(m->cost_ratio > 0 && m->cost_ratio <= HT_MANIFEST_MAX_COST_RATIO))
-        field = HT_MANIFEST_KEY_COST_RATIO, v = m->cost_ratio, range = "(0, 1e6]";
+    else if (!(w->delta_e00_mean >= 0 && w->delta_e00_mean <= HT_MANIFEST_MAX_DELTA_E))
+        field = HT_MANIFEST_KEY_DELTA_E00_MEAN, v = w->delta_e00_mean, range = "[0, 1000]";
+    else if (!(w->delta_e00_p95 >= 0 && w->delta_e00_p95 <= HT_MANIFEST_MAX_DELTA_E))
+        field = HT_MANIFEST_KEY_DELTA_E00_P95, v = w->delta_e00_p95, range = "[0, 1000]";
+    else if (!(cost_ratio > 0 && cost_ratio <= HT_MANIFEST_MAX_COST_RATIO))
+        field = HT_MANIFEST_KEY_COST_RATIO, v = cost_ratio, range = "(0, 1e6]";
     if (!field) return HT_OK;
-    return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: %s: %s: %g is outside %s", m->name, field, v, range);
+    return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: %s: %s: %g is outside %s", name, field, v, range);
 }
 
-static cJSON *measured_object(const ht_measure_tier *m, const ht_measure_result *all) {
+static ht_result check_tier(const ht_measure_tier *m, char *err, size_t err_size) {
+    ht_result r = check_numbers(m->name, &m->whole, m->cost_ratio, err, err_size);
+    if (r == HT_OK && m->device.present) r = check_numbers(m->name, &m->device.whole, m->device.cost_ratio, err, err_size);
+    return r;
+}
+
+static cJSON *measured_object(const ht_metrics *w, double cost_ratio, const ht_measure_result *all) {
     cJSON *o = cJSON_CreateObject();
     /* Identical to full (full itself): null, the reader's "infinite". */
-    if (isinf(m->whole.psnr_db)) cJSON_AddNullToObject(o, HT_MANIFEST_KEY_PSNR_DB);
-    else cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_PSNR_DB, round_to(m->whole.psnr_db, 0.01));
-    cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_SSIM, round_to(m->whole.ssim, 1e-4));
-    cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_DELTA_E00_MEAN, round_to(m->whole.delta_e00_mean, 1e-3));
-    cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_DELTA_E00_P95, round_to(m->whole.delta_e00_p95, 1e-3));
-    cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_COST_RATIO, round_significant(m->cost_ratio, 4));
+    if (isinf(w->psnr_db)) cJSON_AddNullToObject(o, HT_MANIFEST_KEY_PSNR_DB);
+    else cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_PSNR_DB, round_to(w->psnr_db, 0.01));
+    cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_SSIM, round_to(w->ssim, 1e-4));
+    cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_DELTA_E00_MEAN, round_to(w->delta_e00_mean, 1e-3));
+    cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_DELTA_E00_P95, round_to(w->delta_e00_p95, 1e-3));
+    cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_COST_RATIO, round_significant(cost_ratio, 4));
     cJSON_AddStringToObject(o, HT_MANIFEST_KEY_SCENE, all->scene);
     cJSON_AddStringToObject(o, HT_MANIFEST_KEY_DRIVER, all->driver[0] ? all->driver : "unknown");
     return o;
@@ -415,7 +443,11 @@ static char *measured_manifest(const char *path, const ht_measure_result *m, cha
             return NULL;
         }
         cJSON_DeleteItemFromObjectCaseSensitive(tier, HT_MANIFEST_KEY_MEASURED);
-        cJSON_AddItemToObject(tier, HT_MANIFEST_KEY_MEASURED, measured_object(mt, m));
+        cJSON_AddItemToObject(tier, HT_MANIFEST_KEY_MEASURED, measured_object(&mt->whole, mt->cost_ratio, m));
+        cJSON_DeleteItemFromObjectCaseSensitive(tier, HT_MANIFEST_KEY_MEASURED_DEVICE);
+        if (mt->device.present)
+            cJSON_AddItemToObject(tier, HT_MANIFEST_KEY_MEASURED_DEVICE,
+                                  measured_object(&mt->device.whole, mt->device.cost_ratio, m));
         index++;
     }
     char *out = cJSON_Print(root);
@@ -484,6 +516,13 @@ void ht_measure_print(FILE *out, const ht_measure_result *m) {
         else snprintf(psnr, sizeof psnr, "%.2f", t->whole.psnr_db);
         fprintf(out, "%-7s %9.2f %6.3f %9s %7.4f %10.3f %9.3f\n", t->name, t->frame_ms, t->cost_ratio, psnr,
                 t->whole.ssim, t->whole.delta_e00_mean, t->whole.delta_e00_p95);
+        if (!t->device.present) continue;
+        const ht_metrics *w = &t->device.whole;
+        if (isinf(w->psnr_db)) snprintf(psnr, sizeof psnr, "%s", "same");
+        else snprintf(psnr, sizeof psnr, "%.2f", w->psnr_db);
+        fprintf(out, "%-7s %9.2f %6.3f %9s %7.4f %10.3f %9.3f  (%s, device-only variant)\n", "  device",
+                t->device.frame_ms, t->device.cost_ratio, psnr, w->ssim, w->delta_e00_mean, w->delta_e00_p95,
+                t->name);
     }
 }
 

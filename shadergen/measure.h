@@ -37,6 +37,14 @@ typedef struct ht_measure_tier {
     double frame_ms;         /* median of the timed frames, each ended by glFinish */
     double cost_ratio;       /* frame_ms / full's frame_ms */
     ht_metrics whole;        /* against full's image, whole frame; psnr INFINITY: identical */
+    /* the tier's device-only variant (hairtier.h ht_variant), when its
+       backend has one for this bundle: the same numbers, written as
+       "measured_device" */
+    struct {
+        bool present;
+        double frame_ms, cost_ratio;
+        ht_metrics whole;
+    } device;
 } ht_measure_tier;
 
 typedef struct ht_measure_result {

@@ -88,6 +88,12 @@ void ht_plan_make(const ht_material *m, const ht_scene *scene, ht_plan *out) {
                                                                             : DEFAULT_OPAQUE_CUTOFF;
 
     plan_viewer(scene, out);
+    if (lights > 0 && scene->lights[0].type == HT_LIGHT_DIRECTIONAL) {
+        double dot = 0.0;
+        for (int i = 0; i < 3; i++)
+            dot += (double)scene->lights[0].vector[i] * ((double)scene->camera.eye[i] - scene->camera.target[i]);
+        out->key_behind = dot < 0.0;
+    }
 
     if (out->base || out->alpha) add_texture(out, "albedo", HT_U_ALBEDO, "base.rgb alpha.a");
     if (out->shift || out->sparkle) add_texture(out, "detail", HT_U_DETAIL, "shift.r sparkle.g");

@@ -42,6 +42,8 @@ static void frame_row(bench_rows *rows, const char *series, const char *scene, c
     r->ran = ms > 0;
     if (!r->ran) return;
     r->median_ms = ms, r->per_full = ms / full_ms, r->per_floor = ms / 100.0;
+    /* orbiting: fixed's CPU coordinates double its frame, full's is the same */
+    r->orbit_ms = strcmp(tier, "fixed") == 0 ? 2 * ms : ms, r->orbit_per_full = r->orbit_ms / full_ms;
     r->whole = (ht_metrics){ .psnr_db = psnr, .ssim = isinf(psnr) ? 1 : 0.95, .delta_e00_mean = 0.5,
                              .delta_e00_p95 = 2.25 };
     r->hair = r->whole;
@@ -93,7 +95,7 @@ static void test_csv_round_trip_keeps_every_field(void **state) {
     /* A comma or a quote in a text is quoted, quotes doubled. */
     assert_non_null(strstr(text, "\"llvmpipe (LLVM 15.0.6, 256 bits)\""));
     assert_non_null(strstr(text, "\"hairgen, all tiers of \"\"dark-brown\"\"\",48.5,ms\n"));
-    assert_non_null(strstr(text, ",full,1,200,2,1,inf,1,"));
+    assert_non_null(strstr(text, ",full,1,200,2,1,200,1,inf,1,"));
     ht_test_write_file(work, "round.csv", text);
     free(text);
 
@@ -113,7 +115,8 @@ static void test_csv_round_trip_keeps_every_field(void **state) {
         assert_int_equal(a->ran, b->ran);
         const double pairs[][2] = { { a->median_ms, b->median_ms }, { a->per_full, b->per_full },
                                     { a->whole.psnr_db, b->whole.psnr_db }, { a->hair.delta_e00_p95, b->hair.delta_e00_p95 },
-                                    { a->cpu_orbit, b->cpu_orbit }, { a->value, b->value } };
+                                    { a->cpu_orbit, b->cpu_orbit }, { a->orbit_ms, b->orbit_ms },
+                                    { a->orbit_per_full, b->orbit_per_full }, { a->value, b->value } };
         for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++) {
             if (isnan(pairs[k][0])) assert_true(isnan(pairs[k][1]));
             else if (isinf(pairs[k][0])) assert_true(isinf(pairs[k][1]) && pairs[k][1] > 0);
@@ -144,7 +147,7 @@ static void test_reading_appends_to_what_is_there(void **state) {
    the rows already held stay as they were. */
 static void test_bad_files_are_refused_with_the_place_named(void **state) {
     (void)state;
-    const char *good = "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,200,2,1,inf,1,0,0,inf,1,0,0,0,0,,,";
+    const char *good = "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,200,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,";
     char text[1024];
     const struct {
         const char *body;   /* after the header; NULL: the header itself is wrong */
@@ -153,23 +156,23 @@ static void test_bad_files_are_refused_with_the_place_named(void **state) {
         { NULL, "header: not the benchmark's columns" },
         { "matrix,furball\n", "line 3: wrong number of fields" },
         { "matrix,\"furball,llvmpipe\n", "line 3: unterminated quote" },
-        { "matrix,fur\"ball,llvmpipe,x,10,300,512,512,9,full,1,200,2,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
+        { "matrix,fur\"ball,llvmpipe,x,10,300,512,512,9,full,1,200,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
           "line 3: quote inside an unquoted field" },
-        { "matrix,furball,llvmpipe,x,ten,300,512,512,9,full,1,200,2,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
+        { "matrix,furball,llvmpipe,x,ten,300,512,512,9,full,1,200,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
           "line 3: hairs: not a count" },
-        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,yes,200,2,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
+        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,yes,200,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
           "line 3: ran: not 0 or 1" },
-        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,fast,2,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
+        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,fast,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
           "line 3: median_ms: not a number" },
-        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,nan,2,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
+        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,nan,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
           "line 3: median_ms: not a number" },
-        { "a-series-name-too-long,furball,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
+        { "a-series-name-too-long,furball,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
           "line 3: series: text too long for its column" },
-        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,inf,1,0,0,inf,1,0,0,0,0,,,,\n",
+        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,,\n",
           "line 3: wrong number of fields" },
-        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,inf,1,0,0,inf,1,0,0,0,0,,,,,,,\n",
+        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,,,,,\n",
           "line 3: wrong number of fields" },
-        { "matrix,\"furball\"x,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
+        { "matrix,\"furball\"x,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
           "line 3: text after a closing quote" },
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
@@ -244,8 +247,8 @@ static void test_markdown_has_a_table_per_run_the_scaling_table_and_figures(void
     assert_non_null(strstr(md, "### furball × llvmpipe\n"));
     assert_non_null(strstr(md, "### furball × softpipe\n"));
     /* full: infinite PSNR against itself; fixed: ratios from its own run. */
-    assert_non_null(strstr(md, "| full | 150.0 | 1.50 | 1.00 | ∞ | 1.0000 | 0.50 | 2.25 | 0 / 0 |"));
-    assert_non_null(strstr(md, "| fixed | 200.0 | 2.00 | 1.33 | 40.0 | 0.9500 | 0.50 | 2.25 | 0 / 320000 |"));
+    assert_non_null(strstr(md, "| full | 150.0 | 1.50 | 1.00 | 150.0 | 1.00 | ∞ | 1.0000 | 0.50 | 2.25 | 0 / 0 |"));
+    assert_non_null(strstr(md, "| fixed | 200.0 | 2.00 | 1.33 | 400.0 | 2.67 | 40.0 | 0.9500 | 0.50 | 2.25 | 0 / 320000 |"));
     assert_non_null(strstr(md, "| fixed | does not run here |"));
     assert_non_null(strstr(md, "## Scaling: furball × llvmpipe, 512×512"));
     const char *r1k = strstr(md, "\n| 1000 | 30000 | 10.0 (0.50×) |");

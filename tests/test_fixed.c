@@ -761,7 +761,8 @@ static void test_program_without_light_scale_or_sub_passes_reads_as_before(void 
 
 /* The scene's lights after the key get additive sub-passes when their
    diffuse term (light x diffuse colour 0.3) reaches 32/255 and the
-   coordinates are the CPU's; the LUT carries the brightest colour drawn,
+   coordinates are the CPU's (under the texture matrix: every fill, only
+   when the key shines from behind); the LUT carries the brightest colour drawn,
    and the primary colours divide by it. */
 static void test_second_light_gets_an_additive_sub_pass_and_bright_lights_a_light_scale(void **state) {
     (void)state;
@@ -781,10 +782,13 @@ static void test_second_light_gets_an_additive_sub_pass_and_bright_lights_a_ligh
         { HT_MODEL_SCHEUERMANN, 2, 1.0 / 1024, 1.0, 0, 1.0 },
         { HT_MODEL_SCHEUERMANN, 3, 0.5, 0.5, 2, 1.0 },
         { HT_MODEL_KAJIYA_KAY, 2, 0.5, 1.0, 0, 1.0 }, /* texture matrix: the key light alone */
+        { HT_MODEL_KAJIYA_KAY, -2, 0.1, 1.0, 1, 1.0 }, /* ... unless the key shines from behind: any fill */
+        { HT_MODEL_SCHEUERMANN, -2, 0.4, 1.0, 0, 1.0 }, /* CPU coordinates: the 32/255 rule still */
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         ht_plan plan = simple_plan(cases[k].model, true);
-        plan.light_count = cases[k].lights;
+        plan.light_count = abs(cases[k].lights); /* negative: the key light from behind */
+        plan.key_behind = cases[k].lights < 0;
         for (int l = 0; l < plan.light_count; l++) {
             plan.light_types[l] = HT_LIGHT_DIRECTIONAL;
             for (int c = 0; c < 3; c++) plan.light_colors[l][c] = l == 0 ? cases[k].key : cases[k].fill;
@@ -807,7 +811,7 @@ static void test_second_light_gets_an_additive_sub_pass_and_bright_lights_a_ligh
         assert_int_equal(listed(out.dropped, out.dropped_count, "lights after the key: additive sub-passes"),
                          cases[k].want_add > 0);
         assert_int_equal(listed(out.dropped, out.dropped_count, "light 2: dropped"),
-                         cases[k].lights > 1 && cases[k].want_add == 0);
+                         abs(cases[k].lights) > 1 && cases[k].want_add == 0);
         char want[96];
         snprintf(want, sizeof want, "light colour: channels above %g clamp", cases[k].light_scale);
         assert_true(listed(out.dropped, out.dropped_count, want));

@@ -217,6 +217,17 @@ static void test_measure_adds_only_the_measured_objects(void **state) {
     cJSON_ArrayForEach(tier, cJSON_GetObjectItemCaseSensitive(root, "tiers")) {
         assert_non_null(cJSON_GetObjectItemCaseSensitive(tier, "measured"));
         cJSON_DeleteItemFromObjectCaseSensitive(tier, "measured");
+        /* a device-only variant (hairtier.h ht_variant) is measured where
+           the tier has one here: fixed4 with the local viewer, fixed
+           (Scheuermann) with CPU coordinates; no other tier */
+        const char *name = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(tier, "name"));
+        const cJSON *device = cJSON_GetObjectItemCaseSensitive(tier, "measured_device");
+        const char *program = strcmp(name, "fixed4") == 0 ? "fixed4.json" : strcmp(name, "fixed") == 0 ? "fixed.json" : NULL;
+        const char *cpu = strcmp(name, "fixed4") == 0 ? "\"viewer\":\t\"local\"" : "\"coords\":\t\"cpu-dots\"";
+        bool expect = program && strstr(ht_test_read_file(measured, program), cpu) != NULL;
+        assert_int_equal(device != NULL, expect);
+        if (device) assert_true(cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(device, "psnr_db")));
+        cJSON_DeleteItemFromObjectCaseSensitive(tier, "measured_device");
     }
     char *stripped = cJSON_Print(root);
     cJSON_Delete(root);

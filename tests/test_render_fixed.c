@@ -981,11 +981,11 @@ static void test_kajiya_kay_frames_read_tangents_through_the_texture_matrix_with
             assert_int_equal(d->coord_size, 3);
             /* the device has VBOs: tangents and colours read from buffers */
             assert_true(d->coord_buffer != 0 && d->color_buffer != 0);
-            /* the vertex array itself: every vertex's tangent, interleaved */
-            assert_int_equal(d->coord_stride, (GLint)sizeof(ht_vertex));
+            /* every vertex's tangent, packed with its uv (tangent, uv) */
+            assert_int_equal(d->coord_stride, (GLint)(5 * sizeof(float)));
             const char *base = d->coord_pointer;
             for (uint32_t v = 0; v < mesh.vertex_count; v++) {
-                const float *t = (const float *)(base + (size_t)v * sizeof(ht_vertex));
+                const float *t = (const float *)(base + (size_t)v * 5 * sizeof(float));
                 for (int k = 0; k < 3; k++) assert_float_equal(t[k], mesh.vertices[v].tangent[k], 1e-6);
             }
             if (!same_matrix(d->texture_matrix, want, 1e-6f))
@@ -1073,7 +1073,7 @@ static void test_backend_gives_a_point_key_light_cpu_coordinates_logged_once(voi
     assert_int_equal(ht_caps_probe(ht_test_getproc, &caps), HT_OK);
     ht_test_log_clear();
     const ht_tier_context ctx = { &gl, &caps, &bundle, ht_manifest_find_tier(&bundle, HT_TIER_FIXED),
-                                  ht_test_log_capture, NULL };
+                                  ht_test_log_capture, NULL, false };
     assert_non_null(ctx.tier);
     void *backend = NULL;
     if (ht_tier_fixed_backend.create(&ctx, &backend, err, sizeof err) != HT_OK) fail_msg("%s", err);
@@ -1094,7 +1094,7 @@ static void test_backend_gives_a_point_key_light_cpu_coordinates_logged_once(voi
             float want[16];
             assert_int_equal(ht_fixed_coords_texture_matrix(&prog, frames[fi], 1, (const float[3]){ 0, 0, 1 }, want,
                                                             err, sizeof err), HT_OK);
-            assert_int_equal(stride, (GLint)sizeof(ht_vertex));
+            assert_int_equal(stride, (GLint)(5 * sizeof(float)));
             assert_true(same_matrix(m, want, 1e-6f));
         }
     }

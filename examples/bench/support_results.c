@@ -26,6 +26,7 @@ static const column columns[] = {
     T("series", series), T("scene", scene), T("driver", driver), T("renderer", renderer),
     C("hairs", hairs), C("triangles", triangles), C("width", width), C("height", height), C("frames", frames),
     T("tier", tier), F("ran", ran), N("median_ms", median_ms), N("per_floor", per_floor), N("per_full", per_full),
+    N("orbit_ms", orbit_ms), N("orbit_per_full", orbit_per_full),
     N("psnr_db", whole.psnr_db), N("ssim", whole.ssim), N("de00_mean", whole.delta_e00_mean),
     N("de00_p95", whole.delta_e00_p95), N("hair_psnr_db", hair.psnr_db), N("hair_ssim", hair.ssim),
     N("hair_de00_mean", hair.delta_e00_mean), N("hair_de00_p95", hair.delta_e00_p95),

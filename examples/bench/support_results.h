@@ -3,7 +3,8 @@
 
    A row is either a frame measurement (series "matrix" or "scaling": one
    tier of one scene on one driver, with its ratios to the geometry floor and
-   to the full tier taken in the same run, and its error against full's
+   to the full tier taken in the same run, with the camera still and with
+   the eye orbiting a little every frame, and its error against full's
    image) or a generator figure (series "generator": figure, value, unit,
    the other columns empty).
 
@@ -30,6 +31,7 @@
 
 #define BENCH_CSV_HEADER                                                                                   \
     "series,scene,driver,renderer,hairs,triangles,width,height,frames,tier,ran,median_ms,per_floor,per_full," \
+    "orbit_ms,orbit_per_full," \
     "psnr_db,ssim,de00_mean,de00_p95,hair_psnr_db,hair_ssim,hair_de00_mean,hair_de00_p95,"                  \
     "cpu_vertices_still,cpu_vertices_orbit,figure,value,unit"
 
@@ -42,7 +44,8 @@ typedef struct bench_row {
     long triangles, width, height, frames;
     char tier[32];              /* "floor", "full", "vertex", ... */
     bool ran;                   /* false: the tier does not run here; numbers NAN */
-    double median_ms, per_floor, per_full;
+    double median_ms, per_floor, per_full;   /* camera still */
+    double orbit_ms, orbit_per_full;         /* the eye orbiting a little every frame (NAN: not timed) */
     ht_metrics whole, hair;     /* against full's image of the same run (pixels not exchanged) */
     double cpu_still, cpu_orbit;   /* per-vertex CPU work per frame, camera still / orbiting */
     char figure[160];           /* generator rows */

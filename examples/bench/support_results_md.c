@@ -20,21 +20,25 @@ static bool matrix_table(FILE *f, const bench_rows *rows, size_t first) {
     if (h->hairs >= 0) ok = ok && fprintf(f, "%ld hairs, ", h->hairs) >= 0;
     ok = ok && fprintf(f,
                        "%ld triangles, %ld×%ld, %s; median of %ld frames after one warm-up, tiers taken "
-                       "round-robin; ratios and errors against this run's floor and full.\n\n",
+                       "round-robin, still and with the eye orbiting a little every frame; ratios and errors "
+                       "against this run's floor and full (a `-device` tier is that tier's device-only "
+                       "variant).\n\n",
                        h->triangles, h->width, h->height, h->renderer, h->frames) >= 0;
-    ok = ok && fputs("| tier | median ms | / floor | / full | PSNR dB | SSIM | ΔE00 mean | ΔE00 p95 | "
-                     "CPU vertices per frame: still / orbiting |\n"
-                     "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n", f) >= 0;
+    ok = ok && fputs("| tier | still: median ms | / floor | / full | orbiting: median ms | / full | PSNR dB | SSIM | "
+                     "ΔE00 mean | ΔE00 p95 | CPU vertices per frame: still / orbiting |\n"
+                     "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n", f) >= 0;
     for (size_t i = first; ok && i < rows->count && bench_rows_same_run(h, &rows->row[i]); i++) {
         const bench_row *r = &rows->row[i];
         if (!r->ran) {
-            ok = fprintf(f, "| %s | does not run here | | | | | | | |\n", r->tier) >= 0;
+            ok = fprintf(f, "| %s | does not run here | | | | | | | | | |\n", r->tier) >= 0;
             continue;
         }
-        char a[9][32];
-        ok = fprintf(f, "| %s | %s | %s | %s | %s | %s | %s | %s | %s / %s |\n", r->tier,
+        char a[11][32];
+        ok = fprintf(f, "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s / %s |\n", r->tier,
                      bench_md_number(r->median_ms, "%.1f", a[0], 32), bench_md_number(r->per_floor, "%.2f", a[1], 32),
-                     bench_md_number(r->per_full, "%.2f", a[2], 32), bench_md_number(r->whole.psnr_db, "%.1f", a[3], 32),
+                     bench_md_number(r->per_full, "%.2f", a[2], 32), bench_md_number(r->orbit_ms, "%.1f", a[9], 32),
+                     bench_md_number(r->orbit_per_full, "%.2f", a[10], 32),
+                     bench_md_number(r->whole.psnr_db, "%.1f", a[3], 32),
                      bench_md_number(r->whole.ssim, "%.4f", a[4], 32),
                      bench_md_number(r->whole.delta_e00_mean, "%.2f", a[5], 32),
                      bench_md_number(r->whole.delta_e00_p95, "%.2f", a[6], 32),

@@ -37,6 +37,8 @@
    HAIRTIER_POLICY=best|fastest|error:DB|frame:MS picks among the tiers the
    device runs like ht_renderer_desc.policy (the desc wins; a forced tier
    wins over both).
+   HAIRTIER_VARIANT=exact|device picks the variant of fixed4 and fixed like
+   ht_renderer_desc.variant (ht_variant below; the desc wins).
    HAIRTIER_DEVICE_PROFILE=gl11|gl13|gl20 caps the device like
    ht_renderer_desc.profile (ht_device_profile_parse; a non-zero desc
    profile wins).
@@ -285,6 +287,23 @@ typedef struct ht_policy {
     double value;
 } ht_policy;
 
+/* A tier's variant. fixed4 and fixed make some LUT coordinates per vertex
+   on the CPU whenever the eye or a light moves (the local viewer; fixed:
+   three dot products of three vectors). Their device-only variant makes
+   every coordinate on the device (texture matrices over static vectors,
+   infinite viewer) at an error hairgen --measure records per bundle
+   ("measured_device"). AUTO: HAIRTIER_VARIANT ("exact", "device"), else
+   the policy's rule (ht_select_variant in select.h): the device variant
+   when its measured PSNR is within HT_VARIANT_DEVICE_DB of the exact
+   one's (error:DB: when it meets DB; fastest: when it costs less). A
+   tier without a device variant ignores the request. */
+typedef enum ht_variant {
+    HT_VARIANT_AUTO = 0,
+    HT_VARIANT_EXACT,      /* CPU coordinates where only the CPU is exact */
+    HT_VARIANT_DEVICE,     /* no per-vertex CPU work while anything moves */
+} ht_variant;
+#define HT_VARIANT_DEVICE_DB 0.5
+
 /* "best", "fastest", "error:<dB>" (a finite number >= 0), "frame:<ms>" (> 0)
    into a policy; HT_ERR_INVALID_ARGUMENT with one line in err otherwise. */
 HT_API ht_result ht_policy_parse(const char *text, ht_policy *out, char *err, size_t err_size);
@@ -332,6 +351,7 @@ typedef struct ht_renderer_desc {
     ht_time_tier_fn time_tier; /* NULL → frame:MS times by drawing (ht_renderer_choose_by_frame_time);
                                   set → create and choose_by_frame_time ask it instead of drawing */
     void *time_tier_user;
+    ht_variant variant;      /* AUTO → HAIRTIER_VARIANT, else the policy and the manifest's measured numbers */
 } ht_renderer_desc;
 
 typedef struct ht_renderer ht_renderer;
@@ -348,6 +368,9 @@ HT_API ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **
 HT_API ht_tier ht_renderer_tier(const ht_renderer *r);
 /* Why this tier: "best supported", "forced by HAIRTIER_TIER", ... */
 HT_API const char *ht_renderer_reason(const ht_renderer *r);
+/* HT_VARIANT_DEVICE when the tier runs its device-only variant, else
+   HT_VARIANT_EXACT (every tier without one). */
+HT_API ht_variant ht_renderer_variant(const ht_renderer *r);
 /* Uploads the hair mesh (VBOs where the GL has them). Non-finite vertex
    data, indices out of range or a partial triangle are refused with
    HT_ERR_INVALID_ARGUMENT and one log line naming the element; the

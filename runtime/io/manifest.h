@@ -72,6 +72,10 @@ _Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader r
    one scene, measured offline (hairgen --measure; shadergen/metrics.h has the
    definitions). psnr_db null means identical (infinite). */
 #define HT_MANIFEST_KEY_MEASURED "measured"
+/* the same for the tier's device-only variant (fixed4, fixed: no per-vertex
+   CPU work while the eye or a light moves; hairtier.h ht_variant), present
+   when the backend has one for this bundle */
+#define HT_MANIFEST_KEY_MEASURED_DEVICE "measured_device"
 #define HT_MANIFEST_KEY_PSNR_DB "psnr_db"
 #define HT_MANIFEST_KEY_SSIM "ssim"
 #define HT_MANIFEST_KEY_DELTA_E00_MEAN "delta_e00_mean"
@@ -135,6 +139,7 @@ typedef struct ht_manifest_tier {
     ht_manifest_texture textures[HT_MANIFEST_MAX_TEXTURES]; /* the tier's own ("fixed-lut") */
     int texture_count;
     ht_manifest_measured measured;   /* optional */
+    ht_manifest_measured measured_device; /* optional: the device-only variant's */
 } ht_manifest_tier;
 
 typedef struct ht_manifest {

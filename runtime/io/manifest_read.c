@@ -86,14 +86,15 @@ static ht_result parse_version_field(const ht_jctx *c, const cJSON *req, const c
     return HT_OK;
 }
 
-/* The optional per-tier "measured" object (manifest.h). */
-static ht_result parse_measured(const ht_jctx *c, const cJSON *t, const char *base, ht_manifest_measured *out) {
+/* The optional per-tier "measured" and "measured_device" objects (manifest.h). */
+static ht_result parse_measured(const ht_jctx *c, const cJSON *t, const char *base, const char *key,
+                                ht_manifest_measured *out) {
     static const char *const known[] = { K(PSNR_DB), K(SSIM), K(DELTA_E00_MEAN), K(DELTA_E00_P95), K(COST_RATIO),
                                          K(SCENE), K(DRIVER), NULL };
     char path[HT_JSON_PATH_MAX];
-    ht_json_path_key(path, base, K(MEASURED));
+    ht_json_path_key(path, base, key);
     const cJSON *m;
-    ht_result r = ht_json_object(c, t, base, K(MEASURED), false, &m);
+    ht_result r = ht_json_object(c, t, base, key, false, &m);
     if (r != HT_OK || !m) return r;
     if ((r = ht_json_keys(c, m, path, known)) != HT_OK) return r;
     out->present = true;
@@ -204,7 +205,8 @@ static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_mani
             }
         out->sampler_count++;
     }
-    return parse_measured(c, t, base, &out->measured);
+    if ((r = parse_measured(c, t, base, K(MEASURED), &out->measured)) != HT_OK) return r;
+    return parse_measured(c, t, base, K(MEASURED_DEVICE), &out->measured_device);
 }
 
 ht_result ht_manifest_parse(const char *json_text, const char *dir, const char *file_name,

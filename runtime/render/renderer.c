@@ -59,8 +59,12 @@ static ht_result create_backend(ht_renderer *r) {
             ht_log_linef(r->log, r->log_user, "hairtier: %s: no backend in this runtime", ht_tier_name(sel.tier));
             return HT_ERR_NO_TIER;
         }
+        char variant_reason[HT_SELECT_REASON];
+        ht_variant variant = ht_select_variant(&r->bundle.tiers[sel.index], &r->policy, r->variant_request,
+                                               variant_reason, sizeof variant_reason);
         ht_tier_context ctx = { .gl = &r->gl, .caps = &r->caps, .bundle = &r->bundle,
-                                .tier = &r->bundle.tiers[sel.index], .log = r->log, .log_user = r->log_user };
+                                .tier = &r->bundle.tiers[sel.index], .log = r->log, .log_user = r->log_user,
+                                .device_variant = variant == HT_VARIANT_DEVICE };
         void *state = NULL;
         while (r->gl.GetError() != GL_NO_ERROR) {}
         res = be->create(&ctx, &state, err, sizeof err);
@@ -70,6 +74,10 @@ static ht_result create_backend(ht_renderer *r) {
             r->tier = sel.tier;
             copy_text(r->reason, sizeof r->reason, sel.reason);
             ht_log_linef(r->log, r->log_user, "hairtier: tier %s (%s)", ht_tier_name(r->tier), r->reason);
+            if (be->device_variant)
+                ht_log_linef(r->log, r->log_user, "hairtier: %s variant: %s%s", ht_tier_name(r->tier), variant_reason,
+                             variant == HT_VARIANT_DEVICE && !be->device_variant(state)
+                                 ? " (none for this bundle: exact)" : "");
             return HT_OK;
         }
         copy_text(failed_text[sel.index], sizeof failed_text[0], err);
@@ -132,6 +140,13 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
     ht_result res = ht_policy_parse(policy && policy[0] ? policy : NULL, &r->policy, err, sizeof err);
     if (res != HT_OK) {
         ht_log_linef(r->log, r->log_user, "hairtier: %s%s", desc->policy ? "ht_renderer_desc: " : "HAIRTIER_POLICY: ", err);
+        goto fail;
+    }
+    const char *variant = getenv("HAIRTIER_VARIANT");
+    r->variant_request = desc->variant;
+    if (desc->variant == HT_VARIANT_AUTO &&
+        (res = ht_variant_parse(variant, &r->variant_request, err, sizeof err)) != HT_OK) {
+        ht_log_linef(r->log, r->log_user, "hairtier: HAIRTIER_VARIANT: %s", err);
         goto fail;
     }
     res = ht_gl_load(&r->gl, desc->getproc, err, sizeof err);
@@ -198,6 +213,11 @@ fail:
 
 ht_tier ht_renderer_tier(const ht_renderer *r) { return r ? r->tier : HT_TIER_COUNT; }
 const char *ht_renderer_reason(const ht_renderer *r) { return r ? r->reason : ""; }
+ht_variant ht_renderer_variant(const ht_renderer *r) {
+    return r && r->backend && r->backend->device_variant && r->backend->device_variant(r->backend_state)
+               ? HT_VARIANT_DEVICE
+               : HT_VARIANT_EXACT;
+}
 const ht_trace *ht_renderer_trace(const ht_renderer *r) { return r ? &r->trace : NULL; }
 const ht_caps *ht_renderer_caps(const ht_renderer *r) { return r ? &r->caps : NULL; }
 
@@ -239,8 +259,11 @@ static double time_tier_by_drawing(ht_renderer *r, int i, const ht_mesh *mesh, c
     const ht_tier_backend *be = ht_tier_backend_find(t->tier);
     char err[1024];
     destroy_backend(r);
+    char variant_reason[HT_SELECT_REASON];
     ht_tier_context ctx = { .gl = &r->gl, .caps = &r->caps, .bundle = &r->bundle, .tier = t,
-                            .log = r->log, .log_user = r->log_user };
+                            .log = r->log, .log_user = r->log_user,
+                            .device_variant = ht_select_variant(t, &r->policy, r->variant_request, variant_reason,
+                                                                sizeof variant_reason) == HT_VARIANT_DEVICE };
     void *state = NULL;
     while (r->gl.GetError() != GL_NO_ERROR) {}
     if (be->create(&ctx, &state, err, sizeof err) != HT_OK) {

@@ -44,6 +44,7 @@ struct ht_renderer {
     ht_tier requested;
     bool strict;
     ht_policy policy;
+    ht_variant variant_request;       /* desc.variant, else HAIRTIER_VARIANT */
     ht_time_tier_fn time_tier;
     void *time_tier_user;
     double frame_ms[HT_MANIFEST_MAX_TIERS]; /* per bundle tier, 0 → not timed */

@@ -68,4 +68,17 @@ ht_result ht_select_tier(const ht_select_desc *desc, ht_selection *out, char *er
 bool ht_select_check_requirements(const ht_caps *caps, const char *extensions, const ht_manifest_tier *tier,
                                   char *why, size_t why_size);
 
+/* The variant of a tier (select_variant.c), a pure function: requested
+   (EXACT or DEVICE) wins; AUTO takes the device variant only when the
+   tier has both measured objects and: best, frame:MS: its PSNR is at most
+   HT_VARIANT_DEVICE_DB below the exact one's; error:DB: it meets DB (or
+   the exact one does not either and it is no worse); fastest: its
+   cost_ratio is lower. reason gets one line ("device: 33.1 dB, exact
+   33.4 dB: within 0.5 dB"). The backend may still lack the variant. */
+ht_variant ht_select_variant(const ht_manifest_tier *tier, const ht_policy *policy, ht_variant requested,
+                             char *reason, size_t reason_size);
+/* "exact", "device" (HAIRTIER_VARIANT) into a variant; NULL or "" is
+   AUTO; anything else HT_ERR_INVALID_ARGUMENT with one line. */
+ht_result ht_variant_parse(const char *text, ht_variant *out, char *err, size_t err_size);
+
 #endif

@@ -45,6 +45,7 @@ typedef struct ht_tier_context {
     const ht_manifest_tier *tier;    /* this backend's manifest entry */
     ht_log_fn log;                 /* never NULL */
     void *log_user;
+    bool device_variant;           /* run the device-only variant where the backend has one (ht_variant) */
 } ht_tier_context;
 
 typedef struct ht_tier_frame {
@@ -79,6 +80,9 @@ typedef struct ht_tier_backend {
     void (*destroy)(void *state);
     /* Optional: vertices whose data the CPU computed so far (NULL: none). */
     uint64_t (*cpu_vertices)(void *state);
+    /* Optional: true when this state runs the device-only variant (NULL:
+       the tier has none). */
+    bool (*device_variant)(void *state);
 } ht_tier_backend;
 
 extern const ht_tier_backend ht_tier_glsl_full_backend;

@@ -86,7 +86,7 @@
 { "high-contrast", "ratboy", "gl11", 28.60, 0.9211, 0.514, 1.740 },
 { "kajiya-kay", "backlit", "vertex", 56.28, 0.9993, 0.137, 0.982 },
 { "kajiya-kay", "backlit", "fixed4", 56.28, 0.9993, 0.137, 0.982 },
-{ "kajiya-kay", "backlit", "fixed", 28.49, 0.9552, 0.977, 7.088 },
+{ "kajiya-kay", "backlit", "fixed", 31.26, 0.9832, 0.489, 2.160 },
 { "kajiya-kay", "backlit", "gl11", 42.47, 0.9983, 0.133, 0.658 },
 { "kajiya-kay", "furball", "vertex", 60.67, 0.9994, 0.086, 0.702 },
 { "kajiya-kay", "furball", "fixed4", 60.67, 0.9994, 0.086, 0.702 },
