@@ -70,6 +70,14 @@ static ht_metrics whole_frame_metrics(const ht_image *reference, const ht_image 
    at this side, the fur ball with this many hairs, to keep them cheap. */
 #define ACCURACY_SIZE 256
 #define ACCURACY_HAIRS 2000
+/* HAIRTIER_SWEEP=shipped: every scene as shipped (its own size and hair
+   count, what a user sees; about 25 times the pinned sweep's pixels x
+   hairs), fixed4 and fixed also as their device-only variants
+   ("fixed4-device", "fixed-device": HAIRTIER_VARIANT=device), checked
+   against the targets below instead of the pins; docs/accuracy.md keeps
+   its table and the reason for each miss. */
+#define TARGET_FIXED_DB 28.0
+#define TARGET_VERTEX_DB 30.0
 
 /* Each tier's measured distance from full over the whole frame (runtime/
    metrics.h), at ACCURACY_SIZE² on llvmpipe, pinned so a regression in any
@@ -153,6 +161,8 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
     int mn = json_files("materials", materials, 16), sn = json_files("scenes", scenes, 8);
     assert_true(mn >= 4 && sn >= 2);
     const bool print_pins = getenv("HAIRTIER_PRINT_PINS") && strcmp(getenv("HAIRTIER_PRINT_PINS"), "1") == 0;
+    const bool shipped = getenv("HAIRTIER_SWEEP") && strcmp(getenv("HAIRTIER_SWEEP"), "shipped") == 0;
+    int below_target = 0;
     int failures = 0;
     for (int mat = 0; mat < mn; mat++) {
         char material_path[1100], err[1024];
@@ -204,6 +214,17 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
                     continue;
                 }
                 ht_metrics m = whole_frame_metrics(&full, &img);
+                if (shipped) {
+                    const double target = strcmp(names[t], "vertex") == 0  ? TARGET_VERTEX_DB
+                                          : strcmp(names[t], "fixed") == 0 ? TARGET_FIXED_DB
+                                                                           : 0.0;
+                    printf("shipped %-14s x %-8s %-13s %6.2f dB, SSIM %.4f, CIEDE2000 mean %.3f p95 %.3f%s\n",
+                           materials[mat], scenes[sc], names[t], m.psnr_db, m.ssim, m.delta_e00_mean,
+                           m.delta_e00_p95, m.psnr_db < target ? " BELOW TARGET" : "");
+                    below_target += m.psnr_db < target;
+                    ht_image_free(&img);
+                    continue;
+                }
                 const accuracy_pin *pin = pinned(materials[mat], scenes[sc], names[t]);
                 printf("accuracy %-14s x %-8s %-7s %6.2f dB, SSIM %.4f, CIEDE2000 mean %.3f p95 %.3f", materials[mat],
                        scenes[sc], names[t], m.psnr_db, m.ssim, m.delta_e00_mean, m.delta_e00_p95);
@@ -219,6 +240,7 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
             ht_image_free(&full);
         }
     }
+    if (shipped) printf("shipped sweep: %d below target (docs/accuracy.md says why)\n", below_target);
     assert_int_equal(failures, 0);
 }
 
