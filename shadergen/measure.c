@@ -261,6 +261,12 @@ static ht_result measure_all(tier_run *runs, int count, int full, const char *di
         r = ht_metrics_compare(&(ht_metrics_desc){ .reference = runs[full].rgba, .test = runs[i].rgba,
                                                    .width = s->width, .height = s->height },
                                &m->whole, NULL, why, sizeof why);
+        /* The frames are bottom-up; FLIP's kernels are symmetric, so the
+           mean and p95 do not depend on the row order. */
+        if (r == HT_OK)
+            r = ht_flip_compare(&(ht_flip_desc){ .reference = runs[full].rgba, .test = runs[i].rgba,
+                                                 .width = s->width, .height = s->height },
+                                NULL, &m->flip, why, sizeof why);
         if (r != HT_OK) ht_set_error(err, err_size, "measure: %s: %s", m->name, why);
     }
     out->tier_count = count;
@@ -334,6 +340,10 @@ static ht_result check_tier(const ht_measure_tier *m, char *err, size_t err_size
         field = HT_MANIFEST_KEY_DELTA_E00_MEAN, v = m->whole.delta_e00_mean, range = "[0, 1000]";
     else if (!(m->whole.delta_e00_p95 >= 0 && m->whole.delta_e00_p95 <= HT_MANIFEST_MAX_DELTA_E))
         field = HT_MANIFEST_KEY_DELTA_E00_P95, v = m->whole.delta_e00_p95, range = "[0, 1000]";
+    else if (!(m->flip.mean >= 0 && m->flip.mean <= 1))
+        field = HT_MANIFEST_KEY_FLIP_MEAN, v = m->flip.mean, range = "[0, 1]";
+    else if (!(m->flip.p95 >= 0 && m->flip.p95 <= 1))
+        field = HT_MANIFEST_KEY_FLIP_P95, v = m->flip.p95, range = "[0, 1]";
     else if (!(m->cost_ratio > 0 && m->cost_ratio <= HT_MANIFEST_MAX_COST_RATIO))
         field = HT_MANIFEST_KEY_COST_RATIO, v = m->cost_ratio, range = "(0, 1e6]";
     if (!field) return HT_OK;
@@ -348,6 +358,8 @@ static cJSON *measured_object(const ht_measure_tier *m, const ht_measure_result 
     cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_SSIM, round_to(m->whole.ssim, 1e-4));
     cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_DELTA_E00_MEAN, round_to(m->whole.delta_e00_mean, 1e-3));
     cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_DELTA_E00_P95, round_to(m->whole.delta_e00_p95, 1e-3));
+    cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_FLIP_MEAN, round_to(m->flip.mean, 1e-5));
+    cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_FLIP_P95, round_to(m->flip.p95, 1e-5));
     cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_COST_RATIO, round_significant(m->cost_ratio, 4));
     cJSON_AddStringToObject(o, HT_MANIFEST_KEY_SCENE, all->scene);
     cJSON_AddStringToObject(o, HT_MANIFEST_KEY_DRIVER, all->driver[0] ? all->driver : "unknown");
@@ -445,15 +457,15 @@ void ht_measure_print(FILE *out, const ht_measure_result *m) {
     fprintf(out, "measured: scene %s (%dx%d), driver %s; whole frame against full; frame ms: median of %d "
                  "after %d warm-up, tiers round-robin; cost = ms / full's ms\n",
             m->scene, m->width, m->height, m->driver, HT_MEASURE_TIMED_FRAMES, HT_MEASURE_WARMUP_FRAMES);
-    fprintf(out, "%-7s %9s %6s %9s %7s %10s %9s\n", "tier", "frame_ms", "cost", "psnr_db", "ssim", "de00_mean",
-            "de00_p95");
+    fprintf(out, "%-7s %9s %6s %9s %7s %10s %9s %10s %9s\n", "tier", "frame_ms", "cost", "psnr_db", "ssim",
+            "de00_mean", "de00_p95", "flip_mean", "flip_p95");
     for (int i = 0; i < m->tier_count; i++) {
         const ht_measure_tier *t = &m->tiers[i];
         char psnr[32];
         if (isinf(t->whole.psnr_db)) snprintf(psnr, sizeof psnr, "%s", "same");
         else snprintf(psnr, sizeof psnr, "%.2f", t->whole.psnr_db);
-        fprintf(out, "%-7s %9.2f %6.3f %9s %7.4f %10.3f %9.3f\n", t->name, t->frame_ms, t->cost_ratio, psnr,
-                t->whole.ssim, t->whole.delta_e00_mean, t->whole.delta_e00_p95);
+        fprintf(out, "%-7s %9.2f %6.3f %9s %7.4f %10.3f %9.3f %10.5f %9.5f\n", t->name, t->frame_ms, t->cost_ratio,
+                psnr, t->whole.ssim, t->whole.delta_e00_mean, t->whole.delta_e00_p95, t->flip.mean, t->flip.p95);
     }
 }
 
