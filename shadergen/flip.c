@@ -159,11 +159,14 @@ static bool kernels_init(kernels *k, double ppd) {
         else pneg -= p;
     }
     /* A separable 2D detector's positive (negative) weights sum to the
-       1D factor's positive (negative) sum times the smoothing sum. */
+       1D factor's positive (negative) sum times the smoothing sum. Below
+       about 1 ppd the Gaussian underflows off its centre: a side with no
+       weight stays 0 (no features at that scale) instead of 0/0. */
     for (int i = 0; i <= 2 * rf; i++) {
         k->smooth.w[i] /= gsum;
-        k->edge.w[i] /= epos;
-        k->point.w[i] /= k->point.w[i] > 0 ? ppos : pneg;
+        k->edge.w[i] = epos > 0.0 ? k->edge.w[i] / epos : 0.0;
+        double side = k->point.w[i] > 0 ? ppos : pneg;
+        k->point.w[i] = side > 0.0 ? k->point.w[i] / side : 0.0;
     }
     return true;
 }

@@ -191,6 +191,14 @@ static void test_fine_noise_fades_as_the_pixels_per_degree_grow(void **state) {
     double near = flip(a, b, W, H, 20.0, NULL).mean, mid = flip(a, b, W, H, 67.0, NULL).mean,
            far = flip(a, b, W, H, 200.0, NULL).mean;
     if (!(near > mid && mid > far)) fail_msg("20 ppd %g, 67 ppd %g, 200 ppd %g: not decreasing", near, mid, far);
+    /* The extremes stay numbers in [0, 1]: at 0.01 ppd the kernels are one
+       pixel wide, at the largest ppd 136 pixels, wider than the frame. */
+    const double extremes[] = { 0.01, 0.5, HT_FLIP_MAX_PPD };
+    for (int i = 0; i < 3; i++) {
+        ht_flip_result r = flip(a, b, W, H, extremes[i], NULL);
+        if (!(r.mean >= 0.0 && r.mean <= 1.0 && r.p95 >= 0.0 && r.p95 <= 1.0))
+            fail_msg("%g ppd: mean %g, p95 %g", extremes[i], r.mean, r.p95);
+    }
 }
 
 static void test_refuses_missing_images_bad_sizes_and_bad_ppd(void **state) {
