@@ -2,7 +2,7 @@
    EGL) and writes a PNG.
 
    build/hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]
-                  [--policy best|fastest|error:DB|frame:MS] [--strict] [--flat] [--frames N]
+                  [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]
                   [--context osmesa|egl] [--egl-device N] -o OUT.png
 
    --context picks how the GL context is made (examples/offscreen.h; default
@@ -47,7 +47,7 @@ static void log_line(void *user, const char *line) {
 
 static int usage(const char *why) {
     fprintf(stderr, "hairview: %s\nusage: hairview --bundle DIR --scene SCENE.json "
-                    "[--tier auto|marschner|full|vertex|fixed4|fixed|gl11] [--policy best|fastest|error:DB|frame:MS] [--strict] [--flat] [--frames N] "
+                    "[--tier auto|marschner|full|vertex|fixed4|fixed|gl11] [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N] "
                     "[--context osmesa|egl] [--egl-device N] -o OUT.png\n", why);
     return 2;
 }

@@ -1,11 +1,12 @@
 /* png_metrics — how far one rendered PNG is from another, by shadergen/metrics.h:
    PSNR, SSIM and CIEDE2000 over the whole frame and over the hair's pixels
-   (those that differ from the background, the reference's first pixel).
+   (those that differ from the background, the reference's first pixel),
+   and LDR-FLIP over the whole frame at 67 pixels per degree (shadergen/flip.h).
 
    build/png_metrics REFERENCE.png TEST.png
 
    Prints one line on stdout:
-     psnr_db=P ssim=S de00_mean=M de00_p95=Q hair_psnr_db=P hair_pixels=N max_diff=D
+     psnr_db=P ssim=S de00_mean=M de00_p95=Q hair_psnr_db=P hair_pixels=N flip_mean=F flip_p95=G max_diff=D
    (PSNR "inf" when the images are identical; D the largest channel
    difference, /255). Both images must have the same size; gray, RGB or
    RGBA PNGs (alpha ignored). Bad input: one line naming the file, exit 1;
@@ -17,6 +18,7 @@
 #include <string.h>
 
 #include <hairtier/image.h>
+#include "flip.h"
 #include "metrics.h"
 
 /* RGBA8 from any channel count ht_image_read_png returns. */
@@ -71,13 +73,19 @@ int main(int argc, char **argv) {
         fprintf(stderr, "png_metrics: %s: %s\n", argv[2], err);
         goto done;
     }
+    ht_flip_result flip;
+    if (ht_flip_compare(&(ht_flip_desc){ .reference = rgba[0], .test = rgba[1], .width = img[0].width,
+                                         .height = img[0].height }, NULL, &flip, err, sizeof err) != HT_OK) {
+        fprintf(stderr, "png_metrics: %s: %s\n", argv[2], err);
+        goto done;
+    }
     int max = 0;
     for (size_t i = 0; i < (size_t)img[0].width * (size_t)img[0].height * 4; i++)
         if (i % 4 != 3 && abs(rgba[0][i] - rgba[1][i]) > max) max = abs(rgba[0][i] - rgba[1][i]);
     print_db("psnr_db", whole.psnr_db);
     printf(" ssim=%.4f de00_mean=%.3f de00_p95=%.3f ", whole.ssim, whole.delta_e00_mean, whole.delta_e00_p95);
     print_db("hair_psnr_db", hair.psnr_db);
-    printf(" hair_pixels=%ld max_diff=%d\n", hair.pixels, max);
+    printf(" hair_pixels=%ld flip_mean=%.5f flip_p95=%.5f max_diff=%d\n", hair.pixels, flip.mean, flip.p95, max);
     status = 0;
 done:
     for (int k = 0; k < 2; k++) {

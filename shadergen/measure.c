@@ -289,6 +289,12 @@ static ht_result measure_all(tier_run *runs, int count, int full, const char *di
         r = ht_metrics_compare(&(ht_metrics_desc){ .reference = runs[full].rgba, .test = runs[i].rgba,
                                                    .width = s->width, .height = s->height },
                                &m->whole, NULL, why, sizeof why);
+        /* The frames are bottom-up; FLIP's kernels are symmetric, so the
+           mean and p95 do not depend on the row order. */
+        if (r == HT_OK)
+            r = ht_flip_compare(&(ht_flip_desc){ .reference = runs[full].rgba, .test = runs[i].rgba,
+                                                 .width = s->width, .height = s->height },
+                                NULL, &m->flip, why, sizeof why);
         if (r != HT_OK) ht_set_error(err, err_size, "measure: %s: %s", m->name, why);
         const tier_run *d = &runs[count + i];
         if (r != HT_OK || !d->renderer) continue;
@@ -371,8 +377,9 @@ static double round_significant(double v, int digits) {
 
 /* The reader's ranges (manifest.h), checked before anything is written so
    that hairgen never makes a manifest the runtime refuses. */
-static ht_result check_numbers(const char *name, const ht_metrics *w, double cost_ratio, char *err,
-                               size_t err_size) {
+/* flip NULL: a variant measured without FLIP (the device-only one). */
+static ht_result check_numbers(const char *name, const ht_metrics *w, const ht_flip_result *flip, double cost_ratio,
+                               char *err, size_t err_size) {
     const char *field = NULL, *range = NULL;
     double v = 0;
     if (!(w->psnr_db == INFINITY || (w->psnr_db >= 0 && w->psnr_db <= HT_MANIFEST_MAX_PSNR_DB)))
@@ -384,6 +391,10 @@ static ht_result check_numbers(const char *name, const ht_metrics *w, double cos
         field = HT_MANIFEST_KEY_DELTA_E00_MEAN, v = w->delta_e00_mean, range = "[0, 1000]";
     else if (!(w->delta_e00_p95 >= 0 && w->delta_e00_p95 <= HT_MANIFEST_MAX_DELTA_E))
         field = HT_MANIFEST_KEY_DELTA_E00_P95, v = w->delta_e00_p95, range = "[0, 1000]";
+    else if (flip && !(flip->mean >= 0 && flip->mean <= 1))
+        field = HT_MANIFEST_KEY_FLIP_MEAN, v = flip->mean, range = "[0, 1]";
+    else if (flip && !(flip->p95 >= 0 && flip->p95 <= 1))
+        field = HT_MANIFEST_KEY_FLIP_P95, v = flip->p95, range = "[0, 1]";
     else if (!(cost_ratio > 0 && cost_ratio <= HT_MANIFEST_MAX_COST_RATIO))
         field = HT_MANIFEST_KEY_COST_RATIO, v = cost_ratio, range = "(0, 1e6]";
     if (!field) return HT_OK;
@@ -391,12 +402,14 @@ static ht_result check_numbers(const char *name, const ht_metrics *w, double cos
 }
 
 static ht_result check_tier(const ht_measure_tier *m, char *err, size_t err_size) {
-    ht_result r = check_numbers(m->name, &m->whole, m->cost_ratio, err, err_size);
-    if (r == HT_OK && m->device.present) r = check_numbers(m->name, &m->device.whole, m->device.cost_ratio, err, err_size);
+    ht_result r = check_numbers(m->name, &m->whole, &m->flip, m->cost_ratio, err, err_size);
+    if (r == HT_OK && m->device.present)
+        r = check_numbers(m->name, &m->device.whole, NULL, m->device.cost_ratio, err, err_size);
     return r;
 }
 
-static cJSON *measured_object(const ht_metrics *w, double cost_ratio, const ht_measure_result *all) {
+static cJSON *measured_object(const ht_metrics *w, const ht_flip_result *flip, double cost_ratio,
+                              const ht_measure_result *all) {
     cJSON *o = cJSON_CreateObject();
     /* Identical to full (full itself): null, the reader's "infinite". */
     if (isinf(w->psnr_db)) cJSON_AddNullToObject(o, HT_MANIFEST_KEY_PSNR_DB);
@@ -404,6 +417,10 @@ static cJSON *measured_object(const ht_metrics *w, double cost_ratio, const ht_m
     cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_SSIM, round_to(w->ssim, 1e-4));
     cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_DELTA_E00_MEAN, round_to(w->delta_e00_mean, 1e-3));
     cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_DELTA_E00_P95, round_to(w->delta_e00_p95, 1e-3));
+    if (flip) {
+        cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_FLIP_MEAN, round_to(flip->mean, 1e-5));
+        cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_FLIP_P95, round_to(flip->p95, 1e-5));
+    }
     cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_COST_RATIO, round_significant(cost_ratio, 4));
     cJSON_AddStringToObject(o, HT_MANIFEST_KEY_SCENE, all->scene);
     cJSON_AddStringToObject(o, HT_MANIFEST_KEY_DRIVER, all->driver[0] ? all->driver : "unknown");
@@ -443,11 +460,11 @@ static char *measured_manifest(const char *path, const ht_measure_result *m, cha
             return NULL;
         }
         cJSON_DeleteItemFromObjectCaseSensitive(tier, HT_MANIFEST_KEY_MEASURED);
-        cJSON_AddItemToObject(tier, HT_MANIFEST_KEY_MEASURED, measured_object(&mt->whole, mt->cost_ratio, m));
+        cJSON_AddItemToObject(tier, HT_MANIFEST_KEY_MEASURED, measured_object(&mt->whole, &mt->flip, mt->cost_ratio, m));
         cJSON_DeleteItemFromObjectCaseSensitive(tier, HT_MANIFEST_KEY_MEASURED_DEVICE);
         if (mt->device.present)
             cJSON_AddItemToObject(tier, HT_MANIFEST_KEY_MEASURED_DEVICE,
-                                  measured_object(&mt->device.whole, mt->device.cost_ratio, m));
+                                  measured_object(&mt->device.whole, NULL, mt->device.cost_ratio, m));
         index++;
     }
     char *out = cJSON_Print(root);
@@ -507,15 +524,15 @@ void ht_measure_print(FILE *out, const ht_measure_result *m) {
     fprintf(out, "measured: scene %s (%dx%d), driver %s; whole frame against %s; frame ms: median of %d "
                  "after %d warm-up, tiers round-robin; cost = ms / %s's ms\n",
             m->scene, m->width, m->height, m->driver, ref, HT_MEASURE_TIMED_FRAMES, HT_MEASURE_WARMUP_FRAMES, ref);
-    fprintf(out, "%-7s %9s %6s %9s %7s %10s %9s\n", "tier", "frame_ms", "cost", "psnr_db", "ssim", "de00_mean",
-            "de00_p95");
+    fprintf(out, "%-7s %9s %6s %9s %7s %10s %9s %10s %9s\n", "tier", "frame_ms", "cost", "psnr_db", "ssim",
+            "de00_mean", "de00_p95", "flip_mean", "flip_p95");
     for (int i = 0; i < m->tier_count; i++) {
         const ht_measure_tier *t = &m->tiers[i];
         char psnr[32];
         if (isinf(t->whole.psnr_db)) snprintf(psnr, sizeof psnr, "%s", "same");
         else snprintf(psnr, sizeof psnr, "%.2f", t->whole.psnr_db);
-        fprintf(out, "%-7s %9.2f %6.3f %9s %7.4f %10.3f %9.3f\n", t->name, t->frame_ms, t->cost_ratio, psnr,
-                t->whole.ssim, t->whole.delta_e00_mean, t->whole.delta_e00_p95);
+        fprintf(out, "%-7s %9.2f %6.3f %9s %7.4f %10.3f %9.3f %10.5f %9.5f\n", t->name, t->frame_ms, t->cost_ratio,
+                psnr, t->whole.ssim, t->whole.delta_e00_mean, t->whole.delta_e00_p95, t->flip.mean, t->flip.p95);
         if (!t->device.present) continue;
         const ht_metrics *w = &t->device.whole;
         if (isinf(w->psnr_db)) snprintf(psnr, sizeof psnr, "%s", "same");

@@ -6,10 +6,11 @@
    frames round-robin across the tiers so that a change in the machine's
    load falls on every tier alike. Each tier's last frame is compared with
    the reference's ("full" below: the full tier, or for a Marschner
-   material its marschner tier) over the whole frame (shadergen/metrics.h)
-   and its median frame time divided by the reference's. The result goes
-   into each tier's `measured` object (docs/bundle.md), which the
-   runtime's error:DB and fastest policies read.
+   material its marschner tier) over the whole frame (shadergen/metrics.h,
+   and LDR-FLIP at 67 pixels per degree, shadergen/flip.h) and its median
+   frame time divided by the reference's. The result goes into each tier's
+   `measured` object (docs/bundle.md), which the runtime's error:DB,
+   error:flip:E and fastest policies read.
 
    Usage (what hairgen does; the step runs before the bundle is published):
        ht_measure_job job = { .scene_path = scene_path, .out_dir = out_dir };
@@ -25,6 +26,7 @@
 
 #include <hairtier/hairtier.h>
 #include "manifest.h"
+#include "flip.h"
 #include "metrics.h"
 #include <hairtier/scene.h>
 
@@ -37,6 +39,7 @@ typedef struct ht_measure_tier {
     double frame_ms;         /* median of the timed frames, each ended by glFinish */
     double cost_ratio;       /* frame_ms / full's frame_ms */
     ht_metrics whole;        /* against full's image, whole frame; psnr INFINITY: identical */
+    ht_flip_result flip;     /* LDR-FLIP against full's image at HT_FLIP_DEFAULT_PPD, whole frame */
     /* the tier's device-only variant (hairtier.h ht_variant), when its
        backend has one for this bundle: the same numbers, written as
        "measured_device" */
@@ -72,7 +75,7 @@ ht_result ht_measure_bundle(const char *dir, const ht_scene *scene, const char *
    file renamed over it), then reads the manifest back with the runtime's
    reader and checks every tier carries it. Numbers are rounded for
    reading: psnr_db to 0.01 dB (null when identical), ssim to 1e-4, ΔE to
-   1e-3, cost_ratio to 4 significant digits. On failure the manifest is as
+   1e-3, FLIP to 1e-5, cost_ratio to 4 significant digits. On failure the manifest is as
    it was. */
 ht_result ht_measure_write_manifest(const char *dir, const ht_measure_result *m, char *err, size_t err_size);
 

@@ -112,6 +112,7 @@ static void test_every_tier_carries_a_measured_object_the_runtime_reads(void **s
     assert_true(full->present);
     assert_true(isinf(full->psnr_db)); /* null: full against itself */
     assert_true(full->ssim == 1.0 && full->delta_e00_mean == 0.0 && full->delta_e00_p95 == 0.0);
+    assert_true(full->flip_mean == 0.0 && full->flip_p95 == 0.0);
     assert_true(full->cost_ratio == 1.0);
 
     /* The driver is the one this process gets from OSMesa. */
@@ -136,6 +137,8 @@ static void test_every_tier_carries_a_measured_object_the_runtime_reads(void **s
         if (!(isfinite(t->psnr_db) && t->psnr_db > 10 && t->psnr_db < 100))
             fail_msg("%s: psnr_db %g", m->tiers[i].name, t->psnr_db);
         assert_true(t->ssim < 1 && t->delta_e00_mean > 0);
+        if (!(t->flip_mean > 0 && t->flip_mean <= 1 && t->flip_p95 >= 0 && t->flip_p95 <= 1))
+            fail_msg("%s: flip_mean %g, flip_p95 %g", m->tiers[i].name, t->flip_mean, t->flip_p95);
     }
 
     /* In the text: full's PSNR is JSON null, the others numbers. */
@@ -252,7 +255,7 @@ static void test_the_image_numbers_repeat_across_runs(void **state) {
     for (int i = 0; i < a.tier_count; i++) {
         const ht_manifest_measured *x = &a.tiers[i].measured, *y = &b->tiers[i].measured;
         if (!(x->psnr_db == y->psnr_db && x->ssim == y->ssim && x->delta_e00_mean == y->delta_e00_mean &&
-              x->delta_e00_p95 == y->delta_e00_p95))
+              x->delta_e00_p95 == y->delta_e00_p95 && x->flip_mean == y->flip_mean && x->flip_p95 == y->flip_p95))
             fail_msg("%s: %g dB, %g, %g, %g then %g dB, %g, %g, %g", a.tiers[i].name, x->psnr_db, x->ssim,
                      x->delta_e00_mean, x->delta_e00_p95, y->psnr_db, y->ssim, y->delta_e00_mean, y->delta_e00_p95);
     }
@@ -522,6 +525,14 @@ static void test_write_manifest_refuses_numbers_out_of_range(void **state) {
     assert_int_equal(ht_measure_write_manifest(dir, &bad, err, sizeof err), HT_ERR_UNSUPPORTED);
     assert_non_null(strstr(err, "measure: gl11: delta_e00_p95: "));
     bad = res;
+    bad.tiers[1].flip.mean = 1.5;
+    assert_int_equal(ht_measure_write_manifest(dir, &bad, err, sizeof err), HT_ERR_UNSUPPORTED);
+    assert_non_null(strstr(err, "measure: vertex: flip_mean: 1.5 is outside [0, 1]"));
+    bad = res;
+    bad.tiers[2].flip.p95 = NAN;
+    assert_int_equal(ht_measure_write_manifest(dir, &bad, err, sizeof err), HT_ERR_UNSUPPORTED);
+    assert_non_null(strstr(err, "measure: fixed4: flip_p95: nan is outside [0, 1]"));
+    bad = res;
     bad.tier_count = 4; /* gl11 not measured */
     assert_int_equal(ht_measure_write_manifest(dir, &bad, err, sizeof err), HT_ERR_PARSE);
     assert_non_null(strstr(err, "tiers[4]: \"gl11\" was not measured"));
@@ -532,11 +543,14 @@ static void test_write_manifest_refuses_numbers_out_of_range(void **state) {
     /* And the good one is written, rounded, read back. */
     res.tiers[1].whole.psnr_db = 31.23456;
     res.tiers[1].cost_ratio = 0.123456;
+    res.tiers[1].flip = (ht_flip_result){ .mean = 0.0123456, .p95 = 0.0987654 };
     assert_int_equal(ht_measure_write_manifest(dir, &res, err, sizeof err), HT_OK);
     const ht_manifest *m = load(dir);
     assert_true(isinf(m->tiers[0].measured.psnr_db));
     assert_true(m->tiers[1].measured.psnr_db == 31.23);
     assert_true(m->tiers[1].measured.cost_ratio == 0.1235);
+    assert_true(m->tiers[1].measured.flip_mean == 0.01235 && m->tiers[1].measured.flip_p95 == 0.09877);
+    assert_true(m->tiers[0].measured.flip_mean == 0.0);
     assert_string_equal(m->tiers[1].measured.driver, "test");
     free(before);
 }

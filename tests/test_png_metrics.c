@@ -1,6 +1,7 @@
 /* test_png_metrics — build/png_metrics, the comparison tools/device_nvidia.sh
    runs on a device: identical images print PSNR inf, a difference of one
-   level in every channel of every pixel prints 10 log10(255²) = 48.13 dB,
+   level in every channel of every pixel prints 10 log10(255²) = 48.13 dB
+   and a FLIP mean above 0,
    and a size mismatch, a missing or broken file or a wrong argument count
    is one line and a non-zero exit. */
 #include <setjmp.h>
@@ -66,10 +67,11 @@ static void test_png_metrics_prints_inf_for_identical_and_48_db_for_one_level(vo
     write_png("c.png", 40, 30, 1);
     assert_int_equal(run("a.png b.png", out, sizeof out), 0);
     assert_non_null(strstr(out, "psnr_db=inf ssim=1.0000 de00_mean=0.000"));
-    assert_non_null(strstr(out, "max_diff=0\n"));
+    assert_non_null(strstr(out, " flip_mean=0.00000 flip_p95=0.00000 max_diff=0\n"));
     assert_int_equal(run("a.png c.png", out, sizeof out), 0);
     assert_true(strncmp(out, "psnr_db=48.13 ", 14) == 0);
     assert_non_null(strstr(out, "max_diff=1\n"));
+    assert_null(strstr(out, " flip_mean=0.00000 "));
 }
 
 static void test_png_metrics_refuses_bad_input_in_one_line(void **state) {

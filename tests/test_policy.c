@@ -42,6 +42,19 @@ static const char measured_manifest[] =
     MANIFEST(MEASURED("null", "1"), MEASURED("32.1", "0.6"), MEASURED("31.2", "0.4"), MEASURED("27", "0.5"),
              MEASURED("29", "0.45"));
 static const char plain_manifest[] = MANIFEST("", "", "", "", "");
+/* The same with FLIP means: fixed4 is the cheapest but the only one over
+   0.05. */
+#define MEASURED_FLIP(psnr, flip, p95, cost) \
+    ", \"measured\": {\"psnr_db\": " psnr ", \"ssim\": 0.9, \"delta_e00_mean\": 1.5, \"delta_e00_p95\": 4," \
+    " \"flip_mean\": " flip ", \"flip_p95\": " p95 ", \"cost_ratio\": " cost "}"
+static const char flip_manifest[] =
+    MANIFEST(MEASURED_FLIP("null", "0", "0", "1"), MEASURED_FLIP("32.1", "0.02", "0.1", "0.6"),
+             MEASURED_FLIP("31.2", "0.06", "0.3", "0.4"), MEASURED_FLIP("27", "0.04", "0.2", "0.5"),
+             MEASURED_FLIP("29", "0.045", "0.25", "0.45"));
+/* Only full has FLIP numbers (the others were measured before FLIP). */
+static const char flip_partial_manifest[] =
+    MANIFEST(MEASURED_FLIP("null", "0", "0", "1"), MEASURED("32.1", "0.6"), MEASURED("31.2", "0.4"),
+             MEASURED("27", "0.5"), MEASURED("29", "0.45"));
 /* Only two tiers measured: fastest falls back to the bundle's order. */
 static const char partial_manifest[] = MANIFEST(MEASURED("null", "1"), "", MEASURED("31.2", "0.4"), "", "");
 
@@ -213,6 +226,100 @@ static void test_error_budget_needs_measured_numbers(void **state) {
     assert_non_null(strstr(s.reason, "vertex: no measured numbers"));
 }
 
+static void test_flip_policy_parses_a_mean_in_0_1_and_names_what_is_wrong(void **state) {
+    (void)state;
+    ht_policy p = policy("error:flip:0.05");
+    assert_true(p.kind == HT_POLICY_ERROR_FLIP && p.value == 0.05);
+    assert_true(policy("error:flip:0").value == 0.0 && policy("error:flip:1").value == 1.0);
+    const char *bad[] = { "error:flip:", "error:flip:1.5", "error:flip:-0.1", "error:flip:abc", "error:flip:nan",
+                          "error:flip:0.05x", "error:FLIP:0.05" };
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        char err[256] = "";
+        assert_int_equal(ht_policy_parse(bad[i], &p, err, sizeof err), HT_ERR_INVALID_ARGUMENT);
+        if (!strstr(err, bad[i]) || strchr(err, '\n')) fail_msg("\"%s\": message \"%s\"", bad[i], err);
+    }
+}
+
+static void test_manifest_reads_flip_numbers_and_takes_their_absence_as_unmeasured(void **state) {
+    (void)state;
+    ht_manifest m = parse(flip_manifest);
+    assert_true(m.tiers[1].measured.flip_mean == 0.02 && m.tiers[1].measured.flip_p95 == 0.1);
+    assert_true(m.tiers[0].measured.flip_mean == 0.0);
+    m = parse(measured_manifest);
+    assert_true(m.tiers[1].measured.present && isnan(m.tiers[1].measured.flip_mean) &&
+                isnan(m.tiers[1].measured.flip_p95));
+}
+
+static void test_manifest_refuses_bad_flip_numbers_naming_the_field(void **state) {
+    (void)state;
+    struct { const char *flip, *field; } cases[] = {
+        { "\"flip_mean\": 1.5, \"flip_p95\": 0.2", "tiers[0].measured.flip_mean" },
+        { "\"flip_mean\": 0.1, \"flip_p95\": -0.01", "tiers[0].measured.flip_p95" },
+        { "\"flip_p95\": 0.2", "tiers[0].measured.flip_mean" },
+        { "\"flip_mean\": 0.1", "tiers[0].measured.flip_p95" },
+        { "\"flip_mean\": \"low\", \"flip_p95\": 0.2", "tiers[0].measured.flip_mean" },
+        { "\"flip_mean\": null, \"flip_p95\": 0.2", "tiers[0].measured.flip_mean" },
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
+        char text[4096], err[512];
+        snprintf(text, sizeof text,
+                 "{\"format\": \"hairtier-bundle/1\", \"lights\": [\"directional\"], \"opaque_cutoff\": 0.9, \"tiers\": ["
+                 TIER("gl11", "{\"gl\": \"1.1\", \"glsl\": null}", "{\"program\": \"gl11.json\"}",
+                      ", \"measured\": {\"psnr_db\": 30, \"ssim\": 0.9, \"delta_e00_mean\": 1, \"delta_e00_p95\": 2,"
+                      " \"cost_ratio\": 1, %s}") "]}",
+                 cases[i].flip);
+        ht_manifest m;
+        err[0] = '\0';
+        assert_int_equal(ht_manifest_parse(text, "/b", "/b/manifest.json", &m, err, sizeof err), HT_ERR_PARSE);
+        if (!strstr(err, cases[i].field) || strchr(err, '\n'))
+            fail_msg("case %zu: \"%s\" does not name %s in one line", i, err, cases[i].field);
+    }
+}
+
+static void test_flip_budget_takes_the_cheapest_tier_within_it(void **state) {
+    (void)state;
+    ht_manifest m = parse(flip_manifest);
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
+    ht_selection s;
+    /* <= 0.05: full (0, 1), vertex (0.02, 0.6), fixed (0.04, 0.5), gl11
+       (0.045, 0.45); fixed4 (0.06, 0.4) is cheaper but over → gl11 */
+    assert_int_equal(pick(&m, &c, "error:flip:0.05", &s), HT_TIER_GL11);
+    assert_non_null(strstr(s.reason, "error:flip:0.05: FLIP 0.045 <= 0.05, cost 0.45x full"));
+    /* error:30 would take fixed4: PSNR and FLIP disagree here on purpose */
+    assert_int_equal(pick(&m, &c, "error:30", &s), HT_TIER_FIXED4);
+    assert_int_equal(pick(&m, &c, "error:flip:0.03", &s), HT_TIER_VERTEX);
+    assert_int_equal(pick(&m, &c, "error:flip:0", &s), HT_TIER_FULL);
+    assert_int_equal(pick(&m, &c, "error:flip:1", &s), HT_TIER_FIXED4);
+    /* A GL 1.3, 2-unit device runs fixed (0.04) and gl11 (0.045): none is
+       within 0.01, so the least FLIP, fixed. */
+    c = ht_test_caps(1, 3, 0, 0, 2);
+    assert_int_equal(pick(&m, &c, "error:flip:0.01", &s), HT_TIER_FIXED);
+    assert_non_null(strstr(s.reason, "no tier that runs is within 0.01; the most accurate: FLIP 0.04"));
+}
+
+static void test_flip_budget_needs_flip_numbers(void **state) {
+    (void)state;
+    ht_caps c = ht_test_caps(4, 5, 4, 50, 8);
+    ht_selection s;
+    char err[512];
+    /* Measured before FLIP: refused with one line, like error:DB unmeasured. */
+    ht_manifest m = parse(measured_manifest);
+    ht_select_desc d = { .caps = &c, .bundle = &m, .policy = policy("error:flip:0.05") };
+    assert_int_equal(ht_select_tier(&d, &s, err, sizeof err), HT_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err, "policy error:flip:0.05: no tier has measured FLIP numbers"));
+    /* Only full has them: the others are skipped with a line. */
+    m = parse(flip_partial_manifest);
+    assert_int_equal(pick(&m, &c, "error:flip:0.05", &s), HT_TIER_FULL);
+    assert_non_null(strstr(s.reason, "vertex: no measured FLIP (policy error:flip:0.05)"));
+    /* A device that runs none of the tiers with FLIP numbers. */
+    c = ht_test_caps(1, 3, 0, 0, 2);
+    assert_int_equal(ht_select_tier(&d, &s, err, sizeof err), HT_ERR_INVALID_ARGUMENT);
+    m = parse(flip_partial_manifest);
+    d.bundle = &m;
+    assert_int_equal(ht_select_tier(&d, &s, err, sizeof err), HT_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err, "no tier that runs here has measured FLIP numbers"));
+}
+
 static void test_frame_budget_keeps_the_best_tier_within_it(void **state) {
     (void)state;
     ht_manifest m = parse(plain_manifest);
@@ -327,7 +434,7 @@ static void test_renderer_reads_hairtier_policy_and_the_desc_wins(void **state) 
     ht_renderer_destroy(r);
     setenv("HAIRTIER_POLICY", "sometimes", 1);
     ht_test_renderer_create((ht_renderer_desc){ 0 }, fx.bundle_dir, HT_ERR_INVALID_ARGUMENT);
-    assert_true(ht_test_logged("HAIRTIER_POLICY: policy: \"sometimes\" is not best, fastest, error:DB or frame:MS"));
+    assert_true(ht_test_logged("HAIRTIER_POLICY: policy: \"sometimes\" is not best, fastest, error:DB, error:flip:E or frame:MS"));
     unsetenv("HAIRTIER_POLICY");
 }
 
@@ -409,6 +516,11 @@ int main(void) {
         cmocka_unit_test(test_fastest_without_measured_costs_takes_the_last_that_runs),
         cmocka_unit_test(test_error_budget_takes_the_cheapest_tier_that_reaches_it),
         cmocka_unit_test(test_error_budget_needs_measured_numbers),
+        cmocka_unit_test(test_flip_policy_parses_a_mean_in_0_1_and_names_what_is_wrong),
+        cmocka_unit_test(test_manifest_reads_flip_numbers_and_takes_their_absence_as_unmeasured),
+        cmocka_unit_test(test_manifest_refuses_bad_flip_numbers_naming_the_field),
+        cmocka_unit_test(test_flip_budget_takes_the_cheapest_tier_within_it),
+        cmocka_unit_test(test_flip_budget_needs_flip_numbers),
         cmocka_unit_test(test_frame_budget_keeps_the_best_tier_within_it),
         cmocka_unit_test(test_a_forced_tier_wins_over_the_policy),
     };

@@ -34,7 +34,7 @@
    Environment: HAIRTIER_TIER=marschner|full|vertex|fixed4|fixed|gl11 forces a tier
    like ht_renderer_desc.tier does (the desc wins when both are set); gl11,
    the last resort, runs on any GL 1.1 context with one texture unit.
-   HAIRTIER_POLICY=best|fastest|error:DB|frame:MS picks among the tiers the
+   HAIRTIER_POLICY=best|fastest|error:DB|error:flip:E|frame:MS picks among the tiers the
    device runs like ht_renderer_desc.policy (the desc wins; a forced tier
    wins over both).
    HAIRTIER_VARIANT=exact|device picks the variant of fixed4 and fixed like
@@ -54,6 +54,10 @@
                    against full is at least DB; needs the bundle's per-tier
                    "measured" numbers (hairgen --measure), HT_ERR_INVALID_ARGUMENT
                    without them; when none reaches DB, the most accurate one
+       error:flip:E  the same by FLIP: the cheapest tier the device runs
+                   whose measured LDR-FLIP mean against full (at 67 pixels
+                   per degree) is at most E, in [0, 1]; when none is within
+                   E, the one of least FLIP mean
        frame:MS    the best tier whose frame time on this device is within
                    MS. Timing needs a mesh and a frame, which come after
                    create: create picks the best tier (or times with
@@ -280,6 +284,7 @@ typedef enum ht_policy_kind {
     HT_POLICY_FASTEST,
     HT_POLICY_ERROR,       /* value: the least PSNR in dB */
     HT_POLICY_FRAME,       /* value: the frame budget in ms */
+    HT_POLICY_ERROR_FLIP,  /* value: the largest FLIP mean, in [0, 1] */
 } ht_policy_kind;
 
 typedef struct ht_policy {
@@ -304,7 +309,8 @@ typedef enum ht_variant {
 } ht_variant;
 #define HT_VARIANT_DEVICE_DB 0.5
 
-/* "best", "fastest", "error:<dB>" (a finite number >= 0), "frame:<ms>" (> 0)
+/* "best", "fastest", "error:<dB>" (a finite number >= 0), "error:flip:<E>"
+   (E in [0, 1]), "frame:<ms>" (> 0)
    into a policy; HT_ERR_INVALID_ARGUMENT with one line in err otherwise. */
 HT_API ht_result ht_policy_parse(const char *text, ht_policy *out, char *err, size_t err_size);
 

@@ -81,6 +81,10 @@ _Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader r
 #define HT_MANIFEST_KEY_DELTA_E00_MEAN "delta_e00_mean"
 #define HT_MANIFEST_KEY_DELTA_E00_P95 "delta_e00_p95"
 #define HT_MANIFEST_KEY_COST_RATIO "cost_ratio"
+/* LDR-FLIP at 67 pixels per degree (shadergen/flip.h): optional, as a
+   pair, so bundles measured before FLIP still load. */
+#define HT_MANIFEST_KEY_FLIP_MEAN "flip_mean"
+#define HT_MANIFEST_KEY_FLIP_P95 "flip_p95"
 #define HT_MANIFEST_KEY_SCENE "scene"
 #define HT_MANIFEST_KEY_DRIVER "driver"
 /* Limits of a measured object's numbers. */
@@ -120,6 +124,7 @@ typedef struct ht_manifest_measured {
     double ssim;                   /* [-1, 1] */
     double delta_e00_mean, delta_e00_p95; /* [0, 1000] */
     double cost_ratio;             /* (0, 1e6]: frame time / full's */
+    double flip_mean, flip_p95;    /* [0, 1]; NAN when absent (measured before FLIP) */
     char scene[64];                /* "" when absent */
     char driver[128];              /* "" when absent */
 } ht_manifest_measured;

@@ -86,11 +86,21 @@ static ht_result parse_version_field(const ht_jctx *c, const cJSON *req, const c
     return HT_OK;
 }
 
+/* flip_mean and flip_p95: both or neither (NAN), each in [0, 1]. */
+static ht_result parse_flip(const ht_jctx *c, const cJSON *m, const char *path, ht_manifest_measured *out) {
+    bool has_mean = cJSON_GetObjectItemCaseSensitive(m, K(FLIP_MEAN)) != NULL;
+    bool has_p95 = cJSON_GetObjectItemCaseSensitive(m, K(FLIP_P95)) != NULL;
+    const double *absent = has_mean || has_p95 ? NULL : &(double){ NAN };
+    ht_result r = ht_json_number(c, m, path, K(FLIP_MEAN), absent, HT_JRANGE(0, 1), &out->flip_mean);
+    if (r == HT_OK) r = ht_json_number(c, m, path, K(FLIP_P95), absent, HT_JRANGE(0, 1), &out->flip_p95);
+    return r;
+}
+
 /* The optional per-tier "measured" and "measured_device" objects (manifest.h). */
 static ht_result parse_measured(const ht_jctx *c, const cJSON *t, const char *base, const char *key,
                                 ht_manifest_measured *out) {
     static const char *const known[] = { K(PSNR_DB), K(SSIM), K(DELTA_E00_MEAN), K(DELTA_E00_P95), K(COST_RATIO),
-                                         K(SCENE), K(DRIVER), NULL };
+                                         K(FLIP_MEAN), K(FLIP_P95), K(SCENE), K(DRIVER), NULL };
     char path[HT_JSON_PATH_MAX];
     ht_json_path_key(path, base, key);
     const cJSON *m;
@@ -112,6 +122,7 @@ static ht_result parse_measured(const ht_jctx *c, const cJSON *t, const char *ba
                             &out->delta_e00_p95)) != HT_OK ||
         (r = ht_json_number(c, m, path, K(COST_RATIO), NULL, HT_JRANGE_LO_OPEN(0, HT_MANIFEST_MAX_COST_RATIO),
                             &out->cost_ratio)) != HT_OK ||
+        (r = parse_flip(c, m, path, out)) != HT_OK ||
         (r = ht_json_string_or_null(c, m, path, K(SCENE), out->scene, sizeof out->scene)) != HT_OK ||
         (r = ht_json_string_or_null(c, m, path, K(DRIVER), out->driver, sizeof out->driver)) != HT_OK)
         return r;

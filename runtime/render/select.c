@@ -97,6 +97,18 @@ ht_result ht_policy_parse(const char *text, ht_policy *out, char *err, size_t er
         out->kind = HT_POLICY_FASTEST;
         return HT_OK;
     }
+    if (strncmp(text, "error:flip:", 11) == 0) {
+        const char *num = text + 11;
+        char *end;
+        errno = 0;
+        double v = strtod(num, &end);
+        if (*num && *end == '\0' && errno == 0 && v >= 0.0 && v <= 1.0) {
+            *out = (ht_policy){ HT_POLICY_ERROR_FLIP, v };
+            return HT_OK;
+        }
+        snprintf(err, err_size, "policy: \"%.40s\": error:flip: needs a FLIP mean in [0, 1], like error:flip:0.05", text);
+        return HT_ERR_INVALID_ARGUMENT;
+    }
     bool error = strncmp(text, "error:", 6) == 0, frame = strncmp(text, "frame:", 6) == 0;
     if (error || frame) {
         const char *num = text + 6;
@@ -112,7 +124,7 @@ ht_result ht_policy_parse(const char *text, ht_policy *out, char *err, size_t er
                  error ? "error: needs a number of dB >= 0, like error:30" : "frame: needs a number of ms > 0, like frame:16.7");
         return HT_ERR_INVALID_ARGUMENT;
     }
-    ht_set_error(err, err_size, "policy: \"%.40s\" is not best, fastest, error:DB or frame:MS", text);
+    ht_set_error(err, err_size, "policy: \"%.40s\" is not best, fastest, error:DB, error:flip:E or frame:MS", text);
     return HT_ERR_INVALID_ARGUMENT;
 }
 
@@ -125,6 +137,51 @@ static void cost_text(const ht_manifest_tier *t, char *out, size_t size) {
 static void psnr_text(double db, char *out, size_t size) {
     if (isinf(db)) snprintf(out, size, "identical to full");
     else snprintf(out, size, "%.1f dB", db);
+}
+
+static bool has_flip(const ht_manifest_measured *m) { return m->present && !isnan(m->flip_mean); }
+
+/* error:flip:E, as error:DB with the FLIP mean (lower is better). */
+static ht_result pick_by_flip(const ht_select_desc *d, const bool ok[], ht_selection *out, char *err,
+                              size_t err_size) {
+    const ht_manifest *b = d->bundle;
+    double e = d->policy.value;
+    char line[HT_SELECT_REASON], cost[48];
+    bool any = false;
+    for (int i = 0; i < b->tier_count; i++) any = any || has_flip(&b->tiers[i].measured);
+    if (!any) {
+        snprintf(err, err_size, "%s/manifest.json: policy error:flip:%g: no tier has measured FLIP numbers (hairgen "
+                 "--measure writes them)", b->dir, e);
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    int pick = -1, most_accurate = -1;
+    for (int i = 0; i < b->tier_count; i++) {
+        if (!ok[i]) continue;
+        const ht_manifest_measured *m = &b->tiers[i].measured;
+        if (!has_flip(m)) {
+            snprintf(line, sizeof line, "%s: no measured FLIP (policy error:flip:%g)", b->tiers[i].name, e);
+            add_skip(out, line);
+            continue;
+        }
+        if (most_accurate < 0 || m->flip_mean < b->tiers[most_accurate].measured.flip_mean) most_accurate = i;
+        if (m->flip_mean <= e && (pick < 0 || m->cost_ratio < b->tiers[pick].measured.cost_ratio)) pick = i;
+    }
+    if (pick >= 0) {
+        cost_text(&b->tiers[pick], cost, sizeof cost);
+        snprintf(out->reason, sizeof out->reason, "error:flip:%g: FLIP %.4g <= %g%s, the cheapest that runs and "
+                 "reaches it", e, b->tiers[pick].measured.flip_mean, e, cost);
+    } else if (most_accurate >= 0) {
+        pick = most_accurate;
+        cost_text(&b->tiers[pick], cost, sizeof cost);
+        snprintf(out->reason, sizeof out->reason, "error:flip:%g: no tier that runs is within %g; the most accurate: "
+                 "FLIP %.4g%s", e, e, b->tiers[pick].measured.flip_mean, cost);
+    } else {
+        snprintf(err, err_size, "%s/manifest.json: policy error:flip:%g: no tier that runs here has measured FLIP "
+                 "numbers", b->dir, e);
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    out->index = pick;
+    return HT_OK;
 }
 
 /* The policy's pick among the tiers that run (ok[i]); HT_OK with out->index
@@ -199,6 +256,8 @@ static ht_result pick_by_policy(const ht_select_desc *d, const bool ok[], ht_sel
         out->index = pick;
         return HT_OK;
     }
+    case HT_POLICY_ERROR_FLIP:
+        return pick_by_flip(d, ok, out, err, err_size);
     case HT_POLICY_FRAME: {
         int pick = -1, fastest = -1;
         for (int i = 0; i < b->tier_count; i++) {

@@ -22,6 +22,8 @@
    the last; error:DB = the least cost_ratio among runnable tiers measured
    at >= DB (ties: the earlier; a runnable tier without numbers is skipped
    with a line), none → the highest PSNR, a bundle with no measured tier →
+   HT_ERR_INVALID_ARGUMENT; error:flip:E = the same with the measured
+   FLIP mean <= E, none → the least FLIP mean, no tier with FLIP numbers →
    HT_ERR_INVALID_ARGUMENT; frame:MS = the
    first runnable tier timed within MS, none → the fastest timed, no
    timings yet → best. */
