@@ -19,7 +19,7 @@ WERROR  ?= -Werror
 DEB_PACKAGES := libosmesa6-dev libegl-dev libegl-mesa0 glslang-dev glslang-tools libcjson-dev libpng-dev \
                 libdeflate-dev libcmocka-dev pkg-config g++
 
-CPPFLAGS += -Iruntime -Ishadergen -Ifallback -I/usr/include/cjson -I/usr/include/libpng16
+CPPFLAGS += -Iruntime -Ishadergen -Ifallback -Iplatform -I/usr/include/cjson -I/usr/include/libpng16
 CFLAGS   += -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra $(WERROR) $(OPT) $(SAN) -MMD -MP
 LDFLAGS  += $(SAN)
 # glslang's static libraries are C++; its pkg-config file is read lazily,
@@ -29,9 +29,9 @@ GLSLANG_LIBS = $(shell pkg-config --libs glslang) -lglslang-default-resource-lim
 GEN_LIBS     = -ldeflate
 CORE_LIBS    = -lcjson -lpng16 -lz -lpthread -lm
 RUNTIME_LIBS = -lOSMesa $(CORE_LIBS)
-# The offscreen context module (examples/offscreen.h): EGL linked, OSMesa
-# loaded with dlopen, so its programs start where there is no OSMesa.
-OFFSCREEN_LIBS = -lEGL -ldl
+# The offscreen context module (platform/offscreen.h) loads EGL and OSMesa
+# with dlopen, so its programs start where there is no OSMesa.
+OFFSCREEN_LIBS = -ldl
 LDLIBS   = $(GLSLANG_LIBS) $(GEN_LIBS) $(RUNTIME_LIBS)
 
 RUNTIME_SRC := $(wildcard runtime/*.c fallback/*.c)
@@ -40,8 +40,10 @@ GEN_SRC     := $(filter-out shadergen/hairgen.c,$(wildcard shadergen/*.c))
 GEN_CXX_SRC := $(wildcard shadergen/*.cpp)
 TEST_SRC    := $(wildcard tests/test_*.c)
 TEST_SUPPORT_SRC := $(wildcard tests/support_*.c)
-# The offscreen context module and the options the drawing programs share.
-EXAMPLE_SHARED_SRC := examples/offscreen.c examples/offscreen_osmesa.c examples/offscreen_egl.c examples/view_args.c
+# What every program shares, hairgen included (platform/: the offscreen
+# context module and the command-line parser); the drawing programs' options.
+PLATFORM_SRC := $(wildcard platform/*.c)
+EXAMPLE_SHARED_SRC := examples/view_args.c
 EXAMPLE_SRC := $(filter-out $(EXAMPLE_SHARED_SRC),$(wildcard examples/*.c))
 # What the example programs share (tier rendering, the report's pieces in
 # examples/compare/; the benchmarks' results files, plots and progress in
@@ -54,6 +56,7 @@ obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 LIB       := $(BUILD)/libhairtier.a
 GENLIB    := $(BUILD)/libhairgen.a
 EXLIB     := $(BUILD)/libexamples.a
+PLATLIB   := $(BUILD)/libplatform.a
 HAIRGEN   := $(BUILD)/hairgen
 PROGRAMS  := $(patsubst examples/%.c,$(BUILD)/%,$(EXAMPLE_SRC))
 TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
@@ -129,31 +132,39 @@ $(EXLIB): $(call obj,$(EXAMPLE_LIB_SRC))
 	@rm -f $@
 	ar rcs $@ $^
 
+$(PLATLIB): $(call obj,$(PLATFORM_SRC))
+	@rm -f $@
+	ar rcs $@ $^
+
+# The version every program's --version prints: VERSION, defined once below.
+$(BUILD)/obj/platform/cli.o: CPPFLAGS += -DHT_VERSION='"$(VERSION)"'
+$(BUILD)/obj/platform/cli.o: Makefile
+
 # hairgen starts in a build farm once per material: it links no GL
-# (--measure loads libOSMesa with dlopen, measure.c) and libstdc++
+# (--measure loads libOSMesa or libEGL with dlopen, platform/offscreen.c) and libstdc++
 # statically, so a start does not pay for relocating Mesa, LLVM and
 # libstdc++ (callgrind, `hairgen --help`: 26.7 M -> 0.54 M instructions).
 # Likewise libdeflate, libpng and zlib are linked in and the program is not
 # position-independent: no loader work and no copied pages for their
 # relocations at each start (page faults of `hairgen --help` 163 -> 122,
 # where one costs about 13 us on the 2-core VM; README).
-$(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
+$(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB) $(PLATLIB)
 	$(CC) $(LDFLAGS) -no-pie $^ $(filter-out -lstdc++,$(GLSLANG_LIBS)) \
 	  -Wl,-Bstatic -lstdc++ $(GEN_LIBS) -lpng16 -lz -Wl,-Bdynamic -lcjson -lpthread -lm -o $@
 
 # hairview draws a bundle: the runtime only, no generator, no glslang.
-$(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(EXLIB) $(LIB)
+$(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(EXLIB) $(LIB) $(PLATLIB)
 	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) $(OFFSCREEN_LIBS) -o $@
 
 # png_metrics compares two PNGs: the runtime's metrics, no GL (it runs on a
 # device machine beside hairview).
-$(BUILD)/png_metrics: $(BUILD)/obj/examples/png_metrics.o $(LIB)
+$(BUILD)/png_metrics: $(BUILD)/obj/examples/png_metrics.o $(LIB) $(PLATLIB)
 	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) -o $@
 
 # The programs that draw get the context module from EXLIB: OSMesa by
 # dlopen, EGL linked; libOSMesa stays off their NEEDED list (--as-needed,
 # GCC's default here), so they start where there is no OSMesa.
-$(BUILD)/%: $(BUILD)/obj/examples/%.o $(EXLIB) $(GENLIB) $(LIB)
+$(BUILD)/%: $(BUILD)/obj/examples/%.o $(EXLIB) $(GENLIB) $(LIB) $(PLATLIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) $(OFFSCREEN_LIBS) -o $@
 
 # The benchmarks' modules are tested like the library's (tests/test_bench_*.c);
@@ -161,7 +172,7 @@ $(BUILD)/%: $(BUILD)/obj/examples/%.o $(EXLIB) $(GENLIB) $(LIB)
 $(BUILD)/obj/tests/%.o: CPPFLAGS += -Iexamples
 $(BUILD)/obj/tests/test_bench%.o: CPPFLAGS += -Iexamples/bench
 
-$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(EXLIB) $(GENLIB) $(LIB)
+$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(call obj,$(TEST_SUPPORT_SRC)) $(EXLIB) $(GENLIB) $(LIB) $(PLATLIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) $(OFFSCREEN_LIBS) -lcmocka -o $@
 
