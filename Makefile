@@ -137,8 +137,8 @@ $(PLATLIB): $(call obj,$(PLATFORM_SRC))
 	ar rcs $@ $^
 
 # The version every program's --version prints: VERSION, defined once below.
-$(BUILD)/obj/platform/cli.o: CPPFLAGS += -DHT_VERSION='"$(VERSION)"'
-$(BUILD)/obj/platform/cli.o: Makefile
+$(BUILD)/obj/platform/cli.o $(BUILD)/obj/tests/test_programs.o: CPPFLAGS += -DHT_VERSION='"$(VERSION)"'
+$(BUILD)/obj/platform/cli.o $(BUILD)/obj/tests/test_programs.o: Makefile
 
 # hairgen starts in a build farm once per material: it links no GL
 # (--measure loads libOSMesa or libEGL with dlopen, platform/offscreen.c) and libstdc++
