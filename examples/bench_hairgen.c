@@ -206,13 +206,8 @@ static const cli_program program = {
             "repository root; HAIRTIER_BUILD names the build folder (default build).\n",
 };
 
-static const char *take(void *user, int key, const char *value) {
-    (void)user, (void)key;
-    return cli_unexpected(value);
-}
-
 int main(int argc, char **argv) {
-    int rc = cli_parse(&program, argc, argv, take, NULL);
+    int rc = cli_parse(&program, argc, argv, cli_take_nothing, NULL);
     if (rc != CLI_RUN) return rc;
     char root[] = "/tmp/hairtier-bench-XXXXXX";
     if (!mkdtemp(root)) {

@@ -8,15 +8,18 @@
 #error "HT_VERSION: the Makefile passes its VERSION"
 #endif
 
-#define MAX_OPTIONS 48
+#define MAX_OPTIONS 48   /* a program's long options; the most today is 14 */
 enum { KEY_VERSION = 1000 };
-
-const char *cli_version(void) { return HT_VERSION; }
 
 const char *cli_unexpected(const char *value) {
     static char message[240];
     snprintf(message, sizeof message, "%.200s: unexpected argument", value ? value : "(none)");
     return message;
+}
+
+const char *cli_take_nothing(void *user, int key, const char *value) {
+    (void)user, (void)key;
+    return cli_unexpected(value);
 }
 
 int cli_usage_error(const cli_program *p, const char *why) {

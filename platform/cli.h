@@ -1,7 +1,8 @@
 /* cli.h — the one command-line parser of every program (hairgen and the
    programs in examples/): getopt_long over the program's options, plus
    --help (-h), which prints the synopsis and help on stdout, and --version,
-   which prints "NAME (hairtier) VERSION"; an unknown option, a missing or
+   which prints "NAME (hairtier) VERSION" (the Makefile's VERSION, passed
+   to cli.c alone as HT_VERSION); an unknown option, a missing or
    bad value is one line "NAME: WHY" and the synopsis on stderr, exit 2.
 
    Usage:
@@ -48,7 +49,8 @@ int cli_usage_error(const cli_program *p, const char *why);
 /* "VALUE: unexpected argument" (static storage): what a cli_take_fn
    returns for an operand or key it does not take. */
 const char *cli_unexpected(const char *value);
-/* The version every program prints (one place: the Makefile's VERSION). */
-const char *cli_version(void);
+/* The cli_take_fn of a program that takes no operand and no option of its
+   own (--help and --version only). */
+const char *cli_take_nothing(void *user, int key, const char *value);
 
 #endif
