@@ -14,12 +14,13 @@ OPT     ?= -O2 -g
 SAN     ?=
 WERROR  ?= -Werror
 
-# g++: the bundle header's C++ compile check (tests/data/header_use.c).
+# g++: the bundle header's C++ compile check (tests/data/header_use.c);
+# cmake: the install test's find_package(hairtier) consumer.
 # libdeflate-dev: the generator's PNG encoder (shadergen/png_encode.c says why).
 DEB_PACKAGES := libosmesa6-dev libegl-dev libegl-mesa0 glslang-dev glslang-tools libcjson-dev libpng-dev \
-                libdeflate-dev libcmocka-dev pkg-config g++
+                libdeflate-dev libcmocka-dev pkg-config g++ cmake
 
-CPPFLAGS += -Iruntime -Ishadergen -Ifallback -Iplatform -I/usr/include/cjson -I/usr/include/libpng16
+CPPFLAGS += -Iinclude -Iruntime/io -Iruntime/shading -Iruntime/mesh -Iruntime/render -Ishadergen -Ifallback -Iplatform -I/usr/include/cjson -I/usr/include/libpng16
 CFLAGS   += -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra $(WERROR) $(OPT) $(SAN) -MMD -MP
 LDFLAGS  += $(SAN)
 # glslang's static libraries are C++; its pkg-config file is read lazily,
@@ -34,7 +35,7 @@ RUNTIME_LIBS = -lOSMesa $(CORE_LIBS)
 OFFSCREEN_LIBS = -ldl
 LDLIBS   = $(GLSLANG_LIBS) $(GEN_LIBS) $(RUNTIME_LIBS)
 
-RUNTIME_SRC := $(wildcard runtime/*.c fallback/*.c)
+RUNTIME_SRC := $(wildcard runtime/*/*.c runtime/*.c fallback/*.c)
 GEN_SRC     := $(filter-out shadergen/hairgen.c,$(wildcard shadergen/*.c))
 # glslang's one-pass parse is C++ only (shadergen/glsl_parse.cpp says why).
 GEN_CXX_SRC := $(wildcard shadergen/*.cpp)
@@ -55,6 +56,11 @@ obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 
 LIB       := $(BUILD)/libhairtier.a
 GENLIB    := $(BUILD)/libhairgen.a
+# The shared libraries: soname libNAME.so.$(SOVERSION), only HT_API exported.
+VERSION   := 0.1
+SOVERSION := 0
+SHLIB     := $(BUILD)/lib/libhairtier.so.$(VERSION)
+GENSHLIB  := $(BUILD)/lib/libhairgen.so.$(VERSION)
 EXLIB     := $(BUILD)/libexamples.a
 PLATLIB   := $(BUILD)/libplatform.a
 HAIRGEN   := $(BUILD)/hairgen
@@ -78,7 +84,7 @@ DEPS_STAMP := $(BUILD)/.deps-installed
 .SECONDARY:
 .DEFAULT_GOAL := all
 
-all: $(LIB) $(HAIRGEN) $(PROGRAMS)
+all: $(LIB) $(SHLIB) $(GENSHLIB) $(HAIRGEN) $(PROGRAMS)
 
 # Installs the Debian packages of $(1) that are missing (apt-get, as root).
 define install_missing
@@ -102,7 +108,7 @@ $(BUILD)/obj/%.o: %.c | $(DEPS_STAMP)
 
 $(BUILD)/obj/%.o: %.cpp | $(DEPS_STAMP)
 	@mkdir -p $(dir $@)
-	$(CXX) $(CPPFLAGS) -std=c++17 -fno-rtti -Wall -Wextra $(WERROR) $(OPT) $(SAN) $(if $(SAN),-fno-sanitize=vptr) -MMD -MP -c $< -o $@
+	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -std=c++17 -fno-rtti -Wall -Wextra $(WERROR) $(OPT) $(SAN) $(if $(SAN),-fno-sanitize=vptr) -MMD -MP -c $< -o $@
 
 # The gl11 tier's per-vertex shading loops: sqrtf inline and selects
 # if-converted, so GCC's -O2 vectoriser takes them (neither flag changes a
@@ -119,6 +125,30 @@ $(BUILD)/obj/shadergen/emit_fixed.o: CFLAGS += -O3 -fno-math-errno -fno-trapping
 # cost model only (9.2 M -> 0.75 M instructions for dark-brown's three
 # images, the same bytes).
 $(BUILD)/obj/shadergen/png_encode.o: CFLAGS += -O3
+
+# The libraries' objects serve the archives and the shared libraries alike:
+# position-independent, and nothing visible beyond HT_API (export.h).
+$(call obj,$(RUNTIME_SRC) $(GEN_SRC) $(PLATFORM_SRC)): CFLAGS += -fPIC -fvisibility=hidden
+$(patsubst %.cpp,$(BUILD)/obj/%.o,$(GEN_CXX_SRC)): CXXFLAGS += -fPIC -fvisibility=hidden
+
+# $(1): the library as libNAME.so (in $(BUILD)/lib), $(2): what it links;
+# makes libNAME.so.$(VERSION) and the libNAME.so.$(SOVERSION) and libNAME.so links.
+define shared_library
+	@mkdir -p $(dir $(1))
+	$(CC) $(LDFLAGS) -shared -Wl,-soname,$(notdir $(1)).$(SOVERSION) -Wl,-z,defs \
+	  -Wl,--exclude-libs,ALL -o $(1).$(VERSION) $(2)
+	ln -sf $(notdir $(1)).$(VERSION) $(1).$(SOVERSION)
+	ln -sf $(notdir $(1)).$(SOVERSION) $(1)
+endef
+
+$(SHLIB): $(call obj,$(RUNTIME_SRC))
+	$(call shared_library,$(BUILD)/lib/libhairtier.so,$^ $(CORE_LIBS))
+
+# libhairgen.so carries the runtime pieces it uses privately (exclude-libs),
+# and the offscreen context measure.c draws in; an application gets the
+# runtime's API from libhairtier.so.
+$(GENSHLIB): $(call obj,$(GEN_SRC)) $(patsubst %.cpp,$(BUILD)/obj/%.o,$(GEN_CXX_SRC)) $(LIB) $(PLATLIB)
+	$(call shared_library,$(BUILD)/lib/libhairgen.so,$^ $(GLSLANG_LIBS) $(GEN_LIBS) $(CORE_LIBS))
 
 $(LIB): $(call obj,$(RUNTIME_SRC))
 	@rm -f $@
@@ -156,9 +186,9 @@ $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB) $(PLATLIB)
 $(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(EXLIB) $(LIB) $(PLATLIB)
 	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) $(OFFSCREEN_LIBS) -o $@
 
-# png_metrics compares two PNGs: the runtime's metrics, no GL (it runs on a
-# device machine beside hairview).
-$(BUILD)/png_metrics: $(BUILD)/obj/examples/png_metrics.o $(LIB) $(PLATLIB)
+# png_metrics compares two PNGs: the generator's metrics (libhairgen), no
+# GL (it runs on a device machine beside hairview).
+$(BUILD)/png_metrics: $(BUILD)/obj/examples/png_metrics.o $(GENLIB) $(LIB) $(PLATLIB)
 	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) -o $@
 
 # The programs that draw get the context module from EXLIB: OSMesa by
@@ -185,9 +215,9 @@ $(GEN_HEADER): $(HAIRGEN) materials/dark-brown.json scenes/furball.json
 	$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json --emit-header $@ \
 	  --header-symbol dark_brown_furball >/dev/null
 $(BUILD)/gen/header_use_c99.o: tests/data/header_use.c $(GEN_HEADER)
-	$(CC) -std=c99 -Wall -Wextra -pedantic -Werror -Iruntime -I$(BUILD)/gen -c $< -o $@
+	$(CC) -std=c99 -Wall -Wextra -pedantic -Werror -Iinclude -I$(BUILD)/gen -c $< -o $@
 $(BUILD)/gen/header_use_cxx.o: tests/data/header_use.c $(GEN_HEADER)
-	$(CXX) -x c++ -Wall -Wextra -pedantic -Werror -Iruntime -I$(BUILD)/gen -c $< -o $@
+	$(CXX) -x c++ -Wall -Wextra -pedantic -Werror -Iinclude -I$(BUILD)/gen -c $< -o $@
 $(BUILD)/obj/tests/test_render_bundle_memory.o: CPPFLAGS += -I$(BUILD)/gen
 $(BUILD)/obj/tests/test_render_bundle_memory.o: $(GEN_HEADER) $(BUILD)/gen/header_use_c99.o \
                                                 $(BUILD)/gen/header_use_cxx.o
@@ -196,7 +226,7 @@ $(BUILD)/obj/tests/test_render_bundle_memory.o: $(GEN_HEADER) $(BUILD)/gen/heade
 # OSMesa; those in SOFTPIPE_TESTS run again on softpipe, those in EGL_TESTS
 # again on llvmpipe through EGL. Then the test scripts (make install into a
 # temporary prefix and programs built against it).
-TEST_SCRIPTS := tests/install_test.sh
+TEST_SCRIPTS := tests/install_test.sh tests/header_examples.sh
 test: all $(TESTS)
 	@pass=0; fail=0; failed=""; \
 	for t in $(TESTS); do \
@@ -246,37 +276,46 @@ demo: all
 		@echo "demo: wrote out/furball.png, out/patches.png, out/ratboy.png and out/backlit.png (the marschner tier lit from behind; bundles in out/SCENE-bundle)"
 
 # ---- install: make install PREFIX=/usr/local DESTDIR= ; make uninstall ----
-# The libraries, the public headers (hairtier.h; hairgen.h and the headers
-# it includes, which include nothing else of ours) under include/hairtier/, the
-# two programs and a pkg-config file per library. tests/install_test.sh
-# installs into a temporary prefix and builds against it with pkg-config only.
+# The libraries (shared with their links, and static), the public headers
+# (include/hairtier/, included as <hairtier/NAME.h>), the two programs, a
+# pkg-config file per library and a CMake package (find_package(hairtier)).
+# tests/install_test.sh installs into a temporary prefix and builds C and
+# C++ programs against it with pkg-config and with CMake only.
 PREFIX  ?= /usr/local
 DESTDIR ?=
-VERSION := 0.1
-PUBLIC_HEADERS := runtime/hairtier.h shadergen/hairgen.h runtime/model.h runtime/scene.h runtime/image.h \
-                  runtime/strands.h runtime/ht_limits.h runtime/model_marschner.h
+PUBLIC_HEADERS := $(wildcard include/hairtier/*.h)
 INSTALL_BIN := $(DESTDIR)$(PREFIX)/bin
 INSTALL_LIB := $(DESTDIR)$(PREFIX)/lib
 INSTALL_INC := $(DESTDIR)$(PREFIX)/include/hairtier
 INSTALL_PC  := $(INSTALL_LIB)/pkgconfig
+INSTALL_CMAKE := $(INSTALL_LIB)/cmake/hairtier
 PC_FILES    := runtime/hairtier.pc.in shadergen/hairgen.pc.in
+CMAKE_FILES := runtime/hairtierConfig.cmake.in runtime/hairtierConfigVersion.cmake.in
+SHARED_NAMES := $(foreach l,libhairtier libhairgen,$(l).so $(l).so.$(SOVERSION) $(l).so.$(VERSION))
 
-install: $(LIB) $(GENLIB) $(HAIRGEN) $(BUILD)/hairview
-	install -d $(INSTALL_BIN) $(INSTALL_LIB) $(INSTALL_INC) $(INSTALL_PC)
+install: $(LIB) $(GENLIB) $(SHLIB) $(GENSHLIB) $(HAIRGEN) $(BUILD)/hairview
+	install -d $(INSTALL_BIN) $(INSTALL_LIB) $(INSTALL_INC) $(INSTALL_PC) $(INSTALL_CMAKE)
 	install -m 755 $(HAIRGEN) $(BUILD)/hairview $(INSTALL_BIN)/
 	install -m 644 $(LIB) $(GENLIB) $(INSTALL_LIB)/
+	install -m 755 $(SHLIB) $(GENSHLIB) $(INSTALL_LIB)/
+	cp -P $(BUILD)/lib/libhairtier.so $(BUILD)/lib/libhairtier.so.$(SOVERSION) \
+	  $(BUILD)/lib/libhairgen.so $(BUILD)/lib/libhairgen.so.$(SOVERSION) $(INSTALL_LIB)/
 	install -m 644 $(PUBLIC_HEADERS) $(INSTALL_INC)/
-	@for pc in $(PC_FILES); do \
-	  out=$(INSTALL_PC)/$$(basename $$pc .in); echo "write $$out"; \
-	  sed -e 's|@PREFIX@|$(PREFIX)|g' -e 's|@VERSION@|$(VERSION)|g' $$pc > $$out.tmp && mv $$out.tmp $$out || exit 1; \
+	@glslang=$$(pkg-config --libs-only-l glslang | sed -e 's/-l//g' -e 's/ *$$//' -e 's/  */;/g'); \
+	for f in $(PC_FILES) $(CMAKE_FILES); do \
+	  case $$f in *.pc.in) dir=$(INSTALL_PC);; *) dir=$(INSTALL_CMAKE);; esac; \
+	  out=$$dir/$$(basename $$f .in); echo "write $$out"; \
+	  sed -e 's|@PREFIX@|$(PREFIX)|g' -e 's|@VERSION@|$(VERSION)|g' -e 's|@SOVERSION@|$(SOVERSION)|g' \
+	      -e "s|@GLSLANG_LIBS@|$$glslang;glslang-default-resource-limits|g" $$f > $$out.tmp && mv $$out.tmp $$out || exit 1; \
 	done
 
 uninstall:
 	rm -f $(INSTALL_BIN)/hairgen $(INSTALL_BIN)/hairview
-	rm -f $(INSTALL_LIB)/$(notdir $(LIB)) $(INSTALL_LIB)/$(notdir $(GENLIB))
+	rm -f $(INSTALL_LIB)/$(notdir $(LIB)) $(INSTALL_LIB)/$(notdir $(GENLIB)) $(addprefix $(INSTALL_LIB)/,$(SHARED_NAMES))
 	rm -f $(addprefix $(INSTALL_INC)/,$(notdir $(PUBLIC_HEADERS)))
 	rm -f $(addprefix $(INSTALL_PC)/,$(basename $(notdir $(PC_FILES))))
-	@rmdir $(INSTALL_INC) 2>/dev/null || true
+	rm -f $(addprefix $(INSTALL_CMAKE)/,$(basename $(notdir $(CMAKE_FILES))))
+	@rmdir $(INSTALL_INC) $(INSTALL_CMAKE) 2>/dev/null || true
 
 # ---- fuzzing (docs/robustness.md records the runs) ----
 FUZZ_BUILD   ?= build-fuzz

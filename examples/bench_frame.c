@@ -7,7 +7,7 @@
    joints (--hairs). The floor is the same mesh drawn in the same four passes
    with a flat colour and no textures or shaders (ht_renderer_desc.flat).
    Prints the median frame time of each, the ratios tier / floor and
-   tier / full, PSNR against full (runtime/metrics.h, whole frame) and the
+   tier / full, PSNR against full (shadergen/metrics.h, whole frame) and the
    per-vertex CPU work per frame (ht_renderer_get_stats) with the camera
    still and with it orbiting (--no-orbit skips that); frames are taken
    round-robin. --csv FILE also writes the rows (support_results.h) with
@@ -24,11 +24,11 @@
 
 #include "cli.h"
 #include "file_atomic.h"
-#include "hairgen.h"
-#include "hairtier.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/hairtier.h>
 #include "metrics.h"
 #include "offscreen.h"
-#include "scene.h"
+#include <hairtier/scene.h>
 #include "bench/support_results.h"
 #include "tempdir.h"
 #include "timing.h"

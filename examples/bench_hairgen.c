@@ -28,7 +28,7 @@
 #include <sys/wait.h>
 
 #include "cli.h"
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "tempdir.h"
 #include "timing.h"
 

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 
 #include "cli.h"
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 #include "timing.h"
 
 #define RUNS 5

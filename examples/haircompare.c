@@ -9,7 +9,7 @@
    its own offscreen context (examples/compare/tier_render.h, as tier_sheet),
    its image at full size, its per-pixel CIEDE2000 against full as a
    heatmap (examples/compare/heatmap.h), and a table row: needs, frame ms,
-   cost ratio to full, PSNR, SSIM, ΔE00 mean and p95 (runtime/metrics.h),
+   cost ratio to full, PSNR, SSIM, ΔE00 mean and p95 (shadergen/metrics.h),
    and the features the manifest says the tier drops; then an SVG plot of
    error against cost. Why not grow tier_sheet: its one PNG is the quick
    look on a terminal and in docs; a report is a directory written whole
@@ -28,7 +28,7 @@
 #include "compare/report.h"
 #include "compare/report_dir.h"
 #include "compare/tier_render.h"
-#include "image.h"
+#include <hairtier/image.h>
 #include "cli.h"
 #include "offscreen.h"
 #include "view_args.h"

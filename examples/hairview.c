@@ -21,9 +21,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "scene.h"
-#include "hairtier.h"
-#include "image.h"
+#include <hairtier/scene.h>
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
 #include "offscreen.h"
 #include "cli.h"
 #include "view_args.h"

@@ -1,4 +1,4 @@
-/* png_metrics — how far one rendered PNG is from another, by runtime/metrics.h:
+/* png_metrics — how far one rendered PNG is from another, by shadergen/metrics.h:
    PSNR, SSIM and CIEDE2000 over the whole frame and over the hair's pixels
    (those that differ from the background, the reference's first pixel).
 
@@ -17,7 +17,7 @@
 #include <string.h>
 
 #include "cli.h"
-#include "image.h"
+#include <hairtier/image.h>
 #include "metrics.h"
 
 static const cli_program program = {

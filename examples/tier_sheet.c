@@ -27,9 +27,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hairgen.h"
-#include "hairtier.h"
-#include "image.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
 #include "offscreen.h"
 #include "view_args.h"
 #include "compare/tier_render.h"

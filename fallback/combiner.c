@@ -1,5 +1,5 @@
 /* combiner.c — the fixed tier's combiner program: validation, JSON write
-   (cJSON) and parse (runtime/json_check.h's getters, so its messages read
+   (cJSON) and parse (runtime/io/json_check.h's getters, so its messages read
    like every other format's). */
 #include "combiner.h"
 
@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <hairtier/ht_limits.h>
 #include "json_check.h"
 
 /* ---- names ---- */
@@ -232,7 +233,7 @@ static ht_result check_program(const ht_jctx *c, const ht_combiner_program *p) {
     if (!(p->light_scale >= 1.0 && p->light_scale <= 4.0))
         return ht_json_fail(c, "lut.light_scale", "must be a number in [1,4]");
     for (int i = 0; i < 2; i++)
-        if (!(fabs(p->shift[i]) <= 100.0)) {
+        if (!(fabs(p->shift[i]) <= HT_LIMIT_SHIFT)) {
             char field[32];
             snprintf(field, sizeof field, "shifts[%d]", i);
             return ht_json_fail(c, field, "must be a finite number in [-100,100]");
@@ -486,7 +487,7 @@ ht_result ht_combiner_parse(const char *json_text, const char *file_name, ht_com
                      want_count > 2 ? ", \"" : "", want_count > 2 ? want[2] : "",
                      want_count > 2 ? "\"" : "", model_names[out->model]);
     }
-    if (r == HT_OK) r = ht_json_vec(&c, root, "", "shifts", NULL, 2, HT_JRANGE(-100, 100), out->shift);
+    if (r == HT_OK) r = ht_json_vec(&c, root, "", "shifts", NULL, 2, HT_JRANGE(-HT_LIMIT_SHIFT, HT_LIMIT_SHIFT), out->shift);
 
     if (r == HT_OK) r = ht_json_object(&c, root, "", "lut", true, &lut);
     if (r == HT_OK) r = ht_json_keys(&c, lut, "lut", lut_keys);

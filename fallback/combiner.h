@@ -1,7 +1,7 @@
 /* combiner.h — the fixed tier's GL 1.3 texture-combiner program as data:
    the struct the runtime applies, its JSON form ("fixed.json", format
    "hairtier-combiner/1"). The CPU emulator of GL_COMBINE semantics that
-   tests hold the whole tier against runtime/model.c with is test-only:
+   tests hold the whole tier against runtime/shading/model.c with is test-only:
    tests/support_combiner_eval.h.
 
    The tier (Heidrich-Seidel): every term of the model that depends only on
@@ -99,9 +99,9 @@
 
 #include <GL/gl.h>
 
-#include "hairtier.h"
-#include "image.h"
-#include "model.h"
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
+#include <hairtier/model.h>
 
 #define HT_COMBINER_FORMAT "hairtier-combiner/1"
 #define HT_COMBINER_MAX_STAGES 4
@@ -182,7 +182,7 @@ ht_result ht_combiner_validate(const ht_combiner_program *p, char *err, size_t e
    on an invalid program. Same program, byte-identical text. */
 ht_result ht_combiner_write(const ht_combiner_program *p, char **text, char *err, size_t err_size);
 
-/* Parses fixed.json through runtime/json_check.h. Errors are one line
+/* Parses fixed.json through runtime/io/json_check.h. Errors are one line
    "FILE: FIELD: what is wrong", FIELD a JSON path ("stages[1].source_rgb[0]"),
    or "FILE: line N: malformed JSON at column C near ..."; a NULL text or
    out is HT_ERR_INVALID_ARGUMENT. */

@@ -51,8 +51,9 @@
 #include "fixed_coords.h"
 #include "fixed_soa.h"
 #include "gl_error.h"
+#include "tier_program.h"
 #include "gl_texture.h"
-#include "image.h"
+#include <hairtier/image.h>
 #include "vecmath.h"
 
 /* What one sub-pass's light needs per vertex: sub-pass 0 the key light,
@@ -143,19 +144,10 @@ static void destroy(void *state) {
 
 static ht_result load_program(fixed_state *s, const ht_tier_context *ctx, char *path, size_t path_size,
                               char *err, size_t err_size) {
-    const ht_manifest *b = ctx->bundle;
-    const char *file = ht_manifest_tier_file(ctx->tier, "program");
-    if (!file) {
-        snprintf(err, err_size, "%s/manifest.json: tiers.%s.files: needs \"program\"", b->dir, ctx->tier->name);
-        return HT_ERR_PARSE;
-    }
-    if (!ht_manifest_path(b, file, path, path_size)) {
-        snprintf(err, err_size, "%s: path too long", file);
-        return HT_ERR_IO;
-    }
-    char *text = ht_manifest_read_text(b, file, err, err_size);
-    if (!text) return HT_ERR_IO;
-    ht_result r = ht_combiner_parse(text, path, &s->program, err, err_size);
+    ht_result r;
+    char *text = ht_tier_program_read(ctx, path, path_size, &r, err, err_size);
+    if (!text) return r;
+    r = ht_combiner_parse(text, path, &s->program, err, err_size);
     free(text);
     return r;
 }

@@ -1,7 +1,7 @@
 /* fixed.h — the `fixed` tier backend (fallback/fixed.c): a GL 1.3
    texture-combiner program and its lookup texture from a hairgen bundle,
    no shaders. Internal to libhairtier; the renderer drives it like any
-   backend (runtime/tier.h):
+   backend (runtime/render/tier.h):
 
        ht_tier_fixed_backend.create(&ctx, &state, err, sizeof err);
        // fails with one line: "LUT 32x128x64 needs GL_MAX_3D_TEXTURE_SIZE 128, have 16",

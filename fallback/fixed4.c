@@ -23,6 +23,7 @@
 #include "fixed4_program.h"
 #include "fixed4_stages.h"
 #include "gl_error.h"
+#include "tier_program.h"
 
 enum { MAX_UNITS = HT_FIXED4_MAX_LUTS + 2 };
 
@@ -73,20 +74,11 @@ static void destroy(void *state) {
 }
 
 static ht_result load_program(fixed4_state *s, const ht_tier_context *ctx, char *err, size_t err_size) {
-    const ht_manifest *b = ctx->bundle;
-    const char *file = ht_manifest_tier_file(ctx->tier, "program");
-    if (!file) {
-        snprintf(err, err_size, "%s/manifest.json: tiers.%s.files: needs \"program\"", b->dir, ctx->tier->name);
-        return HT_ERR_PARSE;
-    }
     char path[HT_LIMIT_BUNDLE_FILE_PATH];
-    if (!ht_manifest_path(b, file, path, sizeof path)) {
-        snprintf(err, err_size, "%s: path too long", file);
-        return HT_ERR_IO;
-    }
-    char *text = ht_manifest_read_text(b, file, err, err_size);
-    if (!text) return HT_ERR_IO;
-    ht_result r = ht_fixed4_parse(text, path, &s->program, err, err_size);
+    ht_result r;
+    char *text = ht_tier_program_read(ctx, path, sizeof path, &r, err, err_size);
+    if (!text) return r;
+    r = ht_fixed4_parse(text, path, &s->program, err, err_size);
     free(text);
     return r;
 }

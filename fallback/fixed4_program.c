@@ -12,6 +12,7 @@
 #include "errfmt.h"
 #include "json_check.h"
 #include "program_json.h"
+#include "shading_check.h"
 #include "vecmath.h"
 
 static bool kajiya_kay(const ht_fixed4_program *p) { return p->shading.model == HT_MODEL_KAJIYA_KAY; }
@@ -32,12 +33,6 @@ void ht_fixed4_lut_size(const ht_fixed4_program *p, int k, int *width, int *heig
 
 static bool axis_ok(int n) { return n >= 2 && n <= HT_FIXED4_MAX_AXIS && (n & (n - 1)) == 0; }
 
-static bool colour_ok(const double c[3]) {
-    for (int i = 0; i < 3; i++)
-        if (!(c[i] >= 0.0 && c[i] <= 1.0)) return false;
-    return true;
-}
-
 ht_result ht_fixed4_validate(const ht_fixed4_program *p, char *err, size_t err_size) {
     if (!p) return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "fixed4: no program");
     const ht_shading *s = &p->shading;
@@ -45,18 +40,8 @@ ht_result ht_fixed4_validate(const ht_fixed4_program *p, char *err, size_t err_s
         return ht_fail(err, err_size, HT_ERR_PARSE, "model: unknown");
     if (p->lights < 1 || p->lights > HT_FIXED4_MAX_LIGHTS)
         return ht_fail(err, err_size, HT_ERR_PARSE, "lights: %d outside [1, %d]", p->lights, HT_FIXED4_MAX_LIGHTS);
-    if (!colour_ok(s->diffuse_color)) return ht_fail(err, err_size, HT_ERR_PARSE, "diffuse.color: outside [0, 1]");
-    if (!(s->wrap >= 0.0 && s->wrap <= 1.0)) return ht_fail(err, err_size, HT_ERR_PARSE, "diffuse.wrap: outside [0, 1]");
-    const ht_lobe *lobes[2] = { &s->primary, &s->secondary };
-    const char *names[2] = { "primary", "secondary" };
-    for (int i = 0; i < (kajiya_kay(p) ? 1 : 2); i++) {
-        if (!colour_ok(lobes[i]->color))
-            return ht_fail(err, err_size, HT_ERR_PARSE, "%s.color: outside [0, 1]", names[i]);
-        if (!(lobes[i]->exponent >= 0.0 && lobes[i]->exponent <= 10000.0))
-            return ht_fail(err, err_size, HT_ERR_PARSE, "%s.exponent: outside [0, 10000]", names[i]);
-        if (!(fabs(lobes[i]->shift) <= 100.0))
-            return ht_fail(err, err_size, HT_ERR_PARSE, "%s.shift: outside [-100, 100]", names[i]);
-    }
+    char why[256];
+    if (!ht_shading_check(s, "fixed4.json", why, sizeof why)) return ht_fail(err, err_size, HT_ERR_PARSE, "%s", why);
     for (int i = 0; i < 2; i++)
         if (!axis_ok(p->lut_axis[i]))
             return ht_fail(err, err_size, HT_ERR_PARSE, "lut_axis[%d]: %d is not a power of two in [2, %d]", i,
@@ -285,10 +270,7 @@ void ht_fixed4_vertex_arrays(const ht_fixed4_program *p, const ht_vertex *v, siz
         if (!ht_vec3_direction(N, N)) N[0] = N[1] = N[2] = 0.0;
         double t[2][3];
         const double shift[2] = { p->shading.primary.shift, p->shading.secondary.shift };
-        for (int k = 0; k < 2; k++) {
-            for (int j = 0; j < 3; j++) t[k][j] = has_t ? (kk ? T[j] : T[j] + shift[k] * N[j]) : 0.0;
-            if (!ht_vec3_direction(t[k], t[k])) t[k][0] = t[k][1] = t[k][2] = 0.0;
-        }
+        for (int k = 0; k < 2; k++) ht_vec3_shifted_tangent(t[k], T, has_t, N, kk ? 0.0 : shift[k]);
         for (int j = 0; j < 3; j++) {
             if (vec0) vec0[3 * i + (size_t)j] = (float)t[0][j];
             if (vec1) vec1[3 * i + (size_t)j] = (float)t[1][j];

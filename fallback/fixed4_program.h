@@ -44,9 +44,9 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "hairtier.h"
-#include "image.h"
-#include "model.h"
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
+#include <hairtier/model.h>
 
 #define HT_FIXED4_FORMAT "hairtier-fixed4/1"
 #define HT_FIXED4_MAX_LIGHTS 2

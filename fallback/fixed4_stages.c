@@ -7,7 +7,7 @@
 
 #include "errfmt.h"
 #include "gl_texture.h"
-#include "image.h"
+#include <hairtier/image.h>
 
 void ht_fixed4_stages_init(ht_fixed4_stages *st, const ht_gl *gl, const ht_fixed4_program *program,
                            const char *name) {

@@ -2,7 +2,7 @@
    LUT units, the albedo unit, the final unit) as one piece shared by the two
    backends that run them: the `fixed4` tier (fixed4.c: LUT coordinates from
    texture matrices or the CPU, diffuse from GL lighting) and the `vertex`
-   tier (runtime/tier_glsl.c: coordinates and diffuse from its GLSL 1.10
+   tier (runtime/render/tier_glsl.c: coordinates and diffuse from its GLSL 1.10
    vertex shader). Owns the LUT textures (baked for the frame's light
    colours and scale), the albedo texture and the texture-environment setup;
    the caller owns texture coordinates, texture matrices and the primary

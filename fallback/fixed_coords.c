@@ -13,9 +13,8 @@
 /* d = t.H of the shifted tangent, or -1 (S = 0) without a direction. */
 static double shifted_dot(const double T[3], const double N[3], double shift, const double H[3],
                           bool has_h) {
-    double v[3], t[3];
-    for (int i = 0; i < 3; i++) v[i] = T[i] + shift * N[i];
-    if (!has_h || !ht_vec3_direction(t, v)) return -1.0;
+    double t[3];
+    if (!ht_vec3_shifted_tangent(t, T, has_h, N, shift)) return -1.0;
     return ht_clamp_unit(ht_vec3_dot(t, H));
 }
 

@@ -45,7 +45,7 @@
 #include <stddef.h>
 
 #include "combiner.h"
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 
 /* Fills lut_coords[3 * count] and colors[4 * count]. With fewer lights than
    the program's light index the hair is unlit (colour 0, alpha 1). A

@@ -23,13 +23,6 @@ static void store(float *const dst[3], size_t i, const double v[3]) {
     for (int j = 0; j < 3; j++) dst[j][i] = (float)v[j];
 }
 
-/* The shifted tangent as model.c makes it: zero when T has none. */
-static void shifted(const double T[3], bool has_t, const double N[3], double shift, double out[3]) {
-    double raw[3];
-    for (int j = 0; j < 3; j++) raw[j] = T[j] + shift * N[j];
-    if (!has_t || !ht_vec3_direction(out, raw)) ht_vec3_set(out, 0, 0, 0);
-}
-
 ht_result ht_fixed_soa_make(const ht_combiner_program *p, const ht_vertex *v, size_t count, ht_fixed_soa *out) {
     memset(out, 0, sizeof *out);
     const size_t bytes = (count ? count : 1) * sizeof(float);
@@ -56,8 +49,8 @@ ht_result ht_fixed_soa_make(const ht_combiner_program *p, const ht_vertex *v, si
             ht_vec3_set(t2, 0, 0, 0);
             store(out->c, i, t2);
         } else {
-            shifted(T, has_t, N, p->shift[0], t1);
-            shifted(T, has_t, N, p->shift[1], t2);
+            ht_vec3_shifted_tangent(t1, T, has_t, N, p->shift[0]);
+            ht_vec3_shifted_tangent(t2, T, has_t, N, p->shift[1]);
             store(out->a, i, N);
             store(out->b, i, t1);
             store(out->c, i, t2);

@@ -16,7 +16,7 @@
 #include <stddef.h>
 
 #include "combiner.h"
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 
 typedef struct ht_fixed_soa {
     size_t count;

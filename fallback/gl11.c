@@ -27,8 +27,9 @@
 #include "gl11.h"
 #include "gl11_program.h"
 #include "gl_error.h"
+#include "tier_program.h"
 #include "gl_texture.h"
-#include "image.h"
+#include <hairtier/image.h>
 
 static _Atomic uint64_t cpu_vertices_total;
 
@@ -72,20 +73,11 @@ static void destroy(void *state) {
 }
 
 static ht_result load_program(gl11_state *s, const ht_tier_context *ctx, char *err, size_t err_size) {
-    const ht_manifest *b = ctx->bundle;
-    const char *file = ht_manifest_tier_file(ctx->tier, "program");
-    if (!file) {
-        snprintf(err, err_size, "%s/manifest.json: tiers.%s.files: needs \"program\"", b->dir, ctx->tier->name);
-        return HT_ERR_PARSE;
-    }
     char path[HT_LIMIT_BUNDLE_FILE_PATH];
-    if (!ht_manifest_path(b, file, path, sizeof path)) {
-        snprintf(err, err_size, "%s: path too long", file);
-        return HT_ERR_IO;
-    }
-    char *text = ht_manifest_read_text(b, file, err, err_size);
-    if (!text) return HT_ERR_IO;
-    ht_result r = ht_gl11_parse(text, path, &s->program, err, err_size);
+    ht_result r;
+    char *text = ht_tier_program_read(ctx, path, sizeof path, &r, err, err_size);
+    if (!text) return r;
+    r = ht_gl11_parse(text, path, &s->program, err, err_size);
     free(text);
     return r;
 }

@@ -21,15 +21,10 @@
 #include "errfmt.h"
 #include "json_check.h"
 #include "program_json.h"
+#include "shading_check.h"
 #include "vecmath.h"
 
 static bool kajiya_kay(const ht_gl11_program *p) { return p->shading.model == HT_MODEL_KAJIYA_KAY; }
-
-static bool colour_ok(const double c[3]) {
-    for (int i = 0; i < 3; i++)
-        if (!(c[i] >= 0.0 && c[i] <= 1.0)) return false;
-    return true;
-}
 
 ht_result ht_gl11_validate(const ht_gl11_program *p, char *err, size_t err_size) {
     if (!p) return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "gl11: no program");
@@ -40,18 +35,8 @@ ht_result ht_gl11_validate(const ht_gl11_program *p, char *err, size_t err_size)
         return ht_fail(err, err_size, HT_ERR_PARSE, "lights: %d outside [0, %d]", p->lights, HT_MAX_LIGHTS);
     if (!(p->albedo_scale >= 1.0 && p->albedo_scale <= HT_GL11_MAX_SCALE))
         return ht_fail(err, err_size, HT_ERR_PARSE, "albedo_scale: outside [1, %g]", HT_GL11_MAX_SCALE);
-    if (!colour_ok(s->diffuse_color)) return ht_fail(err, err_size, HT_ERR_PARSE, "diffuse.color: outside [0, 1]");
-    if (!(s->wrap >= 0.0 && s->wrap <= 1.0)) return ht_fail(err, err_size, HT_ERR_PARSE, "diffuse.wrap: outside [0, 1]");
-    const ht_lobe *lobes[2] = { &s->primary, &s->secondary };
-    const char *names[2] = { "primary", "secondary" };
-    for (int i = 0; i < (kajiya_kay(p) ? 1 : 2); i++) {
-        if (!colour_ok(lobes[i]->color))
-            return ht_fail(err, err_size, HT_ERR_PARSE, "%s.color: outside [0, 1]", names[i]);
-        if (!(lobes[i]->exponent >= 0.0 && lobes[i]->exponent <= 10000.0))
-            return ht_fail(err, err_size, HT_ERR_PARSE, "%s.exponent: outside [0, 10000]", names[i]);
-        if (!(fabs(lobes[i]->shift) <= 100.0))
-            return ht_fail(err, err_size, HT_ERR_PARSE, "%s.shift: outside [-100, 100]", names[i]);
-    }
+    char why[256];
+    if (!ht_shading_check(s, "gl11.json", why, sizeof why)) return ht_fail(err, err_size, HT_ERR_PARSE, "%s", why);
     return HT_OK;
 }
 
@@ -134,9 +119,7 @@ ht_result ht_gl11_soa_make(const ht_gl11_program *p, const ht_vertex *v, size_t 
         if (!ht_vec3_direction(N, N)) N[0] = N[1] = N[2] = 0.0;
         for (int k = 0; k < 2; k++) {
             double t[3];
-            /* model.c: a zero T stays zero after the shift; a zero N leaves T unshifted */
-            for (int j = 0; j < 3; j++) t[j] = has_t ? (kk ? T[j] : T[j] + shift[k] * N[j]) : 0.0;
-            if (!ht_vec3_direction(t, t)) t[0] = t[1] = t[2] = 0.0;
+            ht_vec3_shifted_tangent(t, T, has_t, N, kk ? 0.0 : shift[k]);
             for (int j = 0; j < 3; j++) out->a[(k ? HT_GL11_T2X : HT_GL11_T1X) + j][i] = (float)t[j];
         }
         for (int j = 0; j < 3; j++) {

@@ -37,8 +37,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "hairtier.h"
-#include "model.h"
+#include <hairtier/hairtier.h>
+#include <hairtier/model.h>
 
 #define HT_GL11_FORMAT "hairtier-gl11/1"
 #define HT_GL11_MAX_SCALE 4.0

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <hairtier/ht_limits.h>
 #include "errfmt.h"
 
 static void add_vec3(cJSON *obj, const char *key, const double v[3]) {
@@ -51,8 +52,8 @@ static ht_result parse_lobe(const ht_jctx *c, const cJSON *root, const char *key
     ht_result r = ht_json_object(c, root, "", key, true, &o);
     if (r == HT_OK) r = ht_json_keys(c, o, key, keys);
     if (r == HT_OK) r = ht_json_vec(c, o, key, "color", NULL, 3, HT_JRANGE(0, 1), l->color);
-    if (r == HT_OK) r = ht_json_number(c, o, key, "exponent", NULL, HT_JRANGE(0, 10000), &l->exponent);
-    if (r == HT_OK) r = ht_json_number(c, o, key, "shift", NULL, HT_JRANGE(-100, 100), &l->shift);
+    if (r == HT_OK) r = ht_json_number(c, o, key, "exponent", NULL, HT_JRANGE(0, HT_LIMIT_EXPONENT), &l->exponent);
+    if (r == HT_OK) r = ht_json_number(c, o, key, "shift", NULL, HT_JRANGE(-HT_LIMIT_SHIFT, HT_LIMIT_SHIFT), &l->shift);
     return r;
 }
 

@@ -13,9 +13,9 @@
 
 #include <cJSON.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 #include "json_check.h"
-#include "model.h"
+#include <hairtier/model.h>
 
 /* "diffuse": {color, wrap}, "primary" and (Scheuermann) "secondary":
    {color, exponent, shift}; the caller writes "model" where its format

@@ -1,5 +1,5 @@
 /* vertex.h — the `vertex` tier's backend: a GLSL 1.10 vertex program
-   (runtime/glsl_program.h builds it) in front of fixed4's four combiner
+   (runtime/render/glsl_program.h builds it) in front of fixed4's four combiner
    stages over LUTs the runtime bakes (fixed4_stages.h), so the highlights
    are looked up per pixel without a fragment shader.
 

@@ -1,6 +1,6 @@
 /* fuzz_material.c — ht_material_parse on arbitrary text. */
 #include "fuzz_common.h"
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     char *text = ht_fuzz_text(data, size);

@@ -5,7 +5,7 @@
 #include <unistd.h>
 
 #include "fuzz_common.h"
-#include "image.h"
+#include <hairtier/image.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     static char path[64];

@@ -1,6 +1,6 @@
 /* fuzz_scene.c — ht_scene_parse (and its memory budget) on arbitrary text. */
 #include "fuzz_common.h"
-#include "scene.h"
+#include <hairtier/scene.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     char *text = ht_fuzz_text(data, size);

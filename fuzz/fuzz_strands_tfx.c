@@ -1,7 +1,7 @@
 /* fuzz_strands_tfx.c — ht_strands_parse_tfx (TressFX 4.0 strand files) on
    arbitrary bytes; what it accepts is also built into ribbons. */
 #include "fuzz_common.h"
-#include "strands.h"
+#include <hairtier/strands.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     ht_strands s;

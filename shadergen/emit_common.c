@@ -1,5 +1,5 @@
 /* emit_common.c — what the emitters share: filling and freeing an
-   ht_tier_output, and the shading model of runtime/model.c written as GLSL
+   ht_tier_output, and the shading model of runtime/shading/model.c written as GLSL
    (the full tier runs it per pixel, the vertex tier per vertex). */
 #include <stdio.h>
 #include <stdlib.h>

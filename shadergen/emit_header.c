@@ -4,7 +4,7 @@
    furball bundle's three PNGs are 127 843 bytes against 1 310 720 bytes of
    texels, 10 times less in the program), and read back by
    the runtime through the very decoder and checks a directory's files go
-   through (runtime/bundle_source.c), so a header is exactly a directory in
+   through (runtime/io/bundle_source.c), so a header is exactly a directory in
    another place. Bytes are decimal array initialisers, not string literals:
    C99 promises only 4095 characters in one literal (-pedantic warns past
    it) and a text may hold any byte. The text depends only on the bundle
@@ -17,7 +17,7 @@
 #include <unistd.h>
 
 #include "errfmt.h"
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "hairgen_internal.h"
 #include "strbuf.h"
 
@@ -184,7 +184,7 @@ ht_result ht_bundle_header_text(const ht_generated *g, const char *material_name
                             "   Files:\n", sym);
         for (int i = 0; i < g->file_count; i++)
             ht_strbuf_addf(&sb, "       %-20s %8zu bytes\n", g->files[i].name, size[i]);
-        ht_strbuf_addf(&sb, "*/\n#ifndef %s\n#define %s\n\n#include \"hairtier.h\"\n\n", guard, guard);
+        ht_strbuf_addf(&sb, "*/\n#ifndef %s\n#define %s\n\n#include <hairtier/hairtier.h>\n\n", guard, guard);
         for (int i = 0; i < g->file_count; i++) {
             if (!size[i]) continue; /* a zero-length array is not C; the entry says NULL, 0 */
             ht_strbuf_addf(&sb, "/* %s */\nstatic const unsigned char %s_f%d[%zu] = {\n", g->files[i].name, sym, i,

@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "cli.h"
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "hairgen_internal.h"
 #include "huge_heap.h"
 #include "manifest.h"

@@ -4,7 +4,7 @@
 #ifndef HT_HAIRGEN_INTERNAL_H
 #define HT_HAIRGEN_INTERNAL_H
 
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 
 /* ---- textures ---- */
 

@@ -17,8 +17,8 @@
 #ifndef HT_MARSCHNER_FIT_H
 #define HT_MARSCHNER_FIT_H
 
-#include "hairtier.h"
-#include "model.h"
+#include <hairtier/hairtier.h>
+#include <hairtier/model.h>
 
 #define HT_MARSCHNER_FIT_SAMPLES 3000
 

@@ -44,9 +44,9 @@
 #ifndef HT_MARSCHNER_LUT_H
 #define HT_MARSCHNER_LUT_H
 
-#include "hairtier.h"
-#include "image.h"
-#include "model_marschner.h"
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
+#include <hairtier/model_marschner.h>
 
 typedef struct ht_marschner_lut {
     ht_image m, n;

@@ -9,9 +9,10 @@
 #include <string.h>
 
 #include "errfmt.h"
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "json_check.h"
 #include "material_marschner.h"
+#include "shading_check.h"
 
 #define MATERIAL_FORMAT "hairtier-material/1"
 
@@ -53,13 +54,13 @@ static ht_result parse_lobe(const ht_jctx *c, const cJSON *root, const char *key
     ht_result r = ht_json_object(c, root, "", key, true, &obj);
     if (r == HT_OK) r = ht_json_keys(c, obj, key, keys);
     if (r == HT_OK) r = ht_json_vec(c, obj, key, "color", NULL, 3, COLOR_RANGE, out->color);
-    if (r == HT_OK) r = ht_json_number(c, obj, key, "exponent", NULL, HT_JRANGE(0, 10000), &out->exponent);
+    if (r == HT_OK) r = ht_json_number(c, obj, key, "exponent", NULL, HT_JRANGE(0, HT_LIMIT_EXPONENT), &out->exponent);
     if (r == HT_OK && !shift_allowed) {
         char why[128];
         snprintf(why, sizeof why, "model \"%s\" has one unshifted highlight; remove \"shift\"", model_name);
         r = ht_json_forbid(c, obj, key, "shift", why);
     }
-    if (r == HT_OK) r = ht_json_number(c, obj, key, "shift", &(double){ 0 }, HT_JRANGE(-100, 100), &out->shift);
+    if (r == HT_OK) r = ht_json_number(c, obj, key, "shift", &(double){ 0 }, HT_JRANGE(-HT_LIMIT_SHIFT, HT_LIMIT_SHIFT), &out->shift);
     return r;
 }
 
@@ -309,16 +310,6 @@ static ht_result check_color(const check_ctx *c, const char *parent, const doubl
     return HT_OK;
 }
 
-static ht_result check_lobe(const check_ctx *c, const char *name, const ht_lobe *l) {
-    char field[64];
-    ht_result r = check_color(c, name, l->color);
-    snprintf(field, sizeof field, "%s.exponent", name);
-    if (r == HT_OK) r = check_number(c, field, l->exponent, 0, 10000);
-    snprintf(field, sizeof field, "%s.shift", name);
-    if (r == HT_OK) r = check_number(c, field, l->shift, -DBL_MAX, DBL_MAX);
-    return r;
-}
-
 ht_result ht_material_check(const ht_material *m, char *err, size_t err_size) {
     check_ctx c = { "<material>", err, err_size };
     if (!m) return check_fail(&c, "material", "required");
@@ -339,10 +330,8 @@ ht_result ht_material_check(const ht_material *m, char *err, size_t err_size) {
     ht_result r = check_color(&c, "diffuse", s->diffuse_color);
     if (marschner) {
         if (r == HT_OK) r = ht_material_check_marschner(c.file, &s->marschner, err, err_size);
-    } else {
-        if (r == HT_OK) r = check_number(&c, "diffuse.wrap", s->wrap, 0, 1);
-        if (r == HT_OK) r = check_lobe(&c, "primary", &s->primary);
-        if (r == HT_OK && !kk) r = check_lobe(&c, "secondary", &s->secondary);
+    } else if (r == HT_OK && !ht_shading_check(s, c.file, err, err_size)) {
+        r = HT_ERR_INVALID_ARGUMENT;
     }
     if (r != HT_OK) return r;
     /* 0 means the default (0.98), as in ht_plan_make. */

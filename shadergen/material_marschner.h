@@ -7,7 +7,7 @@
 #include <stddef.h>
 
 #include "json_check.h"
-#include "model_marschner.h"
+#include <hairtier/model_marschner.h>
 
 /* Ranges, in the file's units (degrees for angles). */
 #define HT_MARSCHNER_ABSORPTION_MAX 50.0

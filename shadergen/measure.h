@@ -6,7 +6,7 @@
    forces one) (a context of its own per tier, forced and strict, through hairtier.h),
    frames round-robin across the tiers so that a change in the machine's
    load falls on every tier alike. Each tier's last frame is compared with
-   full's over the whole frame (runtime/metrics.h) and its median frame time
+   full's over the whole frame (shadergen/metrics.h) and its median frame time
    divided by full's. The result goes into each tier's `measured` object
    (docs/bundle.md), which the runtime's error:DB and fastest policies read.
 
@@ -22,10 +22,10 @@
 
 #include <stdio.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 #include "manifest.h"
 #include "metrics.h"
-#include "scene.h"
+#include <hairtier/scene.h>
 
 #define HT_MEASURE_WARMUP_FRAMES 2   /* per tier, untimed: shader variants, uploads, caches */
 #define HT_MEASURE_TIMED_FRAMES 5    /* per tier; the median is the tier's frame time */

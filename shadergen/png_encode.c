@@ -5,7 +5,7 @@
    laid around it: libdeflate compresses the whole image at once, libpng
    with zlib row by row, at about twice the instructions and larger files
    (docs/performance.md). Any PNG reader
-   decodes these; the runtime reads them with libpng (runtime/image.c). */
+   decodes these; the runtime reads them with libpng (runtime/io/image.c). */
 #include <libdeflate.h>
 #include <stdint.h>
 #include <stdlib.h>

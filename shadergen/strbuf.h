@@ -93,7 +93,7 @@ void ht_glsl_light_uniforms(ht_strbuf *sb, const ht_plan *plan, const ht_glsl_sh
    the plan's lobes, the per-light term), before main(). */
 void ht_glsl_shading_functions(ht_strbuf *sb, const ht_plan *plan, const ht_glsl_shading_inputs *in);
 /* Statements inside main() that declare and sum `rgb` over the plan's
-   lights, exactly as runtime/model.c does. */
+   lights, exactly as runtime/shading/model.c does. */
 void ht_glsl_shading_body(ht_strbuf *sb, const ht_plan *plan, const ht_glsl_shading_inputs *in);
 
 #endif

@@ -5,7 +5,7 @@
    is v = 0, the root; strands grow down the image towards the tip at v = 1.
 
    Procedural textures are the same bytes on every machine: all arithmetic is
-   integer (16.16 fixed point), randomness comes from runtime/rng.h only, and
+   integer (16.16 fixed point), randomness comes from runtime/mesh/rng.h only, and
    no libm function (whose last bits differ between C libraries) or floating
    point expression (which a compiler may contract into FMA) touches a texel.
    They tile: every lattice and strand pattern has a period dividing the size.

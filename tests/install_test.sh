@@ -5,12 +5,14 @@
 #      installs exactly the expected files, the .pc files name the PREFIX (not
 #      the staging directory), and make uninstall leaves none of them.
 #   2. A real prefix: make install PREFIX=T/prefix; the installed hairgen
-#      writes a bundle, the installed hairview renders it, and two programs
-#      built with nothing but `pkg-config --cflags --libs --static` (hairtier,
-#      hairgen) against that prefix run: one draws a frame through OSMesa
-#      (from the directory, then from the header the installed hairgen
-#      --emit-header wrote), one generates a material in memory. Then make
-#      uninstall, checked again.
+#      writes a bundle, the installed hairview renders it, and programs
+#      built with nothing but pkg-config against that prefix run: one draws
+#      a frame through OSMesa (from the directory, then from the header the
+#      installed hairgen --emit-header wrote), one generates a material in
+#      memory, both static (--static) and shared; a C++ program including
+#      every public header links shared and static through pkg-config and
+#      through CMake's find_package(hairtier). Then make uninstall, checked
+#      again.
 set -eu
 BUILD=${BUILD:-build}
 CC=${CC:-cc}
@@ -20,12 +22,14 @@ tmp=$(mktemp -d "${TMPDIR:-/tmp}/hairtier-install.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "install_test: FAIL: $*" >&2; exit 1; }
 
-expected="bin/hairgen bin/hairview include/hairtier/hairgen.h include/hairtier/hairtier.h \
+expected="bin/hairgen bin/hairview include/hairtier/export.h include/hairtier/hairgen.h include/hairtier/hairtier.h \
 include/hairtier/ht_limits.h include/hairtier/image.h include/hairtier/model.h \
 include/hairtier/model_marschner.h include/hairtier/scene.h \
-include/hairtier/strands.h lib/libhairgen.a \
-lib/libhairtier.a lib/pkgconfig/hairgen.pc lib/pkgconfig/hairtier.pc"
-files_under() { (cd "$1" && find . -type f | sed 's|^\./||' | LC_ALL=C sort | tr '\n' ' ' | sed 's/ $//'); }
+include/hairtier/strands.h lib/cmake/hairtier/hairtierConfig.cmake lib/cmake/hairtier/hairtierConfigVersion.cmake \
+lib/libhairgen.a lib/libhairgen.so lib/libhairgen.so.0 lib/libhairgen.so.0.1 \
+lib/libhairtier.a lib/libhairtier.so lib/libhairtier.so.0 lib/libhairtier.so.0.1 \
+lib/pkgconfig/hairgen.pc lib/pkgconfig/hairtier.pc"
+files_under() { (cd "$1" && find . \( -type f -o -type l \) | sed 's|^\./||' | LC_ALL=C sort | tr '\n' ' ' | sed 's/ $//'); }
 mk() { env -u MAKEFLAGS -u MFLAGS $MAKE -s --no-print-directory BUILD="$BUILD" "$@" >/dev/null; }
 
 # 1. staged
@@ -55,7 +59,9 @@ got=$(files_under "$prefix")
 [ -s "$tmp/frame.png" ] || fail "installed hairview wrote no frame"
 
 export PKG_CONFIG_PATH="$prefix/lib/pkgconfig"
-flags=$(pkg-config --cflags --libs --static hairtier) || fail "pkg-config hairtier"
+# --static: the archives, taken over the shared libraries beside them.
+static_libs() { echo "$1" | sed -E 's/-l(hairgen|hairtier)( |$)/-Wl,-Bstatic -l\1 -Wl,-Bdynamic /g'; }
+flags=$(static_libs "$(pkg-config --cflags --libs --static hairtier)") || fail "pkg-config hairtier"
 case "$flags" in *-I"$PWD"*|*-Iruntime*|*-Ishadergen*) fail "pkg-config hairtier names the source tree: $flags";; esac
 # Only the installed headers and libraries: -I and -L into the source tree
 # are absent, so a public header that included an internal one would fail here.
@@ -68,11 +74,44 @@ $CC -std=c11 -Wall -Wextra -Werror $SAN tests/data/install_smoke.c $flags -lOSMe
 $CC -std=c11 -Wall -Wextra -Werror $SAN -DSMOKE_HEADER='"smoke_bundle.h"' -DSMOKE_ENTRY=smoke_bundle -I"$tmp" \
   tests/data/install_smoke.c $flags -lOSMesa -o "$tmp/smoke_header" || fail "install_smoke.c with the header does not build"
 "$tmp/smoke_header" || fail "install_smoke from the header failed"
-gflags=$(pkg-config --cflags --libs --static hairgen) || fail "pkg-config hairgen"
+gflags=$(static_libs "$(pkg-config --cflags --libs --static hairgen)") || fail "pkg-config hairgen"
 $CC -std=c11 -Wall -Wextra -Werror $SAN tests/data/install_smoke_gen.c $gflags -o "$tmp/smoke_gen" ||
   fail "install_smoke_gen.c does not build with: $gflags"
 "$tmp/smoke_gen" materials/dark-brown.json || fail "install_smoke_gen failed"
+! ldd "$tmp/smoke_gen" | grep -q libhair || fail "the --static build of install_smoke_gen needs a shared hairtier library"
 echo "install_test: built with: $flags"
+
+# Shared: plain pkg-config --libs, the loader finding the libraries by soname.
+export LD_LIBRARY_PATH="$prefix/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+$CC -std=c11 -Wall -Wextra -Werror $SAN tests/data/install_smoke.c $(pkg-config --cflags --libs hairtier) -lOSMesa \
+  -o "$tmp/smoke_shared" || fail "install_smoke.c does not build with pkg-config --libs hairtier"
+ldd "$tmp/smoke_shared" | grep -q "libhairtier.so.0 => $prefix/lib/" || fail "install_smoke does not load libhairtier.so.0"
+"$tmp/smoke_shared" "$tmp/bundle" || fail "install_smoke (shared) failed"
+CXX=${CXX:-c++}
+$CXX -Wall -Wextra -Werror $SAN tests/data/install_every_header.cpp $(pkg-config --cflags --libs hairgen) \
+  -o "$tmp/every_shared" || fail "install_every_header.cpp does not build with pkg-config --libs hairgen"
+"$tmp/every_shared" >/dev/null || fail "install_every_header (shared, pkg-config) failed"
+$CXX -Wall -Wextra -Werror $SAN tests/data/install_every_header.cpp \
+  $(static_libs "$(pkg-config --cflags --libs --static hairgen)") -o "$tmp/every_static" ||
+  fail "install_every_header.cpp does not build with pkg-config --static"
+"$tmp/every_static" >/dev/null || fail "install_every_header (static, pkg-config) failed"
+# Only what the headers declare with HT_API is exported.
+nm -D --defined-only "$prefix/lib/libhairtier.so" | grep -q ' ht_renderer_create$' || fail "libhairtier.so does not export ht_renderer_create"
+! nm -D --defined-only "$prefix/lib/libhairtier.so" | grep -q ' ht_gl_load$' || fail "libhairtier.so exports the internal ht_gl_load"
+echo "install_test: C with pkg-config --libs (shared) and C++ of every public header, shared and static: ok"
+
+# CMake: find_package(hairtier) and its imported targets, shared and static.
+if [ -n "$SAN" ]; then
+  echo "install_test: the CMake consumer is skipped under sanitizers (its flags are CMake's)"
+else
+  cmake -S tests/data/cmake_consumer -B "$tmp/cmake" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release >"$tmp/cmake.log" 2>&1 &&
+    cmake --build "$tmp/cmake" >>"$tmp/cmake.log" 2>&1 || { cat "$tmp/cmake.log"; fail "the CMake consumer does not build"; }
+  "$tmp/cmake/every_header_shared" >/dev/null || fail "CMake every_header_shared failed"
+  "$tmp/cmake/every_header_static" >/dev/null || fail "CMake every_header_static failed"
+  ldd "$tmp/cmake/every_header_shared" | grep -q libhairgen.so.0 || fail "CMake's hairtier::hairgen is not the shared library"
+  ! ldd "$tmp/cmake/every_header_static" | grep -q libhair || fail "CMake's hairgen_static needs a shared hairtier library"
+  echo "install_test: find_package(hairtier), shared and static: ok"
+fi
 
 mk uninstall PREFIX="$prefix"
 left=$(files_under "$prefix")

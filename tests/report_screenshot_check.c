@@ -17,7 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "image.h"
+#include <hairtier/image.h>
 #include "json_check.h"
 
 #define MAX_IMAGES 64

@@ -1,6 +1,6 @@
 /* support_combiner_eval.h — a CPU emulator of a combiner program
    (GL_COMBINE semantics), so tests can hold the fixed tier against
-   runtime/model.c without a GL context. Test-only: nothing that ships
+   runtime/shading/model.c without a GL context. Test-only: nothing that ships
    needs it, so it lives here rather than in libhairtier.a. */
 #ifndef HT_SUPPORT_COMBINER_EVAL_H
 #define HT_SUPPORT_COMBINER_EVAL_H

@@ -1,6 +1,6 @@
 /* support_gl_fault.h — a fault-injecting GL layer for tests: a getproc
    that hands the runtime a wrapper for every entry point it loads
-   (runtime/gl_api.h's HT_GL_FUNCTIONS), each forwarding to OSMesa's, and
+   (runtime/render/gl_api.h's HT_GL_FUNCTIONS), each forwarding to OSMesa's, and
    that counts the GL objects the runtime creates and deletes.
 
    Usage:

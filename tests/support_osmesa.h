@@ -26,7 +26,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "image.h"
+#include <hairtier/image.h>
 
 struct offscreen;
 

@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "rng.h"
 #include "support_probe.h"
 

@@ -17,10 +17,10 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "hairgen.h"
-#include "hairtier.h"
-#include "image.h"
-#include "model.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
+#include <hairtier/model.h>
 
 #define HT_PROBE_SIZE 129          /* pixels per side of the view; odd: the centre pixel's ray is the z axis */
 #define HT_PROBE_GRID 9            /* cells per side; odd: a cell sits centred on the origin */

@@ -13,7 +13,7 @@
 
 #include <GL/gl.h>
 
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "support_log.h"
 #include "support_render.h"
 #include "support_scratch.h"

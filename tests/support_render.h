@@ -12,7 +12,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 #include "support_osmesa.h"
 
 typedef struct ht_test_furball {

@@ -15,8 +15,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "hairgen.h"
-#include "image.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/image.h>
 #include "support_scratch.h"
 
 static char work[64];

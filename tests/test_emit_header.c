@@ -77,7 +77,7 @@ static void test_header_instead_of_a_directory_holds_every_file_under_one_entry(
     assert_non_null(text);
     assert_non_null(strstr(text, "static const ht_bundle_memory kajiya_kay_bundle = { \"kajiya_kay_bundle\", "
                                  "kajiya_kay_bundle_files, "));
-    assert_non_null(strstr(text, "#include \"hairtier.h\""));
+    assert_non_null(strstr(text, "#include <hairtier/hairtier.h>"));
     /* One array per file of the directory the same run writes with -o. */
     snprintf(dir, sizeof dir, "%s/kk-bundle", work);
     snprintf(args, sizeof args, "materials/kajiya-kay.json -o %s --emit-header %s/kk2.h --header-symbol kk", dir,

@@ -1,4 +1,4 @@
-/* test_file_atomic — ht_file_write_atomic (runtime/file_atomic.h): the
+/* test_file_atomic — ht_file_write_atomic (runtime/io/file_atomic.h): the
    file replaced whole, a failed writer leaving the old file and no
    temporary, the writer's own reason in the error, mode 0644. */
 #include <dirent.h>

@@ -3,7 +3,7 @@
    name, the CPU emulator follows GL_COMBINE and GL's texture matrix, the
    emitter picks the texture-matrix coordinate rule exactly for Kajiya-Kay
    under a directional key light, and the whole tier (CPU coordinates or
-   the texture matrix + LUT + combiners, emulated) tracks runtime/model.c
+   the texture matrix + LUT + combiners, emulated) tracks runtime/shading/model.c
    (with the infinite viewer the texture-matrix rule documents). */
 #include <setjmp.h>
 #include <stdarg.h>

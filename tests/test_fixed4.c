@@ -1,5 +1,5 @@
 /* test_fixed4 — the fixed4 tier's program and the numbers it feeds the
-   device, held against runtime/model.c without GL: the program's JSON, the
+   device, held against runtime/shading/model.c without GL: the program's JSON, the
    runtime-baked LUTs at texel centres, the texture matrices' coordinates,
    the local-viewer loop and the static per-vertex arrays. */
 #include <setjmp.h>

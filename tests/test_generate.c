@@ -15,8 +15,8 @@
 #include <string.h>
 
 #include "emit.h"
-#include "hairgen.h"
-#include "image.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/image.h>
 #include "support_scratch.h"
 
 static char work[64];
@@ -277,6 +277,11 @@ static void test_bad_material_struct_is_refused_naming_the_field(void **state) {
     m = good;
     m.shading.wrap = INFINITY;
     expect_refused(&m, "diffuse.wrap: must be a finite number");
+
+    /* the range every tier program holds (ht_limits.h), not any finite shift */
+    m = good;
+    m.shading.secondary.shift = 150;
+    expect_refused(&m, "materials/dark-brown.json: secondary.shift: must be in [-100, 100], got 150");
 
     m = good;
     m.opaque_cutoff = 1.5;

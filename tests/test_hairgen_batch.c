@@ -21,8 +21,8 @@
 #include <unistd.h>
 
 #include "emit.h"
-#include "hairgen.h"
-#include "image.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/image.h>
 #include "support_scratch.h"
 
 static char work[64];

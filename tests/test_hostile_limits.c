@@ -21,10 +21,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "hairgen.h"
-#include "ht_limits.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/ht_limits.h>
 #include "manifest.h"
-#include "scene.h"
+#include <hairtier/scene.h>
 #include "support_scratch.h"
 
 static char work[64];

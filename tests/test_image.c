@@ -19,7 +19,7 @@
 #include <png.h>
 #include <zlib.h>
 
-#include "image.h"
+#include <hairtier/image.h>
 #include "rng.h"
 #include "support_scratch.h"
 

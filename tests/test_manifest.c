@@ -1,4 +1,4 @@
-/* test_manifest.c — the manifest reader (runtime/manifest_read.c) against
+/* test_manifest.c — the manifest reader (runtime/io/manifest_read.c) against
    the generator that writes it (shadergen/generate.c): a round trip over
    every field, and the reader's refusals that no generated bundle exercises. */
 #include <setjmp.h>
@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "manifest.h"
 #include "support_scratch.h"
 

@@ -14,7 +14,7 @@
 
 #include <cmocka.h>
 
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "marschner_fit.h"
 #include "rng.h"
 

@@ -14,7 +14,7 @@
 
 #include <cmocka.h>
 
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 
 #define DEG (HT_PI / 180)
 

@@ -21,7 +21,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "manifest.h"
 #include "measure.h"
 #include "support_log.h"

@@ -15,7 +15,7 @@
 
 #include <cmocka.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 #include "rng.h"
 #include "support_child.h"
 

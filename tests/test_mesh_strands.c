@@ -16,8 +16,8 @@
 
 #include <cmocka.h>
 
-#include "scene.h"
-#include "strands.h"
+#include <hairtier/scene.h>
+#include <hairtier/strands.h>
 
 static double dot3(const float a[3], const float b[3]) {
     return (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2];

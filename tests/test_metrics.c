@@ -1,4 +1,4 @@
-/* test_metrics — PSNR, SSIM and CIEDE2000 (runtime/metrics.h) against
+/* test_metrics — PSNR, SSIM and CIEDE2000 (shadergen/metrics.h) against
    published and independently computed values; no GL. */
 #include <math.h>
 #include <setjmp.h>

@@ -18,8 +18,8 @@
 
 #include <cmocka.h>
 
-#include "hairtier.h"
-#include "model.h"
+#include <hairtier/hairtier.h>
+#include <hairtier/model.h>
 #include "rng.h"
 
 /* ---- the documented rules, written out independently of model.c ---- */

@@ -1,4 +1,4 @@
-/* test_model_marschner.c — the Marschner oracle (runtime/model_marschner.c)
+/* test_model_marschner.c — the Marschner oracle (runtime/shading/model_marschner.c)
    against published behaviour, not against itself:
    - the white furnace (pbrt-v4's hair test in spirit): with sigma_a = 0 the
      integral over the sphere of the scattering times cos(theta_i), i.e. of
@@ -21,8 +21,8 @@
 
 #include <cmocka.h>
 
-#include "model.h"
-#include "model_marschner.h"
+#include <hairtier/model.h>
+#include <hairtier/model_marschner.h>
 #include "rng.h"
 
 #define DEG (HT_PI / 180)

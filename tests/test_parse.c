@@ -15,7 +15,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "json_check.h"
 
 #define BAD_DIR "tests/data/bad/"

@@ -14,7 +14,7 @@
 #include <cmocka.h>
 
 #include "hairgen_internal.h"
-#include "image.h"
+#include <hairtier/image.h>
 #include "rng.h"
 
 static size_t texel_bytes(const ht_image *img) {

@@ -15,7 +15,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "image.h"
+#include <hairtier/image.h>
 #include "support_scratch.h"
 
 static char work[64];

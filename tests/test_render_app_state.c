@@ -19,7 +19,7 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 #include "support_log.h"
 #include "support_osmesa.h"
 #include "support_render.h"

@@ -24,8 +24,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hairtier.h"
-#include "image.h"
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
 #include "support_gl_fault.h"
 #include "support_log.h"
 #include "support_render.h"

@@ -21,9 +21,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "hairgen.h"
-#include "hairtier.h"
-#include "image.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
 #include "support_log.h"
 #include "support_osmesa.h"
 #include "support_render.h"

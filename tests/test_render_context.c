@@ -23,8 +23,8 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 
-#include "hairtier.h"
-#include "image.h"
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
 #include "metrics.h"
 #include "offscreen.h"
 #include "support_log.h"

@@ -27,7 +27,7 @@
 #include <unistd.h>
 
 #include "compare/tier_render.h"
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "metrics.h"
 #include "offscreen.h"
 #include "support_scratch.h"

@@ -33,8 +33,8 @@
 #include <GL/gl.h>
 
 #include "file_open.h"
-#include "hairgen.h"
-#include "hairtier.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/hairtier.h>
 #include "support_gl_fault.h"
 #include "support_log.h"
 #include "support_render.h"

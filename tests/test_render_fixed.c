@@ -50,10 +50,10 @@
 #include "fixed.h"
 #include "fixed_coords.h"
 #include "gl_api.h"
-#include "hairgen.h"
-#include "hairtier.h"
-#include "image.h"
-#include "model.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
+#include <hairtier/model.h>
 #include "support_combiner_eval.h"
 #include "support_log.h"
 #include "support_osmesa.h"

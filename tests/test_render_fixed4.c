@@ -17,7 +17,7 @@
 #include <GL/gl.h>
 
 #include "fixed4_program.h"
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "support_log.h"
 #include "support_probe.h"
 #include "support_render.h"

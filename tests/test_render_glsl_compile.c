@@ -1,6 +1,6 @@
 /* test_render_glsl_compile.c — the emitted desktop programs on a real Mesa
    driver (OSMesa compatibility context): every program compiles and links,
-   exposes the uniforms the runtime binds, and shades what runtime/model.c
+   exposes the uniforms the runtime binds, and shades what runtime/shading/model.c
    computes. Shading cases are drawn as single points, so each pixel sees
    exactly its vertex's attributes and can be checked against the oracle. */
 #include <math.h>
@@ -261,7 +261,7 @@ static void test_every_desktop_program_links_and_exposes_the_runtime_uniforms(vo
             }
 }
 
-/* ---- parity with runtime/model.c ---- */
+/* ---- parity with runtime/shading/model.c ---- */
 
 typedef struct shading_case {
     double T[3], N[3], ao;

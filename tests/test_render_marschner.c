@@ -1,5 +1,5 @@
 /* test_render_marschner — the marschner tier's pixels against the Marschner
-   oracle (runtime/model_marschner.c through ht_model_shade_d), on the probe
+   oracle (runtime/shading/model_marschner.c through ht_model_shade_d), on the probe
    of support_probe.h: every covered pixel within TOLERANCE per channel of
    the oracle clamped to [0,1] and rounded to 8 bits. Lights: the probe's
    first light, behind the cells (L = -V at the centre pixel: TT's glow;
@@ -19,12 +19,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hairgen.h"
-#include "hairtier.h"
-#include "image.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
 #include "marschner_lut.h"
 #include <math.h>
-#include "model.h"
+#include <hairtier/model.h>
 #include "support_log.h"
 #include "support_osmesa.h"
 #include "support_probe.h"

@@ -20,8 +20,8 @@
 
 #include <GL/gl.h>
 
-#include "hairgen.h"
-#include "hairtier.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/hairtier.h>
 #include "manifest.h"
 #include "support_log.h"
 #include "support_osmesa.h"

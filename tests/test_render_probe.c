@@ -1,5 +1,5 @@
 /* test_render_probe — the full tier's pixels against the double-precision
-   oracle (runtime/model.c), on whichever Mesa driver runs it (make test
+   oracle (runtime/shading/model.c), on whichever Mesa driver runs it (make test
    runs it on llvmpipe and on softpipe).
 
    The probe (support_probe.h) is a grid of flat cells in the plane z = 0,
@@ -25,10 +25,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hairgen.h"
-#include "hairtier.h"
-#include "image.h"
-#include "model.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
+#include <hairtier/model.h>
 #include "support_log.h"
 #include "support_osmesa.h"
 #include "support_probe.h"

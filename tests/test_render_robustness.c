@@ -31,8 +31,8 @@
 
 #include <GL/osmesa.h>
 
-#include "hairtier.h"
-#include "image.h"
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
 #include "support_log.h"
 #include "support_osmesa.h"
 #include "support_render.h"

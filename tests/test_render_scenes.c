@@ -23,8 +23,8 @@
 
 #include <cJSON.h>
 
-#include "hairgen.h"
-#include "image.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/image.h>
 #include "metrics.h"
 #include "support_scratch.h"
 

@@ -19,7 +19,7 @@
 #include "../examples/compare/heatmap.h"
 #include "../examples/compare/report.h"
 #include "../examples/compare/report_dir.h"
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 #include "support_scratch.h"
 
 /* What a writer wrote, as a string (free it). */

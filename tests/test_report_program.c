@@ -18,8 +18,8 @@
 
 #include <cmocka.h>
 
-#include "hairgen.h"
-#include "image.h"
+#include <hairtier/hairgen.h>
+#include <hairtier/image.h>
 #include "support_scratch.h"
 
 static char work[64], bundle[128], scene[128];

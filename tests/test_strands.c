@@ -18,8 +18,8 @@
 
 #include <cmocka.h>
 
-#include "ht_limits.h"
-#include "strands.h"
+#include <hairtier/ht_limits.h>
+#include <hairtier/strands.h>
 #include "support_child.h"
 #include "support_scratch.h"
 

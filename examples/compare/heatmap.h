@@ -15,7 +15,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "image.h"
+#include <hairtier/image.h>
 
 /* The colour at t (clamped to [0, 1]; NaN reads as 0): black at 0, white
    at 1, cubehelix start 0.5, rotations -1.5, hue 1.2, gamma 1. */

@@ -72,7 +72,7 @@ void report_init(report *r);
 void report_free(report *r);
 
 /* Fills material, notes and each tier's name, needs and dropped from
-   BUNDLE/manifest.json (runtime/manifest.h reads and checks it; the
+   BUNDLE/manifest.json (runtime/io/manifest.h reads and checks it; the
    free-text lists are read here). One line in err naming the file and
    field on failure. */
 ht_result report_read_bundle(report *r, const char *bundle, char *err, size_t err_size);

@@ -1,5 +1,5 @@
 /* report_bundle.c — what the report shows of a bundle's manifest: tier
-   names and requirements (runtime/manifest.h reads and checks them), and
+   names and requirements (runtime/io/manifest.h reads and checks them), and
    the free-text lists the runtime does not keep, each tier's "dropped" and
    the root's "notes", read here through json_check.h. */
 #include <stdlib.h>

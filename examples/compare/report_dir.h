@@ -16,7 +16,7 @@
 
 #include <stddef.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 
 /* What index.html carries to say a directory is a report. */
 #define REPORT_DIR_GENERATOR_MARK "<meta name=\"generator\" content=\"haircompare\">"

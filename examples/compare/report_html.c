@@ -235,7 +235,7 @@ static void write_images(FILE *f, const report *r) {
 
 static void write_definitions(FILE *f, const report *r) {
     fputs("<p class=\"note\">PSNR, SSIM and &#916;E00 over the whole frame; the hair-pixel column counts the "
-          "pixels where either image differs from the background. Definitions: <code>runtime/metrics.h</code> "
+          "pixels where either image differs from the background. Definitions: <code>shadergen/metrics.h</code> "
           "(SSIM: Wang et al. 2004 on luminance; &#916;E00: CIEDE2000 after sRGB &#8594; CIELAB D65, mean and "
           "nearest-rank 95th percentile). Cost: the tier&#8217;s median frame time over full&#8217;s, on ", f);
     report_escape(f, r->driver[0] ? r->driver : "no context");

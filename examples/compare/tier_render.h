@@ -18,9 +18,9 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 #include "offscreen.h"
-#include "scene.h"
+#include <hairtier/scene.h>
 
 typedef struct tier_scene {
     ht_scene scene;

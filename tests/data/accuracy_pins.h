@@ -2,7 +2,7 @@
    (a Marschner material: from its marschner tier) as the sweep in
    tests/test_render_scenes.c measured it on llvmpipe (256², a 2000-hair
    fur ball): minimum PSNR in dB, minimum SSIM, maximum CIEDE2000 mean and
-   95th percentile (runtime/metrics.h's definitions).
+   95th percentile (shadergen/metrics.h's definitions).
 
    Margins: the frames are the same bytes on every llvmpipe run, so a
    margin only has to absorb float noise (rounding in a different LLVM or

@@ -14,7 +14,7 @@
 
 #include <GL/osmesa.h>
 
-#include "hairtier.h"
+#include <hairtier/hairtier.h>
 #ifdef SMOKE_HEADER
 #include SMOKE_HEADER
 #endif

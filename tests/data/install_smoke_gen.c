@@ -7,7 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "hairgen.h"
+#include <hairtier/hairgen.h>
 
 int main(int argc, char **argv) {
     if (argc != 2) {

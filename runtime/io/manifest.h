@@ -1,0 +1,189 @@
+/* manifest.h — a hairgen bundle's manifest.json read into plain structs (the
+   format is docs/bundle.md), from a directory or a bundle in memory; the
+   readers of the bundle's other files. Internal to libhairtier.
+
+   Usage:
+       ht_manifest b;
+       char err[512];
+       if (ht_manifest_load("out/bundle", &b, err, sizeof err) != HT_OK) puts(err);
+       const ht_manifest_tier *full = ht_manifest_find_tier(&b, HT_TIER_FULL);
+       char *frag = ht_manifest_read_text(&b, ht_manifest_tier_file(full, "fragment"), err, sizeof err);
+
+   Every error is one line "DIR/manifest.json: FIELD: what is wrong"
+   (FIELD like tiers[1].requires.glsl). File names in a manifest must be plain
+   names inside the bundle directory. */
+#ifndef HT_MANIFEST_H
+#define HT_MANIFEST_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include <hairtier/hairtier.h>
+#include "bundle_source.h"
+#include <hairtier/image.h>
+#include <hairtier/ht_limits.h>
+
+/* The schema's one home: shadergen/generate.c writes what this reader
+   accepts and checks these limits before writing, so hairgen never makes a
+   bundle the runtime refuses (tests/test_manifest.c holds the two together). */
+#define HT_MANIFEST_FORMAT "hairtier-bundle/1"
+/* The generator version a bundle records: hairgen writes it, the runtime
+   refuses any other ("regenerate with ..."), input_hash covers it. Bump it
+   with any change to what a bundle holds. */
+#define HT_MANIFEST_GENERATOR "hairgen 4"
+#define HT_MANIFEST_FILE "manifest.json"
+/* Texture sizes the runtime reads: per side, 3D depth (slices), and texels
+   in all (the PNG reader's cap, so a listed texture is never one it refuses).
+   The values live in ht_limits.h, the one table generator and runtime share. */
+#define HT_MANIFEST_MAX_TEXTURE_SIZE HT_LIMIT_TEXTURE_SIDE
+#define HT_MANIFEST_MAX_TEXTURE_DEPTH HT_LIMIT_TEXTURE_DEPTH
+#define HT_MANIFEST_MAX_TEXTURE_PIXELS HT_LIMIT_TEXTURE_PIXELS
+_Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader reads every bundle texture");
+
+/* Every key of the manifest, written by shadergen/generate.c and read by
+   runtime/io/manifest_read.c (docs/bundle.md describes them). */
+#define HT_MANIFEST_KEY_FORMAT "format"
+#define HT_MANIFEST_KEY_GENERATOR "generator"
+#define HT_MANIFEST_KEY_INPUT_HASH "input_hash"
+#define HT_MANIFEST_KEY_MATERIAL "material"
+#define HT_MANIFEST_KEY_MODEL "model"
+#define HT_MANIFEST_KEY_LIGHTS "lights"
+#define HT_MANIFEST_KEY_OPAQUE_CUTOFF "opaque_cutoff"
+#define HT_MANIFEST_KEY_TEXTURES "textures"      /* root and tier: name -> texture */
+#define HT_MANIFEST_KEY_NOTES "notes"
+#define HT_MANIFEST_KEY_TIERS "tiers"
+/* a texture */
+#define HT_MANIFEST_KEY_FILE "file"
+#define HT_MANIFEST_KEY_WIDTH "width"
+#define HT_MANIFEST_KEY_HEIGHT "height"
+#define HT_MANIFEST_KEY_DEPTH "depth"
+#define HT_MANIFEST_KEY_CONTENTS "contents"
+/* a tier */
+#define HT_MANIFEST_KEY_NAME "name"
+#define HT_MANIFEST_KEY_REQUIRES "requires"
+#define HT_MANIFEST_KEY_GL "gl"
+#define HT_MANIFEST_KEY_GLSL "glsl"
+#define HT_MANIFEST_KEY_EXTENSIONS "extensions"
+#define HT_MANIFEST_KEY_TEXTURE_UNITS "texture_units"
+#define HT_MANIFEST_KEY_FILES "files"            /* role -> file name */
+#define HT_MANIFEST_KEY_SAMPLERS "samplers"
+#define HT_MANIFEST_KEY_UNIFORM "uniform"
+#define HT_MANIFEST_KEY_TEXTURE "texture"
+#define HT_MANIFEST_KEY_UNIT "unit"
+#define HT_MANIFEST_KEY_FEATURES "features"
+#define HT_MANIFEST_KEY_DROPPED "dropped"
+/* a tier's optional "measured" object: how the tier compares with full on
+   one scene, measured offline (hairgen --measure; shadergen/metrics.h has the
+   definitions). psnr_db null means identical (infinite). */
+#define HT_MANIFEST_KEY_MEASURED "measured"
+#define HT_MANIFEST_KEY_PSNR_DB "psnr_db"
+#define HT_MANIFEST_KEY_SSIM "ssim"
+#define HT_MANIFEST_KEY_DELTA_E00_MEAN "delta_e00_mean"
+#define HT_MANIFEST_KEY_DELTA_E00_P95 "delta_e00_p95"
+#define HT_MANIFEST_KEY_COST_RATIO "cost_ratio"
+#define HT_MANIFEST_KEY_SCENE "scene"
+#define HT_MANIFEST_KEY_DRIVER "driver"
+/* Limits of a measured object's numbers. */
+#define HT_MANIFEST_MAX_PSNR_DB 1000.0
+#define HT_MANIFEST_MAX_DELTA_E 1000.0
+#define HT_MANIFEST_MAX_COST_RATIO 1.0e6
+
+#define HT_MANIFEST_MAX_TIERS HT_LIMIT_TIERS
+#define HT_MANIFEST_MAX_FILES HT_LIMIT_TIER_FILES
+#define HT_MANIFEST_MAX_SAMPLERS HT_LIMIT_SAMPLERS
+#define HT_MANIFEST_MAX_TEXTURES HT_LIMIT_TEXTURES
+#define HT_MANIFEST_MAX_EXTENSIONS HT_LIMIT_EXTENSIONS
+#define HT_MANIFEST_NAME (HT_LIMIT_BUNDLE_NAME + 1)
+
+typedef struct ht_manifest_texture {
+    char name[24];                 /* key: "albedo", "detail", "fixed-lut" */
+    char file[HT_MANIFEST_NAME];
+    int width, height, depth;      /* depth 1 for 2D */
+} ht_manifest_texture;
+
+typedef struct ht_manifest_file {
+    char role[24];                 /* "vertex", "fragment", "prime_vertex", "program", ... */
+    char file[HT_MANIFEST_NAME];
+} ht_manifest_file;
+
+typedef struct ht_manifest_sampler {
+    char uniform[32];
+    char texture[24];              /* a key of the tier's or the bundle's textures */
+    int unit;
+} ht_manifest_sampler;
+
+/* A tier's "measured" object (all its numbers are required when it is
+   present; scene and driver are optional labels). */
+typedef struct ht_manifest_measured {
+    bool present;                  /* false when the tier has no "measured" */
+    double psnr_db;                /* [0, 1000], INFINITY for null (identical to full) */
+    double ssim;                   /* [-1, 1] */
+    double delta_e00_mean, delta_e00_p95; /* [0, 1000] */
+    double cost_ratio;             /* (0, 1e6]: frame time / full's */
+    char scene[64];                /* "" when absent */
+    char driver[128];              /* "" when absent */
+} ht_manifest_measured;
+
+typedef struct ht_manifest_tier {
+    char name[16];
+    ht_tier tier;                  /* HT_TIER_COUNT: a tier this runtime does not know */
+    int gl_major, gl_minor;        /* requires.gl */
+    int glsl_major, glsl_minor;    /* requires.glsl; 0.0 when the tier has no GLSL */
+    char extensions[HT_MANIFEST_MAX_EXTENSIONS][48];
+    int extension_count;
+    int texture_units;             /* requires.texture_units; 0 when absent */
+    ht_manifest_file files[HT_MANIFEST_MAX_FILES];
+    int file_count;
+    ht_manifest_sampler samplers[HT_MANIFEST_MAX_SAMPLERS];
+    int sampler_count;
+    ht_manifest_texture textures[HT_MANIFEST_MAX_TEXTURES]; /* the tier's own ("fixed-lut") */
+    int texture_count;
+    ht_manifest_measured measured;   /* optional */
+} ht_manifest_tier;
+
+typedef struct ht_manifest {
+    char dir[HT_LIMIT_DIR_PATH + 1]; /* a longer path is refused, never cut; a memory bundle's name */
+    const ht_bundle_memory *memory;  /* NULL: the files are in dir; else the caller's memory bundle */
+    char material[64];
+    char model[32];
+    ht_light_type lights[HT_MAX_LIGHTS];
+    int light_count;
+    float opaque_cutoff;           /* (0, 1] */
+    ht_manifest_texture textures[HT_MANIFEST_MAX_TEXTURES];
+    int texture_count;
+    ht_manifest_tier tiers[HT_MANIFEST_MAX_TIERS]; /* best first, as listed */
+    int tier_count;
+} ht_manifest;
+
+ht_result ht_manifest_load(const char *dir, ht_manifest *out, char *err, size_t err_size);
+/* The same from a bundle in memory (checked with ht_bundle_memory_check
+   first); every message names NAME/FILE where a directory's names DIR/FILE. */
+ht_result ht_manifest_load_memory(const ht_bundle_memory *m, ht_manifest *out, char *err, size_t err_size);
+/* Parses manifest text; file_name only labels errors. */
+ht_result ht_manifest_parse(const char *json_text, const char *dir, const char *file_name,
+                          ht_manifest *out, char *err, size_t err_size);
+
+const ht_manifest_tier *ht_manifest_find_tier(const ht_manifest *b, ht_tier tier);
+/* The file of a role, NULL when the tier lists none. */
+const char *ht_manifest_tier_file(const ht_manifest_tier *t, const char *role);
+/* A texture by key: the tier's own first, then the bundle's; NULL if neither. */
+const ht_manifest_texture *ht_manifest_find_texture(const ht_manifest *b, const ht_manifest_tier *t,
+                                                const char *name);
+/* Where the bundle's files come from (bundle_source.h). */
+ht_bundle_source ht_manifest_source(const ht_manifest *b);
+/* DIR/file into out (what messages name); false when it does not fit. */
+bool ht_manifest_path(const ht_manifest *b, const char *file, char *out, size_t out_size);
+/* Reads a JSON file of the bundle (malloc'd, NUL-terminated) or NULL with
+   "DIR/FILE: why" in err; file NULL (a role the tier lacks) is an error too. */
+char *ht_manifest_read_text(const ht_manifest *b, const char *file, char *err, size_t err_size);
+/* The same for a GLSL source (its own size cap). */
+char *ht_manifest_read_shader(const ht_manifest *b, const char *file, char *err, size_t err_size);
+/* Reads a 2D texture of the bundle held to its manifest entry: the size the
+   PNG header declares is checked before decoding (a hostile header must
+   not make us allocate what it claims), then the decoded size. path
+   receives DIR/FILE for the caller's own messages. Errors are one line
+   naming the file: "DIR/FILE: 8x8, manifest says 256x256". */
+ht_result ht_manifest_read_texture(const ht_manifest *b, const ht_manifest_texture *t, ht_image *img, char *path,
+                                   size_t path_size, char *err, size_t err_size);
+
+#endif

@@ -1,0 +1,88 @@
+/* renderer_internal.h — the renderer's state, shared by the files the
+   renderer is split into (renderer.c names them), and what each of them
+   lends the others. Internal to libhairtier. */
+#ifndef HT_RENDERER_INTERNAL_H
+#define HT_RENDERER_INTERNAL_H
+
+#include "manifest.h"
+#include "gl_api.h"
+#include <hairtier/hairtier.h>
+#include "select.h"
+#include "tier.h"
+
+/* What the renderer saves and resets per frame, at most (gl_state.c). */
+#define HT_RENDERER_MAX_UNITS 32      /* GL_TEXTURE0 .. GL_TEXTURE31 */
+#define HT_RENDERER_MAX_ATTRIBS 32
+#define HT_RENDERER_MAX_LIGHTS 64
+
+struct ht_renderer {
+    ht_gl gl;
+    uint64_t frames;                  /* drawn, for ht_renderer_get_stats */
+    ht_caps caps;
+    char *extensions;                 /* the device's whole list, after the profile (caps.h) */
+    ht_manifest bundle;
+    bool have_bundle;
+    ht_log_fn log;
+    void *log_user;
+    bool record_trace;
+    bool flat;
+    float flat_color[3];
+    ht_tier tier;                     /* HT_TIER_COUNT in flat mode */
+    char reason[HT_SELECT_REASON];
+    const ht_tier_backend *backend;   /* NULL in flat mode */
+    void *backend_state;
+    /* the hair mesh: buffers when the GL has them, else a private copy */
+    GLuint vbo, ibo;
+    ht_vertex *vertices;
+    uint32_t *indices;
+    uint32_t vertex_count, index_count;
+    bool has_mesh;
+    int vertex_attribs;               /* GL_MAX_VERTEX_ATTRIBS (capped), 0 without shaders */
+    int max_lights;                   /* GL_MAX_LIGHTS (capped): the head turns off the ones it does not use */
+    unsigned warned;                  /* frame warnings already logged once (validate.c) */
+    /* what selection reads again when frame:MS re-chooses (renderer.c) */
+    ht_tier requested;
+    bool strict;
+    ht_policy policy;
+    ht_time_tier_fn time_tier;
+    void *time_tier_user;
+    double frame_ms[HT_MANIFEST_MAX_TIERS]; /* per bundle tier, 0 → not timed */
+    ht_trace trace;
+};
+
+/* The files the renderer is split into, and what each lends the others. */
+
+/* validate.c: each refusal logs one line and returns HT_ERR_INVALID_ARGUMENT. */
+__attribute__((format(printf, 4, 5)))
+ht_result ht_renderer_reject(const ht_renderer *r, const char *what, const char *field, const char *fmt, ...);
+ht_result ht_renderer_check_mesh(const ht_renderer *r, const char *what, const ht_mesh *m);
+/* Fills out's camera, eye and matrices (lights are plan_lights' job). */
+ht_result ht_renderer_check_frame(const ht_renderer *r, const ht_frame_desc *f, ht_tier_frame *out);
+/* The lights every backend and the head see; returns how many. */
+int ht_renderer_plan_lights(ht_renderer *r, const ht_frame_desc *f, ht_light out[HT_MAX_LIGHTS]);
+
+/* mesh_gpu.c */
+void ht_renderer_release_mesh(ht_renderer *r);
+/* base: NULL with the hair VBO bound, else the vertices; hair_attributes:
+   uv and the backend's generic attributes too (the head needs neither). */
+void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes);
+void ht_renderer_clear_arrays(ht_renderer *r);
+
+/* gl_state.c: save (HT_ERR_GL with one line and nothing changed when an
+   attribute stack is full), baseline, restore. */
+typedef struct ht_gl_state {
+    GLint program;
+    GLfloat projection[16], modelview[16];
+    GLfloat texture[HT_RENDERER_MAX_UNITS][16];
+} ht_gl_state;
+ht_result ht_gl_state_save(ht_renderer *r, ht_gl_state *s);
+void ht_gl_state_set_baseline(ht_renderer *r);
+void ht_gl_state_restore(ht_renderer *r, const ht_gl_state *s);
+
+/* opaque_scene.c */
+void ht_renderer_draw_opaque(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f);
+
+/* passes.c: the four passes over the hair mesh, recording the trace. */
+ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf);
+
+#endif
