@@ -21,7 +21,7 @@ WERROR  ?= -Werror
 DEB_PACKAGES := libosmesa6-dev libegl-dev libegl-mesa0 glslang-dev glslang-tools libcjson-dev libpng-dev \
                 libdeflate-dev libcmocka-dev pkg-config g++ cmake ninja-build
 
-CPPFLAGS += -Iinclude -Iruntime/io -Iruntime/shading -Iruntime/mesh -Iruntime/render -Ishadergen -Ifallback -I/usr/include/cjson -I/usr/include/libpng16
+CPPFLAGS += -Iinclude -Iruntime/io -Iruntime/shading -Iruntime/mesh -Iruntime/render -Ishadergen -Ifallback -Iplatform -I/usr/include/cjson -I/usr/include/libpng16
 CFLAGS   += -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra $(WERROR) $(OPT) $(SAN) -MMD -MP
 LDFLAGS  += $(SAN)
 # glslang's static libraries are C++; its pkg-config file is read lazily,
@@ -31,9 +31,9 @@ GLSLANG_LIBS = $(shell pkg-config --libs glslang) -lglslang-default-resource-lim
 GEN_LIBS     = -ldeflate
 CORE_LIBS    = -lcjson -lpng16 -lz -lpthread -lm
 RUNTIME_LIBS = -lOSMesa $(CORE_LIBS)
-# The offscreen context module (examples/offscreen.h): EGL linked, OSMesa
-# loaded with dlopen, so its programs start where there is no OSMesa.
-OFFSCREEN_LIBS = -lEGL -ldl
+# The offscreen context module (platform/offscreen.h) loads EGL and OSMesa
+# with dlopen, so its programs start where there is no OSMesa.
+OFFSCREEN_LIBS = -ldl
 LDLIBS   = $(GLSLANG_LIBS) $(GEN_LIBS) $(RUNTIME_LIBS)
 
 RUNTIME_SRC := $(wildcard runtime/*/*.c runtime/*.c fallback/*.c)
@@ -42,8 +42,10 @@ GEN_SRC     := $(filter-out shadergen/hairgen.c,$(wildcard shadergen/*.c))
 GEN_CXX_SRC := $(wildcard shadergen/*.cpp)
 TEST_SRC    := $(wildcard tests/test_*.c)
 TEST_SUPPORT_SRC := $(wildcard tests/support_*.c)
-# The offscreen context module and the options the drawing programs share.
-EXAMPLE_SHARED_SRC := examples/offscreen.c examples/offscreen_osmesa.c examples/offscreen_egl.c examples/view_args.c
+# What every program shares, hairgen included (platform/: the offscreen
+# context module and the command-line parser); the drawing programs' options.
+PLATFORM_SRC := $(wildcard platform/*.c)
+EXAMPLE_SHARED_SRC := examples/view_args.c
 EXAMPLE_SRC := $(filter-out $(EXAMPLE_SHARED_SRC),$(wildcard examples/*.c))
 # What the example programs share (tier rendering, the report's pieces in
 # examples/compare/; the benchmarks' results files, plots and progress in
@@ -61,6 +63,7 @@ SOVERSION := 0
 SHLIB     := $(BUILD)/lib/libhairtier.so.$(VERSION)
 GENSHLIB  := $(BUILD)/lib/libhairgen.so.$(VERSION)
 EXLIB     := $(BUILD)/libexamples.a
+PLATLIB   := $(BUILD)/libplatform.a
 HAIRGEN   := $(BUILD)/hairgen
 PROGRAMS  := $(patsubst examples/%.c,$(BUILD)/%,$(EXAMPLE_SRC))
 TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
@@ -122,7 +125,7 @@ $(BUILD)/obj/shadergen/png_encode.o: CFLAGS += -O3
 
 # The libraries' objects serve the archives and the shared libraries alike:
 # position-independent, and nothing visible beyond HT_API (export.h).
-$(call obj,$(RUNTIME_SRC) $(GEN_SRC)): CFLAGS += -fPIC -fvisibility=hidden
+$(call obj,$(RUNTIME_SRC) $(GEN_SRC) $(PLATFORM_SRC)): CFLAGS += -fPIC -fvisibility=hidden
 $(patsubst %.cpp,$(BUILD)/obj/%.o,$(GEN_CXX_SRC)): CXXFLAGS += -fPIC -fvisibility=hidden
 
 # $(1): the library as libNAME.so (in $(BUILD)/lib), $(2): what it links;
@@ -138,9 +141,10 @@ endef
 $(SHLIB): $(call obj,$(RUNTIME_SRC))
 	$(call shared_library,$(BUILD)/lib/libhairtier.so,$^ $(CORE_LIBS))
 
-# libhairgen.so carries the runtime pieces it uses privately (exclude-libs);
-# an application gets the runtime's API from libhairtier.so.
-$(GENSHLIB): $(call obj,$(GEN_SRC)) $(patsubst %.cpp,$(BUILD)/obj/%.o,$(GEN_CXX_SRC)) $(LIB)
+# libhairgen.so carries the runtime pieces it uses privately (exclude-libs),
+# and the offscreen context measure.c draws in; an application gets the
+# runtime's API from libhairtier.so.
+$(GENSHLIB): $(call obj,$(GEN_SRC)) $(patsubst %.cpp,$(BUILD)/obj/%.o,$(GEN_CXX_SRC)) $(LIB) $(PLATLIB)
 	$(call shared_library,$(BUILD)/lib/libhairgen.so,$^ $(GLSLANG_LIBS) $(GEN_LIBS) $(CORE_LIBS))
 
 $(LIB): $(call obj,$(RUNTIME_SRC))
@@ -155,26 +159,35 @@ $(EXLIB): $(call obj,$(EXAMPLE_LIB_SRC))
 	@rm -f $@
 	ar rcs $@ $^
 
+$(PLATLIB): $(call obj,$(PLATFORM_SRC))
+	@rm -f $@
+	ar rcs $@ $^
+
+# The version every program's --version prints: VERSION, defined once below.
+$(BUILD)/obj/platform/cli.o $(BUILD)/obj/tests/test_programs.o: CPPFLAGS += -DHT_VERSION='"$(VERSION)"'
+$(BUILD)/obj/platform/cli.o $(BUILD)/obj/tests/test_programs.o: Makefile
+
 # hairgen starts once per material in a build farm: no GL linked (--measure
-# loads libOSMesa with dlopen), libstdc++, libdeflate, libpng and zlib linked
-# in, not position-independent, so a start relocates almost nothing.
-$(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB)
+# loads libOSMesa or libEGL with dlopen, platform/offscreen.c), libstdc++,
+# libdeflate, libpng and zlib linked in, not position-independent, so a
+# start relocates almost nothing.
+$(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB) $(PLATLIB)
 	$(CC) $(LDFLAGS) -no-pie $^ $(filter-out -lstdc++,$(GLSLANG_LIBS)) \
 	  -Wl,-Bstatic -lstdc++ $(GEN_LIBS) -lpng16 -lz -Wl,-Bdynamic -lcjson -lpthread -lm -o $@
 
 # hairview draws a bundle: the runtime only, no generator, no glslang.
-$(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(EXLIB) $(LIB)
+$(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(EXLIB) $(LIB) $(PLATLIB)
 	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) $(OFFSCREEN_LIBS) -o $@
 
 # png_metrics compares two PNGs: the generator's metrics (libhairgen), no
 # GL (it runs on a device machine beside hairview).
-$(BUILD)/png_metrics: $(BUILD)/obj/examples/png_metrics.o $(GENLIB) $(LIB)
+$(BUILD)/png_metrics: $(BUILD)/obj/examples/png_metrics.o $(GENLIB) $(LIB) $(PLATLIB)
 	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) -o $@
 
 # The programs that draw get the context module from EXLIB: OSMesa by
 # dlopen, EGL linked; libOSMesa stays off their NEEDED list (--as-needed,
 # GCC's default here), so they start where there is no OSMesa.
-$(BUILD)/%: $(BUILD)/obj/examples/%.o $(EXLIB) $(GENLIB) $(LIB)
+$(BUILD)/%: $(BUILD)/obj/examples/%.o $(EXLIB) $(GENLIB) $(LIB) $(PLATLIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) $(OFFSCREEN_LIBS) -o $@
 
 # The benchmarks' modules are tested like the library's (tests/test_bench_*.c);
@@ -189,7 +202,7 @@ $(TESTLIB): $(call obj,$(TEST_SUPPORT_SRC))
 	@rm -f $@
 	ar rcs $@ $^
 
-$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(TESTLIB) $(EXLIB) $(GENLIB) $(LIB)
+$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(TESTLIB) $(EXLIB) $(GENLIB) $(LIB) $(PLATLIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) $(OFFSCREEN_LIBS) -lcmocka -o $@
 

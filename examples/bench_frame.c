@@ -16,7 +16,7 @@
    series NAME (--series, default "matrix"), atomically.
    Run: make bench (build/bench_suite runs it per scene and driver).
    --context osmesa|egl and --egl-device N pick the GL context as hairview's
-   do (examples/offscreen.h); --hairs goes to 1 000 000 (32 M vertices at
+   do (platform/offscreen.h); --hairs goes to 1 000 000 (32 M vertices at
    16 joints: a real GPU's size, not llvmpipe's). */
 #include <math.h>
 #include <stdint.h>
@@ -24,6 +24,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
 #include "file_atomic.h"
 #include <hairtier/hairgen.h>
 #include <hairtier/hairtier.h>
@@ -325,63 +326,85 @@ close_context:
     return status;
 }
 
-static bool option(int argc, char **argv, int *i, const char *name, int lo, int hi, int *out) {
-    if (strcmp(argv[*i], name) != 0) return false;
-    if (*i + 1 >= argc || (*out = atoi(argv[*i + 1])) < lo || *out > hi) {
-        fprintf(stderr, "bench_frame: %s takes a number in [%d, %d]\n", name, lo, hi);
-        exit(2);
+enum { KEY_HAIRS = CLI_LONG_ONLY, KEY_FRAMES, KEY_SCENE, KEY_CSV, KEY_SERIES, KEY_EGL_DEVICE, KEY_CONTEXT,
+       KEY_NO_ORBIT, KEY_SIZE };
+static const struct option long_options[] = {
+    { "hairs", required_argument, NULL, KEY_HAIRS },
+    { "frames", required_argument, NULL, KEY_FRAMES },
+    { "scene", required_argument, NULL, KEY_SCENE },
+    { "csv", required_argument, NULL, KEY_CSV },
+    { "series", required_argument, NULL, KEY_SERIES },
+    { "egl-device", required_argument, NULL, KEY_EGL_DEVICE },
+    { "context", required_argument, NULL, KEY_CONTEXT },
+    { "no-orbit", no_argument, NULL, KEY_NO_ORBIT },
+    { "size", required_argument, NULL, KEY_SIZE },
+    { 0 },
+};
+
+static const cli_program program = {
+    .name = "bench_frame",
+    .synopsis = "usage: bench_frame [--scene SCENE.json] [--hairs N] [--size S] [--frames F] [--no-orbit]\n"
+                "                   [--csv FILE [--series NAME]] [--context osmesa|egl] [--egl-device N]\n",
+    .help = "Times every tier of dark-brown against the geometry floor on one context, frames round-robin:\n"
+            "median frame ms, the ratios to the floor and to full, PSNR against full and the per-vertex CPU\n"
+            "work, with the camera still and orbiting (--no-orbit skips that).\n"
+            "  --scene FILE   default scenes/furball.json\n"
+            "  --hairs N      a fur ball's hairs, 1.." CLI_STR(MAX_HAIRS) " (default 10000)\n"
+            "  --size S       16..4096 pixels a side (default 512)\n"
+            "  --frames F     timed frames, 1.." CLI_STR(MAX_FRAMES) " (default 9)\n"
+            "  --csv FILE     also write the rows, series NAME (--series, default matrix)\n"
+            "  --context K    osmesa or egl; --egl-device N: EGL device N\n",
+    .long_options = long_options,
+};
+
+/* value as an integer in lo..hi into *out: NULL, or why not. */
+static const char *number(const char *name, const char *value, int lo, int hi, int *out) {
+    static char message[96];
+    char *end;
+    long n = strtol(value, &end, 10);
+    if (end != value && !*end && n >= lo && n <= hi) {
+        *out = (int)n;
+        return NULL;
     }
-    (*i)++;
-    return true;
+    snprintf(message, sizeof message, "%s: expected a number in [%d, %d]", name, lo, hi);
+    return message;
 }
 
-/* --NAME VALUE: true and *out set when argv[*i] is NAME. */
-static bool text_option(int argc, char **argv, int *i, const char *name, const char **out) {
-    if (strcmp(argv[*i], name) != 0) return false;
-    if (*i + 1 >= argc || !argv[*i + 1][0]) {
-        fprintf(stderr, "bench_frame: %s takes a value\n", name);
-        exit(2);
+/* A text value: NULL, or why not (empty). */
+static const char *text(const char *name, const char *value, const char **out) {
+    static char message[64];
+    *out = value;
+    if (value[0]) return NULL;
+    snprintf(message, sizeof message, "%s: empty value", name);
+    return message;
+}
+
+static const char *take(void *user, int key, const char *value) {
+    (void)user;
+    int size = 0;
+    const char *why;
+    switch (key) {
+    case KEY_HAIRS: HAIRS_GIVEN = true; return number("--hairs", value, 1, MAX_HAIRS, &HAIRS);
+    case KEY_FRAMES: return number("--frames", value, 1, MAX_FRAMES, &FRAMES);
+    case KEY_SCENE: return text("--scene", value, &SCENE);
+    case KEY_CSV: return text("--csv", value, &CSV);
+    case KEY_SERIES: return text("--series", value, &SERIES);
+    case KEY_EGL_DEVICE: return offscreen_device_value(value, &EGL_DEVICE);
+    case KEY_CONTEXT: return offscreen_context_value(value, &CONTEXT);
+    case KEY_NO_ORBIT: ORBIT = false; return NULL;
+    case KEY_SIZE:
+        if ((why = number("--size", value, 16, 4096, &size))) return why;
+        WIDTH = HEIGHT = size;
+        return NULL;
+    default: return cli_unexpected(value);
     }
-    *out = argv[++*i];
-    return true;
 }
 
 int main(int argc, char **argv) {
-    for (int i = 1; i < argc; i++) {
-        if (option(argc, argv, &i, "--hairs", 1, MAX_HAIRS, &HAIRS)) {
-            HAIRS_GIVEN = true;
-            continue;
-        }
-        if (option(argc, argv, &i, "--frames", 1, MAX_FRAMES, &FRAMES) || text_option(argc, argv, &i, "--scene", &SCENE) ||
-            text_option(argc, argv, &i, "--csv", &CSV) || text_option(argc, argv, &i, "--series", &SERIES) ||
-            option(argc, argv, &i, "--egl-device", 0, 255, &EGL_DEVICE))
-            continue;
-        if (strcmp(argv[i], "--context") == 0) {
-            if (i + 1 >= argc || !offscreen_kind_parse(argv[i + 1], &CONTEXT)) {
-                fprintf(stderr, "bench_frame: --context takes osmesa or egl\n");
-                return 2;
-            }
-            i++;
-            continue;
-        }
-        if (strcmp(argv[i], "--no-orbit") == 0) {
-            ORBIT = false;
-            continue;
-        }
-        int size = 0;
-        if (option(argc, argv, &i, "--size", 16, 4096, &size)) {
-            WIDTH = HEIGHT = size;
-            continue;
-        }
-        fprintf(stderr, "usage: bench_frame [--scene SCENE.json] [--hairs N] [--size S] [--frames F] [--no-orbit]\n"
-                        "                   [--csv FILE [--series NAME]] [--context osmesa|egl] [--egl-device N]\n");
-        return 2;
-    }
-    if (EGL_DEVICE >= 0 && CONTEXT == OFFSCREEN_OSMESA) {
-        fprintf(stderr, "bench_frame: --egl-device needs --context egl\n");
-        return 2;
-    }
-    if (EGL_DEVICE >= 0) CONTEXT = OFFSCREEN_EGL;
+    int rc = cli_parse(&program, argc, argv, take, NULL);
+    if (rc != CLI_RUN) return rc;
+    const char *why = NULL;
+    if (!offscreen_options_check(&CONTEXT, EGL_DEVICE, &why)) return cli_usage_error(&program, why);
     char work[] = "/tmp/hairtier-bench-frame-XXXXXX";
     if (!mkdtemp(work)) {
         perror("mkdtemp");

@@ -27,6 +27,7 @@
 #include <sys/resource.h>
 #include <sys/wait.h>
 
+#include "cli.h"
 #include <hairtier/hairgen.h>
 #include "tempdir.h"
 #include "timing.h"
@@ -195,7 +196,19 @@ static int run(const char *root) {
     return run_batches(root, shell_ms, shell_cpu_ms);
 }
 
-int main(void) {
+static const cli_program program = {
+    .name = "bench_hairgen",
+    .synopsis = "usage: bench_hairgen\n",
+    .help = "Measures hairgen: every tier of dark-brown; " CLI_STR(VARIANTS) " material variants in process; their GLSL\n"
+            "files through glslangValidator one process each; the hairgen command on the variants as\n"
+            "one batch, cold and again unchanged; one material against /bin/true. Prints milliseconds\n"
+            "and the ratios against the targets (a miss is reported, not an error). Run from the\n"
+            "repository root; HAIRTIER_BUILD names the build folder (default build).\n",
+};
+
+int main(int argc, char **argv) {
+    int rc = cli_parse(&program, argc, argv, cli_take_nothing, NULL);
+    if (rc != CLI_RUN) return rc;
     char root[] = "/tmp/hairtier-bench-XXXXXX";
     if (!mkdtemp(root)) {
         perror("mkdtemp");

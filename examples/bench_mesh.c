@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "cli.h"
 #include <hairtier/hairtier.h>
 #include "timing.h"
 
@@ -43,7 +44,17 @@ static int run(const mesh_case *c) {
     return 0;
 }
 
-int main(void) {
+static const cli_program program = {
+    .name = "bench_mesh",
+    .synopsis = "usage: bench_mesh\n",
+    .help = "Builds and sorts a fur ball of 33,334 hairs x 16 joints and patches of 8 layers x 2048 strips\n"
+            "x 32 segments; prints triangles, build ms and sort ms per mesh, each the median of "
+            CLI_STR(RUNS) " runs.\n",
+};
+
+int main(int argc, char **argv) {
+    int rc = cli_parse(&program, argc, argv, cli_take_nothing, NULL);
+    if (rc != CLI_RUN) return rc;
     const mesh_case cases[] = {
         { .name = "furball",
           .furball = { .hairs = 33334, .joints = 16, .gravity = { 0, -0.15f, 0 },

@@ -33,6 +33,7 @@
 #include "compare/report_dir.h"
 #include "compare/tier_render.h"
 #include <hairtier/image.h>
+#include "cli.h"
 #include "offscreen.h"
 #include "view_args.h"
 
@@ -43,44 +44,38 @@ typedef struct options {
     char out[4096];  /* -o without trailing slashes: its temporary sibling sits beside it */
 } options;
 
-static void print_help(FILE *f) {
-    fprintf(f, "usage: haircompare --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl] [--egl-device N]\n"
-               "                   -o REPORT_DIR\n"
-               "Renders SCENE with every tier of the bundle the device runs (forced, strict) and writes\n"
-               "REPORT_DIR/index.html: the tier images side by side, each tier's per-pixel CIEDE2000\n"
-               "against the reference (marschner when it runs, else full) as a heatmap (0 black to %g\n"
-               "white, cubehelix), %dx enlarged crops of the reference's brightest highlight, a table\n"
-               "(frame ms, cost ratio to the reference, PSNR, SSIM, dE00 mean and p95, beside the\n"
-               "bundle's measured numbers; needs, features dropped) and a plot of error against cost.\n"
-               "Frame ms: median of N frames (default 5) after a warm-up, each ended by glFinish.\n"
-               "The report is written whole or not at all; an existing REPORT_DIR is replaced\n"
-               "only when it is empty or an earlier report. --context, --egl-device: the GL context,\n"
-               "as hairview's (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl).\n",
-            REPORT_HEAT_MAX, REPORT_CROP_SCALE);
-}
+static const struct option long_options[] = { VIEW_ARGS_LONG_OPTIONS, { 0 } };
 
-static int usage(const char *why) {
-    fprintf(stderr, "haircompare: %s\n", why);
-    print_help(stderr);
-    return 2;
-}
+static const cli_program program = {
+    .name = "haircompare",
+    .synopsis = "usage: haircompare --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl] [--egl-device N]\n"
+                "                   -o REPORT_DIR\n",
+    .help = "Renders SCENE with every tier of the bundle the device runs (forced, strict) and writes\n"
+            "REPORT_DIR/index.html: the tier images side by side, each tier's per-pixel CIEDE2000\n"
+            "against the reference (marschner when it runs, else full) as a heatmap (0 black to\n"
+            CLI_STR(REPORT_HEAT_MAX) " white, cubehelix), " CLI_STR(REPORT_CROP_SCALE) "x enlarged crops of the reference's brightest\n"
+            "highlight, a table (frame ms, cost ratio to the reference, PSNR, SSIM, dE00 mean and p95,\n"
+            "beside the bundle's measured numbers; needs, features dropped) and a plot of error\n"
+            "against cost. Frame ms: median of N frames (default 5, at most " CLI_STR(MAX_FRAMES) ") after a warm-up, each ended by\n"
+            "glFinish. The report is written whole or not at all; an existing REPORT_DIR is replaced\n"
+            "only when it is empty or an earlier report. --context, --egl-device: the GL context,\n"
+            "as hairview's (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl).\n",
+    .short_options = VIEW_ARGS_SHORT_OPTIONS,
+    .long_options = long_options,
+};
 
 static int parse_args(int argc, char **argv, options *o) {
     *o = (options){ .view = view_args_defaults(5) };
-    const char *why = NULL;
-    int parsed = view_args_parse(argc, argv, &o->view, MAX_FRAMES, true, &why);
-    if (parsed > 0) {
-        print_help(stdout);
-        return -1;
-    }
-    if (parsed < 0) return usage(why);
+    int rc = view_args_parse(&program, argc, argv, &o->view, MAX_FRAMES, true);
+    if (rc != CLI_RUN) return rc;
     const char *out = o->view.out;
     size_t len = strlen(out);
     while (len > 1 && out[len - 1] == '/') len--;
-    if (len == 0 || len >= sizeof o->out || (len == 1 && out[0] == '/')) return usage("-o: not a usable directory");
+    if (len == 0 || len >= sizeof o->out || (len == 1 && out[0] == '/'))
+        return cli_usage_error(&program, "-o: not a usable directory");
     memcpy(o->out, out, len);
     o->out[len] = '\0';
-    return 0;
+    return CLI_RUN;
 }
 
 /* A GL (bottom-up RGBA) frame as a top-down RGB image, written as PNG
@@ -248,7 +243,7 @@ done:
 int main(int argc, char **argv) {
     options o;
     int rc = parse_args(argc, argv, &o);
-    if (rc) return rc < 0 ? 0 : rc;
+    if (rc != CLI_RUN) return rc;
 
     char err[8192], tmp[4200];
     report rep;

@@ -5,7 +5,7 @@
                   [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]
                   [--context osmesa|egl] [--egl-device N] -o OUT.png
 
-   --context picks how the GL context is made (examples/offscreen.h; default
+   --context picks how the GL context is made (platform/offscreen.h; default
    HAIRTIER_CONTEXT, else osmesa where libOSMesa loads, else egl);
    --egl-device N draws on EGL device N (EGL_EXT_platform_device) and implies
    --context egl. A context that cannot be made is one line and exit 1.
@@ -25,6 +25,7 @@
 #include <hairtier/hairtier.h>
 #include <hairtier/image.h>
 #include "offscreen.h"
+#include "cli.h"
 #include "view_args.h"
 #include "timing.h"
 
@@ -35,54 +36,94 @@ typedef struct options {
     bool strict, flat;
 } options;
 
-static char last_log[1024];
+/* The library's log: every line goes to stderr, one line late, so that
+   when a call fails its last line (the error) is printed once, as
+   hairview's error line, instead of twice. */
+static char held[1024];
+
+static void print_held(void) {
+    if (held[0]) fprintf(stderr, "%s\n", held);
+    held[0] = '\0';
+}
 
 static void log_line(void *user, const char *line) {
     (void)user;
-    fprintf(stderr, "%s\n", line);
-    /* Kept without the library's prefix: it becomes hairview's error line. */
-    const char *prefix = "hairtier: ";
-    snprintf(last_log, sizeof last_log, "%s", strncmp(line, prefix, strlen(prefix)) == 0 ? line + strlen(prefix) : line);
+    print_held();
+    snprintf(held, sizeof held, "%s", line);
 }
 
-static int usage(const char *why) {
-    fprintf(stderr, "hairview: %s\nusage: hairview --bundle DIR --scene SCENE.json "
-                    "[--tier auto|marschner|full|vertex|fixed4|fixed|gl11] [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N] "
-                    "[--context osmesa|egl] [--egl-device N] -o OUT.png\n", why);
-    return 2;
+/* The failed call's error line: the library's last line without its
+   prefix, else r's name. */
+static int fail(ht_result r) {
+    const char *prefix = "hairtier: ";
+    const char *line = strncmp(held, prefix, strlen(prefix)) == 0 ? held + strlen(prefix) : held;
+    fprintf(stderr, "hairview: %s\n", held[0] ? line : ht_result_string(r));
+    held[0] = '\0';
+    return 1;
+}
+
+enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT };
+static const struct option long_options[] = {
+    VIEW_ARGS_LONG_OPTIONS,
+    { "tier", required_argument, NULL, KEY_TIER },
+    { "policy", required_argument, NULL, KEY_POLICY },
+    { "strict", no_argument, NULL, KEY_STRICT },
+    { "flat", no_argument, NULL, KEY_FLAT },
+    { 0 },
+};
+
+static const cli_program program = {
+    .name = "hairview",
+    .synopsis = "usage: hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]\n"
+                "                [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]\n"
+                "                [--context osmesa|egl] [--egl-device N] -o OUT.png\n",
+    .help = "Renders SCENE with the bundle's tier that the device runs best (or --tier, --policy) and writes\n"
+            "OUT.png. Prints tier=NAME reason=... and frame_ms=... (the mean of N timed frames, default 10,\n"
+            "after one warm-up, each ended by glFinish) on stdout; the library's log on stderr.\n"
+            "  --tier NAME     force a tier (default HAIRTIER_TIER, else auto)\n"
+            "  --policy P      best, fastest, error:DB, error:flip:E, frame:MS (default HAIRTIER_POLICY, else best)\n"
+            "  --strict        fail instead of falling to a lower tier\n"
+            "  --flat          the geometry floor: a flat colour, no bundle needed\n"
+            "  --frames N      timed frames, 1..100000\n"
+            "  --context K     osmesa or egl (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl)\n"
+            "  --egl-device N  draw on EGL device N (implies --context egl)\n"
+            "On failure: one line naming the file or field on stderr, exit 1, no PNG; usage errors exit 2.\n",
+    .short_options = VIEW_ARGS_SHORT_OPTIONS,
+    .long_options = long_options,
+};
+
+static const char *take(void *user, int key, const char *value) {
+    options *o = user;
+    static char message[300];
+    bool taken;
+    const char *why = view_args_take(&o->view, key, value, 100000, &taken);
+    if (taken) return why;
+    switch (key) {
+    case KEY_TIER:
+        o->tier = ht_tier_from_name(value);
+        return o->tier == HT_TIER_COUNT ? "--tier: expected auto, marschner, full, vertex, fixed4, fixed or gl11" : NULL;
+    case KEY_POLICY: {
+        o->policy = value;
+        ht_policy p;
+        char err[200];
+        if (ht_policy_parse(value, &p, err, sizeof err) == HT_OK) return NULL;
+        snprintf(message, sizeof message, "--%s", err);
+        return message;
+    }
+    case KEY_STRICT: o->strict = true; return NULL;
+    case KEY_FLAT: o->flat = true; return NULL;
+    default: return cli_unexpected(value);
+    }
 }
 
 static int parse_args(int argc, char **argv, options *o) {
     *o = (options){ .view = view_args_defaults(10), .tier = HT_TIER_AUTO };
-    const char *why = NULL;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        bool has_value = i + 1 < argc;
-        int taken = view_args_option(argc, argv, &i, &o->view, 100000, &why);
-        if (taken < 0) return usage(why);
-        if (taken) continue;
-        if (strcmp(a, "--tier") == 0 && has_value) {
-            o->tier = ht_tier_from_name(argv[++i]);
-            if (o->tier == HT_TIER_COUNT) return usage("--tier: expected auto, marschner, full, vertex, fixed4, fixed or gl11");
-        } else if (strcmp(a, "--policy") == 0 && has_value) {
-            o->policy = argv[++i];
-            ht_policy p;
-            char err[200], message[240];
-            if (ht_policy_parse(o->policy, &p, err, sizeof err) != HT_OK) {
-                snprintf(message, sizeof message, "--%s", err);
-                return usage(message);
-            }
-        } else if (strcmp(a, "--strict") == 0) o->strict = true;
-        else if (strcmp(a, "--flat") == 0) o->flat = true;
-        else {
-            char message[300];
-            snprintf(message, sizeof message, "%s: unknown option or missing value", a);
-            return usage(message);
-        }
-    }
-    if ((why = view_args_check(&o->view, false))) return usage(why);
-    if (!o->view.bundle && !o->flat) return usage("--bundle: required (unless --flat)");
-    return 0;
+    int rc = cli_parse(&program, argc, argv, take, o);
+    if (rc != CLI_RUN) return rc;
+    const char *why = view_args_check(&o->view, false);
+    if (why) return cli_usage_error(&program, why);
+    if (!o->view.bundle && !o->flat) return cli_usage_error(&program, "--bundle: required (unless --flat)");
+    return CLI_RUN;
 }
 
 typedef struct view {
@@ -127,22 +168,14 @@ static int run(const options *o, view *v) {
         return 1;
     }
 
-    /* The error line is the library's last line after the failing call, so
-       none from an earlier call may stand in for it. */
-    last_log[0] = '\0';
     r = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->view.bundle, .tier = o->tier,
                                                 .strict = o->strict, .log = log_line, .flat = o->flat,
                                                 .policy = o->policy },
                            &v->renderer);
-    if (r != HT_OK) {
-        fprintf(stderr, "hairview: %s\n", last_log[0] ? last_log : ht_result_string(r));
-        return 1;
-    }
-    last_log[0] = '\0';
-    if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) {
-        fprintf(stderr, "hairview: %s\n", last_log[0] ? last_log : ht_result_string(r));
-        return 1;
-    }
+    if (r != HT_OK) return fail(r);
+    print_held();
+    if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
+    print_held();
 
     ht_frame_desc frame = { .camera = scene.camera, .lights = scene.lights, .light_count = scene.light_count,
                             .aspect = (float)scene.width / (float)scene.height,
@@ -151,22 +184,16 @@ static int run(const options *o, view *v) {
     ht_policy policy;
     if (!o->flat && ht_policy_parse(policy_text && policy_text[0] ? policy_text : NULL, &policy, err, sizeof err) == HT_OK &&
         policy.kind == HT_POLICY_FRAME) {
-        last_log[0] = '\0';
-        if ((r = ht_renderer_choose_by_frame_time(v->renderer, &v->hair, &frame, 0)) != HT_OK) {
-            fprintf(stderr, "hairview: %s\n", last_log[0] ? last_log : ht_result_string(r));
-            return 1;
-        }
+        if ((r = ht_renderer_choose_by_frame_time(v->renderer, &v->hair, &frame, 0)) != HT_OK) return fail(r);
+        print_held();
     }
     ht_result fr = HT_OK;
-    last_log[0] = '\0';
     draw_frame(&scene, v, &frame, &fr); /* warm-up: shader variants, texture uploads */
     double t0 = now_ms();
     for (int i = 0; i < o->view.frames; i++) draw_frame(&scene, v, &frame, &fr);
     double ms = (now_ms() - t0) / o->view.frames;
-    if (fr != HT_OK) {
-        fprintf(stderr, "hairview: %s\n", last_log[0] ? last_log : ht_result_string(fr));
-        return 1;
-    }
+    if (fr != HT_OK) return fail(fr);
+    print_held();
 
     ht_image img;
     if (ht_image_alloc(&img, scene.width, scene.height, 3) != HT_OK) {
@@ -194,9 +221,10 @@ static int run(const options *o, view *v) {
 int main(int argc, char **argv) {
     options o;
     int rc = parse_args(argc, argv, &o);
-    if (rc) return rc;
+    if (rc != CLI_RUN) return rc;
     view v = { 0 };
     rc = run(&o, &v);
     view_free(&v);
+    print_held();
     return rc;
 }

@@ -17,9 +17,32 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
 #include <hairtier/image.h>
 #include "flip.h"
 #include "metrics.h"
+
+static const cli_program program = {
+    .name = "png_metrics",
+    .synopsis = "usage: png_metrics REFERENCE.png TEST.png\n",
+    .help = "Prints how far TEST is from REFERENCE on one line:\n"
+            "  psnr_db=P ssim=S de00_mean=M de00_p95=Q hair_psnr_db=P hair_pixels=N max_diff=D\n"
+            "over the whole frame and over the hair's pixels (those that differ from the background,\n"
+            "the reference's first pixel); PSNR inf when identical, D the largest channel difference\n"
+            "(/255). Same-size gray, RGB or RGBA PNGs (alpha ignored). Bad input: one line, exit 1.\n",
+};
+
+typedef struct operands {
+    const char *path[2];
+    int count;
+} operands;
+
+static const char *take(void *user, int key, const char *value) {
+    operands *o = user;
+    if (key != CLI_OPERAND || o->count == 2) return cli_unexpected(value);
+    o->path[o->count++] = value;
+    return NULL;
+}
 
 /* RGBA8 from any channel count ht_image_read_png returns. */
 static unsigned char *to_rgba(const ht_image *img) {
@@ -43,34 +66,35 @@ static void print_db(const char *name, double db) {
 }
 
 int main(int argc, char **argv) {
-    if (argc != 3) {
-        fprintf(stderr, "usage: png_metrics REFERENCE.png TEST.png\n");
-        return 2;
-    }
+    operands files = { 0 };
+    int rc = cli_parse(&program, argc, argv, take, &files);
+    if (rc != CLI_RUN) return rc;
+    if (files.count != 2) return cli_usage_error(&program, "two PNGs required");
+    const char *path[2] = { files.path[0], files.path[1] };
     char err[1024];
     ht_image img[2] = { { 0 }, { 0 } };
     unsigned char *rgba[2] = { NULL, NULL };
     int status = 1;
     for (int k = 0; k < 2; k++) {
-        if (ht_image_read_png(argv[1 + k], &img[k], err, sizeof err) != HT_OK) {
+        if (ht_image_read_png(path[k], &img[k], err, sizeof err) != HT_OK) {
             fprintf(stderr, "png_metrics: %s\n", err);
             goto done;
         }
     }
     if (img[0].width != img[1].width || img[0].height != img[1].height) {
-        fprintf(stderr, "png_metrics: %s: %dx%d, but %s is %dx%d\n", argv[2], img[1].width, img[1].height, argv[1],
+        fprintf(stderr, "png_metrics: %s: %dx%d, but %s is %dx%d\n", path[1], img[1].width, img[1].height, path[0],
                 img[0].width, img[0].height);
         goto done;
     }
     for (int k = 0; k < 2; k++)
         if (!(rgba[k] = to_rgba(&img[k]))) {
-            fprintf(stderr, "png_metrics: %s: out of memory\n", argv[1 + k]);
+            fprintf(stderr, "png_metrics: %s: out of memory\n", path[k]);
             goto done;
         }
     ht_metrics whole, hair;
     if (ht_metrics_compare(&(ht_metrics_desc){ .reference = rgba[0], .test = rgba[1], .width = img[0].width,
                                                .height = img[0].height }, &whole, &hair, err, sizeof err) != HT_OK) {
-        fprintf(stderr, "png_metrics: %s: %s\n", argv[2], err);
+        fprintf(stderr, "png_metrics: %s: %s\n", path[1], err);
         goto done;
     }
     ht_flip_result flip;

@@ -18,7 +18,7 @@
    mean is over the pixels hair or head covers in either image (pixels that
    differ from the background), so an empty border does not dilute it.
    --context and --egl-device pick the GL context as hairview's do
-   (examples/offscreen.h); each tier gets a fresh one.
+   (platform/offscreen.h); each tier gets a fresh one.
    Exit status 0 when the sheet is written (some tiers may not have run),
    1 when no tier ran or on any other failure (one line on stderr, no
    sheet), 2 on usage. */
@@ -243,44 +243,29 @@ static void print_table(const panel *panels, int first) {
 
 /* ---- command line ---- */
 
-static void print_help(FILE *f) {
-    fprintf(f,
-            "usage: tier_sheet --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl] [--egl-device N]\n"
-            "                  -o SHEET.png\n"
-            "Renders SCENE with every tier of the bundle (forced, strict) side by side.\n"
+static const struct option long_options[] = { VIEW_ARGS_LONG_OPTIONS, { 0 } };
+
+static const cli_program program = {
+    .name = "tier_sheet",
+    .synopsis = "usage: tier_sheet --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl] [--egl-device N]\n"
+                "                  -o SHEET.png\n",
+    .help = "Renders SCENE with every tier of the bundle (forced, strict) side by side.\n"
             "Panels left to right: marschner (when it runs), full, vertex, fixed4, fixed, gl11; errors are\n"
             "against the first. Top row: the tier's image, or a grey\n"
             "panel with the reason it cannot run here. Bottom row: per-pixel max channel\n"
-            "difference from it (black 0, then red, yellow, white at %d/255 and above).\n"
+            "difference from it (black 0, then red, yellow, white at " CLI_STR(HEAT_FULL) "/255 and above).\n"
             "Prints tier, frame ms (median of N frames, default 5, each ended by glFinish),\n"
             "mean error (over pixels covered in either image) and max error, in /255.\n"
             "--context: how the GL context is made (default HAIRTIER_CONTEXT, else osmesa where\n"
             "libOSMesa loads, else egl); --egl-device N: EGL device N (EGL_EXT_platform_device).\n",
-            HEAT_FULL);
-}
-
-static int usage(const char *why) {
-    fprintf(stderr, "tier_sheet: %s\n", why);
-    print_help(stderr);
-    return 2;
-}
-
-static int parse_args(int argc, char **argv, options *o) {
-    *o = view_args_defaults(5);
-    const char *why = NULL;
-    int parsed = view_args_parse(argc, argv, o, MAX_FRAMES, true, &why);
-    if (parsed > 0) {
-        print_help(stdout);
-        return -1;
-    }
-    if (parsed < 0) return usage(why);
-    return 0;
-}
+    .short_options = VIEW_ARGS_SHORT_OPTIONS,
+    .long_options = long_options,
+};
 
 int main(int argc, char **argv) {
-    options o;
-    int rc = parse_args(argc, argv, &o);
-    if (rc) return rc < 0 ? 0 : rc;
+    options o = view_args_defaults(5);
+    int rc = view_args_parse(&program, argc, argv, &o, MAX_FRAMES, true);
+    if (rc != CLI_RUN) return rc;
 
     char err[1024];
     tier_scene ts;

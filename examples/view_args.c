@@ -3,57 +3,49 @@
 
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
 view_args view_args_defaults(int frames) { return (view_args){ .frames = frames, .egl_device = -1 }; }
 
-static bool named(const char *arg, const char *name) { return strcmp(arg, name) == 0; }
-
-int view_args_option(int argc, char **argv, int *i, view_args *v, int max_frames, const char **why) {
+const char *view_args_take(view_args *v, int key, const char *value, int max_frames, bool *taken) {
     static char message[96];
-    const char *a = argv[*i];
-    const char **text = named(a, "--bundle") ? &v->bundle
-                      : named(a, "--scene")  ? &v->scene
-                      : named(a, "-o")       ? &v->out
-                                             : NULL;
-    if (text || named(a, "--frames")) {
-        if (*i + 1 >= argc) {
-            snprintf(message, sizeof message, "%s: missing value", a);
-            *why = message;
-            return -1;
-        }
-        const char *value = argv[++*i];
-        if (text) {
-            *text = value;
-            return 1;
-        }
+    *taken = true;
+    switch (key) {
+    case VIEW_KEY_BUNDLE: v->bundle = value; return NULL;
+    case VIEW_KEY_SCENE: v->scene = value; return NULL;
+    case 'o': v->out = value; return NULL;
+    case VIEW_KEY_CONTEXT: return offscreen_context_value(value, &v->context);
+    case VIEW_KEY_EGL_DEVICE: return offscreen_device_value(value, &v->egl_device);
+    case VIEW_KEY_FRAMES: {
         char *end;
         long n = strtol(value, &end, 10);
         if (*value == '\0' || *end || n < 1 || n > max_frames) {
             snprintf(message, sizeof message, "--frames: expected an integer in 1..%d", max_frames);
-            *why = message;
-            return -1;
+            return message;
         }
         v->frames = (int)n;
-        return 1;
+        return NULL;
     }
-    return offscreen_option(argc, argv, i, &v->context, &v->egl_device, why);
+    default: *taken = false; return NULL;
+    }
 }
 
-int view_args_parse(int argc, char **argv, view_args *v, int max_frames, bool need_bundle, const char **why) {
-    static char message[300];
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (named(a, "--help") || named(a, "-h")) return 1;
-        int taken = view_args_option(argc, argv, &i, v, max_frames, why);
-        if (taken < 0) return -1;
-        if (taken == 0) {
-            snprintf(message, sizeof message, "%s: unknown option", a);
-            *why = message;
-            return -1;
-        }
-    }
-    return (*why = view_args_check(v, need_bundle)) ? -1 : 0;
+typedef struct view_only {
+    view_args *v;
+    int max_frames;
+} view_only;
+
+static const char *take_view_only(void *user, int key, const char *value) {
+    view_only *u = user;
+    bool taken;
+    const char *why = view_args_take(u->v, key, value, u->max_frames, &taken);
+    return taken ? why : cli_unexpected(value);
+}
+
+int view_args_parse(const cli_program *p, int argc, char **argv, view_args *v, int max_frames, bool need_bundle) {
+    int rc = cli_parse(p, argc, argv, take_view_only, &(view_only){ .v = v, .max_frames = max_frames });
+    const char *why;
+    if (rc == CLI_RUN && (why = view_args_check(v, need_bundle))) return cli_usage_error(p, why);
+    return rc;
 }
 
 const char *view_args_check(view_args *v, bool need_bundle) {

@@ -34,9 +34,8 @@
 #include "trace.h"
 
 /* Hashed into input_hash and written to the manifest: a new generator
-   invalidates caches keyed on the hash. Bump it with any change to what a
-   bundle holds. */
-#define GENERATOR_VERSION "hairgen 5"
+   invalidates caches keyed on the hash (the number is manifest.h's). */
+#define GENERATOR_VERSION HT_MANIFEST_GENERATOR
 
 /* FNV-1a 64 over every input file's bytes: the key a build cache can use. */
 typedef struct input_hash { uint64_t value; } input_hash;

@@ -6,10 +6,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
 #include "errfmt.h"
 #include <hairtier/hairgen.h>
 #include "hairgen_internal.h"
 #include "huge_heap.h"
+#include "manifest.h"
 #include "measure.h"
 #include "trace.h"
 
@@ -20,111 +22,110 @@
 #define HUGE_HEAP_RESERVE_MIB 256
 #define HUGE_HEAP_POPULATE_MIB 8
 
-static void usage(FILE *out) {
-    fputs("usage: hairgen MATERIAL.json [--scene SCENE.json] -o DIR [-MD | -MF FILE] [-q]\n"
-          "       hairgen MATERIAL.json [--scene SCENE.json] [--measure] -o DIR\n"
-          "       hairgen MATERIAL.json [--scene SCENE.json] [-o DIR] --emit-header OUT.h\n"
-          "               [--header-symbol NAME]\n"
-          "       hairgen -o OUTDIR MATERIAL.json... [--scene SCENE.json] [-j N] [--force]\n"
-          "               [-MD | -MF FILE] [-q]\n"
-          "\n"
-          "Generates every shader tier of a hair material for one scene and writes\n"
-          "a bundle directory (manifest.json, GLSL files, the fixed-function combiner\n"
-          "program, PNG textures). Every GLSL file is validated with glslang; on any\n"
-          "error nothing is written and the exit status is 1 (2 for a usage error).\n"
-          "A bundle directory is replaced whole if it is a bundle already; any other\n"
-          "existing directory is refused. Without --scene the material is planned for\n"
-          "one white directional light. See docs/bundle.md.\n"
-          "\n"
-          "One material: the bundle is DIR, always regenerated, and its tier table\n"
-          "printed. Two or more materials, or --batch: each bundle is OUTDIR/NAME\n"
-          "(NAME: the material's file name without .json), materials run on N threads\n"
-          "(default: every core), each distinct shader text is validated once, and a\n"
-          "material whose inputs (material, scene and texture bytes, generator\n"
-          "version) hash to its bundle's input_hash, and whose bundle files all have\n"
-          "the sizes and checksums its manifest lists, is skipped (--force regenerates).\n"
-          "A material that fails leaves its bundle (and depfile) as it was; the others\n"
-          "still run. A depfile lists the inputs and hairgen itself; a file name make\n"
-          "and ninja cannot both read is refused. See docs/robustness.md.\n"
-          "\n"
-          "  --scene FILE  the scene every material is planned for\n"
-          "  -o DIR        the bundle (one material) or the folder of bundles (a batch)\n"
-          "  --batch       bundles in DIR/NAME even for one material (for globs)\n"
-          "  -j N          threads (default: every online core)\n"
-          "  --force       regenerate bundles that are up to date\n"
-          "  -MD           write a make/ninja depfile beside each bundle, BUNDLE.d\n"
-          "  -MF FILE      write the depfile (every bundle's rule) to FILE\n"
-          "  -q            quiet: no tier table, no progress; errors only\n", out);
-}
+static const char synopsis[] =
+    "usage: hairgen MATERIAL.json [--scene SCENE.json] -o DIR [-MD | -MF FILE] [-q]\n"
+    "       hairgen MATERIAL.json [--scene SCENE.json] [--measure] -o DIR\n"
+    "       hairgen MATERIAL.json [--scene SCENE.json] [-o DIR] --emit-header OUT.h\n"
+    "               [--header-symbol NAME]\n"
+    "       hairgen -o OUTDIR MATERIAL.json... [--scene SCENE.json] [-j N] [--force]\n"
+    "               [-MD | -MF FILE] [-q]\n";
+
+static const char help[] =
+    "\n"
+    "Generates every shader tier of a hair material for one scene and writes\n"
+    "a bundle directory (manifest.json, GLSL files, the fixed-function combiner\n"
+    "program, PNG textures). Every GLSL file is validated with glslang; on any\n"
+    "error nothing is written and the exit status is 1 (2 for a usage error).\n"
+    "A bundle directory is replaced whole if it is a bundle already; any other\n"
+    "existing directory is refused. Without --scene the material is planned for\n"
+    "one white directional light. See docs/bundle.md.\n"
+    "\n"
+    "One material: the bundle is DIR, always regenerated, and its tier table\n"
+    "printed. Two or more materials, or --batch: each bundle is OUTDIR/NAME\n"
+    "(NAME: the material's file name without .json), materials run on N threads\n"
+    "(default: every core), each distinct shader text is validated once, and a\n"
+    "material whose inputs (material, scene and texture bytes, generator\n"
+    "version) hash to its bundle's input_hash, and whose bundle files all have\n"
+    "the sizes and checksums its manifest lists, is skipped (--force regenerates).\n"
+    "A material that fails leaves its bundle (and depfile) as it was; the others\n"
+    "still run. A depfile lists the inputs and hairgen itself; a file name make\n"
+    "and ninja cannot both read is refused. See docs/robustness.md.\n"
+    "\n"
+    "  --scene FILE          the scene every material is planned for\n"
+    "  -o DIR                the bundle (one material) or the folder of bundles (a batch)\n"
+    "  --batch               bundles in DIR/NAME even for one material (for globs)\n"
+    "  -j N                  threads (default: every online core)\n"
+    "  --force               regenerate bundles that are up to date\n"
+    "  -MD                   write a make/ninja depfile beside each bundle, BUNDLE.d\n"
+    "  -MF FILE              write the depfile (every bundle's rule) to FILE\n"
+    "  -q                    quiet: no tier table, no progress; errors only\n"
+    "  --measure             render every tier of the new bundle on the scene (OSMesa, else\n"
+    "                        EGL), compare each with the reference tier and write the\n"
+    "                        numbers into its manifest (HAIRGEN_OSMESA, HAIRGEN_EGL name\n"
+    "                        other libraries; HAIRTIER_CONTEXT=osmesa|egl forces one)\n"
+    "  --emit-header OUT.h   write the bundle as one C header (beside DIR, or instead of it)\n"
+    "  --header-symbol NAME  the header's C name (default: from the material's name)\n"
+    "  --help, --version     this text; the version and the bundle generator version\n";
 
 typedef struct options {
     const char *scene, *out_dir, *depfile, *jobs, *header, *symbol;
-    int batch, force, quiet, depfile_per_bundle, help, measure;
+    int batch, force, quiet, depfile_per_bundle, measure;
+    const char **materials;
+    int material_count;
 } options;
 
-/* Every option: its spelling and the field of options it fills, a value
-   (the next word) or a flag. */
-typedef struct option_spec {
-    const char *name;
-    enum { VALUE, FLAG } kind;
-    size_t field;   /* offsetof the const char * (VALUE) or the int (FLAG) */
-} option_spec;
-
-static const option_spec option_table[] = {
-    { "--scene", VALUE, offsetof(options, scene) },
-    { "-o", VALUE, offsetof(options, out_dir) },
-    { "-MF", VALUE, offsetof(options, depfile) },
-    { "-j", VALUE, offsetof(options, jobs) },
-    { "--emit-header", VALUE, offsetof(options, header) },
-    { "--header-symbol", VALUE, offsetof(options, symbol) },
-    { "--measure", FLAG, offsetof(options, measure) },
-    { "--batch", FLAG, offsetof(options, batch) },
-    { "--force", FLAG, offsetof(options, force) },
-    { "-q", FLAG, offsetof(options, quiet) },
-    { "-MD", FLAG, offsetof(options, depfile_per_bundle) },
-    { "--help", FLAG, offsetof(options, help) },
-    { "-h", FLAG, offsetof(options, help) },
+enum { KEY_SCENE = CLI_LONG_ONLY, KEY_EMIT_HEADER, KEY_HEADER_SYMBOL, KEY_MEASURE, KEY_BATCH, KEY_FORCE, KEY_MD,
+       KEY_MF };
+static const struct option long_options[] = {
+    { "scene", required_argument, NULL, KEY_SCENE },
+    { "emit-header", required_argument, NULL, KEY_EMIT_HEADER },
+    { "header-symbol", required_argument, NULL, KEY_HEADER_SYMBOL },
+    { "measure", no_argument, NULL, KEY_MEASURE },
+    { "batch", no_argument, NULL, KEY_BATCH },
+    { "force", no_argument, NULL, KEY_FORCE },
+    { "MD", no_argument, NULL, KEY_MD },
+    { "MF", required_argument, NULL, KEY_MF },
+    { 0 },
 };
 
-/* argv's options into *o and its materials (the other words) into
-   materials; 0, or 2 after a one-line error. */
-static int parse_args(int argc, char **argv, options *o, const char **materials, int *material_count) {
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        const option_spec *spec = NULL;
-        for (size_t k = 0; k < sizeof option_table / sizeof option_table[0]; k++)
-            if (strcmp(arg, option_table[k].name) == 0) spec = &option_table[k];
-        /* -jN as make spells it */
-        static const option_spec jobs_joined = { "-j", VALUE, offsetof(options, jobs) };
-        const char *joined = NULL;
-        if (!spec && strncmp(arg, "-j", 2) == 0 && arg[2]) {
-            spec = &jobs_joined;
-            joined = arg + 2;
-        }
-        if (!spec) {
-            if (arg[0] == '-' && arg[1]) {
-                ht_print_line(stderr, "hairgen: %s: unknown option (see --help)", arg);
-                return 2;
-            }
-            materials[(*material_count)++] = arg;
-            continue;
-        }
-        if (spec->kind == FLAG) {
-            *(int *)((char *)o + spec->field) = 1;
-            continue;
-        }
-        const char **slot = (const char **)((char *)o + spec->field);
-        if (*slot) {
-            ht_print_line(stderr, "hairgen: %s: given twice (see --help)", arg);
-            return 2;
-        }
-        if (!joined && i + 1 >= argc) {
-            ht_print_line(stderr, "hairgen: %s: missing value (see --help)", arg);
-            return 2;
-        }
-        *slot = joined ? joined : argv[++i];
+static const cli_program program = {
+    .name = "hairgen",
+    .synopsis = synopsis,
+    .help = help,
+    .version_note = "bundles: generator version " HT_MANIFEST_GENERATOR,
+    .short_options = "o:j:q",
+    .long_options = long_options,
+    .long_only = true,   /* -MD, -MF as compilers spell them */
+};
+
+/* A value option given twice is refused: which one was meant? */
+static const char *once(const char **slot, const char *value, const char *name) {
+    static char message[64];
+    if (*slot) {
+        snprintf(message, sizeof message, "%s: given twice", name);
+        return message;
     }
-    return 0;
+    *slot = value;
+    return NULL;
+}
+
+static const char *take(void *user, int key, const char *value) {
+    options *o = user;
+    switch (key) {
+    case CLI_OPERAND: o->materials[o->material_count++] = value; return NULL;
+    case KEY_SCENE: return once(&o->scene, value, "--scene");
+    case 'o': return once(&o->out_dir, value, "-o");
+    case KEY_MF: return once(&o->depfile, value, "-MF");
+    case 'j': return once(&o->jobs, value, "-j");
+    case KEY_EMIT_HEADER: return once(&o->header, value, "--emit-header");
+    case KEY_HEADER_SYMBOL: return once(&o->symbol, value, "--header-symbol");
+    case KEY_MEASURE: o->measure = 1; return NULL;
+    case KEY_BATCH: o->batch = 1; return NULL;
+    case KEY_FORCE: o->force = 1; return NULL;
+    case 'q': o->quiet = 1; return NULL;
+    case KEY_MD: o->depfile_per_bundle = 1; return NULL;
+    default: return cli_unexpected(value);
+    }
 }
 
 static int parse_jobs(const char *text, int *jobs) {
@@ -133,8 +134,9 @@ static int parse_jobs(const char *text, int *jobs) {
     char *end;
     long n = strtol(text, &end, 10);
     if (end == text || *end || n < 1 || n > 256) {
-        ht_print_line(stderr, "hairgen: -j: %s: expected a thread count in 1..256", text);
-        return 2;
+        char why[96];
+        snprintf(why, sizeof why, "-j: %.40s: expected a thread count in 1..256", text);
+        return cli_usage_error(&program, why);
     }
     *jobs = (int)n;
     return 0;
@@ -172,19 +174,19 @@ int main(int argc, char **argv) {
     ht_gen_trace("main");
     options o = { 0 };
     const char **materials = calloc((size_t)argc, sizeof *materials);
-    int material_count = 0;
     if (!materials) {
         fputs("hairgen: out of memory\n", stderr);
         return 1;
     }
-    int status = parse_args(argc, argv, &o, materials, &material_count);
-    int jobs = 0;
-    if (status == 0) status = parse_jobs(o.jobs, &jobs);
-    if (status == 0 && o.help) {
-        usage(stdout);
+    o.materials = materials;
+    int status = cli_parse(&program, argc, argv, take, &o);
+    if (status != CLI_RUN) {
         free(materials);
-        return 0;
+        return status;
     }
+    const int material_count = o.material_count;
+    int jobs = 0;
+    status = parse_jobs(o.jobs, &jobs);
     /* Past the usage checks, before any bundle: the heap hairgen builds in.
        One material is always generated (never skipped): its heap is backed
        now. A batch may find every bundle up to date: it is not. (Building
@@ -197,19 +199,17 @@ int main(int argc, char **argv) {
         bool usable = material_count == 1 && !o.batch && !o.depfile && !o.depfile_per_bundle &&
                       (o.out_dir || o.header) && (!o.out_dir || o.out_dir[0]) && (!o.header || o.header[0]) &&
                       (!o.symbol || o.header) && (!o.measure || o.out_dir) && !o.jobs && !o.force;
-        if (!usable) usage(stderr);
-        status = usable ? run_measure_or_header(&o, materials[0]) : 2;
+        status = usable ? run_measure_or_header(&o, materials[0])
+                        : cli_usage_error(&program, "--measure, --emit-header: one material, no --batch, -j, "
+                                                    "--force, -MD or -MF; --measure needs -o, --header-symbol "
+                                                    "--emit-header");
         free(materials);
         return status;
     }
-    if (status == 0 && (material_count == 0 || !o.out_dir || !o.out_dir[0])) {
-        usage(stderr);
-        status = 2;
-    }
-    if (status == 0 && o.depfile && o.depfile_per_bundle) {
-        fputs("hairgen: -MD and -MF: give one (see --help)\n", stderr);
-        status = 2;
-    }
+    if (status == 0 && material_count == 0) status = cli_usage_error(&program, "no material given");
+    if (status == 0 && (!o.out_dir || !o.out_dir[0])) status = cli_usage_error(&program, "-o: required");
+    if (status == 0 && o.depfile && o.depfile_per_bundle)
+        status = cli_usage_error(&program, "-MD and -MF: give one");
     if (status != 0) {
         free(materials);
         return status;

@@ -1,10 +1,9 @@
 /* measure.c — hairgen --measure (measure.h): every tier of a finished
-   bundle rendered on OSMesa, compared with full and timed against it, the
-   numbers written into the manifest. */
-#include <dlfcn.h>
+   bundle rendered offscreen (platform/offscreen.h: OSMesa, else EGL, both
+   loaded with dlopen only here, so hairgen links no GL), compared with full
+   and timed against it, the numbers written into the manifest. */
 #include <errno.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,101 +11,16 @@
 #include <time.h>
 #include <unistd.h>
 
-#include <GL/osmesa.h>
 #include <cJSON.h>
 
 #include "errfmt.h"
 #include "json_check.h"
 #include "measure.h"
+#include "offscreen.h"
 
 #define FRAMES (HT_MEASURE_WARMUP_FRAMES + HT_MEASURE_TIMED_FRAMES)
 
-/* ---- the offscreen context, the clock (what examples/offscreen.h and
-   timing.h give the programs; shadergen/ does not reach up into examples/) ---- */
-
-/* libOSMesa is loaded with dlopen on the first --measure, not linked: it
-   pulls in LLVM and the rest of Mesa, whose dynamic linking was about half
-   of the instructions of every hairgen start (callgrind, `hairgen --help`),
-   which only --measure needs. HAIRGEN_OSMESA names another file to load
-   (a Mesa built elsewhere). */
-#define OSMESA_LIBRARY "libOSMesa.so.8"
-
-static const char *osmesa_library(void) {
-    const char *named = getenv("HAIRGEN_OSMESA");
-    return named && named[0] ? named : OSMESA_LIBRARY;
-}
-
-static struct {
-    void *library;
-    OSMesaContext (*create_attribs)(const int *attribs, OSMesaContext share);
-    GLboolean (*make_current)(OSMesaContext ctx, void *buffer, GLenum type, GLsizei w, GLsizei h);
-    void (*destroy)(OSMesaContext ctx);
-    OSMESAproc (*get_proc)(const char *name);
-    void (*viewport)(GLint x, GLint y, GLsizei w, GLsizei h);
-    void (*clear_color)(GLfloat r, GLfloat g, GLfloat b, GLfloat a);
-    void (*clear)(GLbitfield mask);
-    void (*finish)(void);
-} osmesa;
-
-static pthread_once_t osmesa_once = PTHREAD_ONCE_INIT;
-
-/* dlsym's data pointer into a function pointer of the same size (POSIX). */
-static bool osmesa_symbol(const char *name, void *fn_out, size_t fn_size) {
-    void *p = dlsym(osmesa.library, name);
-    memcpy(fn_out, &p, fn_size);
-    return p != NULL;
-}
-
-static bool osmesa_gl(const char *name, void *fn_out, size_t fn_size) {
-    OSMESAproc p = osmesa.get_proc(name);
-    memcpy(fn_out, &p, fn_size);
-    return p != NULL;
-}
-
-static void osmesa_load(void) {
-    osmesa.library = dlopen(osmesa_library(), RTLD_NOW | RTLD_LOCAL);
-    if (osmesa.library &&
-        osmesa_symbol("OSMesaCreateContextAttribs", &osmesa.create_attribs, sizeof osmesa.create_attribs) &&
-        osmesa_symbol("OSMesaMakeCurrent", &osmesa.make_current, sizeof osmesa.make_current) &&
-        osmesa_symbol("OSMesaDestroyContext", &osmesa.destroy, sizeof osmesa.destroy) &&
-        osmesa_symbol("OSMesaGetProcAddress", &osmesa.get_proc, sizeof osmesa.get_proc) &&
-        osmesa_gl("glViewport", &osmesa.viewport, sizeof osmesa.viewport) &&
-        osmesa_gl("glClearColor", &osmesa.clear_color, sizeof osmesa.clear_color) &&
-        osmesa_gl("glClear", &osmesa.clear, sizeof osmesa.clear) &&
-        osmesa_gl("glFinish", &osmesa.finish, sizeof osmesa.finish))
-        return;
-    if (osmesa.library) dlclose(osmesa.library);
-    osmesa.library = NULL;
-}
-
-/* Whether libOSMesa is there, with "why not" in err. */
-static bool osmesa_available(char *err, size_t err_size) {
-    pthread_once(&osmesa_once, osmesa_load);
-    if (!osmesa.library)
-        ht_set_error(err, err_size, "measure: cannot load %s with its OSMesa and GL functions (HAIRGEN_OSMESA names "
-                     "another)", osmesa_library());
-    return osmesa.library != NULL;
-}
-
-static void *offscreen_getproc(const char *name) {
-    OSMESAproc p = osmesa.get_proc(name);
-    void *out;
-    memcpy(&out, &p, sizeof out); /* function to data pointer: same size on POSIX */
-    return out;
-}
-
-/* RGBA8 with a 24-bit depth buffer over rgba, current; NULL when Mesa refuses. */
-static OSMesaContext offscreen_create(unsigned char *rgba, int width, int height) {
-    static const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
-                                   OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0 };
-    OSMesaContext ctx = osmesa.create_attribs(attribs, NULL);
-    if (ctx && !osmesa.make_current(ctx, rgba, GL_UNSIGNED_BYTE, width, height)) {
-        osmesa.destroy(ctx);
-        return NULL;
-    }
-    if (ctx) osmesa.viewport(0, 0, width, height);
-    return ctx;
-}
+/* ---- the clock (what examples/timing.h gives the programs) ---- */
 
 static double now_ms(void) {
     struct timespec ts;
@@ -132,8 +46,8 @@ static double median(double *v, int n) {
 typedef struct tier_run {
     const ht_manifest_tier *entry;
     ht_variant variant;           /* HT_VARIANT_DEVICE: the tier's device-only variant */
-    unsigned char *rgba;          /* its frame, rows bottom-up */
-    OSMesaContext ctx;
+    const unsigned char *rgba;    /* its last frame, rows bottom-up (the context's pixels) */
+    offscreen *ctx;
     ht_renderer *renderer;
     double ms[HT_MEASURE_TIMED_FRAMES];
     char last_log[HT_LOG_LINE_MAX];
@@ -162,16 +76,22 @@ void ht_measure_scene_label(const char *scene_path, char out[64]) {
     out[n] = '\0';
 }
 
+/* HAIRGEN_OSMESA, HAIRGEN_EGL: other files to load (a Mesa built elsewhere). */
+static const char *library_env(const char *name) {
+    const char *named = getenv(name);
+    return named && named[0] ? named : NULL;
+}
+
 static ht_result start_tier(tier_run *t, const char *dir, const ht_scene *s, const ht_mesh *hair, char *err,
                             size_t err_size) {
-    t->rgba = malloc((size_t)s->width * (size_t)s->height * 4);
-    if (!t->rgba)
-        return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "measure: %s: out of memory for a %dx%d frame",
-                       t->entry->name, s->width, s->height);
-    t->ctx = offscreen_create(t->rgba, s->width, s->height);
+    char why[1024];
+    t->ctx = offscreen_open(&(offscreen_desc){ .width = s->width, .height = s->height, .egl_device = -1,
+                                               .osmesa_library = library_env("HAIRGEN_OSMESA"),
+                                               .egl_library = library_env("HAIRGEN_EGL") },
+                            why, sizeof why);
     if (!t->ctx)
-        return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: %s: cannot create a %dx%d OSMesa context",
-                       t->entry->name, s->width, s->height);
+        return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: %s (HAIRGEN_OSMESA, HAIRGEN_EGL name other "
+                       "libraries)", why);
     /* Forced and strict: a tier that cannot run fails the measurement
        instead of measuring another tier under its name. The policy is
        explicit so that HAIRTIER_POLICY cannot fail the create. */
@@ -200,30 +120,28 @@ static ht_result start_tier(tier_run *t, const char *dir, const ht_scene *s, con
    hairview and tier_sheet time). */
 static ht_result draw_frame(tier_run *t, const ht_scene *s, const ht_frame_desc *frame, double *ms,
                             char *err, size_t err_size) {
-    if (!osmesa.make_current(t->ctx, t->rgba, GL_UNSIGNED_BYTE, s->width, s->height))
-        return ht_fail(err, err_size, HT_ERR_GL, "measure: %s: cannot make its OSMesa context current",
-                       t->entry->name);
+    if (!offscreen_make_current(t->ctx))
+        return ht_fail(err, err_size, HT_ERR_GL, "measure: %s: cannot make its context current (%s)",
+                       t->entry->name, t->ctx->display);
     t->last_log[0] = '\0';
+    const offscreen_gl *gl = &t->ctx->gl;
     double t0 = now_ms();
-    osmesa.clear_color(s->background[0], s->background[1], s->background[2], 1.0f);
-    osmesa.clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    gl->ClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
+    gl->Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     ht_result r = ht_renderer_draw(t->renderer, frame);
-    osmesa.finish();
+    gl->Finish();
     *ms = now_ms() - t0;
+    t->rgba = offscreen_read(t->ctx); /* untimed: EGL reads the frame back */
     if (r != HT_OK)
         return ht_fail(err, err_size, r, "measure: %s: draw failed: %s", t->entry->name,
                        t->last_log[0] ? t->last_log : ht_result_string(r));
     return HT_OK;
 }
 
-static void stop_tier(tier_run *t, const ht_scene *s) {
-    if (t->ctx) {
-        /* The renderer's GL objects live in its own context. */
-        if (t->renderer && osmesa.make_current(t->ctx, t->rgba, GL_UNSIGNED_BYTE, s->width, s->height))
-            ht_renderer_destroy(t->renderer);
-        osmesa.destroy(t->ctx);
-    }
-    free(t->rgba);
+static void stop_tier(tier_run *t) {
+    /* The renderer's GL objects live in its own context. */
+    if (t->ctx && t->renderer && offscreen_make_current(t->ctx)) ht_renderer_destroy(t->renderer);
+    offscreen_close(t->ctx);
     *t = (tier_run){ 0 };
 }
 
@@ -259,7 +177,7 @@ static ht_result measure_all(tier_run *runs, int count, int full, const char *di
         d->entry = runs[i].entry;
         d->variant = HT_VARIANT_DEVICE;
         r = start_tier(d, dir, s, &hair, err, err_size);
-        if (r == HT_OK && ht_renderer_variant(d->renderer) != HT_VARIANT_DEVICE) stop_tier(d, s);
+        if (r == HT_OK && ht_renderer_variant(d->renderer) != HT_VARIANT_DEVICE) stop_tier(d);
     }
     const int all = 2 * count;
 
@@ -344,7 +262,6 @@ ht_result ht_measure_bundle(const char *dir, const ht_scene *scene, const char *
     char why[1024];
     ht_result r = ht_manifest_load(dir, bundle, why, sizeof why);
     if (r != HT_OK) ht_set_error(err, err_size, "measure: %s", why);
-    else if (!osmesa_available(err, err_size)) r = HT_ERR_UNSUPPORTED;
     int count = r == HT_OK ? bundle->tier_count : 0, full = -1;
     for (int i = 0; i < count; i++) {
         runs[i].entry = &bundle->tiers[i];
@@ -358,7 +275,7 @@ ht_result ht_measure_bundle(const char *dir, const ht_scene *scene, const char *
                     dir, HT_MANIFEST_FILE);
     if (r == HT_OK)
         r = measure_all(runs, count, full, dir, scene, scene_file, scene_label, out, err, err_size);
-    for (int i = 0; i < 2 * count; i++) stop_tier(&runs[i], scene);
+    for (int i = 0; i < 2 * count; i++) stop_tier(&runs[i]);
     free(runs);
     free(bundle);
     if (r != HT_OK) out->tier_count = 0;

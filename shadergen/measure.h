@@ -1,8 +1,9 @@
 /* measure.h — `hairgen --measure`: the speed-for-accuracy trade of a
    finished bundle, measured offline and written into its manifest.
 
-   Every tier of the bundle renders the bundle's reference scene on OSMesa
-   (a context of its own per tier, forced and strict, through hairtier.h),
+   Every tier of the bundle renders the bundle's reference scene offscreen,
+   OSMesa where it loads, else EGL (platform/offscreen.h; HAIRTIER_CONTEXT
+   forces one) (a context of its own per tier, forced and strict, through hairtier.h),
    frames round-robin across the tiers so that a change in the machine's
    load falls on every tier alike. Each tier's last frame is compared with
    the reference's ("full" below: the full tier, or for a Marschner

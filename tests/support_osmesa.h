@@ -1,6 +1,6 @@
 /* support_osmesa.h — an offscreen GL compatibility context for tests:
    RGBA8 colour, 24-bit depth, a given size, made by the one context module
-   the programs use too (examples/offscreen.h). OSMesa unless
+   the programs use too (platform/offscreen.h). OSMesa unless
    HAIRTIER_CONTEXT=egl (then EGL + a pbuffer; `make test` runs a set of
    render tests that way with EGL_PLATFORM=surfaceless).
 
@@ -31,7 +31,7 @@
 struct offscreen;
 
 typedef struct ht_test_gl {
-    struct offscreen *context;   /* examples/offscreen.h */
+    struct offscreen *context;   /* platform/offscreen.h */
     int width, height;
 } ht_test_gl;
 

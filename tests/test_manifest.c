@@ -139,7 +139,7 @@ static void test_manifest_refuses_dot_and_dot_dot_file_names(void **state) {
     for (int i = 0; i < 2; i++) {
         char text[1024], err[512] = "";
         snprintf(text, sizeof text,
-                 "{\"format\": \"" HT_MANIFEST_FORMAT "\", \"opaque_cutoff\": 0.5, \"lights\": [\"directional\"],"
+                 "{\"format\": \"" HT_MANIFEST_FORMAT "\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"directional\"],"
                  " \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": \"2.1\", \"glsl\": \"1.20\"},"
                  " \"files\": {\"vertex\": \"%s\"}}]}", names[i]);
         ht_manifest m;
@@ -151,7 +151,7 @@ static void test_manifest_refuses_dot_and_dot_dot_file_names(void **state) {
         assert_null(strchr(err, '\n'));
 
         snprintf(text, sizeof text,
-                 "{\"format\": \"" HT_MANIFEST_FORMAT "\", \"opaque_cutoff\": 0.5, \"lights\": [\"directional\"],"
+                 "{\"format\": \"" HT_MANIFEST_FORMAT "\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"directional\"],"
                  " \"textures\": {\"albedo\": {\"file\": \"%s\", \"width\": 4, \"height\": 4}},"
                  " \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": \"2.1\"}, \"files\": {}}]}", names[i]);
         assert_int_equal(ht_manifest_parse(text, "/b", "/b/manifest.json", &m, err, sizeof err), HT_ERR_PARSE);
@@ -161,10 +161,38 @@ static void test_manifest_refuses_dot_and_dot_dot_file_names(void **state) {
     }
 }
 
+/* A bundle of another generator version is refused before any other field,
+   with one line naming the manifest, its version and the one to regenerate
+   with; so is one that records none. */
+static void test_manifest_refuses_another_generator_version(void **state) {
+    (void)state;
+    static const char *const versions[] = { "\"hairgen 2\"", "\"hairgen 9\"", "null", "4" };
+    static const char *const echoed[] = { "\"hairgen 2\", ", "\"hairgen 9\", ", "not a string, ", "not a string, " };
+    for (int i = 0; i < 4; i++) {
+        char text[1024], err[512] = "";
+        snprintf(text, sizeof text,
+                 "{\"format\": \"" HT_MANIFEST_FORMAT "\", \"generator\": %s, \"opaque_cutoff\": 0.5,"
+                 " \"lights\": [\"directional\"], \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": \"2.1\"},"
+                 " \"files\": {}}]}", versions[i]);
+        ht_manifest m;
+        assert_int_equal(ht_manifest_parse(text, "/b", "/b/manifest.json", &m, err, sizeof err), HT_ERR_PARSE);
+        char want[256];
+        snprintf(want, sizeof want, "/b/manifest.json: generator: %sthis runtime reads " HT_MANIFEST_GENERATOR
+                 " bundles: regenerate with " HT_MANIFEST_GENERATOR, echoed[i]);
+        assert_string_equal(err, want);
+    }
+    char err[512] = "";
+    ht_manifest m;
+    assert_int_equal(ht_manifest_parse("{\"format\": \"" HT_MANIFEST_FORMAT "\"}", "/b", "/b/manifest.json", &m, err,
+                                       sizeof err), HT_ERR_PARSE);
+    assert_non_null(strstr(err, "generator: missing, this runtime reads " HT_MANIFEST_GENERATOR " bundles"));
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_manifest_round_trips_every_field_the_generator_writes),
         cmocka_unit_test(test_manifest_refuses_dot_and_dot_dot_file_names),
+        cmocka_unit_test(test_manifest_refuses_another_generator_version),
     };
     return cmocka_run_group_tests(tests, make_work_dir, remove_work_dir);
 }

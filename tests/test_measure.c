@@ -421,22 +421,54 @@ static void test_measure_refuses_a_scene_with_no_hair_in_view(void **state) {
 }
 
 /* No libOSMesa (HAIRGEN_OSMESA naming a file that is not there, or a
-   library without OSMesa's functions): one line naming it, exit 1, no
-   bundle and no temporary. */
-static void test_measure_without_libosmesa_writes_nothing(void **state) {
+   library without OSMesa's functions): --measure draws through EGL
+   (Mesa's surfaceless platform here) and measures what OSMesa measures. */
+static void test_measure_without_libosmesa_draws_through_egl(void **state) {
+    (void)state;
+    char dir[256], args[700];
+    snprintf(dir, sizeof dir, "%s/egl-measured", work);
+    snprintf(args, sizeof args, "materials/dark-brown.json --scene %s --measure -o %s", scene, dir);
+    if (run_hairgen("env -u HAIRTIER_CONTEXT EGL_PLATFORM=surfaceless HAIRGEN_OSMESA=/nonexistent/libOSMesa.so.8",
+                    args) != 0) {
+        char *err = work_file("err.txt");
+        fail_msg("hairgen %s through EGL: %s", args, err);
+    }
+    ht_manifest *egl = malloc(sizeof *egl);
+    assert_non_null(egl);
+    *egl = *load(dir);
+    const ht_manifest *osmesa = load(measured);
+    assert_int_equal(egl->tier_count, osmesa->tier_count);
+    for (int i = 0; i < egl->tier_count; i++) {
+        const ht_manifest_measured *e = &egl->tiers[i].measured, *o = &osmesa->tiers[i].measured;
+        if (!e->present) fail_msg("%s: no measured object", egl->tiers[i].name);
+        /* the same llvmpipe behind either context: the same frames */
+        if (!(isinf(e->psnr_db) ? isinf(o->psnr_db) : fabs(e->psnr_db - o->psnr_db) < 0.05))
+            fail_msg("%s: psnr_db %g through EGL, %g through OSMesa", egl->tiers[i].name, e->psnr_db, o->psnr_db);
+    }
+    free(egl);
+    assert_int_equal(count_temporaries(), 0);
+}
+
+/* Neither library loads (HAIRGEN_OSMESA: missing or not OSMesa;
+   HAIRGEN_EGL: missing): one line naming both, exit 1, no bundle and no
+   temporary. */
+static void test_measure_without_osmesa_or_egl_writes_nothing(void **state) {
     (void)state;
     static const char *const libraries[] = { "/nonexistent/libOSMesa.so.8", "libm.so.6" };
+    static const char *const why[] = { "cannot open shared object file", "no symbol OSMesaCreateContextAttribs" };
     for (int i = 0; i < 2; i++) {
-        char dir[256], args[700], env[128], want[300];
-        snprintf(dir, sizeof dir, "%s/no-osmesa", work);
+        char dir[256], args[700], env[256], want[300];
+        snprintf(dir, sizeof dir, "%s/no-context", work);
         snprintf(args, sizeof args, "materials/dark-brown.json --scene %s --measure -o %s", scene, dir);
-        snprintf(env, sizeof env, "HAIRGEN_OSMESA=%s", libraries[i]);
+        snprintf(env, sizeof env, "env -u HAIRTIER_CONTEXT HAIRGEN_OSMESA=%s HAIRGEN_EGL=/nonexistent/libEGL.so.1",
+                 libraries[i]);
         assert_int_equal(run_hairgen(env, args), 1);
         char *err = work_file("err.txt");
-        snprintf(want, sizeof want,
-                 "hairgen: measure: cannot load %s with its OSMesa and GL functions (HAIRGEN_OSMESA names "
-                 "another)\n", libraries[i]);
-        assert_string_equal(err, want);
+        snprintf(want, sizeof want, "hairgen: measure: no offscreen context: osmesa: %s", libraries[i]);
+        if (strncmp(err, want, strlen(want)) != 0 || !strstr(err, why[i]) ||
+            !strstr(err, "; egl: /nonexistent/libEGL.so.1: cannot open shared object file") ||
+            strchr(err, '\n') != err + strlen(err) - 1)
+            fail_msg("got: %s", err);
         free(err);
         assert_false(ht_test_path_exists(dir));
         assert_int_equal(count_temporaries(), 0);
@@ -583,7 +615,8 @@ int main(void) {
         cmocka_unit_test(test_measure_adds_only_the_measured_objects),
         cmocka_unit_test(test_hairgen_prints_the_measured_table),
         cmocka_unit_test(test_hairgen_names_marschner_as_the_reference_of_a_marschner_bundle),
-        cmocka_unit_test(test_measure_without_libosmesa_writes_nothing),
+        cmocka_unit_test(test_measure_without_libosmesa_draws_through_egl),
+        cmocka_unit_test(test_measure_without_osmesa_or_egl_writes_nothing),
         cmocka_unit_test(test_the_image_numbers_repeat_across_runs),
         cmocka_unit_test(test_error_policy_picks_the_cheapest_measured_tier_that_reaches_it),
         cmocka_unit_test(test_hairview_error_30_says_which_tier_and_why),

@@ -87,7 +87,7 @@ static void test_png_metrics_refuses_bad_input_in_one_line(void **state) {
     assert_int_equal(run("broken.png a.png", out, sizeof out), 1);
     assert_true(strncmp(out, "png_metrics: ", 13) == 0 && strstr(out, "broken.png") && !strchr(out, '\n')[1]);
     assert_int_equal(run("a.png", out, sizeof out), 2);
-    assert_string_equal(out, "usage: png_metrics REFERENCE.png TEST.png\n");
+    assert_string_equal(out, "png_metrics: two PNGs required\nusage: png_metrics REFERENCE.png TEST.png\n");
 }
 
 int main(void) {

@@ -30,7 +30,7 @@
     ", \"measured\": {\"psnr_db\": " psnr ", \"ssim\": 0.9, \"delta_e00_mean\": 1.5, \"delta_e00_p95\": 4," \
     " \"cost_ratio\": " cost ", \"scene\": \"furball\", \"driver\": \"llvmpipe\"}"
 #define MANIFEST(m_full, m_vertex, m_fixed4, m_fixed, m_gl11) \
-    "{\"format\": \"hairtier-bundle/1\", \"material\": \"t\", \"model\": \"scheuermann\"," \
+    "{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"material\": \"t\", \"model\": \"scheuermann\"," \
     " \"lights\": [\"directional\"], \"opaque_cutoff\": 0.9, \"tiers\": [" \
     TIER("full", "{\"gl\": \"2.1\", \"glsl\": \"1.20\"}", "{\"vertex\": \"f.vert\", \"fragment\": \"f.frag\"}", m_full) "," \
     TIER("vertex", "{\"gl\": \"2.0\", \"glsl\": \"1.10\", \"texture_units\": 4}", "{\"vertex\": \"v.vert\"}", m_vertex) "," \
@@ -147,7 +147,7 @@ static void test_manifest_refuses_a_bad_measured_object_naming_the_field(void **
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         char text[4096], err[512];
         snprintf(text, sizeof text,
-                 "{\"format\": \"hairtier-bundle/1\", \"lights\": [\"directional\"], \"opaque_cutoff\": 0.9, \"tiers\": ["
+                 "{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"lights\": [\"directional\"], \"opaque_cutoff\": 0.9, \"tiers\": ["
                  TIER("gl11", "{\"gl\": \"1.1\", \"glsl\": null}", "{\"program\": \"gl11.json\"}", "%s") "]}",
                  cases[i].measured);
         ht_manifest m;

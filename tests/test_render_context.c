@@ -1,4 +1,4 @@
-/* test_render_context — the two ways a context is made (examples/offscreen.h)
+/* test_render_context — the two ways a context is made (platform/offscreen.h)
    and the device profiles that stand in for old hardware on any driver:
    - OSMesa and EGL (pbuffer, Mesa's surfaceless platform) on the same
      llvmpipe draw every tier of the fur ball to the same pixels, rows in
@@ -192,7 +192,7 @@ static void test_programs_refuse_a_bad_context_in_one_line(void **state) {
     expect_fails("", "hairview", args, png, 2, "hairview: --context: ", "missing value");
     snprintf(args, sizeof args, base_fmt, fx.bundle_dir, scene, "--context EGL", png);
     expect_fails("", "tier_sheet", args, png, 2, "tier_sheet: --context: ", "osmesa or egl");
-    expect_fails("", "bench_frame", "--context vulkan", NULL, 2, "bench_frame: --context ", "osmesa or egl");
+    expect_fails("", "bench_frame", "--context vulkan", NULL, 2, "bench_frame: --context: ", "osmesa or egl");
 
     /* No context: exit 1, one line, no PNG. */
     snprintf(args, sizeof args, base_fmt, fx.bundle_dir, scene, "--context egl", png);

@@ -22,6 +22,7 @@
 
 #include <hairtier/hairgen.h>
 #include <hairtier/hairtier.h>
+#include "manifest.h"
 #include "support_log.h"
 #include "support_osmesa.h"
 #include "support_render.h"
@@ -370,7 +371,7 @@ static void test_render_corrupt_manifest_is_one_line_error(void **state) {
     (void)state;
     char dir[256];
     ht_test_furball_copy_bundle(&fx, "corrupt-manifest", dir, sizeof dir);
-    ht_test_write_file(dir, "manifest.json", "{\"format\": \"hairtier-bundle/1\", \"opaque_cutoff\": ");
+    ht_test_write_file(dir, "manifest.json", "{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": ");
     ht_renderer *r = create((ht_renderer_desc){ .bundle_dir = dir }, HT_ERR_PARSE);
     assert_null(r);
     char *line = strstr(ht_test_log_text, "corrupt-manifest/manifest.json: line 1: malformed JSON");
@@ -378,7 +379,7 @@ static void test_render_corrupt_manifest_is_one_line_error(void **state) {
     assert_string_equal(strchr(line, '\n'), "\n");
 
     ht_test_write_file(dir, "manifest.json",
-               "{\"format\": \"hairtier-bundle/1\", \"opaque_cutoff\": 0.5, \"lights\": [\"directional\"],"
+               "{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"directional\"],"
                " \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": 2.1}, \"files\": {}}]}");
     r = create((ht_renderer_desc){ .bundle_dir = dir }, HT_ERR_PARSE);
     assert_true(ht_test_logged("manifest.json: tiers[0].requires.gl: expected a string"));

@@ -15,7 +15,7 @@
 
 /* Requirements as hairgen writes them (docs/bundle.md). */
 static const char manifest[] =
-    "{\"format\": \"hairtier-bundle/1\", \"material\": \"t\", \"model\": \"scheuermann\","
+    "{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"material\": \"t\", \"model\": \"scheuermann\","
     " \"lights\": [\"directional\"], \"opaque_cutoff\": 0.9,"
     " \"textures\": {\"albedo\": {\"file\": \"albedo.png\", \"width\": 8, \"height\": 8, \"depth\": 1}},"
     " \"tiers\": ["
@@ -373,25 +373,25 @@ static void test_bundle_rejects_bad_manifests_naming_the_field(void **state) {
     expect_manifest_error("{ not json", "manifest");
     expect_manifest_error("[]", "manifest");
     expect_manifest_error("{\"format\": \"hairtier-bundle/2\"}", "format");
-    expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"lights\": [\"directional\"], \"tiers\": []}",
+    expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"lights\": [\"directional\"], \"tiers\": []}",
                           "opaque_cutoff");
-    expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"opaque_cutoff\": 1.5, \"lights\": []}",
+    expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 1.5, \"lights\": []}",
                           "opaque_cutoff");
-    expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"opaque_cutoff\": 0.5, \"lights\": [\"spot\"]}",
+    expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"spot\"]}",
                           "lights[0]");
-    expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"opaque_cutoff\": 0.5, \"lights\": [\"point\"],"
+    expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"point\"],"
                           " \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": \"2.1\", \"glsl\": \"one\"},"
                           " \"files\": {}}]}",
                           "tiers[0].requires.glsl");
-    expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"opaque_cutoff\": 0.5, \"lights\": [\"point\"],"
+    expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"point\"],"
                           " \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": \"2.1\"},"
                           " \"files\": {\"vertex\": \"../../etc/passwd\"}}]}",
                           "tiers[0].files.vertex");
-    expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"opaque_cutoff\": 0.5, \"lights\": [\"point\"],"
+    expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"point\"],"
                           " \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": \"2.1\"}, \"files\": {},"
                           " \"samplers\": [{\"uniform\": \"u\", \"texture\": \"nope\", \"unit\": 0}]}]}",
                           "tiers[0].samplers[0].texture");
-    expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"opaque_cutoff\": 0.5, \"lights\": [\"point\"],"
+    expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"point\"],"
                           " \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": \"2.1\", \"texture_units\": -1},"
                           " \"files\": {}}]}",
                           "tiers[0].requires.texture_units");

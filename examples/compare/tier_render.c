@@ -3,7 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../offscreen.h"
+#include "offscreen.h"
 #include "../timing.h"
 #include "tier_render.h"
 

@@ -1,6 +1,6 @@
 /* tier_render.h — what tier_sheet and haircompare share: a scene file's
    hair (and head) mesh built once, and one tier of a bundle rendered into
-   it on a fresh offscreen context (examples/offscreen.h, the one place the
+   it on a fresh offscreen context (platform/offscreen.h, the one place the
    programs make contexts), forced and strict, with its median frame time.
 
    Usage:
@@ -19,7 +19,7 @@
 #include <stddef.h>
 
 #include <hairtier/hairtier.h>
-#include "../offscreen.h"
+#include "offscreen.h"
 #include <hairtier/scene.h>
 
 typedef struct tier_scene {

@@ -21,6 +21,20 @@
    messages read like every other format's. */
 #define K(name) HT_MANIFEST_KEY_##name
 
+/* Only this generator's bundles: another version's files may hold other
+   programs (a hairgen 2 bundle's fixed tier draws differently) or another
+   layout, so it is refused before any other field is read. */
+static ht_result check_generator(const ht_jctx *c, const cJSON *root) {
+    const cJSON *g = cJSON_GetObjectItemCaseSensitive(root, K(GENERATOR));
+    if (cJSON_IsString(g) && strcmp(g->valuestring, HT_MANIFEST_GENERATOR) == 0) return HT_OK;
+    char got[64];
+    if (cJSON_IsString(g))
+        snprintf(got, sizeof got, "\"%.40s%s\"", g->valuestring, strlen(g->valuestring) > 40 ? "..." : "");
+    else snprintf(got, sizeof got, "%s", g ? "not a string" : "missing");
+    return ht_json_fail(c, K(GENERATOR), "%s, this runtime reads " HT_MANIFEST_GENERATOR " bundles: regenerate with "
+                        HT_MANIFEST_GENERATOR, got);
+}
+
 /* A file name must stay inside the bundle directory. */
 static ht_result check_file_name(const ht_jctx *c, const char *field, const char *name) {
     if (!name[0]) return ht_json_fail(c, field, "empty file name");
@@ -239,6 +253,7 @@ ht_result ht_manifest_parse(const char *json_text, const char *dir, const char *
     const cJSON *lights, *tiers;
     int light_items, tier_items;
     if ((r = ht_json_format(&c, root, HT_MANIFEST_FORMAT, "bundle manifest")) != HT_OK ||
+        (r = check_generator(&c, root)) != HT_OK ||
         (r = ht_json_string_or_null(&c, root, "", K(MATERIAL), out->material, sizeof out->material)) != HT_OK ||
         (r = ht_json_string_or_null(&c, root, "", K(MODEL), out->model, sizeof out->model)) != HT_OK ||
         (r = ht_json_float(&c, root, "", K(OPAQUE_CUTOFF), NULL, HT_JRANGE_LO_OPEN(0, 1), &out->opaque_cutoff)) != HT_OK ||

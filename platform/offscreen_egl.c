@@ -1,5 +1,5 @@
 /* offscreen_egl.c — the EGL backend of offscreen.h: a compatibility-profile
-   GL context (eglBindAPI(EGL_OPENGL_API), no version or profile attributes)
+   GL context (egl.BindAPI(EGL_OPENGL_API), no version or profile attributes)
    drawing into an RGBA8 + 24-bit depth pbuffer. A pbuffer rather than an
    FBO on a surfaceless context: it is a default framebuffer like OSMesa's,
    so nothing changes for the runtime, and it needs no GL 3.0 entry points
@@ -27,6 +27,53 @@ typedef struct egl_state {
     EGLContext context;
 } egl_state;
 
+/* libEGL is loaded with dlopen like libOSMesa, so that a program that
+   links no GL (hairgen, whose --measure draws) starts without it. */
+#define EGL_LIBRARY "libEGL.so.1"
+
+static struct {
+    void *library;
+    PFNEGLGETPROCADDRESSPROC GetProcAddress;
+    PFNEGLGETDISPLAYPROC GetDisplay;
+    PFNEGLINITIALIZEPROC Initialize;
+    PFNEGLQUERYSTRINGPROC QueryString;
+    PFNEGLGETPLATFORMDISPLAYPROC GetPlatformDisplay;
+    PFNEGLGETERRORPROC GetError;
+    PFNEGLCHOOSECONFIGPROC ChooseConfig;
+    PFNEGLGETCONFIGATTRIBPROC GetConfigAttrib;
+    PFNEGLBINDAPIPROC BindAPI;
+    PFNEGLCREATEPBUFFERSURFACEPROC CreatePbufferSurface;
+    PFNEGLCREATECONTEXTPROC CreateContext;
+    PFNEGLMAKECURRENTPROC MakeCurrent;
+    PFNEGLDESTROYCONTEXTPROC DestroyContext;
+    PFNEGLDESTROYSURFACEPROC DestroySurface;
+} egl;
+
+bool offscreen_egl_available(const char *library, char *err, size_t err_size) {
+    if (egl.library) return true;
+#define SYMBOL(n) { "egl" #n, &egl.n, sizeof egl.n }
+    const offscreen_symbol symbols[] = {
+        SYMBOL(GetProcAddress),
+        SYMBOL(GetDisplay),
+        SYMBOL(Initialize),
+        SYMBOL(QueryString),
+        SYMBOL(GetPlatformDisplay),
+        SYMBOL(GetError),
+        SYMBOL(ChooseConfig),
+        SYMBOL(GetConfigAttrib),
+        SYMBOL(BindAPI),
+        SYMBOL(CreatePbufferSurface),
+        SYMBOL(CreateContext),
+        SYMBOL(MakeCurrent),
+        SYMBOL(DestroyContext),
+        SYMBOL(DestroySurface),
+    };
+#undef SYMBOL
+    egl.library = offscreen_load_library("egl", library ? library : EGL_LIBRARY, symbols,
+                                         (int)(sizeof symbols / sizeof symbols[0]), err, err_size);
+    return egl.library != NULL;
+}
+
 static const char *egl_error_name(EGLint e) {
     switch (e) {
     case EGL_SUCCESS: return "EGL_SUCCESS";
@@ -47,7 +94,8 @@ static const char *egl_error_name(EGLint e) {
 }
 
 static void *egl_getproc(const char *name) {
-    __eglMustCastToProperFunctionPointerType p = eglGetProcAddress(name);
+    if (!egl.library) return NULL;
+    __eglMustCastToProperFunctionPointerType p = egl.GetProcAddress(name);
     void *out;
     memcpy(&out, &p, sizeof out); /* function to data pointer: same size on POSIX */
     return out;
@@ -62,13 +110,13 @@ static bool has_extension(const char *list, const char *name) {
 
 static bool initialise(EGLDisplay d) {
     EGLint major, minor;
-    return d != EGL_NO_DISPLAY && eglInitialize(d, &major, &minor);
+    return d != EGL_NO_DISPLAY && egl.Initialize(d, &major, &minor);
 }
 
 /* Device `index` of EGL_EXT_device_enumeration as a display (EGL_EXT_platform_device). */
 static EGLDisplay device_display(int index, char *err, size_t err_size) {
-    const char *client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-    PFNEGLQUERYDEVICESEXTPROC query_devices = (PFNEGLQUERYDEVICESEXTPROC)eglGetProcAddress("eglQueryDevicesEXT");
+    const char *client = egl.QueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    PFNEGLQUERYDEVICESEXTPROC query_devices = (PFNEGLQUERYDEVICESEXTPROC)egl.GetProcAddress("eglQueryDevicesEXT");
     if (!has_extension(client, "EGL_EXT_platform_device") || !query_devices) {
         snprintf(err, err_size, "egl: device %d: the EGL library has no EGL_EXT_platform_device / eglQueryDevicesEXT",
                  index);
@@ -78,7 +126,7 @@ static EGLDisplay device_display(int index, char *err, size_t err_size) {
     EGLint count = 0;
     if (!query_devices(MAX_DEVICES, devices, &count) || count < 1) {
         snprintf(err, err_size, "egl: device %d: eglQueryDevicesEXT found no device (%s)", index,
-                 egl_error_name(eglGetError()));
+                 egl_error_name(egl.GetError()));
         return EGL_NO_DISPLAY;
     }
     if (index >= count) {
@@ -86,9 +134,9 @@ static EGLDisplay device_display(int index, char *err, size_t err_size) {
                  count, count == 1 ? "" : "s", count - 1);
         return EGL_NO_DISPLAY;
     }
-    EGLDisplay d = eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[index], NULL);
+    EGLDisplay d = egl.GetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[index], NULL);
     if (!initialise(d)) {
-        snprintf(err, err_size, "egl: device %d: eglInitialize failed (%s)", index, egl_error_name(eglGetError()));
+        snprintf(err, err_size, "egl: device %d: eglInitialize failed (%s)", index, egl_error_name(egl.GetError()));
         return EGL_NO_DISPLAY;
     }
     return d;
@@ -97,15 +145,15 @@ static EGLDisplay device_display(int index, char *err, size_t err_size) {
 /* The default display, else Mesa's surfaceless platform, else device 0:
    the first that initialises. */
 static EGLDisplay any_display(char *how, size_t how_size, char *err, size_t err_size) {
-    EGLDisplay d = eglGetDisplay(EGL_DEFAULT_DISPLAY);
+    EGLDisplay d = egl.GetDisplay(EGL_DEFAULT_DISPLAY);
     if (initialise(d)) {
         snprintf(how, how_size, "default display");
         return d;
     }
-    EGLint default_error = eglGetError();
-    const char *client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    EGLint default_error = egl.GetError();
+    const char *client = egl.QueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (has_extension(client, "EGL_MESA_platform_surfaceless")) {
-        d = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
+        d = egl.GetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
         if (initialise(d)) {
             snprintf(how, how_size, "EGL_MESA_platform_surfaceless");
             return d;
@@ -133,16 +181,16 @@ static bool choose_config(EGLDisplay d, EGLConfig *out) {
                                    EGL_DEPTH_SIZE, 24, EGL_NONE };
     EGLConfig configs[256];
     EGLint count = 0, best_depth = 1 << 30;
-    if (!eglChooseConfig(d, want, configs, 256, &count)) return false;
+    if (!egl.ChooseConfig(d, want, configs, 256, &count)) return false;
     bool found = false;
     for (EGLint i = 0; i < count; i++) {
         EGLint r, g, b, a, depth, samples;
-        eglGetConfigAttrib(d, configs[i], EGL_RED_SIZE, &r);
-        eglGetConfigAttrib(d, configs[i], EGL_GREEN_SIZE, &g);
-        eglGetConfigAttrib(d, configs[i], EGL_BLUE_SIZE, &b);
-        eglGetConfigAttrib(d, configs[i], EGL_ALPHA_SIZE, &a);
-        eglGetConfigAttrib(d, configs[i], EGL_DEPTH_SIZE, &depth);
-        eglGetConfigAttrib(d, configs[i], EGL_SAMPLES, &samples);
+        egl.GetConfigAttrib(d, configs[i], EGL_RED_SIZE, &r);
+        egl.GetConfigAttrib(d, configs[i], EGL_GREEN_SIZE, &g);
+        egl.GetConfigAttrib(d, configs[i], EGL_BLUE_SIZE, &b);
+        egl.GetConfigAttrib(d, configs[i], EGL_ALPHA_SIZE, &a);
+        egl.GetConfigAttrib(d, configs[i], EGL_DEPTH_SIZE, &depth);
+        egl.GetConfigAttrib(d, configs[i], EGL_SAMPLES, &samples);
         if (r == 8 && g == 8 && b == 8 && a == 8 && samples == 0 && depth < best_depth) {
             *out = configs[i];
             best_depth = depth;
@@ -152,7 +200,9 @@ static bool choose_config(EGLDisplay d, EGLConfig *out) {
     return found;
 }
 
-static bool egl_open(offscreen *o, int egl_device, char *err, size_t err_size) {
+static bool egl_open(offscreen *o, const offscreen_desc *desc, char *err, size_t err_size) {
+    if (!offscreen_egl_available(desc->egl_library, err, err_size)) return false;
+    const int egl_device = desc->egl_device;
     egl_state *s = calloc(1, sizeof *s);
     if (!s) {
         snprintf(err, err_size, "egl: out of memory");
@@ -171,39 +221,45 @@ static bool egl_open(offscreen *o, int egl_device, char *err, size_t err_size) {
     }
     EGLConfig config;
     const char *failed = NULL;
-    if (!eglBindAPI(EGL_OPENGL_API)) failed = "eglBindAPI(EGL_OPENGL_API)";
+    if (!egl.BindAPI(EGL_OPENGL_API)) failed = "egl.BindAPI(EGL_OPENGL_API)";
     else if (!choose_config(s->display, &config)) failed = "no RGBA8 + depth 24 pbuffer config for desktop GL";
     else {
         const EGLint size[] = { EGL_WIDTH, o->width, EGL_HEIGHT, o->height, EGL_NONE };
-        s->surface = eglCreatePbufferSurface(s->display, config, size);
+        s->surface = egl.CreatePbufferSurface(s->display, config, size);
         if (s->surface == EGL_NO_SURFACE) failed = "eglCreatePbufferSurface";
-        else if ((s->context = eglCreateContext(s->display, config, EGL_NO_CONTEXT, NULL)) == EGL_NO_CONTEXT)
+        else if ((s->context = egl.CreateContext(s->display, config, EGL_NO_CONTEXT, NULL)) == EGL_NO_CONTEXT)
             failed = "eglCreateContext (compatibility profile)";
-        else if (!eglMakeCurrent(s->display, s->surface, s->surface, s->context)) failed = "eglMakeCurrent";
+        else if (!egl.MakeCurrent(s->display, s->surface, s->surface, s->context)) failed = "eglMakeCurrent";
     }
     if (failed) {
-        snprintf(err, err_size, "egl: %s: %s failed (%s) for %dx%d", how, failed, egl_error_name(eglGetError()),
+        snprintf(err, err_size, "egl: %s: %s failed (%s) for %dx%d", how, failed, egl_error_name(egl.GetError()),
                  o->width, o->height);
         o->backend = s;
         offscreen_egl_backend.close(o);
         return false;
     }
     o->backend = s;
-    const char *vendor = eglQueryString(s->display, EGL_VENDOR);
+    const char *vendor = egl.QueryString(s->display, EGL_VENDOR);
     snprintf(o->display, sizeof o->display, "egl: %s, %s", how, vendor ? vendor : "unknown vendor");
     return true;
+}
+
+static bool egl_make_current(offscreen *o) {
+    const egl_state *s = o->backend;
+    return s && egl.MakeCurrent(s->display, s->surface, s->surface, s->context);
 }
 
 static void egl_close(offscreen *o) {
     egl_state *s = o->backend;
     if (!s) return;
-    eglMakeCurrent(s->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-    if (s->context != EGL_NO_CONTEXT) eglDestroyContext(s->display, s->context);
-    if (s->surface != EGL_NO_SURFACE) eglDestroySurface(s->display, s->surface);
+    egl.MakeCurrent(s->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    if (s->context != EGL_NO_CONTEXT) egl.DestroyContext(s->display, s->context);
+    if (s->surface != EGL_NO_SURFACE) egl.DestroySurface(s->display, s->surface);
     free(s);
     o->backend = NULL;
 }
 
 const offscreen_backend offscreen_egl_backend = {
-    .open = egl_open, .close = egl_close, .getproc = egl_getproc, .draws_into_pixels = false,
+    .open = egl_open, .close = egl_close, .make_current = egl_make_current, .getproc = egl_getproc,
+    .draws_into_pixels = false,
 };

@@ -2,7 +2,6 @@
    loaded with dlopen, not linked: a program built here still starts where
    there is no OSMesa (Mesa 25.1 and later, another vendor's driver) and
    draws through EGL instead. */
-#include <dlfcn.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -25,32 +24,17 @@ static struct {
     get_proc_fn get_proc;
 } osmesa;
 
-/* dlsym's data pointer into a function pointer of the same size (POSIX). */
-static bool symbol(const char *name, void *fn_out, size_t fn_size, char *err, size_t err_size) {
-    void *p = dlsym(osmesa.library, name);
-    if (!p) {
-        snprintf(err, err_size, "osmesa: %s: no symbol %s", OSMESA_LIBRARY, name);
-        return false;
-    }
-    memcpy(fn_out, &p, fn_size);
-    return true;
-}
-
-bool offscreen_osmesa_available(char *err, size_t err_size) {
+bool offscreen_osmesa_available(const char *library, char *err, size_t err_size) {
     if (osmesa.library) return true;
-    osmesa.library = dlopen(OSMESA_LIBRARY, RTLD_NOW | RTLD_LOCAL);
-    if (!osmesa.library) {
-        snprintf(err, err_size, "osmesa: %s", dlerror());
-        return false;
-    }
-    if (symbol("OSMesaCreateContextAttribs", &osmesa.create_attribs, sizeof osmesa.create_attribs, err, err_size) &&
-        symbol("OSMesaMakeCurrent", &osmesa.make_current, sizeof osmesa.make_current, err, err_size) &&
-        symbol("OSMesaDestroyContext", &osmesa.destroy, sizeof osmesa.destroy, err, err_size) &&
-        symbol("OSMesaGetProcAddress", &osmesa.get_proc, sizeof osmesa.get_proc, err, err_size))
-        return true;
-    dlclose(osmesa.library);
-    osmesa.library = NULL;
-    return false;
+    const offscreen_symbol symbols[] = {
+        { "OSMesaCreateContextAttribs", &osmesa.create_attribs, sizeof osmesa.create_attribs },
+        { "OSMesaMakeCurrent", &osmesa.make_current, sizeof osmesa.make_current },
+        { "OSMesaDestroyContext", &osmesa.destroy, sizeof osmesa.destroy },
+        { "OSMesaGetProcAddress", &osmesa.get_proc, sizeof osmesa.get_proc },
+    };
+    osmesa.library = offscreen_load_library("osmesa", library ? library : OSMESA_LIBRARY, symbols,
+                                            (int)(sizeof symbols / sizeof symbols[0]), err, err_size);
+    return osmesa.library != NULL;
 }
 
 static void *osmesa_getproc(const char *name) {
@@ -61,12 +45,12 @@ static void *osmesa_getproc(const char *name) {
     return out;
 }
 
-static bool osmesa_open(offscreen *o, int egl_device, char *err, size_t err_size) {
-    if (egl_device >= 0) {
-        snprintf(err, err_size, "osmesa: an EGL device (%d) was asked for: use the egl context", egl_device);
+static bool osmesa_open(offscreen *o, const offscreen_desc *desc, char *err, size_t err_size) {
+    if (desc->egl_device >= 0) {
+        snprintf(err, err_size, "osmesa: an EGL device (%d) was asked for: use the egl context", desc->egl_device);
         return false;
     }
-    if (!offscreen_osmesa_available(err, err_size)) return false;
+    if (!offscreen_osmesa_available(desc->osmesa_library, err, err_size)) return false;
     static const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
                                    OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0 };
     OSMesaContext ctx = osmesa.create_attribs(attribs, NULL);
@@ -84,6 +68,11 @@ static bool osmesa_open(offscreen *o, int egl_device, char *err, size_t err_size
     return true;
 }
 
+static bool osmesa_make_current(offscreen *o) {
+    return o->backend && osmesa.make_current((OSMesaContext)o->backend, o->pixels, GL_UNSIGNED_BYTE, o->width,
+                                             o->height);
+}
+
 static void osmesa_close(offscreen *o) {
     if (!o->backend) return;
     osmesa.make_current(NULL, NULL, 0, 0, 0);
@@ -92,5 +81,6 @@ static void osmesa_close(offscreen *o) {
 }
 
 const offscreen_backend offscreen_osmesa_backend = {
-    .open = osmesa_open, .close = osmesa_close, .getproc = osmesa_getproc, .draws_into_pixels = true,
+    .open = osmesa_open, .close = osmesa_close, .make_current = osmesa_make_current, .getproc = osmesa_getproc,
+    .draws_into_pixels = true,
 };

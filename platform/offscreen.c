@@ -1,5 +1,6 @@
 /* offscreen.c — see offscreen.h: picks the backend, owns the pixels and the
    few GL calls the programs make, answers getproc for the current context. */
+#include <dlfcn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,28 +19,16 @@ bool offscreen_kind_parse(const char *text, offscreen_kind *out) {
     return true;
 }
 
-int offscreen_option(int argc, char **argv, int *i, offscreen_kind *kind, int *egl_device, const char **why) {
-    const char *a = argv[*i];
-    const bool context = strcmp(a, "--context") == 0, device = strcmp(a, "--egl-device") == 0;
-    if (!context && !device) return 0;
-    if (*i + 1 >= argc) {
-        *why = context ? "--context: missing value" : "--egl-device: missing value";
-        return -1;
-    }
-    const char *value = argv[++*i];
-    if (context) {
-        if (offscreen_kind_parse(value, kind)) return 1;
-        *why = "--context: expected osmesa or egl";
-        return -1;
-    }
+const char *offscreen_context_value(const char *value, offscreen_kind *kind) {
+    return offscreen_kind_parse(value, kind) ? NULL : "--context: expected osmesa or egl";
+}
+
+const char *offscreen_device_value(const char *value, int *egl_device) {
     char *end;
     long n = strtol(value, &end, 10);
-    if (*end || end == value || n < 0 || n > 255) {
-        *why = "--egl-device: expected an integer in 0..255";
-        return -1;
-    }
+    if (*end || end == value || n < 0 || n > 255) return "--egl-device: expected an integer in 0..255";
     *egl_device = (int)n;
-    return 1;
+    return NULL;
 }
 
 bool offscreen_options_check(offscreen_kind *kind, int egl_device, const char **why) {
@@ -56,10 +45,32 @@ const char *offscreen_kind_name(offscreen_kind kind) {
     return kind == OFFSCREEN_OSMESA ? "osmesa" : kind == OFFSCREEN_EGL ? "egl" : "auto";
 }
 
-/* OFFSCREEN_AUTO: HAIRTIER_CONTEXT, else osmesa where it loads, else egl. */
-static bool resolve(offscreen_kind kind, offscreen_kind *out, char *err, size_t err_size) {
-    if (kind != OFFSCREEN_AUTO) {
-        *out = kind;
+void *offscreen_load_library(const char *who, const char *library, const offscreen_symbol *symbols, int count,
+                             char *err, size_t err_size) {
+    void *handle = dlopen(library, RTLD_NOW | RTLD_LOCAL);
+    if (!handle) {
+        const char *why = dlerror();
+        snprintf(err, err_size, "%s: %s", who, why ? why : library);
+        return NULL;
+    }
+    for (int i = 0; i < count; i++) {
+        void *p = dlsym(handle, symbols[i].name);
+        if (!p) {
+            snprintf(err, err_size, "%s: %s: no symbol %s", who, library, symbols[i].name);
+            dlclose(handle);
+            return NULL;
+        }
+        memcpy(symbols[i].fn, &p, symbols[i].fn_size); /* data to function pointer: same size on POSIX */
+    }
+    return handle;
+}
+
+/* OFFSCREEN_AUTO: HAIRTIER_CONTEXT, else osmesa where it loads, else egl
+   (osmesa_why then says why not osmesa). */
+static bool resolve(const offscreen_desc *desc, offscreen_kind *out, char *osmesa_why, size_t why_size, char *err,
+                    size_t err_size) {
+    if (desc->kind != OFFSCREEN_AUTO) {
+        *out = desc->kind;
         return true;
     }
     const char *env = getenv("HAIRTIER_CONTEXT");
@@ -68,8 +79,7 @@ static bool resolve(offscreen_kind kind, offscreen_kind *out, char *err, size_t 
         snprintf(err, err_size, "HAIRTIER_CONTEXT: \"%.40s\" is not osmesa or egl", env);
         return false;
     }
-    char why[256];
-    *out = offscreen_osmesa_available(why, sizeof why) ? OFFSCREEN_OSMESA : OFFSCREEN_EGL;
+    *out = offscreen_osmesa_available(desc->osmesa_library, osmesa_why, why_size) ? OFFSCREEN_OSMESA : OFFSCREEN_EGL;
     return true;
 }
 
@@ -92,7 +102,8 @@ static void *load(const offscreen *o, const char *name, char *err, size_t err_si
 
 offscreen *offscreen_open(const offscreen_desc *desc, char *err, size_t err_size) {
     offscreen_kind kind;
-    if (!resolve(desc->kind, &kind, err, err_size)) return NULL;
+    char osmesa_why[512] = "";
+    if (!resolve(desc, &kind, osmesa_why, sizeof osmesa_why, err, err_size)) return NULL;
     if (desc->width < 1 || desc->height < 1 || desc->width > MAX_SIDE || desc->height > MAX_SIDE) {
         snprintf(err, err_size, "%s: size %dx%d outside 1..%d", offscreen_kind_name(kind), desc->width, desc->height,
                  MAX_SIDE);
@@ -110,7 +121,13 @@ offscreen *offscreen_open(const offscreen_desc *desc, char *err, size_t err_size
     o->width = desc->width;
     o->height = desc->height;
     const offscreen_backend *b = backend_of(kind);
-    if (!b->open(o, desc->egl_device, err, err_size)) {
+    if (!b->open(o, desc, err, err_size)) {
+        /* Neither backend: the one line says why not either. */
+        if (osmesa_why[0]) {
+            char egl_why[1024];
+            snprintf(egl_why, sizeof egl_why, "%s", err);
+            snprintf(err, err_size, "no offscreen context: %s; %s", osmesa_why, egl_why);
+        }
         free(o->pixels);
         free(o);
         return NULL;
@@ -129,6 +146,13 @@ offscreen *offscreen_open(const offscreen_desc *desc, char *err, size_t err_size
     }
     o->gl.Viewport(0, 0, o->width, o->height);
     return o;
+}
+
+bool offscreen_make_current(offscreen *o) {
+    const offscreen_backend *b = backend_of(o->kind);
+    if (!b->make_current(o)) return false;
+    current = b;
+    return true;
 }
 
 void offscreen_close(offscreen *o) {

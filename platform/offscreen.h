@@ -1,4 +1,5 @@
-/* offscreen.h — the one place the programs and the tests make a GL context:
+/* offscreen.h — the one place the programs, hairgen --measure and the tests
+   make a GL context:
    an RGBA8 compatibility-profile context with a 24-bit depth buffer, a
    given size, no window, through OSMesa or EGL.
 
@@ -16,11 +17,12 @@
        ... offscreen_row(rgba, o->width, o->height, y) is row y from the top
        offscreen_close(o);
 
-   Backends (offscreen_osmesa.c, offscreen_egl.c): OSMesa is loaded at run
-   time (dlopen of libOSMesa.so.8), so a program runs where Mesa has no
-   OSMesa (removed in Mesa 25.1) or on another vendor's driver; EGL is
-   linked (libEGL, glvnd). OFFSCREEN_AUTO takes HAIRTIER_CONTEXT=osmesa|egl
-   when set, else OSMesa where it loads, else EGL. EGL: eglBindAPI(
+   Backends (offscreen_osmesa.c, offscreen_egl.c): both libraries are
+   loaded at run time (dlopen of libOSMesa.so.8, libEGL.so.1), so a program
+   runs where Mesa has no OSMesa (removed in Mesa 25.1) or on another
+   vendor's driver, and one that links no GL (hairgen) starts without
+   loading Mesa. OFFSCREEN_AUTO takes HAIRTIER_CONTEXT=osmesa|egl when set,
+   else OSMesa where it loads, else EGL. EGL: eglBindAPI(
    EGL_OPENGL_API) and a context with no version or profile attributes (the
    driver's compatibility profile, which MESA_GL_VERSION_OVERRIDE still
    lowers), drawing into a pbuffer surface (a default framebuffer like
@@ -32,11 +34,11 @@
    initialises.
 
    Programs call GL only through the context (o->gl, offscreen_getproc):
-   they link neither libGL nor libOSMesa, so the same binary runs on either
-   backend. One context is current at a time: offscreen_getproc answers for
-   the one opened last. */
-#ifndef HT_EXAMPLES_OFFSCREEN_H
-#define HT_EXAMPLES_OFFSCREEN_H
+   they link neither libGL, libEGL nor libOSMesa, so the same binary runs on
+   either backend. Several contexts may be open; the one opened or made
+   current last is current, and offscreen_getproc answers for it. */
+#ifndef HT_PLATFORM_OFFSCREEN_H
+#define HT_PLATFORM_OFFSCREEN_H
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -53,6 +55,7 @@ typedef struct offscreen_desc {
     offscreen_kind kind;    /* OFFSCREEN_AUTO */
     int width, height;      /* 1..8192 each */
     int egl_device;         /* -1 → the default display chain above; N → EGL device N (egl only) */
+    const char *osmesa_library, *egl_library;   /* NULL → libOSMesa.so.8, libEGL.so.1 */
 } offscreen_desc;
 
 /* The GL calls the programs make themselves, loaded through the context. */
@@ -78,19 +81,22 @@ typedef struct offscreen {
 bool offscreen_kind_parse(const char *text, offscreen_kind *out);
 const char *offscreen_kind_name(offscreen_kind kind);
 
-/* The two options every program takes, `--context osmesa|egl` and
-   `--egl-device N` (0..255): 1 when argv[*i] is one of them (its value
-   taken, *i advanced past it), 0 when it is neither, -1 with *why set when
-   its value is missing or bad. */
-int offscreen_option(int argc, char **argv, int *i, offscreen_kind *kind, int *egl_device, const char **why);
+/* The values of the two options every drawing program takes, `--context
+   osmesa|egl` and `--egl-device N` (0..255): NULL, or why the value is
+   refused (one line naming the option). */
+const char *offscreen_context_value(const char *value, offscreen_kind *kind);
+const char *offscreen_device_value(const char *value, int *egl_device);
 /* After the options: --egl-device implies egl (true), and is refused with
    --context osmesa (false, *why set). egl_device < 0: not given. */
 bool offscreen_options_check(offscreen_kind *kind, int egl_device, const char **why);
 
 /* A current context with the viewport covering it; NULL with one line in
-   err ("egl: no display: ...", "osmesa: libOSMesa.so.8 not found: ...",
-   "HAIRTIER_CONTEXT: \"x\" is not osmesa or egl") when it cannot be made. */
+   err ("egl: no display: ...", "osmesa: libOSMesa.so.8: cannot open ...",
+   "HAIRTIER_CONTEXT: \"x\" is not osmesa or egl"; with OFFSCREEN_AUTO
+   and neither library loading, both reasons) when it cannot be made. */
 offscreen *offscreen_open(const offscreen_desc *desc, char *err, size_t err_size);
+/* Makes o current again (after another was opened or made current). */
+bool offscreen_make_current(offscreen *o);
 void offscreen_close(offscreen *o);
 /* The current context's entry point for name (ht_renderer_desc.getproc). */
 void *offscreen_getproc(const char *name);
