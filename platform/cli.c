@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "errfmt.h"
+
 #ifndef HT_VERSION
 #error "HT_VERSION: the Makefile passes its VERSION"
 #endif
@@ -22,8 +24,10 @@ const char *cli_take_nothing(void *user, int key, const char *value) {
     return cli_unexpected(value);
 }
 
+/* why may quote an argument: one line whatever it holds (errfmt.h). */
 int cli_usage_error(const cli_program *p, const char *why) {
-    fprintf(stderr, "%s: %s\n%s", p->name, why, p->synopsis);
+    ht_print_line(stderr, "%s: %s", p->name, why);
+    fputs(p->synopsis, stderr);
     return 2;
 }
 

@@ -90,6 +90,14 @@ static void assert_one_line(const char *want) {
     if (!strstr(err, want) || !nl || nl[1]) fail_msg("wanted one line with \"%s\", got: %s", want, err);
 }
 
+/* A usage error: one line holding want, then only the synopsis. */
+static void assert_one_line_then_usage(const char *want) {
+    const char *err = ht_test_read_file(work, "err.txt");
+    const char *nl = strchr(err, '\n');
+    if (!nl || !strstr(err, want) || strstr(err, want) > nl || strncmp(nl + 1, "usage: ", 7) != 0)
+        fail_msg("wanted one line with \"%s\" and the usage after it, got: %s", want, err);
+}
+
 static void copy_material(const char *name) {
     char from[PATH_MAX + 64];
     snprintf(from, sizeof from, "%s/materials/kajiya-kay.json", repo);
@@ -348,7 +356,7 @@ static void test_hairgen_lines_escape_a_newline_in_a_file_name(void **state) {
     const char *out = ht_test_read_file(work, "out.txt");
     if (!strstr(out, "hairgen: [1/1] a\\nb.json -> out/a\\nb: ")) fail_msg("%s", out);
     assert_int_equal(run_hairgen("'--x\ny'"), 2);
-    assert_one_line("hairgen: --x\\ny: unknown option");
+    assert_one_line_then_usage("hairgen: --x\\ny: unknown option");
 }
 
 int main(void) {

@@ -263,7 +263,7 @@ static void test_manifest_refuses_bad_flip_numbers_naming_the_field(void **state
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         char text[4096], err[512];
         snprintf(text, sizeof text,
-                 "{\"format\": \"hairtier-bundle/1\", \"lights\": [\"directional\"], \"opaque_cutoff\": 0.9, \"tiers\": ["
+                 "{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"lights\": [\"directional\"], \"opaque_cutoff\": 0.9, \"tiers\": ["
                  TIER("gl11", "{\"gl\": \"1.1\", \"glsl\": null}", "{\"program\": \"gl11.json\"}",
                       ", \"measured\": {\"psnr_db\": 30, \"ssim\": 0.9, \"delta_e00_mean\": 1, \"delta_e00_p95\": 2,"
                       " \"cost_ratio\": 1, %s}") "]}",
