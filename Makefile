@@ -144,7 +144,7 @@ $(SHLIB): $(call obj,$(RUNTIME_SRC))
 # libhairgen.so carries the runtime pieces it uses privately (exclude-libs),
 # and the offscreen context measure.c draws in; an application gets the
 # runtime's API from libhairtier.so.
-$(GENSHLIB): $(call obj,$(GEN_SRC)) $(patsubst %.cpp,$(BUILD)/obj/%.o,$(GEN_CXX_SRC)) $(LIB) $(PLATLIB)
+$(GENSHLIB): $(call obj,$(GEN_SRC)) $(patsubst %.cpp,$(BUILD)/obj/%.o,$(GEN_CXX_SRC)) $(PLATLIB) $(LIB)
 	$(call shared_library,$(BUILD)/lib/libhairgen.so,$^ $(GLSLANG_LIBS) $(GEN_LIBS) $(CORE_LIBS))
 
 $(LIB): $(call obj,$(RUNTIME_SRC))
@@ -171,23 +171,23 @@ $(BUILD)/obj/platform/cli.o $(BUILD)/obj/tests/test_programs.o: Makefile
 # loads libOSMesa or libEGL with dlopen, platform/offscreen.c), libstdc++,
 # libdeflate, libpng and zlib linked in, not position-independent, so a
 # start relocates almost nothing.
-$(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(LIB) $(PLATLIB)
+$(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(PLATLIB) $(LIB)
 	$(CC) $(LDFLAGS) -no-pie $^ $(filter-out -lstdc++,$(GLSLANG_LIBS)) \
 	  -Wl,-Bstatic -lstdc++ $(GEN_LIBS) -lpng16 -lz -Wl,-Bdynamic -lcjson -lpthread -lm -o $@
 
 # hairview draws a bundle: the runtime only, no generator, no glslang.
-$(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(EXLIB) $(LIB) $(PLATLIB)
+$(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(EXLIB) $(PLATLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) $(OFFSCREEN_LIBS) -o $@
 
 # png_metrics compares two PNGs: the generator's metrics (libhairgen), no
 # GL (it runs on a device machine beside hairview).
-$(BUILD)/png_metrics: $(BUILD)/obj/examples/png_metrics.o $(GENLIB) $(LIB) $(PLATLIB)
+$(BUILD)/png_metrics: $(BUILD)/obj/examples/png_metrics.o $(GENLIB) $(PLATLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) -o $@
 
 # The programs that draw get the context module from EXLIB: OSMesa by
 # dlopen, EGL linked; libOSMesa stays off their NEEDED list (--as-needed,
 # GCC's default here), so they start where there is no OSMesa.
-$(BUILD)/%: $(BUILD)/obj/examples/%.o $(EXLIB) $(GENLIB) $(LIB) $(PLATLIB)
+$(BUILD)/%: $(BUILD)/obj/examples/%.o $(EXLIB) $(GENLIB) $(PLATLIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) $(OFFSCREEN_LIBS) -o $@
 
 # The benchmarks' modules are tested like the library's (tests/test_bench_*.c);
@@ -202,7 +202,7 @@ $(TESTLIB): $(call obj,$(TEST_SUPPORT_SRC))
 	@rm -f $@
 	ar rcs $@ $^
 
-$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(TESTLIB) $(EXLIB) $(GENLIB) $(LIB) $(PLATLIB)
+$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(TESTLIB) $(EXLIB) $(GENLIB) $(PLATLIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) $(OFFSCREEN_LIBS) -lcmocka -o $@
 

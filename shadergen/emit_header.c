@@ -256,26 +256,3 @@ ht_result ht_bundle_header_write(const ht_generated *g, const char *material_nam
     free(text);
     return r;
 }
-
-ht_result ht_generate_header(const char *material_path, const char *scene_path, const char *path,
-                             const char *symbol, FILE *summary, char *err, size_t err_size) {
-    /* A bad symbol or output path is refused before anything is generated. */
-    if (symbol) {
-        ht_result r = ht_header_symbol_check(symbol, err, err_size);
-        if (r != HT_OK) return r;
-    }
-    if (path) {
-        ht_result r = ht_file_check_output(path, err, err_size);
-        if (r != HT_OK) return r;
-    }
-    ht_material material;
-    ht_generated g;
-    ht_result r = ht_generate_files(material_path, scene_path, &material, &g, err, err_size);
-    if (r == HT_OK) r = ht_bundle_header_write(&g, material.name, symbol, path, err, err_size);
-    if (r == HT_OK && summary) {
-        ht_print_line(summary, "hairgen: %s -> %s", material.name, path);
-        fputs(g.summary, summary);
-    }
-    ht_generated_free(&g);
-    return r;
-}
