@@ -293,23 +293,6 @@ static ht_result check_fail(const check_ctx *c, const char *field, const char *f
     return HT_ERR_INVALID_ARGUMENT;
 }
 
-/* v in [lo, hi] and finite; %.17g names the value exactly. */
-static ht_result check_number(const check_ctx *c, const char *field, double v, double lo, double hi) {
-    if (!isfinite(v)) return check_fail(c, field, "must be a finite number, got %g", v);
-    if (v < lo || v > hi) return check_fail(c, field, "must be in [%g, %g], got %.17g", lo, hi, v);
-    return HT_OK;
-}
-
-static ht_result check_color(const check_ctx *c, const char *parent, const double color[3]) {
-    for (int i = 0; i < 3; i++) {
-        char field[64];
-        snprintf(field, sizeof field, "%s.color[%d]", parent, i);
-        ht_result r = check_number(c, field, color[i], 0, 1);
-        if (r != HT_OK) return r;
-    }
-    return HT_OK;
-}
-
 ht_result ht_material_check(const ht_material *m, char *err, size_t err_size) {
     check_ctx c = { "<material>", err, err_size };
     if (!m) return check_fail(&c, "material", "required");
@@ -327,10 +310,13 @@ ht_result ht_material_check(const ht_material *m, char *err, size_t err_size) {
     if (s->model != HT_MODEL_SCHEUERMANN && s->model != HT_MODEL_KAJIYA_KAY && s->model != HT_MODEL_MARSCHNER)
         return check_fail(&c, "model", "unknown model %d", (int)s->model);
     bool kk = s->model == HT_MODEL_KAJIYA_KAY, marschner = s->model == HT_MODEL_MARSCHNER;
-    ht_result r = check_color(&c, "diffuse", s->diffuse_color);
+    /* Marschner's constants are its own; its diffuse colour is checked as
+       every shading's is. */
+    ht_result r = HT_OK;
     if (marschner) {
+        if (!ht_shading_check_color(s->diffuse_color, c.file, "diffuse", err, err_size)) r = HT_ERR_INVALID_ARGUMENT;
         if (r == HT_OK) r = ht_material_check_marschner(c.file, &s->marschner, err, err_size);
-    } else if (r == HT_OK && !ht_shading_check(s, c.file, err, err_size)) {
+    } else if (!ht_shading_check(s, c.file, err, err_size)) {
         r = HT_ERR_INVALID_ARGUMENT;
     }
     if (r != HT_OK) return r;

@@ -25,7 +25,7 @@ static bool number_ok(const char *file, const char *field, double v, double lo, 
     return true;
 }
 
-static bool color_ok(const char *file, const char *parent, const double color[3], char *err, size_t err_size) {
+bool ht_shading_check_color(const double color[3], const char *file, const char *parent, char *err, size_t err_size) {
     for (int i = 0; i < 3; i++) {
         char field[64];
         snprintf(field, sizeof field, "%s.color[%d]", parent, i);
@@ -36,7 +36,7 @@ static bool color_ok(const char *file, const char *parent, const double color[3]
 
 static bool lobe_ok(const char *file, const char *name, const ht_lobe *l, char *err, size_t err_size) {
     char field[64];
-    if (!color_ok(file, name, l->color, err, err_size)) return false;
+    if (!ht_shading_check_color(l->color, file, name, err, err_size)) return false;
     snprintf(field, sizeof field, "%s.exponent", name);
     if (!number_ok(file, field, l->exponent, 0, HT_LIMIT_EXPONENT, err, err_size)) return false;
     snprintf(field, sizeof field, "%s.shift", name);
@@ -46,7 +46,7 @@ static bool lobe_ok(const char *file, const char *name, const ht_lobe *l, char *
 bool ht_shading_check(const ht_shading *s, const char *file, char *err, size_t err_size) {
     if (s->model != HT_MODEL_SCHEUERMANN && s->model != HT_MODEL_KAJIYA_KAY)
         return field_fail(file, "model", err, err_size, "unknown model %d", (int)s->model);
-    return color_ok(file, "diffuse", s->diffuse_color, err, err_size) &&
+    return ht_shading_check_color(s->diffuse_color, file, "diffuse", err, err_size) &&
            number_ok(file, "diffuse.wrap", s->wrap, 0, 1, err, err_size) &&
            lobe_ok(file, "primary", &s->primary, err, err_size) &&
            (s->model == HT_MODEL_KAJIYA_KAY || lobe_ok(file, "secondary", &s->secondary, err, err_size));

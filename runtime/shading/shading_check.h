@@ -19,5 +19,7 @@
    shading's secondary lobe is not looked at); else false and one line in
    err naming file and field. Marschner shadings are the caller's. */
 bool ht_shading_check(const ht_shading *s, const char *file, char *err, size_t err_size);
+/* One colour, each channel finite and in [0, 1]: "FILE: PARENT.color[i]: ...". */
+bool ht_shading_check_color(const double color[3], const char *file, const char *parent, char *err, size_t err_size);
 
 #endif
