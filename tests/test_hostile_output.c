@@ -107,6 +107,21 @@ static void copy_material(const char *name) {
     free(text);
 }
 
+/* hairgen with args (a printf format taking the target's name) exits 1
+   with one line holding want, leaves the target as it was and, when
+   no_bundle, writes no ./bundle either. */
+static void expect_hairgen_refuses(const char *args_format, const char *name, const char *want, bool no_bundle) {
+    char args[256];
+    snprintf(args, sizeof args, args_format, name);
+    assert_int_equal(run_hairgen(args), 1);
+    assert_one_line(want);
+    assert_untouched(name);
+    if (!no_bundle) return;
+    char bundle[128];
+    snprintf(bundle, sizeof bundle, "%s/bundle", work);
+    assert_false(ht_test_path_exists(bundle));
+}
+
 /* The atomic writer behind hairview -o and the benchmarks' files. */
 static void test_png_writer_refuses_a_fifo_or_device_and_leaves_it(void **state) {
     (void)state;
@@ -131,16 +146,8 @@ static void test_hairgen_depfile_refuses_a_fifo_or_device_before_any_work(void *
     (void)state;
     copy_material("kk.json");
     const char *names[2];
-    for (int i = 0, n = targets(names); i < n; i++) {
-        char args[256];
-        snprintf(args, sizeof args, "kk.json -o bundle -MF %s", names[i]);
-        assert_int_equal(run_hairgen(args), 1);
-        assert_one_line("exists and is not a regular file");
-        assert_untouched(names[i]);
-        char bundle[128];
-        snprintf(bundle, sizeof bundle, "%s/bundle", work);
-        assert_false(ht_test_path_exists(bundle));
-    }
+    for (int i = 0, n = targets(names); i < n; i++)
+        expect_hairgen_refuses("kk.json -o bundle -MF %s", names[i], "exists and is not a regular file", true);
 }
 
 static void test_hairgen_per_bundle_depfile_refuses_a_fifo(void **state) {
@@ -161,19 +168,10 @@ static void test_hairgen_emit_header_refuses_a_fifo_or_device(void **state) {
     copy_material("kk.json");
     const char *names[2];
     for (int i = 0, n = targets(names); i < n; i++) {
-        char args[256];
-        snprintf(args, sizeof args, "kk.json --emit-header %s", names[i]);
-        assert_int_equal(run_hairgen(args), 1);
-        assert_one_line("exists and is not a regular file");
-        assert_untouched(names[i]);
+        expect_hairgen_refuses("kk.json --emit-header %s", names[i], "exists and is not a regular file", false);
         /* with -o too: neither the bundle nor the header is written */
-        snprintf(args, sizeof args, "kk.json -o bundle --emit-header %s", names[i]);
-        assert_int_equal(run_hairgen(args), 1);
-        assert_one_line("exists and is not a regular file");
-        assert_untouched(names[i]);
-        char bundle[128];
-        snprintf(bundle, sizeof bundle, "%s/bundle", work);
-        assert_false(ht_test_path_exists(bundle));
+        expect_hairgen_refuses("kk.json -o bundle --emit-header %s", names[i], "exists and is not a regular file",
+                               true);
     }
 }
 
@@ -181,13 +179,8 @@ static void test_hairgen_bundle_refuses_a_fifo_or_device_as_its_folder(void **st
     (void)state;
     copy_material("kk.json");
     const char *names[2];
-    for (int i = 0, n = targets(names); i < n; i++) {
-        char args[256];
-        snprintf(args, sizeof args, "kk.json -o %s", names[i]);
-        assert_int_equal(run_hairgen(args), 1);
-        assert_one_line("exists and is not a directory");
-        assert_untouched(names[i]);
-    }
+    for (int i = 0, n = targets(names); i < n; i++)
+        expect_hairgen_refuses("kk.json -o %s", names[i], "exists and is not a directory", false);
 }
 
 /* Row 2: a FIFO where the old bundle's manifest would be. */
