@@ -28,6 +28,7 @@
 #include "file_atomic.h"
 #include <hairtier/hairgen.h>
 #include <hairtier/hairtier.h>
+#include "flip.h"
 #include "metrics.h"
 #include "offscreen.h"
 #include <hairtier/scene.h>
@@ -58,6 +59,7 @@ typedef struct contender {
     uint64_t cpu_still, cpu_orbit;   /* per-vertex CPU work over the timed frames */
     unsigned char *image;    /* the last timed frame, GL rows; what the metrics compare */
     ht_metrics whole, hair;  /* against full's image */
+    ht_flip_result flip;     /* the same, LDR-FLIP */
 } contender;
 
 /* What every frame of the run draws: the scene's view, lights and head. */
@@ -143,7 +145,10 @@ static bool measure_errors(contender *c, int count) {
         if (!c[k].renderer) continue;
         if (ht_metrics_compare(&(ht_metrics_desc){ .reference = c[1].image, .test = c[k].image, .width = WIDTH,
                                                    .height = HEIGHT },
-                               &c[k].whole, &c[k].hair, err, sizeof err) != HT_OK) {
+                               &c[k].whole, &c[k].hair, err, sizeof err) != HT_OK ||
+            ht_flip_compare(&(ht_flip_desc){ .reference = c[1].image, .test = c[k].image, .width = WIDTH,
+                                             .height = HEIGHT },
+                            NULL, &c[k].flip, err, sizeof err) != HT_OK) {
             fprintf(stderr, "bench_frame: %s: %s\n", c[k].name, err);
             return false;
         }
@@ -202,6 +207,7 @@ static bool write_csv(const contender *c, int count, const ht_scene *scene, uint
         r->per_floor = r->median_ms / floor_ms;
         r->per_full = r->median_ms / full_ms;
         r->whole = c[k].whole, r->hair = c[k].hair;
+        r->flip_mean = c[k].flip.mean, r->flip_p95 = c[k].flip.p95;
         r->cpu_still = (double)c[k].cpu_still / FRAMES;
         r->cpu_orbit = ORBIT ? (double)c[k].cpu_orbit / FRAMES : NAN;
         r->orbit_ms = ORBIT ? median_orbit_ms(&c[k]) : NAN;
@@ -217,10 +223,10 @@ static bool write_csv(const contender *c, int count, const ht_scene *scene, uint
 static void print_table(const contender *c, int count) {
     const double floor_ms = median_ms(&c[0]), full_ms = median_ms(&c[1]);
     const double full_orbit = ORBIT ? median_orbit_ms(&c[1]) : NAN;
-    printf("  %-14s %31s %21s %22s %9s\n", "", "camera still", "eye orbiting", "CPU vertices per frame",
-           "PSNR dB");
-    printf("  %-14s %9s %10s %10s %10s %10s %11s %10s %9s\n", "", "median", "/ floor", "/ full", "median", "/ full",
-           "still", "orbiting", "vs full");
+    printf("  %-14s %31s %21s %22s %9s %9s\n", "", "camera still", "eye orbiting", "CPU vertices per frame",
+           "PSNR dB", "FLIP");
+    printf("  %-14s %9s %10s %10s %10s %10s %11s %10s %9s %9s\n", "", "median", "/ floor", "/ full", "median", "/ full",
+           "still", "orbiting", "vs full", "mean");
     for (int k = 0; k < count; k++) {
         if (!c[k].renderer) {
             printf("  %-14s       n/a (does not run here)\n", c[k].name);
@@ -234,8 +240,9 @@ static void print_table(const contender *c, int count) {
             snprintf(orbit_ms, sizeof orbit_ms, "%.2f ms", oms);
             snprintf(orbit_ratio, sizeof orbit_ratio, "%.2fx", oms / full_orbit);
         }
-        printf("  %-14s %8.2f ms %9.2fx %9.2fx %10s %10s %11.0f %10s %9.1f\n", c[k].name, ms, ms / floor_ms,
-               ms / full_ms, orbit_ms, orbit_ratio, (double)c[k].cpu_still / FRAMES, orbit, c[k].whole.psnr_db);
+        printf("  %-14s %8.2f ms %9.2fx %9.2fx %10s %10s %11.0f %10s %9.1f %9.4f\n", c[k].name, ms, ms / floor_ms,
+               ms / full_ms, orbit_ms, orbit_ratio, (double)c[k].cpu_still / FRAMES, orbit, c[k].whole.psnr_db,
+               c[k].flip.mean);
     }
 }
 

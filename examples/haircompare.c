@@ -103,6 +103,10 @@ static ht_result compare_tier(const options *o, const char *tmp, const tier_scen
     const ht_metrics_desc d = { .reference = ref->rgba, .test = frame->rgba, .width = s->width, .height = s->height,
                                 .background = bg };
     ht_result r = ht_metrics_compare(&d, &p->whole, &p->hair, err, err_size);
+    if (r == HT_OK)
+        r = ht_flip_compare(&(ht_flip_desc){ .reference = ref->rgba, .test = frame->rgba, .width = s->width,
+                                             .height = s->height },
+                            NULL, &p->flip, err, err_size);
     if (r != HT_OK) return r;
     p->cost_ratio = frame->frame_ms / ref->frame_ms;
     p->compared = true;
@@ -165,14 +169,16 @@ static ht_result write_crops(const options *o, const char *tmp, report *rep, con
 
 static void print_table(const report *r) {
     printf("against %s:\n", report_reference_name(r));
-    printf("%-7s %9s %6s %7s %7s %7s %7s\n", "tier", "frame_ms", "cost", "psnr_db", "ssim", "de_mean", "de_p95");
+    printf("%-7s %9s %6s %7s %7s %7s %7s %9s %8s\n", "tier", "frame_ms", "cost", "psnr_db", "ssim", "de_mean", "de_p95",
+           "flip_mean", "flip_p95");
     for (int t = 0; t < r->tier_count; t++) {
         const report_tier *p = &r->tiers[t];
         if (!p->ran) printf("%-7s not run: %s\n", p->name, p->reason);
         else if (!p->compared) printf("%-7s %9.2f\n", p->name, p->frame_ms);
         else
-            printf("%-7s %9.2f %6.2f %7.2f %7.4f %7.3f %7.3f\n", p->name, p->frame_ms, p->cost_ratio, p->whole.psnr_db,
-                   p->whole.ssim, p->whole.delta_e00_mean, p->whole.delta_e00_p95);
+            printf("%-7s %9.2f %6.2f %7.2f %7.4f %7.3f %7.3f %9.4f %8.4f\n", p->name, p->frame_ms, p->cost_ratio,
+                   p->whole.psnr_db, p->whole.ssim, p->whole.delta_e00_mean, p->whole.delta_e00_p95, p->flip.mean,
+                   p->flip.p95);
     }
 }
 

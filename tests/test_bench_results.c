@@ -47,6 +47,7 @@ static void frame_row(bench_rows *rows, const char *series, const char *scene, c
     r->whole = (ht_metrics){ .psnr_db = psnr, .ssim = isinf(psnr) ? 1 : 0.95, .delta_e00_mean = 0.5,
                              .delta_e00_p95 = 2.25 };
     r->hair = r->whole;
+    r->flip_mean = isinf(psnr) ? 0 : (50 - psnr) / 1000, r->flip_p95 = 2 * r->flip_mean;
     r->cpu_still = 0, r->cpu_orbit = strcmp(tier, "fixed") == 0 ? 320000 : 0;
 }
 
@@ -147,7 +148,7 @@ static void test_reading_appends_to_what_is_there(void **state) {
    the rows already held stay as they were. */
 static void test_bad_files_are_refused_with_the_place_named(void **state) {
     (void)state;
-    const char *good = "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,200,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,";
+    const char *good = "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,200,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,0,0,,,";
     char text[1024];
     const struct {
         const char *body;   /* after the header; NULL: the header itself is wrong */
@@ -156,23 +157,23 @@ static void test_bad_files_are_refused_with_the_place_named(void **state) {
         { NULL, "header: not the benchmark's columns" },
         { "matrix,furball\n", "line 3: wrong number of fields" },
         { "matrix,\"furball,llvmpipe\n", "line 3: unterminated quote" },
-        { "matrix,fur\"ball,llvmpipe,x,10,300,512,512,9,full,1,200,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
+        { "matrix,fur\"ball,llvmpipe,x,10,300,512,512,9,full,1,200,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,0,0,,,\n",
           "line 3: quote inside an unquoted field" },
-        { "matrix,furball,llvmpipe,x,ten,300,512,512,9,full,1,200,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
+        { "matrix,furball,llvmpipe,x,ten,300,512,512,9,full,1,200,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,0,0,,,\n",
           "line 3: hairs: not a count" },
-        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,yes,200,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
+        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,yes,200,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,0,0,,,\n",
           "line 3: ran: not 0 or 1" },
-        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,fast,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
+        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,fast,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,0,0,,,\n",
           "line 3: median_ms: not a number" },
-        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,nan,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
+        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,nan,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,0,0,,,\n",
           "line 3: median_ms: not a number" },
-        { "a-series-name-too-long,furball,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
+        { "a-series-name-too-long,furball,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,0,0,,,\n",
           "line 3: series: text too long for its column" },
-        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,,\n",
+        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,0,0,,,,\n",
           "line 3: wrong number of fields" },
-        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,,,,,\n",
+        { "matrix,furball,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,0,0,,,,,,,\n",
           "line 3: wrong number of fields" },
-        { "matrix,\"furball\"x,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,,,\n",
+        { "matrix,\"furball\"x,llvmpipe,x,10,300,512,512,9,full,1,1,2,1,200,1,inf,1,0,0,inf,1,0,0,0,0,0,0,,,\n",
           "line 3: text after a closing quote" },
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
@@ -247,8 +248,8 @@ static void test_markdown_has_a_table_per_run_the_scaling_table_and_figures(void
     assert_non_null(strstr(md, "### furball × llvmpipe\n"));
     assert_non_null(strstr(md, "### furball × softpipe\n"));
     /* full: infinite PSNR against itself; fixed: ratios from its own run. */
-    assert_non_null(strstr(md, "| full | 150.0 | 1.50 | 1.00 | 150.0 | 1.00 | ∞ | 1.0000 | 0.50 | 2.25 | 0 / 0 |"));
-    assert_non_null(strstr(md, "| fixed | 200.0 | 2.00 | 1.33 | 400.0 | 2.67 | 40.0 | 0.9500 | 0.50 | 2.25 | 0 / 320000 |"));
+    assert_non_null(strstr(md, "| full | 150.0 | 1.50 | 1.00 | 150.0 | 1.00 | ∞ | 1.0000 | 0.50 | 2.25 | 0.0000 | 0 / 0 |"));
+    assert_non_null(strstr(md, "| fixed | 200.0 | 2.00 | 1.33 | 400.0 | 2.67 | 40.0 | 0.9500 | 0.50 | 2.25 | 0.0100 | 0 / 320000 |"));
     assert_non_null(strstr(md, "| fixed | does not run here |"));
     assert_non_null(strstr(md, "## Scaling: furball × llvmpipe, 512×512"));
     const char *r1k = strstr(md, "\n| 1000 | 30000 | 10.0 (0.50×) |");
@@ -260,6 +261,26 @@ static void test_markdown_has_a_table_per_run_the_scaling_table_and_figures(void
     assert_non_null(strstr(md, "| hairgen, all tiers of dark-brown | 48 | ms |"));
     free(md);
     bench_rows_free(&rows);
+}
+
+/* Under each run's table: whether PSNR and FLIP rank its shading tiers
+   alike, and the first pair they disagree on. */
+static void test_markdown_says_whether_psnr_and_flip_rank_tiers_alike(void **state) {
+    (void)state;
+    const char *tiers[] = { "floor", "full", "vertex", "fixed", "gl11" };
+    const double psnr[] = { 14, INFINITY, 34, 31, 30 };
+    for (int disagree = 0; disagree < 2; disagree++) {
+        bench_rows rows = { 0 };
+        for (int t = 0; t < 5; t++) frame_row(&rows, "matrix", "furball", "llvmpipe", 10000, tiers[t], 150, 150, psnr[t]);
+        if (disagree) rows.row[4].flip_mean = 0.005; /* gl11: lower PSNR than fixed, yet closer by FLIP */
+        char *md = to_text(write_md, &rows);
+        const char *want = disagree ? "PSNR and FLIP disagree on 2 of the 3 pairs both tell apart; first: PSNR ranks "
+                                      "vertex closer, FLIP gl11.\n"
+                                    : "PSNR and FLIP rank these 3 tiers alike (3 pairs both tell apart).\n";
+        if (!strstr(md, want)) fail_msg("no '%s' in:\n%s", want, md);
+        free(md);
+        bench_rows_free(&rows);
+    }
 }
 
 static void test_markdown_of_no_rows_is_only_the_title(void **state) {
@@ -289,6 +310,7 @@ int main(void) {
         cmocka_unit_test(test_bad_files_are_refused_with_the_place_named),
         cmocka_unit_test(test_views_group_runs_and_order_the_scaling_series),
         cmocka_unit_test(test_markdown_has_a_table_per_run_the_scaling_table_and_figures),
+        cmocka_unit_test(test_markdown_says_whether_psnr_and_flip_rank_tiers_alike),
         cmocka_unit_test(test_markdown_of_no_rows_is_only_the_title),
         cmocka_unit_test(test_md_numbers_show_not_applicable_and_infinity),
     };

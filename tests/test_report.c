@@ -97,6 +97,7 @@ static void sample_report(report *r) {
     vertex->whole = (ht_metrics){ .psnr_db = 34.437, .ssim = 0.96891, .delta_e00_mean = 0.5249,
                                   .delta_e00_p95 = 3.2204 };
     vertex->hair = (ht_metrics){ .psnr_db = 25.0, .ssim = 0.8, .delta_e00_mean = 2.611, .delta_e00_p95 = 9.28 };
+    vertex->flip = (ht_flip_result){ .mean = 0.04321, .p95 = 0.1875 };
     add_dropped(vertex, "sparkle: approximated by its mean <0.134> & more");
     *fixed = (report_tier){ .name = "fixed", .needs = "GL 1.2, GL_ARB_multitexture", .tier = HT_TIER_FIXED,
                             .known = true,
@@ -106,6 +107,7 @@ static void sample_report(report *r) {
                            .frame_ms = 13.1, .compared = true, .cost_ratio = 1.31, .image = "gl11.png",
                            .heatmap = "gl11-error.png" };
     gl11->whole = (ht_metrics){ .psnr_db = 34.18, .ssim = 0.9667, .delta_e00_mean = 0.7204, .delta_e00_p95 = 3.53 };
+    gl11->flip = (ht_flip_result){ .mean = 0.05, .p95 = 0.2 };
 }
 
 /* The text of the table row whose header cell is `name` (in a static buffer). */
@@ -135,9 +137,9 @@ static void test_table_has_a_row_per_tier_with_its_numbers_needs_and_drops(void 
     const char *vertex = row_of(t, "vertex");
     expect_in(vertex, "<td class=\"num\">5.2</td><td class=\"num\">0.53&times;</td><td class=\"num\">34.4</td>"
                       "<td class=\"num\">0.9689</td><td class=\"num\">0.52</td><td class=\"num\">3.22</td>"
-                      "<td class=\"num\">2.61 / 9.28</td>");
+                      "<td class=\"num\">0.0432 / 0.1875</td><td class=\"num\">2.61 / 9.28</td>");
     const char *fixed = row_of(t, "fixed");
-    expect_in(fixed, "<td colspan=\"7\" class=\"notrun\">not run: fixed: needs &lt;script&gt;alert(1)&lt;/script&gt;</td>");
+    expect_in(fixed, "<td colspan=\"8\" class=\"notrun\">not run: fixed: needs &lt;script&gt;alert(1)&lt;/script&gt;</td>");
     assert_null(strstr(t, "<script"));
     free(t);
 
@@ -153,6 +155,27 @@ static void test_table_has_a_row_per_tier_with_its_numbers_needs_and_drops(void 
     report_free(&r);
 }
 
+/* Under the table: whether PSNR and FLIP rank the compared tiers (the
+   reference aside) alike, naming the first pair they disagree on. */
+static void test_table_says_whether_psnr_and_flip_rank_tiers_alike(void **state) {
+    (void)state;
+    report r;
+    sample_report(&r);
+    capture c;
+    report_write_table(capture_open(&c), &r);
+    char *t = capture_close(&c);
+    expect_in(t, "<p class=\"note order\">PSNR and FLIP rank the 2 compared tiers alike (1 pair both tell apart).</p>");
+    free(t);
+    for (int t2 = 0; t2 < r.tier_count; t2++)
+        if (!strcmp(r.tiers[t2].name, "gl11")) r.tiers[t2].flip.mean = 0.01; /* lower PSNR, yet closer by FLIP */
+    report_write_table(capture_open(&c), &r);
+    t = capture_close(&c);
+    expect_in(t, "PSNR and FLIP disagree on 1 of the 1 pairs both tell apart; first: PSNR ranks <b>vertex</b> "
+                 "closer, FLIP <b>gl11</b>.</p>");
+    free(t);
+    report_free(&r);
+}
+
 /* The manifest's measured numbers sit beside this run's, in the
    manifest's precision, labelled; a tier without them says so, and a
    bundle without any says that instead of showing empty columns. */
@@ -161,11 +184,11 @@ static void test_table_shows_the_bundles_measured_numbers_beside_its_own(void **
     report r;
     sample_report(&r);
     r.tiers[0].measured = (ht_manifest_measured){ .present = true, .psnr_db = INFINITY, .ssim = 1.0,
-                                                  .cost_ratio = 1.0, .scene = "furball.json",
+                                                  .flip_mean = NAN, .flip_p95 = NAN, .cost_ratio = 1.0, .scene = "furball.json",
                                                   .driver = "llvmpipe <LLVM>" };
     r.tiers[1].measured = (ht_manifest_measured){ .present = true, .psnr_db = 41.23, .ssim = 0.9712,
                                                   .delta_e00_mean = 0.431, .delta_e00_p95 = 2.875,
-                                                  .cost_ratio = 0.6789, .scene = "furball.json",
+                                                  .flip_mean = 0.0412, .flip_p95 = 0.1799, .cost_ratio = 0.6789, .scene = "furball.json",
                                                   .driver = "llvmpipe <LLVM>" };
     capture c;
     report_write_table(capture_open(&c), &r);
@@ -174,9 +197,12 @@ static void test_table_shows_the_bundles_measured_numbers_beside_its_own(void **
     expect_in(row_of(t, "vertex"), "<td class=\"num\">2.61 / 9.28</td>"
                                    "<td class=\"num measured\">0.68&times;</td><td class=\"num measured\">41.23</td>"
                                    "<td class=\"num measured\">0.9712</td><td class=\"num measured\">0.431</td>"
-                                   "<td class=\"num measured\">2.875</td>");
+                                   "<td class=\"num measured\">2.875</td>"
+                                   "<td class=\"num measured\">0.0412 / 0.1799</td>");
     expect_in(row_of(t, "full"), "<td class=\"num measured\">&infin;</td>");
-    expect_in(row_of(t, "gl11"), "<td colspan=\"5\" class=\"measured none\">not measured</td>");
+    /* measured before FLIP: the manifest has no flip numbers (NaN) */
+    expect_in(row_of(t, "full"), "<td class=\"num measured\">n/a / n/a</td>");
+    expect_in(row_of(t, "gl11"), "<td colspan=\"6\" class=\"measured none\">not measured</td>");
     /* a tier that cannot run here still shows what the bundle measured for it */
     expect_in(row_of(t, "fixed"), "not measured");
     expect_in(t, "on scene <code>furball.json</code> and driver <code>llvmpipe &lt;LLVM&gt;</code>");
@@ -665,6 +691,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_escape_writes_every_markup_character_as_a_reference),
         cmocka_unit_test(test_table_has_a_row_per_tier_with_its_numbers_needs_and_drops),
+        cmocka_unit_test(test_table_says_whether_psnr_and_flip_rank_tiers_alike),
         cmocka_unit_test(test_table_shows_the_bundles_measured_numbers_beside_its_own),
         cmocka_unit_test(test_every_label_names_the_reference_it_used),
         cmocka_unit_test(test_table_shows_dashes_where_full_did_not_run),

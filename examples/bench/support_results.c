@@ -30,6 +30,7 @@ static const column columns[] = {
     N("psnr_db", whole.psnr_db), N("ssim", whole.ssim), N("de00_mean", whole.delta_e00_mean),
     N("de00_p95", whole.delta_e00_p95), N("hair_psnr_db", hair.psnr_db), N("hair_ssim", hair.ssim),
     N("hair_de00_mean", hair.delta_e00_mean), N("hair_de00_p95", hair.delta_e00_p95),
+    N("flip_mean", flip_mean), N("flip_p95", flip_p95),
     N("cpu_vertices_still", cpu_still), N("cpu_vertices_orbit", cpu_orbit),
     T("figure", figure), N("value", value), T("unit", unit),
 };

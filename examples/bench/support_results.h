@@ -33,6 +33,7 @@
     "series,scene,driver,renderer,hairs,triangles,width,height,frames,tier,ran,median_ms,per_floor,per_full," \
     "orbit_ms,orbit_per_full," \
     "psnr_db,ssim,de00_mean,de00_p95,hair_psnr_db,hair_ssim,hair_de00_mean,hair_de00_p95,"                  \
+    "flip_mean,flip_p95,"                                                                                  \
     "cpu_vertices_still,cpu_vertices_orbit,figure,value,unit"
 
 typedef struct bench_row {
@@ -47,6 +48,7 @@ typedef struct bench_row {
     double median_ms, per_floor, per_full;   /* camera still */
     double orbit_ms, orbit_per_full;         /* the eye orbiting a little every frame (NAN: not timed) */
     ht_metrics whole, hair;     /* against full's image of the same run (pixels not exchanged) */
+    double flip_mean, flip_p95; /* LDR-FLIP against the same image, whole frame */
     double cpu_still, cpu_orbit;   /* per-vertex CPU work per frame, camera still / orbiting */
     char figure[160];           /* generator rows */
     double value;

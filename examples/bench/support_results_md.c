@@ -4,6 +4,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "../compare/metric_order.h"
+
 #define MAX_RUNS 64
 #define MAX_TIERS 16
 
@@ -12,6 +14,26 @@ const char *bench_md_number(double v, const char *format, char *text, size_t siz
     else if (isinf(v)) snprintf(text, size, v > 0 ? "∞" : "−∞");
     else snprintf(text, size, format, v);
     return text;
+}
+
+/* Whether PSNR and FLIP rank the run's shading tiers (floor and full
+   aside) alike (metric_order.h). */
+static bool order_line(FILE *f, const bench_rows *rows, size_t first) {
+    const bench_row *h = &rows->row[first];
+    double psnr[MAX_TIERS], flip[MAX_TIERS];
+    const char *name[MAX_TIERS];
+    int n = 0;
+    for (size_t i = first; i < rows->count && bench_rows_same_run(h, &rows->row[i]) && n < MAX_TIERS; i++) {
+        const bench_row *r = &rows->row[i];
+        if (!r->ran || !strcmp(r->tier, "floor") || !strcmp(r->tier, "full")) continue;
+        psnr[n] = r->whole.psnr_db, flip[n] = r->flip_mean, name[n++] = r->tier;
+    }
+    if (n < 2) return true;
+    metric_order o = metric_order_compare(psnr, flip, n);
+    if (o.discordant == 0)
+        return fprintf(f, "PSNR and FLIP rank these %d tiers alike (%d pairs both tell apart).\n\n", n, o.pairs) >= 0;
+    return fprintf(f, "PSNR and FLIP disagree on %d of the %d pairs both tell apart; first: PSNR ranks %s closer, "
+                      "FLIP %s.\n\n", o.discordant, o.pairs, name[o.a], name[o.b]) >= 0;
 }
 
 static bool matrix_table(FILE *f, const bench_rows *rows, size_t first) {
@@ -25,16 +47,16 @@ static bool matrix_table(FILE *f, const bench_rows *rows, size_t first) {
                        "variant).\n\n",
                        h->triangles, h->width, h->height, h->renderer, h->frames) >= 0;
     ok = ok && fputs("| tier | still: median ms | / floor | / full | orbiting: median ms | / full | PSNR dB | SSIM | "
-                     "ΔE00 mean | ΔE00 p95 | CPU vertices per frame: still / orbiting |\n"
-                     "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n", f) >= 0;
+                     "ΔE00 mean | ΔE00 p95 | FLIP mean | CPU vertices per frame: still / orbiting |\n"
+                     "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n", f) >= 0;
     for (size_t i = first; ok && i < rows->count && bench_rows_same_run(h, &rows->row[i]); i++) {
         const bench_row *r = &rows->row[i];
         if (!r->ran) {
-            ok = fprintf(f, "| %s | does not run here | | | | | | | | | |\n", r->tier) >= 0;
+            ok = fprintf(f, "| %s | does not run here | | | | | | | | | | |\n", r->tier) >= 0;
             continue;
         }
-        char a[11][32];
-        ok = fprintf(f, "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s / %s |\n", r->tier,
+        char a[12][32];
+        ok = fprintf(f, "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s / %s |\n", r->tier,
                      bench_md_number(r->median_ms, "%.1f", a[0], 32), bench_md_number(r->per_floor, "%.2f", a[1], 32),
                      bench_md_number(r->per_full, "%.2f", a[2], 32), bench_md_number(r->orbit_ms, "%.1f", a[9], 32),
                      bench_md_number(r->orbit_per_full, "%.2f", a[10], 32),
@@ -42,10 +64,11 @@ static bool matrix_table(FILE *f, const bench_rows *rows, size_t first) {
                      bench_md_number(r->whole.ssim, "%.4f", a[4], 32),
                      bench_md_number(r->whole.delta_e00_mean, "%.2f", a[5], 32),
                      bench_md_number(r->whole.delta_e00_p95, "%.2f", a[6], 32),
+                     bench_md_number(r->flip_mean, "%.4f", a[11], 32),
                      bench_md_number(r->cpu_still, "%.0f", a[7], 32),
                      bench_md_number(r->cpu_orbit, "%.0f", a[8], 32)) >= 0;
     }
-    return ok && fputc('\n', f) != EOF;
+    return ok && fputc('\n', f) != EOF && order_line(f, rows, first);
 }
 
 static bool scaling_table(FILE *f, const bench_rows *rows, const size_t *runs, size_t n) {

@@ -24,6 +24,7 @@
 #include <stdio.h>
 
 #include "crop.h"
+#include "flip.h"
 #include "manifest.h"
 #include "metrics.h"
 
@@ -60,6 +61,7 @@ typedef struct report_tier {
     bool compared;                 /* the reference ran, so the metrics below are set */
     double cost_ratio;             /* frame_ms / the reference's */
     ht_metrics whole, hair;        /* against the reference, over the frame and over hair pixels */
+    ht_flip_result flip;           /* LDR-FLIP against the reference, whole frame */
     ht_manifest_measured measured; /* the manifest's (hairgen --measure); .present false when absent */
     char image[64];                /* file beside index.html, "" when the tier did not run */
     char heatmap[64];              /* "" for the reference itself and for tiers not compared */
@@ -128,9 +130,10 @@ void report_write_plot(FILE *f, const report *r);
 /* The colour scale of the heatmaps as an SVG bar with numbers. */
 void report_write_legend(FILE *f, const report *r);
 /* The measurements: tier, frame ms; this run's cost, PSNR, SSIM, ΔE00
-   mean and p95 over the frame and ΔE00 over hair pixels; beside them the
-   bundle's measured numbers when any tier has them, else a sentence
-   saying the bundle has none. */
+   mean and p95 and FLIP mean and p95 over the frame and ΔE00 over hair
+   pixels; beside them the bundle's measured numbers when any tier has
+   them, else a sentence saying the bundle has none; then whether PSNR and
+   FLIP rank the tiers alike (metric_order.h). */
 void report_write_table(FILE *f, const report *r);
 /* What each tier needs and the features it drops. */
 void report_write_needs(FILE *f, const report *r);

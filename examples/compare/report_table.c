@@ -3,6 +3,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "metric_order.h"
 #include "report.h"
 
 /* A number, or an en dash when there is none; infinite PSNR is "∞". */
@@ -30,7 +31,7 @@ static const ht_manifest_measured *any_measured(const report *r) {
    read as the bundle wrote them. */
 static void measured_cells(FILE *f, const ht_manifest_measured *m) {
     if (!m->present) {
-        fputs("<td colspan=\"5\" class=\"measured none\">not measured</td>", f);
+        fputs("<td colspan=\"6\" class=\"measured none\">not measured</td>", f);
         return;
     }
     cell(f, "num measured", true, m->cost_ratio, "%.2f&times;");
@@ -38,21 +39,51 @@ static void measured_cells(FILE *f, const ht_manifest_measured *m) {
     cell(f, "num measured", true, m->ssim, "%.4f");
     cell(f, "num measured", true, m->delta_e00_mean, "%.3f");
     cell(f, "num measured", true, m->delta_e00_p95, "%.3f");
+    fputs("<td class=\"num measured\">", f);
+    number(f, true, m->flip_mean, "%.4f"); /* NaN ("n/a"): measured before FLIP */
+    fputs(" / ", f);
+    number(f, true, m->flip_p95, "%.4f");
+    fputs("</td>", f);
+}
+
+/* Whether PSNR and FLIP rank the compared tiers (the reference aside) alike. */
+static void write_order(FILE *f, const report *r) {
+    double psnr[REPORT_MAX_TIERS], flip[REPORT_MAX_TIERS];
+    int index[REPORT_MAX_TIERS], n = 0;
+    for (int t = 0; t < r->tier_count; t++) {
+        const report_tier *p = &r->tiers[t];
+        if (!p->compared || t == r->reference) continue;
+        psnr[n] = p->whole.psnr_db, flip[n] = p->flip.mean, index[n++] = t;
+    }
+    if (n < 2) return;
+    metric_order o = metric_order_compare(psnr, flip, n);
+    fprintf(f, "<p class=\"note order\">PSNR and FLIP ");
+    if (o.discordant == 0) {
+        fprintf(f, "rank the %d compared tiers alike (%d pair%s both tell apart).</p>\n", n, o.pairs,
+                o.pairs == 1 ? "" : "s");
+        return;
+    }
+    fprintf(f, "disagree on %d of the %d pairs both tell apart; first: PSNR ranks <b>", o.discordant, o.pairs);
+    report_escape(f, r->tiers[index[o.a]].name);
+    fputs("</b> closer, FLIP <b>", f);
+    report_escape(f, r->tiers[index[o.b]].name);
+    fputs("</b>.</p>\n", f);
 }
 
 void report_write_table(FILE *f, const report *r) {
     const ht_manifest_measured *bundle = any_measured(r);
     const char *ref = report_reference_name(r);
     fputs("<table class=\"metrics\">\n<thead><tr><th rowspan=\"2\">tier</th><th rowspan=\"2\">frame ms</th>"
-          "<th colspan=\"6\" class=\"group\">this run, against <b>", f);
+          "<th colspan=\"7\" class=\"group\">this run, against <b>", f);
     report_escape(f, ref);
     fputs("</b></th>", f);
-    if (bundle) fputs("<th colspan=\"5\" class=\"group measured\">the bundle&#8217;s <code>measured</code> "
+    if (bundle) fputs("<th colspan=\"6\" class=\"group measured\">the bundle&#8217;s <code>measured</code> "
                       "(manifest.json, hairgen --measure)</th>", f);
     fputs("</tr>\n<tr><th>cost</th><th>PSNR dB</th><th>SSIM</th><th>&#916;E00 mean</th><th>&#916;E00 p95</th>"
-          "<th>hair pixels: &#916;E00 mean / p95</th>", f);
+          "<th>FLIP mean / p95</th><th>hair pixels: &#916;E00 mean / p95</th>", f);
     if (bundle) fputs("<th class=\"measured\">cost</th><th class=\"measured\">PSNR dB</th><th class=\"measured\">SSIM"
-                      "</th><th class=\"measured\">&#916;E00 mean</th><th class=\"measured\">&#916;E00 p95</th>", f);
+                      "</th><th class=\"measured\">&#916;E00 mean</th><th class=\"measured\">&#916;E00 p95</th>"
+                      "<th class=\"measured\">FLIP mean / p95</th>", f);
     fputs("</tr></thead>\n<tbody>\n", f);
     for (int t = 0; t < r->tier_count; t++) {
         const report_tier *p = &r->tiers[t];
@@ -60,7 +91,7 @@ void report_write_table(FILE *f, const report *r) {
         report_escape(f, p->name);
         fputs("</th>", f);
         if (!p->ran) {
-            fputs("<td colspan=\"7\" class=\"notrun\">not run: ", f);
+            fputs("<td colspan=\"8\" class=\"notrun\">not run: ", f);
             report_escape(f, p->reason);
             fputs("</td>", f);
         } else {
@@ -71,6 +102,10 @@ void report_write_table(FILE *f, const report *r) {
             cell(f, "num", p->compared, p->whole.delta_e00_mean, "%.2f");
             cell(f, "num", p->compared, p->whole.delta_e00_p95, "%.2f");
             fputs("<td class=\"num\">", f);
+            number(f, p->compared, p->flip.mean, "%.4f");
+            fputs(" / ", f);
+            number(f, p->compared, p->flip.p95, "%.4f");
+            fputs("</td><td class=\"num\">", f);
             number(f, p->compared, p->hair.delta_e00_mean, "%.2f");
             fputs(" / ", f);
             number(f, p->compared, p->hair.delta_e00_p95, "%.2f");
@@ -80,6 +115,7 @@ void report_write_table(FILE *f, const report *r) {
         fputs("</tr>\n", f);
     }
     fputs("</tbody>\n</table>\n", f);
+    write_order(f, r);
     if (!bundle) {
         fputs("<p class=\"note nomeasured\">The bundle has no measured numbers: no tier of its manifest.json "
               "carries a <code>measured</code> object (<code>hairgen --measure</code> writes them; the "
