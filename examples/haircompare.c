@@ -180,6 +180,11 @@ static void print_table(const report *r) {
                    p->whole.psnr_db, p->whole.ssim, p->whole.delta_e00_mean, p->whole.delta_e00_p95, p->flip.mean,
                    p->flip.p95);
     }
+    metric_order o = report_metric_order(r);
+    if (o.discordant == 0) printf("psnr_flip_order=agree pairs=%d\n", o.pairs);
+    else
+        printf("psnr_flip_order=differ pairs=%d discordant=%d first=%s>%s\n", o.pairs, o.discordant, r->tiers[o.a].name,
+               r->tiers[o.b].name);
 }
 
 /* Renders, measures and writes every file into tmp; 0 or 1. */

@@ -24,6 +24,7 @@
 #include <stdio.h>
 
 #include "crop.h"
+#include "metric_order.h"
 #include "flip.h"
 #include "manifest.h"
 #include "metrics.h"
@@ -135,6 +136,9 @@ void report_write_legend(FILE *f, const report *r);
    them, else a sentence saying the bundle has none; then whether PSNR and
    FLIP rank the tiers alike (metric_order.h). */
 void report_write_table(FILE *f, const report *r);
+/* PSNR against FLIP over the compared tiers, the reference aside
+   (metric_order.h); a and b are indices into r->tiers. */
+metric_order report_metric_order(const report *r);
 /* What each tier needs and the features it drops. */
 void report_write_needs(FILE *f, const report *r);
 /* The whole page. 0, or -1 when the stream reports an error. */

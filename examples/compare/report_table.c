@@ -46,8 +46,7 @@ static void measured_cells(FILE *f, const ht_manifest_measured *m) {
     fputs("</td>", f);
 }
 
-/* Whether PSNR and FLIP rank the compared tiers (the reference aside) alike. */
-static void write_order(FILE *f, const report *r) {
+metric_order report_metric_order(const report *r) {
     double psnr[REPORT_MAX_TIERS], flip[REPORT_MAX_TIERS];
     int index[REPORT_MAX_TIERS], n = 0;
     for (int t = 0; t < r->tier_count; t++) {
@@ -55,8 +54,16 @@ static void write_order(FILE *f, const report *r) {
         if (!p->compared || t == r->reference) continue;
         psnr[n] = p->whole.psnr_db, flip[n] = p->flip.mean, index[n++] = t;
     }
-    if (n < 2) return;
     metric_order o = metric_order_compare(psnr, flip, n);
+    if (o.discordant) o.a = index[o.a], o.b = index[o.b];
+    return o;
+}
+
+static void write_order(FILE *f, const report *r) {
+    int n = 0;
+    for (int t = 0; t < r->tier_count; t++) n += r->tiers[t].compared && t != r->reference;
+    if (n < 2) return;
+    metric_order o = report_metric_order(r);
     fprintf(f, "<p class=\"note order\">PSNR and FLIP ");
     if (o.discordant == 0) {
         fprintf(f, "rank the %d compared tiers alike (%d pair%s both tell apart).</p>\n", n, o.pairs,
@@ -64,9 +71,9 @@ static void write_order(FILE *f, const report *r) {
         return;
     }
     fprintf(f, "disagree on %d of the %d pairs both tell apart; first: PSNR ranks <b>", o.discordant, o.pairs);
-    report_escape(f, r->tiers[index[o.a]].name);
+    report_escape(f, r->tiers[o.a].name);
     fputs("</b> closer, FLIP <b>", f);
-    report_escape(f, r->tiers[index[o.b]].name);
+    report_escape(f, r->tiers[o.b].name);
     fputs("</b>.</p>\n", f);
 }
 
