@@ -54,7 +54,7 @@ static const cli_program program = {
             "REPORT_DIR/index.html: the tier images side by side, each tier's per-pixel CIEDE2000\n"
             "against the reference (marschner when it runs, else full) as a heatmap (0 black to\n"
             CLI_STR(REPORT_HEAT_MAX) " white, cubehelix), " CLI_STR(REPORT_CROP_SCALE) "x enlarged crops of the reference's brightest\n"
-            "highlight, a table (frame ms, cost ratio to the reference, PSNR, SSIM, dE00 mean and p95,\n"
+            "highlight, a table (frame ms, cost ratio to the reference, PSNR, SSIM, dE00 mean and p95, FLIP mean and p95,\n"
             "beside the bundle's measured numbers; needs, features dropped) and a plot of error\n"
             "against cost. Frame ms: median of N frames (default 5, at most " CLI_STR(MAX_FRAMES) ") after a warm-up, each ended by\n"
             "glFinish. The report is written whole or not at all; an existing REPORT_DIR is replaced\n"
