@@ -184,7 +184,7 @@ static int build(const options *o, const char *tmp, const tier_scene *ts, report
     bool any = false;
     uint8_t bg[3];
     for (int c = 0; c < 3; c++) bg[c] = (uint8_t)(ts->scene.background[c] * 255.0f + 0.5f);
-    tier_render_use_context(o->view.context, o->view.egl_device);
+    tier_render_use_context(o->view.context, o->view.egl_device, o->view.api);
     for (int t = 0; t < rep->tier_count; t++) {
         report_tier *p = &rep->tiers[t];
         if (!p->known) {

@@ -276,7 +276,7 @@ int main(int argc, char **argv) {
     const ht_scene scene = ts.scene;
 
     panel panels[TIERS] = { 0 };
-    tier_render_use_context(o.context, o.egl_device);
+    tier_render_use_context(o.context, o.egl_device, o.api);
     for (int t = 0; t < TIERS; t++) tier_render(o.bundle, &ts, columns[t], o.frames, &panels[t].frame);
     bool any = false;
     for (int t = 0; t < TIERS; t++) any = any || panels[t].frame.ran;

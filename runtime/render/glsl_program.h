@@ -17,7 +17,13 @@
 typedef struct ht_glsl_program {
     GLuint id;
     GLint u_eye, u_light_vector, u_light_color, u_lut_scale; /* -1: not used by the program */
+    GLint u_mvp;                                             /* ES texts: projection x view */
 } ht_glsl_program;
+
+/* On a GL ES context: the tier's ES target selection chose
+   (ht_select_es_target), logged once with its ESSL version and precision;
+   NULL with the reason in err. */
+const ht_manifest_es *ht_glsl_es_target(const ht_tier_context *ctx, char *err, size_t err_size);
 
 /* Compiles vert (and frag, unless NULL: a vertex-only program) from the
    bundle, binds the generic attributes (shader_interface.h), links, and
