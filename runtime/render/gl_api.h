@@ -107,6 +107,9 @@
     X(shaders, void, VertexAttribPointer, (GLuint index, GLint size, GLenum type, GLboolean normalized, GLsizei stride, const void *ptr)) \
     X(shaders, void, EnableVertexAttribArray, (GLuint index)) \
     X(shaders, void, DisableVertexAttribArray, (GLuint index)) \
+    X(shaders, void, GetVertexAttribiv, (GLuint index, GLenum pname, GLint *params)) \
+    X(shaders, void, GetVertexAttribPointerv, (GLuint index, GLenum pname, void **pointer)) \
+    X(shaders, void, BlendFuncSeparate, (GLenum src_rgb, GLenum dst_rgb, GLenum src_alpha, GLenum dst_alpha)) \
     X(stringi, const GLubyte *, GetStringi, (GLenum name, GLuint index)) \
     X(precision, void, GetShaderPrecisionFormat, (GLenum shader, GLenum type, GLint *range, GLint *precision)) \
     X(vao, void, BindVertexArray, (GLuint array))

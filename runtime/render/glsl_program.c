@@ -9,6 +9,7 @@
 #include "gl_error.h"
 #include "gl_texture.h"
 #include <hairtier/image.h>
+#include "select.h"
 #include "shader_interface.h"
 
 /* The first non-empty line of a driver's info log. */
@@ -166,6 +167,15 @@ ht_result ht_glsl_texture_upload(const ht_gl *gl, const ht_manifest *b, const ht
     return r;
 }
 
+void ht_glsl_mvp(const ht_tier_frame *f, float out[16]) {
+    for (int c = 0; c < 4; c++)
+        for (int r = 0; r < 4; r++) {
+            float v = 0.0f;
+            for (int k = 0; k < 4; k++) v += f->projection[k * 4 + r] * f->view[c * 4 + k];
+            out[c * 4 + r] = v;
+        }
+}
+
 void ht_glsl_program_set_frame(const ht_gl *gl, const ht_glsl_program *p, const ht_tier_frame *f, int light_count,
                                float lut_scale) {
     float vectors[HT_MAX_LIGHTS * 4] = { 0 }, colors[HT_MAX_LIGHTS * 3] = { 0 };
@@ -188,12 +198,7 @@ void ht_glsl_program_set_frame(const ht_gl *gl, const ht_glsl_program *p, const 
         /* What the fixed-function transform computes: projection x view
            (column-major; the model matrix is identity). */
         float mvp[16];
-        for (int c = 0; c < 4; c++)
-            for (int r = 0; r < 4; r++) {
-                float v = 0.0f;
-                for (int k = 0; k < 4; k++) v += f->projection[k * 4 + r] * f->view[c * 4 + k];
-                mvp[c * 4 + r] = v;
-            }
+        ht_glsl_mvp(f, mvp);
         gl->UniformMatrix4fv(p->u_mvp, 1, GL_FALSE, mvp);
     }
 }

@@ -33,6 +33,10 @@ const ht_manifest_es *ht_glsl_es_target(const ht_tier_context *ctx, char *err, s
 ht_result ht_glsl_program_build(const ht_tier_context *ctx, const char *vert, const char *frag,
                                 ht_glsl_program *out, char *err, size_t err_size);
 
+/* What the fixed-function transform applies, for the ES texts' u_mvp:
+   projection x view, column-major (the model matrix is identity). */
+void ht_glsl_mvp(const ht_tier_frame *f, float out[16]);
+
 /* Uses the program and sets the eye, the planned lights (light_count of
    them; lights missing from the frame are black) and the LUT scale. */
 void ht_glsl_program_set_frame(const ht_gl *gl, const ht_glsl_program *p, const ht_tier_frame *f, int light_count,

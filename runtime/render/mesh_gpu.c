@@ -84,9 +84,33 @@ static const void *array_at(const ht_vertex *base, size_t offset) {
    (generic_attributes), tangent and ao as generic attributes
    (shader_interface.h); a backend points any other array itself (tier.h:
    set_arrays). */
+/* GL ES: every array is a generic attribute at shader_interface.h's
+   locations, which the ES texts and the head's program bind. */
+static void set_es_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes) {
+    const ht_gl *gl = &r->gl;
+    const GLsizei stride = (GLsizei)sizeof(ht_vertex);
+    static const struct { GLuint location; GLint size; size_t offset; bool hair; } arrays[] = {
+        { HT_ES_ATTR_POSITION_LOCATION, 3, offsetof(ht_vertex, position), false },
+        { HT_ES_ATTR_NORMAL_LOCATION, 3, offsetof(ht_vertex, normal), false },
+        { HT_ES_ATTR_UV_LOCATION, 2, offsetof(ht_vertex, uv), true },
+        { HT_ATTR_TANGENT_LOCATION, 3, offsetof(ht_vertex, tangent), true },
+        { HT_ATTR_AO_LOCATION, 1, offsetof(ht_vertex, ao), true },
+    };
+    for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++) {
+        if (arrays[i].hair && !hair_attributes) continue;
+        gl->VertexAttribPointer(arrays[i].location, arrays[i].size, GL_FLOAT, GL_FALSE, stride,
+                                array_at(base, arrays[i].offset));
+        gl->EnableVertexAttribArray(arrays[i].location);
+    }
+}
+
 void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes) {
     const ht_gl *gl = &r->gl;
     const GLsizei stride = (GLsizei)sizeof(ht_vertex);
+    if (r->caps.es) {
+        set_es_arrays(r, base, hair_attributes);
+        return;
+    }
     gl->EnableClientState(GL_VERTEX_ARRAY);
     gl->VertexPointer(3, GL_FLOAT, stride, array_at(base, offsetof(ht_vertex, position)));
     gl->EnableClientState(GL_NORMAL_ARRAY);
@@ -110,6 +134,12 @@ void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_att
    client attributes at the end of the frame. */
 void ht_renderer_clear_arrays(ht_renderer *r) {
     const ht_gl *gl = &r->gl;
+    if (r->caps.es) {
+        static const GLuint locations[] = { HT_ES_ATTR_POSITION_LOCATION, HT_ES_ATTR_NORMAL_LOCATION,
+                                            HT_ES_ATTR_UV_LOCATION, HT_ATTR_TANGENT_LOCATION, HT_ATTR_AO_LOCATION };
+        for (size_t i = 0; i < sizeof locations / sizeof locations[0]; i++) gl->DisableVertexAttribArray(locations[i]);
+        return;
+    }
     if (r->backend && r->backend->generic_attributes) {
         gl->DisableVertexAttribArray(HT_ATTR_AO_LOCATION);
         gl->DisableVertexAttribArray(HT_ATTR_TANGENT_LOCATION);

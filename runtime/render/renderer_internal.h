@@ -49,6 +49,10 @@ struct ht_renderer {
     void *time_tier_user;
     double frame_ms[HT_MANIFEST_MAX_TIERS]; /* per bundle tier, 0 → not timed */
     ht_trace trace;
+    /* GL ES: the head's program (opaque_scene_es.c), 0 until needed */
+    GLuint opaque_program;
+    GLint opaque_u_mvp, opaque_u_light_vector, opaque_u_light_color, opaque_u_light_count;
+    bool opaque_failed;               /* its build failed once (logged): no head on ES */
 };
 
 /* The files the renderer is split into, and what each lends the others. */
@@ -71,17 +75,43 @@ void ht_renderer_clear_arrays(ht_renderer *r);
 
 /* gl_state.c: save (HT_ERR_GL with one line and nothing changed when an
    attribute stack is full), baseline, restore. */
+/* The vertex arrays a frame points on GL ES (gl_state_es.c restores them). */
+#define HT_ES_STATE_ATTRIBS 8
+typedef struct ht_gl_es_attrib {
+    GLint enabled, size, type, normalized, stride, buffer;
+    void *pointer;
+} ht_gl_es_attrib;
 typedef struct ht_gl_state {
     GLint program;
     GLfloat projection[16], modelview[16];
     GLfloat texture[HT_RENDERER_MAX_UNITS][16];
+    /* GL ES 2.0+ (no attribute stacks): what a frame may change, read back */
+    GLboolean depth_test, blend, cull, polygon_offset, depth_mask, color_mask[4];
+    GLint depth_func, cull_face, front_face, blend_func[4], active_texture, array_buffer, element_buffer, vao;
+    GLint texture_2d[HT_RENDERER_MAX_UNITS];
+    ht_gl_es_attrib attribs[HT_ES_STATE_ATTRIBS];
+    GLint attrib_enabled[HT_RENDERER_MAX_ATTRIBS];
 } ht_gl_state;
 ht_result ht_gl_state_save(ht_renderer *r, ht_gl_state *s);
 void ht_gl_state_set_baseline(ht_renderer *r);
 void ht_gl_state_restore(ht_renderer *r, const ht_gl_state *s);
+/* gl_state_es.c: the same contract on GL ES 2.0+, by reading back each
+   piece of state a frame changes (hairtier.h: ht_renderer_draw). */
+void ht_gl_state_save_es(ht_renderer *r, ht_gl_state *s);
+void ht_gl_state_set_baseline_es(ht_renderer *r);
+void ht_gl_state_restore_es(ht_renderer *r, const ht_gl_state *s);
 
-/* opaque_scene.c */
+/* opaque_scene.c; on GL ES opaque_scene_es.c (a program of the runtime's
+   own lighting the head as GL's fixed-function lighting does, made at the
+   first frame with a head and freed with the renderer). */
 void ht_renderer_draw_opaque(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f);
+void ht_renderer_draw_opaque_es(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f);
+void ht_renderer_release_opaque_es(ht_renderer *r);
+
+/* passes.c: the alpha test of a pass, the one rule: GL's on desktop, the
+   ES texts' discard uniforms on ES (func GL_GEQUAL keeps alpha >= ref,
+   GL_LESS keeps alpha < ref). */
+void ht_pass_alpha_rule(const ht_renderer *r, ht_pass pass, GLenum *func, float *ref);
 
 /* passes.c: the four passes over the hair mesh, recording the trace. */
 ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf);
