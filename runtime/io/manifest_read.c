@@ -219,12 +219,12 @@ static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_mani
     static const char *const desktop_api[] = { HT_MANIFEST_API_GL, NULL };
     int api = 0;
     if ((r = ht_json_object(c, t, base, K(REQUIRES), true, &req)) != HT_OK ||
-        (r = parse_word(c, req, req_path, K(API), desktop_api, &api)) != HT_OK ||
         (r = parse_version_field(c, req, req_path, K(GL), false, false, &out->gl_major, &out->gl_minor)) != HT_OK ||
         (r = parse_version_field(c, req, req_path, K(GLSL), true, true, &out->glsl_major, &out->glsl_minor)) != HT_OK ||
         (r = ht_json_int32(c, req, req_path, K(TEXTURE_UNITS), &(int){ 0 }, 0, 64, &out->texture_units)) != HT_OK ||
         (r = ht_json_array(c, req, req_path, K(EXTENSIONS), false, 0, HT_MANIFEST_MAX_EXTENSIONS,
-                           &ext, &ext_count)) != HT_OK)
+                           &ext, &ext_count)) != HT_OK ||
+        (r = parse_word(c, req, req_path, K(API), desktop_api, &api)) != HT_OK)
         return r;
     ht_json_path_key(field, req_path, K(EXTENSIONS));
     for (const cJSON *e = ext ? ext->child : NULL; e; e = e->next) {
