@@ -170,6 +170,8 @@ static char *lighting_vertex(const ht_plan *plan, const ht_fixed4_program *p, bo
    and products of values in [0, 4]: mediump is enough. */
 static char *es_fragment(const ht_plan *plan, const ht_fixed4_program *p) {
     const int luts = ht_fixed4_lut_count(p);
+    /* Without base and alpha fixed4's albedo unit holds a white texel: no sampler. */
+    const bool albedo = plan->base || plan->alpha;
     ht_strbuf sb;
     ht_strbuf_init(&sb);
     ht_strbuf_add(&sb, "#version 100\n");
@@ -178,7 +180,7 @@ static char *es_fragment(const ht_plan *plan, const ht_fixed4_program *p) {
                    model_name(plan));
     ht_strbuf_add(&sb, "precision mediump float;\n");
     for (int k = 0; k < luts; k++) ht_strbuf_addf(&sb, "uniform sampler2D %s%d;\n", HT_ES_U_LUT_PREFIX, k);
-    ht_strbuf_addf(&sb, "uniform sampler2D %s; /* rgb = base, a = alpha (white without them) */\n", HT_U_ALBEDO);
+    if (albedo) ht_strbuf_addf(&sb, "uniform sampler2D %s; /* rgb = base, a = alpha */\n", HT_U_ALBEDO);
     ht_strbuf_addf(&sb, "uniform float %s; /* the final stage's scale: 1, 2 or 4 */\n", HT_U_LUT_SCALE);
     ht_strbuf_add(&sb, "/* ES has no alpha test: 1 keeps alpha >= ref, 0 keeps alpha < ref. */\n");
     ht_strbuf_addf(&sb, "uniform float %s;\nuniform float %s;\n", HT_ES_U_ALPHA_REF, HT_ES_U_ALPHA_PASS_OPAQUE);
@@ -188,7 +190,8 @@ static char *es_fragment(const ht_plan *plan, const ht_fixed4_program *p) {
     ht_strbuf_add(&sb, "    vec3 c = clamp(v_color.rgb, 0.0, 1.0);\n");
     for (int k = 0; k < luts; k++)
         ht_strbuf_addf(&sb, "    c = clamp(texture2D(%s%d, v_lut%d).rgb + c, 0.0, 1.0);\n", HT_ES_U_LUT_PREFIX, k, k);
-    ht_strbuf_addf(&sb, "    vec4 albedo = texture2D(%s, v_uv);\n", HT_U_ALBEDO);
+    if (albedo) ht_strbuf_addf(&sb, "    vec4 albedo = texture2D(%s, v_uv);\n", HT_U_ALBEDO);
+    else ht_strbuf_add(&sb, "    vec4 albedo = vec4(1.0);\n");
     ht_strbuf_add(&sb, "    c = albedo.rgb * c;\n");
     ht_strbuf_addf(&sb, "    vec3 rgb = clamp(c * clamp(v_color.a, 0.0, 1.0) * %s, 0.0, 1.0);\n", HT_U_LUT_SCALE);
     ht_strbuf_addf(&sb, "    if ((albedo.a >= %s) != (%s > 0.5)) discard;\n", HT_ES_U_ALPHA_REF,

@@ -128,7 +128,7 @@ static void check_output(const ht_plan *p, const emitted *e) {
             if (ht_glsl_validate(x->text, x->stage, x->glsl_version, x->es, log, sizeof log) != HT_OK)
                 fail_msg("%s does not validate: %s\n%s", x->file, log, x->text);
             char first[32];
-            snprintf(first, sizeof first, "#version %d\n", x->glsl_version);
+            snprintf(first, sizeof first, "#version %d%s\n", x->glsl_version, x->glsl_version >= 300 ? " es" : "");
             assert_true(strncmp(x->text, first, strlen(first)) == 0);
             if (x->stage == HT_STAGE_VERTEX && !x->es) {
                 assert_int_equal(count_of(x->text, "gl_Position = ftransform();"), 1);
@@ -144,7 +144,7 @@ static void check_output(const ht_plan *p, const emitted *e) {
         }
     }
     assert_int_equal(e->full.tier, HT_TIER_FULL);
-    assert_int_equal(e->full.text_count, 6);
+    assert_int_equal(e->full.text_count, 8); /* desktop pair, prime pair, ES 3.0 and ES 2.0 pairs */
     assert_string_equal(e->full.requires.gl, "2.1");
     assert_string_equal(e->full.requires.glsl, "1.20");
     assert_int_equal(e->full.requires.texture_units, p->texture_count);
