@@ -1,5 +1,6 @@
 # hairtier — `make` builds build/hairgen, build/hairview and build/libhairtier.a;
-# `make test` runs every test; `make demo` renders the shipped scenes to out/;
+# `make test` runs every test; `make demo` renders the shipped scenes to out/
+# (and one on GL ES 2.0);
 # `make asan` runs the tests under AddressSanitizer + UBSan; `make bench`
 # writes bench/results.{csv,md,svg} and bench/scaling.svg;
 # `make fuzz` builds the libFuzzer targets (fuzz/, clang, ASan + UBSan) and
@@ -292,7 +293,10 @@ demo: all
 	@$(HAIRGEN) materials/brown-marschner.json --scene scenes/backlit.json -o out/backlit-bundle
 	@echo "== backlit: hairview --bundle out/backlit-bundle --scene scenes/backlit.json -o out/backlit.png"
 	@$(BUILD)/hairview --bundle out/backlit-bundle --scene scenes/backlit.json -o out/backlit.png
-		@echo "demo: wrote out/furball.png, out/patches.png, out/ratboy.png and out/backlit.png (the marschner tier lit from behind; bundles in out/SCENE-bundle)"
+	@echo "== es2: hairview --bundle out/patches-bundle --scene scenes/patches.json --api gles2 -o out/patches-es2.png (GL ES 2.0 through EGL)"
+	@EGL_PLATFORM=surfaceless MESA_GLES_VERSION_OVERRIDE=2.0 $(BUILD)/hairview --bundle out/patches-bundle \
+	  --scene scenes/patches.json --api gles2 -o out/patches-es2.png
+		@echo "demo: wrote out/furball.png, out/patches.png, out/ratboy.png, out/backlit.png (the marschner tier lit from behind) and out/patches-es2.png (the patches on GL ES 2.0); bundles in out/SCENE-bundle"
 
 # ---- install: make install PREFIX=/usr/local DESTDIR= ; make uninstall ----
 # The libraries (shared with their links, and static), the public headers

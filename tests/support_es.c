@@ -77,9 +77,10 @@ bool ht_test_es_draw_scene(const char *bundle, const char *scene_name, offscreen
         snprintf(out->log, sizeof out->log, "%s", err);
         goto done;
     }
-    ht_renderer_desc desc = { .getproc = offscreen_getproc, .bundle_dir = bundle, .tier = tier,
-                              .strict = tier != HT_TIER_AUTO, .log = keep_log, .log_user = out,
-                              .record_trace = true };
+    const bool flat = tier == HT_TIER_COUNT;
+    ht_renderer_desc desc = { .getproc = offscreen_getproc, .bundle_dir = flat ? NULL : bundle,
+                              .tier = flat ? HT_TIER_AUTO : tier, .strict = tier != HT_TIER_AUTO && !flat,
+                              .log = keep_log, .log_user = out, .record_trace = true, .flat = flat };
     if (profile) desc.profile = *profile;
     if (ht_renderer_create(&desc, &r) != HT_OK || ht_renderer_set_mesh(r, &hair) != HT_OK) goto done;
     ht_frame_desc frame = { .camera = s.camera, .lights = s.lights, .light_count = s.light_count, .aspect = 1.0f,

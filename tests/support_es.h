@@ -30,7 +30,8 @@ typedef struct ht_test_es_draw {
 } ht_test_es_draw;
 
 /* One frame of a shipped scene (scenes/NAME.json) with bundle on a fresh
-   context of api, the tier forced (strict) or HT_TIER_AUTO, the profile
+   context of api, the tier forced (strict), HT_TIER_AUTO, or flat mode
+   (HT_TIER_COUNT: the geometry floor, no bundle), the profile
    applied (NULL: none). False with why in out->log when any step fails. */
 bool ht_test_es_draw_scene(const char *bundle, const char *scene, offscreen_api api, ht_tier tier,
                            const ht_device_profile *profile, ht_test_es_draw *out);

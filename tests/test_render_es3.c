@@ -77,6 +77,22 @@ static void test_es3_passes_record_the_desktop_state(void **state) {
         ht_test_es_draw_free(&desk);
         ht_test_es_draw_free(&es);
     }
+    /* Flat mode, the benchmarks' floor: the same passes and pixels. */
+    ht_test_es_draw desk, es;
+    assert_true(ht_test_es_draw_scene(bundle, "patches", OFFSCREEN_API_GL, HT_TIER_COUNT, NULL, &desk));
+    if (!ht_test_es_draw_scene(bundle, "patches", OFFSCREEN_API_GLES3, HT_TIER_COUNT, NULL, &es)) fail_msg("%s", es.log);
+    assert_int_equal(es.trace.count, 4);
+    double db = ht_test_es_psnr(&desk, &es);
+    printf("patches flat: ES 3 %.2f dB against desktop GL\n", db);
+    assert_true(db >= HT_TEST_ES_MIN_PSNR_DB);
+    ht_test_es_draw_free(&desk);
+    ht_test_es_draw_free(&es);
+}
+
+static void keep_line(void *user, const char *line) {
+    ht_test_es_draw *d = user;
+    size_t n = strlen(d->log);
+    snprintf(d->log + n, sizeof d->log - n, "%s\n", line);
 }
 
 static void quiet(void *user, const char *line) {
@@ -214,6 +230,48 @@ static void test_es3_no_fragment_highp_takes_mediump_or_refuses_with_reason(void
     ht_test_es_draw_free(&d);
 }
 
+/* VideoCore IV (vc4) has no 32-bit indices: the mesh goes up as 16-bit
+   ones and draws what desktop GL draws; a mesh beyond 65536 vertices is
+   refused with one line. */
+static void test_es3_videocore4_draws_with_16_bit_indices(void **state) {
+    (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
+    const char *bundle = ht_test_es_bundle(0);
+    assert_non_null(bundle);
+    ht_device_profile vc4;
+    char err[256];
+    assert_int_equal(ht_device_profile_parse("videocore4", &vc4, err, sizeof err), HT_OK);
+    ht_test_es_draw desk, es;
+    assert_true(ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GL, HT_TIER_AUTO, NULL, &desk));
+    if (!ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES3, HT_TIER_AUTO, &vc4, &es)) fail_msg("%s", es.log);
+    assert_non_null(strstr(es.log, "full-es2.frag (ESSL 1.00, fragment highp)"));
+    double db = ht_test_es_psnr(&desk, &es);
+    printf("furball on videocore4's profile: %.2f dB against desktop GL\n", db);
+    assert_true(db >= HT_TEST_ES_MIN_PSNR_DB);
+    ht_test_es_draw_free(&desk);
+    ht_test_es_draw_free(&es);
+
+    offscreen *gl = offscreen_open(&(offscreen_desc){ .kind = OFFSCREEN_EGL, .api = OFFSCREEN_API_GLES3,
+                                                      .width = 16, .height = 16, .egl_device = -1 }, err, sizeof err);
+    if (!gl) fail_msg("%s", err);
+    ht_test_es_draw logged = { 0 };
+    ht_renderer *r = NULL;
+    assert_int_equal(ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = bundle,
+                                                             .profile = vc4, .log = keep_line, .log_user = &logged },
+                                        &r), HT_OK);
+    ht_mesh big = { 0 };
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 4000 }, &big), HT_OK);
+    assert_true(big.vertex_count > 65536);
+    assert_int_equal(ht_renderer_set_mesh(r, &big), HT_ERR_UNSUPPORTED);
+    char want[160];
+    snprintf(want, sizeof want, "ht_renderer_set_mesh: mesh: %u vertices, this device indexes 65536 (16-bit indices: "
+             "no GL_OES_element_index_uint)", big.vertex_count);
+    assert_non_null(strstr(logged.log, want));
+    ht_mesh_free(&big);
+    ht_renderer_destroy(r);
+    offscreen_close(gl);
+}
+
 static void test_es1_and_mismatched_profiles_are_refused_with_one_line(void **state) {
     (void)state;
     HT_TEST_DRIVER_INDEPENDENT();
@@ -246,6 +304,7 @@ int main(void) {
         cmocka_unit_test(test_es3_passes_record_the_desktop_state),
         cmocka_unit_test(test_es3_application_state_survives_a_frame),
         cmocka_unit_test(test_es3_no_fragment_highp_takes_mediump_or_refuses_with_reason),
+        cmocka_unit_test(test_es3_videocore4_draws_with_16_bit_indices),
         cmocka_unit_test(test_es1_and_mismatched_profiles_are_refused_with_one_line),
     };
     return cmocka_run_group_tests(tests, NULL, teardown);

@@ -10,7 +10,7 @@
    others, and draws hair in Scheuermann's four passes over a mesh whose
    strands are sorted inside to outside once, at load time.
 
-   Usage (any GL 1.1+ compatibility context current; my_getproc hands out
+   Usage (any GL 1.1+ compatibility context, or GL ES 2.0+ context, current; my_getproc hands out
    its entry points, my_log gets each log line):
        ht_mesh mesh;   // built once, sorted inside out once
        if (ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 10000 }, &mesh) != HT_OK) return;
@@ -39,7 +39,8 @@
    wins over both).
    HAIRTIER_VARIANT=exact|device picks the variant of fixed4 and fixed like
    ht_renderer_desc.variant (ht_variant below; the desc wins).
-   HAIRTIER_DEVICE_PROFILE=gl11|gl13|gl20 caps the device like
+   HAIRTIER_DEVICE_PROFILE=gl11|gl13|gl20|videocore4|mali400|videocore6
+   caps the device like
    ht_renderer_desc.profile (ht_device_profile_parse; a non-zero desc
    profile wins).
 
@@ -413,6 +414,13 @@ HT_API ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh);
    planes, depth range, blend equation and colour, the framebuffer and draw
    buffer. With no room on either attribute stack the draw draws nothing
    and returns HT_ERR_GL with one log line.
+   On GL ES 2.0 and later (no attribute stacks) the draw reads back and
+   restores what it changes: depth test, function and mask, blend enable
+   and functions, culling and its face, front face, polygon offset, colour
+   mask, the program, the active unit and every unit's 2D texture, both
+   buffer bindings, the vertex array object (ES 3: it draws with object 0)
+   and on that object every attribute's enable and attributes 0-7's
+   arrays.
    ht_renderer_create and ht_renderer_set_mesh are not wrapped that way:
    they leave the current program 0, the active unit's 2D (and 3D) texture
    binding 0, GL_UNPACK_ALIGNMENT 4 and GL_ARRAY_BUFFER and

@@ -336,7 +336,8 @@ static const struct { const char *name; ht_device_profile profile; } named_profi
        Raspberry Pi 1-3 (Mesa vc4: ES 2.0), Mali-400/450 (Mesa lima: ES 2.0,
        fp16 fragment stage), Raspberry Pi 4 (Mesa v3d: ES 3.1); units: the
        ES 2.0 minimum (8) where no driver number is cited, ES 3.x's 16. */
-    { "videocore4", { .es_major = 2, .es_minor = 0, .texture_units = 8 } },
+    { "videocore4", { .es_major = 2, .es_minor = 0, .texture_units = 8,
+                      .hide_extensions = "GL_OES_element_index_uint" } },
     { "mali400", { .es_major = 2, .es_minor = 0, .texture_units = 8, .no_fragment_highp = true } },
     { "videocore6", { .es_major = 3, .es_minor = 1, .texture_units = 16 } },
 };

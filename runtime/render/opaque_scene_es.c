@@ -1,9 +1,11 @@
-/* opaque_scene_es.c — the opaque scene (the head) on GL ES 2.0+, which has
-   no fixed-function lighting: a program of the runtime's own that lights
-   each vertex exactly as opaque_scene.c's GL lighting does (the same
-   material, global ambient and per-light diffuse, colour clamped per
-   vertex, interpolated), so a scene's head matches desktop GL. */
+/* opaque_scene_es.c — the runtime's own programs on GL ES 2.0+, which has
+   no fixed function: the opaque scene (the head), lit per vertex exactly
+   as opaque_scene.c's GL lighting does (the same material, global ambient
+   and per-light diffuse, colour clamped per vertex, interpolated), so a
+   scene's head matches desktop GL; and flat mode's one colour, alpha 1
+   under the passes' alpha rule as glColor is on desktop GL. */
 #include <stdio.h>
+#include <stdlib.h>
 
 #include "errfmt.h"
 #include "glsl_program.h"
@@ -42,6 +44,22 @@ static const char fragment_text[] =
     "varying vec4 v_color;\n"
     "void main() { gl_FragColor = v_color; }\n";
 
+static const char flat_vertex_text[] =
+    "#version 100\n"
+    "uniform mat4 u_mvp;\n"
+    "attribute vec3 " HT_ES_ATTR_POSITION ";\n"
+    "void main() { gl_Position = u_mvp * vec4(" HT_ES_ATTR_POSITION ", 1.0); }\n";
+static const char flat_fragment_text[] =
+    "#version 100\n"
+    "precision mediump float;\n"
+    "uniform vec3 u_color;\n"
+    "uniform float " HT_ES_U_ALPHA_REF ";\n"
+    "uniform float " HT_ES_U_ALPHA_PASS_OPAQUE ";\n"
+    "void main() {\n"
+    "    if ((1.0 >= " HT_ES_U_ALPHA_REF ") != (" HT_ES_U_ALPHA_PASS_OPAQUE " > 0.5)) discard;\n"
+    "    gl_FragColor = vec4(u_color, 1.0);\n"
+    "}\n";
+
 static GLuint compile(const ht_gl *gl, GLenum stage, const char *text) {
     GLuint sh = gl->CreateShader(stage);
     if (!sh) return 0;
@@ -54,9 +72,10 @@ static GLuint compile(const ht_gl *gl, GLenum stage, const char *text) {
     return 0;
 }
 
-static bool build(ht_renderer *r) {
-    const ht_gl *gl = &r->gl;
-    GLuint vs = compile(gl, GL_VERTEX_SHADER, vertex_text), fs = compile(gl, GL_FRAGMENT_SHADER, fragment_text);
+/* A program of two of the texts above, its attributes where the arrays
+   are (mesh_gpu.c); 0 when it does not build. */
+static GLuint program_of(const ht_gl *gl, const char *vertex, const char *fragment) {
+    GLuint vs = compile(gl, GL_VERTEX_SHADER, vertex), fs = compile(gl, GL_FRAGMENT_SHADER, fragment);
     GLuint prog = vs && fs ? gl->CreateProgram() : 0;
     if (prog) {
         gl->AttachShader(prog, vs);
@@ -73,6 +92,12 @@ static bool build(ht_renderer *r) {
     }
     if (vs) gl->DeleteShader(vs);
     if (fs) gl->DeleteShader(fs);
+    return prog;
+}
+
+static bool build(ht_renderer *r) {
+    const ht_gl *gl = &r->gl;
+    GLuint prog = program_of(gl, vertex_text, fragment_text);
     if (!prog) {
         ht_log_linef(r->log, r->log_user, "hairtier: the opaque scene's GL ES program did not build; no head drawn");
         r->opaque_failed = true;
@@ -88,7 +113,22 @@ static bool build(ht_renderer *r) {
 
 void ht_renderer_release_opaque_es(ht_renderer *r) {
     if (r->opaque_program) r->gl.DeleteProgram(r->opaque_program);
-    r->opaque_program = 0;
+    if (r->flat_program) r->gl.DeleteProgram(r->flat_program);
+    r->opaque_program = r->flat_program = 0;
+}
+
+bool ht_renderer_bind_flat_es(ht_renderer *r, const ht_tier_frame *f) {
+    const ht_gl *gl = &r->gl;
+    if (!r->flat_program && !(r->flat_program = program_of(gl, flat_vertex_text, flat_fragment_text))) {
+        ht_log_linef(r->log, r->log_user, "hairtier: flat: the GL ES program did not build");
+        return false;
+    }
+    float mvp[16];
+    ht_glsl_mvp(f, mvp);
+    gl->UseProgram(r->flat_program);
+    gl->UniformMatrix4fv(gl->GetUniformLocation(r->flat_program, HT_ES_U_MVP), 1, GL_FALSE, mvp);
+    gl->Uniform3fv(gl->GetUniformLocation(r->flat_program, "u_color"), 1, r->flat_color);
+    return true;
 }
 
 void ht_renderer_draw_opaque_es(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f) {
@@ -118,8 +158,18 @@ void ht_renderer_draw_opaque_es(ht_renderer *r, const ht_mesh *m, const ht_tier_
     gl->Uniform4fv(r->opaque_u_light_vector, HT_MAX_LIGHTS, vectors);
     gl->Uniform3fv(r->opaque_u_light_color, HT_MAX_LIGHTS, colors);
     gl->Uniform1i(r->opaque_u_light_count, f->light_count);
+    /* 16-bit indices where the device has no others (mesh_gpu.c's rule). */
+    uint16_t *indices16 = NULL;
+    if (ht_renderer_short_indices(r)) {
+        if (m->vertex_count > 65536u || !(indices16 = ht_renderer_indices16(m->indices, m->index_count))) {
+            gl->UseProgram(0);
+            return;
+        }
+    }
     ht_renderer_set_arrays(r, m->vertices, false);
-    gl->DrawElements(GL_TRIANGLES, (GLsizei)m->index_count, GL_UNSIGNED_INT, m->indices);
+    gl->DrawElements(GL_TRIANGLES, (GLsizei)m->index_count, indices16 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT,
+                     indices16 ? (const void *)indices16 : (const void *)m->indices);
+    free(indices16);
     ht_renderer_clear_arrays(r);
     gl->UseProgram(0);
 }

@@ -103,9 +103,12 @@ static void record_state(ht_renderer *r, ht_trace_entry *e) {
     e->alpha_ref = f;
 }
 
-/* Flat mode: the baseline has no texture, lighting or program. */
-static void bind_flat(ht_renderer *r) {
+/* Flat mode: the baseline has no texture, lighting or program; GL ES
+   draws the colour with a program of the runtime's (opaque_scene_es.c). */
+static bool bind_flat(ht_renderer *r, const ht_tier_frame *tf) {
+    if (r->caps.es) return ht_renderer_bind_flat_es(r, tf);
     r->gl.Color4f(r->flat_color[0], r->flat_color[1], r->flat_color[2], 1.0f);
+    return true;
 }
 
 /* The hair, pass by pass over the whole sorted index range: every tier
@@ -125,14 +128,15 @@ ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf) {
         set_pass_state(r, pass);
         int subs = r->backend && r->backend->sub_passes ? r->backend->sub_passes(r->backend_state, pass) : 1;
         for (int sub = 0; sub < subs; sub++) {
+            bool flat_ok = true;
             if (r->backend) r->backend->bind_pass(r->backend_state, pass, sub);
-            else bind_flat(r);
+            else flat_ok = bind_flat(r, tf);
             if (r->caps.es) set_es_alpha(r, pass);
             ht_trace_entry e = { .pass = pass, .sub_pass = sub, .first_index = 0, .index_count = r->index_count };
             if (r->record_trace) record_state(r, &e);
-            bool draw = !r->backend || !r->backend->set_arrays ||
-                        r->backend->set_arrays(r->backend_state, pass, sub);
-            if (draw) gl->DrawElements(GL_TRIANGLES, (GLsizei)r->index_count, GL_UNSIGNED_INT, indices);
+            bool draw = flat_ok && (!r->backend || !r->backend->set_arrays ||
+                                    r->backend->set_arrays(r->backend_state, pass, sub));
+            if (draw) gl->DrawElements(GL_TRIANGLES, (GLsizei)r->index_count, r->index_type, indices);
             e.gl_error = gl->GetError();
             if (e.gl_error != GL_NO_ERROR) {
                 ht_log_linef(r->log, r->log_user, "hairtier: pass %d.%d (%s): %s", p, sub,

@@ -88,7 +88,7 @@ static ht_result create_backend(ht_renderer *r) {
 
 /* What this runtime draws on: desktop GL, or GL ES 2.0 and later (a
    program per tier, VBOs, 32-bit indices); a profile names one API. */
-static ht_result check_api(ht_renderer *r, const ht_device_profile *p, bool flat) {
+static ht_result check_api(ht_renderer *r, const ht_device_profile *p) {
     const ht_caps *c = &r->caps;
     char line[320] = "";
     if (p->es_major && !c->es)
@@ -101,11 +101,6 @@ static ht_result check_api(ht_renderer *r, const ht_device_profile *p, bool flat
     else if (c->es && c->gl_major < 2)
         snprintf(line, sizeof line, "%s: GL ES 1.x is not supported yet (the fixed4, fixed and gl11 tiers on ES 1.1's "
                  "combiners are not built); draw on GL ES 2.0 or later, or desktop GL", c->version);
-    else if (c->es && flat)
-        snprintf(line, sizeof line, "flat: the geometry floor draws with fixed-function GL, which %s lacks",
-                 c->version);
-    else if (c->es && c->gl_major == 2 && !ht_extension_list_has(r->extensions, "GL_OES_element_index_uint"))
-        snprintf(line, sizeof line, "%s: needs GL_OES_element_index_uint (the hair's 32-bit indices)", c->version);
     if (!line[0]) return HT_OK;
     ht_log_linef(r->log, r->log_user, "hairtier: %s", line);
     return HT_ERR_UNSUPPORTED;
@@ -192,7 +187,7 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
         }
         ht_log_linef(r->log, r->log_user, "hairtier: device profile %s (HAIRTIER_DEVICE_PROFILE)", profile_env);
     }
-    if ((res = check_api(r, &profile, desc->flat)) != HT_OK) goto fail;
+    if ((res = check_api(r, &profile)) != HT_OK) goto fail;
     ht_caps_apply_profile(&r->caps, &profile);
     ht_caps_hide_extensions(r->extensions, profile.hide_extensions);
     /* The runtime itself must not call what the profile hides. */

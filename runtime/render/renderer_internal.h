@@ -37,6 +37,8 @@ struct ht_renderer {
     uint32_t *indices;
     uint32_t vertex_count, index_count;
     bool has_mesh;
+    GLenum index_type;                /* GL_UNSIGNED_INT; GL_UNSIGNED_SHORT on GL ES 2.0 without
+                                         GL_OES_element_index_uint (mesh_gpu.c) */
     int vertex_attribs;               /* GL_MAX_VERTEX_ATTRIBS (capped), 0 without shaders */
     int max_lights;                   /* GL_MAX_LIGHTS (capped): the head turns off the ones it does not use */
     unsigned warned;                  /* frame warnings already logged once (validate.c) */
@@ -50,7 +52,7 @@ struct ht_renderer {
     double frame_ms[HT_MANIFEST_MAX_TIERS]; /* per bundle tier, 0 → not timed */
     ht_trace trace;
     /* GL ES: the head's program (opaque_scene_es.c), 0 until needed */
-    GLuint opaque_program;
+    GLuint opaque_program, flat_program;
     GLint opaque_u_mvp, opaque_u_light_vector, opaque_u_light_color, opaque_u_light_count;
     bool opaque_failed;               /* its build failed once (logged): no head on ES */
 };
@@ -68,6 +70,11 @@ int ht_renderer_plan_lights(ht_renderer *r, const ht_frame_desc *f, ht_light out
 
 /* mesh_gpu.c */
 void ht_renderer_release_mesh(ht_renderer *r);
+/* Whether meshes are drawn with 16-bit indices (the one rule: GL ES 2.0
+   without GL_OES_element_index_uint), and a mesh's indices as 16 bits
+   (malloc'd; NULL when out of memory). */
+bool ht_renderer_short_indices(const ht_renderer *r);
+uint16_t *ht_renderer_indices16(const uint32_t *indices, uint32_t count);
 /* base: NULL with the hair VBO bound, else the vertices; hair_attributes:
    uv and the backend's generic attributes too (the head needs neither). */
 void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes);
@@ -107,6 +114,9 @@ void ht_gl_state_restore_es(ht_renderer *r, const ht_gl_state *s);
 void ht_renderer_draw_opaque(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f);
 void ht_renderer_draw_opaque_es(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f);
 void ht_renderer_release_opaque_es(ht_renderer *r);
+/* Flat mode's program, used with the frame's transform; false (logged)
+   when it does not build. */
+bool ht_renderer_bind_flat_es(ht_renderer *r, const ht_tier_frame *f);
 
 /* passes.c: the alpha test of a pass, the one rule: GL's on desktop, the
    ES texts' discard uniforms on ES (func GL_GEQUAL keeps alpha >= ref,
