@@ -346,7 +346,8 @@ static const struct option long_options[] = {
 static const cli_program program = {
     .name = "bench_frame",
     .synopsis = "usage: bench_frame [--scene SCENE.json] [--hairs N] [--size S] [--frames F] [--no-orbit]\n"
-                "                   [--csv FILE [--series NAME]] [--context osmesa|egl] [--egl-device N]\n",
+                "                   [--csv FILE [--series NAME]] [--context osmesa|egl] [--egl-device N]\n"
+                "                   [--api gl|gles2|gles3]\n",
     .help = "Times every tier of dark-brown against the geometry floor on one context, frames round-robin:\n"
             "median frame ms, the ratios to the floor and to full, PSNR against full and the per-vertex CPU\n"
             "work, with the camera still and orbiting (--no-orbit skips that).\n"
@@ -355,7 +356,8 @@ static const cli_program program = {
             "  --size S       16..4096 pixels a side (default 512)\n"
             "  --frames F     timed frames, 1.." CLI_STR(MAX_FRAMES) " (default 9)\n"
             "  --csv FILE     also write the rows, series NAME (--series, default matrix)\n"
-            "  --context K    osmesa or egl; --egl-device N: EGL device N\n",
+            "  --context K    osmesa or egl; --egl-device N: EGL device N\n"
+            "  --api A        gl (default), gles2 or gles3: a GL ES context (EGL)\n",
     .long_options = long_options,
 };
 
