@@ -91,7 +91,7 @@ static ht_result create_es(vertex_state *s, const ht_tier_context *ctx, char *er
     const ht_gl *gl = s->gl;
     gl->UseProgram(s->main.id);
     for (int k = 0; k < s->stages.luts; k++) {
-        char name[16];
+        char name[32]; /* "u_lut" and an int */
         snprintf(name, sizeof name, HT_ES_U_LUT_PREFIX "%d", k);
         GLint loc = gl->GetUniformLocation(s->main.id, name);
         if (loc >= 0) gl->Uniform1i(loc, k);
