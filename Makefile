@@ -1,5 +1,6 @@
 # hairtier — `make` builds build/hairgen, build/hairview and build/libhairtier.a;
-# `make test` runs every test; `make demo` renders the shipped scenes to out/;
+# `make test` runs every test; `make demo` renders the shipped scenes to out/
+# (and one on GL ES 2.0);
 # `make asan` runs the tests under AddressSanitizer + UBSan; `make bench`
 # writes bench/results.{csv,md,svg} and bench/scaling.svg;
 # `make fuzz` builds the libFuzzer targets (fuzz/, clang, ASan + UBSan) and
@@ -70,7 +71,7 @@ TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 # Tests that render and so run a second time on softpipe (GALLIUM_DRIVER=
 # softpipe), Mesa's second driver; every test runs on llvmpipe.
 SOFTPIPE_TESTS := test_render_app_state test_render_drivers test_render_buffer_arrays test_render_marschner test_render_fixed test_render_fixed4 test_render_gl11 test_render_glsl_compile \
-                  test_render_passes test_render_probe test_render_robustness test_render_scenes
+                  test_render_passes test_render_probe test_render_robustness test_render_scenes test_render_es3
 $(foreach t,$(filter-out $(notdir $(TESTS)),$(SOFTPIPE_TESTS)),$(error SOFTPIPE_TESTS: no tests/$(t).c))
 # Render tests that run once more on llvmpipe through EGL (a pbuffer on
 # Mesa's surfaceless platform) instead of OSMesa: HAIRTIER_CONTEXT=egl
@@ -236,6 +237,7 @@ TEST_SCRIPTS := tests/install_test.sh tests/header_examples.sh
 PROGRAM_TESTS := $(notdir $(basename $(shell grep -l 'HAIRTIER_BUILD\|ht_test_build_dir' $(TEST_SRC))))
 # The slowest runs first (most CPU first), so the last ones to end are short.
 SLOW_RUNS := test_render_accuracy.llvmpipe test_render_drivers.llvmpipe test_render_scenes.llvmpipe test_model_marschner.llvmpipe \
+             test_render_es2.llvmpipe test_render_es3.llvmpipe \
              test_render_marschner.llvmpipe test_render_marschner.softpipe test_render_scenes.softpipe \
              test_render_faults.llvmpipe test_marschner_lut.llvmpipe test_render_passes.softpipe \
              test_marschner_fit.llvmpipe test_render_fixed.softpipe test_measure.llvmpipe
@@ -291,7 +293,10 @@ demo: all
 	@$(HAIRGEN) materials/brown-marschner.json --scene scenes/backlit.json -o out/backlit-bundle
 	@echo "== backlit: hairview --bundle out/backlit-bundle --scene scenes/backlit.json -o out/backlit.png"
 	@$(BUILD)/hairview --bundle out/backlit-bundle --scene scenes/backlit.json -o out/backlit.png
-		@echo "demo: wrote out/furball.png, out/patches.png, out/ratboy.png and out/backlit.png (the marschner tier lit from behind; bundles in out/SCENE-bundle)"
+	@echo "== es2: hairview --bundle out/patches-bundle --scene scenes/patches.json --api gles2 -o out/patches-es2.png (GL ES 2.0 through EGL)"
+	@EGL_PLATFORM=surfaceless MESA_GLES_VERSION_OVERRIDE=2.0 $(BUILD)/hairview --bundle out/patches-bundle \
+	  --scene scenes/patches.json --api gles2 -o out/patches-es2.png
+		@echo "demo: wrote out/furball.png, out/patches.png, out/ratboy.png, out/backlit.png (the marschner tier lit from behind) and out/patches-es2.png (the patches on GL ES 2.0); bundles in out/SCENE-bundle"
 
 # ---- install: make install PREFIX=/usr/local DESTDIR= ; make uninstall ----
 # The libraries (shared with their links, and static), the public headers

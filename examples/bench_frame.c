@@ -46,6 +46,7 @@ static int WIDTH = 512, HEIGHT = 512, FRAMES = 9, HAIRS = 10000;
 static bool HAIRS_GIVEN = false, ORBIT = true;
 static offscreen_kind CONTEXT = OFFSCREEN_AUTO;
 static int EGL_DEVICE = -1;
+static offscreen_api API = OFFSCREEN_API_GL;
 static offscreen *gl;   /* the one context every contender draws in */
 static const char *SCENE = "scenes/furball.json", *CSV = NULL, *SERIES = "matrix";
 
@@ -264,7 +265,7 @@ static int run(const char *work) {
     }
 
     gl = offscreen_open(&(offscreen_desc){ .kind = CONTEXT, .width = WIDTH, .height = HEIGHT,
-                                           .egl_device = EGL_DEVICE }, err, sizeof err);
+                                           .egl_device = EGL_DEVICE, .api = API }, err, sizeof err);
     if (!gl) {
         fprintf(stderr, "bench_frame: %s\n", err);
         return 1;
@@ -333,7 +334,7 @@ close_context:
     return status;
 }
 
-enum { KEY_HAIRS = CLI_LONG_ONLY, KEY_FRAMES, KEY_SCENE, KEY_CSV, KEY_SERIES, KEY_EGL_DEVICE, KEY_CONTEXT,
+enum { KEY_HAIRS = CLI_LONG_ONLY, KEY_FRAMES, KEY_SCENE, KEY_CSV, KEY_SERIES, KEY_EGL_DEVICE, KEY_CONTEXT, KEY_API,
        KEY_NO_ORBIT, KEY_SIZE };
 static const struct option long_options[] = {
     { "hairs", required_argument, NULL, KEY_HAIRS },
@@ -343,6 +344,7 @@ static const struct option long_options[] = {
     { "series", required_argument, NULL, KEY_SERIES },
     { "egl-device", required_argument, NULL, KEY_EGL_DEVICE },
     { "context", required_argument, NULL, KEY_CONTEXT },
+    { "api", required_argument, NULL, KEY_API },
     { "no-orbit", no_argument, NULL, KEY_NO_ORBIT },
     { "size", required_argument, NULL, KEY_SIZE },
     { 0 },
@@ -351,7 +353,8 @@ static const struct option long_options[] = {
 static const cli_program program = {
     .name = "bench_frame",
     .synopsis = "usage: bench_frame [--scene SCENE.json] [--hairs N] [--size S] [--frames F] [--no-orbit]\n"
-                "                   [--csv FILE [--series NAME]] [--context osmesa|egl] [--egl-device N]\n",
+                "                   [--csv FILE [--series NAME]] [--context osmesa|egl] [--egl-device N]\n"
+                "                   [--api gl|gles2|gles3]\n",
     .help = "Times every tier of dark-brown against the geometry floor on one context, frames round-robin:\n"
             "median frame ms, the ratios to the floor and to full, PSNR against full and the per-vertex CPU\n"
             "work, with the camera still and orbiting (--no-orbit skips that).\n"
@@ -360,7 +363,8 @@ static const cli_program program = {
             "  --size S       16..4096 pixels a side (default 512)\n"
             "  --frames F     timed frames, 1.." CLI_STR(MAX_FRAMES) " (default 9)\n"
             "  --csv FILE     also write the rows, series NAME (--series, default matrix)\n"
-            "  --context K    osmesa or egl; --egl-device N: EGL device N\n",
+            "  --context K    osmesa or egl; --egl-device N: EGL device N\n"
+            "  --api A        gl (default), gles2 or gles3: a GL ES context (EGL)\n",
     .long_options = long_options,
 };
 
@@ -398,6 +402,7 @@ static const char *take(void *user, int key, const char *value) {
     case KEY_SERIES: return text("--series", value, &SERIES);
     case KEY_EGL_DEVICE: return offscreen_device_value(value, &EGL_DEVICE);
     case KEY_CONTEXT: return offscreen_context_value(value, &CONTEXT);
+    case KEY_API: return offscreen_api_value(value, &API);
     case KEY_NO_ORBIT: ORBIT = false; return NULL;
     case KEY_SIZE:
         if ((why = number("--size", value, 16, 4096, &size))) return why;
@@ -411,7 +416,8 @@ int main(int argc, char **argv) {
     int rc = cli_parse(&program, argc, argv, take, NULL);
     if (rc != CLI_RUN) return rc;
     const char *why = NULL;
-    if (!offscreen_options_check(&CONTEXT, EGL_DEVICE, &why)) return cli_usage_error(&program, why);
+    if (!offscreen_options_check(&CONTEXT, EGL_DEVICE, &why) || !offscreen_api_check(&CONTEXT, API, &why))
+        return cli_usage_error(&program, why);
     char work[] = "/tmp/hairtier-bench-frame-XXXXXX";
     if (!mkdtemp(work)) {
         perror("mkdtemp");

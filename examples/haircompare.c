@@ -49,6 +49,7 @@ static const struct option long_options[] = { VIEW_ARGS_LONG_OPTIONS, { 0 } };
 static const cli_program program = {
     .name = "haircompare",
     .synopsis = "usage: haircompare --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl] [--egl-device N]\n"
+                "                   [--api gl|gles2|gles3]\n"
                 "                   -o REPORT_DIR\n",
     .help = "Renders SCENE with every tier of the bundle the device runs (forced, strict) and writes\n"
             "REPORT_DIR/index.html: the tier images side by side, each tier's per-pixel CIEDE2000\n"
@@ -195,7 +196,7 @@ static int build(const options *o, const char *tmp, const tier_scene *ts, report
     bool any = false;
     uint8_t bg[3];
     for (int c = 0; c < 3; c++) bg[c] = (uint8_t)(ts->scene.background[c] * 255.0f + 0.5f);
-    tier_render_use_context(o->view.context, o->view.egl_device);
+    tier_render_use_context(o->view.context, o->view.egl_device, o->view.api);
     for (int t = 0; t < rep->tier_count; t++) {
         report_tier *p = &rep->tiers[t];
         if (!p->known) {

@@ -3,8 +3,12 @@
 
    build/hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]
                   [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]
-                  [--context osmesa|egl] [--egl-device N] -o OUT.png
+                  [--context osmesa|egl] [--egl-device N] [--api gl|gles2|gles3]
+                  [--device-profile NAME] -o OUT.png
 
+   --api gles2|gles3 draws on a GL ES context (EGL); --device-profile NAME
+   caps what the runtime may use to a named device's (hairtier.h, e.g.
+   mali400), on that device's API unless --api says otherwise.
    --context picks how the GL context is made (platform/offscreen.h; default
    HAIRTIER_CONTEXT, else osmesa where libOSMesa loads, else egl);
    --egl-device N draws on EGL device N (EGL_EXT_platform_device) and implies
@@ -34,6 +38,7 @@ typedef struct options {
     ht_tier tier;
     const char *policy;   /* NULL → HAIRTIER_POLICY */
     bool strict, flat;
+    ht_device_profile profile; /* --device-profile; zero → HAIRTIER_DEVICE_PROFILE */
 } options;
 
 /* The library's log: every line goes to stderr, one line late, so that
@@ -62,13 +67,14 @@ static int fail(ht_result r) {
     return 1;
 }
 
-enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT };
+enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT, KEY_PROFILE };
 static const struct option long_options[] = {
     VIEW_ARGS_LONG_OPTIONS,
     { "tier", required_argument, NULL, KEY_TIER },
     { "policy", required_argument, NULL, KEY_POLICY },
     { "strict", no_argument, NULL, KEY_STRICT },
     { "flat", no_argument, NULL, KEY_FLAT },
+    { "device-profile", required_argument, NULL, KEY_PROFILE },
     { 0 },
 };
 
@@ -76,7 +82,8 @@ static const cli_program program = {
     .name = "hairview",
     .synopsis = "usage: hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]\n"
                 "                [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]\n"
-                "                [--context osmesa|egl] [--egl-device N] -o OUT.png\n",
+                "                [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]\n"
+                "                [--device-profile NAME] -o OUT.png\n",
     .help = "Renders SCENE with the bundle's tier that the device runs best (or --tier, --policy) and writes\n"
             "OUT.png. Prints tier=NAME reason=... and frame_ms=... (the mean of N timed frames, default 10,\n"
             "after one warm-up, each ended by glFinish) on stdout; the library's log on stderr.\n"
@@ -87,6 +94,9 @@ static const cli_program program = {
             "  --frames N      timed frames, 1..100000\n"
             "  --context K     osmesa or egl (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl)\n"
             "  --egl-device N  draw on EGL device N (implies --context egl)\n"
+            "  --api A         gl (default), gles2 or gles3 (GL ES through EGL); gles1: not supported yet\n"
+            "  --device-profile NAME  what a named device allows: gl11, gl13, gl20, videocore4, mali400,\n"
+            "                  videocore6 (an ES device's API unless --api is given)\n"
             "On failure: one line naming the file or field on stderr, exit 1, no PNG; usage errors exit 2.\n",
     .short_options = VIEW_ARGS_SHORT_OPTIONS,
     .long_options = long_options,
@@ -112,6 +122,12 @@ static const char *take(void *user, int key, const char *value) {
     }
     case KEY_STRICT: o->strict = true; return NULL;
     case KEY_FLAT: o->flat = true; return NULL;
+    case KEY_PROFILE: {
+        char err[200];
+        if (ht_device_profile_parse(value, &o->profile, err, sizeof err) == HT_OK) return NULL;
+        snprintf(message, sizeof message, "--device-profile: %s", err);
+        return message;
+    }
     default: return cli_unexpected(value);
     }
 }
@@ -120,6 +136,9 @@ static int parse_args(int argc, char **argv, options *o) {
     *o = (options){ .view = view_args_defaults(10), .tier = HT_TIER_AUTO };
     int rc = cli_parse(&program, argc, argv, take, o);
     if (rc != CLI_RUN) return rc;
+    /* An ES device's profile draws on its API unless --api says otherwise. */
+    if (o->view.api == OFFSCREEN_API_GL && o->profile.es_major > 0)
+        o->view.api = o->profile.es_major >= 3 ? OFFSCREEN_API_GLES3 : OFFSCREEN_API_GLES2;
     const char *why = view_args_check(&o->view, false);
     if (why) return cli_usage_error(&program, why);
     if (!o->view.bundle && !o->flat) return cli_usage_error(&program, "--bundle: required (unless --flat)");
@@ -155,7 +174,8 @@ static int run(const options *o, view *v) {
         return 1;
     }
     v->gl = offscreen_open(&(offscreen_desc){ .kind = o->view.context, .width = scene.width, .height = scene.height,
-                                              .egl_device = o->view.egl_device }, err, sizeof err);
+                                              .egl_device = o->view.egl_device, .api = o->view.api },
+                           err, sizeof err);
     if (!v->gl) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
@@ -170,7 +190,7 @@ static int run(const options *o, view *v) {
 
     r = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->view.bundle, .tier = o->tier,
                                                 .strict = o->strict, .log = log_line, .flat = o->flat,
-                                                .policy = o->policy },
+                                                .policy = o->policy, .profile = o->profile },
                            &v->renderer);
     if (r != HT_OK) return fail(r);
     print_held();

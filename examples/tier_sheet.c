@@ -248,6 +248,7 @@ static const struct option long_options[] = { VIEW_ARGS_LONG_OPTIONS, { 0 } };
 static const cli_program program = {
     .name = "tier_sheet",
     .synopsis = "usage: tier_sheet --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl] [--egl-device N]\n"
+                "                  [--api gl|gles2|gles3]\n"
                 "                  -o SHEET.png\n",
     .help = "Renders SCENE with every tier of the bundle (forced, strict) side by side.\n"
             "Panels left to right: marschner (when it runs), full, vertex, fixed4, fixed, gl11; errors are\n"
@@ -257,7 +258,8 @@ static const cli_program program = {
             "Prints tier, frame ms (median of N frames, default 5, each ended by glFinish),\n"
             "mean error (over pixels covered in either image) and max error, in /255.\n"
             "--context: how the GL context is made (default HAIRTIER_CONTEXT, else osmesa where\n"
-            "libOSMesa loads, else egl); --egl-device N: EGL device N (EGL_EXT_platform_device).\n",
+            "libOSMesa loads, else egl); --egl-device N: EGL device N (EGL_EXT_platform_device);\n"
+            "--api gles2|gles3: a GL ES context (EGL).\n",
     .short_options = VIEW_ARGS_SHORT_OPTIONS,
     .long_options = long_options,
 };
@@ -276,7 +278,7 @@ int main(int argc, char **argv) {
     const ht_scene scene = ts.scene;
 
     panel panels[TIERS] = { 0 };
-    tier_render_use_context(o.context, o.egl_device);
+    tier_render_use_context(o.context, o.egl_device, o.api);
     for (int t = 0; t < TIERS; t++) tier_render(o.bundle, &ts, columns[t], o.frames, &panels[t].frame);
     bool any = false;
     for (int t = 0; t < TIERS; t++) any = any || panels[t].frame.ran;

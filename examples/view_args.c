@@ -15,6 +15,7 @@ const char *view_args_take(view_args *v, int key, const char *value, int max_fra
     case 'o': v->out = value; return NULL;
     case VIEW_KEY_CONTEXT: return offscreen_context_value(value, &v->context);
     case VIEW_KEY_EGL_DEVICE: return offscreen_device_value(value, &v->egl_device);
+    case VIEW_KEY_API: return offscreen_api_value(value, &v->api);
     case VIEW_KEY_FRAMES: {
         char *end;
         long n = strtol(value, &end, 10);
@@ -54,5 +55,6 @@ const char *view_args_check(view_args *v, bool need_bundle) {
     if (!v->out) return "-o: required";
     const char *why = NULL;
     if (!offscreen_options_check(&v->context, v->egl_device, &why)) return why;
+    if (!offscreen_api_check(&v->context, v->api, &why)) return why;
     return NULL;
 }

@@ -26,17 +26,18 @@ typedef struct view_args {
     const char *bundle, *scene, *out;
     int frames;
     offscreen_kind context;
+    offscreen_api api; /* --api gl|gles1|gles2|gles3 (ES: through EGL) */
     int egl_device; /* -1: the default display */
 } view_args;
 
 /* The keys of the long options (the programs' own start at VIEW_KEY_END). */
 enum { VIEW_KEY_BUNDLE = CLI_LONG_ONLY, VIEW_KEY_SCENE, VIEW_KEY_FRAMES, VIEW_KEY_CONTEXT, VIEW_KEY_EGL_DEVICE,
-       VIEW_KEY_END };
+       VIEW_KEY_API, VIEW_KEY_END };
 #define VIEW_ARGS_SHORT_OPTIONS "o:"
 #define VIEW_ARGS_LONG_OPTIONS \
     { "bundle", required_argument, NULL, VIEW_KEY_BUNDLE }, { "scene", required_argument, NULL, VIEW_KEY_SCENE }, \
     { "frames", required_argument, NULL, VIEW_KEY_FRAMES }, { "context", required_argument, NULL, VIEW_KEY_CONTEXT }, \
-    { "egl-device", required_argument, NULL, VIEW_KEY_EGL_DEVICE }
+    { "egl-device", required_argument, NULL, VIEW_KEY_EGL_DEVICE }, { "api", required_argument, NULL, VIEW_KEY_API }
 
 view_args view_args_defaults(int frames);
 /* *taken: whether key is one of the options above; then NULL, or why its

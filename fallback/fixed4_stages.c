@@ -162,3 +162,20 @@ void ht_fixed4_stages_unbind(const ht_fixed4_stages *st) {
     }
     gl->ActiveTexture(GL_TEXTURE0);
 }
+
+void ht_fixed4_stages_bind_textures(const ht_fixed4_stages *st) {
+    const ht_gl *gl = st->gl;
+    for (int u = 0; u <= st->luts; u++) {
+        gl->ActiveTexture(GL_TEXTURE0 + (GLenum)u);
+        gl->BindTexture(GL_TEXTURE_2D, u < st->luts ? st->lut_textures[u] : st->albedo);
+    }
+    gl->ActiveTexture(GL_TEXTURE0);
+}
+
+void ht_fixed4_stages_unbind_textures(const ht_fixed4_stages *st) {
+    const ht_gl *gl = st->gl;
+    for (int u = st->luts; u >= 0; u--) {
+        gl->ActiveTexture(GL_TEXTURE0 + (GLenum)u);
+        gl->BindTexture(GL_TEXTURE_2D, 0);
+    }
+}

@@ -57,6 +57,11 @@ static inline bool ht_fixed4_stages_ready(const ht_fixed4_stages *st) { return s
 /* Every unit's texture and combiner stage; the prime-Z pass enables only
    the final unit (the albedo's alpha). Leaves unit 0 active. */
 void ht_fixed4_stages_bind(const ht_fixed4_stages *st, bool prime);
+/* GL ES: the LUTs and the albedo on their units for the ES fragment stage
+   (emit_vertex.c writes the combiners out as ESSL), no texture environment;
+   unbind_textures leaves every unit's 2D binding 0. */
+void ht_fixed4_stages_bind_textures(const ht_fixed4_stages *st);
+void ht_fixed4_stages_unbind_textures(const ht_fixed4_stages *st);
 /* Every unit back to GL_MODULATE, scale 1, no texture, target off; unit 0
    active. */
 void ht_fixed4_stages_unbind(const ht_fixed4_stages *st);

@@ -11,6 +11,7 @@
 #include "errfmt.h"
 #include "fixed4_stages.h"
 #include "glsl_program.h"
+#include "shader_interface.h"
 #include "vertex.h"
 
 typedef struct vertex_state {
@@ -23,6 +24,7 @@ typedef struct vertex_state {
     ht_fixed4_program luts;          /* what the LUTs are baked from */
     ht_fixed4_stages stages;
     int scale;                       /* this frame's */
+    bool es;                         /* GL ES: the stages are the ES text's fragment stage */
 } vertex_state;
 
 static void destroy(void *state) {
@@ -75,9 +77,49 @@ static ht_result load_vertex_stages(vertex_state *s, const ht_tier_context *ctx,
     return ht_fixed4_stages_bake(&s->stages, (const float(*)[3])white, s->scale, err, err_size);
 }
 
+/* GL ES: the ES target's vertex + fragment program; the fragment stage
+   samples the LUTs and the albedo on fixed4's units (u_lut0.., u_albedo). */
+static ht_result create_es(vertex_state *s, const ht_tier_context *ctx, char *err, size_t err_size) {
+    const ht_manifest_es *e = ht_glsl_es_target(ctx, err, err_size);
+    if (!e) return HT_ERR_UNSUPPORTED;
+    ht_result r = ht_glsl_program_build(ctx, e->vertex, e->fragment, &s->main, err, err_size);
+    if (r != HT_OK) return r;
+    s->prime = s->main;
+    s->es = true;
+    const int index = (int)(ctx->tier - ctx->bundle->tiers);
+    if ((r = load_vertex_stages(s, ctx, index, err, err_size)) != HT_OK) return r;
+    const ht_gl *gl = s->gl;
+    gl->UseProgram(s->main.id);
+    for (int k = 0; k < s->stages.luts; k++) {
+        char name[32]; /* "u_lut" and an int */
+        snprintf(name, sizeof name, HT_ES_U_LUT_PREFIX "%d", k);
+        GLint loc = gl->GetUniformLocation(s->main.id, name);
+        if (loc >= 0) gl->Uniform1i(loc, k);
+    }
+    GLint albedo = gl->GetUniformLocation(s->main.id, HT_U_ALBEDO);
+    if (albedo >= 0) gl->Uniform1i(albedo, s->stages.luts);
+    gl->UseProgram(0);
+    return HT_OK;
+}
+
 static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_t err_size) {
     *out = NULL;
     if (!ctx->gl->has_shaders) return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "no shader entry points");
+    if (ctx->caps->es) {
+        vertex_state *s = calloc(1, sizeof *s);
+        if (!s) return HT_ERR_OUT_OF_MEMORY;
+        s->gl = ctx->gl;
+        s->log = ctx->log;
+        s->log_user = ctx->log_user;
+        s->light_count = ctx->bundle->light_count;
+        ht_result r = create_es(s, ctx, err, err_size);
+        if (r != HT_OK) {
+            destroy(s);
+            return r;
+        }
+        *out = s;
+        return HT_OK;
+    }
     /* Selection checks the manifest; a bundle written before the vertex tier
        listed GL_ARB_texture_env_combine is caught here. */
     if (!ctx->caps->has_combine) return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "needs GL_ARB_texture_env_combine");
@@ -131,7 +173,8 @@ static void bind_pass(void *state, ht_pass pass, int sub_pass) {
     (void)sub_pass;
     vertex_state *s = state;
     s->gl->UseProgram(pass == HT_PASS_PRIME_Z ? s->prime.id : s->main.id);
-    ht_fixed4_stages_bind(&s->stages, pass == HT_PASS_PRIME_Z);
+    if (s->es) ht_fixed4_stages_bind_textures(&s->stages);
+    else ht_fixed4_stages_bind(&s->stages, pass == HT_PASS_PRIME_Z);
 }
 
 /* Nothing is drawn until the LUTs are baked. */
@@ -144,7 +187,8 @@ static bool set_arrays(void *state, ht_pass pass, int sub_pass) {
 static void end_frame(void *state) {
     vertex_state *s = state;
     s->gl->UseProgram(0);
-    ht_fixed4_stages_unbind(&s->stages);
+    if (s->es) ht_fixed4_stages_unbind_textures(&s->stages);
+    else ht_fixed4_stages_unbind(&s->stages);
 }
 
 const ht_tier_backend ht_tier_vertex_backend = {

@@ -41,6 +41,32 @@ bool offscreen_options_check(offscreen_kind *kind, int egl_device, const char **
     return true;
 }
 
+static const char *const api_names[] = { "gl", "gles1", "gles2", "gles3" };
+
+const char *offscreen_api_value(const char *value, offscreen_api *api) {
+    for (int i = 0; value && i < 4; i++)
+        if (strcmp(value, api_names[i]) == 0) {
+            *api = (offscreen_api)i;
+            return NULL;
+        }
+    return "--api: expected gl, gles1, gles2 or gles3";
+}
+
+const char *offscreen_api_name(offscreen_api api) {
+    return api >= OFFSCREEN_API_GL && api <= OFFSCREEN_API_GLES3 ? api_names[api] : "gl";
+}
+
+/* OSMesa makes desktop contexts only. */
+bool offscreen_api_check(offscreen_kind *kind, offscreen_api api, const char **why) {
+    if (api == OFFSCREEN_API_GL) return true;
+    if (*kind == OFFSCREEN_OSMESA) {
+        *why = "--api: GL ES contexts come from EGL, not --context osmesa";
+        return false;
+    }
+    *kind = OFFSCREEN_EGL;
+    return true;
+}
+
 const char *offscreen_kind_name(offscreen_kind kind) {
     return kind == OFFSCREEN_OSMESA ? "osmesa" : kind == OFFSCREEN_EGL ? "egl" : "auto";
 }
@@ -69,8 +95,13 @@ void *offscreen_load_library(const char *who, const char *library, const offscre
    (osmesa_why then says why not osmesa). */
 static bool resolve(const offscreen_desc *desc, offscreen_kind *out, char *osmesa_why, size_t why_size, char *err,
                     size_t err_size) {
-    if (desc->kind != OFFSCREEN_AUTO) {
-        *out = desc->kind;
+    if (desc->kind != OFFSCREEN_AUTO || desc->api != OFFSCREEN_API_GL) {
+        *out = desc->api != OFFSCREEN_API_GL ? OFFSCREEN_EGL : desc->kind;
+        if (desc->kind == OFFSCREEN_OSMESA && desc->api != OFFSCREEN_API_GL) {
+            snprintf(err, err_size, "osmesa: no %s context (OSMesa makes desktop GL only; use egl)",
+                     offscreen_api_name(desc->api));
+            return false;
+        }
         return true;
     }
     const char *env = getenv("HAIRTIER_CONTEXT");
@@ -118,6 +149,7 @@ offscreen *offscreen_open(const offscreen_desc *desc, char *err, size_t err_size
         return NULL;
     }
     o->kind = kind;
+    o->api = desc->api;
     o->width = desc->width;
     o->height = desc->height;
     const offscreen_backend *b = backend_of(kind);

@@ -51,8 +51,20 @@ typedef enum offscreen_kind {
     OFFSCREEN_EGL,
 } offscreen_kind;
 
+/* Which API the context speaks: desktop GL (compatibility profile) or
+   OpenGL ES 1.x, 2.0 or 3.x (EGL only: EGL_OPENGL_ES_API with
+   EGL_CONTEXT_CLIENT_VERSION 1, 2 or 3; Mesa's ES 2 request gets its
+   highest ES, which still serves ES 2.0 programs). */
+typedef enum offscreen_api {
+    OFFSCREEN_API_GL = 0,
+    OFFSCREEN_API_GLES1,
+    OFFSCREEN_API_GLES2,
+    OFFSCREEN_API_GLES3,
+} offscreen_api;
+
 typedef struct offscreen_desc {
-    offscreen_kind kind;    /* OFFSCREEN_AUTO */
+    offscreen_kind kind;    /* OFFSCREEN_AUTO; an ES api needs egl (AUTO becomes egl) */
+    offscreen_api api;      /* OFFSCREEN_API_GL */
     int width, height;      /* 1..8192 each */
     int egl_device;         /* -1 → the default display chain above; N → EGL device N (egl only) */
     const char *osmesa_library, *egl_library;   /* NULL → libOSMesa.so.8, libEGL.so.1 */
@@ -70,6 +82,7 @@ typedef struct offscreen_gl {
 
 typedef struct offscreen {
     offscreen_kind kind;        /* OFFSCREEN_OSMESA or OFFSCREEN_EGL, never AUTO */
+    offscreen_api api;
     int width, height;
     offscreen_gl gl;
     char display[128];          /* how it was made: "osmesa", "egl: EGL_MESA_platform_surfaceless, Mesa Project" */
@@ -86,9 +99,14 @@ const char *offscreen_kind_name(offscreen_kind kind);
    refused (one line naming the option). */
 const char *offscreen_context_value(const char *value, offscreen_kind *kind);
 const char *offscreen_device_value(const char *value, int *egl_device);
-/* After the options: --egl-device implies egl (true), and is refused with
-   --context osmesa (false, *why set). egl_device < 0: not given. */
+/* `--api gl|gles1|gles2|gles3`: NULL, or why the value is refused. */
+const char *offscreen_api_value(const char *value, offscreen_api *api);
+const char *offscreen_api_name(offscreen_api api);
+/* After the options: --egl-device and an ES --api imply egl (true), and
+   are refused with --context osmesa (false, *why set). egl_device < 0:
+   not given. */
 bool offscreen_options_check(offscreen_kind *kind, int egl_device, const char **why);
+bool offscreen_api_check(offscreen_kind *kind, offscreen_api api, const char **why);
 
 /* A current context with the viewport covering it; NULL with one line in
    err ("egl: no display: ...", "osmesa: libOSMesa.so.8: cannot open ...",

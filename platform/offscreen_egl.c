@@ -1,5 +1,6 @@
 /* offscreen_egl.c — the EGL backend of offscreen.h: a compatibility-profile
    GL context (egl.BindAPI(EGL_OPENGL_API), no version or profile attributes)
+   or a GL ES 1/2/3 one (EGL_OPENGL_ES_API, EGL_CONTEXT_CLIENT_VERSION),
    drawing into an RGBA8 + 24-bit depth pbuffer. A pbuffer rather than an
    FBO on a surfaceless context: it is a default framebuffer like OSMesa's,
    so nothing changes for the runtime, and it needs no GL 3.0 entry points
@@ -175,8 +176,8 @@ static EGLDisplay any_display(char *how, size_t how_size, char *err, size_t err_
 
 /* Exactly RGBA8, depth 24 (else the least above), no multisampling:
    eglChooseConfig sorts deeper colour first, so pick by hand. */
-static bool choose_config(EGLDisplay d, EGLConfig *out) {
-    static const EGLint want[] = { EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
+static bool choose_config(EGLDisplay d, EGLint renderable, EGLConfig *out) {
+    const EGLint want[] = { EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, renderable,
                                    EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_ALPHA_SIZE, 8,
                                    EGL_DEPTH_SIZE, 24, EGL_NONE };
     EGLConfig configs[256];
@@ -221,14 +222,25 @@ static bool egl_open(offscreen *o, const offscreen_desc *desc, char *err, size_t
     }
     EGLConfig config;
     const char *failed = NULL;
-    if (!egl.BindAPI(EGL_OPENGL_API)) failed = "egl.BindAPI(EGL_OPENGL_API)";
-    else if (!choose_config(s->display, &config)) failed = "no RGBA8 + depth 24 pbuffer config for desktop GL";
+    /* Desktop: no attributes (the compatibility profile). ES: the client
+       version, and a config that renders it. */
+    const bool es = desc->api != OFFSCREEN_API_GL;
+    const EGLint es_version = desc->api == OFFSCREEN_API_GLES1 ? 1 : desc->api == OFFSCREEN_API_GLES2 ? 2 : 3;
+    const EGLint renderable = !es ? EGL_OPENGL_BIT : es_version == 1 ? EGL_OPENGL_ES_BIT
+                            : es_version == 2 ? EGL_OPENGL_ES2_BIT : EGL_OPENGL_ES3_BIT_KHR;
+    const EGLint es_attribs[] = { EGL_CONTEXT_CLIENT_VERSION, es_version, EGL_NONE };
+    if (!egl.BindAPI(es ? EGL_OPENGL_ES_API : EGL_OPENGL_API))
+        failed = es ? "egl.BindAPI(EGL_OPENGL_ES_API)" : "egl.BindAPI(EGL_OPENGL_API)";
+    else if (!choose_config(s->display, renderable, &config))
+        failed = es ? "no RGBA8 + depth 24 pbuffer config for this GL ES version"
+                    : "no RGBA8 + depth 24 pbuffer config for desktop GL";
     else {
         const EGLint size[] = { EGL_WIDTH, o->width, EGL_HEIGHT, o->height, EGL_NONE };
         s->surface = egl.CreatePbufferSurface(s->display, config, size);
         if (s->surface == EGL_NO_SURFACE) failed = "eglCreatePbufferSurface";
-        else if ((s->context = egl.CreateContext(s->display, config, EGL_NO_CONTEXT, NULL)) == EGL_NO_CONTEXT)
-            failed = "eglCreateContext (compatibility profile)";
+        else if ((s->context = egl.CreateContext(s->display, config, EGL_NO_CONTEXT, es ? es_attribs : NULL)) ==
+                 EGL_NO_CONTEXT)
+            failed = es ? "eglCreateContext (GL ES)" : "eglCreateContext (compatibility profile)";
         else if (!egl.MakeCurrent(s->display, s->surface, s->surface, s->context)) failed = "eglMakeCurrent";
     }
     if (failed) {
@@ -240,7 +252,8 @@ static bool egl_open(offscreen *o, const offscreen_desc *desc, char *err, size_t
     }
     o->backend = s;
     const char *vendor = egl.QueryString(s->display, EGL_VENDOR);
-    snprintf(o->display, sizeof o->display, "egl: %s, %s", how, vendor ? vendor : "unknown vendor");
+    snprintf(o->display, sizeof o->display, "egl: %s, %s%s%s", how, vendor ? vendor : "unknown vendor",
+             es ? ", " : "", es ? offscreen_api_name(desc->api) : "");
     return true;
 }
 

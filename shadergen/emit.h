@@ -30,7 +30,17 @@ typedef struct ht_out_image {
     char contents[96];
 } ht_out_image;
 
-#define HT_OUT_MAX_TEXTS 8
+/* One GL ES target of a GLSL tier: the manifest's "es" list (docs/bundle.md).
+   Its texts are in texts[] with an empty role (they are not desktop files). */
+typedef struct ht_out_es {
+    char version[8];     /* the lowest ES version: "2.0", "3.0" */
+    char essl[8];        /* "1.00", "3.00" */
+    char precision[8];   /* the fragment precision the text needs: "highp", "mediump" */
+    char vertex[48], fragment[48];
+} ht_out_es;
+
+#define HT_OUT_MAX_TEXTS 12
+#define HT_OUT_MAX_ES 4
 #define HT_OUT_MAX_IMAGES 2
 #define HT_OUT_MAX_LIST 16
 
@@ -47,6 +57,8 @@ typedef struct ht_tier_output {
     int text_count;
     ht_out_image images[HT_OUT_MAX_IMAGES];
     int image_count;
+    ht_out_es es[HT_OUT_MAX_ES];           /* best first: ES 3.0, then ES 2.0 */
+    int es_count;
     ht_plan_texture samplers[HT_MAX_UNITS]; /* plan textures this tier binds, with units */
     int sampler_count;
     char features[HT_OUT_MAX_LIST][64];

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "shader_interface.h"
+#include "glsl_stages.h"
 #include "strbuf.h"
 
 void ht_tier_output_free(ht_tier_output *out) {
@@ -42,6 +43,43 @@ ht_result ht_output_add_text(ht_tier_output *out, const char *file, const char *
     t->stage = stage;
     t->glsl_version = glsl_version;
     t->es = es;
+    return HT_OK;
+}
+
+bool ht_output_add_es_entry(ht_tier_output *out, const char *version, const char *essl, const char *precision,
+                            const char *vertex, const char *fragment) {
+    if (out->es_count >= HT_OUT_MAX_ES) return false;
+    ht_out_es *e = &out->es[out->es_count++];
+    snprintf(e->version, sizeof e->version, "%s", version);
+    snprintf(e->essl, sizeof e->essl, "%s", essl);
+    snprintf(e->precision, sizeof e->precision, "%s", precision);
+    snprintf(e->vertex, sizeof e->vertex, "%s", vertex);
+    snprintf(e->fragment, sizeof e->fragment, "%s", fragment);
+    return true;
+}
+
+ht_result ht_output_add_es_pair(ht_tier_output *out, const char *stem, char *vertex100, char *fragment100,
+                                const char *precision, char *err, size_t err_size) {
+    char names[4][48];
+    snprintf(names[0], sizeof names[0], "%s-es3.vert", stem);
+    snprintf(names[1], sizeof names[1], "%s-es3.frag", stem);
+    snprintf(names[2], sizeof names[2], "%s-es2.vert", stem);
+    snprintf(names[3], sizeof names[3], "%s-es2.frag", stem);
+    char *v300 = vertex100 ? ht_glsl_essl3_from_essl1(vertex100, false) : NULL;
+    char *f300 = fragment100 ? ht_glsl_essl3_from_essl1(fragment100, true) : NULL;
+    ht_result r = ht_output_add_text(out, names[0], "", v300, HT_STAGE_VERTEX, 300, true, err, err_size);
+    if (r == HT_OK) r = ht_output_add_text(out, names[1], "", f300, HT_STAGE_FRAGMENT, 300, true, err, err_size);
+    else free(f300);
+    if (r == HT_OK) r = ht_output_add_text(out, names[2], "", vertex100, HT_STAGE_VERTEX, 100, true, err, err_size);
+    else free(vertex100);
+    if (r == HT_OK) r = ht_output_add_text(out, names[3], "", fragment100, HT_STAGE_FRAGMENT, 100, true, err, err_size);
+    else free(fragment100);
+    if (r != HT_OK) return r;
+    if (!ht_output_add_es_entry(out, "3.0", "3.00", precision, names[0], names[1]) ||
+        !ht_output_add_es_entry(out, "2.0", "1.00", precision, names[2], names[3])) {
+        if (err && err_size) snprintf(err, err_size, "%s: too many GL ES variants for one tier", stem);
+        return HT_ERR_INVALID_ARGUMENT;
+    }
     return HT_OK;
 }
 

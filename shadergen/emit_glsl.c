@@ -1,5 +1,6 @@
 /* emit_glsl.c — the full tier: the shading model per pixel in GLSL 1.20, its
-   alpha-only Z-prime program, and an ESSL 1.00 port of the main pair. Only
+   alpha-only Z-prime program, and the main pair for GL ES (ESSL 1.00, and
+   ESSL 3.00 converted from it). Only
    what the plan models is written; material constants are literals, so the
    runtime sets nothing but the eye, the lights and the samplers. */
 #include <stdio.h>
@@ -114,12 +115,10 @@ ht_result ht_emit_full(const ht_plan *plan, ht_tier_output *out, char *err, size
     if (r == HT_OK)
         r = ht_output_add_text(out, "full-prime.frag", "prime_fragment", ht_glsl_prime_stage(plan, banner, true),
                                HT_STAGE_FRAGMENT, 120, false, err, err_size);
+    /* GL ES 3.0 and 2.0 (WebGL 2 and 1): the same shading, highp directions. */
     if (r == HT_OK)
-        r = ht_output_add_text(out, "full-es.vert", "es_vertex", ht_glsl_main_vertex(plan, &layout, true),
-                               HT_STAGE_VERTEX, 100, true, err, err_size);
-    if (r == HT_OK)
-        r = ht_output_add_text(out, "full-es.frag", "es_fragment", main_fragment(plan, true),
-                               HT_STAGE_FRAGMENT, 100, true, err, err_size);
+        r = ht_output_add_es_pair(out, "full", ht_glsl_main_vertex(plan, &layout, true), main_fragment(plan, true),
+                                  "highp", err, err_size);
     if (r != HT_OK) ht_tier_output_free(out);
     return r;
 }

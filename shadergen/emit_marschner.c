@@ -295,12 +295,11 @@ ht_result ht_emit_marschner(const ht_plan *plan, ht_tier_output *out, char *err,
     if (r == HT_OK)
         r = ht_output_add_text(out, "marschner-prime.frag", "prime_fragment", ht_glsl_prime_stage(plan, banner, true),
                                HT_STAGE_FRAGMENT, 120, false, err, err_size);
-    if (r == HT_OK)
-        r = ht_output_add_text(out, "marschner-es.vert", "es_vertex", ht_glsl_main_vertex(plan, &layout, true), HT_STAGE_VERTEX, 100,
-                               true, err, err_size);
+    /* GL ES 3.0 and 2.0: the arithmetic above needs highp (8-bit RGBA atlases,
+       no float textures, 3 units: within ES 2.0 with GL_FRAGMENT_PRECISION_HIGH). */
     if (r == HT_OK) {
-        r = ht_output_add_text(out, "marschner-es.frag", "es_fragment", frag_es, HT_STAGE_FRAGMENT, 100, true, err,
-                               err_size);
+        r = ht_output_add_es_pair(out, "marschner", ht_glsl_main_vertex(plan, &layout, true), frag_es, "highp", err,
+                                  err_size);
         frag_es = NULL;
     }
     free(frag);

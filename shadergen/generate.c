@@ -132,6 +132,7 @@ static cJSON *tier_entry(const ht_tier_output *t) {
     cJSON *o = cJSON_CreateObject();
     cJSON_AddStringToObject(o, HT_MANIFEST_KEY_NAME, ht_tier_name(t->tier));
     cJSON *req = cJSON_AddObjectToObject(o, HT_MANIFEST_KEY_REQUIRES);
+    cJSON_AddStringToObject(req, HT_MANIFEST_KEY_API, HT_MANIFEST_API_GL);
     cJSON_AddStringToObject(req, HT_MANIFEST_KEY_GL, t->requires.gl);
     if (t->requires.glsl[0]) cJSON_AddStringToObject(req, HT_MANIFEST_KEY_GLSL, t->requires.glsl);
     else cJSON_AddNullToObject(req, HT_MANIFEST_KEY_GLSL);
@@ -142,7 +143,21 @@ static cJSON *tier_entry(const ht_tier_output *t) {
 
     cJSON *files = cJSON_AddObjectToObject(o, HT_MANIFEST_KEY_FILES);
     for (int i = 0; i < t->text_count; i++)
-        cJSON_AddStringToObject(files, t->texts[i].role, t->texts[i].file);
+        if (t->texts[i].role[0]) cJSON_AddStringToObject(files, t->texts[i].role, t->texts[i].file);
+    /* The GL ES texts are listed by their targets, not as desktop files. */
+    if (t->es_count > 0) {
+        cJSON *es = cJSON_AddArrayToObject(o, HT_MANIFEST_KEY_ES);
+        for (int i = 0; i < t->es_count; i++) {
+            cJSON *e = cJSON_CreateObject();
+            cJSON_AddStringToObject(e, HT_MANIFEST_KEY_API, HT_MANIFEST_API_GLES);
+            cJSON_AddStringToObject(e, HT_MANIFEST_KEY_ES_VERSION, t->es[i].version);
+            cJSON_AddStringToObject(e, HT_MANIFEST_KEY_ESSL, t->es[i].essl);
+            cJSON_AddStringToObject(e, HT_MANIFEST_KEY_PRECISION, t->es[i].precision);
+            cJSON_AddStringToObject(e, HT_MANIFEST_KEY_VERTEX, t->es[i].vertex);
+            cJSON_AddStringToObject(e, HT_MANIFEST_KEY_FRAGMENT, t->es[i].fragment);
+            cJSON_AddItemToArray(es, e);
+        }
+    }
     if (t->image_count > 0) {
         cJSON *tex = cJSON_AddObjectToObject(o, HT_MANIFEST_KEY_TEXTURES);
         for (int i = 0; i < t->image_count; i++)

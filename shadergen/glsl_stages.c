@@ -1,6 +1,8 @@
 /* glsl_stages.c — see glsl_stages.h. */
 #include "glsl_stages.h"
 
+#include <string.h>
+
 #include "shader_interface.h"
 
 void ht_glsl_varyings(ht_strbuf *sb, const ht_plan *plan, const ht_glsl_vertex_layout *l, const char *dp,
@@ -71,5 +73,51 @@ char *ht_glsl_prime_stage(const ht_plan *plan, ht_glsl_banner_fn banner, bool fr
         ht_strbuf_add(&sb, "    gl_FragColor = vec4(1.0);\n");
     }
     ht_strbuf_add(&sb, "}\n");
+    return ht_strbuf_take(&sb);
+}
+
+/* ---- ESSL 3.00 from ESSL 1.00 ---- */
+
+static bool ident_char(char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+}
+
+/* The identifiers ESSL 3.00 renamed or dropped, per stage. */
+typedef struct rename_rule { const char *from, *to; } rename_rule;
+static const rename_rule vertex_renames[] = { { "attribute", "in" }, { "varying", "out" }, { NULL, NULL } };
+static const rename_rule fragment_renames[] = { { "varying", "in" },
+                                                { "texture2D", "texture" },
+                                                { "gl_FragColor", HT_ES3_FRAG_COLOR },
+                                                { NULL, NULL } };
+
+char *ht_glsl_essl3_from_essl1(const char *text, bool fragment) {
+    static const char v100[] = "#version 100\n";
+    if (!text || strncmp(text, v100, sizeof v100 - 1) != 0) return NULL;
+    const rename_rule *rules = fragment ? fragment_renames : vertex_renames;
+    ht_strbuf sb;
+    ht_strbuf_init(&sb);
+    ht_strbuf_add(&sb, "#version 300 es\n");
+    bool declared = !fragment;
+    for (const char *p = text + sizeof v100 - 1; *p;) {
+        const bool line_start = p[-1] == '\n';
+        /* gl_FragColor's stand-in is declared once, before main (after the
+           default precision statement, which every fragment text has). */
+        if (!declared && line_start && strncmp(p, "void main(", 10) == 0) {
+            ht_strbuf_addf(&sb, "out vec4 %s;\n\n", HT_ES3_FRAG_COLOR);
+            declared = true;
+        }
+        if (ident_char(*p) && !ident_char(p[-1])) {
+            size_t n = 0;
+            while (ident_char(p[n])) n++;
+            const char *to = NULL;
+            for (const rename_rule *r = rules; r->from; r++)
+                if (strlen(r->from) == n && strncmp(p, r->from, n) == 0) to = r->to;
+            if (to) ht_strbuf_add(&sb, to);
+            else ht_strbuf_addn(&sb, p, n);
+            p += n;
+            continue;
+        }
+        ht_strbuf_addn(&sb, p++, 1);
+    }
     return ht_strbuf_take(&sb);
 }

@@ -31,4 +31,10 @@ char *ht_glsl_main_vertex(const ht_plan *plan, const ht_glsl_vertex_layout *l, b
    the alpha test when the plan has alpha. */
 char *ht_glsl_prime_stage(const ht_plan *plan, ht_glsl_banner_fn banner, bool fragment);
 
+/* The ESSL 3.00 text (malloc'd) of an ESSL 1.00 one: "#version 300 es",
+   attribute/varying as in/out, texture2D as texture, gl_FragColor as an
+   output declared before main. One mechanical rule, so the two ES texts
+   of a tier cannot drift apart; NULL when text is not ESSL 1.00. */
+char *ht_glsl_essl3_from_essl1(const char *text, bool fragment);
+
 #endif

@@ -100,10 +100,15 @@ static ht_result fail(char *log, size_t log_size, const char *fmt, const char *a
 }
 
 /* The first line must be the #version line of the version asked for, so a
-   file can never be validated at one version and compiled at another. */
-static bool version_line_ok(const char *source, int version) {
+   file can never be validated at one version and compiled at another
+   (ESSL 3.00 and later name their profile: "#version 300 es"). */
+static int version_line(char *want, size_t size, int version, bool es) {
+    return snprintf(want, size, "#version %d%s", version, es && version >= 300 ? " es" : "");
+}
+
+static bool version_line_ok(const char *source, int version, bool es) {
     char want[32];
-    int n = snprintf(want, sizeof want, "#version %d", version);
+    int n = version_line(want, sizeof want, version, es);
     if (strncmp(source, want, (size_t)n) != 0) return false;
     char next = source[n];
     return next == '\n' || (next == '\r' && source[n + 1] == '\n');
@@ -122,9 +127,9 @@ ht_result ht_glsl_validate(const char *source, ht_stage stage, int version, bool
     if (!source) return fail(log, log_size, "%s", "no source");
     if (stage != HT_STAGE_VERTEX && stage != HT_STAGE_FRAGMENT)
         return fail(log, log_size, "%s", "not a GLSL stage");
-    if (!version_line_ok(source, version)) {
+    if (!version_line_ok(source, version, es)) {
         char want[32];
-        snprintf(want, sizeof want, "#version %d", version);
+        version_line(want, sizeof want, version, es);
         return fail(log, log_size, "ERROR: the first line is not exactly \"%s\"", want);
     }
     const uint64_t key = text_key(source, stage, version, es);

@@ -35,6 +35,13 @@ void ht_strbuf_add(ht_strbuf *sb, const char *s) {
     sb->len += n;
 }
 
+void ht_strbuf_addn(ht_strbuf *sb, const char *s, size_t n) {
+    if (!reserve(sb, n)) return;
+    memcpy(sb->data + sb->len, s, n);
+    sb->len += n;
+    sb->data[sb->len] = '\0';
+}
+
 void ht_strbuf_addf(ht_strbuf *sb, const char *fmt, ...) {
     va_list ap;
     va_start(ap, fmt);

@@ -29,6 +29,8 @@ typedef struct ht_strbuf {
 
 void ht_strbuf_init(ht_strbuf *sb);
 void ht_strbuf_add(ht_strbuf *sb, const char *s);
+/* The first n bytes of s (no NUL among them). */
+void ht_strbuf_addn(ht_strbuf *sb, const char *s, size_t n);
 void ht_strbuf_addf(ht_strbuf *sb, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
 /* The text, owned by the caller (free()); NULL when an allocation failed.
@@ -56,6 +58,17 @@ const char *ht_glsl_vec3(const double v[3], char out[HT_GLSL_VEC3_SIZE]);
    HT_ERR_OUT_OF_MEMORY. */
 ht_result ht_output_add_text(ht_tier_output *out, const char *file, const char *role, char *text,
                              ht_stage stage, int glsl_version, bool es, char *err, size_t err_size);
+/* The tier's GL ES texts from its ESSL 1.00 pair (ownership taken):
+   STEM-es3.vert/.frag (ESSL 3.00, converted by ht_glsl_essl3_from_essl1)
+   and STEM-es2.vert/.frag (ESSL 1.00), each validated at its ES version, and
+   their two "es" entries (ES 3.0 first) with the fragment precision the
+   text needs ("highp" or "mediump"). */
+ht_result ht_output_add_es_pair(ht_tier_output *out, const char *stem, char *vertex100, char *fragment100,
+                                const char *precision, char *err, size_t err_size);
+/* One more "es" entry naming texts already added (a variant sharing a
+   vertex stage, e.g. a mediump fragment text); false when the list is full. */
+bool ht_output_add_es_entry(ht_tier_output *out, const char *version, const char *essl, const char *precision,
+                            const char *vertex, const char *fragment);
 void ht_output_add_feature(ht_tier_output *out, const char *feature);
 void ht_output_add_dropped(ht_tier_output *out, const char *reason);
 /* "scheuermann", "1 directional light", "2 point lights", ...: the model and

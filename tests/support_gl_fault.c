@@ -84,10 +84,16 @@
 #define ARGS_Uniform1f location, v0
 #define ARGS_Uniform3fv location, count, value
 #define ARGS_Uniform4fv location, count, value
+#define ARGS_UniformMatrix4fv location, count, transpose, value
 #define ARGS_VertexAttribPointer index, size, type, normalized, stride, ptr
 #define ARGS_EnableVertexAttribArray index
 #define ARGS_DisableVertexAttribArray index
 #define ARGS_GetStringi name, index
+#define ARGS_GetVertexAttribiv index, pname, params
+#define ARGS_GetVertexAttribPointerv index, pname, pointer
+#define ARGS_BlendFuncSeparate src_rgb, dst_rgb, src_alpha, dst_alpha
+#define ARGS_GetShaderPrecisionFormat shader, type, range, precision
+#define ARGS_BindVertexArray array
 
 static ht_fault_state st;
 static GLenum pending;   /* an injected error the next glGetError reports */

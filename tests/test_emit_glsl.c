@@ -128,7 +128,7 @@ static void check_output(const ht_plan *p, const emitted *e) {
             if (ht_glsl_validate(x->text, x->stage, x->glsl_version, x->es, log, sizeof log) != HT_OK)
                 fail_msg("%s does not validate: %s\n%s", x->file, log, x->text);
             char first[32];
-            snprintf(first, sizeof first, "#version %d\n", x->glsl_version);
+            snprintf(first, sizeof first, "#version %d%s\n", x->glsl_version, x->glsl_version >= 300 ? " es" : "");
             assert_true(strncmp(x->text, first, strlen(first)) == 0);
             if (x->stage == HT_STAGE_VERTEX && !x->es) {
                 assert_int_equal(count_of(x->text, "gl_Position = ftransform();"), 1);
@@ -144,7 +144,7 @@ static void check_output(const ht_plan *p, const emitted *e) {
         }
     }
     assert_int_equal(e->full.tier, HT_TIER_FULL);
-    assert_int_equal(e->full.text_count, 6);
+    assert_int_equal(e->full.text_count, 8); /* desktop pair, prime pair, ES 3.0 and ES 2.0 pairs */
     assert_string_equal(e->full.requires.gl, "2.1");
     assert_string_equal(e->full.requires.glsl, "1.20");
     assert_int_equal(e->full.requires.texture_units, p->texture_count);
@@ -156,14 +156,33 @@ static void check_output(const ht_plan *p, const emitted *e) {
     }
     const char *roles[][2] = { { "full.vert", "vertex" }, { "full.frag", "fragment" },
                                { "full-prime.vert", "prime_vertex" }, { "full-prime.frag", "prime_fragment" },
-                               { "full-es.vert", "es_vertex" }, { "full-es.frag", "es_fragment" } };
-    for (int i = 0; i < 6; i++) assert_string_equal(text_of(&e->full, roles[i][0])->role, roles[i][1]);
+                               /* the ES texts are named by the "es" entries, not as desktop files */
+                               { "full-es3.vert", "" }, { "full-es3.frag", "" },
+                               { "full-es2.vert", "" }, { "full-es2.frag", "" } };
+    for (int i = 0; i < 8; i++) assert_string_equal(text_of(&e->full, roles[i][0])->role, roles[i][1]);
     assert_int_equal(text_of(&e->full, "full.frag")->glsl_version, 120);
-    assert_true(text_of(&e->full, "full-es.frag")->es);
-    assert_int_equal(text_of(&e->full, "full-es.frag")->glsl_version, 100);
+    assert_true(text_of(&e->full, "full-es2.frag")->es);
+    assert_int_equal(text_of(&e->full, "full-es2.frag")->glsl_version, 100);
+    assert_true(text_of(&e->full, "full-es3.frag")->es);
+    assert_int_equal(text_of(&e->full, "full-es3.frag")->glsl_version, 300);
+    /* ES 3.0 first (best first), each with its ESSL version and the highp
+       the shading's directions need. */
+    assert_int_equal(e->full.es_count, 2);
+    assert_string_equal(e->full.es[0].version, "3.0");
+    assert_string_equal(e->full.es[0].essl, "3.00");
+    assert_string_equal(e->full.es[0].fragment, "full-es3.frag");
+    assert_string_equal(e->full.es[1].version, "2.0");
+    assert_string_equal(e->full.es[1].essl, "1.00");
+    assert_string_equal(e->full.es[1].vertex, "full-es2.vert");
+    assert_string_equal(e->full.es[1].precision, "highp");
 
     assert_int_equal(e->vertex.tier, HT_TIER_VERTEX);
-    assert_int_equal(e->vertex.text_count, 3); /* two vertex shaders and the LUT program */
+    /* two desktop vertex shaders, the LUT program, two ES pairs */
+    assert_int_equal(e->vertex.text_count, 7);
+    /* The combiner stages as an ES fragment stage need no highp. */
+    assert_int_equal(e->vertex.es_count, 2);
+    assert_string_equal(e->vertex.es[1].precision, "mediump");
+    assert_string_equal(e->vertex.es[1].fragment, "vertex-es2.frag");
     assert_string_equal(e->vertex.requires.gl, "2.0");
     assert_string_equal(e->vertex.requires.glsl, "1.10");
     /* Its fragment stage is fixed4's GL_COMBINE stages. */
@@ -171,8 +190,8 @@ static void check_output(const ht_plan *p, const emitted *e) {
     assert_string_equal(e->vertex.requires.extensions[0], "GL_ARB_texture_env_combine");
     assert_int_equal(e->full.requires.extension_count, 0);
     /* Tangent and ao are generic attributes, the same names on desktop and ES. */
-    const char *lit_vertex[] = { "full.vert", "full-es.vert", "vertex.vert" };
-    for (int i = 0; i < 3; i++) {
+    const char *lit_vertex[] = { "full.vert", "full-es2.vert", "vertex.vert", "vertex-es2.vert" };
+    for (int i = 0; i < 4; i++) {
         const ht_out_text *x = text_of(i < 2 ? &e->full : &e->vertex, lit_vertex[i]);
         assert_int_equal(count_of(x->text, "attribute vec3 " HT_ATTR_TANGENT ";"), 1);
         assert_int_equal(count_of(x->text, "attribute float " HT_ATTR_AO ";"), p->ao ? 1 : 0);
@@ -460,15 +479,28 @@ static void test_es_fragment_discards_against_the_alpha_uniforms(void **state) {
     ht_plan p = plan_of(&m, 1, 0);
     emitted e;
     emit_both(&p, &e);
-    const char *es = text_of(&e.full, "full-es.frag")->text;
+    const char *es = text_of(&e.full, "full-es2.frag")->text;
     assert_non_null(strstr(es, "discard"));
     assert_non_null(strstr(es, "uniform mediump float u_alpha_ref;"));
     assert_non_null(strstr(es, "uniform mediump float u_alpha_pass_opaque;"));
     assert_non_null(strstr(es, "#ifdef GL_FRAGMENT_PRECISION_HIGH"));
-    const char *esv = text_of(&e.full, "full-es.vert")->text;
+    const char *esv = text_of(&e.full, "full-es2.vert")->text;
     assert_non_null(strstr(esv, "gl_Position = u_mvp * vec4(a_position, 1.0);"));
     assert_null(strstr(esv, "gl_Vertex"));
     assert_null(strstr(esv, "ftransform"));
+    /* ESSL 3.00: the same text through the one conversion rule. */
+    const char *es3 = text_of(&e.full, "full-es3.frag")->text;
+    assert_true(strncmp(es3, "#version 300 es\n", 16) == 0);
+    assert_non_null(strstr(es3, "out vec4 " HT_ES3_FRAG_COLOR ";"));
+    assert_null(strstr(es3, "gl_FragColor"));
+    assert_null(strstr(es3, "texture2D"));
+    assert_null(strstr(es3, "varying"));
+    assert_null(strstr(text_of(&e.full, "full-es3.vert")->text, "attribute"));
+    /* The vertex tier's ES fragment stage discards too, in mediump. */
+    const char *vf = text_of(&e.vertex, "vertex-es2.frag")->text;
+    assert_non_null(strstr(vf, "discard"));
+    assert_non_null(strstr(vf, "precision mediump float;"));
+    assert_null(strstr(vf, "highp"));
     /* The desktop shaders leave alpha testing to glAlphaFunc. */
     assert_null(strstr(text_of(&e.full, "full.frag")->text, "discard"));
     free_both(&e);

@@ -140,7 +140,7 @@ static void test_manifest_refuses_dot_and_dot_dot_file_names(void **state) {
         char text[1024], err[512] = "";
         snprintf(text, sizeof text,
                  "{\"format\": \"" HT_MANIFEST_FORMAT "\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"directional\"],"
-                 " \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": \"2.1\", \"glsl\": \"1.20\"},"
+                 " \"tiers\": [{\"name\": \"full\", \"requires\": {\"api\": \"gl\", \"gl\": \"2.1\", \"glsl\": \"1.20\"},"
                  " \"files\": {\"vertex\": \"%s\"}}]}", names[i]);
         ht_manifest m;
         assert_int_equal(ht_manifest_parse(text, "/b", "/b/manifest.json", &m, err, sizeof err), HT_ERR_PARSE);
@@ -153,7 +153,7 @@ static void test_manifest_refuses_dot_and_dot_dot_file_names(void **state) {
         snprintf(text, sizeof text,
                  "{\"format\": \"" HT_MANIFEST_FORMAT "\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"directional\"],"
                  " \"textures\": {\"albedo\": {\"file\": \"%s\", \"width\": 4, \"height\": 4}},"
-                 " \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": \"2.1\"}, \"files\": {}}]}", names[i]);
+                 " \"tiers\": [{\"name\": \"full\", \"requires\": {\"api\": \"gl\", \"gl\": \"2.1\"}, \"files\": {}}]}", names[i]);
         assert_int_equal(ht_manifest_parse(text, "/b", "/b/manifest.json", &m, err, sizeof err), HT_ERR_PARSE);
         snprintf(want, sizeof want, "/b/manifest.json: textures.albedo.file: \"%s\" is not a plain file name",
                  names[i]);
@@ -172,7 +172,7 @@ static void test_manifest_refuses_another_generator_version(void **state) {
         char text[1024], err[512] = "";
         snprintf(text, sizeof text,
                  "{\"format\": \"" HT_MANIFEST_FORMAT "\", \"generator\": %s, \"opaque_cutoff\": 0.5,"
-                 " \"lights\": [\"directional\"], \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": \"2.1\"},"
+                 " \"lights\": [\"directional\"], \"tiers\": [{\"name\": \"full\", \"requires\": {\"api\": \"gl\", \"gl\": \"2.1\"},"
                  " \"files\": {}}]}", versions[i]);
         ht_manifest m;
         assert_int_equal(ht_manifest_parse(text, "/b", "/b/manifest.json", &m, err, sizeof err), HT_ERR_PARSE);

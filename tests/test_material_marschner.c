@@ -167,7 +167,8 @@ static void generate_writes_the_marschner_tier_first(void **state) {
     assert_int_equal(parse("", "", &m, err, sizeof err), HT_OK);
     ht_generated g;
     assert_int_equal(ht_generate(&(ht_generate_desc){ .material = &m }, &g, err, sizeof err), HT_OK);
-    const char *want[] = { "marschner.vert", "marschner.frag", "marschner-es.vert", "marschner-es.frag",
+    const char *want[] = { "marschner.vert", "marschner.frag", "marschner-es2.vert", "marschner-es2.frag",
+                           "marschner-es3.vert", "marschner-es3.frag",
                            "marschner-prime.vert", "marschner-prime.frag", "marschner-m.png", "marschner-n.png" };
     for (size_t i = 0; i < sizeof want / sizeof *want; i++) {
         const ht_generated_file *f = ht_generated_find(&g, want[i]);

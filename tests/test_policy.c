@@ -32,11 +32,11 @@
 #define MANIFEST(m_full, m_vertex, m_fixed4, m_fixed, m_gl11) \
     "{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"material\": \"t\", \"model\": \"scheuermann\"," \
     " \"lights\": [\"directional\"], \"opaque_cutoff\": 0.9, \"tiers\": [" \
-    TIER("full", "{\"gl\": \"2.1\", \"glsl\": \"1.20\"}", "{\"vertex\": \"f.vert\", \"fragment\": \"f.frag\"}", m_full) "," \
-    TIER("vertex", "{\"gl\": \"2.0\", \"glsl\": \"1.10\", \"texture_units\": 4}", "{\"vertex\": \"v.vert\"}", m_vertex) "," \
-    TIER("fixed4", "{\"gl\": \"1.3\", \"glsl\": null, \"texture_units\": 4}", "{\"program\": \"fixed4.json\"}", m_fixed4) "," \
-    TIER("fixed", "{\"gl\": \"1.3\", \"glsl\": null, \"texture_units\": 2}", "{\"program\": \"fixed.json\"}", m_fixed) "," \
-    TIER("gl11", "{\"gl\": \"1.1\", \"glsl\": null}", "{\"program\": \"gl11.json\"}", m_gl11) "]}"
+    TIER("full", "{\"api\": \"gl\", \"gl\": \"2.1\", \"glsl\": \"1.20\"}", "{\"vertex\": \"f.vert\", \"fragment\": \"f.frag\"}", m_full) "," \
+    TIER("vertex", "{\"api\": \"gl\", \"gl\": \"2.0\", \"glsl\": \"1.10\", \"texture_units\": 4}", "{\"vertex\": \"v.vert\"}", m_vertex) "," \
+    TIER("fixed4", "{\"api\": \"gl\", \"gl\": \"1.3\", \"glsl\": null, \"texture_units\": 4}", "{\"program\": \"fixed4.json\"}", m_fixed4) "," \
+    TIER("fixed", "{\"api\": \"gl\", \"gl\": \"1.3\", \"glsl\": null, \"texture_units\": 2}", "{\"program\": \"fixed.json\"}", m_fixed) "," \
+    TIER("gl11", "{\"api\": \"gl\", \"gl\": \"1.1\", \"glsl\": null}", "{\"program\": \"gl11.json\"}", m_gl11) "]}"
 
 static const char measured_manifest[] =
     MANIFEST(MEASURED("null", "1"), MEASURED("32.1", "0.6"), MEASURED("31.2", "0.4"), MEASURED("27", "0.5"),
@@ -148,7 +148,7 @@ static void test_manifest_refuses_a_bad_measured_object_naming_the_field(void **
         char text[4096], err[512];
         snprintf(text, sizeof text,
                  "{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"lights\": [\"directional\"], \"opaque_cutoff\": 0.9, \"tiers\": ["
-                 TIER("gl11", "{\"gl\": \"1.1\", \"glsl\": null}", "{\"program\": \"gl11.json\"}", "%s") "]}",
+                 TIER("gl11", "{\"api\": \"gl\", \"gl\": \"1.1\", \"glsl\": null}", "{\"program\": \"gl11.json\"}", "%s") "]}",
                  cases[i].measured);
         ht_manifest m;
         assert_int_equal(ht_manifest_parse(text, "/b", "/b/manifest.json", &m, err, sizeof err), HT_ERR_PARSE);
@@ -264,7 +264,7 @@ static void test_manifest_refuses_bad_flip_numbers_naming_the_field(void **state
         char text[4096], err[512];
         snprintf(text, sizeof text,
                  "{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"lights\": [\"directional\"], \"opaque_cutoff\": 0.9, \"tiers\": ["
-                 TIER("gl11", "{\"gl\": \"1.1\", \"glsl\": null}", "{\"program\": \"gl11.json\"}",
+                 TIER("gl11", "{\"api\": \"gl\", \"gl\": \"1.1\", \"glsl\": null}", "{\"program\": \"gl11.json\"}",
                       ", \"measured\": {\"psnr_db\": 30, \"ssim\": 0.9, \"delta_e00_mean\": 1, \"delta_e00_p95\": 2,"
                       " \"cost_ratio\": 1, %s}") "]}",
                  cases[i].flip);

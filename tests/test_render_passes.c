@@ -380,7 +380,7 @@ static void test_render_corrupt_manifest_is_one_line_error(void **state) {
 
     ht_test_write_file(dir, "manifest.json",
                "{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"directional\"],"
-               " \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": 2.1}, \"files\": {}}]}");
+               " \"tiers\": [{\"name\": \"full\", \"requires\": {\"api\": \"gl\", \"gl\": 2.1}, \"files\": {}}]}");
     r = create((ht_renderer_desc){ .bundle_dir = dir }, HT_ERR_PARSE);
     assert_true(ht_test_logged("manifest.json: tiers[0].requires.gl: expected a string"));
 }

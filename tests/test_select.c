@@ -19,13 +19,13 @@ static const char manifest[] =
     " \"lights\": [\"directional\"], \"opaque_cutoff\": 0.9,"
     " \"textures\": {\"albedo\": {\"file\": \"albedo.png\", \"width\": 8, \"height\": 8, \"depth\": 1}},"
     " \"tiers\": ["
-    "  {\"name\": \"full\", \"requires\": {\"gl\": \"2.1\", \"glsl\": \"1.20\", \"extensions\": [], \"texture_units\": 2},"
+    "  {\"name\": \"full\", \"requires\": {\"api\": \"gl\", \"gl\": \"2.1\", \"glsl\": \"1.20\", \"extensions\": [], \"texture_units\": 2},"
     "   \"files\": {\"vertex\": \"full.vert\", \"fragment\": \"full.frag\"},"
     "   \"samplers\": [{\"uniform\": \"u_albedo\", \"texture\": \"albedo\", \"unit\": 0}]},"
-    "  {\"name\": \"vertex\", \"requires\": {\"gl\": \"2.0\", \"glsl\": \"1.10\","
+    "  {\"name\": \"vertex\", \"requires\": {\"api\": \"gl\", \"gl\": \"2.0\", \"glsl\": \"1.10\","
     "   \"extensions\": [\"GL_ARB_texture_env_combine\"], \"texture_units\": 1},"
     "   \"files\": {\"vertex\": \"vertex.vert\"}},"
-    "  {\"name\": \"fixed\", \"requires\": {\"gl\": \"1.2\", \"glsl\": null,"
+    "  {\"name\": \"fixed\", \"requires\": {\"api\": \"gl\", \"gl\": \"1.2\", \"glsl\": null,"
     "   \"extensions\": [\"GL_ARB_multitexture\", \"GL_ARB_texture_env_combine\"], \"texture_units\": 2},"
     "   \"files\": {\"program\": \"fixed.json\"}}]}";
 
@@ -380,19 +380,19 @@ static void test_bundle_rejects_bad_manifests_naming_the_field(void **state) {
     expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"spot\"]}",
                           "lights[0]");
     expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"point\"],"
-                          " \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": \"2.1\", \"glsl\": \"one\"},"
+                          " \"tiers\": [{\"name\": \"full\", \"requires\": {\"api\": \"gl\", \"gl\": \"2.1\", \"glsl\": \"one\"},"
                           " \"files\": {}}]}",
                           "tiers[0].requires.glsl");
     expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"point\"],"
-                          " \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": \"2.1\"},"
+                          " \"tiers\": [{\"name\": \"full\", \"requires\": {\"api\": \"gl\", \"gl\": \"2.1\"},"
                           " \"files\": {\"vertex\": \"../../etc/passwd\"}}]}",
                           "tiers[0].files.vertex");
     expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"point\"],"
-                          " \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": \"2.1\"}, \"files\": {},"
+                          " \"tiers\": [{\"name\": \"full\", \"requires\": {\"api\": \"gl\", \"gl\": \"2.1\"}, \"files\": {},"
                           " \"samplers\": [{\"uniform\": \"u\", \"texture\": \"nope\", \"unit\": 0}]}]}",
                           "tiers[0].samplers[0].texture");
     expect_manifest_error("{\"format\": \"hairtier-bundle/1\", \"generator\": \"" HT_MANIFEST_GENERATOR "\", \"opaque_cutoff\": 0.5, \"lights\": [\"point\"],"
-                          " \"tiers\": [{\"name\": \"full\", \"requires\": {\"gl\": \"2.1\", \"texture_units\": -1},"
+                          " \"tiers\": [{\"name\": \"full\", \"requires\": {\"api\": \"gl\", \"gl\": \"2.1\", \"texture_units\": -1},"
                           " \"files\": {}}]}",
                           "tiers[0].requires.texture_units");
 }

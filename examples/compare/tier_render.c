@@ -24,10 +24,12 @@ void tier_scene_free(tier_scene *s) {
 /* How tier_render makes its contexts (tier_render_use_context). */
 static offscreen_kind context_kind = OFFSCREEN_AUTO;
 static int context_egl_device = -1;
+static offscreen_api context_api = OFFSCREEN_API_GL;
 
-void tier_render_use_context(offscreen_kind kind, int egl_device) {
+void tier_render_use_context(offscreen_kind kind, int egl_device, offscreen_api api) {
     context_kind = kind;
     context_egl_device = egl_device;
+    context_api = api;
 }
 
 /* The renderer's last log line: why a strict tier did not run. */
@@ -56,7 +58,8 @@ void tier_render(const char *bundle, const tier_scene *ts, ht_tier tier, int fra
     double *times = NULL;
     char err[512];
     offscreen *gl = offscreen_open(&(offscreen_desc){ .kind = context_kind, .width = s->width, .height = s->height,
-                                                      .egl_device = context_egl_device }, err, sizeof err);
+                                                      .egl_device = context_egl_device, .api = context_api },
+                                   err, sizeof err);
     if (!gl) {
         snprintf(out->reason, sizeof out->reason, "%s", err);
         goto done;

@@ -47,7 +47,7 @@ typedef struct tier_frame {
 void tier_render(const char *bundle, const tier_scene *s, ht_tier tier, int frames, tier_frame *out);
 /* How tier_render makes its contexts from now on (--context, --egl-device;
    offscreen.h): OFFSCREEN_AUTO and -1 until a program says otherwise. */
-void tier_render_use_context(offscreen_kind kind, int egl_device);
+void tier_render_use_context(offscreen_kind kind, int egl_device, offscreen_api api);
 void tier_frame_free(tier_frame *f);
 
 #endif

@@ -10,7 +10,7 @@
    others, and draws hair in Scheuermann's four passes over a mesh whose
    strands are sorted inside to outside once, at load time.
 
-   Usage (any GL 1.1+ compatibility context current; my_getproc hands out
+   Usage (any GL 1.1+ compatibility context, or GL ES 2.0+ context, current; my_getproc hands out
    its entry points, my_log gets each log line):
        ht_mesh mesh;   // built once, sorted inside out once
        if (ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 10000 }, &mesh) != HT_OK) return;
@@ -39,7 +39,8 @@
    wins over both).
    HAIRTIER_VARIANT=exact|device picks the variant of fixed4 and fixed like
    ht_renderer_desc.variant (ht_variant below; the desc wins).
-   HAIRTIER_DEVICE_PROFILE=gl11|gl13|gl20 caps the device like
+   HAIRTIER_DEVICE_PROFILE=gl11|gl13|gl20|videocore4|mali400|videocore6
+   caps the device like
    ht_renderer_desc.profile (ht_device_profile_parse; a non-zero desc
    profile wins).
 
@@ -192,9 +193,12 @@ typedef void *(*ht_getproc_fn)(const char *name);
 typedef void (*ht_log_fn)(void *user, const char *line);
 
 typedef struct ht_caps {
-    int gl_major, gl_minor;
-    int glsl_major, glsl_minor;   /* 0.0 when there are no shaders */
-    int texture_units;
+    int gl_major, gl_minor;       /* on GL ES: the ES version ("OpenGL ES 3.2 Mesa ..." → 3.2) */
+    int glsl_major, glsl_minor;   /* 0.0 when there are no shaders; on ES the ESSL version (1.00 → {1, 0}) */
+    int texture_units;            /* fixed-function units; on ES 2.0+ the fragment stage's (GL_MAX_TEXTURE_IMAGE_UNITS) */
+    bool es;                      /* an OpenGL ES context ("OpenGL ES ..." version string) */
+    bool fragment_highp;          /* fragment highp float: always on desktop GL; on ES what
+                                     glGetShaderPrecisionFormat(GL_FRAGMENT_SHADER, GL_HIGH_FLOAT) says */
     char renderer[128];
     char version[128];
     bool has_shaders;             /* entry points loaded and GL >= 2.0 */
@@ -227,6 +231,9 @@ typedef struct ht_device_profile {
     bool no_fragment_shaders;     /* false; true models a vertex-shader-only device */
     bool no_shaders;              /* false */
     bool no_vbo;                  /* false */
+    int es_major, es_minor;       /* 0.0 → a desktop profile; else a GL ES device of that version
+                                     (the context must be ES: the renderer refuses it on desktop GL) */
+    bool no_fragment_highp;       /* false; true models a fragment stage without highp (Mali-400) */
 } ht_device_profile;
 
 /* Probes the current context: versions, the flags above, units. */
@@ -236,7 +243,11 @@ HT_API void ht_caps_apply_profile(ht_caps *caps, const ht_device_profile *profil
 /* A named profile: "gl11" (GL 1.1, one unit, no multitexture, combine,
    VBOs, shaders or 3D textures: the gl11 tier), "gl13" (GL 1.3, the
    driver's units and extensions: what MESA_GL_VERSION_OVERRIDE=1.3 leaves),
-   "gl20" (GL 2.0, GLSL 1.10); NULL, "" or "none" → the zero profile. Other
+   "gl20" (GL 2.0, GLSL 1.10); the GL ES devices "videocore4" (Raspberry
+   Pi 1-3, Mesa vc4: ES 2.0, 8 units), "mali400" (Mesa lima: ES 2.0, no
+   fragment highp, 8 units) and "videocore6" (Pi 4, Mesa v3d: ES 3.1, 16
+   units), whose sources docs/materials.md cites; NULL, "" or "none" → the
+   zero profile. Other
    text: HT_ERR_INVALID_ARGUMENT with one line in err. This is what
    HAIRTIER_DEVICE_PROFILE names; it stands in for old hardware on any
    driver, NVIDIA's too, where Mesa's overrides do not exist. */
@@ -403,6 +414,13 @@ HT_API ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh);
    planes, depth range, blend equation and colour, the framebuffer and draw
    buffer. With no room on either attribute stack the draw draws nothing
    and returns HT_ERR_GL with one log line.
+   On GL ES 2.0 and later (no attribute stacks) the draw reads back and
+   restores what it changes: depth test, function and mask, blend enable
+   and functions, culling and its face, front face, polygon offset, colour
+   mask, the program, the active unit and every unit's 2D texture, both
+   buffer bindings, the vertex array object (ES 3: it draws with object 0)
+   and on that object every attribute's enable and attributes 0-7's
+   arrays.
    ht_renderer_create and ht_renderer_set_mesh are not wrapped that way:
    they leave the current program 0, the active unit's 2D (and 3D) texture
    binding 0, GL_UNPACK_ALIGNMENT 4 and GL_ARRAY_BUFFER and

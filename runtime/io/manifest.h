@@ -30,7 +30,7 @@
 /* The generator version a bundle records: hairgen writes it, the runtime
    refuses any other ("regenerate with ..."), input_hash covers it. Bump it
    with any change to what a bundle holds. */
-#define HT_MANIFEST_GENERATOR "hairgen 5"
+#define HT_MANIFEST_GENERATOR "hairgen 6"
 #define HT_MANIFEST_FILE "manifest.json"
 /* Texture sizes the runtime reads: per side, 3D depth (slices), and texels
    in all (the PNG reader's cap, so a listed texture is never one it refuses).
@@ -61,6 +61,7 @@ _Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader r
 /* a tier */
 #define HT_MANIFEST_KEY_NAME "name"
 #define HT_MANIFEST_KEY_REQUIRES "requires"
+#define HT_MANIFEST_KEY_API "api"              /* requires: "gl"; an "es" entry: "gles" */
 #define HT_MANIFEST_KEY_GL "gl"
 #define HT_MANIFEST_KEY_GLSL "glsl"
 #define HT_MANIFEST_KEY_EXTENSIONS "extensions"
@@ -72,6 +73,17 @@ _Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader r
 #define HT_MANIFEST_KEY_UNIT "unit"
 #define HT_MANIFEST_KEY_FEATURES "features"
 #define HT_MANIFEST_KEY_DROPPED "dropped"
+/* a GLSL tier's optional "es" list: its GL ES targets, best first */
+#define HT_MANIFEST_KEY_ES "es"
+#define HT_MANIFEST_KEY_ES_VERSION "version"      /* the lowest ES version, "2.0" or "3.0" */
+#define HT_MANIFEST_KEY_ESSL "essl"               /* "1.00" or "3.00" */
+#define HT_MANIFEST_KEY_PRECISION "fragment_precision" /* "highp" or "mediump" */
+#define HT_MANIFEST_KEY_VERTEX "vertex"
+#define HT_MANIFEST_KEY_FRAGMENT "fragment"
+#define HT_MANIFEST_API_GL "gl"
+#define HT_MANIFEST_API_GLES "gles"
+#define HT_MANIFEST_PRECISION_HIGHP "highp"
+#define HT_MANIFEST_PRECISION_MEDIUMP "mediump"
 /* a tier's optional "measured" object: how the tier compares with full on
    one scene, measured offline (hairgen --measure; shadergen/metrics.h has the
    definitions). psnr_db null means identical (infinite). */
@@ -133,6 +145,16 @@ typedef struct ht_manifest_measured {
     char driver[128];              /* "" when absent */
 } ht_manifest_measured;
 
+/* One GL ES target of a GLSL tier ("es" entry). */
+typedef struct ht_manifest_es {
+    int es_major, es_minor;        /* version: the lowest ES version it runs on */
+    int essl_major, essl_minor;    /* essl: 1.00 or 3.00 ({1, 0}, {3, 0}) */
+    bool mediump;                  /* fragment_precision "mediump": runs without fragment highp */
+    char vertex[HT_MANIFEST_NAME], fragment[HT_MANIFEST_NAME];
+} ht_manifest_es;
+
+#define HT_MANIFEST_MAX_ES 4
+
 typedef struct ht_manifest_tier {
     char name[16];
     ht_tier tier;                  /* HT_TIER_COUNT: a tier this runtime does not know */
@@ -147,6 +169,8 @@ typedef struct ht_manifest_tier {
     int sampler_count;
     ht_manifest_texture textures[HT_MANIFEST_MAX_TEXTURES]; /* the tier's own ("fixed-lut") */
     int texture_count;
+    ht_manifest_es es[HT_MANIFEST_MAX_ES]; /* optional: GL ES targets, best first */
+    int es_count;
     ht_manifest_measured measured;   /* optional */
     ht_manifest_measured measured_device; /* optional: the device-only variant's */
 } ht_manifest_tier;

@@ -143,6 +143,62 @@ static ht_result parse_measured(const ht_jctx *c, const cJSON *t, const char *ba
     return HT_OK;
 }
 
+/* A string field that must be one of the given words (NULL-terminated). */
+static ht_result parse_word(const ht_jctx *c, const cJSON *obj, const char *parent, const char *key,
+                            const char *const *words, int *which) {
+    char text[16], field[HT_JSON_PATH_MAX];
+    ht_result r = ht_json_string(c, obj, parent, key, NULL, text, sizeof text);
+    if (r != HT_OK) return r;
+    for (int i = 0; words[i]; i++)
+        if (strcmp(text, words[i]) == 0) {
+            *which = i;
+            return HT_OK;
+        }
+    ht_json_path_key(field, parent, key);
+    return ht_json_fail(c, field, "\"%s\" is not \"%s\"%s%s%s", text, words[0], words[1] ? " or \"" : "",
+                        words[1] ? words[1] : "", words[1] ? "\"" : "");
+}
+
+/* The optional "es" list: each entry a GL ES target of the tier, its two
+   texts plain names inside the bundle. */
+static ht_result parse_es(const ht_jctx *c, const cJSON *t, const char *base, ht_manifest_tier *out) {
+    static const char *const api[] = { HT_MANIFEST_API_GLES, NULL };
+    static const char *const precision[] = { HT_MANIFEST_PRECISION_HIGHP, HT_MANIFEST_PRECISION_MEDIUMP, NULL };
+    static const char *const known[] = { K(API), K(ES_VERSION), K(ESSL), K(PRECISION), K(VERTEX), K(FRAGMENT), NULL };
+    char path[HT_JSON_PATH_MAX], field[HT_JSON_PATH_MAX], ff[HT_JSON_PATH_MAX];
+    ht_json_path_key(path, base, K(ES));
+    const cJSON *list;
+    int items;
+    ht_result r = ht_json_array(c, t, base, K(ES), false, 1, HT_MANIFEST_MAX_ES, &list, &items);
+    if (r != HT_OK || !list) return r;
+    for (const cJSON *e = list->child; e; e = e->next) {
+        ht_json_path_index(field, path, out->es_count);
+        if (!cJSON_IsObject(e)) return ht_json_fail(c, field, "expected an object");
+        ht_manifest_es *es = &out->es[out->es_count];
+        int which = 0, prec = 0;
+        if ((r = ht_json_keys(c, e, field, known)) != HT_OK ||
+            (r = parse_word(c, e, field, K(API), api, &which)) != HT_OK ||
+            (r = parse_version_field(c, e, field, K(ES_VERSION), false, false, &es->es_major, &es->es_minor)) != HT_OK ||
+            (r = parse_version_field(c, e, field, K(ESSL), true, false, &es->essl_major, &es->essl_minor)) != HT_OK ||
+            (r = parse_word(c, e, field, K(PRECISION), precision, &prec)) != HT_OK ||
+            (r = ht_json_string(c, e, field, K(VERTEX), NULL, es->vertex, sizeof es->vertex)) != HT_OK ||
+            (r = check_file_name(c, (ht_json_path_key(ff, field, K(VERTEX)), ff), es->vertex)) != HT_OK ||
+            (r = ht_json_string(c, e, field, K(FRAGMENT), NULL, es->fragment, sizeof es->fragment)) != HT_OK ||
+            (r = check_file_name(c, (ht_json_path_key(ff, field, K(FRAGMENT)), ff), es->fragment)) != HT_OK)
+            return r;
+        /* ESSL 1.00 reads as {1, 0}: the GLSL rule's two-digit minor. */
+        if (!((es->es_major == 2 && es->es_minor == 0 && es->essl_major == 1 && es->essl_minor == 0) ||
+              (es->es_major == 3 && es->es_minor == 0 && es->essl_major == 3 && es->essl_minor == 0))) {
+            ht_json_path_key(ff, field, K(ESSL));
+            return ht_json_fail(c, ff, "ES %d.%d with ESSL %d.%02d: expected ES 2.0 with \"1.00\" or ES 3.0 with \"3.00\"",
+                                es->es_major, es->es_minor, es->essl_major, es->essl_minor);
+        }
+        es->mediump = prec == 1;
+        out->es_count++;
+    }
+    return HT_OK;
+}
+
 static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_manifest_tier *out) {
     char base[64], field[HT_JSON_PATH_MAX];
     snprintf(base, sizeof base, K(TIERS) "[%d]", index);
@@ -160,12 +216,15 @@ static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_mani
     ht_json_path_key(req_path, base, K(REQUIRES));
     const cJSON *req, *ext;
     int ext_count;
+    static const char *const desktop_api[] = { HT_MANIFEST_API_GL, NULL };
+    int api = 0;
     if ((r = ht_json_object(c, t, base, K(REQUIRES), true, &req)) != HT_OK ||
         (r = parse_version_field(c, req, req_path, K(GL), false, false, &out->gl_major, &out->gl_minor)) != HT_OK ||
         (r = parse_version_field(c, req, req_path, K(GLSL), true, true, &out->glsl_major, &out->glsl_minor)) != HT_OK ||
         (r = ht_json_int32(c, req, req_path, K(TEXTURE_UNITS), &(int){ 0 }, 0, 64, &out->texture_units)) != HT_OK ||
         (r = ht_json_array(c, req, req_path, K(EXTENSIONS), false, 0, HT_MANIFEST_MAX_EXTENSIONS,
-                           &ext, &ext_count)) != HT_OK)
+                           &ext, &ext_count)) != HT_OK ||
+        (r = parse_word(c, req, req_path, K(API), desktop_api, &api)) != HT_OK)
         return r;
     ht_json_path_key(field, req_path, K(EXTENSIONS));
     for (const cJSON *e = ext ? ext->child : NULL; e; e = e->next) {
@@ -230,6 +289,7 @@ static ht_result parse_tier(const ht_jctx *c, const cJSON *t, int index, ht_mani
             }
         out->sampler_count++;
     }
+    if ((r = parse_es(c, t, base, out)) != HT_OK) return r;
     if ((r = parse_measured(c, t, base, K(MEASURED), &out->measured)) != HT_OK) return r;
     return parse_measured(c, t, base, K(MEASURED_DEVICE), &out->measured_device);
 }

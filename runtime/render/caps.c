@@ -151,8 +151,27 @@ static bool append_extension(char **list, size_t *used, size_t *cap, const char 
     return true;
 }
 
+/* GL ES: what its version makes core. ES 1.x is fixed-function with
+   multitexture, GL_COMBINE and VBOs core; ES 2.0 and later are shaders,
+   VBOs and units for samplers, with neither combiners nor 3D textures the
+   tiers could use. */
+static void derive_es_flags(ht_caps *c, const ht_gl *gl) {
+    const bool programmable = c->gl_major >= 2;
+    c->has_multitexture = gl->has_multitexture;
+    c->has_combine = !programmable;
+    c->has_crossbar = false;
+    c->has_3d_textures = false;
+    c->has_vbo = gl->has_vbo;
+    c->has_shaders = programmable && gl->has_shaders;
+    c->has_vertex_shaders = c->has_fragment_shaders = c->has_shaders;
+}
+
 /* Derived flags from version, known extensions and loaded entry points. */
 static void derive_flags(ht_caps *c, const ht_gl *gl) {
+    if (c->es) {
+        derive_es_flags(c, gl);
+        return;
+    }
     c->has_multitexture = gl->has_multitexture &&
         (ht_caps_gl_at_least(c, 1, 3) || ht_caps_lists_extension(c, "GL_ARB_multitexture"));
     c->has_combine = ht_caps_gl_at_least(c, 1, 3) || ht_caps_lists_extension(c, "GL_ARB_texture_env_combine") ||
@@ -186,6 +205,9 @@ ht_result ht_caps_probe_gl(const ht_gl *gl, ht_caps *out, char **extensions) {
     if (!version || !ht_parse_version(version, false, &out->gl_major, &out->gl_minor))
         return HT_ERR_GL; /* no current context, or a driver that names no version */
     snprintf(out->version, sizeof out->version, "%s", version);
+    /* "OpenGL ES 3.2 Mesa ...", "OpenGL ES-CM 1.1 ...": the number after the
+       prefix is the ES version (ht_parse_version skips to it). */
+    out->es = strncmp(version, "OpenGL ES", 9) == 0;
     const char *renderer = (const char *)gl->GetString(GL_RENDERER);
     snprintf(out->renderer, sizeof out->renderer, "%s", renderer ? renderer : "");
 
@@ -214,9 +236,18 @@ ht_result ht_caps_probe_gl(const ht_gl *gl, ht_caps *out, char **extensions) {
     derive_flags(out, gl);
     out->texture_units = 1;
     if (out->has_multitexture) {
+        /* Shader units on ES 2.0+ (GL_MAX_TEXTURE_UNITS is the fixed-function count). */
         GLint units = 1;
-        gl->GetIntegerv(GL_MAX_TEXTURE_UNITS, &units);
+        gl->GetIntegerv(out->es && out->gl_major >= 2 ? GL_MAX_TEXTURE_IMAGE_UNITS : GL_MAX_TEXTURE_UNITS, &units);
         out->texture_units = units > 1 ? units : 1;
+    }
+    /* Desktop GLSL floats are 32-bit; an ES fragment stage says what it has
+       (range and precision 0: no highp). */
+    out->fragment_highp = !out->es;
+    if (out->es && out->has_shaders && gl->GetShaderPrecisionFormat) {
+        GLint range[2] = { 0, 0 }, precision = 0;
+        gl->GetShaderPrecisionFormat(GL_FRAGMENT_SHADER, GL_HIGH_FLOAT, range, &precision);
+        out->fragment_highp = precision > 0 && range[1] > 0;
     }
     if (out->has_3d_textures) {
         GLint size = 0;
@@ -228,7 +259,7 @@ ht_result ht_caps_probe_gl(const ht_gl *gl, ht_caps *out, char **extensions) {
         const char *sl = (const char *)gl->GetString(GL_SHADING_LANGUAGE_VERSION);
         if (!ht_parse_version(sl, true, &out->glsl_major, &out->glsl_minor) || out->glsl_major < 1) {
             out->glsl_major = 1;
-            out->glsl_minor = 10;
+            out->glsl_minor = out->es ? 0 : 10; /* ES 2.0 guarantees ESSL 1.00 */
         }
     }
     while (gl->GetError() != GL_NO_ERROR) {}
@@ -248,6 +279,19 @@ void ht_caps_apply_profile(ht_caps *c, const ht_device_profile *p) {
         c->glsl_minor = p->glsl_minor;
     }
     if (p->texture_units > 0 && c->texture_units > p->texture_units) c->texture_units = p->texture_units;
+    /* An ES device's version caps an ES context's (the renderer refuses an ES
+       profile on desktop GL); its ESSL follows: 1.00 below ES 3.0. */
+    if (c->es && (p->es_major || p->es_minor) &&
+        (c->gl_major > p->es_major || (c->gl_major == p->es_major && c->gl_minor > p->es_minor))) {
+        c->gl_major = p->es_major;
+        c->gl_minor = p->es_minor;
+        int essl_major = c->gl_major < 3 ? 1 : c->gl_major, essl_minor = c->gl_major < 3 ? 0 : c->gl_minor * 10;
+        if (!ht_version_at_least(essl_major, essl_minor, c->glsl_major, c->glsl_minor)) {
+            c->glsl_major = essl_major;
+            c->glsl_minor = essl_minor;
+        }
+    }
+    if (p->no_fragment_highp) c->fragment_highp = false;
     if (p->max_3d_texture_size > 0 && c->max_3d_texture_size > p->max_3d_texture_size)
         c->max_3d_texture_size = p->max_3d_texture_size;
     for (int k = 0; p->hide_extensions && k < KNOWN_COUNT; k++)
@@ -288,6 +332,14 @@ static const struct { const char *name; ht_device_profile profile; } named_profi
                                    "GL_ARB_fragment_shader GL_EXT_texture3D" } },
     { "gl13", { .gl_major = 1, .gl_minor = 3 } },
     { "gl20", { .gl_major = 2, .gl_minor = 0, .glsl_major = 1, .glsl_minor = 10 } },
+    /* GL ES devices (docs/materials.md "Device profiles" cites each):
+       Raspberry Pi 1-3 (Mesa vc4: ES 2.0), Mali-400/450 (Mesa lima: ES 2.0,
+       fp16 fragment stage), Raspberry Pi 4 (Mesa v3d: ES 3.1); units: the
+       ES 2.0 minimum (8) where no driver number is cited, ES 3.x's 16. */
+    { "videocore4", { .es_major = 2, .es_minor = 0, .texture_units = 8,
+                      .hide_extensions = "GL_OES_element_index_uint" } },
+    { "mali400", { .es_major = 2, .es_minor = 0, .texture_units = 8, .no_fragment_highp = true } },
+    { "videocore6", { .es_major = 3, .es_minor = 1, .texture_units = 16 } },
 };
 
 ht_result ht_device_profile_parse(const char *text, ht_device_profile *out, char *err, size_t err_size) {
@@ -298,12 +350,12 @@ ht_result ht_device_profile_parse(const char *text, ht_device_profile *out, char
             *out = named_profiles[i].profile;
             return HT_OK;
         }
-    snprintf(err, err_size, "\"%.40s\" is not none, gl11, gl13 or gl20", text);
+    snprintf(err, err_size, "\"%.40s\" is not none, gl11, gl13, gl20, videocore4, mali400 or videocore6", text);
     return HT_ERR_INVALID_ARGUMENT;
 }
 
 bool ht_device_profile_is_zero(const ht_device_profile *p) {
     return !p->gl_major && !p->gl_minor && !p->glsl_major && !p->glsl_minor && !p->texture_units &&
            !p->max_3d_texture_size && !p->hide_extensions && !p->no_fragment_shaders && !p->no_shaders &&
-           !p->no_vbo;
+           !p->no_vbo && !p->es_major && !p->es_minor && !p->no_fragment_highp;
 }

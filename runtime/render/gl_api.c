@@ -4,7 +4,8 @@
 
 #include "gl_api.h"
 
-enum gl_group { GROUP_core, GROUP_tex3d, GROUP_multitexture, GROUP_vbo, GROUP_shaders, GROUP_stringi };
+enum gl_group { GROUP_core, GROUP_fixed, GROUP_tex3d, GROUP_multitexture, GROUP_client_units, GROUP_vbo, GROUP_shaders, GROUP_stringi,
+                GROUP_precision, GROUP_vao, GROUP_LAST = GROUP_vao };
 
 typedef struct gl_entry {
     const char *name;   /* without the "gl" prefix */
@@ -43,12 +44,20 @@ ht_result ht_gl_load(ht_gl *gl, ht_getproc_fn getproc, char *err, size_t err_siz
         return HT_ERR_INVALID_ARGUMENT;
     }
     memset(gl, 0, sizeof *gl);
-    bool group_ok[GROUP_stringi + 1];
-    for (int g = 0; g <= GROUP_stringi; g++) group_ok[g] = true;
+    bool group_ok[GROUP_LAST + 1];
+    for (int g = 0; g <= GROUP_LAST; g++) group_ok[g] = true;
+    /* GL_VERSION first: whether the fixed-function group is required. */
+    void *get_string = lookup(getproc, "GetString");
+    if (get_string) {
+        const GLubyte *(APIENTRYP fn)(GLenum);
+        memcpy(&fn, &get_string, sizeof fn);
+        const char *version = (const char *)fn(GL_VERSION);
+        gl->es = version && strncmp(version, "OpenGL ES", 9) == 0;
+    }
     for (size_t i = 0; i < ENTRY_COUNT; i++) {
         void *p = lookup(getproc, entries[i].name);
         if (!p) {
-            if (entries[i].group == GROUP_core) {
+            if (entries[i].group == GROUP_core || (entries[i].group == GROUP_fixed && !gl->es)) {
                 snprintf(err, err_size, "gl_api: gl%s: entry point missing (GL 1.1 required)",
                          entries[i].name);
                 return HT_ERR_UNSUPPORTED;
@@ -60,19 +69,28 @@ ht_result ht_gl_load(ht_gl *gl, ht_getproc_fn getproc, char *err, size_t err_siz
            platform GL runs on (POSIX requires it for dlsym). */
         memcpy((char *)gl + entries[i].offset, &p, sizeof p);
     }
-    for (int g = GROUP_tex3d; g <= GROUP_stringi; g++)
+    for (int g = GROUP_fixed; g <= GROUP_LAST; g++)
         if (!group_ok[g]) clear_group(gl, (enum gl_group)g);
     gl->has_tex3d = group_ok[GROUP_tex3d];
+    /* glClientActiveTexture: GL 1.3's client side of the units (ES 2.0 has
+       none); without glActiveTexture it is of no use either. */
     gl->has_multitexture = group_ok[GROUP_multitexture];
+    if (!gl->has_multitexture) clear_group(gl, GROUP_client_units);
     gl->has_vbo = group_ok[GROUP_vbo];
     gl->has_shaders = group_ok[GROUP_shaders];
     gl->has_stringi = group_ok[GROUP_stringi];
+    gl->has_precision = group_ok[GROUP_precision];
+    gl->has_vao = group_ok[GROUP_vao];
     return HT_OK;
 }
 
 void ht_gl_restrict(ht_gl *gl, bool tex3d, bool multitexture, bool vbo, bool shaders) {
     if (!tex3d) { clear_group(gl, GROUP_tex3d); gl->has_tex3d = false; }
-    if (!multitexture) { clear_group(gl, GROUP_multitexture); gl->has_multitexture = false; }
+    if (!multitexture) {
+        clear_group(gl, GROUP_multitexture);
+        clear_group(gl, GROUP_client_units);
+        gl->has_multitexture = false;
+    }
     if (!vbo) { clear_group(gl, GROUP_vbo); gl->has_vbo = false; }
     if (!shaders) { clear_group(gl, GROUP_shaders); gl->has_shaders = false; }
 }

@@ -10,8 +10,9 @@
        if (gl.has_vbo) gl.GenBuffers(1, &vbo);
 
    GL 1.1 entry points are required (OSMesaGetProcAddress, wglGetProcAddress
-   wrappers and eglGetProcAddress with core-symbol lookup return them). Every
-   later group is optional: a group whose entry point is missing is cleared
+   wrappers and eglGetProcAddress with core-symbol lookup return them), the
+   fixed-function ones on desktop GL only (gl.es). Every later group is
+   optional: a group whose entry point is missing is cleared
    (its has_ flag is false, its pointers NULL) instead of failing the load.
    ARB-suffixed names are tried when the core name is missing.
    Whether the context's version allows a group is decided by caps.c. */
@@ -42,43 +43,43 @@
     X(core, void, ColorMask, (GLboolean r, GLboolean g, GLboolean b, GLboolean a)) \
     X(core, void, CullFace, (GLenum mode)) \
     X(core, void, FrontFace, (GLenum mode)) \
-    X(core, void, AlphaFunc, (GLenum func, GLfloat ref)) \
+    X(fixed, void, AlphaFunc, (GLenum func, GLfloat ref)) \
     X(core, void, BlendFunc, (GLenum sfactor, GLenum dfactor)) \
-    X(core, void, MatrixMode, (GLenum mode)) \
-    X(core, void, LoadMatrixf, (const GLfloat *m)) \
-    X(core, void, LoadIdentity, (void)) \
-    X(core, void, EnableClientState, (GLenum array)) \
-    X(core, void, DisableClientState, (GLenum array)) \
-    X(core, void, VertexPointer, (GLint size, GLenum type, GLsizei stride, const void *ptr)) \
-    X(core, void, NormalPointer, (GLenum type, GLsizei stride, const void *ptr)) \
-    X(core, void, TexCoordPointer, (GLint size, GLenum type, GLsizei stride, const void *ptr)) \
-    X(core, void, ColorPointer, (GLint size, GLenum type, GLsizei stride, const void *ptr)) \
+    X(fixed, void, MatrixMode, (GLenum mode)) \
+    X(fixed, void, LoadMatrixf, (const GLfloat *m)) \
+    X(fixed, void, LoadIdentity, (void)) \
+    X(fixed, void, EnableClientState, (GLenum array)) \
+    X(fixed, void, DisableClientState, (GLenum array)) \
+    X(fixed, void, VertexPointer, (GLint size, GLenum type, GLsizei stride, const void *ptr)) \
+    X(fixed, void, NormalPointer, (GLenum type, GLsizei stride, const void *ptr)) \
+    X(fixed, void, TexCoordPointer, (GLint size, GLenum type, GLsizei stride, const void *ptr)) \
+    X(fixed, void, ColorPointer, (GLint size, GLenum type, GLsizei stride, const void *ptr)) \
     X(core, void, DrawElements, (GLenum mode, GLsizei count, GLenum type, const void *indices)) \
-    X(core, void, Color4f, (GLfloat r, GLfloat g, GLfloat b, GLfloat a)) \
-    X(core, void, Lightfv, (GLenum light, GLenum pname, const GLfloat *params)) \
-    X(core, void, LightModelfv, (GLenum pname, const GLfloat *params)) \
-    X(core, void, Materialfv, (GLenum face, GLenum pname, const GLfloat *params)) \
-    X(core, void, ColorMaterial, (GLenum face, GLenum mode)) \
-    X(core, void, Lightf, (GLenum light, GLenum pname, GLfloat param)) \
-    X(core, void, LightModeli, (GLenum pname, GLint param)) \
-    X(core, void, PolygonMode, (GLenum face, GLenum mode)) \
-    X(core, void, PushAttrib, (GLbitfield mask)) \
-    X(core, void, PopAttrib, (void)) \
-    X(core, void, PushClientAttrib, (GLbitfield mask)) \
-    X(core, void, PopClientAttrib, (void)) \
-    X(core, void, ShadeModel, (GLenum mode)) \
+    X(fixed, void, Color4f, (GLfloat r, GLfloat g, GLfloat b, GLfloat a)) \
+    X(fixed, void, Lightfv, (GLenum light, GLenum pname, const GLfloat *params)) \
+    X(fixed, void, LightModelfv, (GLenum pname, const GLfloat *params)) \
+    X(fixed, void, Materialfv, (GLenum face, GLenum pname, const GLfloat *params)) \
+    X(fixed, void, ColorMaterial, (GLenum face, GLenum mode)) \
+    X(fixed, void, Lightf, (GLenum light, GLenum pname, GLfloat param)) \
+    X(fixed, void, LightModeli, (GLenum pname, GLint param)) \
+    X(fixed, void, PolygonMode, (GLenum face, GLenum mode)) \
+    X(fixed, void, PushAttrib, (GLbitfield mask)) \
+    X(fixed, void, PopAttrib, (void)) \
+    X(fixed, void, PushClientAttrib, (GLbitfield mask)) \
+    X(fixed, void, PopClientAttrib, (void)) \
+    X(fixed, void, ShadeModel, (GLenum mode)) \
     X(core, void, GenTextures, (GLsizei n, GLuint *textures)) \
     X(core, void, DeleteTextures, (GLsizei n, const GLuint *textures)) \
     X(core, void, BindTexture, (GLenum target, GLuint texture)) \
     X(core, void, TexImage2D, (GLenum target, GLint level, GLint internalformat, GLsizei w, GLsizei h, GLint border, GLenum format, GLenum type, const void *pixels)) \
     X(core, void, TexParameteri, (GLenum target, GLenum pname, GLint param)) \
-    X(core, void, TexEnvi, (GLenum target, GLenum pname, GLint param)) \
-    X(core, void, TexEnvf, (GLenum target, GLenum pname, GLfloat param)) \
-    X(core, void, TexEnvfv, (GLenum target, GLenum pname, const GLfloat *params)) \
+    X(fixed, void, TexEnvi, (GLenum target, GLenum pname, GLint param)) \
+    X(fixed, void, TexEnvf, (GLenum target, GLenum pname, GLfloat param)) \
+    X(fixed, void, TexEnvfv, (GLenum target, GLenum pname, const GLfloat *params)) \
     X(core, void, PixelStorei, (GLenum pname, GLint param)) \
     X(tex3d, void, TexImage3D, (GLenum target, GLint level, GLint internalformat, GLsizei w, GLsizei h, GLsizei d, GLint border, GLenum format, GLenum type, const void *pixels)) \
     X(multitexture, void, ActiveTexture, (GLenum texture)) \
-    X(multitexture, void, ClientActiveTexture, (GLenum texture)) \
+    X(client_units, void, ClientActiveTexture, (GLenum texture)) \
     X(vbo, void, GenBuffers, (GLsizei n, GLuint *buffers)) \
     X(vbo, void, DeleteBuffers, (GLsizei n, const GLuint *buffers)) \
     X(vbo, void, BindBuffer, (GLenum target, GLuint buffer)) \
@@ -102,17 +103,28 @@
     X(shaders, void, Uniform1f, (GLint location, GLfloat v0)) \
     X(shaders, void, Uniform3fv, (GLint location, GLsizei count, const GLfloat *value)) \
     X(shaders, void, Uniform4fv, (GLint location, GLsizei count, const GLfloat *value)) \
+    X(shaders, void, UniformMatrix4fv, (GLint location, GLsizei count, GLboolean transpose, const GLfloat *value)) \
     X(shaders, void, VertexAttribPointer, (GLuint index, GLint size, GLenum type, GLboolean normalized, GLsizei stride, const void *ptr)) \
     X(shaders, void, EnableVertexAttribArray, (GLuint index)) \
     X(shaders, void, DisableVertexAttribArray, (GLuint index)) \
-    X(stringi, const GLubyte *, GetStringi, (GLenum name, GLuint index))
+    X(shaders, void, GetVertexAttribiv, (GLuint index, GLenum pname, GLint *params)) \
+    X(shaders, void, GetVertexAttribPointerv, (GLuint index, GLenum pname, void **pointer)) \
+    X(shaders, void, BlendFuncSeparate, (GLenum src_rgb, GLenum dst_rgb, GLenum src_alpha, GLenum dst_alpha)) \
+    X(stringi, const GLubyte *, GetStringi, (GLenum name, GLuint index)) \
+    X(precision, void, GetShaderPrecisionFormat, (GLenum shader, GLenum type, GLint *range, GLint *precision)) \
+    X(vao, void, BindVertexArray, (GLuint array))
 
 typedef struct ht_gl {
 #define HT_GL_MEMBER(group, ret, name, args) ret (APIENTRYP name) args;
     HT_GL_FUNCTIONS(HT_GL_MEMBER)
 #undef HT_GL_MEMBER
     /* entry points present (not: allowed by the context's version) */
-    bool has_tex3d, has_multitexture, has_vbo, has_shaders, has_stringi;
+    bool has_tex3d, has_multitexture, has_vbo, has_shaders, has_stringi, has_precision, has_vao;
+    /* An OpenGL ES context (GL_VERSION "OpenGL ES ..."): the fixed-function
+       group (GL 1.1's matrices, lighting, client arrays, alpha test,
+       attribute stacks, texture environments) is optional there and never
+       called from ES 2.0 on; everywhere else it is required. */
+    bool es;
 } ht_gl;
 
 /* Fills gl from getproc. HT_ERR_UNSUPPORTED when a GL 1.1 entry point is

@@ -13,6 +13,9 @@ ht_result ht_gl_texture_upload(const ht_gl *gl, const ht_gl_texture_desc *d, GLu
     const int ch = img->channels >= 1 && img->channels <= 4 ? img->channels : 4;
     const int depth = d->depth > 0 ? d->depth : 1;
     const bool is_3d = d->target == GL_TEXTURE_3D;
+    /* GL ES 2.0 takes only unsized formats, equal to the data's (ES 3 too
+       for luminance); ES drivers store them at 8 bits. */
+    const GLint internal = gl->es ? (GLint)formats[ch] : sized[ch];
     while (gl->GetError() != GL_NO_ERROR) {}
     gl->GenTextures(1, out);
     gl->BindTexture(d->target, *out);
@@ -23,7 +26,7 @@ ht_result ht_gl_texture_upload(const ht_gl *gl, const ht_gl_texture_desc *d, GLu
         gl->TexImage3D(GL_TEXTURE_3D, 0, sized[ch], img->width, img->height / depth, depth, 0, formats[ch],
                        GL_UNSIGNED_BYTE, img->pixels);
     else
-        gl->TexImage2D(GL_TEXTURE_2D, 0, sized[ch], img->width, img->height, 0, formats[ch], GL_UNSIGNED_BYTE,
+        gl->TexImage2D(GL_TEXTURE_2D, 0, internal, img->width, img->height, 0, formats[ch], GL_UNSIGNED_BYTE,
                        img->pixels);
     gl->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
     gl->TexParameteri(d->target, GL_TEXTURE_MIN_FILTER, (GLint)d->filter);

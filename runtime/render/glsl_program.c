@@ -9,6 +9,7 @@
 #include "gl_error.h"
 #include "gl_texture.h"
 #include <hairtier/image.h>
+#include "select.h"
 #include "shader_interface.h"
 
 /* The first non-empty line of a driver's info log. */
@@ -69,6 +70,20 @@ static GLuint compile(const ht_tier_context *ctx, const char *file, GLenum stage
     return 0;
 }
 
+const ht_manifest_es *ht_glsl_es_target(const ht_tier_context *ctx, char *err, size_t err_size) {
+    char why[HT_SELECT_REASON];
+    int i = ht_select_es_target(ctx->caps, ctx->tier, why, sizeof why);
+    if (i < 0) {
+        snprintf(err, err_size, "%s", why);
+        return NULL;
+    }
+    const ht_manifest_es *e = &ctx->tier->es[i];
+    ht_log_linef(ctx->log, ctx->log_user, "hairtier: %s: GL ES %d.%d text %s + %s (ESSL %d.%02d, fragment %s)",
+                 ctx->tier->name, e->es_major, e->es_minor, e->vertex, e->fragment, e->essl_major, e->essl_minor,
+                 e->mediump ? "mediump" : "highp");
+    return e;
+}
+
 ht_result ht_glsl_program_build(const ht_tier_context *ctx, const char *vert, const char *frag,
                                 ht_glsl_program *out, char *err, size_t err_size) {
     const ht_gl *gl = ctx->gl;
@@ -93,6 +108,11 @@ ht_result ht_glsl_program_build(const ht_tier_context *ctx, const char *vert, co
        prime pass) ignores the binding. */
     gl->BindAttribLocation(prog, HT_ATTR_TANGENT_LOCATION, HT_ATTR_TANGENT);
     gl->BindAttribLocation(prog, HT_ATTR_AO_LOCATION, HT_ATTR_AO);
+    if (ctx->caps->es) {
+        gl->BindAttribLocation(prog, HT_ES_ATTR_POSITION_LOCATION, HT_ES_ATTR_POSITION);
+        gl->BindAttribLocation(prog, HT_ES_ATTR_NORMAL_LOCATION, HT_ES_ATTR_NORMAL);
+        gl->BindAttribLocation(prog, HT_ES_ATTR_UV_LOCATION, HT_ES_ATTR_UV);
+    }
     gl->LinkProgram(prog);
     gl->DeleteShader(vs); /* flagged; freed with the program */
     if (fs) gl->DeleteShader(fs);
@@ -116,6 +136,7 @@ ht_result ht_glsl_program_build(const ht_tier_context *ctx, const char *vert, co
     out->u_light_vector = gl->GetUniformLocation(prog, HT_U_LIGHT_VECTOR);
     out->u_light_color = gl->GetUniformLocation(prog, HT_U_LIGHT_COLOR);
     out->u_lut_scale = gl->GetUniformLocation(prog, HT_U_LUT_SCALE);
+    out->u_mvp = gl->GetUniformLocation(prog, HT_ES_U_MVP);
     /* Samplers are fixed for the program's life: bind them to units once. */
     gl->UseProgram(prog);
     for (int i = 0; i < ctx->tier->sampler_count; i++) {
@@ -146,6 +167,15 @@ ht_result ht_glsl_texture_upload(const ht_gl *gl, const ht_manifest *b, const ht
     return r;
 }
 
+void ht_glsl_mvp(const ht_tier_frame *f, float out[16]) {
+    for (int c = 0; c < 4; c++)
+        for (int r = 0; r < 4; r++) {
+            float v = 0.0f;
+            for (int k = 0; k < 4; k++) v += f->projection[k * 4 + r] * f->view[c * 4 + k];
+            out[c * 4 + r] = v;
+        }
+}
+
 void ht_glsl_program_set_frame(const ht_gl *gl, const ht_glsl_program *p, const ht_tier_frame *f, int light_count,
                                float lut_scale) {
     float vectors[HT_MAX_LIGHTS * 4] = { 0 }, colors[HT_MAX_LIGHTS * 3] = { 0 };
@@ -164,5 +194,12 @@ void ht_glsl_program_set_frame(const ht_gl *gl, const ht_glsl_program *p, const 
     if (p->u_light_vector >= 0) gl->Uniform4fv(p->u_light_vector, n, vectors);
     if (p->u_light_color >= 0) gl->Uniform3fv(p->u_light_color, n, colors);
     if (p->u_lut_scale >= 0) gl->Uniform1f(p->u_lut_scale, lut_scale);
+    if (p->u_mvp >= 0) {
+        /* What the fixed-function transform computes: projection x view
+           (column-major; the model matrix is identity). */
+        float mvp[16];
+        ht_glsl_mvp(f, mvp);
+        gl->UniformMatrix4fv(p->u_mvp, 1, GL_FALSE, mvp);
+    }
 }
 

@@ -17,7 +17,13 @@
 typedef struct ht_glsl_program {
     GLuint id;
     GLint u_eye, u_light_vector, u_light_color, u_lut_scale; /* -1: not used by the program */
+    GLint u_mvp;                                             /* ES texts: projection x view */
 } ht_glsl_program;
+
+/* On a GL ES context: the tier's ES target selection chose
+   (ht_select_es_target), logged once with its ESSL version and precision;
+   NULL with the reason in err. */
+const ht_manifest_es *ht_glsl_es_target(const ht_tier_context *ctx, char *err, size_t err_size);
 
 /* Compiles vert (and frag, unless NULL: a vertex-only program) from the
    bundle, binds the generic attributes (shader_interface.h), links, and
@@ -26,6 +32,10 @@ typedef struct ht_glsl_program {
    line is also logged. Nothing is left on failure. */
 ht_result ht_glsl_program_build(const ht_tier_context *ctx, const char *vert, const char *frag,
                                 ht_glsl_program *out, char *err, size_t err_size);
+
+/* What the fixed-function transform applies, for the ES texts' u_mvp:
+   projection x view, column-major (the model matrix is identity). */
+void ht_glsl_mvp(const ht_tier_frame *f, float out[16]);
 
 /* Uses the program and sets the eye, the planned lights (light_count of
    them; lights missing from the frame are black) and the LUT scale. */

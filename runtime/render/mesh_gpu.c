@@ -21,15 +21,41 @@ void ht_renderer_release_mesh(ht_renderer *r) {
     r->has_mesh = false;
 }
 
+bool ht_renderer_short_indices(const ht_renderer *r) {
+    return r->caps.es && !ht_extension_list_has(r->extensions, "GL_OES_element_index_uint");
+}
+
+uint16_t *ht_renderer_indices16(const uint32_t *indices, uint32_t count) {
+    uint16_t *out = malloc(count ? (size_t)count * sizeof *out : 1);
+    for (uint32_t i = 0; out && i < count; i++) out[i] = (uint16_t)indices[i];
+    return out;
+}
+
 ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
     if (!r) return HT_ERR_INVALID_ARGUMENT;
     if (!mesh) return ht_renderer_reject(r, "ht_renderer_set_mesh", "mesh", "NULL");
     /* A rejected mesh leaves the previous one in place. */
     ht_result checked = ht_renderer_check_mesh(r, "ht_renderer_set_mesh: mesh", mesh);
     if (checked != HT_OK) return checked;
+    /* ES 2.0 without GL_OES_element_index_uint indexes 65536 vertices
+       (Mesa's vc4 truncates 32-bit indices, docs/materials.md). */
+    const bool short_indices = ht_renderer_short_indices(r);
+    if (short_indices && mesh->vertex_count > 65536u) {
+        ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: mesh: %u vertices, this device indexes "
+                     "65536 (16-bit indices: no GL_OES_element_index_uint)", mesh->vertex_count);
+        return HT_ERR_UNSUPPORTED;
+    }
     ht_renderer_release_mesh(r);
     size_t vbytes = (size_t)mesh->vertex_count * sizeof(ht_vertex);
-    size_t ibytes = (size_t)mesh->index_count * sizeof(uint32_t);
+    size_t ibytes = (size_t)mesh->index_count * (short_indices ? sizeof(uint16_t) : sizeof(uint32_t));
+    uint16_t *indices16 = short_indices ? ht_renderer_indices16(mesh->indices, mesh->index_count) : NULL;
+    if (short_indices && !indices16) {
+        ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: mesh: out of memory for %u indices",
+                     mesh->index_count);
+        return HT_ERR_OUT_OF_MEMORY;
+    }
+    const void *index_data = short_indices ? (const void *)indices16 : (const void *)mesh->indices;
+    r->index_type = short_indices ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
     if (r->caps.has_vbo) {
         while (r->gl.GetError() != GL_NO_ERROR) {}
         r->gl.GenBuffers(1, &r->vbo);
@@ -37,7 +63,8 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
         r->gl.BindBuffer(GL_ARRAY_BUFFER, r->vbo);
         r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)vbytes, mesh->vertices, GL_STATIC_DRAW);
         r->gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo);
-        r->gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)ibytes, mesh->indices, GL_STATIC_DRAW);
+        r->gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)ibytes, index_data, GL_STATIC_DRAW);
+        free(indices16);
         r->gl.BindBuffer(GL_ARRAY_BUFFER, 0);
         r->gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
         GLenum e = r->gl.GetError();
@@ -50,13 +77,15 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
         r->vertices = malloc(vbytes ? vbytes : 1);
         r->indices = malloc(ibytes ? ibytes : 1);
         if (!r->vertices || !r->indices) {
+            free(indices16);
             ht_renderer_release_mesh(r);
             ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: mesh: out of memory for %u vertices",
                          mesh->vertex_count);
             return HT_ERR_OUT_OF_MEMORY;
         }
         if (vbytes) memcpy(r->vertices, mesh->vertices, vbytes);
-        if (ibytes) memcpy(r->indices, mesh->indices, ibytes);
+        if (ibytes) memcpy(r->indices, index_data, ibytes);
+        free(indices16);
     }
     r->vertex_count = mesh->vertex_count;
     r->index_count = mesh->index_count;
@@ -84,9 +113,33 @@ static const void *array_at(const ht_vertex *base, size_t offset) {
    (generic_attributes), tangent and ao as generic attributes
    (shader_interface.h); a backend points any other array itself (tier.h:
    set_arrays). */
+/* GL ES: every array is a generic attribute at shader_interface.h's
+   locations, which the ES texts and the head's program bind. */
+static void set_es_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes) {
+    const ht_gl *gl = &r->gl;
+    const GLsizei stride = (GLsizei)sizeof(ht_vertex);
+    static const struct { GLuint location; GLint size; size_t offset; bool hair; } arrays[] = {
+        { HT_ES_ATTR_POSITION_LOCATION, 3, offsetof(ht_vertex, position), false },
+        { HT_ES_ATTR_NORMAL_LOCATION, 3, offsetof(ht_vertex, normal), false },
+        { HT_ES_ATTR_UV_LOCATION, 2, offsetof(ht_vertex, uv), true },
+        { HT_ATTR_TANGENT_LOCATION, 3, offsetof(ht_vertex, tangent), true },
+        { HT_ATTR_AO_LOCATION, 1, offsetof(ht_vertex, ao), true },
+    };
+    for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++) {
+        if (arrays[i].hair && !hair_attributes) continue;
+        gl->VertexAttribPointer(arrays[i].location, arrays[i].size, GL_FLOAT, GL_FALSE, stride,
+                                array_at(base, arrays[i].offset));
+        gl->EnableVertexAttribArray(arrays[i].location);
+    }
+}
+
 void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes) {
     const ht_gl *gl = &r->gl;
     const GLsizei stride = (GLsizei)sizeof(ht_vertex);
+    if (r->caps.es) {
+        set_es_arrays(r, base, hair_attributes);
+        return;
+    }
     gl->EnableClientState(GL_VERTEX_ARRAY);
     gl->VertexPointer(3, GL_FLOAT, stride, array_at(base, offsetof(ht_vertex, position)));
     gl->EnableClientState(GL_NORMAL_ARRAY);
@@ -110,6 +163,12 @@ void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_att
    client attributes at the end of the frame. */
 void ht_renderer_clear_arrays(ht_renderer *r) {
     const ht_gl *gl = &r->gl;
+    if (r->caps.es) {
+        static const GLuint locations[] = { HT_ES_ATTR_POSITION_LOCATION, HT_ES_ATTR_NORMAL_LOCATION,
+                                            HT_ES_ATTR_UV_LOCATION, HT_ATTR_TANGENT_LOCATION, HT_ATTR_AO_LOCATION };
+        for (size_t i = 0; i < sizeof locations / sizeof locations[0]; i++) gl->DisableVertexAttribArray(locations[i]);
+        return;
+    }
     if (r->backend && r->backend->generic_attributes) {
         gl->DisableVertexAttribArray(HT_ATTR_AO_LOCATION);
         gl->DisableVertexAttribArray(HT_ATTR_TANGENT_LOCATION);

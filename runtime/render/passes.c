@@ -5,19 +5,45 @@
 #include "gl_error.h"
 #include "errfmt.h"
 #include "renderer_internal.h"
+#include "shader_interface.h"
 
 #define DEFAULT_CUTOFF 0.98f
+
+void ht_pass_alpha_rule(const ht_renderer *r, ht_pass pass, GLenum *func, float *ref) {
+    *ref = r->have_bundle ? r->bundle.opaque_cutoff : DEFAULT_CUTOFF;
+    *func = pass == HT_PASS_PRIME_Z || pass == HT_PASS_OPAQUE ? GL_GEQUAL : GL_LESS;
+}
+
+/* GL ES has no alpha test: the ES texts discard against two uniforms of
+   the program the backend bound (shader_interface.h). */
+static void set_es_alpha(const ht_renderer *r, ht_pass pass) {
+    const ht_gl *gl = &r->gl;
+    GLint program = 0;
+    gl->GetIntegerv(GL_CURRENT_PROGRAM, &program);
+    if (!program) return;
+    GLenum func;
+    float ref;
+    ht_pass_alpha_rule(r, pass, &func, &ref);
+    GLint u_ref = gl->GetUniformLocation((GLuint)program, HT_ES_U_ALPHA_REF);
+    GLint u_pass = gl->GetUniformLocation((GLuint)program, HT_ES_U_ALPHA_PASS_OPAQUE);
+    if (u_ref >= 0) gl->Uniform1f(u_ref, ref);
+    if (u_pass >= 0) gl->Uniform1f(u_pass, func == GL_GEQUAL ? 1.0f : 0.0f);
+}
 
 /* The fixed state of each pass; the numbers are Scheuermann's scheme. */
 static void set_pass_state(ht_renderer *r, ht_pass pass) {
     const ht_gl *gl = &r->gl;
-    float cutoff = r->have_bundle ? r->bundle.opaque_cutoff : DEFAULT_CUTOFF;
+    GLenum alpha_func;
+    float cutoff;
+    ht_pass_alpha_rule(r, pass, &alpha_func, &cutoff);
     gl->Enable(GL_DEPTH_TEST);
-    gl->Enable(GL_ALPHA_TEST);
+    if (!r->caps.es) {
+        gl->Enable(GL_ALPHA_TEST);
+        gl->AlphaFunc(alpha_func, cutoff);
+    }
     gl->FrontFace(GL_CCW);
     switch (pass) {
     case HT_PASS_PRIME_Z:
-        gl->AlphaFunc(GL_GEQUAL, cutoff);
         gl->Disable(GL_CULL_FACE);
         gl->DepthMask(GL_TRUE);
         gl->DepthFunc(GL_LESS);
@@ -25,7 +51,6 @@ static void set_pass_state(ht_renderer *r, ht_pass pass) {
         gl->Disable(GL_BLEND);
         break;
     case HT_PASS_OPAQUE:
-        gl->AlphaFunc(GL_GEQUAL, cutoff);
         gl->Disable(GL_CULL_FACE);
         gl->DepthMask(GL_FALSE);
         gl->DepthFunc(GL_EQUAL);
@@ -34,7 +59,6 @@ static void set_pass_state(ht_renderer *r, ht_pass pass) {
         break;
     case HT_PASS_BACK:
     case HT_PASS_FRONT:
-        gl->AlphaFunc(GL_LESS, cutoff);
         gl->Enable(GL_CULL_FACE);
         gl->CullFace(pass == HT_PASS_BACK ? GL_FRONT : GL_BACK);
         gl->DepthMask(pass == HT_PASS_FRONT ? GL_TRUE : GL_FALSE);
@@ -64,6 +88,14 @@ static void record_state(ht_renderer *r, ht_trace_entry *e) {
     gl->GetBooleanv(GL_COLOR_WRITEMASK, b);
     e->color_write = b[0] || b[1] || b[2] || b[3];
     e->blend = gl->IsEnabled(GL_BLEND) == GL_TRUE;
+    if (r->caps.es) {
+        /* The ES texts' discard, which the rule above set. */
+        GLenum func;
+        ht_pass_alpha_rule(r, e->pass, &func, &e->alpha_ref);
+        e->alpha_test = true;
+        e->alpha_func = func;
+        return;
+    }
     e->alpha_test = gl->IsEnabled(GL_ALPHA_TEST) == GL_TRUE;
     gl->GetIntegerv(GL_ALPHA_TEST_FUNC, &v);
     e->alpha_func = (unsigned)v;
@@ -71,9 +103,12 @@ static void record_state(ht_renderer *r, ht_trace_entry *e) {
     e->alpha_ref = f;
 }
 
-/* Flat mode: the baseline has no texture, lighting or program. */
-static void bind_flat(ht_renderer *r) {
+/* Flat mode: the baseline has no texture, lighting or program; GL ES
+   draws the colour with a program of the runtime's (opaque_scene_es.c). */
+static bool bind_flat(ht_renderer *r, const ht_tier_frame *tf) {
+    if (r->caps.es) return ht_renderer_bind_flat_es(r, tf);
     r->gl.Color4f(r->flat_color[0], r->flat_color[1], r->flat_color[2], 1.0f);
+    return true;
 }
 
 /* The hair, pass by pass over the whole sorted index range: every tier
@@ -93,13 +128,15 @@ ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf) {
         set_pass_state(r, pass);
         int subs = r->backend && r->backend->sub_passes ? r->backend->sub_passes(r->backend_state, pass) : 1;
         for (int sub = 0; sub < subs; sub++) {
+            bool flat_ok = true;
             if (r->backend) r->backend->bind_pass(r->backend_state, pass, sub);
-            else bind_flat(r);
+            else flat_ok = bind_flat(r, tf);
+            if (r->caps.es) set_es_alpha(r, pass);
             ht_trace_entry e = { .pass = pass, .sub_pass = sub, .first_index = 0, .index_count = r->index_count };
             if (r->record_trace) record_state(r, &e);
-            bool draw = !r->backend || !r->backend->set_arrays ||
-                        r->backend->set_arrays(r->backend_state, pass, sub);
-            if (draw) gl->DrawElements(GL_TRIANGLES, (GLsizei)r->index_count, GL_UNSIGNED_INT, indices);
+            bool draw = flat_ok && (!r->backend || !r->backend->set_arrays ||
+                                    r->backend->set_arrays(r->backend_state, pass, sub));
+            if (draw) gl->DrawElements(GL_TRIANGLES, (GLsizei)r->index_count, r->index_type, indices);
             e.gl_error = gl->GetError();
             if (e.gl_error != GL_NO_ERROR) {
                 ht_log_linef(r->log, r->log_user, "hairtier: pass %d.%d (%s): %s", p, sub,

@@ -86,6 +86,26 @@ static ht_result create_backend(ht_renderer *r) {
     }
 }
 
+/* What this runtime draws on: desktop GL, or GL ES 2.0 and later (a
+   program per tier, VBOs, 32-bit indices); a profile names one API. */
+static ht_result check_api(ht_renderer *r, const ht_device_profile *p) {
+    const ht_caps *c = &r->caps;
+    char line[320] = "";
+    if (p->es_major && !c->es)
+        snprintf(line, sizeof line, "device profile: a GL ES %d.%d device, the context is desktop GL %d.%d (%s): "
+                 "make a GL ES context (hairview --api gles%d)", p->es_major, p->es_minor, c->gl_major,
+                 c->gl_minor, c->version, p->es_major >= 3 ? 3 : 2);
+    else if (c->es && (p->gl_major || p->gl_minor))
+        snprintf(line, sizeof line, "device profile: a desktop GL %d.%d device, the context is %s", p->gl_major,
+                 p->gl_minor, c->version);
+    else if (c->es && c->gl_major < 2)
+        snprintf(line, sizeof line, "%s: GL ES 1.x is not supported yet (the fixed4, fixed and gl11 tiers on ES 1.1's "
+                 "combiners are not built); draw on GL ES 2.0 or later, or desktop GL", c->version);
+    if (!line[0]) return HT_OK;
+    ht_log_linef(r->log, r->log_user, "hairtier: %s", line);
+    return HT_ERR_UNSUPPORTED;
+}
+
 /* Asks the app's timer for every tier the device runs (frame:MS with
    desc.time_tier), logging each answer. */
 static void time_tiers_by_hook(ht_renderer *r) {
@@ -167,6 +187,7 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
         }
         ht_log_linef(r->log, r->log_user, "hairtier: device profile %s (HAIRTIER_DEVICE_PROFILE)", profile_env);
     }
+    if ((res = check_api(r, &profile)) != HT_OK) goto fail;
     ht_caps_apply_profile(&r->caps, &profile);
     ht_caps_hide_extensions(r->extensions, profile.hide_extensions);
     /* The runtime itself must not call what the profile hides. */
@@ -174,13 +195,18 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
                    r->caps.has_shaders);
     /* What the frame's baseline covers beyond the units (renderer.c). */
     GLint lights = HT_MAX_LIGHTS, attribs = 0;
-    r->gl.GetIntegerv(GL_MAX_LIGHTS, &lights);
+    if (!r->caps.es) r->gl.GetIntegerv(GL_MAX_LIGHTS, &lights);
     r->max_lights = clamp_int(lights, HT_MAX_LIGHTS, HT_RENDERER_MAX_LIGHTS);
     if (r->caps.has_shaders) r->gl.GetIntegerv(GL_MAX_VERTEX_ATTRIBS, &attribs);
     r->vertex_attribs = clamp_int(attribs, 0, HT_RENDERER_MAX_ATTRIBS);
-    ht_log_linef(r->log, r->log_user, "hairtier: device GL %d.%d, GLSL %d.%02d, %d texture units, %s%s",
-                 r->caps.gl_major, r->caps.gl_minor, r->caps.glsl_major, r->caps.glsl_minor, r->caps.texture_units,
-                 r->caps.renderer, r->caps.has_vbo ? "" : ", no VBOs");
+    if (r->caps.es)
+        ht_log_linef(r->log, r->log_user, "hairtier: device GL ES %d.%d, ESSL %d.%02d, fragment %s, %d texture units, %s",
+                     r->caps.gl_major, r->caps.gl_minor, r->caps.glsl_major, r->caps.glsl_minor,
+                     r->caps.fragment_highp ? "highp" : "mediump only", r->caps.texture_units, r->caps.renderer);
+    else
+        ht_log_linef(r->log, r->log_user, "hairtier: device GL %d.%d, GLSL %d.%02d, %d texture units, %s%s",
+                     r->caps.gl_major, r->caps.gl_minor, r->caps.glsl_major, r->caps.glsl_minor, r->caps.texture_units,
+                     r->caps.renderer, r->caps.has_vbo ? "" : ", no VBOs");
 
     if (has_dir || desc->bundle_memory) {
         res = has_dir ? ht_manifest_load(desc->bundle_dir, &r->bundle, err, sizeof err)
@@ -233,6 +259,7 @@ void ht_renderer_destroy(ht_renderer *r) {
     if (!r) return;
     if (r->backend && r->backend->destroy) r->backend->destroy(r->backend_state);
     ht_renderer_release_mesh(r);
+    ht_renderer_release_opaque_es(r);
     free(r->extensions);
     free(r);
 }
@@ -321,13 +348,17 @@ ht_result ht_renderer_choose_by_frame_time(ht_renderer *r, const ht_mesh *mesh, 
 /* The frame proper, between saving and restoring the app's state. */
 static ht_result draw_frame(ht_renderer *r, const ht_frame_desc *f, const ht_tier_frame *tf) {
     const ht_gl *gl = &r->gl;
-    gl->MatrixMode(GL_PROJECTION);
-    gl->LoadMatrixf(tf->projection);
-    gl->MatrixMode(GL_MODELVIEW);
-    gl->LoadMatrixf(tf->view);
+    /* GL ES programs take projection x view as a uniform (glsl_program.c). */
+    if (!r->caps.es) {
+        gl->MatrixMode(GL_PROJECTION);
+        gl->LoadMatrixf(tf->projection);
+        gl->MatrixMode(GL_MODELVIEW);
+        gl->LoadMatrixf(tf->view);
+    }
     gl->Enable(GL_DEPTH_TEST);
 
-    if (f->opaque) ht_renderer_draw_opaque(r, f->opaque, tf);
+    if (f->opaque && r->caps.es) ht_renderer_draw_opaque_es(r, f->opaque, tf);
+    else if (f->opaque) ht_renderer_draw_opaque(r, f->opaque, tf);
     return ht_renderer_draw_passes(r, tf);
 }
 
@@ -347,11 +378,18 @@ ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
     r->trace.count = 0;
 
     ht_gl_state saved;
-    ht_result result = ht_gl_state_save(r, &saved);
-    if (result != HT_OK) return result;
-    ht_gl_state_set_baseline(r);
-    result = draw_frame(r, f, &tf);
-    ht_gl_state_restore(r, &saved);
+    ht_result result;
+    if (r->caps.es) {
+        ht_gl_state_save_es(r, &saved);
+        ht_gl_state_set_baseline_es(r);
+        result = draw_frame(r, f, &tf);
+        ht_gl_state_restore_es(r, &saved);
+    } else {
+        if ((result = ht_gl_state_save(r, &saved)) != HT_OK) return result;
+        ht_gl_state_set_baseline(r);
+        result = draw_frame(r, f, &tf);
+        ht_gl_state_restore(r, &saved);
+    }
     if (result == HT_OK) r->frames++;
     return result;
 }

@@ -37,6 +37,8 @@ struct ht_renderer {
     uint32_t *indices;
     uint32_t vertex_count, index_count;
     bool has_mesh;
+    GLenum index_type;                /* GL_UNSIGNED_INT; GL_UNSIGNED_SHORT on GL ES 2.0 without
+                                         GL_OES_element_index_uint (mesh_gpu.c) */
     int vertex_attribs;               /* GL_MAX_VERTEX_ATTRIBS (capped), 0 without shaders */
     int max_lights;                   /* GL_MAX_LIGHTS (capped): the head turns off the ones it does not use */
     unsigned warned;                  /* frame warnings already logged once (validate.c) */
@@ -49,6 +51,10 @@ struct ht_renderer {
     void *time_tier_user;
     double frame_ms[HT_MANIFEST_MAX_TIERS]; /* per bundle tier, 0 → not timed */
     ht_trace trace;
+    /* GL ES: the head's program (opaque_scene_es.c), 0 until needed */
+    GLuint opaque_program, flat_program;
+    GLint opaque_u_mvp, opaque_u_light_vector, opaque_u_light_color, opaque_u_light_count;
+    bool opaque_failed;               /* its build failed once (logged): no head on ES */
 };
 
 /* The files the renderer is split into, and what each lends the others. */
@@ -64,6 +70,11 @@ int ht_renderer_plan_lights(ht_renderer *r, const ht_frame_desc *f, ht_light out
 
 /* mesh_gpu.c */
 void ht_renderer_release_mesh(ht_renderer *r);
+/* Whether meshes are drawn with 16-bit indices (the one rule: GL ES 2.0
+   without GL_OES_element_index_uint), and a mesh's indices as 16 bits
+   (malloc'd; NULL when out of memory). */
+bool ht_renderer_short_indices(const ht_renderer *r);
+uint16_t *ht_renderer_indices16(const uint32_t *indices, uint32_t count);
 /* base: NULL with the hair VBO bound, else the vertices; hair_attributes:
    uv and the backend's generic attributes too (the head needs neither). */
 void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes);
@@ -71,17 +82,46 @@ void ht_renderer_clear_arrays(ht_renderer *r);
 
 /* gl_state.c: save (HT_ERR_GL with one line and nothing changed when an
    attribute stack is full), baseline, restore. */
+/* The vertex arrays a frame points on GL ES (gl_state_es.c restores them). */
+#define HT_ES_STATE_ATTRIBS 8
+typedef struct ht_gl_es_attrib {
+    GLint enabled, size, type, normalized, stride, buffer;
+    void *pointer;
+} ht_gl_es_attrib;
 typedef struct ht_gl_state {
     GLint program;
     GLfloat projection[16], modelview[16];
     GLfloat texture[HT_RENDERER_MAX_UNITS][16];
+    /* GL ES 2.0+ (no attribute stacks): what a frame may change, read back */
+    GLboolean depth_test, blend, cull, polygon_offset, depth_mask, color_mask[4];
+    GLint depth_func, cull_face, front_face, blend_func[4], active_texture, array_buffer, element_buffer, vao;
+    GLint texture_2d[HT_RENDERER_MAX_UNITS];
+    ht_gl_es_attrib attribs[HT_ES_STATE_ATTRIBS];
+    GLint attrib_enabled[HT_RENDERER_MAX_ATTRIBS];
 } ht_gl_state;
 ht_result ht_gl_state_save(ht_renderer *r, ht_gl_state *s);
 void ht_gl_state_set_baseline(ht_renderer *r);
 void ht_gl_state_restore(ht_renderer *r, const ht_gl_state *s);
+/* gl_state_es.c: the same contract on GL ES 2.0+, by reading back each
+   piece of state a frame changes (hairtier.h: ht_renderer_draw). */
+void ht_gl_state_save_es(ht_renderer *r, ht_gl_state *s);
+void ht_gl_state_set_baseline_es(ht_renderer *r);
+void ht_gl_state_restore_es(ht_renderer *r, const ht_gl_state *s);
 
-/* opaque_scene.c */
+/* opaque_scene.c; on GL ES opaque_scene_es.c (a program of the runtime's
+   own lighting the head as GL's fixed-function lighting does, made at the
+   first frame with a head and freed with the renderer). */
 void ht_renderer_draw_opaque(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f);
+void ht_renderer_draw_opaque_es(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f);
+void ht_renderer_release_opaque_es(ht_renderer *r);
+/* Flat mode's program, used with the frame's transform; false (logged)
+   when it does not build. */
+bool ht_renderer_bind_flat_es(ht_renderer *r, const ht_tier_frame *f);
+
+/* passes.c: the alpha test of a pass, the one rule: GL's on desktop, the
+   ES texts' discard uniforms on ES (func GL_GEQUAL keeps alpha >= ref,
+   GL_LESS keeps alpha < ref). */
+void ht_pass_alpha_rule(const ht_renderer *r, ht_pass pass, GLenum *func, float *ref);
 
 /* passes.c: the four passes over the hair mesh, recording the trace. */
 ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf);

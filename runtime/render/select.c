@@ -9,8 +9,46 @@
 #include "select.h"
 #include "errfmt.h"
 
+int ht_select_es_target(const ht_caps *c, const ht_manifest_tier *t, char *why, size_t why_size) {
+    if (t->es_count == 0) {
+        snprintf(why, why_size, "no GL ES target in the bundle (this tier needs desktop GL %d.%d)", t->gl_major,
+                 t->gl_minor);
+        return -1;
+    }
+    bool precision_failed = false;
+    for (int i = 0; i < t->es_count; i++) {
+        const ht_manifest_es *e = &t->es[i];
+        if (!ht_version_at_least(c->gl_major, c->gl_minor, e->es_major, e->es_minor)) {
+            if (!precision_failed)
+                snprintf(why, why_size, "needs GL ES %d.%d, have %d.%d", e->es_major, e->es_minor, c->gl_major,
+                         c->gl_minor);
+            continue;
+        }
+        if (!c->has_shaders || !ht_version_at_least(c->glsl_major, c->glsl_minor, e->essl_major, e->essl_minor)) {
+            if (!precision_failed)
+                snprintf(why, why_size, "needs ESSL %d.%02d, have %s", e->essl_major, e->essl_minor,
+                         c->has_shaders ? "less" : "no shaders");
+            continue;
+        }
+        if (!e->mediump && !c->fragment_highp) {
+            /* The reason a mediump-only device reads, whatever else failed. */
+            snprintf(why, why_size, "%s needs fragment highp, the device's fragment stage has none "
+                     "(glGetShaderPrecisionFormat), and the bundle has no mediump variant", e->fragment);
+            precision_failed = true;
+            continue;
+        }
+        if (t->texture_units > c->texture_units) {
+            snprintf(why, why_size, "needs %d texture units, have %d", t->texture_units, c->texture_units);
+            return -1;
+        }
+        return i;
+    }
+    return -1;
+}
+
 bool ht_select_check_requirements(const ht_caps *c, const char *extensions, const ht_manifest_tier *t,
                                   char *why, size_t why_size) {
+    if (c->es) return ht_select_es_target(c, t, why, why_size) >= 0;
     if (!ht_version_at_least(c->gl_major, c->gl_minor, t->gl_major, t->gl_minor)) {
         snprintf(why, why_size, "needs GL %d.%d, have %d.%d", t->gl_major, t->gl_minor, c->gl_major, c->gl_minor);
         return false;

@@ -70,6 +70,13 @@ ht_result ht_select_tier(const ht_select_desc *desc, ht_selection *out, char *er
 bool ht_select_check_requirements(const ht_caps *caps, const char *extensions, const ht_manifest_tier *tier,
                                   char *why, size_t why_size);
 
+/* On a GL ES device (caps->es): the tier's "es" entry it runs, the first
+   in the manifest's order (best first) whose ES version, ESSL version and
+   fragment precision the device has, so a device without fragment highp
+   gets a mediump text when the bundle has one. -1 when none, with why =
+   "needs ..." (the highp text's refusal when precision is what failed). */
+int ht_select_es_target(const ht_caps *caps, const ht_manifest_tier *tier, char *why, size_t why_size);
+
 /* The variant of a tier (select_variant.c), a pure function: requested
    (EXACT or DEVICE) wins; AUTO takes the device variant only when the
    tier has both measured objects and: best, frame:MS: its PSNR is at most

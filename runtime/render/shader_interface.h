@@ -24,6 +24,16 @@
 #define HT_ES_ATTR_NORMAL   "a_normal"
 #define HT_ES_ATTR_UV       "a_uv"
 #define HT_ES_U_MVP         "u_mvp"        /* mat4, ES only */
+/* ESSL 3.00 has no gl_FragColor: its fragment texts write this output. */
+#define HT_ES3_FRAG_COLOR   "ht_frag_color"
+/* Where the runtime binds the ES attributes before linking (tangent and ao
+   keep their desktop locations; ES 2.0 guarantees 8 attributes). */
+#define HT_ES_ATTR_POSITION_LOCATION 0
+#define HT_ES_ATTR_NORMAL_LOCATION   1
+#define HT_ES_ATTR_UV_LOCATION       2
+/* The vertex tier's ES fragment stage samples its LUTs through these
+   ("u_lut0", "u_lut1"); its albedo is HT_U_ALBEDO on the unit after them. */
+#define HT_ES_U_LUT_PREFIX  "u_lut"
 
 /* Uniforms, world space. Arrays sized by the planned light count. */
 #define HT_U_EYE            "u_eye"          /* vec3 */

@@ -52,6 +52,17 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
     const char *pfrag = ht_manifest_tier_file(t, "prime_fragment");
     const int index = (int)(t - ctx->bundle->tiers); /* manifest fields are named tiers[i] */
     ht_result r;
+    if (ctx->caps->es) {
+        /* The ES target selection chose (its main program primes Z too). */
+        const ht_manifest_es *e = ht_glsl_es_target(ctx, err, err_size);
+        if (!e) {
+            r = HT_ERR_UNSUPPORTED;
+            goto fail;
+        }
+        vert = e->vertex;
+        frag = e->fragment;
+        pvert = pfrag = NULL;
+    }
     if (!vert || !frag) {
         snprintf(err, err_size, "%s/manifest.json: tiers[%d].files: needs \"vertex\" and \"fragment\"",
                  ctx->bundle->dir, index);

@@ -1,0 +1,171 @@
+/* support_es.c — see support_es.h. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <hairtier/hairgen.h>
+#include <hairtier/scene.h>
+#include "metrics.h"
+#include "support_es.h"
+#include "support_scratch.h"
+
+const char *const ht_test_es_scene_names[HT_TEST_ES_SCENES] = { "furball", "patches", "ratboy", "backlit" };
+static const char *const materials[HT_TEST_ES_SCENES] = { "dark-brown", "dark-brown", "dark-brown", "brown-marschner" };
+
+static char work[64];
+static char bundles[HT_TEST_ES_SCENES][128];
+
+const char *ht_test_es_bundle(int i) {
+    if (!work[0] && !ht_test_scratch_create(work, sizeof work, "es")) return NULL;
+    if (!bundles[i][0]) {
+        char material[96], scene[96], dir[128], err[1024];
+        snprintf(material, sizeof material, "materials/%s.json", materials[i]);
+        snprintf(scene, sizeof scene, "scenes/%s.json", ht_test_es_scene_names[i]);
+        snprintf(dir, sizeof dir, "%s/%s", work, ht_test_es_scene_names[i]);
+        if (ht_generate_bundle(material, scene, dir, NULL, err, sizeof err) != HT_OK) {
+            print_error("%s\n", err);
+            return NULL;
+        }
+        snprintf(bundles[i], sizeof bundles[i], "%s", dir);
+    }
+    return bundles[i];
+}
+
+void ht_test_es_cleanup(void) {
+    if (work[0]) ht_test_scratch_remove(work);
+    work[0] = '\0';
+    memset(bundles, 0, sizeof bundles);
+}
+
+static void keep_log(void *user, const char *line) {
+    ht_test_es_draw *d = user;
+    size_t n = strlen(d->log);
+    snprintf(d->log + n, sizeof d->log - n, "%s\n", line);
+}
+
+bool ht_test_es_draw_scene(const char *bundle, const char *scene_name, offscreen_api api, ht_tier tier,
+                           const ht_device_profile *profile, ht_test_es_draw *out) {
+    memset(out, 0, sizeof *out);
+    char path[96], err[1024];
+    snprintf(path, sizeof path, "scenes/%s.json", scene_name);
+    ht_scene s;
+    ht_mesh hair = { 0 }, head = { 0 };
+    if (ht_scene_load(path, &s, err, sizeof err) != HT_OK) {
+        snprintf(out->log, sizeof out->log, "%s", err);
+        return false;
+    }
+    /* Small and cheap: the same camera and lights, fewer pixels and hairs. */
+    s.width = s.height = HT_TEST_ES_SIZE;
+    if (s.geometry == HT_GEOMETRY_FURBALL) s.furball.hairs = HT_TEST_ES_FURBALL_HAIRS;
+    if (ht_scene_build_meshes(&s, path, &hair, &head, err, sizeof err) != HT_OK) {
+        snprintf(out->log, sizeof out->log, "%s", err);
+        return false;
+    }
+    bool ok = false;
+    offscreen *gl = offscreen_open(&(offscreen_desc){ .kind = OFFSCREEN_EGL, .api = api, .width = s.width,
+                                                      .height = s.height, .egl_device = -1 },
+                                   err, sizeof err);
+    ht_renderer *r = NULL;
+    if (!gl) {
+        snprintf(out->log, sizeof out->log, "%s", err);
+        goto done;
+    }
+    const bool flat = tier == HT_TIER_COUNT;
+    ht_renderer_desc desc = { .getproc = offscreen_getproc, .bundle_dir = flat ? NULL : bundle,
+                              .tier = flat ? HT_TIER_AUTO : tier, .strict = tier != HT_TIER_AUTO && !flat,
+                              .log = keep_log, .log_user = out, .record_trace = true, .flat = flat };
+    if (profile) desc.profile = *profile;
+    if (ht_renderer_create(&desc, &r) != HT_OK || ht_renderer_set_mesh(r, &hair) != HT_OK) goto done;
+    ht_frame_desc frame = { .camera = s.camera, .lights = s.lights, .light_count = s.light_count, .aspect = 1.0f,
+                            .opaque = head.index_count ? &head : NULL };
+    gl->gl.ClearColor(s.background[0], s.background[1], s.background[2], 1.0f);
+    gl->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    if (ht_renderer_draw(r, &frame) != HT_OK) goto done;
+    out->tier = ht_renderer_tier(r);
+    out->trace = *ht_renderer_trace(r);
+    const unsigned char *rgba = offscreen_read(gl);
+    if (ht_image_alloc(&out->image, s.width, s.height, 4) != HT_OK) goto done;
+    for (int y = 0; y < s.height; y++)
+        memcpy(out->image.pixels + (size_t)y * s.width * 4, offscreen_row(rgba, s.width, s.height, y),
+               (size_t)s.width * 4);
+    ok = true;
+done:
+    ht_renderer_destroy(r);
+    offscreen_close(gl);
+    ht_mesh_free(&hair);
+    ht_mesh_free(&head);
+    return ok;
+}
+
+void ht_test_es_draw_free(ht_test_es_draw *d) { ht_image_free(&d->image); }
+
+double ht_test_es_psnr(const ht_test_es_draw *a, const ht_test_es_draw *b) {
+    ht_metrics whole;
+    char err[256];
+    ht_metrics_desc md = { .reference = a->image.pixels, .test = b->image.pixels, .width = a->image.width,
+                           .height = a->image.height };
+    if (ht_metrics_compare(&md, &whole, NULL, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    return whole.psnr_db;
+}
+
+/* The GLSL tiers a bundle lists, best first, then auto. */
+static int tiers_to_draw(const char *bundle, ht_tier out[4]) {
+    static const ht_tier glsl[] = { HT_TIER_MARSCHNER, HT_TIER_FULL, HT_TIER_VERTEX };
+    char path[192];
+    int n = 0;
+    for (size_t i = 0; i < sizeof glsl / sizeof glsl[0]; i++) {
+        snprintf(path, sizeof path, "%s/%s-es2.frag", bundle, ht_tier_name(glsl[i]));
+        FILE *f = fopen(path, "rb");
+        if (f) {
+            fclose(f);
+            out[n++] = glsl[i];
+        }
+    }
+    out[n++] = HT_TIER_AUTO;
+    return n;
+}
+
+void ht_test_es_scenes_match_desktop(offscreen_api api, const ht_device_profile *profile) {
+    for (int s = 0; s < HT_TEST_ES_SCENES; s++) {
+        const char *bundle = ht_test_es_bundle(s);
+        assert_non_null(bundle);
+        ht_tier tiers[4];
+        int n = tiers_to_draw(bundle, tiers);
+        assert_true(n >= 3); /* full and vertex at least, then auto */
+        /* Auto on desktop GL draws the top tier: its forced draw stands for it. */
+        ht_test_es_draw top = { 0 };
+        for (int t = 0; t < n; t++) {
+            ht_test_es_draw desk, es;
+            if (tiers[t] == HT_TIER_AUTO) {
+                desk = top;
+            } else if (!ht_test_es_draw_scene(bundle, ht_test_es_scene_names[s], OFFSCREEN_API_GL, tiers[t], NULL,
+                                              &desk)) {
+                fail_msg("%s %s on desktop GL: %s", ht_test_es_scene_names[s], ht_tier_name(tiers[t]), desk.log);
+            }
+            if (!ht_test_es_draw_scene(bundle, ht_test_es_scene_names[s], api, tiers[t], profile, &es))
+                fail_msg("%s %s on %s: %s", ht_test_es_scene_names[s], ht_tier_name(tiers[t]),
+                         offscreen_api_name(api), es.log);
+            double db = ht_test_es_psnr(&desk, &es);
+            printf("%-8s %-9s %s: %s drew %s, %.2f dB against desktop GL's %s\n", ht_test_es_scene_names[s],
+                   ht_tier_name(tiers[t]), offscreen_api_name(api), offscreen_api_name(api), ht_tier_name(es.tier),
+                   db, ht_tier_name(desk.tier));
+            assert_int_equal(es.tier, desk.tier);
+            /* The ESSL 1.00 text on ES 2.0, 3.00 on ES 3.x (unless a profile lowers it). */
+            if (!profile)
+                assert_non_null(strstr(es.log, api == OFFSCREEN_API_GLES2 ? "-es2.frag (ESSL 1.00" : "-es3.frag (ESSL 3.00"));
+            if (!(db >= HT_TEST_ES_MIN_PSNR_DB))
+                fail_msg("%s %s: %.2f dB < %.0f dB", ht_test_es_scene_names[s], ht_tier_name(tiers[t]), db,
+                         HT_TEST_ES_MIN_PSNR_DB);
+            if (t == 0) top = desk;
+            else ht_test_es_draw_free(&desk);
+            ht_test_es_draw_free(&es);
+        }
+    }
+}

@@ -1,0 +1,53 @@
+/* support_es.h — the GL ES render tests' shared work (test_render_es2,
+   test_render_es3): every shipped scene, small, drawn with each GLSL tier
+   of its bundle forced and with auto, on a real EGL GL ES context and on a
+   desktop GL context of the same driver, compared in PSNR.
+
+   Usage:
+       ht_test_es_scenes(OFFSCREEN_API_GLES3, NULL, &(ht_test_es_result){0});
+   The bundles are generated once per process into a scratch folder
+   (ht_test_es_bundles / ht_test_es_cleanup). */
+#ifndef HT_SUPPORT_ES_H
+#define HT_SUPPORT_ES_H
+
+#include <stdbool.h>
+
+#include <hairtier/hairtier.h>
+#include <hairtier/image.h>
+#include "offscreen.h"
+
+/* The side of the test images, and the fur balls' hairs (of 8000 shipped). */
+#define HT_TEST_ES_SIZE 96
+#define HT_TEST_ES_FURBALL_HAIRS 1500
+/* Against the same tier on desktop GL (issue 21). */
+#define HT_TEST_ES_MIN_PSNR_DB 40.0
+
+typedef struct ht_test_es_draw {
+    ht_image image;            /* RGBA, rows top to bottom */
+    ht_tier tier;              /* the tier that drew */
+    ht_trace trace;
+    char log[1024];            /* the renderer's lines, newline-separated (cut) */
+} ht_test_es_draw;
+
+/* One frame of a shipped scene (scenes/NAME.json) with bundle on a fresh
+   context of api, the tier forced (strict), HT_TIER_AUTO, or flat mode
+   (HT_TIER_COUNT: the geometry floor, no bundle), the profile
+   applied (NULL: none). False with why in out->log when any step fails. */
+bool ht_test_es_draw_scene(const char *bundle, const char *scene, offscreen_api api, ht_tier tier,
+                           const ht_device_profile *profile, ht_test_es_draw *out);
+void ht_test_es_draw_free(ht_test_es_draw *d);
+/* Whole-frame PSNR of two draws. */
+double ht_test_es_psnr(const ht_test_es_draw *a, const ht_test_es_draw *b);
+
+/* The shipped scenes and their bundles (generated once per process). */
+#define HT_TEST_ES_SCENES 4
+extern const char *const ht_test_es_scene_names[HT_TEST_ES_SCENES];
+const char *ht_test_es_bundle(int scene);
+void ht_test_es_cleanup(void);
+
+/* Every scene, each GLSL tier of its bundle forced and auto: api against
+   desktop GL at HT_TEST_ES_MIN_PSNR_DB, the same tier drawn on both;
+   prints one line per draw (scene, tier, dB). Fails the cmocka test. */
+void ht_test_es_scenes_match_desktop(offscreen_api api, const ht_device_profile *profile);
+
+#endif

@@ -1,0 +1,311 @@
+/* test_render_es3 — hairtier on a real GL ES 3.x context (EGL,
+   EGL_OPENGL_ES_API, client version 3: llvmpipe's OpenGL ES 3.2): every
+   shipped scene with each GLSL tier forced and auto matches the same tier
+   on desktop GL (support_es.h); the four passes record the same state as
+   on desktop GL; the application's GL state comes back after a frame; a
+   device without fragment highp gets a mediump text or the highp one is
+   refused with its reason; ES 1.1 and mismatched profiles are refused
+   with one line. On softpipe (support_driver.h) the fur ball's full tier
+   only. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cJSON.h>
+
+#include "support_driver.h"
+#include "support_es.h"
+#include "support_scratch.h"
+
+static void test_es3_furball_full_matches_desktop_gl(void **state) {
+    (void)state;
+    const char *bundle = ht_test_es_bundle(0);
+    assert_non_null(bundle);
+    ht_test_es_draw desk, es;
+    assert_true(ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GL, HT_TIER_FULL, NULL, &desk));
+    if (!ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES3, HT_TIER_FULL, NULL, &es)) fail_msg("%s", es.log);
+    assert_non_null(strstr(es.log, "device GL ES 3."));
+    assert_non_null(strstr(es.log, "full-es3.frag (ESSL 3.00, fragment highp)"));
+    double db = ht_test_es_psnr(&desk, &es);
+    printf("furball full: ES 3 %.2f dB against desktop GL\n", db);
+    assert_true(db >= HT_TEST_ES_MIN_PSNR_DB);
+    ht_test_es_draw_free(&desk);
+    ht_test_es_draw_free(&es);
+}
+
+static void test_es3_every_scene_and_glsl_tier_matches_desktop_gl(void **state) {
+    (void)state;
+    HT_TEST_DRIVER_INDEPENDENT(); /* the case above draws on softpipe */
+    ht_test_es_scenes_match_desktop(OFFSCREEN_API_GLES3, NULL);
+}
+
+/* Same passes, same fixed state, same ranges: the alpha test is the ES
+   texts' discard, recorded from the one rule. */
+static void test_es3_passes_record_the_desktop_state(void **state) {
+    (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
+    const char *bundle = ht_test_es_bundle(1);
+    assert_non_null(bundle);
+    static const ht_tier tiers[] = { HT_TIER_FULL, HT_TIER_VERTEX };
+    for (size_t i = 0; i < 2; i++) {
+        ht_test_es_draw desk, es;
+        assert_true(ht_test_es_draw_scene(bundle, "patches", OFFSCREEN_API_GL, tiers[i], NULL, &desk));
+        assert_true(ht_test_es_draw_scene(bundle, "patches", OFFSCREEN_API_GLES3, tiers[i], NULL, &es));
+        assert_int_equal(es.trace.count, 4);
+        assert_int_equal(es.trace.count, desk.trace.count);
+        for (int k = 0; k < es.trace.count; k++) {
+            const ht_trace_entry *a = &desk.trace.entries[k], *b = &es.trace.entries[k];
+            assert_int_equal(a->pass, b->pass);
+            assert_int_equal(a->cull, b->cull);
+            if (a->cull) assert_int_equal(a->cull_face, b->cull_face);
+            assert_int_equal(a->depth_func, b->depth_func);
+            assert_int_equal(a->depth_write, b->depth_write);
+            assert_int_equal(a->color_write, b->color_write);
+            assert_int_equal(a->blend, b->blend);
+            assert_true(b->alpha_test);
+            assert_int_equal(a->alpha_func, b->alpha_func);
+            assert_true(a->alpha_ref == b->alpha_ref);
+            assert_int_equal(a->index_count, b->index_count);
+            assert_int_equal(b->gl_error, 0);
+        }
+        ht_test_es_draw_free(&desk);
+        ht_test_es_draw_free(&es);
+    }
+    /* Flat mode, the benchmarks' floor: the same passes and pixels. */
+    ht_test_es_draw desk, es;
+    assert_true(ht_test_es_draw_scene(bundle, "patches", OFFSCREEN_API_GL, HT_TIER_COUNT, NULL, &desk));
+    if (!ht_test_es_draw_scene(bundle, "patches", OFFSCREEN_API_GLES3, HT_TIER_COUNT, NULL, &es)) fail_msg("%s", es.log);
+    assert_int_equal(es.trace.count, 4);
+    double db = ht_test_es_psnr(&desk, &es);
+    printf("patches flat: ES 3 %.2f dB against desktop GL\n", db);
+    assert_true(db >= HT_TEST_ES_MIN_PSNR_DB);
+    ht_test_es_draw_free(&desk);
+    ht_test_es_draw_free(&es);
+}
+
+static void keep_line(void *user, const char *line) {
+    ht_test_es_draw *d = user;
+    size_t n = strlen(d->log);
+    snprintf(d->log + n, sizeof d->log - n, "%s\n", line);
+}
+
+static void quiet(void *user, const char *line) {
+    (void)user;
+    (void)line;
+}
+
+/* ht_renderer_draw's contract without glPushAttrib: what the application
+   set before the frame is what it reads after it. */
+static void test_es3_application_state_survives_a_frame(void **state) {
+    (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
+    const char *bundle = ht_test_es_bundle(0);
+    assert_non_null(bundle);
+    char err[512];
+    offscreen *gl = offscreen_open(&(offscreen_desc){ .kind = OFFSCREEN_EGL, .api = OFFSCREEN_API_GLES3,
+                                                      .width = 32, .height = 32, .egl_device = -1 }, err, sizeof err);
+    if (!gl) fail_msg("%s", err);
+    ht_renderer *r = NULL;
+    assert_int_equal(ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = bundle,
+                                                             .log = quiet }, &r), HT_OK);
+    ht_mesh hair = { 0 };
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 50 }, &hair), HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(r, &hair), HT_OK);
+
+    void (*Enable)(GLenum) = (void (*)(GLenum))offscreen_getproc("glEnable");
+    void (*BlendFunc)(GLenum, GLenum) = (void (*)(GLenum, GLenum))offscreen_getproc("glBlendFunc");
+    void (*DepthFunc)(GLenum) = (void (*)(GLenum))offscreen_getproc("glDepthFunc");
+    void (*CullFace)(GLenum) = (void (*)(GLenum))offscreen_getproc("glCullFace");
+    void (*DepthMask)(GLboolean) = (void (*)(GLboolean))offscreen_getproc("glDepthMask");
+    void (*ActiveTexture)(GLenum) = (void (*)(GLenum))offscreen_getproc("glActiveTexture");
+    void (*GenTextures)(GLsizei, GLuint *) = (void (*)(GLsizei, GLuint *))offscreen_getproc("glGenTextures");
+    void (*BindTexture)(GLenum, GLuint) = (void (*)(GLenum, GLuint))offscreen_getproc("glBindTexture");
+    void (*EnableVertexAttribArray)(GLuint) = (void (*)(GLuint))offscreen_getproc("glEnableVertexAttribArray");
+    void (*GetIntegerv)(GLenum, GLint *) = (void (*)(GLenum, GLint *))offscreen_getproc("glGetIntegerv");
+    void (*GetBooleanv)(GLenum, GLboolean *) = (void (*)(GLenum, GLboolean *))offscreen_getproc("glGetBooleanv");
+    GLboolean (*IsEnabled)(GLenum) = (GLboolean (*)(GLenum))offscreen_getproc("glIsEnabled");
+    void (*GetVertexAttribiv)(GLuint, GLenum, GLint *) =
+        (void (*)(GLuint, GLenum, GLint *))offscreen_getproc("glGetVertexAttribiv");
+    GLuint tex = 0;
+    GenTextures(1, &tex);
+    Enable(GL_BLEND);
+    BlendFunc(GL_ONE, GL_ONE);
+    Enable(GL_CULL_FACE);
+    CullFace(GL_FRONT_AND_BACK);
+    DepthFunc(GL_GREATER);
+    DepthMask(GL_FALSE);
+    ActiveTexture(GL_TEXTURE2);
+    BindTexture(GL_TEXTURE_2D, tex);
+    EnableVertexAttribArray(5);
+
+    ht_frame_desc frame = { .camera = { .eye = { 0, 0, 3 }, .up = { 0, 1, 0 }, .fov_y = 40 },
+                            .lights = &(ht_light){ .type = HT_LIGHT_DIRECTIONAL, .vector = { 0, 0, 1 },
+                                                   .color = { 1, 1, 1 } },
+                            .light_count = 1, .aspect = 1 };
+    assert_int_equal(ht_renderer_draw(r, &frame), HT_OK);
+
+    GLint v = 0;
+    GLboolean b = GL_TRUE;
+    assert_true(IsEnabled(GL_BLEND));
+    assert_true(IsEnabled(GL_CULL_FACE));
+    assert_false(IsEnabled(GL_DEPTH_TEST)); /* the app never enabled it */
+    GetIntegerv(GL_BLEND_SRC_RGB, &v);
+    assert_int_equal(v, GL_ONE);
+    GetIntegerv(GL_BLEND_DST_ALPHA, &v);
+    assert_int_equal(v, GL_ONE);
+    GetIntegerv(GL_CULL_FACE_MODE, &v);
+    assert_int_equal(v, GL_FRONT_AND_BACK);
+    GetIntegerv(GL_DEPTH_FUNC, &v);
+    assert_int_equal(v, GL_GREATER);
+    GetBooleanv(GL_DEPTH_WRITEMASK, &b);
+    assert_false(b);
+    GetIntegerv(GL_ACTIVE_TEXTURE, &v);
+    assert_int_equal(v, GL_TEXTURE2);
+    GetIntegerv(GL_TEXTURE_BINDING_2D, &v);
+    assert_int_equal(v, (GLint)tex);
+    GetIntegerv(GL_CURRENT_PROGRAM, &v);
+    assert_int_equal(v, 0);
+    GetIntegerv(GL_ARRAY_BUFFER_BINDING, &v);
+    assert_int_equal(v, 0);
+    GetVertexAttribiv(5, GL_VERTEX_ATTRIB_ARRAY_ENABLED, &v);
+    assert_int_equal(v, 1);
+    GetVertexAttribiv(0, GL_VERTEX_ATTRIB_ARRAY_ENABLED, &v);
+    assert_int_equal(v, 0);
+    ht_renderer_destroy(r);
+    ht_mesh_free(&hair);
+    offscreen_close(gl);
+}
+
+/* The highp text on a device without fragment highp: refused with the
+   reason, the vertex tier's mediump text drawn; with a mediump variant in
+   the manifest, that variant. */
+static void test_es3_no_fragment_highp_takes_mediump_or_refuses_with_reason(void **state) {
+    (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
+    const char *bundle = ht_test_es_bundle(0);
+    assert_non_null(bundle);
+    ht_device_profile mali;
+    char err[256];
+    assert_int_equal(ht_device_profile_parse("mali400", &mali, err, sizeof err), HT_OK);
+    ht_test_es_draw d;
+    if (!ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES3, HT_TIER_AUTO, &mali, &d)) fail_msg("%s", d.log);
+    assert_non_null(strstr(d.log, "device GL ES 2.0, ESSL 1.00, fragment mediump only"));
+    assert_non_null(strstr(d.log, "skipped full: full-es2.frag needs fragment highp, the device's fragment stage "
+                                  "has none (glGetShaderPrecisionFormat), and the bundle has no mediump variant"));
+    assert_int_equal(d.tier, HT_TIER_VERTEX);
+    assert_non_null(strstr(d.log, "vertex-es2.frag (ESSL 1.00, fragment mediump)"));
+    ht_test_es_draw_free(&d);
+
+    /* Forced and strict, the refusal is the error. */
+    assert_false(ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES3, HT_TIER_FULL, &mali, &d));
+    assert_non_null(strstr(d.log, "needs fragment highp"));
+
+    /* A bundle whose full tier lists a mediump ES 2.0 text gets it. */
+    char copy[160];
+    snprintf(copy, sizeof copy, "%s-mediump", bundle);
+    ht_test_copy_dir(bundle, copy);
+    cJSON *root = ht_test_read_json(copy, "manifest.json");
+    cJSON *full = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "tiers"), 0);
+    assert_string_equal(cJSON_GetObjectItem(full, "name")->valuestring, "full");
+    cJSON *entry = cJSON_Duplicate(cJSON_GetArrayItem(cJSON_GetObjectItem(full, "es"), 1), 1);
+    cJSON_ReplaceItemInObject(entry, "fragment_precision", cJSON_CreateString("mediump"));
+    cJSON_AddItemToArray(cJSON_GetObjectItem(full, "es"), entry);
+    char *text = cJSON_Print(root);
+    ht_test_write_file(copy, "manifest.json", text);
+    free(text);
+    cJSON_Delete(root);
+    if (!ht_test_es_draw_scene(copy, "furball", OFFSCREEN_API_GLES3, HT_TIER_AUTO, &mali, &d)) fail_msg("%s", d.log);
+    assert_int_equal(d.tier, HT_TIER_FULL);
+    assert_non_null(strstr(d.log, "full-es2.frag (ESSL 1.00, fragment mediump)"));
+    ht_test_es_draw_free(&d);
+    /* With highp the highp text stays first. */
+    if (!ht_test_es_draw_scene(copy, "furball", OFFSCREEN_API_GLES3, HT_TIER_AUTO, NULL, &d)) fail_msg("%s", d.log);
+    assert_non_null(strstr(d.log, "full-es3.frag (ESSL 3.00, fragment highp)"));
+    ht_test_es_draw_free(&d);
+}
+
+/* VideoCore IV (vc4) has no 32-bit indices: the mesh goes up as 16-bit
+   ones and draws what desktop GL draws; a mesh beyond 65536 vertices is
+   refused with one line. */
+static void test_es3_videocore4_draws_with_16_bit_indices(void **state) {
+    (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
+    const char *bundle = ht_test_es_bundle(0);
+    assert_non_null(bundle);
+    ht_device_profile vc4;
+    char err[256];
+    assert_int_equal(ht_device_profile_parse("videocore4", &vc4, err, sizeof err), HT_OK);
+    ht_test_es_draw desk, es;
+    assert_true(ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GL, HT_TIER_AUTO, NULL, &desk));
+    if (!ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES3, HT_TIER_AUTO, &vc4, &es)) fail_msg("%s", es.log);
+    assert_non_null(strstr(es.log, "full-es2.frag (ESSL 1.00, fragment highp)"));
+    double db = ht_test_es_psnr(&desk, &es);
+    printf("furball on videocore4's profile: %.2f dB against desktop GL\n", db);
+    assert_true(db >= HT_TEST_ES_MIN_PSNR_DB);
+    ht_test_es_draw_free(&desk);
+    ht_test_es_draw_free(&es);
+
+    offscreen *gl = offscreen_open(&(offscreen_desc){ .kind = OFFSCREEN_EGL, .api = OFFSCREEN_API_GLES3,
+                                                      .width = 16, .height = 16, .egl_device = -1 }, err, sizeof err);
+    if (!gl) fail_msg("%s", err);
+    ht_test_es_draw logged = { 0 };
+    ht_renderer *r = NULL;
+    assert_int_equal(ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = bundle,
+                                                             .profile = vc4, .log = keep_line, .log_user = &logged },
+                                        &r), HT_OK);
+    ht_mesh big = { 0 };
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 4000 }, &big), HT_OK);
+    assert_true(big.vertex_count > 65536);
+    assert_int_equal(ht_renderer_set_mesh(r, &big), HT_ERR_UNSUPPORTED);
+    char want[160];
+    snprintf(want, sizeof want, "ht_renderer_set_mesh: mesh: %u vertices, this device indexes 65536 (16-bit indices: "
+             "no GL_OES_element_index_uint)", big.vertex_count);
+    assert_non_null(strstr(logged.log, want));
+    ht_mesh_free(&big);
+    ht_renderer_destroy(r);
+    offscreen_close(gl);
+}
+
+static void test_es1_and_mismatched_profiles_are_refused_with_one_line(void **state) {
+    (void)state;
+    HT_TEST_DRIVER_INDEPENDENT();
+    const char *bundle = ht_test_es_bundle(0);
+    assert_non_null(bundle);
+    ht_test_es_draw d;
+    assert_false(ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES1, HT_TIER_AUTO, NULL, &d));
+    assert_non_null(strstr(d.log, "OpenGL ES-CM 1.1"));
+    assert_non_null(strstr(d.log, ": GL ES 1.x is not supported yet"));
+    ht_device_profile p;
+    char err[256];
+    assert_int_equal(ht_device_profile_parse("videocore4", &p, err, sizeof err), HT_OK);
+    assert_false(ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GL, HT_TIER_AUTO, &p, &d));
+    assert_non_null(strstr(d.log, "device profile: a GL ES 2.0 device, the context is desktop GL"));
+    assert_int_equal(ht_device_profile_parse("gl20", &p, err, sizeof err), HT_OK);
+    assert_false(ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES3, HT_TIER_AUTO, &p, &d));
+    assert_non_null(strstr(d.log, "device profile: a desktop GL 2.0 device, the context is OpenGL ES 3."));
+}
+
+static int teardown(void **state) {
+    (void)state;
+    ht_test_es_cleanup();
+    return 0;
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_es3_furball_full_matches_desktop_gl),
+        cmocka_unit_test(test_es3_every_scene_and_glsl_tier_matches_desktop_gl),
+        cmocka_unit_test(test_es3_passes_record_the_desktop_state),
+        cmocka_unit_test(test_es3_application_state_survives_a_frame),
+        cmocka_unit_test(test_es3_no_fragment_highp_takes_mediump_or_refuses_with_reason),
+        cmocka_unit_test(test_es3_videocore4_draws_with_16_bit_indices),
+        cmocka_unit_test(test_es1_and_mismatched_profiles_are_refused_with_one_line),
+    };
+    return cmocka_run_group_tests(tests, NULL, teardown);
+}
