@@ -24,6 +24,8 @@
 #include <hairtier/scene.h>
 #include <hairtier/hairtier.h>
 #include <hairtier/image.h>
+#include <hairtier/lod.h>
+#include <math.h>
 #include "offscreen.h"
 #include "cli.h"
 #include "view_args.h"
@@ -34,6 +36,9 @@ typedef struct options {
     ht_tier tier;
     const char *policy;   /* NULL → HAIRTIER_POLICY */
     bool strict, flat;
+    int lod;              /* -1: auto (lod.h's best rule); else the level */
+    double size;          /* the image's size / the scene's, (0, 4] */
+    double distance;      /* 0: the scene's camera; else the eye this far from the target */
 } options;
 
 /* The library's log: every line goes to stderr, one line late, so that
@@ -62,13 +67,16 @@ static int fail(ht_result r) {
     return 1;
 }
 
-enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT };
+enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT, KEY_LOD, KEY_SIZE, KEY_DISTANCE };
 static const struct option long_options[] = {
     VIEW_ARGS_LONG_OPTIONS,
     { "tier", required_argument, NULL, KEY_TIER },
     { "policy", required_argument, NULL, KEY_POLICY },
     { "strict", no_argument, NULL, KEY_STRICT },
     { "flat", no_argument, NULL, KEY_FLAT },
+    { "lod", required_argument, NULL, KEY_LOD },
+    { "size", required_argument, NULL, KEY_SIZE },
+    { "distance", required_argument, NULL, KEY_DISTANCE },
     { 0 },
 };
 
@@ -76,6 +84,7 @@ static const cli_program program = {
     .name = "hairview",
     .synopsis = "usage: hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]\n"
                 "                [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]\n"
+                "                [--lod auto|N] [--size F] [--distance D]\n"
                 "                [--context osmesa|egl] [--egl-device N] -o OUT.png\n",
     .help = "Renders SCENE with the bundle's tier that the device runs best (or --tier, --policy) and writes\n"
             "OUT.png. Prints tier=NAME reason=... and frame_ms=... (the mean of N timed frames, default 10,\n"
@@ -85,6 +94,10 @@ static const cli_program program = {
             "  --strict        fail instead of falling to a lower tier\n"
             "  --flat          the geometry floor: a flat colour, no bundle needed\n"
             "  --frames N      timed frames, 1..100000\n"
+            "  --lod L         auto (full detail while a strand is >= 1 px wide, docs/lod.md) or a level 0..4\n"
+            "                  (default 0); prints lod=N strands=K strand_px=W\n"
+            "  --size F        draw F times the scene's image size, (0, 4] (default 1)\n"
+            "  --distance D    the eye D scene units from the target, along the scene's view (default: the scene's)\n"
             "  --context K     osmesa or egl (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl)\n"
             "  --egl-device N  draw on EGL device N (implies --context egl)\n"
             "On failure: one line naming the file or field on stderr, exit 1, no PNG; usage errors exit 2.\n",
@@ -112,12 +125,29 @@ static const char *take(void *user, int key, const char *value) {
     }
     case KEY_STRICT: o->strict = true; return NULL;
     case KEY_FLAT: o->flat = true; return NULL;
+    case KEY_LOD: {
+        char *end;
+        if (strcmp(value, "auto") == 0) { o->lod = -1; return NULL; }
+        const long n = strtol(value, &end, 10);
+        if (*value && !*end && n >= 0 && n < HT_LOD_LEVELS) { o->lod = (int)n; return NULL; }
+        return "--lod: expected auto or a level 0..4";
+    }
+    case KEY_SIZE:
+    case KEY_DISTANCE: {
+        char *end;
+        const double x = strtod(value, &end);
+        const bool size = key == KEY_SIZE;
+        if (!*value || *end || !(x > 0) || !(x <= (size ? 4.0 : 1e4)))
+            return size ? "--size: expected a number in (0, 4]" : "--distance: expected a number in (0, 10000]";
+        *(size ? &o->size : &o->distance) = x;
+        return NULL;
+    }
     default: return cli_unexpected(value);
     }
 }
 
 static int parse_args(int argc, char **argv, options *o) {
-    *o = (options){ .view = view_args_defaults(10), .tier = HT_TIER_AUTO };
+    *o = (options){ .view = view_args_defaults(10), .tier = HT_TIER_AUTO, .size = 1.0 };
     int rc = cli_parse(&program, argc, argv, take, o);
     if (rc != CLI_RUN) return rc;
     const char *why = view_args_check(&o->view, false);
@@ -147,11 +177,61 @@ static void draw_frame(const ht_scene *s, const view *v, const ht_frame_desc *fr
     v->gl->gl.Finish();
 }
 
+/* --size and --distance: a smaller image or a farther eye, so the hair's
+   projected size changes and --lod auto has something to switch on. */
+static const char *apply_view(const options *o, ht_scene *s) {
+    s->width = (int)lround(s->width * o->size);
+    s->height = (int)lround(s->height * o->size);
+    if (s->width < 1 || s->height < 1 || s->width > 8192 || s->height > 8192)
+        return "--size: the image must stay 1 to 8192 pixels a side";
+    if (o->distance > 0) {
+        double d[3], len = 0;
+        for (int k = 0; k < 3; k++) { d[k] = (double)s->camera.eye[k] - s->camera.target[k]; len += d[k] * d[k]; }
+        len = sqrt(len);
+        for (int k = 0; k < 3; k++) s->camera.eye[k] = (float)(s->camera.target[k] + d[k] / len * o->distance);
+    }
+    return NULL;
+}
+
+/* Replaces the full mesh by the level --lod asks for (auto: lod.h's best
+   rule at the camera's distance to the target) and prints what it drew. */
+static int choose_lod(const options *o, const ht_scene *s, ht_mesh *hair) {
+    double d = 0;
+    for (int k = 0; k < 3; k++) d += ((double)s->camera.eye[k] - s->camera.target[k]) * (s->camera.eye[k] - s->camera.target[k]);
+    const double px = ht_projected_width_px(ht_mesh_mean_width(hair), sqrt(d), s->camera.fov_y, s->height);
+    const int max_level = ht_lod_max_level(hair);
+    const int level = o->lod < 0 ? ht_lod_pick_best(px, -1, max_level) : o->lod;
+    if (level > max_level) {
+        fprintf(stderr, "hairview: --lod: %d is past this scene's last level %d (%u strands)\n", level, max_level,
+                hair->component_count);
+        return 1;
+    }
+    if (level > 0) {
+        ht_lod_desc desc;
+        ht_mesh lod;
+        ht_lod_level(level, &desc);
+        ht_result r = ht_mesh_build_lod(hair, &desc, &lod);
+        if (r != HT_OK) {
+            fprintf(stderr, "hairview: %s: geometry: cannot build LOD %d: %s\n", o->view.scene, level, ht_result_string(r));
+            return 1;
+        }
+        ht_mesh_free(hair);
+        *hair = lod;
+    }
+    printf("lod=%d strands=%u strand_px=%.3f\n", level, hair->component_count, px);
+    return 0;
+}
+
 static int run(const options *o, view *v) {
     char err[1024];
     ht_scene scene;
     if (ht_scene_load(o->view.scene, &scene, err, sizeof err) != HT_OK) {
         fprintf(stderr, "hairview: %s\n", err);
+        return 1;
+    }
+    const char *why = apply_view(o, &scene);
+    if (why) {
+        fprintf(stderr, "hairview: %s\n", why);
         return 1;
     }
     v->gl = offscreen_open(&(offscreen_desc){ .kind = o->view.context, .width = scene.width, .height = scene.height,
@@ -167,6 +247,7 @@ static int run(const options *o, view *v) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
+    if (choose_lod(o, &scene, &v->hair)) return 1;
 
     r = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->view.bundle, .tier = o->tier,
                                                 .strict = o->strict, .log = log_line, .flat = o->flat,
