@@ -39,6 +39,7 @@ typedef struct options {
     int lod;              /* -1: auto (lod.h's best rule); else the level */
     double size;          /* the image's size / the scene's, (0, 4] */
     double distance;      /* 0: the scene's camera; else the eye this far from the target */
+    int samples;          /* 0: no multisampling; else the framebuffer's samples */
 } options;
 
 /* The library's log: every line goes to stderr, one line late, so that
@@ -67,7 +68,7 @@ static int fail(ht_result r) {
     return 1;
 }
 
-enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT, KEY_LOD, KEY_SIZE, KEY_DISTANCE };
+enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT, KEY_LOD, KEY_SIZE, KEY_DISTANCE, KEY_SAMPLES };
 static const struct option long_options[] = {
     VIEW_ARGS_LONG_OPTIONS,
     { "tier", required_argument, NULL, KEY_TIER },
@@ -77,6 +78,7 @@ static const struct option long_options[] = {
     { "lod", required_argument, NULL, KEY_LOD },
     { "size", required_argument, NULL, KEY_SIZE },
     { "distance", required_argument, NULL, KEY_DISTANCE },
+    { "samples", required_argument, NULL, KEY_SAMPLES },
     { 0 },
 };
 
@@ -84,7 +86,7 @@ static const cli_program program = {
     .name = "hairview",
     .synopsis = "usage: hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]\n"
                 "                [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]\n"
-                "                [--lod auto|N] [--size F] [--distance D]\n"
+                "                [--lod auto|N] [--size F] [--distance D] [--samples N]\n"
                 "                [--context osmesa|egl] [--egl-device N] -o OUT.png\n",
     .help = "Renders SCENE with the bundle's tier that the device runs best (or --tier, --policy) and writes\n"
             "OUT.png. Prints tier=NAME reason=... and frame_ms=... (the mean of N timed frames, default 10,\n"
@@ -98,6 +100,7 @@ static const cli_program program = {
             "                  (default 0); prints lod=N strands=K strand_px=W\n"
             "  --size F        draw F times the scene's image size, (0, 4] (default 1)\n"
             "  --distance D    the eye D scene units from the target, along the scene's view (default: the scene's)\n"
+            "  --samples N     draw multisampled, N samples (2..32; a framebuffer object, GL 3.0), resolved before the PNG\n"
             "  --context K     osmesa or egl (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl)\n"
             "  --egl-device N  draw on EGL device N (implies --context egl)\n"
             "On failure: one line naming the file or field on stderr, exit 1, no PNG; usage errors exit 2.\n",
@@ -131,6 +134,13 @@ static const char *take(void *user, int key, const char *value) {
         const long n = strtol(value, &end, 10);
         if (*value && !*end && n >= 0 && n < HT_LOD_LEVELS) { o->lod = (int)n; return NULL; }
         return "--lod: expected auto or a level 0..4";
+    }
+    case KEY_SAMPLES: {
+        char *end;
+        const long n = strtol(value, &end, 10);
+        if (!*value || *end || n < 2 || n > 32) return "--samples: expected an integer 2..32";
+        o->samples = (int)n;
+        return NULL;
     }
     case KEY_SIZE:
     case KEY_DISTANCE: {
@@ -235,7 +245,7 @@ static int run(const options *o, view *v) {
         return 1;
     }
     v->gl = offscreen_open(&(offscreen_desc){ .kind = o->view.context, .width = scene.width, .height = scene.height,
-                                              .egl_device = o->view.egl_device }, err, sizeof err);
+                                              .egl_device = o->view.egl_device, .samples = o->samples }, err, sizeof err);
     if (!v->gl) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
