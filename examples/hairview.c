@@ -3,8 +3,14 @@
 
    build/hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]
                   [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]
+                  [--lod auto|N] [--size F] [--distance D] [--samples N] [--supersample K]
                   [--context osmesa|egl] [--egl-device N] -o OUT.png
 
+   --lod picks the geometry level (lod.h; auto: full detail while a strand
+   is at least a pixel wide) and prints `lod=N strands=K strand_px=W`
+   first; --size and --distance shrink the hair on screen; --samples
+   multisamples (platform/offscreen_msaa.c); --supersample K draws K x K
+   times the pixels and box-filters them down (a reference; docs/lod.md).
    --context picks how the GL context is made (platform/offscreen.h; default
    HAIRTIER_CONTEXT, else osmesa where libOSMesa loads, else egl);
    --egl-device N draws on EGL device N (EGL_EXT_platform_device) and implies
@@ -40,6 +46,7 @@ typedef struct options {
     double size;          /* the image's size / the scene's, (0, 4] */
     double distance;      /* 0: the scene's camera; else the eye this far from the target */
     int samples;          /* 0: no multisampling; else the framebuffer's samples */
+    int supersample;      /* 1; K: drawn K x K times larger, box-filtered down to the PNG */
 } options;
 
 /* The library's log: every line goes to stderr, one line late, so that
@@ -68,7 +75,7 @@ static int fail(ht_result r) {
     return 1;
 }
 
-enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT, KEY_LOD, KEY_SIZE, KEY_DISTANCE, KEY_SAMPLES };
+enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT, KEY_LOD, KEY_SIZE, KEY_DISTANCE, KEY_SAMPLES, KEY_SUPERSAMPLE };
 static const struct option long_options[] = {
     VIEW_ARGS_LONG_OPTIONS,
     { "tier", required_argument, NULL, KEY_TIER },
@@ -79,6 +86,7 @@ static const struct option long_options[] = {
     { "size", required_argument, NULL, KEY_SIZE },
     { "distance", required_argument, NULL, KEY_DISTANCE },
     { "samples", required_argument, NULL, KEY_SAMPLES },
+    { "supersample", required_argument, NULL, KEY_SUPERSAMPLE },
     { 0 },
 };
 
@@ -86,7 +94,7 @@ static const cli_program program = {
     .name = "hairview",
     .synopsis = "usage: hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]\n"
                 "                [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]\n"
-                "                [--lod auto|N] [--size F] [--distance D] [--samples N]\n"
+                "                [--lod auto|N] [--size F] [--distance D] [--samples N] [--supersample K]\n"
                 "                [--context osmesa|egl] [--egl-device N] -o OUT.png\n",
     .help = "Renders SCENE with the bundle's tier that the device runs best (or --tier, --policy) and writes\n"
             "OUT.png. Prints tier=NAME reason=... and frame_ms=... (the mean of N timed frames, default 10,\n"
@@ -101,6 +109,7 @@ static const cli_program program = {
             "  --size F        draw F times the scene's image size, (0, 4] (default 1)\n"
             "  --distance D    the eye D scene units from the target, along the scene's view (default: the scene's)\n"
             "  --samples N     draw multisampled, N samples (2..32; a framebuffer object, GL 3.0), resolved before the PNG\n"
+            "  --supersample K draw K x K times the pixels and box-filter them down (1..8; a reference)\n"
             "  --context K     osmesa or egl (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl)\n"
             "  --egl-device N  draw on EGL device N (implies --context egl)\n"
             "On failure: one line naming the file or field on stderr, exit 1, no PNG; usage errors exit 2.\n",
@@ -135,11 +144,14 @@ static const char *take(void *user, int key, const char *value) {
         if (*value && !*end && n >= 0 && n < HT_LOD_LEVELS) { o->lod = (int)n; return NULL; }
         return "--lod: expected auto or a level 0..4";
     }
-    case KEY_SAMPLES: {
+    case KEY_SAMPLES:
+    case KEY_SUPERSAMPLE: {
         char *end;
         const long n = strtol(value, &end, 10);
-        if (!*value || *end || n < 2 || n > 32) return "--samples: expected an integer 2..32";
-        o->samples = (int)n;
+        const bool ms = key == KEY_SAMPLES;
+        if (!*value || *end || n < (ms ? 2 : 1) || n > (ms ? 32 : 8))
+            return ms ? "--samples: expected an integer 2..32" : "--supersample: expected an integer 1..8";
+        *(ms ? &o->samples : &o->supersample) = (int)n;
         return NULL;
     }
     case KEY_SIZE:
@@ -157,7 +169,7 @@ static const char *take(void *user, int key, const char *value) {
 }
 
 static int parse_args(int argc, char **argv, options *o) {
-    *o = (options){ .view = view_args_defaults(10), .tier = HT_TIER_AUTO, .size = 1.0 };
+    *o = (options){ .view = view_args_defaults(10), .tier = HT_TIER_AUTO, .size = 1.0, .supersample = 1 };
     int rc = cli_parse(&program, argc, argv, take, o);
     if (rc != CLI_RUN) return rc;
     const char *why = view_args_check(&o->view, false);
@@ -190,10 +202,10 @@ static void draw_frame(const ht_scene *s, const view *v, const ht_frame_desc *fr
 /* --size and --distance: a smaller image or a farther eye, so the hair's
    projected size changes and --lod auto has something to switch on. */
 static const char *apply_view(const options *o, ht_scene *s) {
-    s->width = (int)lround(s->width * o->size);
-    s->height = (int)lround(s->height * o->size);
+    s->width = (int)lround(s->width * o->size) * o->supersample;
+    s->height = (int)lround(s->height * o->size) * o->supersample;
     if (s->width < 1 || s->height < 1 || s->width > 8192 || s->height > 8192)
-        return "--size: the image must stay 1 to 8192 pixels a side";
+        return "--size, --supersample: the drawn image must stay 1 to 8192 pixels a side";
     if (o->distance > 0) {
         double d[3], len = 0;
         for (int k = 0; k < 3; k++) { d[k] = (double)s->camera.eye[k] - s->camera.target[k]; len += d[k] * d[k]; }
@@ -208,7 +220,8 @@ static const char *apply_view(const options *o, ht_scene *s) {
 static int choose_lod(const options *o, const ht_scene *s, ht_mesh *hair) {
     double d = 0;
     for (int k = 0; k < 3; k++) d += ((double)s->camera.eye[k] - s->camera.target[k]) * (s->camera.eye[k] - s->camera.target[k]);
-    const double px = ht_projected_width_px(ht_mesh_mean_width(hair), sqrt(d), s->camera.fov_y, s->height);
+    const double px =
+        ht_projected_width_px(ht_mesh_mean_width(hair), sqrt(d), s->camera.fov_y, s->height / o->supersample);
     const int max_level = ht_lod_max_level(hair);
     const int level = o->lod < 0 ? ht_lod_pick_best(px, -1, max_level) : o->lod;
     if (level > max_level) {
@@ -287,16 +300,22 @@ static int run(const options *o, view *v) {
     print_held();
 
     ht_image img;
-    if (ht_image_alloc(&img, scene.width, scene.height, 3) != HT_OK) {
+    const int k = o->supersample, w = scene.width / k, h = scene.height / k;
+    if (ht_image_alloc(&img, w, h, 3) != HT_OK) {
         fprintf(stderr, "hairview: %s: out of memory\n", o->view.out);
         return 1;
     }
+    /* Each PNG pixel: the mean of its k x k drawn pixels (k = 1: a copy). */
     const unsigned char *rgba = offscreen_read(v->gl);
-    for (int y = 0; y < scene.height; y++) {
-        const unsigned char *src = offscreen_row(rgba, scene.width, scene.height, y);
-        unsigned char *dst = img.pixels + (size_t)y * (size_t)scene.width * 3;
-        for (int x = 0; x < scene.width; x++) memcpy(dst + 3 * x, src + 4 * x, 3);
-    }
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            for (int c = 0; c < 3; c++) {
+                unsigned sum = 0;
+                for (int j = 0; j < k; j++)
+                    for (int i = 0; i < k; i++)
+                        sum += offscreen_row(rgba, scene.width, scene.height, y * k + j)[4 * (x * k + i) + c];
+                img.pixels[((size_t)y * w + x) * 3 + c] = (unsigned char)((sum + k * k / 2) / (k * k));
+            }
     r = ht_image_write_png(o->view.out, &img, err, sizeof err);
     ht_image_free(&img);
     if (r != HT_OK) {
