@@ -217,13 +217,36 @@ static const char *apply_view(const options *o, ht_scene *s) {
 
 /* Replaces the full mesh by the level --lod asks for (auto: lod.h's best
    rule at the camera's distance to the target) and prints what it drew. */
-static int choose_lod(const options *o, const ht_scene *s, ht_mesh *hair) {
+static double eye_distance(const ht_scene *s) {
     double d = 0;
     for (int k = 0; k < 3; k++) d += ((double)s->camera.eye[k] - s->camera.target[k]) * (s->camera.eye[k] - s->camera.target[k]);
-    const double px =
-        ht_projected_width_px(ht_mesh_mean_width(hair), sqrt(d), s->camera.fov_y, s->height / o->supersample);
+    return sqrt(d);
+}
+
+/* --lod auto: with an error:DB policy and a bundle measured with
+   --measure-lods, the cheapest level meeting DB at this projected size
+   (the scene's times --size, over --distance's change); else the best
+   rule. */
+static int auto_level(const options *o, const ht_renderer *r, const ht_policy *policy, double size, double px,
+                      int max_level) {
+    ht_lod_cell cells[64];
+    const int n = r && policy->kind == HT_POLICY_ERROR ? ht_renderer_lod_cells(r, cells, 64) : 0;
+    const int pick = n ? ht_lod_pick_error(cells, n, size, policy->value, -1) : -1;
+    (void)o;
+    if (pick >= 0 && cells[pick].lod <= max_level) {
+        printf("lod_error: level %d at size %.3f: %.2f dB, cost %.3fx level 0\n", cells[pick].lod, size,
+               cells[pick].psnr, cells[pick].cost);
+        return cells[pick].lod;
+    }
+    return ht_lod_pick_best(px, -1, max_level);
+}
+
+static int choose_lod(const options *o, const ht_scene *s, double scene_distance, const ht_renderer *r,
+                      const ht_policy *policy, ht_mesh *hair) {
+    const double d = eye_distance(s);
+    const double px = ht_projected_width_px(ht_mesh_mean_width(hair), d, s->camera.fov_y, s->height / o->supersample);
     const int max_level = ht_lod_max_level(hair);
-    const int level = o->lod < 0 ? ht_lod_pick_best(px, -1, max_level) : o->lod;
+    const int level = o->lod < 0 ? auto_level(o, r, policy, o->size * scene_distance / d, px, max_level) : o->lod;
     if (level > max_level) {
         fprintf(stderr, "hairview: --lod: %d is past this scene's last level %d (%u strands)\n", level, max_level,
                 hair->component_count);
@@ -252,6 +275,7 @@ static int run(const options *o, view *v) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
+    const double scene_distance = eye_distance(&scene);
     const char *why = apply_view(o, &scene);
     if (why) {
         fprintf(stderr, "hairview: %s\n", why);
@@ -270,24 +294,24 @@ static int run(const options *o, view *v) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
-    if (choose_lod(o, &scene, &v->hair)) return 1;
-
     r = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->view.bundle, .tier = o->tier,
                                                 .strict = o->strict, .log = log_line, .flat = o->flat,
                                                 .policy = o->policy },
                            &v->renderer);
     if (r != HT_OK) return fail(r);
     print_held();
+    const char *policy_text = o->policy ? o->policy : getenv("HAIRTIER_POLICY");
+    ht_policy policy = { HT_POLICY_BEST, 0 };
+    if (ht_policy_parse(policy_text && policy_text[0] ? policy_text : NULL, &policy, err, sizeof err) != HT_OK)
+        policy.kind = HT_POLICY_BEST; /* the renderer has refused it already */
+    if (choose_lod(o, &scene, scene_distance, o->flat ? NULL : v->renderer, &policy, &v->hair)) return 1;
     if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
     print_held();
 
     ht_frame_desc frame = { .camera = scene.camera, .lights = scene.lights, .light_count = scene.light_count,
                             .aspect = (float)scene.width / (float)scene.height,
                             .opaque = v->head.index_count ? &v->head : NULL };
-    const char *policy_text = o->policy ? o->policy : getenv("HAIRTIER_POLICY");
-    ht_policy policy;
-    if (!o->flat && ht_policy_parse(policy_text && policy_text[0] ? policy_text : NULL, &policy, err, sizeof err) == HT_OK &&
-        policy.kind == HT_POLICY_FRAME) {
+    if (!o->flat && policy.kind == HT_POLICY_FRAME) {
         if ((r = ht_renderer_choose_by_frame_time(v->renderer, &v->hair, &frame, 0)) != HT_OK) return fail(r);
         print_held();
     }

@@ -110,6 +110,12 @@ typedef struct ht_lod_cell {
 #define HT_LOD_ERROR_HYSTERESIS_DB 1.0
 HT_API int ht_lod_pick_error(const ht_lod_cell *cells, int count, double size, double db, int current);
 
+/* The bundle's measured cells (hairgen --measure-lods: the reference tier
+   at every LOD and size), at most max into out; how many. 0 when the
+   bundle has none. */
+typedef struct ht_renderer ht_renderer;
+HT_API int ht_renderer_lod_cells(const ht_renderer *r, ht_lod_cell *out, int max);
+
 #ifdef __cplusplus
 }
 #endif
