@@ -110,10 +110,31 @@ typedef struct ht_lod_cell {
 #define HT_LOD_ERROR_HYSTERESIS_DB 1.0
 HT_API int ht_lod_pick_error(const ht_lod_cell *cells, int count, double size, double db, int current);
 
+/* Every level of one mesh, switched per frame by the best rule: level 0
+   is the caller's mesh (borrowed: it must outlive the chain), the others
+   are built here. ht_lod_chain_select picks the level for this frame's
+   camera (the strand width projected at the distance from the eye to the
+   mesh's centre, ht_lod_pick_best with its hysteresis) and, when it
+   changes, hands the renderer that level's mesh (ht_renderer_set_mesh: an
+   upload); it returns the level drawn, or -1 with *result set when the
+   upload fails (the renderer keeps the mesh it had). */
+typedef struct ht_lod_chain {
+    const ht_mesh *full;
+    ht_mesh levels[HT_LOD_LEVELS]; /* [0] unused: full */
+    int count;                     /* levels built, 1 + ht_lod_max_level(full) */
+    int current;                   /* -1 until the first select */
+    double width;                  /* full's mean ribbon width */
+} ht_lod_chain;
+HT_API ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out);
+typedef struct ht_renderer ht_renderer;
+HT_API int ht_lod_chain_select(ht_lod_chain *chain, ht_renderer *r, const ht_camera *camera, int viewport_h,
+                               ht_result *result);
+HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);
+HT_API void ht_lod_chain_free(ht_lod_chain *chain);
+
 /* The bundle's measured cells (hairgen --measure-lods: the reference tier
    at every LOD and size), at most max into out; how many. 0 when the
    bundle has none. */
-typedef struct ht_renderer ht_renderer;
 HT_API int ht_renderer_lod_cells(const ht_renderer *r, ht_lod_cell *out, int max);
 
 #ifdef __cplusplus
