@@ -66,6 +66,7 @@ GENSHLIB  := $(BUILD)/lib/libhairgen.so.$(VERSION)
 EXLIB     := $(BUILD)/libexamples.a
 PLATLIB   := $(BUILD)/libplatform.a
 HAIRGEN   := $(BUILD)/hairgen
+DENSE_SCENE := $(BUILD)/gen/dense.json
 PROGRAMS  := $(patsubst examples/%.c,$(BUILD)/%,$(EXAMPLE_SRC))
 TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 # Tests that render and so run a second time on softpipe (GALLIUM_DRIVER=
@@ -86,7 +87,7 @@ DEPS_STAMP := $(BUILD)/.deps-installed
 .SECONDARY:
 .DEFAULT_GOAL := all
 
-all: $(LIB) $(SHLIB) $(GENSHLIB) $(HAIRGEN) $(PROGRAMS)
+all: $(LIB) $(SHLIB) $(GENSHLIB) $(HAIRGEN) $(PROGRAMS) $(DENSE_SCENE)
 
 # Installs the Debian packages of $(1) that are missing (apt-get, as root).
 define install_missing
@@ -175,6 +176,16 @@ $(BUILD)/obj/platform/cli.o $(BUILD)/obj/tests/test_programs.o: Makefile
 $(HAIRGEN): $(call obj,shadergen/hairgen.c) $(GENLIB) $(PLATLIB) $(LIB)
 	$(CC) $(LDFLAGS) -no-pie $^ $(filter-out -lstdc++,$(GLSLANG_LIBS)) \
 	  -Wl,-Bstatic -lstdc++ $(GEN_LIBS) -lpng16 -lz -Wl,-Bdynamic -lcjson -lpthread -lm -o $@
+
+# The dense groom (docs/lod.md): tools/densegroom writes 100 000 strands as
+# a .hair file (19 MB, deterministic, not committed) and the "strands" scene
+# that draws it, both in $(BUILD)/gen.
+$(BUILD)/densegroom: tools/densegroom.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) $< -lm -o $@
+$(DENSE_SCENE): $(BUILD)/densegroom
+	@mkdir -p $(dir $@)
+	$(BUILD)/densegroom -o $(BUILD)/gen/dense.hair --scene $@
 
 # hairview draws a bundle: the runtime only, no generator, no glslang.
 $(BUILD)/hairview: $(BUILD)/obj/examples/hairview.o $(EXLIB) $(PLATLIB) $(LIB)

@@ -3,12 +3,18 @@
 
    build/hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]
                   [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]
+                  [--lod auto|N] [--size F] [--distance D] [--samples N] [--supersample K]
                   [--context osmesa|egl] [--egl-device N] [--api gl|gles2|gles3]
                   [--device-profile NAME] -o OUT.png
 
    --api gles2|gles3 draws on a GL ES context (EGL); --device-profile NAME
    caps what the runtime may use to a named device's (hairtier.h, e.g.
    mali400), on that device's API unless --api says otherwise.
+   --lod picks the geometry level (lod.h; auto: full detail while a strand
+   is at least a pixel wide) and prints `lod=N strands=K strand_px=W`
+   first; --size and --distance shrink the hair on screen; --samples
+   multisamples (platform/offscreen_msaa.c); --supersample K draws K x K
+   times the pixels and box-filters them down (a reference; docs/lod.md).
    --context picks how the GL context is made (platform/offscreen.h; default
    HAIRTIER_CONTEXT, else osmesa where libOSMesa loads, else egl);
    --egl-device N draws on EGL device N (EGL_EXT_platform_device) and implies
@@ -28,6 +34,8 @@
 #include <hairtier/scene.h>
 #include <hairtier/hairtier.h>
 #include <hairtier/image.h>
+#include <hairtier/lod.h>
+#include <math.h>
 #include "offscreen.h"
 #include "cli.h"
 #include "view_args.h"
@@ -39,6 +47,11 @@ typedef struct options {
     const char *policy;   /* NULL → HAIRTIER_POLICY */
     bool strict, flat;
     ht_device_profile profile; /* --device-profile; zero → HAIRTIER_DEVICE_PROFILE */
+    int lod;              /* -1: auto (lod.h's best rule); else the level */
+    double size;          /* the image's size / the scene's, (0, 4] */
+    double distance;      /* 0: the scene's camera; else the eye this far from the target */
+    int samples;          /* 0: no multisampling; else the framebuffer's samples */
+    int supersample;      /* 1; K: drawn K x K times larger, box-filtered down to the PNG */
 } options;
 
 /* The library's log: every line goes to stderr, one line late, so that
@@ -67,7 +80,8 @@ static int fail(ht_result r) {
     return 1;
 }
 
-enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT, KEY_PROFILE };
+enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT, KEY_PROFILE, KEY_LOD, KEY_SIZE, KEY_DISTANCE, KEY_SAMPLES,
+       KEY_SUPERSAMPLE };
 static const struct option long_options[] = {
     VIEW_ARGS_LONG_OPTIONS,
     { "tier", required_argument, NULL, KEY_TIER },
@@ -75,6 +89,11 @@ static const struct option long_options[] = {
     { "strict", no_argument, NULL, KEY_STRICT },
     { "flat", no_argument, NULL, KEY_FLAT },
     { "device-profile", required_argument, NULL, KEY_PROFILE },
+    { "lod", required_argument, NULL, KEY_LOD },
+    { "size", required_argument, NULL, KEY_SIZE },
+    { "distance", required_argument, NULL, KEY_DISTANCE },
+    { "samples", required_argument, NULL, KEY_SAMPLES },
+    { "supersample", required_argument, NULL, KEY_SUPERSAMPLE },
     { 0 },
 };
 
@@ -82,6 +101,7 @@ static const cli_program program = {
     .name = "hairview",
     .synopsis = "usage: hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]\n"
                 "                [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]\n"
+                "                [--lod auto|N] [--size F] [--distance D] [--samples N] [--supersample K]\n"
                 "                [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]\n"
                 "                [--device-profile NAME] -o OUT.png\n",
     .help = "Renders SCENE with the bundle's tier that the device runs best (or --tier, --policy) and writes\n"
@@ -92,6 +112,12 @@ static const cli_program program = {
             "  --strict        fail instead of falling to a lower tier\n"
             "  --flat          the geometry floor: a flat colour, no bundle needed\n"
             "  --frames N      timed frames, 1..100000\n"
+            "  --lod L         auto (full detail while a strand is >= 1 px wide, docs/lod.md) or a level 0..4\n"
+            "                  (default 0); prints lod=N strands=K strand_px=W\n"
+            "  --size F        draw F times the scene's image size, (0, 4] (default 1)\n"
+            "  --distance D    the eye D scene units from the target, along the scene's view (default: the scene's)\n"
+            "  --samples N     draw multisampled, N samples (2..32; a framebuffer object, GL 3.0), resolved before the PNG\n"
+            "  --supersample K draw K x K times the pixels and box-filter them down (1..8; a reference)\n"
             "  --context K     osmesa or egl (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl)\n"
             "  --egl-device N  draw on EGL device N (implies --context egl)\n"
             "  --api A         gl (default), gles2 or gles3 (GL ES through EGL); gles1: not supported yet\n"
@@ -128,12 +154,39 @@ static const char *take(void *user, int key, const char *value) {
         snprintf(message, sizeof message, "--device-profile: %s", err);
         return message;
     }
+    case KEY_LOD: {
+        char *end;
+        if (strcmp(value, "auto") == 0) { o->lod = -1; return NULL; }
+        const long n = strtol(value, &end, 10);
+        if (*value && !*end && n >= 0 && n < HT_LOD_LEVELS) { o->lod = (int)n; return NULL; }
+        return "--lod: expected auto or a level 0..4";
+    }
+    case KEY_SAMPLES:
+    case KEY_SUPERSAMPLE: {
+        char *end;
+        const long n = strtol(value, &end, 10);
+        const bool ms = key == KEY_SAMPLES;
+        if (!*value || *end || n < (ms ? 2 : 1) || n > (ms ? 32 : 8))
+            return ms ? "--samples: expected an integer 2..32" : "--supersample: expected an integer 1..8";
+        *(ms ? &o->samples : &o->supersample) = (int)n;
+        return NULL;
+    }
+    case KEY_SIZE:
+    case KEY_DISTANCE: {
+        char *end;
+        const double x = strtod(value, &end);
+        const bool size = key == KEY_SIZE;
+        if (!*value || *end || !(x > 0) || !(x <= (size ? 4.0 : 1e4)))
+            return size ? "--size: expected a number in (0, 4]" : "--distance: expected a number in (0, 10000]";
+        *(size ? &o->size : &o->distance) = x;
+        return NULL;
+    }
     default: return cli_unexpected(value);
     }
 }
 
 static int parse_args(int argc, char **argv, options *o) {
-    *o = (options){ .view = view_args_defaults(10), .tier = HT_TIER_AUTO };
+    *o = (options){ .view = view_args_defaults(10), .tier = HT_TIER_AUTO, .size = 1.0, .supersample = 1 };
     int rc = cli_parse(&program, argc, argv, take, o);
     if (rc != CLI_RUN) return rc;
     /* An ES device's profile draws on its API unless --api says otherwise. */
@@ -166,6 +219,75 @@ static void draw_frame(const ht_scene *s, const view *v, const ht_frame_desc *fr
     v->gl->gl.Finish();
 }
 
+/* --size and --distance: a smaller image or a farther eye, so the hair's
+   projected size changes and --lod auto has something to switch on. */
+static const char *apply_view(const options *o, ht_scene *s) {
+    s->width = (int)lround(s->width * o->size) * o->supersample;
+    s->height = (int)lround(s->height * o->size) * o->supersample;
+    if (s->width < 1 || s->height < 1 || s->width > 8192 || s->height > 8192)
+        return "--size, --supersample: the drawn image must stay 1 to 8192 pixels a side";
+    if (o->distance > 0) {
+        double d[3], len = 0;
+        for (int k = 0; k < 3; k++) { d[k] = (double)s->camera.eye[k] - s->camera.target[k]; len += d[k] * d[k]; }
+        len = sqrt(len);
+        for (int k = 0; k < 3; k++) s->camera.eye[k] = (float)(s->camera.target[k] + d[k] / len * o->distance);
+    }
+    return NULL;
+}
+
+/* Replaces the full mesh by the level --lod asks for (auto: lod.h's best
+   rule at the camera's distance to the target) and prints what it drew. */
+static double eye_distance(const ht_scene *s) {
+    double d = 0;
+    for (int k = 0; k < 3; k++) d += ((double)s->camera.eye[k] - s->camera.target[k]) * (s->camera.eye[k] - s->camera.target[k]);
+    return sqrt(d);
+}
+
+/* --lod auto: with an error:DB policy and a bundle measured with
+   --measure-lods, the cheapest level meeting DB at this projected size
+   (the scene's times --size, over --distance's change); else the best
+   rule. */
+static int auto_level(const options *o, const ht_renderer *r, const ht_policy *policy, double size, double px,
+                      int max_level) {
+    ht_lod_cell cells[64];
+    const int n = r && policy->kind == HT_POLICY_ERROR ? ht_renderer_lod_cells(r, cells, 64) : 0;
+    const int pick = n ? ht_lod_pick_error(cells, n, size, policy->value, -1) : -1;
+    (void)o;
+    if (pick >= 0 && cells[pick].lod <= max_level) {
+        printf("lod_error: level %d at size %.3f: %.2f dB, cost %.3fx level 0\n", cells[pick].lod, size,
+               cells[pick].psnr, cells[pick].cost);
+        return cells[pick].lod;
+    }
+    return ht_lod_pick_best(px, -1, max_level);
+}
+
+static int choose_lod(const options *o, const ht_scene *s, double scene_distance, const ht_renderer *r,
+                      const ht_policy *policy, ht_mesh *hair) {
+    const double d = eye_distance(s);
+    const double px = ht_projected_width_px(ht_mesh_mean_width(hair), d, s->camera.fov_y, s->height / o->supersample);
+    const int max_level = ht_lod_max_level(hair);
+    const int level = o->lod < 0 ? auto_level(o, r, policy, o->size * scene_distance / d, px, max_level) : o->lod;
+    if (level > max_level) {
+        fprintf(stderr, "hairview: --lod: %d is past this scene's last level %d (%u strands)\n", level, max_level,
+                hair->component_count);
+        return 1;
+    }
+    if (level > 0) {
+        ht_lod_desc desc;
+        ht_mesh lod;
+        ht_lod_level(level, &desc);
+        ht_result r = ht_mesh_build_lod(hair, &desc, &lod);
+        if (r != HT_OK) {
+            fprintf(stderr, "hairview: %s: geometry: cannot build LOD %d: %s\n", o->view.scene, level, ht_result_string(r));
+            return 1;
+        }
+        ht_mesh_free(hair);
+        *hair = lod;
+    }
+    printf("lod=%d strands=%u strand_px=%.3f\n", level, hair->component_count, px);
+    return 0;
+}
+
 static int run(const options *o, view *v) {
     char err[1024];
     ht_scene scene;
@@ -173,8 +295,15 @@ static int run(const options *o, view *v) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
+    const double scene_distance = eye_distance(&scene);
+    const char *why = apply_view(o, &scene);
+    if (why) {
+        fprintf(stderr, "hairview: %s\n", why);
+        return 1;
+    }
     v->gl = offscreen_open(&(offscreen_desc){ .kind = o->view.context, .width = scene.width, .height = scene.height,
-                                              .egl_device = o->view.egl_device, .api = o->view.api },
+                                              .egl_device = o->view.egl_device, .api = o->view.api,
+                                              .samples = o->samples },
                            err, sizeof err);
     if (!v->gl) {
         fprintf(stderr, "hairview: %s\n", err);
@@ -187,23 +316,24 @@ static int run(const options *o, view *v) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
-
     r = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->view.bundle, .tier = o->tier,
                                                 .strict = o->strict, .log = log_line, .flat = o->flat,
                                                 .policy = o->policy, .profile = o->profile },
                            &v->renderer);
     if (r != HT_OK) return fail(r);
     print_held();
+    const char *policy_text = o->policy ? o->policy : getenv("HAIRTIER_POLICY");
+    ht_policy policy = { HT_POLICY_BEST, 0 };
+    if (ht_policy_parse(policy_text && policy_text[0] ? policy_text : NULL, &policy, err, sizeof err) != HT_OK)
+        policy.kind = HT_POLICY_BEST; /* the renderer has refused it already */
+    if (choose_lod(o, &scene, scene_distance, o->flat ? NULL : v->renderer, &policy, &v->hair)) return 1;
     if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
     print_held();
 
     ht_frame_desc frame = { .camera = scene.camera, .lights = scene.lights, .light_count = scene.light_count,
                             .aspect = (float)scene.width / (float)scene.height,
                             .opaque = v->head.index_count ? &v->head : NULL };
-    const char *policy_text = o->policy ? o->policy : getenv("HAIRTIER_POLICY");
-    ht_policy policy;
-    if (!o->flat && ht_policy_parse(policy_text && policy_text[0] ? policy_text : NULL, &policy, err, sizeof err) == HT_OK &&
-        policy.kind == HT_POLICY_FRAME) {
+    if (!o->flat && policy.kind == HT_POLICY_FRAME) {
         if ((r = ht_renderer_choose_by_frame_time(v->renderer, &v->hair, &frame, 0)) != HT_OK) return fail(r);
         print_held();
     }
@@ -216,16 +346,22 @@ static int run(const options *o, view *v) {
     print_held();
 
     ht_image img;
-    if (ht_image_alloc(&img, scene.width, scene.height, 3) != HT_OK) {
+    const int k = o->supersample, w = scene.width / k, h = scene.height / k;
+    if (ht_image_alloc(&img, w, h, 3) != HT_OK) {
         fprintf(stderr, "hairview: %s: out of memory\n", o->view.out);
         return 1;
     }
+    /* Each PNG pixel: the mean of its k x k drawn pixels (k = 1: a copy). */
     const unsigned char *rgba = offscreen_read(v->gl);
-    for (int y = 0; y < scene.height; y++) {
-        const unsigned char *src = offscreen_row(rgba, scene.width, scene.height, y);
-        unsigned char *dst = img.pixels + (size_t)y * (size_t)scene.width * 3;
-        for (int x = 0; x < scene.width; x++) memcpy(dst + 3 * x, src + 4 * x, 3);
-    }
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            for (int c = 0; c < 3; c++) {
+                unsigned sum = 0;
+                for (int j = 0; j < k; j++)
+                    for (int i = 0; i < k; i++)
+                        sum += offscreen_row(rgba, scene.width, scene.height, y * k + j)[4 * (x * k + i) + c];
+                img.pixels[((size_t)y * w + x) * 3 + c] = (unsigned char)((sum + k * k / 2) / (k * k));
+            }
     r = ht_image_write_png(o->view.out, &img, err, sizeof err);
     ht_image_free(&img);
     if (r != HT_OK) {

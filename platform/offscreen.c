@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "offscreen_backend.h"
+#include "offscreen_msaa.h"
 
 #define MAX_SIDE 8192
 
@@ -177,6 +178,10 @@ offscreen *offscreen_open(const offscreen_desc *desc, char *err, size_t err_size
         return NULL;
     }
     o->gl.Viewport(0, 0, o->width, o->height);
+    if (desc->samples > 1 && !offscreen_msaa_open(o, desc->samples, err, err_size)) {
+        offscreen_close(o);
+        return NULL;
+    }
     return o;
 }
 
@@ -190,6 +195,7 @@ bool offscreen_make_current(offscreen *o) {
 void offscreen_close(offscreen *o) {
     if (!o) return;
     const offscreen_backend *b = backend_of(o->kind);
+    if (o->msaa) offscreen_msaa_close(o);
     b->close(o);
     if (current == b) current = NULL;
     free(o->pixels);
@@ -199,8 +205,10 @@ void offscreen_close(offscreen *o) {
 void *offscreen_getproc(const char *name) { return current ? current->getproc(name) : NULL; }
 
 const unsigned char *offscreen_read(offscreen *o) {
+    offscreen_msaa_resolve(o);
     o->gl.Finish();
     if (!backend_of(o->kind)->draws_into_pixels)
         o->gl.ReadPixels(0, 0, o->width, o->height, GL_RGBA, GL_UNSIGNED_BYTE, o->pixels);
+    if (o->msaa) offscreen_msaa_rebind(o);
     return o->pixels;
 }

@@ -68,6 +68,7 @@ typedef struct offscreen_desc {
     int width, height;      /* 1..8192 each */
     int egl_device;         /* -1 → the default display chain above; N → EGL device N (egl only) */
     const char *osmesa_library, *egl_library;   /* NULL → libOSMesa.so.8, libEGL.so.1 */
+    int samples;            /* 0 or 1: none; N: draw into an N-sample framebuffer (offscreen_msaa.h) */
 } offscreen_desc;
 
 /* The GL calls the programs make themselves, loaded through the context. */
@@ -88,6 +89,7 @@ typedef struct offscreen {
     char display[128];          /* how it was made: "osmesa", "egl: EGL_MESA_platform_surfaceless, Mesa Project" */
     unsigned char *pixels;      /* width * height * 4, rows bottom-up; offscreen_read fills it */
     void *backend;              /* the backend's own state */
+    void *msaa;                 /* the multisampled framebuffer (offscreen_msaa.c); NULL without samples */
 } offscreen;
 
 /* "osmesa" or "egl" into *out; false for anything else (NULL included). */
@@ -119,7 +121,8 @@ void offscreen_close(offscreen *o);
 /* The current context's entry point for name (ht_renderer_desc.getproc). */
 void *offscreen_getproc(const char *name);
 /* glFinish, then the colour buffer: width * height * 4 bytes, bottom row
-   first (OSMesa draws into it; EGL reads it back with glReadPixels). */
+   first (OSMesa draws into it; EGL reads it back with glReadPixels); with
+   samples, resolved first. */
 const unsigned char *offscreen_read(offscreen *o);
 
 /* Row y, counted from the top, of a width x height RGBA buffer GL filled

@@ -30,6 +30,7 @@
 #include "flip.h"
 #include "metrics.h"
 #include <hairtier/scene.h>
+#include "measure_lod.h"
 
 #define HT_MEASURE_WARMUP_FRAMES 2   /* per tier, untimed: shader variants, uploads, caches */
 #define HT_MEASURE_TIMED_FRAMES 5    /* per tier; the median is the tier's frame time */
@@ -90,7 +91,9 @@ void ht_measure_print(FILE *out, const ht_measure_result *m);
 typedef struct ht_measure_job {
     const char *scene_path;  /* NULL: the built-in (default) scene */
     const char *out_dir;
+    bool lods;               /* also the geometry LODs (measure_lod.h: --measure-lods) */
     ht_measure_result result;
+    ht_measure_lods lods_result;
 } ht_measure_job;
 
 ht_result ht_measure_step(void *job, const char *dir, const ht_scene *scene, char *err, size_t err_size);

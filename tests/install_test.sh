@@ -23,7 +23,7 @@ trap 'rm -rf "$tmp"' EXIT
 fail() { echo "install_test: FAIL: $*" >&2; exit 1; }
 
 expected="bin/hairgen bin/hairview include/hairtier/export.h include/hairtier/hairgen.h include/hairtier/hairtier.h \
-include/hairtier/ht_limits.h include/hairtier/image.h include/hairtier/model.h \
+include/hairtier/ht_limits.h include/hairtier/image.h include/hairtier/lod.h include/hairtier/model.h \
 include/hairtier/model_marschner.h include/hairtier/scene.h \
 include/hairtier/strands.h lib/cmake/hairtier/hairtierConfig.cmake lib/cmake/hairtier/hairtierConfigVersion.cmake \
 lib/libhairgen.a lib/libhairgen.so lib/libhairgen.so.0 lib/libhairgen.so.0.1 \

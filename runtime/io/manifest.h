@@ -103,6 +103,18 @@ _Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader r
 #define HT_MANIFEST_KEY_FLIP_P95 "flip_p95"
 #define HT_MANIFEST_KEY_SCENE "scene"
 #define HT_MANIFEST_KEY_DRIVER "driver"
+/* the optional top-level "lods" object (hairgen --measure-lods): the
+   reference tier drawn at every geometry LOD (include/hairtier/lod.h) at
+   a few projected sizes, each cell against LOD 0 at the same size, and
+   the pop (PSNR against the level before). docs/lod.md. */
+#define HT_MANIFEST_KEY_LODS "lods"
+#define HT_MANIFEST_KEY_LOD_TIER "tier"
+#define HT_MANIFEST_KEY_CELLS "cells"
+#define HT_MANIFEST_KEY_LEVEL "level"
+#define HT_MANIFEST_KEY_STRANDS "strands"
+#define HT_MANIFEST_KEY_SIZE "size"
+#define HT_MANIFEST_KEY_POP_PSNR_DB "pop_psnr_db"
+#define HT_MANIFEST_MAX_LOD_CELLS 24
 /* Limits of a measured object's numbers. */
 #define HT_MANIFEST_MAX_PSNR_DB 1000.0
 #define HT_MANIFEST_MAX_DELTA_E 1000.0
@@ -175,6 +187,27 @@ typedef struct ht_manifest_tier {
     ht_manifest_measured measured_device; /* optional: the device-only variant's */
 } ht_manifest_tier;
 
+/* One cell of "lods": psnr_db and pop_psnr_db INFINITY for null (level 0,
+   identical to itself; no level before). */
+typedef struct ht_manifest_lod_cell {
+    int level;                     /* 0..HT_LOD_LEVELS - 1 */
+    uint32_t strands;
+    double size;                   /* (0, 4]: projected size / the scene's */
+    double psnr_db, ssim, delta_e00_mean, cost_ratio, pop_psnr_db;
+} ht_manifest_lod_cell;
+
+typedef struct ht_manifest_lods {
+    char tier[16];                 /* "" when the manifest has no "lods" */
+    ht_manifest_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
+    int cell_count;
+} ht_manifest_lods;
+
+/* The "lods" object of a parsed manifest's root (manifest_lods.c); an
+   absent one leaves out empty. */
+struct cJSON;
+struct ht_jctx;
+ht_result ht_manifest_parse_lods(const struct ht_jctx *c, const struct cJSON *root, ht_manifest_lods *out);
+
 typedef struct ht_manifest {
     char dir[HT_LIMIT_DIR_PATH + 1]; /* a longer path is refused, never cut; a memory bundle's name */
     const ht_bundle_memory *memory;  /* NULL: the files are in dir; else the caller's memory bundle */
@@ -187,6 +220,7 @@ typedef struct ht_manifest {
     int texture_count;
     ht_manifest_tier tiers[HT_MANIFEST_MAX_TIERS]; /* best first, as listed */
     int tier_count;
+    ht_manifest_lods lods;         /* optional */
 } ht_manifest;
 
 ht_result ht_manifest_load(const char *dir, ht_manifest *out, char *err, size_t err_size);

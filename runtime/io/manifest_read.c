@@ -331,7 +331,8 @@ ht_result ht_manifest_parse(const char *json_text, const char *dir, const char *
 
     if ((r = parse_textures(&c, cJSON_GetObjectItemCaseSensitive(root, K(TEXTURES)), K(TEXTURES),
                             out->textures, &out->texture_count)) != HT_OK ||
-        (r = ht_json_array(&c, root, "", K(TIERS), true, 1, HT_MANIFEST_MAX_TIERS, &tiers, &tier_items)) != HT_OK)
+        (r = ht_json_array(&c, root, "", K(TIERS), true, 1, HT_MANIFEST_MAX_TIERS, &tiers, &tier_items)) != HT_OK ||
+        (r = ht_manifest_parse_lods(&c, root, &out->lods)) != HT_OK)
         goto done;
     for (const cJSON *t = tiers->child; t; t = t->next) {
         if ((r = parse_tier(&c, t, out->tier_count, &out->tiers[out->tier_count])) != HT_OK) goto done;

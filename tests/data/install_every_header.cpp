@@ -13,6 +13,7 @@
 #include <hairtier/hairgen.h>
 #include <hairtier/ht_limits.h>
 #include <hairtier/image.h>
+#include <hairtier/lod.h>
 #include <hairtier/model.h>
 #include <hairtier/model_marschner.h>
 #include <hairtier/scene.h>
@@ -44,6 +45,7 @@ int main() {
     std::memset(&shading, 0, sizeof shading);
     failed += check(std::isfinite(ht_model_dot_terms_max(&shading)), "model.h: ht_model_dot_terms_max");
     failed += check(HT_LIMIT_FILE_JSON > 0, "ht_limits.h");
+    failed += check(ht_lod_pick_best(0.3, -1, 4) == 2, "lod.h: ht_lod_pick_best");
     if (!failed) std::puts("install_every_header: every public header included, one call each: ok");
     return failed ? 1 : 0;
 }

@@ -1,0 +1,144 @@
+/* lod.h — geometry levels of detail of a hair mesh: fewer strands, fewer
+   segments, chosen at run time from the hair's projected size (docs/lod.md).
+
+   A LOD is made from the full mesh a scene builds (fur ball, patches or a
+   strand file: every builder writes ribbons as rows of two vertices, one
+   component per strand), so it is the same geometry with less of it:
+     strands   the first ceil(n / stride) strands of one stratified order of
+               the roots (a Z-order curve over the root positions, read in
+               bit-reversed order), so every LOD's strands are a prefix of
+               one permutation (LOD n + 1 is a subset of LOD n) and every
+               prefix is spread evenly over the scalp;
+     width     every kept ribbon is widened about its centre line by
+               (area of all ribbons) / (area of the kept ones), about the
+               stride, opacity kept: the summed ribbon area, and so the
+               covered area and mean opacity where ribbons do not pile up,
+               is the full mesh's (tests/test_lod.c measures the coverage
+               kept per level);
+     segments  a row (joint) is dropped while the centre line turns by less
+               than max_turn_deg since the last kept row (root and tip
+               always kept); the kept rows' tangents are recomputed from the
+               kept centre line, unit and root to tip.
+   The LOD keeps the full mesh's inside-out order (the order of its
+   components) and is drawn by the same four passes as any mesh.
+
+   Usage:
+       ht_mesh full, lod;
+       if (ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 4000 }, &full) != HT_OK) return;
+       ht_mesh_sort_inside_out(&full);
+       ht_lod_desc level;
+       ht_lod_level(2, &level);                 // a quarter of the strands, 4x as wide
+       if (ht_mesh_build_lod(&full, &level, &lod) == HT_OK) {
+           // ht_renderer_set_mesh(r, &lod) when the hair is small on screen
+           ht_mesh_free(&lod);
+       }
+       double px = ht_projected_width_px(ht_mesh_mean_width(&full), 3.0, 40.0, 512);
+       int n = ht_lod_pick_best(px, 0, ht_lod_max_level(&full));   // keeps 0 while a strand is >= 1 px
+       (void)n;
+       ht_mesh_free(&full);
+*/
+#ifndef HAIRTIER_LOD_H
+#define HAIRTIER_LOD_H
+
+#include "export.h"
+#include "hairtier.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct ht_lod_desc {
+    uint32_t strand_stride; /* 0 or 1: every strand; k: the first ceil(n / k) of the order */
+    float max_turn_deg;     /* 0: every row; else rows turning less than this go, [0, 90] */
+} ht_lod_desc;
+
+/* The shipped ladder, level 0 (full) to HT_LOD_LEVELS - 1: stride 2^level,
+   max_turn_deg 0, 4, 8, 8, 8. Levels outside are clamped. */
+#define HT_LOD_LEVELS 5
+HT_API void ht_lod_level(int level, ht_lod_desc *out);
+
+/* The coarsest level worth building for a mesh: the ladder stops before
+   fewer than HT_LOD_MIN_STRANDS strands would remain (a few very wide
+   ribbons stop looking like hair; patches' 144 strips end at level 2). */
+#define HT_LOD_MIN_STRANDS 32
+HT_API int ht_lod_max_level(const ht_mesh *mesh);
+
+/* Builds the LOD of a mesh made by one of the builders (or any mesh whose
+   components each index a run of rows of two vertices as they do).
+   HT_ERR_INVALID_ARGUMENT for a mesh of another layout or a desc out of
+   range, HT_ERR_OUT_OF_MEMORY; on failure *out is zeroed. */
+HT_API ht_result ht_mesh_build_lod(const ht_mesh *full, const ht_lod_desc *desc, ht_mesh *out);
+
+/* rank[c] = the position of component c in the stratified order (0 first):
+   a LOD of stride k keeps the components of rank < ceil(n / k). */
+HT_API ht_result ht_mesh_strand_order(const ht_mesh *mesh, uint32_t *rank);
+
+/* The mean ribbon width of a mesh (scene units): the mean distance between
+   the two vertices of a row. 0 for an empty mesh. */
+HT_API double ht_mesh_mean_width(const ht_mesh *mesh);
+
+/* A width at `distance` from a perspective camera of vertical field
+   `fov_y_deg`, in pixels of a viewport `viewport_h` pixels high. */
+HT_API double ht_projected_width_px(double width, double distance, double fov_y_deg, int viewport_h);
+
+/* The `best` rule with hysteresis: full detail while a strand is at least
+   a pixel wide; narrower, the level whose widened strand is a pixel wide
+   again (level ceil(log2(1 / px)), clamped to max_level). `current` (-1:
+   none yet) is kept while the ideal level is within HT_LOD_HYSTERESIS
+   (in levels, log2 of the width) of its band, so a size sitting on a
+   boundary does not flicker. */
+#define HT_LOD_HYSTERESIS 0.25
+HT_API int ht_lod_pick_best(double strand_px, int current, int max_level);
+
+/* One measured (LOD, tier) pair at a projected size (hairgen --measure's
+   cells): PSNR against (LOD 0, top tier) at that size and the frame cost
+   as a ratio of it. */
+typedef struct ht_lod_cell {
+    int lod;
+    ht_tier tier;
+    double size;   /* projected size / the scene's, e.g. 1, 0.5, 0.25 */
+    double psnr;   /* dB; INFINITY for the reference itself */
+    double cost;   /* frame time / the reference's */
+} ht_lod_cell;
+
+/* The `error:DB` rule: among the cells measured at the size nearest `size`
+   (in log2), the cheapest whose PSNR is at least db; none: the most
+   accurate. With hysteresis: the current pair (index into cells, -1: none)
+   stays while it still meets db at that size and no other pair meeting
+   db + HT_LOD_ERROR_HYSTERESIS_DB costs less. Returns an index into cells,
+   -1 when count is 0. */
+#define HT_LOD_ERROR_HYSTERESIS_DB 1.0
+HT_API int ht_lod_pick_error(const ht_lod_cell *cells, int count, double size, double db, int current);
+
+/* Every level of one mesh, switched per frame by the best rule: level 0
+   is the caller's mesh (borrowed: it must outlive the chain), the others
+   are built here. ht_lod_chain_select picks the level for this frame's
+   camera (the strand width projected at the distance from the eye to the
+   mesh's centre, ht_lod_pick_best with its hysteresis) and, when it
+   changes, hands the renderer that level's mesh (ht_renderer_set_mesh: an
+   upload); it returns the level drawn, or -1 with *result set when the
+   upload fails (the renderer keeps the mesh it had). */
+typedef struct ht_lod_chain {
+    const ht_mesh *full;
+    ht_mesh levels[HT_LOD_LEVELS]; /* [0] unused: full */
+    int count;                     /* levels built, 1 + ht_lod_max_level(full) */
+    int current;                   /* -1 until the first select */
+    double width;                  /* full's mean ribbon width */
+} ht_lod_chain;
+HT_API ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out);
+typedef struct ht_renderer ht_renderer;
+HT_API int ht_lod_chain_select(ht_lod_chain *chain, ht_renderer *r, const ht_camera *camera, int viewport_h,
+                               ht_result *result);
+HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);
+HT_API void ht_lod_chain_free(ht_lod_chain *chain);
+
+/* The bundle's measured cells (hairgen --measure-lods: the reference tier
+   at every LOD and size), at most max into out; how many. 0 when the
+   bundle has none. */
+HT_API int ht_renderer_lod_cells(const ht_renderer *r, ht_lod_cell *out, int max);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,61 @@
+/* lod_chain.c — a mesh's levels switched per frame (lod.h,
+   ht_lod_chain): the best rule with its hysteresis, through the public
+   renderer API only. */
+#include <math.h>
+#include <string.h>
+
+#include <hairtier/lod.h>
+
+ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out) {
+    if (!out) return HT_ERR_INVALID_ARGUMENT;
+    memset(out, 0, sizeof *out);
+    out->current = -1;
+    if (!full || !full->component_count) return HT_ERR_INVALID_ARGUMENT;
+    out->full = full;
+    out->width = ht_mesh_mean_width(full);
+    out->count = 1;
+    const int max = ht_lod_max_level(full);
+    for (int l = 1; l <= max; l++) {
+        ht_lod_desc d;
+        ht_lod_level(l, &d);
+        ht_result r = ht_mesh_build_lod(full, &d, &out->levels[l]);
+        if (r != HT_OK) {
+            ht_lod_chain_free(out);
+            return r;
+        }
+        out->count++;
+    }
+    return HT_OK;
+}
+
+const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *c, int level) {
+    if (!c || level < 0 || level >= c->count) return NULL;
+    return level ? &c->levels[level] : c->full;
+}
+
+int ht_lod_chain_select(ht_lod_chain *c, ht_renderer *r, const ht_camera *camera, int viewport_h, ht_result *result) {
+    if (result) *result = HT_OK;
+    if (!c || !c->full || !r || !camera) {
+        if (result) *result = HT_ERR_INVALID_ARGUMENT;
+        return -1;
+    }
+    double d = 0;
+    for (int k = 0; k < 3; k++) d += ((double)camera->eye[k] - c->full->center[k]) * (camera->eye[k] - c->full->center[k]);
+    const double px = ht_projected_width_px(c->width, sqrt(d), camera->fov_y, viewport_h);
+    const int level = ht_lod_pick_best(px, c->current, c->count - 1);
+    if (level == c->current) return level;
+    ht_result res = ht_renderer_set_mesh(r, ht_lod_chain_mesh(c, level));
+    if (res != HT_OK) {
+        if (result) *result = res;
+        return -1;
+    }
+    c->current = level;
+    return level;
+}
+
+void ht_lod_chain_free(ht_lod_chain *c) {
+    if (!c) return;
+    for (int l = 1; l < HT_LOD_LEVELS; l++) ht_mesh_free(&c->levels[l]);
+    memset(c, 0, sizeof *c);
+    c->current = -1;
+}

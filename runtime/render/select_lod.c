@@ -1,0 +1,56 @@
+/* select_lod.c — which geometry LOD (and, with measured cells, which
+   (LOD, tier) pair) draws at a projected size: pure functions, lod.h says
+   the rules. Hysteresis lives here and nowhere else. */
+#include <math.h>
+
+#include <hairtier/lod.h>
+
+double ht_projected_width_px(double width, double distance, double fov_y_deg, int viewport_h) {
+    if (!(width > 0) || !(distance > 0) || !(fov_y_deg > 0 && fov_y_deg < 180) || viewport_h <= 0) return 0;
+    return width * viewport_h / (2.0 * distance * tan(fov_y_deg * M_PI / 360.0));
+}
+
+int ht_lod_pick_best(double strand_px, int current, int max_level) {
+    if (max_level < 0) max_level = 0;
+    /* The ideal level as a real number: log2 of how many times too thin. */
+    const double ideal = strand_px > 0 && isfinite(strand_px) ? -log2(strand_px) : max_level;
+    int target = (int)ceil(ideal - 1e-9);
+    if (target < 0) target = 0;
+    if (target > max_level) target = max_level;
+    if (current < 0 || current > max_level) return target;
+    /* Level c serves ideal in (c - 1, c] (level 0: any ideal <= 0, the last
+       level: any above); it stays while ideal is within the band widened. */
+    const double lo = current == 0 ? -INFINITY : current - 1 - HT_LOD_HYSTERESIS;
+    const double hi = current == max_level ? INFINITY : current + HT_LOD_HYSTERESIS;
+    return ideal > lo && ideal <= hi ? current : target;
+}
+
+static double size_distance(double a, double b) { return fabs(log2(a) - log2(b)); }
+
+int ht_lod_pick_error(const ht_lod_cell *cells, int count, double size, double db, int current) {
+    if (!cells || count <= 0 || !(size > 0)) return -1;
+    double nearest = cells[0].size;
+    for (int i = 1; i < count; i++)
+        if (cells[i].size > 0 && size_distance(cells[i].size, size) < size_distance(nearest, size)) nearest = cells[i].size;
+    int best = -1, most_accurate = -1, held = -1;
+    for (int i = 0; i < count; i++) {
+        if (cells[i].size != nearest) continue;
+        if (most_accurate < 0 || cells[i].psnr > cells[most_accurate].psnr) most_accurate = i;
+        if (cells[i].psnr >= db && (best < 0 || cells[i].cost < cells[best].cost)) best = i;
+        if (current >= 0 && current < count && cells[i].lod == cells[current].lod &&
+            cells[i].tier == cells[current].tier)
+            held = i;
+    }
+    if (best < 0) return most_accurate;
+    /* Hysteresis: the pair in use stays while it meets the budget and no
+       cheaper pair meets it with a margin. */
+    if (held >= 0 && cells[held].psnr >= db) {
+        int cheaper = -1;
+        for (int i = 0; i < count; i++)
+            if (cells[i].size == nearest && cells[i].psnr >= db + HT_LOD_ERROR_HYSTERESIS_DB &&
+                cells[i].cost < cells[held].cost && (cheaper < 0 || cells[i].cost < cells[cheaper].cost))
+                cheaper = i;
+        return cheaper >= 0 ? cheaper : held;
+    }
+    return best;
+}

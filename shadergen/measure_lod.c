@@ -1,0 +1,204 @@
+/* measure_lod.c — hairgen --measure-lods (measure_lod.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <cJSON.h>
+
+#include <hairtier/lod.h>
+#include "errfmt.h"
+#include "file_atomic.h"
+#include "json_check.h"
+#include "measure_lod.h"
+#include "offscreen.h"
+
+static const double sizes[HT_MEASURE_LOD_SIZES] = { 1.0, 0.5, 0.25 };
+
+static double now_ms(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec / 1e6;
+}
+
+static int compare_doubles(const void *pa, const void *pb) {
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return (a > b) - (a < b);
+}
+
+/* One level at one size: set the mesh, one warm-up and the timed frames;
+   its last frame copied into rgba. */
+static ht_result draw_level(offscreen *o, ht_renderer *r, const ht_scene *s, const ht_frame_desc *f,
+                            const ht_mesh *mesh, unsigned char *rgba, double *ms) {
+    ht_result res = ht_renderer_set_mesh(r, mesh);
+    double t[HT_MEASURE_LOD_TIMED_FRAMES];
+    for (int k = 0; k <= HT_MEASURE_LOD_TIMED_FRAMES && res == HT_OK; k++) {
+        const double t0 = now_ms();
+        o->gl.ClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
+        o->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        res = ht_renderer_draw(r, f);
+        o->gl.Finish();
+        if (k > 0) t[k - 1] = now_ms() - t0;
+    }
+    if (res != HT_OK) return res;
+    memcpy(rgba, offscreen_read(o), (size_t)o->width * (size_t)o->height * 4);
+    qsort(t, HT_MEASURE_LOD_TIMED_FRAMES, sizeof *t, compare_doubles);
+    *ms = t[HT_MEASURE_LOD_TIMED_FRAMES / 2];
+    return HT_OK;
+}
+
+/* Every level at one size into out->cells. */
+static ht_result measure_size(const char *dir, const ht_manifest_tier *tier, const ht_scene *scene, double size,
+                              const ht_mesh *levels, int level_count, const ht_mesh *head, ht_measure_lods *out,
+                              char *err, size_t err_size) {
+    ht_scene s = *scene;
+    s.width = (int)fmax(16, lround(scene->width * size));
+    s.height = (int)fmax(16, lround(scene->height * size));
+    char why[1024];
+    offscreen *o = offscreen_open(&(offscreen_desc){ .width = s.width, .height = s.height, .egl_device = -1 }, why,
+                                  sizeof why);
+    if (!o) return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: lods: %s", why);
+    ht_renderer *r = NULL;
+    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = dir,
+                                                            .tier = tier->tier, .strict = true, .policy = "best",
+                                                            .log = NULL },
+                                       &r);
+    const size_t bytes = (size_t)s.width * (size_t)s.height * 4;
+    unsigned char *base = malloc(bytes), *prev = malloc(bytes), *cur = malloc(bytes);
+    if (res == HT_OK && (!base || !prev || !cur)) res = HT_ERR_OUT_OF_MEMORY;
+    const ht_frame_desc f = { .camera = s.camera, .lights = s.lights, .light_count = s.light_count,
+                              .aspect = (float)s.width / (float)s.height, .opaque = head->index_count ? head : NULL };
+    double base_ms = 0;
+    for (int l = 0; l < level_count && res == HT_OK; l++) {
+        ht_measure_lod_cell *c = &out->cells[out->count];
+        res = draw_level(o, r, &s, &f, &levels[l], l ? cur : base, &c->frame_ms);
+        if (res != HT_OK) break;
+        if (l == 0) base_ms = c->frame_ms;
+        c->level = l;
+        c->strands = levels[l].component_count;
+        c->size = size;
+        c->cost_ratio = base_ms > 0 ? c->frame_ms / base_ms : 1.0;
+        const ht_metrics_desc d = { .reference = base, .test = l ? cur : base, .width = s.width, .height = s.height };
+        res = ht_metrics_compare(&d, &c->whole, NULL, why, sizeof why);
+        ht_metrics pop = { .psnr_db = INFINITY };
+        if (res == HT_OK && l > 0)
+            res = ht_metrics_compare(&(ht_metrics_desc){ .reference = prev, .test = cur, .width = s.width,
+                                                         .height = s.height },
+                                     &pop, NULL, why, sizeof why);
+        if (res != HT_OK) {
+            ht_set_error(err, err_size, "measure: lods: level %d at size %g: %s", l, size, why);
+            break;
+        }
+        c->pop_psnr_db = pop.psnr_db;
+        memcpy(prev, l ? cur : base, bytes);
+        out->count++;
+    }
+    if (res != HT_OK && (!err || !err[0]))
+        ht_set_error(err, err_size, "measure: lods: %s at size %g: %s", tier->name, size, ht_result_string(res));
+    free(base);
+    free(prev);
+    free(cur);
+    ht_renderer_destroy(r);
+    offscreen_close(o);
+    return res;
+}
+
+ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file, ht_measure_lods *out,
+                              char *err, size_t err_size) {
+    if (err && err_size) err[0] = '\0';
+    memset(out, 0, sizeof *out);
+    ht_manifest *bundle = malloc(sizeof *bundle);
+    ht_mesh levels[HT_LOD_LEVELS] = { 0 }, head = { 0 };
+    char why[1024];
+    ht_result r = bundle ? ht_manifest_load(dir, bundle, why, sizeof why) : HT_ERR_OUT_OF_MEMORY;
+    if (r != HT_OK) {
+        ht_set_error(err, err_size, "measure: lods: %s", bundle ? why : "out of memory");
+        free(bundle);
+        return r;
+    }
+    r = ht_scene_build_meshes(scene, scene_file ? scene_file : "<scene>", &levels[0], &head, why, sizeof why);
+    if (r != HT_OK) ht_set_error(err, err_size, "measure: lods: %s", why);
+    const int level_count = r == HT_OK ? ht_lod_max_level(&levels[0]) + 1 : 0;
+    for (int l = 1; l < level_count && r == HT_OK; l++) {
+        ht_lod_desc d;
+        ht_lod_level(l, &d);
+        r = ht_mesh_build_lod(&levels[0], &d, &levels[l]);
+        if (r != HT_OK) ht_set_error(err, err_size, "measure: lods: level %d: %s", l, ht_result_string(r));
+    }
+    snprintf(out->tier, sizeof out->tier, "%s", bundle->tiers[0].name);
+    for (int i = 0; i < HT_MEASURE_LOD_SIZES && r == HT_OK; i++)
+        r = measure_size(dir, &bundle->tiers[0], scene, sizes[i], levels, level_count, &head, out, err, err_size);
+    for (int l = 0; l < HT_LOD_LEVELS; l++) ht_mesh_free(&levels[l]);
+    ht_mesh_free(&head);
+    free(bundle);
+    if (r != HT_OK) out->count = 0;
+    return r;
+}
+
+static void add_psnr(cJSON *o, const char *key, double db) {
+    if (isinf(db)) cJSON_AddNullToObject(o, key);
+    else cJSON_AddNumberToObject(o, key, round(fmin(db, HT_MANIFEST_MAX_PSNR_DB) * 100) / 100);
+}
+
+static cJSON *lods_object(const ht_measure_lods *m) {
+    cJSON *o = cJSON_CreateObject(), *cells = cJSON_CreateArray();
+    cJSON_AddStringToObject(o, HT_MANIFEST_KEY_LOD_TIER, m->tier);
+    for (int i = 0; i < m->count; i++) {
+        const ht_measure_lod_cell *c = &m->cells[i];
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_LEVEL, c->level);
+        cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_STRANDS, c->strands);
+        cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_SIZE, c->size);
+        add_psnr(j, HT_MANIFEST_KEY_PSNR_DB, c->whole.psnr_db);
+        cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_SSIM, round(c->whole.ssim * 1e4) / 1e4);
+        cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_DELTA_E00_MEAN, round(c->whole.delta_e00_mean * 1e3) / 1e3);
+        /* A frame too fast to time still costs something: never 0. */
+        cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_COST_RATIO, fmax(1e-4, round(c->cost_ratio * 1e4) / 1e4));
+        add_psnr(j, HT_MANIFEST_KEY_POP_PSNR_DB, c->pop_psnr_db);
+        cJSON_AddItemToArray(cells, j);
+    }
+    cJSON_AddItemToObject(o, HT_MANIFEST_KEY_CELLS, cells);
+    return o;
+}
+
+static bool write_text(FILE *f, void *ctx, char *why, size_t why_size) {
+    (void)why;
+    (void)why_size;
+    return fputs(ctx, f) >= 0;
+}
+
+ht_result ht_measure_lods_write(const char *dir, const ht_measure_lods *m, char *err, size_t err_size) {
+    char path[4096], why[1024];
+    if (snprintf(path, sizeof path, "%s/%s", dir, HT_MANIFEST_FILE) >= (int)sizeof path)
+        return ht_fail(err, err_size, HT_ERR_IO, "measure: lods: %s: path too long", dir);
+    char *text = NULL;
+    ht_result r = ht_json_read_file(path, &text, why, sizeof why);
+    if (r != HT_OK) return ht_fail(err, err_size, r, "measure: lods: %s", why);
+    cJSON *root = cJSON_Parse(text);
+    free(text);
+    if (!root) return ht_fail(err, err_size, HT_ERR_PARSE, "measure: lods: %s: not JSON", path);
+    cJSON_DeleteItemFromObjectCaseSensitive(root, HT_MANIFEST_KEY_LODS);
+    cJSON_AddItemToObject(root, HT_MANIFEST_KEY_LODS, lods_object(m));
+    char *out = cJSON_Print(root);
+    cJSON_Delete(root);
+    if (!out) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "measure: lods: out of memory");
+    /* The runtime must read what is written. */
+    ht_manifest *check = malloc(sizeof *check);
+    r = check ? ht_manifest_parse(out, dir, path, check, why, sizeof why) : HT_ERR_OUT_OF_MEMORY;
+    if (r != HT_OK) ht_set_error(err, err_size, "measure: lods: the runtime refuses the manifest: %s", check ? why : "out of memory");
+    if (r == HT_OK) r = ht_file_write_atomic(path, write_text, out, err, err_size);
+    free(check);
+    cJSON_free(out);
+    return r;
+}
+
+void ht_measure_lods_print(FILE *out, const ht_measure_lods *m) {
+    fprintf(out, "lods: tier %s against level 0 at each size; pop = PSNR against the level before\n", m->tier);
+    fprintf(out, "%5s %5s %8s %9s %7s %9s %9s %9s\n", "size", "level", "strands", "cost", "psnr_db", "ssim", "de00",
+            "pop_db");
+    for (int i = 0; i < m->count; i++) {
+        const ht_measure_lod_cell *c = &m->cells[i];
+        fprintf(out, "%5.2f %5d %8u %9.3f %7.2f %9.4f %9.3f %9.2f\n", c->size, c->level, c->strands, c->cost_ratio,
+                c->whole.psnr_db, c->whole.ssim, c->whole.delta_e00_mean, c->pop_psnr_db);
+    }
+}

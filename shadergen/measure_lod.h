@@ -1,0 +1,47 @@
+/* measure_lod.h — hairgen --measure-lods: the bundle's reference tier
+   (its first: marschner or full) drawn at every geometry LOD of the scene
+   (include/hairtier/lod.h's ladder, up to ht_lod_max_level) at
+   HT_MEASURE_LOD_SIZES projected sizes (the image scaled: 1, 1/2, 1/4),
+   each cell against LOD 0 at the same size (PSNR, SSIM, ΔE00 mean, cost
+   as a ratio of LOD 0's median frame) and against the level before (the
+   pop), written into the manifest's "lods" object (manifest.h), which
+   ht_renderer_lod_cells hands to ht_lod_pick_error. One tier only: every
+   tier at every LOD would multiply --measure's cost by the levels times
+   the sizes. Errors are one line starting "measure: lods: ". */
+#ifndef HT_MEASURE_LOD_H
+#define HT_MEASURE_LOD_H
+
+#include <stdio.h>
+
+#include <hairtier/hairtier.h>
+#include <hairtier/scene.h>
+#include "manifest.h"
+#include "metrics.h"
+
+#define HT_MEASURE_LOD_SIZES 3
+#define HT_MEASURE_LOD_TIMED_FRAMES 3  /* after one warm-up; the median */
+
+typedef struct ht_measure_lod_cell {
+    int level;
+    uint32_t strands;
+    double size;
+    ht_metrics whole;        /* against LOD 0 at this size */
+    double frame_ms, cost_ratio;
+    double pop_psnr_db;      /* against level - 1 at this size; INFINITY at level 0 */
+} ht_measure_lod_cell;
+
+typedef struct ht_measure_lods {
+    char tier[16];           /* the tier drawn */
+    ht_measure_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
+    int count;
+} ht_measure_lods;
+
+/* Draws and measures (needs an offscreen context: OSMesa, else EGL). */
+ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file, ht_measure_lods *out,
+                              char *err, size_t err_size);
+/* Replaces the "lods" object of dir/manifest.json (whole or not at all),
+   after checking the runtime reads the result. */
+ht_result ht_measure_lods_write(const char *dir, const ht_measure_lods *m, char *err, size_t err_size);
+void ht_measure_lods_print(FILE *out, const ht_measure_lods *m);
+
+#endif

@@ -1,0 +1,269 @@
+/* test_lod.c — geometry LODs (lod.h) of the three geometries a scene names
+   (fur ball, patches, ratboy's strand file): every LOD keeps the covered
+   fraction of a view within COVERAGE_BOUND of full detail and the summed
+   ribbon area within AREA_BOUND; strands are a prefix of one permutation
+   (nested levels) spread over the roots; decimation drops rows and keeps
+   tangents unit, perpendicular to the normal and root to tip; components
+   keep the inside-out order; the LOD choice (best with hysteresis, error:DB
+   over measured cells with hysteresis) follows its rules; bad meshes are
+   refused. Pure CPU: the coverage is rasterised here, not by GL. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include <hairtier/lod.h>
+#include <hairtier/scene.h>
+
+/* The stated bounds (docs/lod.md): the covered fraction of an orthographic
+   view (each pixel's 1 - (1 - ALPHA)^layers, ALPHA the typical strand
+   opacity) and the summed area, LOD against full detail. */
+#define COVERAGE_BOUND 0.10
+#define AREA_BOUND 0.05
+#define ALPHA 0.5
+#define GRID 384
+
+typedef struct view { double lo[2], cell; } view;
+
+static view view_of(const ht_mesh *m) {
+    double lo[2] = { INFINITY, INFINITY }, hi[2] = { -INFINITY, -INFINITY };
+    for (uint32_t i = 0; i < m->vertex_count; i++)
+        for (int k = 0; k < 2; k++) {
+            lo[k] = fmin(lo[k], m->vertices[i].position[k]);
+            hi[k] = fmax(hi[k], m->vertices[i].position[k]);
+        }
+    return (view){ { lo[0], lo[1] }, fmax(hi[0] - lo[0], hi[1] - lo[1]) / GRID };
+}
+
+/* Layers of ribbon over each pixel centre, looking down -z: a point is in
+   a triangle when the three edge functions agree in sign. */
+static double covered_fraction(const ht_mesh *m, const view *v) {
+    uint16_t *layers = calloc((size_t)GRID * GRID, sizeof *layers);
+    assert_non_null(layers);
+    for (uint32_t t = 0; t + 2 < m->index_count; t += 3) {
+        double x[3], y[3];
+        for (int k = 0; k < 3; k++) {
+            x[k] = (m->vertices[m->indices[t + k]].position[0] - v->lo[0]) / v->cell;
+            y[k] = (m->vertices[m->indices[t + k]].position[1] - v->lo[1]) / v->cell;
+        }
+        const int x0 = (int)fmax(0, floor(fmin(x[0], fmin(x[1], x[2])))),
+                  x1 = (int)fmin(GRID - 1, ceil(fmax(x[0], fmax(x[1], x[2]))));
+        const int y0 = (int)fmax(0, floor(fmin(y[0], fmin(y[1], y[2])))),
+                  y1 = (int)fmin(GRID - 1, ceil(fmax(y[0], fmax(y[1], y[2]))));
+        for (int py = y0; py <= y1; py++)
+            for (int px = x0; px <= x1; px++) {
+                const double cx = px + 0.5, cy = py + 0.5;
+                double e[3];
+                for (int k = 0; k < 3; k++) {
+                    const int j = (k + 1) % 3;
+                    e[k] = (x[j] - x[k]) * (cy - y[k]) - (y[j] - y[k]) * (cx - x[k]);
+                }
+                if ((e[0] >= 0 && e[1] >= 0 && e[2] >= 0) || (e[0] <= 0 && e[1] <= 0 && e[2] <= 0))
+                    if (layers[py * GRID + px] < UINT16_MAX) layers[py * GRID + px]++;
+            }
+    }
+    double sum = 0;
+    for (size_t i = 0; i < (size_t)GRID * GRID; i++) sum += 1 - pow(1 - ALPHA, layers[i]);
+    free(layers);
+    return sum / ((double)GRID * GRID);
+}
+
+static double ribbon_area(const ht_mesh *m) {
+    double a = 0;
+    for (uint32_t t = 0; t + 2 < m->index_count; t += 3) {
+        const float *p0 = m->vertices[m->indices[t]].position, *p1 = m->vertices[m->indices[t + 1]].position,
+                    *p2 = m->vertices[m->indices[t + 2]].position;
+        const double u[3] = { p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2] };
+        const double w[3] = { p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2] };
+        const double c[3] = { u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0] };
+        a += 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    }
+    return a;
+}
+
+static void build_scene(const char *file, ht_mesh *hair) {
+    ht_scene s;
+    char err[512] = "";
+    if (ht_scene_load(file, &s, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    if (s.geometry == HT_GEOMETRY_FURBALL) s.furball.hairs = 3000; /* cheap, still dense */
+    if (ht_scene_build_meshes(&s, file, hair, NULL, err, sizeof err) != HT_OK) fail_msg("%s", err);
+}
+
+static double dotf(const float a[3], const float b[3]) { return (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2]; }
+
+/* Tangents unit, perpendicular to the normal, root to tip (along the
+   centre line from each row to the next). */
+static void assert_frames(const ht_mesh *m) {
+    for (uint32_t c = 0; c < m->component_count; c++) {
+        const uint32_t first = m->indices[m->components[c].first_index];
+        const uint32_t rows = m->components[c].index_count / 6 + 1;
+        for (uint32_t r = 0; r < rows; r++) {
+            const ht_vertex *v = &m->vertices[first + 2 * r];
+            assert_true(fabs(sqrt(dotf(v->tangent, v->tangent)) - 1) < 1e-4);
+            assert_true(fabs(dotf(v->tangent, v->normal)) < 1e-4);
+            if (r + 1 < rows) {
+                const ht_vertex *n = v + 2;
+                float d[3];
+                for (int k = 0; k < 3; k++)
+                    d[k] = (n[0].position[k] + n[1].position[k] - v[0].position[k] - v[1].position[k]) / 2;
+                assert_true(dotf(v->tangent, d) > 0);
+            }
+        }
+    }
+}
+
+static void check_scene_levels(const char *file) {
+    ht_mesh full;
+    build_scene(file, &full);
+    const view v = view_of(&full);
+    const double cover0 = covered_fraction(&full, &v), area0 = ribbon_area(&full);
+    for (int level = 1; level <= ht_lod_max_level(&full); level++) {
+        ht_lod_desc d;
+        ht_lod_level(level, &d);
+        ht_mesh lod;
+        assert_int_equal(ht_mesh_build_lod(&full, &d, &lod), HT_OK);
+        const double cover = covered_fraction(&lod, &v), area = ribbon_area(&lod);
+        printf("%s level %d: strands %u/%u, vertices %u/%u, coverage %.4f/%.4f (%+.1f%%), area %+.1f%%\n", file,
+               level, lod.component_count, full.component_count, lod.vertex_count, full.vertex_count, cover, cover0,
+               100 * (cover / cover0 - 1), 100 * (area / area0 - 1));
+        assert_int_equal(lod.component_count, (full.component_count + d.strand_stride - 1) / d.strand_stride);
+        assert_true(fabs(cover / cover0 - 1) <= COVERAGE_BOUND);
+        assert_true(fabs(area / area0 - 1) <= AREA_BOUND);
+        assert_frames(&lod);
+        /* The inside-out order of the full mesh, kept. */
+        for (uint32_t c = 1; c < lod.component_count; c++)
+            assert_true(lod.components[c - 1].sort_key <= lod.components[c].sort_key);
+        ht_mesh_free(&lod);
+    }
+    ht_mesh_free(&full);
+}
+
+static void coverage_furball(void **state) { (void)state; check_scene_levels("scenes/furball.json"); }
+static void coverage_patches(void **state) { (void)state; check_scene_levels("scenes/patches.json"); }
+static void coverage_strands(void **state) { (void)state; check_scene_levels("scenes/ratboy.json"); }
+
+/* The order is a permutation, and a prefix of an eighth of it leaves no
+   eighth of the fur ball's directions (octants) without hair. */
+static void order_is_spread_permutation(void **state) {
+    (void)state;
+    ht_mesh full;
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 1000, .seed = 7 }, &full), HT_OK);
+    uint32_t *rank = malloc(sizeof *rank * full.component_count);
+    unsigned char *seen = calloc(full.component_count, 1);
+    assert_int_equal(ht_mesh_strand_order(&full, rank), HT_OK);
+    int octant_hairs[8] = { 0 };
+    for (uint32_t c = 0; c < full.component_count; c++) {
+        assert_true(rank[c] < full.component_count && !seen[rank[c]]);
+        seen[rank[c]] = 1;
+        if (rank[c] < full.component_count / 8) {
+            const ht_vertex *tip = &full.vertices[full.indices[full.components[c].first_index] + 2];
+            octant_hairs[(tip->position[0] > 0) | (tip->position[1] > 0) << 1 | (tip->position[2] > 0) << 2]++;
+        }
+    }
+    /* 125 hairs, about 16 an octant: stratified, none is empty or double. */
+    for (int o = 0; o < 8; o++) assert_true(octant_hairs[o] >= 8 && octant_hairs[o] <= 24);
+    free(rank);
+    free(seen);
+    ht_mesh_free(&full);
+}
+
+/* Decimation only: every strand kept, as wide, fewer rows where the hair
+   runs straight, and a straight hair keeps only its root and tip. */
+static void decimation_drops_straight_rows(void **state) {
+    (void)state;
+    ht_mesh curved, straight, lod;
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 50, .gravity = { 0, -0.2f, 0 } }, &curved), HT_OK);
+    assert_int_equal(ht_mesh_build_lod(&curved, &(ht_lod_desc){ 1, 8 }, &lod), HT_OK);
+    assert_int_equal(lod.component_count, curved.component_count);
+    assert_true(lod.vertex_count < curved.vertex_count && lod.vertex_count > 4 * curved.component_count);
+    assert_true(fabs(ht_mesh_mean_width(&lod) / ht_mesh_mean_width(&curved) - 1) < 0.2);
+    assert_frames(&lod);
+    ht_mesh_free(&lod);
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 50 }, &straight), HT_OK);
+    assert_int_equal(ht_mesh_build_lod(&straight, &(ht_lod_desc){ 1, 1 }, &lod), HT_OK);
+    assert_int_equal(lod.vertex_count, 4 * straight.component_count);
+    ht_mesh_free(&lod);
+    ht_mesh_free(&straight);
+    ht_mesh_free(&curved);
+}
+
+static void bad_meshes_refused(void **state) {
+    (void)state;
+    ht_mesh full, lod;
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 10 }, &full), HT_OK);
+    assert_int_equal(ht_mesh_build_lod(&full, &(ht_lod_desc){ 2, 91 }, &lod), HT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(ht_mesh_build_lod(&full, &(ht_lod_desc){ 2, NAN }, &lod), HT_ERR_INVALID_ARGUMENT);
+    assert_null(lod.vertices);
+    full.indices[full.components[3].first_index] = full.vertex_count - 1; /* not a run of rows */
+    assert_int_equal(ht_mesh_build_lod(&full, &(ht_lod_desc){ 2, 0 }, &lod), HT_ERR_INVALID_ARGUMENT);
+    assert_null(lod.vertices);
+    assert_int_equal(ht_mesh_build_lod(NULL, &(ht_lod_desc){ 2, 0 }, &lod), HT_ERR_INVALID_ARGUMENT);
+    ht_mesh_free(&full);
+}
+
+static void best_keeps_full_detail_to_a_pixel_with_hysteresis(void **state) {
+    (void)state;
+    assert_int_equal(ht_lod_pick_best(3.0, -1, 4), 0);
+    assert_int_equal(ht_lod_pick_best(1.0, -1, 4), 0);
+    assert_int_equal(ht_lod_pick_best(0.9, -1, 4), 1);
+    assert_int_equal(ht_lod_pick_best(0.3, -1, 4), 2);
+    assert_int_equal(ht_lod_pick_best(0.001, -1, 4), 4);
+    /* On the 1 px boundary: level 1 holds until 2^-0.25 = 1.19 px, level 0
+       until 2^0.25 ... below, i.e. it takes 0.84 px to leave it. */
+    assert_int_equal(ht_lod_pick_best(1.1, 1, 4), 1);
+    assert_int_equal(ht_lod_pick_best(1.25, 1, 4), 0);
+    assert_int_equal(ht_lod_pick_best(0.9, 0, 4), 0);
+    assert_int_equal(ht_lod_pick_best(0.8, 0, 4), 1);
+    /* A size sweeping back and forth across the boundary switches twice, not on every frame. */
+    int cur = -1, switches = 0;
+    for (int f = 0; f < 200; f++) {
+        const double px = 1.0 + 0.1 * sin(f * 0.3) + (f < 100 ? 0.3 : -0.3);
+        const int next = ht_lod_pick_best(px, cur, 4);
+        switches += cur >= 0 && next != cur;
+        cur = next;
+    }
+    assert_int_equal(switches, 1);
+    assert_true(ht_projected_width_px(0.01, 3.0, 40.0, 512) > 2.3 && ht_projected_width_px(0.01, 3.0, 40.0, 512) < 2.4);
+}
+
+static void error_budget_picks_cheapest_pair_with_hysteresis(void **state) {
+    (void)state;
+    const ht_lod_cell cells[] = {
+        { 0, HT_TIER_FULL, 0.5, INFINITY, 1.00 }, { 1, HT_TIER_FULL, 0.5, 34, 0.55 },
+        { 2, HT_TIER_FULL, 0.5, 30.5, 0.30 },     { 2, HT_TIER_FIXED, 0.5, 29, 0.20 },
+        { 0, HT_TIER_FULL, 1.0, INFINITY, 1.00 }, { 1, HT_TIER_FULL, 1.0, 27, 0.55 },
+        { 3, HT_TIER_FULL, 0.5, 30.8, 0.28 },
+    };
+    const int n = (int)(sizeof cells / sizeof cells[0]);
+    assert_int_equal(ht_lod_pick_error(cells, n, 0.5, 30, -1), 6);  /* cheapest at >= 30 dB */
+    assert_int_equal(ht_lod_pick_error(cells, n, 0.45, 30, -1), 6); /* nearest measured size */
+    assert_int_equal(ht_lod_pick_error(cells, n, 1.0, 30, -1), 4);  /* only full detail meets it */
+    assert_int_equal(ht_lod_pick_error(cells, n, 0.5, 40, -1), 0);  /* none: the most accurate */
+    /* Held: (2, full) meets 30 dB and (3, full) is cheaper but not by the margin. */
+    assert_int_equal(ht_lod_pick_error(cells, n, 0.5, 30, 2), 2);
+    /* The held pair, measured at the other size, no longer meets it. */
+    assert_int_equal(ht_lod_pick_error(cells, n, 1.0, 30, 1), 4);
+    /* A cheaper pair clearing the margin replaces it: the cheapest such. */
+    assert_int_equal(ht_lod_pick_error(cells, n, 0.5, 30, 0), 1);
+    assert_int_equal(ht_lod_pick_error(cells, 0, 0.5, 30, -1), -1);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(coverage_furball),
+        cmocka_unit_test(coverage_patches),
+        cmocka_unit_test(coverage_strands),
+        cmocka_unit_test(order_is_spread_permutation),
+        cmocka_unit_test(decimation_drops_straight_rows),
+        cmocka_unit_test(bad_meshes_refused),
+        cmocka_unit_test(best_keeps_full_detail_to_a_pixel_with_hysteresis),
+        cmocka_unit_test(error_budget_picks_cheapest_pair_with_hysteresis),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,140 @@
+/* test_render_lod — every geometry LOD (lod.h) of the fixture's fur ball is
+   drawn by the same four passes with the same state in every tier (the
+   trace: only the draw range differs, and it is the LOD's whole index
+   buffer), without a GL error, and still covers about as many pixels as
+   full detail at a quarter of the size (the width rule on a real raster);
+   a chain of levels switches with the camera's distance, with hysteresis. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <GL/gl.h>
+
+#include <hairtier/hairtier.h>
+#include <hairtier/lod.h>
+#include "support_render.h"
+
+#define SIZE 48
+/* Hair pixels at each LOD against full detail, at SIZE (the fixture's fur
+   ball is about 1/10 of the scene's projected size here). */
+#define PIXEL_BOUND 0.15
+
+static ht_test_furball fx;
+
+static int setup(void **state) {
+    (void)state;
+    return ht_test_furball_setup(&fx, "render_lod", SIZE) ? 0 : -1;
+}
+static int teardown(void **state) {
+    (void)state;
+    return ht_test_furball_teardown(&fx);
+}
+
+static int draw_lod(ht_renderer *r, const ht_mesh *mesh, ht_trace *trace) {
+    assert_int_equal(ht_renderer_set_mesh(r, mesh), HT_OK);
+    const ht_frame_desc frame = ht_test_furball_frame(3.0f);
+    ht_image img;
+    ht_test_draw(&fx.gl, r, &frame, ht_test_background, &img);
+    *trace = *ht_renderer_trace(r);
+    const int changed = ht_test_pixel_stats_of(&img, ht_test_background).changed;
+    ht_image_free(&img);
+    return changed;
+}
+
+static void same_passes_every_lod(ht_tier tier) {
+    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = tier, .strict = true }, fx.bundle_dir, HT_OK);
+    ht_trace full;
+    const int full_pixels = draw_lod(r, &fx.mesh, &full);
+    assert_int_equal(full.count, HT_PASS_COUNT);
+    for (int level = 1; level <= ht_lod_max_level(&fx.mesh); level++) {
+        ht_lod_desc d;
+        ht_mesh lod;
+        ht_lod_level(level, &d);
+        assert_int_equal(ht_mesh_build_lod(&fx.mesh, &d, &lod), HT_OK);
+        ht_trace t;
+        const int pixels = draw_lod(r, &lod, &t);
+        printf("%s level %d: %d hair pixels, full detail %d\n", ht_tier_name(tier), level, pixels, full_pixels);
+        assert_int_equal(t.count, full.count);
+        for (int i = 0; i < t.count; i++) {
+            assert_int_equal(t.entries[i].gl_error, GL_NO_ERROR);
+            assert_int_equal(t.entries[i].index_count, lod.index_count);
+            ht_trace_entry e = t.entries[i];
+            e.index_count = full.entries[i].index_count;
+            if (memcmp(&e, &full.entries[i], sizeof e) != 0)
+                fail_msg("%s level %d: pass %d differs from full detail's", ht_tier_name(tier), level, i);
+        }
+        assert_true(abs(pixels - full_pixels) <= PIXEL_BOUND * full_pixels);
+        ht_mesh_free(&lod);
+    }
+    ht_renderer_destroy(r);
+}
+
+/* A camera pulled from 3 to 40 and back, jittering by 3 %: the chain
+   goes only coarser on the way out and finer on the way back (512 pixels
+   high for the choice), reaching the level the rule gives at 40, each
+   frame draws the chosen level's whole index buffer in the four passes. */
+static void chain_switches_with_the_distance(void **state) {
+    (void)state;
+    ht_lod_chain chain;
+    assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
+    assert_int_equal(chain.count, 4); /* 400 hairs: levels 0..3 */
+    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true }, fx.bundle_dir,
+                                             HT_OK);
+    int switches = 0, last = -1, peak = 0, steps = 120;
+    for (int f = 0; f < 2 * steps; f++) {
+        const double t = f < steps ? (double)f / (steps - 1) : (double)(2 * steps - 1 - f) / (steps - 1);
+        const float d = (float)((3.0 + 37.0 * t) * (1.0 + 0.03 * ((f % 3) - 1)));
+        ht_frame_desc frame = ht_test_furball_frame(d);
+        ht_result res;
+        const int level = ht_lod_chain_select(&chain, r, &frame.camera, 512, &res);
+        assert_int_equal(res, HT_OK);
+        assert_true(level >= 0 && level < chain.count);
+        if (last >= 0 && level != last) switches++;
+        /* Moving away never finer, coming back never coarser: the jitter
+           does not flicker across a boundary. */
+        if (last >= 0) assert_true(f < steps ? level >= last : level <= last);
+        if (level > peak) peak = level;
+        last = level;
+        if (f % 20 == 0) {
+            ht_image img;
+            ht_test_draw(&fx.gl, r, &frame, ht_test_background, &img);
+            ht_image_free(&img);
+            const ht_trace *t = ht_renderer_trace(r);
+            assert_int_equal(t->count, HT_PASS_COUNT);
+            for (int i = 0; i < t->count; i++)
+                assert_int_equal(t->entries[i].index_count, ht_lod_chain_mesh(&chain, level)->index_count);
+        }
+    }
+    printf("chain: %d switches over %d frames, up to level %d, back at level %d\n", switches, 2 * steps, peak, last);
+    const ht_frame_desc far = ht_test_furball_frame(40.0f);
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) d2 += (double)far.camera.eye[k] * far.camera.eye[k];
+    assert_int_equal(peak, ht_lod_pick_best(ht_projected_width_px(chain.width, sqrt(d2), far.camera.fov_y, 512), -1, 3));
+    assert_true(peak >= 2 && switches >= 2 && switches <= 2 * peak);
+    assert_int_equal(last, 0);
+    ht_renderer_destroy(r);
+    ht_lod_chain_free(&chain);
+}
+
+static void full_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_FULL); }
+static void vertex_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_VERTEX); }
+static void fixed_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_FIXED); }
+static void gl11_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_GL11); }
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(full_tier),
+        cmocka_unit_test(vertex_tier),
+        cmocka_unit_test(fixed_tier),
+        cmocka_unit_test(gl11_tier),
+        cmocka_unit_test(chain_switches_with_the_distance),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
