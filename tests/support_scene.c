@@ -32,6 +32,25 @@ void ht_test_keep_strand_file(cJSON *root, const char *shipped_scene) {
                                            cJSON_CreateString(resolved));
 }
 
+const char *ht_test_scene_copy(const char *shipped_scene, const char *dir, const char *name, int side, int hairs,
+                               bool no_head, char *out, size_t out_size) {
+    cJSON *root = cJSON_Parse(ht_test_read_file(".", shipped_scene));
+    assert_non_null(root);
+    if (side > 0)
+        cJSON_ReplaceItemInObjectCaseSensitive(root, "resolution", cJSON_CreateIntArray((const int[]){ side, side }, 2));
+    ht_test_keep_strand_file(root, shipped_scene);
+    cJSON *geometry = cJSON_GetObjectItem(root, "geometry");
+    if (hairs > 0 && cJSON_GetObjectItem(geometry, "hairs"))
+        cJSON_ReplaceItemInObjectCaseSensitive(geometry, "hairs", cJSON_CreateNumber(hairs));
+    if (no_head) cJSON_DeleteItemFromObjectCaseSensitive(geometry, "head");
+    char *text = cJSON_Print(root);
+    cJSON_Delete(root);
+    ht_test_write_file(dir, name, text);
+    cJSON_free(text);
+    snprintf(out, out_size, "%s/%s", dir, name);
+    return out;
+}
+
 int ht_test_bundle_tiers(const char *bundle, char names[HT_TIER_COUNT][16], const char *first) {
     cJSON *root = cJSON_Parse(ht_test_read_file(bundle, "manifest.json"));
     assert_non_null(root);
