@@ -24,6 +24,10 @@ void ht_test_keep_strand_file(struct cJSON *root, const char *shipped_scene);
    when asked; its path in out. */
 const char *ht_test_scene_copy(const char *shipped_scene, const char *dir, const char *name, int side, int hairs,
                                bool no_head, char *out, size_t out_size);
+/* The scene copy DIR/NAME, if it draws a TressFX strand file, made to draw
+   every `every`-th strand of it instead: the positions of those strands
+   written to DIR/NAME.tfx (the rest of that file is not drawn). */
+void ht_test_scene_thin_strands(const char *dir, const char *name, int every);
 /* The bundle's tiers, best first; the first must be `first`, and there are
    at least two. Returns how many. */
 int ht_test_bundle_tiers(const char *bundle, char names[HT_TIER_COUNT][16], const char *first);

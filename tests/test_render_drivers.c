@@ -33,11 +33,12 @@
 #include "support_scene.h"
 #include "support_scratch.h"
 
-/* Rendered small, the fur balls thinned: the cells prove which code runs
-   and that it draws the same picture; the shipped size is
-   test_render_scenes' job. */
+/* Rendered small, the fur balls and the ratboy's strands thinned: the
+   cells prove which code runs and that it draws the same picture; the
+   shipped size is test_render_scenes' job. */
 #define SIZE 128
 #define HAIRS 1000
+#define STRAND_EVERY 4
 #define MIN_PSNR_DB 40.0
 
 typedef struct scene_case {
@@ -78,7 +79,7 @@ static const restriction restrictions[] = {
 static const char *const versions[] = { "1.1", "1.2", "1.3", "1.4", "1.5", "2.0", "2.1" };
 #define VERSION_COUNT (sizeof versions / sizeof versions[0])
 
-/* The cells' copy of scene i (SIZE², HAIRS): WORK/NAME.json. */
+/* The cells' copy of scene i (SIZE², HAIRS, STRAND_EVERY): WORK/NAME.json. */
 static const char *scene_path(const char *work, size_t i, char *out, size_t size) {
     snprintf(out, size, "%s/%s.json", work, scenes[i].name);
     return out;
@@ -163,6 +164,7 @@ static int setup(void **state) {
         char out[256], err[1024], path[256], name[64];
         snprintf(name, sizeof name, "%s.json", scenes[i].name);
         ht_test_scene_copy(scenes[i].scene, work, name, SIZE, HAIRS, false, path, sizeof path);
+        ht_test_scene_thin_strands(work, name, STRAND_EVERY);
         snprintf(out, sizeof out, "%s/%s-bundle", work, scenes[i].name);
         if (ht_generate_bundle(scenes[i].material, path, out, NULL, err, sizeof err) != HT_OK) {
             fprintf(stderr, "setup: %s\n", err);
