@@ -235,10 +235,11 @@ TEST_SCRIPTS := tests/install_test.sh tests/header_examples.sh
 # Tests that run the programs (HAIRTIER_BUILD) wait for them.
 PROGRAM_TESTS := $(notdir $(basename $(shell grep -l 'HAIRTIER_BUILD\|ht_test_build_dir' $(TEST_SRC))))
 # The slowest runs first (most CPU first), so the last ones to end are short.
-SLOW_RUNS := test_render_accuracy.llvmpipe test_render_drivers.llvmpipe test_render_scenes.llvmpipe test_model_marschner.llvmpipe \
-             test_render_marschner.llvmpipe test_render_marschner.softpipe test_render_scenes.softpipe \
-             test_render_faults.llvmpipe test_marschner_lut.llvmpipe test_render_passes.softpipe \
-             test_marschner_fit.llvmpipe test_render_fixed.softpipe test_measure.llvmpipe
+SLOW_RUNS := test_render_accuracy.llvmpipe test_render_drivers.llvmpipe test_marschner_lut.llvmpipe \
+             test_render_marschner.llvmpipe test_render_faults.llvmpipe test_measure.llvmpipe \
+             test_render_scenes.softpipe test_render_scenes.llvmpipe test_render_marschner.softpipe \
+             test_render_drivers.softpipe test_model_marschner.llvmpipe test_render_passes.softpipe \
+             test_render_fixed.softpipe test_marschner_fit.llvmpipe
 ALL_RUNS  := $(notdir $(TESTS:%=%.llvmpipe)) $(SOFTPIPE_TESTS:%=%.softpipe) $(EGL_TESTS:%=%.egl) \
              $(notdir $(TEST_SCRIPTS:%.sh=%.script))
 $(foreach r,$(filter-out $(ALL_RUNS),$(SLOW_RUNS)),$(error SLOW_RUNS: no run $(r)))

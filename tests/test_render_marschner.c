@@ -45,8 +45,9 @@ static int setup(void **state) {
     return ht_test_scratch_gl_setup(&fx, "marschner", SIZE) ? 0 : -1;
 }
 
-/* Each material's lookup textures, baked once (a bake is seconds of
-   integrals) by the first probe that needs them; freed at teardown. */
+/* Each material's lookup textures for the diagnosis of a miss, baked once
+   (a bake is seconds of integrals) by the first miss that needs them;
+   freed at teardown. */
 enum { MAX_BAKED = 8 };
 static struct baked {
     const void *material;
@@ -148,6 +149,30 @@ static const ht_marschner_lut *lut_for(const void *key, const ht_material *m) {
     return &baked[i].lut;
 }
 
+/* On a miss, untextured: the textures' error (the CPU lookup against the
+   oracle) told from the device's (the frame against the CPU lookup). */
+static void lut_split(const ht_marschner_lut *lut, const ht_material *m, const ht_light *light, const ht_image *img) {
+    int textures_worst = 0, device_worst = 0;
+    for (int row = 0; row < SIZE; row++)
+        for (int x = 0; x < SIZE; x++) {
+            double P[3];
+            int ci = ht_probe_cell_at(x, SIZE - 1 - row, P);
+            if (ci < 0) continue;
+            const ht_probe_cell *c = &ht_probe_cells[ci];
+            ht_surface s = ht_probe_surface(c, P);
+            int expected[3], from_lut[3];
+            ht_probe_oracle(&m->shading, &s, light, P, expected);
+            lut_pixel(lut, m, c, light, P, from_lut);
+            const uint8_t *got = img->pixels + ((size_t)row * SIZE + x) * 4;
+            for (int k = 0; k < 3; k++) {
+                if (abs(from_lut[k] - expected[k]) > textures_worst) textures_worst = abs(from_lut[k] - expected[k]);
+                if (abs(from_lut[k] - got[k]) > device_worst) device_worst = abs(from_lut[k] - got[k]);
+            }
+        }
+    printf("  textures read on the CPU vs the oracle: worst %d/255; device vs the CPU lookup: worst %d/255\n",
+           textures_worst, device_worst);
+}
+
 /* A bundle depends on its scene's light types only (support_probe.h), so
    each material's bundle for a light type is generated once, by the first
    probe that needs it. */
@@ -186,9 +211,6 @@ static void probe(const fibre_material *f, ht_light light, int tolerance) {
     ht_image img;
     ht_test_draw(&fx.gl, r, &frame, (const float[3]){ 0, 0, 0 }, &img);
 
-    /* The CPU lookup is for untextured cells only (lut_pixel). */
-    const ht_marschner_lut *lut = albedo.pixels ? NULL : lut_for(f, &m);
-    int textures_worst = 0, device_worst = 0; /* the CPU lookup against the oracle, the device against it */
     int pixels = 0, worst = 0, worst_cell = -1, worst_expected = 0, worst_got = 0, worst_channel = 0;
     double worst_P[3] = { 0, 0, 0 };
     for (int row = 0; row < SIZE; row++)
@@ -202,14 +224,6 @@ static void probe(const fibre_material *f, ht_light light, int tolerance) {
             int expected[3];
             ht_probe_oracle(&m.shading, &s, &light, P, expected);
             const uint8_t *got = img.pixels + ((size_t)row * SIZE + x) * 4;
-            if (!albedo.pixels) {
-                int from_lut[3];
-                lut_pixel(lut, &m, c, &light, P, from_lut);
-                for (int k = 0; k < 3; k++) {
-                    textures_worst = abs(from_lut[k] - expected[k]) > textures_worst ? abs(from_lut[k] - expected[k]) : textures_worst;
-                    device_worst = abs(from_lut[k] - got[k]) > device_worst ? abs(from_lut[k] - got[k]) : device_worst;
-                }
-            }
             for (int k = 0; k < 3; k++)
                 if (abs(expected[k] - got[k]) > worst) {
                     worst = abs(expected[k] - got[k]);
@@ -224,11 +238,12 @@ static void probe(const fibre_material *f, ht_light light, int tolerance) {
     printf("marschner probe %-9s %-11s light (%5.2f %5.2f %5.2f): %d pixels, worst %d/255 (cell %d)\n", f->name,
            ht_probe_light_type(&light), (double)light.vector[0], (double)light.vector[1], (double)light.vector[2],
            pixels, worst, worst_cell);
-    if (!albedo.pixels)
-        printf("  textures read on the CPU vs the oracle: worst %d/255; device vs the CPU lookup: worst %d/255\n",
-               textures_worst, device_worst);
     assert_true(pixels > HT_PROBE_CELLS * 20);
-    if (worst > TOLERANCE) lut_diagnosis(lut ? lut : lut_for(f, &m), &m, &ht_probe_cells[worst_cell], &light, worst_P, worst_channel);
+    if (worst > TOLERANCE) {
+        const ht_marschner_lut *lut = lut_for(f, &m);
+        if (!albedo.pixels) lut_split(lut, &m, &light, &img);
+        lut_diagnosis(lut, &m, &ht_probe_cells[worst_cell], &light, worst_P, worst_channel);
+    }
     if (worst > tolerance)
         fail_msg("%s: cell %d: expected %d/255, got %d/255\n%s", f->name, worst_cell, worst_expected, worst_got,
                  ht_test_log_text);
