@@ -1,5 +1,6 @@
 # hairtier — `make` builds build/hairgen, build/hairview and build/libhairtier.a;
-# `make test` runs every test; `make demo` renders the shipped scenes to out/;
+# `make test` runs every test; `make accuracy` the accuracy sweep at the
+# shipped sizes; `make demo` renders the shipped scenes to out/;
 # `make asan` runs the tests under AddressSanitizer + UBSan; `make bench`
 # writes bench/results.{csv,md,svg} and bench/scaling.svg;
 # `make fuzz` builds the libFuzzer targets (fuzz/, clang, ASan + UBSan) and
@@ -80,7 +81,7 @@ EGL_TESTS := test_render_passes test_render_probe test_render_fixed4 test_render
 $(foreach t,$(filter-out $(notdir $(TESTS)),$(EGL_TESTS)),$(error EGL_TESTS: no tests/$(t).c))
 DEPS_STAMP := $(BUILD)/.deps-installed
 
-.PHONY: all deps test test-runs asan bench demo clean fuzz fuzz-build fuzz-seeds fuzz-smoke check-valgrind install uninstall report-check
+.PHONY: all deps test test-runs accuracy asan bench demo clean fuzz fuzz-build fuzz-seeds fuzz-smoke check-valgrind install uninstall report-check
 # Keep objects that pattern rules build on the way (tests, examples).
 .SECONDARY:
 .DEFAULT_GOAL := all
@@ -271,6 +272,16 @@ test:
 	@rm -rf $(TEST_RESULTS)
 	@$(MAKE) --no-print-directory $(PARALLEL) test-runs
 	@tests/test_summary.sh $(TEST_RESULTS)
+
+# The accuracy sweep at each shipped scene's own size and hair count
+# (docs/accuracy.md, "Every shipped pair at its shipped size"; about 25
+# times the pinned 256² sweep that make test runs): its lines, then pass or fail.
+ACCURACY_RESULTS := $(BUILD)/accuracy-results
+accuracy: $(BUILD)/tests/test_render_accuracy $(HAIRGEN) $(PROGRAMS)
+	@rm -rf $(ACCURACY_RESULTS) && mkdir -p $(ACCURACY_RESULTS)
+	@HAIRTIER_SWEEP=shipped $(RUN_TEST) $(ACCURACY_RESULTS)/shipped-sweep llvmpipe osmesa $<
+	@grep '^shipped' $(ACCURACY_RESULTS)/shipped-sweep.log || true
+	@tests/test_summary.sh $(ACCURACY_RESULTS)
 
 asan:
 	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 \
