@@ -1,6 +1,7 @@
 # hairtier — `make` builds build/hairgen, build/hairview and build/libhairtier.a;
-# `make test` runs every test; `make demo` renders the shipped scenes to out/
-# (and one on GL ES 2.0);
+# `make test` runs every test; `make accuracy` the accuracy sweep at the
+# shipped sizes; `make demo` renders the shipped scenes to out/ (and one on
+# GL ES 2.0);
 # `make asan` runs the tests under AddressSanitizer + UBSan; `make bench`
 # writes bench/results.{csv,md,svg} and bench/scaling.svg;
 # `make fuzz` builds the libFuzzer targets (fuzz/, clang, ASan + UBSan) and
@@ -82,7 +83,7 @@ EGL_TESTS := test_render_passes test_render_probe test_render_fixed4 test_render
 $(foreach t,$(filter-out $(notdir $(TESTS)),$(EGL_TESTS)),$(error EGL_TESTS: no tests/$(t).c))
 DEPS_STAMP := $(BUILD)/.deps-installed
 
-.PHONY: all deps test test-runs asan bench demo clean fuzz fuzz-build fuzz-seeds fuzz-smoke check-valgrind install uninstall report-check
+.PHONY: all deps test test-runs accuracy asan bench demo clean fuzz fuzz-build fuzz-seeds fuzz-smoke check-valgrind install uninstall report-check
 # Keep objects that pattern rules build on the way (tests, examples).
 .SECONDARY:
 .DEFAULT_GOAL := all
@@ -247,15 +248,20 @@ TEST_SCRIPTS := tests/install_test.sh tests/header_examples.sh
 # Tests that run the programs (HAIRTIER_BUILD) wait for them.
 PROGRAM_TESTS := $(notdir $(basename $(shell grep -l 'HAIRTIER_BUILD\|ht_test_build_dir' $(TEST_SRC))))
 # The slowest runs first (most CPU first), so the last ones to end are short.
-SLOW_RUNS := test_render_accuracy.llvmpipe test_render_drivers.llvmpipe test_render_scenes.llvmpipe test_model_marschner.llvmpipe \
-             test_render_es2.llvmpipe test_render_es3.llvmpipe \
-             test_render_marschner.llvmpipe test_render_marschner.softpipe test_render_scenes.softpipe \
-             test_render_faults.llvmpipe test_marschner_lut.llvmpipe test_render_passes.softpipe \
-             test_marschner_fit.llvmpipe test_render_fixed.softpipe test_measure.llvmpipe
+SLOW_RUNS := test_render_accuracy.llvmpipe test_render_drivers.llvmpipe test_marschner_lut.llvmpipe \
+             test_render_marschner.llvmpipe test_render_es2.llvmpipe test_render_es3.llvmpipe \
+             test_render_faults.llvmpipe test_measure.llvmpipe \
+             test_render_scenes.softpipe test_render_scenes.llvmpipe test_render_marschner.softpipe \
+             test_render_drivers.softpipe test_model_marschner.llvmpipe test_render_passes.softpipe \
+             test_render_fixed.softpipe test_marschner_fit.llvmpipe
 ALL_RUNS  := $(notdir $(TESTS:%=%.llvmpipe)) $(SOFTPIPE_TESTS:%=%.softpipe) $(EGL_TESTS:%=%.egl) \
              $(notdir $(TEST_SCRIPTS:%.sh=%.script))
 $(foreach r,$(filter-out $(ALL_RUNS),$(SLOW_RUNS)),$(error SLOW_RUNS: no run $(r)))
-TEST_RUNS := $(addprefix $(TEST_RESULTS)/,$(SLOW_RUNS) $(filter-out $(SLOW_RUNS),$(ALL_RUNS)))
+# Under a sanitizer (make asan) no softpipe runs: they run the library's code
+# that the llvmpipe runs do, on another driver, and the sanitizers check our
+# code, not Mesa's.
+RUNS      := $(if $(SAN),$(filter-out %.softpipe,$(ALL_RUNS)),$(ALL_RUNS))
+TEST_RUNS := $(addprefix $(TEST_RESULTS)/,$(filter $(RUNS),$(SLOW_RUNS)) $(filter-out $(SLOW_RUNS),$(RUNS)))
 RUN_TEST = HAIRTIER_BUILD=$(BUILD) tests/run_test.sh
 
 $(foreach t,$(PROGRAM_TESTS),$(eval $(TEST_RESULTS)/$(t).llvmpipe $(TEST_RESULTS)/$(t).softpipe \
@@ -279,6 +285,16 @@ test:
 	@rm -rf $(TEST_RESULTS)
 	@$(MAKE) --no-print-directory $(PARALLEL) test-runs
 	@tests/test_summary.sh $(TEST_RESULTS)
+
+# The accuracy sweep at each shipped scene's own size and hair count
+# (docs/accuracy.md, "Every shipped pair at its shipped size"; about 25
+# times the pinned 256² sweep that make test runs): its lines, then pass or fail.
+ACCURACY_RESULTS := $(BUILD)/accuracy-results
+accuracy: $(BUILD)/tests/test_render_accuracy $(HAIRGEN) $(PROGRAMS)
+	@rm -rf $(ACCURACY_RESULTS) && mkdir -p $(ACCURACY_RESULTS)
+	@HAIRTIER_SWEEP=shipped $(RUN_TEST) $(ACCURACY_RESULTS)/shipped-sweep llvmpipe osmesa $<
+	@grep '^shipped' $(ACCURACY_RESULTS)/shipped-sweep.log || true
+	@tests/test_summary.sh $(ACCURACY_RESULTS)
 
 asan:
 	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 \

@@ -32,6 +32,73 @@ void ht_test_keep_strand_file(cJSON *root, const char *shipped_scene) {
                                            cJSON_CreateString(resolved));
 }
 
+const char *ht_test_scene_copy(const char *shipped_scene, const char *dir, const char *name, int side, int hairs,
+                               bool no_head, char *out, size_t out_size) {
+    cJSON *root = cJSON_Parse(ht_test_read_file(".", shipped_scene));
+    assert_non_null(root);
+    if (side > 0)
+        cJSON_ReplaceItemInObjectCaseSensitive(root, "resolution", cJSON_CreateIntArray((const int[]){ side, side }, 2));
+    ht_test_keep_strand_file(root, shipped_scene);
+    cJSON *geometry = cJSON_GetObjectItem(root, "geometry");
+    if (hairs > 0 && cJSON_GetObjectItem(geometry, "hairs"))
+        cJSON_ReplaceItemInObjectCaseSensitive(geometry, "hairs", cJSON_CreateNumber(hairs));
+    if (no_head) cJSON_DeleteItemFromObjectCaseSensitive(geometry, "head");
+    char *text = cJSON_Print(root);
+    cJSON_Delete(root);
+    ht_test_write_file(dir, name, text);
+    cJSON_free(text);
+    snprintf(out, out_size, "%s/%s", dir, name);
+    return out;
+}
+
+/* The TressFX 4.0 header (runtime/io/strands_tfx.c): version, strands,
+   points per strand, then five block offsets; 160 bytes. */
+enum { TFX_HEADER = 160, TFX_STRANDS = 4, TFX_POINTS = 8, TFX_POSITIONS = 12 };
+
+static uint32_t get_u32(const char *p) {
+    uint32_t v;
+    memcpy(&v, p, sizeof v);
+    return v;
+}
+
+void ht_test_scene_thin_strands(const char *dir, const char *name, int every) {
+    cJSON *root = ht_test_read_json(dir, name);
+    cJSON *file = cJSON_GetObjectItem(cJSON_GetObjectItem(root, "geometry"), "file");
+    size_t n = cJSON_IsString(file) ? strlen(file->valuestring) : 0;
+    if (n < 4 || strcmp(file->valuestring + n - 4, ".tfx") != 0) {
+        cJSON_Delete(root);
+        return;
+    }
+    size_t size = 0;
+    char *in = ht_test_read_all(file->valuestring, &size);
+    assert_non_null(in);
+    assert_true(size >= TFX_HEADER);
+    uint32_t strands = get_u32(in + TFX_STRANDS), points = get_u32(in + TFX_POINTS), at = get_u32(in + TFX_POSITIONS);
+    size_t strand_bytes = (size_t)points * 16, kept = (strands + every - 1) / every;
+    assert_true(at >= TFX_HEADER && at <= size && (size - at) / strand_bytes >= strands);
+    char *out = calloc(1, TFX_HEADER + kept * strand_bytes);
+    assert_non_null(out);
+    memcpy(out, in, TFX_POSITIONS);
+    uint32_t header[2] = { (uint32_t)kept, TFX_HEADER };
+    memcpy(out + TFX_STRANDS, &header[0], 4);
+    memcpy(out + TFX_POSITIONS, &header[1], 4); /* the other blocks: absent (offsets 0) */
+    for (size_t s = 0; s < kept; s++)
+        memcpy(out + TFX_HEADER + s * strand_bytes, in + at + s * every * strand_bytes, strand_bytes);
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s.tfx", dir, name);
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(out, 1, TFX_HEADER + kept * strand_bytes, f), TFX_HEADER + kept * strand_bytes);
+    assert_int_equal(fclose(f), 0);
+    free(out);
+    free(in);
+    cJSON_ReplaceItemInObjectCaseSensitive(cJSON_GetObjectItem(root, "geometry"), "file", cJSON_CreateString(path));
+    char *text = cJSON_Print(root);
+    cJSON_Delete(root);
+    ht_test_write_file(dir, name, text);
+    cJSON_free(text);
+}
+
 int ht_test_bundle_tiers(const char *bundle, char names[HT_TIER_COUNT][16], const char *first) {
     cJSON *root = cJSON_Parse(ht_test_read_file(bundle, "manifest.json"));
     assert_non_null(root);

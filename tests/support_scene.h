@@ -1,11 +1,14 @@
 /* support_scene.h — what the tests that run the programs on shipped scenes
-   share (test_render_scenes.c, test_render_accuracy.c): a command that must
-   succeed, a scene copied elsewhere that still finds its strand file, and a
-   bundle's tier names.
+   share (test_render_scenes.c, test_render_accuracy.c, test_render_drivers.c):
+   a command that must succeed, a scene copied elsewhere (smaller) that still
+   finds its strand file, and a bundle's tier names.
 
    Helpers that check fail the running cmocka test. */
 #ifndef HT_SUPPORT_SCENE_H
 #define HT_SUPPORT_SCENE_H
+
+#include <stdbool.h>
+#include <stddef.h>
 
 #include <hairtier/hairtier.h>
 
@@ -16,6 +19,15 @@ void ht_test_run_command(const char *cmd);
 /* A scene's strand file path made absolute against the shipped scene's
    folder, so a copy of root written elsewhere draws the same file. */
 void ht_test_keep_strand_file(struct cJSON *root, const char *shipped_scene);
+/* The shipped scene copied to DIR/NAME at side² (0: as shipped), its strand
+   file kept, with `hairs` fur-ball hairs (0: as shipped), without its head
+   when asked; its path in out. */
+const char *ht_test_scene_copy(const char *shipped_scene, const char *dir, const char *name, int side, int hairs,
+                               bool no_head, char *out, size_t out_size);
+/* The scene copy DIR/NAME, if it draws a TressFX strand file, made to draw
+   every `every`-th strand of it instead: the positions of those strands
+   written to DIR/NAME.tfx (the rest of that file is not drawn). */
+void ht_test_scene_thin_strands(const char *dir, const char *name, int every);
 /* The bundle's tiers, best first; the first must be `first`, and there are
    at least two. Returns how many. */
 int ht_test_bundle_tiers(const char *bundle, char names[HT_TIER_COUNT][16], const char *first);

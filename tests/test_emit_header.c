@@ -216,13 +216,22 @@ static unsigned char *header_file_bytes(const char *text, const char *name, size
 
 /* -o, --emit-header and --measure in one run: one generation, and the
    header holds the manifest the measure step wrote into the directory (a
-   second generation for the header would hold one without "measured"). */
+   second generation for the header would hold one without "measured").
+   Measured on a small scene: what is measured is test_measure's. */
 static void test_directory_and_header_from_one_run_hold_the_measured_manifest(void **state) {
     (void)state;
-    char args[512], header[128], dir[128], manifest[160];
+    char args[700], header[128], dir[128], manifest[160], scene[128];
     snprintf(header, sizeof header, "%s/measured.h", work);
     snprintf(dir, sizeof dir, "%s/measured", work);
-    snprintf(args, sizeof args, "materials/kajiya-kay.json -o %s --emit-header %s --measure", dir, header);
+    snprintf(scene, sizeof scene, "%s/small.json", work);
+    ht_test_write_file(work, "small.json",
+        "{\"format\": \"hairtier-scene/1\", \"resolution\": [48, 40],\n"
+        " \"camera\": {\"eye\": [0, 0.3, 2.4], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 45},\n"
+        " \"lights\": [{\"type\": \"directional\", \"direction\": [0.6, 0.8, 0.7], \"color\": [1, 1, 1]}],\n"
+        " \"background\": [0.1, 0.2, 0.3],\n"
+        " \"geometry\": {\"type\": \"furball\", \"hairs\": 200, \"joints\": 6, \"length\": 0.1, \"width\": 0.02}}\n");
+    snprintf(args, sizeof args, "materials/kajiya-kay.json --scene %s -o %s --emit-header %s --measure", scene, dir,
+             header);
     assert_int_equal(run_hairgen(args), 0);
     snprintf(manifest, sizeof manifest, "%s/manifest.json", dir);
     size_t file_size, header_size;

@@ -31,6 +31,22 @@ static ht_marschner wide(void) {
     return (ht_marschner){ .absorption = { 0.2, 0.3, 0.5 }, .shift_r = -10 * DEG, .width_r = 30 * DEG, .eta = 1.55 };
 }
 
+/* brown()'s textures, baked once for the tests that read them (a bake is
+   seconds of integrals). */
+static ht_marschner_lut brown_lut;
+
+static int bake_brown(void **state) {
+    (void)state;
+    ht_marschner m = brown();
+    return ht_marschner_lut_bake(&m, &brown_lut) == HT_OK ? 0 : -1;
+}
+
+static int free_brown(void **state) {
+    (void)state;
+    ht_marschner_lut_free(&brown_lut);
+    return 0;
+}
+
 static void sizes_follow_the_narrowest_lobe(void **state) {
     (void)state;
     ht_marschner m = brown();
@@ -48,34 +64,32 @@ static double axis(int i, int size, double lo, double hi) { return lo + (hi - lo
 static void texel_centres_hold_the_oracle(void **state) {
     (void)state;
     ht_marschner m = brown();
-    ht_marschner_lut lut;
-    assert_int_equal(ht_marschner_lut_bake(&m, &lut), HT_OK);
-    const int ms = lut.m_size;
+    const ht_marschner_lut *lut = &brown_lut;
+    const int ms = lut->m_size;
     for (int y = 0; y < ms; y += 7)
         for (int x = 0; x < ms; x += 5) {
             double si = sin(axis(x, ms, -HT_PI / 2, HT_PI / 2)), sr = sin(axis(y, ms, -HT_PI / 2, HT_PI / 2));
             for (int p = 0; p < 3; p++) {
                 double want = ht_marschner_longitudinal(&m, (ht_marschner_lobe)p, si, sr);
-                double got = ht_marschner_lut_decode_log(ht_marschner_lut_texel(&lut.m, 0, x, y, p), lut.m_scale[p]);
+                double got = ht_marschner_lut_decode_log(ht_marschner_lut_texel(&lut->m, 0, x, y, p), lut->m_scale[p]);
                 /* half a code step of the log encoding, relative to M + knee */
-                double step = log1p(lut.m_scale[p] / HT_MARSCHNER_LUT_LOG_KNEE) * 0.5 / HT_MARSCHNER_LUT_MAX;
+                double step = log1p(lut->m_scale[p] / HT_MARSCHNER_LUT_LOG_KNEE) * 0.5 / HT_MARSCHNER_LUT_MAX;
                 if (fabs(got - want) > expm1(step) * (want + HT_MARSCHNER_LUT_LOG_KNEE) + 1e-12)
                     fail_msg("M_%d at (%g, %g): %g, oracle %g", p, si, sr, got, want);
             }
         }
-    const int ns = lut.n_size;
+    const int ns = lut->n_size;
     for (int y = 0; y < ns; y += 3)
         for (int x = 0; x < ns; x += 5) {
             double cos_r = cos(axis(x, ns, 0, HT_PI / 2)), phi = axis(y, ns, 0, HT_PI), n[3];
             ht_marschner_azimuthal(&m, HT_LOBE_TRT, cos_r, phi, n);
             for (int c = 0; c < 3; c++)
-                if (fabs(ht_marschner_lut_texel(&lut.n, 0, x, y, c) * lut.n_scale - n[c]) >
-                    0.5 / HT_MARSCHNER_LUT_MAX * lut.n_scale + 1e-12)
+                if (fabs(ht_marschner_lut_texel(&lut->n, 0, x, y, c) * lut->n_scale - n[c]) >
+                    0.5 / HT_MARSCHNER_LUT_MAX * lut->n_scale + 1e-12)
                     fail_msg("N_TRT at (%g, %g) channel %d", cos_r, phi, c);
         }
-    print_message("scales: M %.3f %.3f %.3f rest %.4f N_TRT %.4f\n", lut.m_scale[0], lut.m_scale[1], lut.m_scale[2],
-                  lut.rest_scale, lut.n_scale);
-    ht_marschner_lut_free(&lut);
+    print_message("scales: M %.3f %.3f %.3f rest %.4f N_TRT %.4f\n", lut->m_scale[0], lut->m_scale[1], lut->m_scale[2],
+                  lut->rest_scale, lut->n_scale);
 }
 
 static int compare_doubles(const void *a, const void *b) {
@@ -88,8 +102,7 @@ static int compare_doubles(const void *a, const void *b) {
 static void lookup_matches_the_oracle_between_texels(void **state) {
     (void)state;
     ht_marschner m = brown();
-    ht_marschner_lut lut;
-    assert_int_equal(ht_marschner_lut_bake(&m, &lut), HT_OK);
+    const ht_marschner_lut *lut = &brown_lut;
     ht_rng rng = ht_rng_seed(5);
     enum { SAMPLES = 200000 };
     double *errors = malloc(sizeof *errors * SAMPLES), sum = 0;
@@ -98,7 +111,7 @@ static void lookup_matches_the_oracle_between_texels(void **state) {
         double si = ht_rng_range(&rng, -1, 1), sr = ht_rng_range(&rng, -1, 1), cphi = cos(ht_rng_range(&rng, 0, HT_PI));
         double want[3], got[3], worst = 0;
         ht_marschner_fibre(&m, si, sr, cphi, want);
-        ht_marschner_lut_fibre(&lut, si, sr, cphi, got);
+        ht_marschner_lut_fibre(lut, si, sr, cphi, got);
         for (int c = 0; c < 3; c++) worst = fmax(worst, fabs(fmin(got[c], 1) - fmin(want[c], 1)) * 255);
         errors[n] = worst;
         sum += worst;
@@ -115,7 +128,6 @@ static void lookup_matches_the_oracle_between_texels(void **state) {
     assert_true(p99 <= 0.35);
     assert_true(max <= 1);
     free(errors);
-    ht_marschner_lut_free(&lut);
 }
 
 /* Bravais' parallel index at theta_r (model_marschner.c). */
@@ -159,5 +171,5 @@ int main(void) {
         cmocka_unit_test(lookup_matches_the_oracle_between_texels),
         cmocka_unit_test(lookup_holds_the_critical_angle),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return cmocka_run_group_tests(tests, bake_brown, free_brown);
 }

@@ -283,7 +283,7 @@ static void test_every_shipped_scene_parses(void **state) {
     assert_true(for_each_json("scenes", check_shipped_scene) >= 2);
 }
 
-static void test_dark_brown_has_the_issue_values(void **state) {
+static void test_dark_brown_json_loads_every_field_as_written(void **state) {
     (void)state;
     ht_material m;
     char err[512] = "";
@@ -674,7 +674,7 @@ int main(void) {
         cmocka_unit_test(test_every_bad_file_is_catalogued),
         cmocka_unit_test(test_every_shipped_material_parses),
         cmocka_unit_test(test_every_shipped_scene_parses),
-        cmocka_unit_test(test_dark_brown_has_the_issue_values),
+        cmocka_unit_test(test_dark_brown_json_loads_every_field_as_written),
         cmocka_unit_test(test_high_contrast_has_a_narrow_primary),
         cmocka_unit_test(test_kajiya_kay_material_has_one_unshifted_lobe),
         cmocka_unit_test(test_furball_scene_frames_a_ball_of_about_unit_radius),

@@ -30,11 +30,15 @@
 #include <hairtier/hairgen.h>
 #include "metrics.h"
 #include "offscreen.h"
+#include "support_scene.h"
 #include "support_scratch.h"
 
-/* Rendered small: the cells prove which code runs and that it draws the
-   same picture; the shipped size is test_render_scenes' job. */
+/* Rendered small, the fur balls and the ratboy's strands thinned: the
+   cells prove which code runs and that it draws the same picture; the
+   shipped size is test_render_scenes' job. */
 #define SIZE 128
+#define HAIRS 1000
+#define STRAND_EVERY 4
 #define MIN_PSNR_DB 40.0
 
 typedef struct scene_case {
@@ -75,6 +79,12 @@ static const restriction restrictions[] = {
 static const char *const versions[] = { "1.1", "1.2", "1.3", "1.4", "1.5", "2.0", "2.1" };
 #define VERSION_COUNT (sizeof versions / sizeof versions[0])
 
+/* The cells' copy of scene i (SIZE², HAIRS, STRAND_EVERY): WORK/NAME.json. */
+static const char *scene_path(const char *work, size_t i, char *out, size_t size) {
+    snprintf(out, size, "%s/%s.json", work, scenes[i].name);
+    return out;
+}
+
 /* ---- the child: one context, every scene drawn, images to files ---- */
 
 static void child_log(void *user, const char *line) {
@@ -107,7 +117,8 @@ static int run_cell(const char *work, const char *tag, const char *tier_name) {
     fflush(stdout);
     for (size_t i = 0; i < SCENE_COUNT; i++) {
         tier_scene s;
-        if (tier_scene_load(scenes[i].scene, &s, err, sizeof err) != HT_OK) {
+        char path[256];
+        if (tier_scene_load(scene_path(work, i, path, sizeof path), &s, err, sizeof err) != HT_OK) {
             printf("scene %s failed %s\n", scenes[i].name, err);
             continue;
         }
@@ -150,9 +161,12 @@ static int setup(void **state) {
     (void)state;
     if (!ht_test_scratch_create(work, sizeof work, "drivers")) return -1;
     for (size_t i = 0; i < SCENE_COUNT; i++) {
-        char out[256], err[1024];
+        char out[256], err[1024], path[256], name[64];
+        snprintf(name, sizeof name, "%s.json", scenes[i].name);
+        ht_test_scene_copy(scenes[i].scene, work, name, SIZE, HAIRS, false, path, sizeof path);
+        ht_test_scene_thin_strands(work, name, STRAND_EVERY);
         snprintf(out, sizeof out, "%s/%s-bundle", work, scenes[i].name);
-        if (ht_generate_bundle(scenes[i].material, scenes[i].scene, out, NULL, err, sizeof err) != HT_OK) {
+        if (ht_generate_bundle(scenes[i].material, path, out, NULL, err, sizeof err) != HT_OK) {
             fprintf(stderr, "setup: %s\n", err);
             return -1;
         }

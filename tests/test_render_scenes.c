@@ -20,8 +20,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cJSON.h>
-
 #include <hairtier/hairgen.h>
 #include <hairtier/image.h>
 #include "support_driver.h"
@@ -114,34 +112,12 @@ static bool on_softpipe(void) {
     return d && strcmp(d, "softpipe") == 0;
 }
 
-/* The shipped scene copied to WORK/NAME at side² (0: as shipped), its
-   strand file kept, with `hairs` hairs (0: as shipped), without its head
-   when asked. */
-static const char *scene_copy(const char *shipped_scene, const char *name, int side, int hairs, bool no_head,
-                              char *out, size_t out_size) {
-    cJSON *root = cJSON_Parse(ht_test_read_file(".", shipped_scene));
-    assert_non_null(root);
-    if (side > 0)
-        cJSON_ReplaceItemInObjectCaseSensitive(root, "resolution", cJSON_CreateIntArray((const int[]){ side, side }, 2));
-    ht_test_keep_strand_file(root, shipped_scene);
-    cJSON *geometry = cJSON_GetObjectItem(root, "geometry");
-    if (hairs > 0 && cJSON_GetObjectItem(geometry, "hairs"))
-        cJSON_ReplaceItemInObjectCaseSensitive(geometry, "hairs", cJSON_CreateNumber(hairs));
-    if (no_head) cJSON_DeleteItemFromObjectCaseSensitive(cJSON_GetObjectItem(root, "geometry"), "head");
-    char *text = cJSON_Print(root);
-    cJSON_Delete(root);
-    ht_test_write_file(work, name, text);
-    cJSON_free(text);
-    snprintf(out, out_size, "%s/%s", work, name);
-    return out;
-}
-
 /* The scene as shipped, or on softpipe a copy at SOFTPIPE_SIZE² with at
    most SOFTPIPE_HAIRS in the work directory (everything else unchanged). */
 static const char *scene_for_driver(const char *scene_path, char *out, size_t out_size) {
     /* A copy made here is already at its size. */
     if (!on_softpipe() || strncmp(scene_path, work, strlen(work)) == 0) return scene_path;
-    return scene_copy(scene_path, "scene.json", SOFTPIPE_SIZE, SOFTPIPE_HAIRS, false, out, out_size);
+    return ht_test_scene_copy(scene_path, work, "scene.json", SOFTPIPE_SIZE, SOFTPIPE_HAIRS, false, out, out_size);
 }
 
 /* min_hair: the least fraction of the frame that is not background;
@@ -226,8 +202,8 @@ static void test_ratboy_hair_alone_covers_the_crest_in_every_tier(void **state) 
     HT_TEST_DRIVER_INDEPENDENT();
     char path[256];
     render_every_tier("materials/dark-brown.json",
-                      scene_copy("scenes/ratboy.json", "ratboy-hair.json", on_softpipe() ? SOFTPIPE_SIZE : 0, 0, true,
-                                 path, sizeof path),
+                      ht_test_scene_copy("scenes/ratboy.json", work, "ratboy-hair.json",
+                                         on_softpipe() ? SOFTPIPE_SIZE : 0, 0, true, path, sizeof path),
                       0.10, false);
 }
 
