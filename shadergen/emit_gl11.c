@@ -25,6 +25,7 @@ static void list(const ht_plan *plan, const ht_gl11_program *p, ht_tier_output *
     ht_output_add_dropped(out, "per-pixel lighting: the model is evaluated per vertex and interpolated (Gouraud); "
                                "highlights narrower than a ribbon segment are lost");
     if (plan->shift) ht_output_add_dropped(out, "shift: the per-texel jitter (t1, t2 are static per vertex)");
+    ht_output_drop_transmission(out, plan, "not in the per-vertex CPU shading (gl11.json carries no lobe)");
     if (plan->sparkle) {
         snprintf(line, sizeof line, "sparkle: approximated by its mean %.3f scaling the secondary highlight",
                  plan->sparkle_mean);

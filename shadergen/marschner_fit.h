@@ -19,16 +19,18 @@
 
 #include <hairtier/hairtier.h>
 #include <hairtier/model.h>
+#include <hairtier/scene.h>
 
-#define HT_MARSCHNER_FIT_SAMPLES 3000
+#define HT_MARSCHNER_FIT_SAMPLES 4000 /* half lit from the front, half from behind */
 
 typedef struct ht_marschner_fit {
     ht_shading shading;   /* model Scheuermann */
     double rms;           /* root mean square error per channel, in [0, 1] output units */
     double max_error;     /* the largest channel error over the samples */
+    double tt_rms;        /* the transmission's shape against M_TT N_TT alone, rms, [0, 1] units */
 } ht_marschner_fit;
 
 /* m must be a Marschner shading; the result is deterministic. */
-ht_result ht_marschner_fit_scheuermann(const ht_shading *m, ht_marschner_fit *out);
+ht_result ht_marschner_fit_scheuermann(const ht_shading *m, const ht_scene *scene, ht_marschner_fit *out);
 
 #endif
