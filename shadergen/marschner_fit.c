@@ -202,7 +202,7 @@ static double clamped_least_squares(const double *f, int k, const double *y, int
         least_squares(f, k, y, c, skip, coef);
         bool changed = false;
         for (int n = 0; n < SAMPLES; n++) {
-            bool s = y[n * 3 + c] >= 1 && predict(f, k, n, c, coef) >= 1;
+            bool s = predict(f, k, n, c, coef) >= 1;
             changed |= s != skip[n];
             skip[n] = s;
         }
