@@ -131,15 +131,16 @@ static void transmission_function(ht_strbuf *sb, const ht_transmission *t, const
     ht_glsl_float(t->centre, centre);
     ht_glsl_float(t->sharpness, sharp);
     ht_glsl_float(t->azimuth, e);
-    ht_strbuf_add(sb, "/* Light through the fibre: longitudinal lobe in (T.L + T.V) / 2 times the\n"
-                      "   azimuth's (1 - cos phi) / 2; none without a direction. */\n");
+    ht_strbuf_add(sb, "/* Light through the fibre: a lobe in theta_h = (asin(T.L) + asin(T.V)) / 2\n"
+                      "   times the azimuth's (1 - cos phi) / 2; none without a direction. */\n");
     ht_strbuf_addf(sb, "%sfloat transmission(%svec3 T, %svec3 L, %svec3 V) {\n", dp, dp, dp, dp);
     ht_strbuf_add(sb, "    if (dot(T, T) == 0.0 || dot(L, L) == 0.0 || dot(V, V) == 0.0) return 0.0;\n");
     ht_strbuf_addf(sb, "    %sfloat tl = dot(T, L);\n", dp);
     ht_strbuf_addf(sb, "    %sfloat tv = dot(T, V);\n", dp);
     ht_strbuf_add(sb, "    /* L or V along T has no azimuth: the zero vector, cos phi = 0. */\n");
     ht_strbuf_addf(sb, "    %sfloat c = dot(normalize_or_zero(L - tl * T), normalize_or_zero(V - tv * T));\n", dp);
-    ht_strbuf_addf(sb, "    %sfloat u = (tl + tv) / 2.0 - %s;\n", dp, centre);
+    ht_strbuf_addf(sb, "    %sfloat u = (asin(clamp(tl, -1.0, 1.0)) + asin(clamp(tv, -1.0, 1.0))) / 2.0 - %s;\n", dp,
+                   centre);
     ht_strbuf_addf(sb, "    %sfloat a = clamp((1.0 - c) / 2.0, 0.0, 1.0);\n", dp);
     /* pow(0, e) is undefined in GLSL; model.c's power: a^0 = 1, 0^e = 0. */
     if (t->azimuth == 0.0) ht_strbuf_addf(sb, "    return exp2(-%s * u * u);\n", sharp);

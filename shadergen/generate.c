@@ -439,8 +439,8 @@ static ht_result generate(const ht_generate_desc *desc, int threads, ht_generate
     }
     if (b->physical) {
         char line[160];
-        snprintf(line, sizeof line, "the fibre: Scheuermann constants fitted to it, rms %.1f/255, "
-                 "max %.0f/255 over %d samples (manifest \"fit\")", b->fit.rms * 255, b->fit.max_error * 255,
+        snprintf(line, sizeof line, "the fibre: Scheuermann constants fitted to it, with a transmission lobe, "
+                 "rms %.1f/255, max %.0f/255 over %d samples of the scene's lights (manifest \"fit\")", b->fit.rms * 255, b->fit.max_error * 255,
                  HT_MARSCHNER_FIT_SAMPLES);
         for (int t = 0; t < b->tier_count; t++)
             if (b->tiers[t].tier != HT_TIER_MARSCHNER) ht_output_add_dropped(&b->tiers[t], line);

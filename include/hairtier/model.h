@@ -63,16 +63,18 @@ typedef struct ht_lobe {
 
 /* Scheuermann's transmission lobe, light passing through the fibre towards
    the viewer (a fit of Marschner's TT; HT_MODEL_SCHEUERMANN only):
-       u   = (T.L + T.V) / 2              sin(theta_h) cos(theta_d)
+       h   = (asin(T.L) + asin(T.V)) / 2  theta_h, radians (Marschner's M_TT
+                                          is a Gaussian in it: measured 3x
+                                          closer than in sines)
        a   = (1 - cos phi) / 2            phi between L and V around T
-       tt  = exp2(-sharpness (u - centre)^2) * a^azimuth
+       tt  = exp2(-sharpness (h - centre)^2) * a^azimuth
    cos phi = dot of L and V projected normal to T (each unit, or zero when
    parallel to T: then cos phi = 0); tt = 0 when T, L or V has no direction;
    a^0 = 1. A zero colour is no lobe: no term, bit for bit the shading
    without it (every tier leaves it out). */
 typedef struct ht_transmission {
     double color[3];  /* [0, HT_LIMIT_TRANSMISSION] each; all 0: no transmission */
-    double centre;    /* u at the peak, [-1, 1] */
+    double centre;    /* theta_h at the peak, radians, [-1, 1] */
     double sharpness; /* [0, 10000] */
     double azimuth;   /* [0, 10000] */
 } ht_transmission;

@@ -167,6 +167,8 @@ static void FN(shifted_tangent)(const real T[3], const real N[3], real amount, r
     FN(normalize_or_zero)(v, out);
 }
 
+static real FN(clamp1)(real x) { return x < -1 ? (real)-1 : (x > 1 ? (real)1 : x); }
+
 /* ht_transmission's tt on unit-or-zero T, L, V. */
 static real FN(transmission_unit)(const ht_transmission *t, const real T[3], const real L[3], const real V[3]) {
     if (!FN(has_direction)(T) || !FN(has_direction)(L) || !FN(has_direction)(V)) return 0;
@@ -175,7 +177,7 @@ static real FN(transmission_unit)(const ht_transmission *t, const real T[3], con
     for (int i = 0; i < 3; i++) lr[i] = L[i] - tl * T[i], vr[i] = V[i] - tv * T[i];
     FN(normalize_or_zero)(lr, lp);
     FN(normalize_or_zero)(vr, vp);
-    const real u = (tl + tv) / 2 - (real)t->centre;
+    const real u = (asin(FN(clamp1)(tl)) + asin(FN(clamp1)(tv))) / 2 - (real)t->centre;
     const real a = FN(saturate)((1 - FN(dot3)(lp, vp)) / 2);
     return exp2(-(real)t->sharpness * u * u) * FN(power)(a, (real)t->azimuth);
 }
