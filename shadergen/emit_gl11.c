@@ -19,13 +19,13 @@ static void list(const ht_plan *plan, const ht_gl11_program *p, ht_tier_output *
     if (plan->alpha) ht_output_add_feature(out, "alpha");
     if (plan->ao) ht_output_add_feature(out, "ao");
     ht_output_add_feature(out, "lighting per vertex on the cpu (float, local viewer)");
+    if (ht_model_has_transmission(&plan->shading)) ht_output_add_feature(out, "transmission per vertex");
     snprintf(line, sizeof line, "albedo x %.3f, vertex colours / %.3f", p->albedo_scale, p->albedo_scale);
     ht_output_add_feature(out, line);
 
     ht_output_add_dropped(out, "per-pixel lighting: the model is evaluated per vertex and interpolated (Gouraud); "
                                "highlights narrower than a ribbon segment are lost");
     if (plan->shift) ht_output_add_dropped(out, "shift: the per-texel jitter (t1, t2 are static per vertex)");
-    ht_output_drop_transmission(out, plan, "not in the per-vertex CPU shading (gl11.json carries no lobe)");
     if (plan->sparkle) {
         snprintf(line, sizeof line, "sparkle: approximated by its mean %.3f scaling the secondary highlight",
                  plan->sparkle_mean);

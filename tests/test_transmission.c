@@ -4,7 +4,8 @@
    the lobe generates byte for byte what it did before (no "transmission"
    anywhere, whatever the lobe's shape constants, as long as its colour is
    0); a material with one gets it in full and vertex (glslang-validated by
-   the generator) and a "dropped" line in the fixed tiers; the material
+   the generator) and gl11 (its program carries it; test_gl11 holds the
+   colours to the oracle), a "dropped" line in fixed4 and fixed; the material
    reader refuses it where the model has none and out of range. */
 #include <math.h>
 #include <setjmp.h>
@@ -137,7 +138,7 @@ static void test_without_a_colour_there_is_no_lobe_anywhere(void **state) {
     assert_memory_equal(a, b, sizeof a);
 }
 
-static void test_with_a_colour_full_and_vertex_draw_it_and_the_fixed_tiers_say_they_drop_it(void **state) {
+static void test_with_a_colour_full_vertex_and_gl11_draw_it_and_fixed4_and_fixed_say_they_drop_it(void **state) {
     (void)state;
     ht_material m = { .name = "glow", .shading = scheuermann() };
     m.shading.transmission = lobe;
@@ -150,7 +151,10 @@ static void test_with_a_colour_full_and_vertex_draw_it_and_the_fixed_tiers_say_t
         assert_non_null(f);
         if (!strstr(f->text, "transmission(T, L")) fail_msg("%s draws no transmission", drawing[i]);
     }
-    assert_non_null(strstr(g.manifest, "transmission: "));
+    const ht_generated_file *gl11 = ht_generated_find(&g, "gl11.json"); /* per vertex on the CPU */
+    assert_non_null(gl11);
+    assert_non_null(strstr(gl11->text, "\"transmission\""));
+    assert_non_null(strstr(g.manifest, "transmission: its azimuth needs")); /* fixed4 and fixed drop it */
     ht_generated_free(&g);
 }
 
@@ -185,7 +189,7 @@ int main(void) {
         cmocka_unit_test(test_the_lobe_is_its_rule_and_adds_to_the_shading),
         cmocka_unit_test(test_the_lobe_at_its_undefined_points),
         cmocka_unit_test(test_without_a_colour_there_is_no_lobe_anywhere),
-        cmocka_unit_test(test_with_a_colour_full_and_vertex_draw_it_and_the_fixed_tiers_say_they_drop_it),
+        cmocka_unit_test(test_with_a_colour_full_vertex_and_gl11_draw_it_and_fixed4_and_fixed_say_they_drop_it),
         cmocka_unit_test(test_the_reader_checks_the_lobe),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
