@@ -86,8 +86,8 @@ typedef struct ht_shading {
     double wrap;          /* [0,1] */
     ht_lobe primary;
     ht_lobe secondary;    /* ignored by Kajiya-Kay */
-    ht_transmission transmission; /* Scheuermann only; zero: none */
     ht_marschner marschner; /* Marschner only; primary, secondary and wrap are then unused */
+    ht_transmission transmission; /* Scheuermann only; zero: none (last: positional initialisers keep their meaning) */
 } ht_shading;
 
 /* What one shaded point sees. Vectors need not be unit length. */
