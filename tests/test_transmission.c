@@ -1,9 +1,11 @@
 /* test_transmission.c — the Scheuermann transmission lobe (model.h's
    ht_transmission): the model computes the rule as written, its documented
    answers at the undefined points, float near double; a material without
-   the lobe generates byte for byte what it did before (no "transmission"
-   anywhere, whatever the lobe's shape constants, as long as its colour is
-   0); a material with one gets it in full and vertex (glslang-validated by
+   the lobe mentions it nowhere, whatever its shape constants while its
+   colour is 0, and shades bit for bit alike (its bundles, compared once
+   with hairgen 5's for the four shipped materials: every shader, program
+   and LUT the same bytes; only the manifest's version and hash differ); a
+   material with one gets it in full and vertex (glslang-validated by
    the generator) and gl11 (its program carries it; test_gl11 holds the
    colours to the oracle), a "dropped" line in fixed4 and fixed; the material
    reader refuses it where the model has none and out of range. */
