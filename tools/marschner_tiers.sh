@@ -18,7 +18,8 @@ mkdir -p "$out"
 for s in $scenes; do
   build/hairgen "$material" --scene "scenes/$s.json" -o "$out/$s" > /dev/null
   for t in marschner full vertex fixed4 fixed gl11; do
-    build/hairview --bundle "$out/$s" --scene "scenes/$s.json" --tier "$t" --strict --frames 1 -o "$out/$s-$t.png" > /dev/null
+    build/hairview --bundle "$out/$s" --scene "scenes/$s.json" --tier "$t" --strict --frames 1 -o "$out/$s-$t.png" \
+      > "$out/$s-$t.log" 2>&1 || { cat "$out/$s-$t.log" >&2; exit 1; }
   done
   line="$s"
   for t in full vertex fixed4 fixed gl11; do
