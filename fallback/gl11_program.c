@@ -60,12 +60,20 @@ ht_result ht_gl11_write(const ht_gl11_program *p, char **text, char *err, size_t
     cJSON_AddBoolToObject(root, "ao", p->ao);
     cJSON_AddNumberToObject(root, "albedo_scale", p->albedo_scale);
     ht_program_json_add_shading(root, &p->shading);
+    if (ht_model_has_transmission(&p->shading)) { /* absent otherwise: the text stays byte for byte */
+        const ht_transmission *t = &p->shading.transmission;
+        cJSON *o = cJSON_AddObjectToObject(root, "transmission");
+        cJSON_AddItemToObject(o, "color", cJSON_CreateDoubleArray(t->color, 3));
+        cJSON_AddNumberToObject(o, "centre", t->centre);
+        cJSON_AddNumberToObject(o, "sharpness", t->sharpness);
+        cJSON_AddNumberToObject(o, "azimuth", t->azimuth);
+    }
     return ht_program_json_print(root, "gl11.json", text, err, err_size);
 }
 
 static ht_result parse_program(const ht_jctx *c, const cJSON *root, ht_gl11_program *p) {
     static const char *const keys[] = { "format", "model", "lights", "ao", "albedo_scale", "diffuse", "primary",
-                                        "secondary", NULL };
+                                        "secondary", "transmission", NULL };
     ht_result r = ht_json_keys(c, root, "", keys);
     if (r == HT_OK) r = ht_json_format(c, root, HT_GL11_FORMAT, "a gl11 tier program");
     if (r == HT_OK) r = ht_program_json_parse_model(c, root, &p->shading.model);
@@ -76,6 +84,20 @@ static ht_result parse_program(const ht_jctx *c, const cJSON *root, ht_gl11_prog
     if (r == HT_OK)
         r = ht_json_number(c, root, "", "albedo_scale", NULL, HT_JRANGE(1, HT_GL11_MAX_SCALE), &p->albedo_scale);
     if (r == HT_OK) r = ht_program_json_parse_shading(c, root, &p->shading);
+    const cJSON *t = NULL;
+    if (r == HT_OK) r = ht_json_object(c, root, "", "transmission", false, &t);
+    if (r == HT_OK && t) { /* ranges: the one shading check, ht_gl11_validate */
+        static const char *const tkeys[] = { "color", "centre", "sharpness", "azimuth", NULL };
+        const ht_jrange any = HT_JRANGE(-HUGE_VAL, HUGE_VAL);
+        ht_transmission *o = &p->shading.transmission;
+        r = ht_json_keys(c, t, "transmission", tkeys);
+        if (r == HT_OK) r = ht_json_vec(c, t, "transmission", "color", NULL, 3, any, o->color);
+        if (r == HT_OK) r = ht_json_number(c, t, "transmission", "centre", NULL, any, &o->centre);
+        if (r == HT_OK) r = ht_json_number(c, t, "transmission", "sharpness", NULL, any, &o->sharpness);
+        if (r == HT_OK) r = ht_json_number(c, t, "transmission", "azimuth", NULL, any, &o->azimuth);
+        if (r == HT_OK && !ht_shading_check(&p->shading, c->file ? c->file : "<input>", c->err, c->err_size))
+            r = HT_ERR_PARSE;
+    }
     return r;
 }
 
@@ -125,6 +147,7 @@ ht_result ht_gl11_soa_make(const ht_gl11_program *p, const ht_vertex *v, size_t 
         for (int j = 0; j < 3; j++) {
             out->a[HT_GL11_PX + j][i] = v[i].position[j];
             out->a[HT_GL11_NX + j][i] = (float)N[j];
+            out->a[HT_GL11_TX + j][i] = has_t ? (float)T[j] : 0.0f;
         }
         float ao = p->ao ? v[i].ao : 1.0f;
         out->a[HT_GL11_AO][i] = isfinite(ao) ? fminf(1.0f, fmaxf(0.0f, ao)) : 0.0f;
@@ -296,6 +319,45 @@ static void add_highlight(ht_gl11_soa *soa, int tx, const ht_lobe *lobe, const f
               a[HT_GL11_R], a[HT_GL11_G], a[HT_GL11_B], e, e == 0.0f ? 1.0f : 0.0f, k[0], k[1], k[2]);
 }
 
+/* The transmission lobe (model.c's transmission_unit) added to the sums,
+   per vertex in float with libm's asin, exp2 and pow: scalar, and run
+   only for a material that has the lobe. */
+static void add_transmission(ht_gl11_soa *soa, const ht_transmission *t, const light_consts c,
+                             const float light_color[3]) {
+    float *const *a = soa->a;
+    const float min2 = (float)HT_MODEL_MIN_LENGTH2, centre = (float)t->centre, k = (float)t->sharpness,
+                e = (float)t->azimuth;
+    float kc[3];
+    for (int ch = 0; ch < 3; ch++) kc[ch] = (float)t->color[ch] * light_color[ch];
+    for (size_t i = 0; i < soa->count; i++) {
+        const float T[3] = { a[HT_GL11_TX][i], a[HT_GL11_TY][i], a[HT_GL11_TZ][i] };
+        const float V[3] = { a[HT_GL11_VX][i], a[HT_GL11_VY][i], a[HT_GL11_VZ][i] };
+        float L[3] = { c.L[0] - c.point * a[HT_GL11_PX][i], c.L[1] - c.point * a[HT_GL11_PY][i],
+                       c.L[2] - c.point * a[HT_GL11_PZ][i] };
+        const float l2 = L[0] * L[0] + L[1] * L[1] + L[2] * L[2];
+        if (!(l2 > min2) || T[0] * T[0] + T[1] * T[1] + T[2] * T[2] == 0.0f ||
+            V[0] * V[0] + V[1] * V[1] + V[2] * V[2] == 0.0f)
+            continue; /* no direction: no lobe */
+        const float il = 1.0f / sqrtf(l2);
+        float tl = 0, tv = 0;
+        for (int j = 0; j < 3; j++) L[j] *= il, tl += T[j] * L[j], tv += T[j] * V[j];
+        float lp[3], vp[3], lp2 = 0, vp2 = 0, d = 0;
+        for (int j = 0; j < 3; j++) {
+            lp[j] = L[j] - tl * T[j], vp[j] = V[j] - tv * T[j];
+            lp2 += lp[j] * lp[j], vp2 += vp[j] * vp[j], d += lp[j] * vp[j];
+        }
+        /* along T: no azimuth, the zero vector, cos phi = 0 */
+        const float cos_phi = lp2 > min2 && vp2 > min2 ? d / (sqrtf(lp2) * sqrtf(vp2)) : 0.0f;
+        const float u = (asinf(clamp1(tl)) + asinf(clamp1(tv))) / 2.0f - centre;
+        float az = (1.0f - cos_phi) / 2.0f;
+        az = az < 0.0f ? 0.0f : (az > 1.0f ? 1.0f : az);
+        const float tt = exp2f(-k * u * u) * (e == 0.0f ? 1.0f : (az > 0.0f ? powf(az, e) : 0.0f));
+        a[HT_GL11_R][i] += tt * kc[0];
+        a[HT_GL11_G][i] += tt * kc[1];
+        a[HT_GL11_B][i] += tt * kc[2];
+    }
+}
+
 /* V = normalize(eye - p) per vertex, shared by every light; sums cleared. */
 static void view_loop(size_t n, const float *restrict px, const float *restrict py, const float *restrict pz,
                       float *restrict vx, float *restrict vy, float *restrict vz, float *restrict sr,
@@ -348,6 +410,7 @@ void ht_gl11_shade(const ht_gl11_program *p, ht_gl11_soa *soa, const ht_light *l
         else light_loop_scheuermann(soa, c);
         add_highlight(soa, HT_GL11_T1X, &p->shading.primary, lights[l].color);
         if (!kk) add_highlight(soa, HT_GL11_T2X, &p->shading.secondary, lights[l].color);
+        if (ht_model_has_transmission(&p->shading)) add_transmission(soa, &p->shading.transmission, c, lights[l].color);
     }
     output_loop(soa->padded, a[HT_GL11_AO], a[HT_GL11_R], a[HT_GL11_G], a[HT_GL11_B], rgba,
                 (float)(1.0 / p->albedo_scale));

@@ -7,9 +7,10 @@
        V      = normalize(eye - position)                    local viewer
        L_l    = normalize(light vector)  or normalize(light position - position)
        colour = ao * sum over the planned lights of
-                (diff_l + spec_l) * light colour_l / albedo_scale
+                (diff_l + spec_l + tt_l) * light colour_l / albedo_scale
    with diff and spec as include/hairtier/model.h (Scheuermann: wrapped diffuse and
-   two shifted highlights; Kajiya-Kay: sin(T,L) and one highlight), the
+   two shifted highlights and, when the material has one, the transmission
+   lobe tt; Kajiya-Kay: sin(T,L) and one highlight), the
    shift texture at its centre (no jitter) and the sparkle texture replaced
    by its mean (already in secondary.color), alpha 1. Where the model has a
    documented answer (model.c: zero tangent, L = -V, ...) this gives it too.
@@ -21,7 +22,8 @@
    measures it), so a dark albedo keeps lighting up to albedo_scale.
 
    The program ("gl11.json", format "hairtier-gl11/1") holds the material
-   constants: model, lights, ao, albedo_scale, diffuse, primary, secondary.
+   constants: model, lights, ao, albedo_scale, diffuse, primary, secondary,
+   and "transmission" (model.h's ht_transmission) only when it draws one.
 
    Usage (gl11.c does this):
        ht_gl11_program p;
@@ -75,6 +77,7 @@ enum {
     HT_GL11_T1X, HT_GL11_T1Y, HT_GL11_T1Z,
     HT_GL11_T2X, HT_GL11_T2Y, HT_GL11_T2Z,
     HT_GL11_AO,
+    HT_GL11_TX, HT_GL11_TY, HT_GL11_TZ, /* T unit or zero, for the transmission lobe */
     /* scratch: V, one light's H, the running sums */
     HT_GL11_VX, HT_GL11_VY, HT_GL11_VZ,
     HT_GL11_HX, HT_GL11_HY, HT_GL11_HZ,

@@ -91,7 +91,7 @@ static double rgb_max(const ht_image *img) {
 static void run_fit(build *b) {
     const char *file = b->m->file[0] ? b->m->file : "<material>";
     if (!b->out->physical) return;
-    ht_result r = ht_marschner_fit_scheuermann(&b->m->shading, &b->out->fit);
+    ht_result r = ht_marschner_fit_scheuermann(&b->m->shading, b->scene, &b->out->fit);
     if (r != HT_OK) {
         b->fit.result = ht_fail(b->fit.err, sizeof b->fit.err, r, "%s: fitting Scheuermann constants: out of memory",
                                 file);

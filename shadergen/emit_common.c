@@ -93,6 +93,13 @@ void ht_output_add_dropped(ht_tier_output *out, const char *reason) {
     snprintf(out->dropped[out->dropped_count++], sizeof out->dropped[0], "%s", reason);
 }
 
+void ht_output_drop_transmission(ht_tier_output *out, const ht_plan *plan, const char *why) {
+    if (!ht_model_has_transmission(&plan->shading)) return;
+    char line[sizeof out->dropped[0]];
+    snprintf(line, sizeof line, "transmission: %s", why);
+    ht_output_add_dropped(out, line);
+}
+
 void ht_output_add_model_features(ht_tier_output *out, const ht_plan *plan) {
     ht_output_add_feature(out, plan->shading.model == HT_MODEL_KAJIYA_KAY ? "kajiya-kay" : "scheuermann");
     static const struct { ht_light_type type; const char *name; } kinds[] = {
@@ -154,6 +161,35 @@ static void highlight_function(ht_strbuf *sb, const char *name, double exponent,
     ht_strbuf_add(sb, "}\n\n");
 }
 
+/* The transmission lobe (model.h's ht_transmission, model.c's
+   transmission_unit) on unit-or-zero T, L, V, its constants as literals. */
+static void transmission_function(ht_strbuf *sb, const ht_transmission *t, const ht_glsl_shading_inputs *in) {
+    const char *dp = in->direction_precision;
+    char centre[HT_GLSL_FLOAT_SIZE], sharp[HT_GLSL_FLOAT_SIZE], e[HT_GLSL_FLOAT_SIZE];
+    ht_glsl_float(t->centre, centre);
+    ht_glsl_float(t->sharpness, sharp);
+    ht_glsl_float(t->azimuth, e);
+    ht_strbuf_add(sb, "/* Light through the fibre: a lobe in theta_h = (asin(T.L) + asin(T.V)) / 2\n"
+                      "   times the azimuth's (1 - cos phi) / 2; none without a direction. */\n");
+    ht_strbuf_addf(sb, "%sfloat transmission(%svec3 T, %svec3 L, %svec3 V) {\n", dp, dp, dp, dp);
+    ht_strbuf_add(sb, "    if (dot(T, T) == 0.0 || dot(L, L) == 0.0 || dot(V, V) == 0.0) return 0.0;\n");
+    ht_strbuf_addf(sb, "    %sfloat tl = dot(T, L);\n", dp);
+    ht_strbuf_addf(sb, "    %sfloat tv = dot(T, V);\n", dp);
+    ht_strbuf_add(sb, "    /* L or V along T has no azimuth: the zero vector, cos phi = 0. */\n");
+    ht_strbuf_addf(sb, "    %sfloat c = dot(normalize_or_zero(L - tl * T), normalize_or_zero(V - tv * T));\n", dp);
+    ht_strbuf_addf(sb, "    %sfloat u = (asin(clamp(tl, -1.0, 1.0)) + asin(clamp(tv, -1.0, 1.0))) / 2.0 - %s;\n", dp,
+                   centre);
+    ht_strbuf_addf(sb, "    %sfloat a = clamp((1.0 - c) / 2.0, 0.0, 1.0);\n", dp);
+    /* pow(0, e) is undefined in GLSL; model.c's power: a^0 = 1, 0^e = 0. */
+    if (t->azimuth == 0.0) ht_strbuf_addf(sb, "    return exp2(-%s * u * u);\n", sharp);
+    else ht_strbuf_addf(sb, "    return exp2(-%s * u * u) * (a > 0.0 ? pow(a, %s) : 0.0);\n", sharp, e);
+    ht_strbuf_add(sb, "}\n\n");
+}
+
+const char *ht_glsl_transmission_arg(const ht_plan *plan) {
+    return ht_model_has_transmission(&plan->shading) ? ", T" : "";
+}
+
 void ht_glsl_shading_functions(ht_strbuf *sb, const ht_plan *plan, const ht_glsl_shading_inputs *in) {
     const char *dp = in->direction_precision, *cp = in->colour_precision;
     const ht_shading *m = &plan->shading;
@@ -176,6 +212,9 @@ void ht_glsl_shading_functions(ht_strbuf *sb, const ht_plan *plan, const ht_glsl
     }
     highlight_function(sb, "highlight_primary", m->primary.exponent, in);
     if (!kajiya_kay(plan)) highlight_function(sb, "highlight_secondary", m->secondary.exponent, in);
+    /* Without a lobe nothing is written: the text stays byte for byte. */
+    const bool tt = ht_model_has_transmission(m);
+    if (tt) transmission_function(sb, &m->transmission, in);
     if (plan->light_count <= 0) return;
 
     ht_glsl_vec3(m->diffuse_color, diffuse);
@@ -189,14 +228,19 @@ void ht_glsl_shading_functions(ht_strbuf *sb, const ht_plan *plan, const ht_glsl
         ht_strbuf_addf(sb, "    %sfloat diffuse = min(length(cross(T, L)), 1.0);\n", cp);
         ht_strbuf_addf(sb, "    return diffuse * %s + highlight_primary(T, H) * %s;\n", diffuse, primary);
     } else {
-        ht_strbuf_addf(sb, "%svec3 hair_light(%svec3 L, %svec3 V, %svec3 N, %svec3 t1, %svec3 t2%s%s) {\n",
-                       cp, dp, dp, dp, dp, dp, in->sparkle ? ", float " : "", in->sparkle ? "sparkle" : "");
+        ht_strbuf_addf(sb, "%svec3 hair_light(%svec3 L, %svec3 V, %svec3 N, %svec3 t1, %svec3 t2%s%s", cp, dp, dp,
+                       dp, dp, dp, in->sparkle ? ", float " : "", in->sparkle ? "sparkle" : "");
+        if (tt) ht_strbuf_addf(sb, ", %svec3 T", dp);
+        ht_strbuf_add(sb, ") {\n");
         ht_strbuf_addf(sb, "    %svec3 H = normalize_or_zero(L + V);\n", dp);
         ht_glsl_float(m->wrap, wrap);
         ht_strbuf_addf(sb, "    %sfloat diffuse = clamp(%s + (1.0 - %s) * dot(N, L), 0.0, 1.0);\n", cp, wrap, wrap);
         ht_strbuf_addf(sb, "    %sfloat s1 = highlight_primary(t1, H);\n", cp);
         ht_strbuf_addf(sb, "    %sfloat s2 = highlight_secondary(t2, H)%s;\n", cp, in->sparkle ? " * sparkle" : "");
-        ht_strbuf_addf(sb, "    return diffuse * %s + s1 * %s + s2 * %s;\n", diffuse, primary, secondary);
+        ht_strbuf_addf(sb, "    return diffuse * %s + s1 * %s + s2 * %s", diffuse, primary, secondary);
+        char transmitted[HT_GLSL_VEC3_SIZE];
+        if (tt) ht_strbuf_addf(sb, " + transmission(T, L, V) * %s", ht_glsl_vec3(m->transmission.color, transmitted));
+        ht_strbuf_add(sb, ";\n");
     }
     ht_strbuf_add(sb, "}\n\n");
 }
@@ -231,8 +275,8 @@ void ht_glsl_shading_body(ht_strbuf *sb, const ht_plan *plan, const ht_glsl_shad
         if (kajiya_kay(plan))
             ht_strbuf_addf(sb, "    rgb += hair_light(L%d, V, T)", i);
         else
-            ht_strbuf_addf(sb, "    rgb += hair_light(L%d, V, N, t1, t2%s%s)", i, in->sparkle ? ", " : "",
-                           in->sparkle ? in->sparkle : "");
+            ht_strbuf_addf(sb, "    rgb += hair_light(L%d, V, N, t1, t2%s%s%s)", i, in->sparkle ? ", " : "",
+                           in->sparkle ? in->sparkle : "", ht_glsl_transmission_arg(plan));
         /* model.c's order: lit * base * light colour * ao, per light. */
         if (in->base) ht_strbuf_addf(sb, " * %s", in->base);
         ht_strbuf_addf(sb, " * %s[%d]", HT_U_LIGHT_COLOR, i);

@@ -328,6 +328,8 @@ static bool drawn(const ht_combiner_program *p, int light) {
 
 static void list_dropped(const ht_plan *plan, const ht_shading *shading, const ht_combiner_program *p,
                          ht_combiner_coords coords, ht_tier_output *out) {
+    ht_output_drop_transmission(out, plan, "its azimuth needs L.V beside T.L and T.V, a LUT axis that moves with "
+                                           "the eye; the two units hold the key's highlights and the albedo");
     if (plan->shift)
         ht_output_add_dropped(out, "shift: jitter dropped, the LUT holds the constant shifts only "
                                    "(shift texture read as 0.5)");

@@ -58,6 +58,8 @@ static void list(const ht_plan *plan, const ht_fixed4_program *p, ht_tier_output
     if (!kk) ht_output_add_feature(out, "diffuse gl-lighting");
 
     if (plan->shift) ht_output_add_dropped(out, "shift: the per-texel jitter (t1, t2 are static per vertex)");
+    ht_output_drop_transmission(out, plan, "its azimuth needs L.V beside T.L and T.V, a LUT axis that moves with "
+                                           "the eye, and the four units hold the two lights' highlights");
     if (plan->sparkle) {
         snprintf(line, sizeof line, "sparkle: approximated by its mean %.3f scaling the secondary highlight "
                                     "(four ARB_texture_env_combine stages hold no second product)",

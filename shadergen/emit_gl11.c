@@ -19,6 +19,7 @@ static void list(const ht_plan *plan, const ht_gl11_program *p, ht_tier_output *
     if (plan->alpha) ht_output_add_feature(out, "alpha");
     if (plan->ao) ht_output_add_feature(out, "ao");
     ht_output_add_feature(out, "lighting per vertex on the cpu (float, local viewer)");
+    if (ht_model_has_transmission(&plan->shading)) ht_output_add_feature(out, "transmission per vertex");
     snprintf(line, sizeof line, "albedo x %.3f, vertex colours / %.3f", p->albedo_scale, p->albedo_scale);
     ht_output_add_feature(out, line);
 

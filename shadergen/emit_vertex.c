@@ -12,6 +12,7 @@
        gl_TexCoord[luts], [luts + 1] = uv        (albedo, final unit)
        gl_FrontColor      = (sum over the first two lights of
                              kd lc saturate(wrap + (1 - wrap) N.L)
+                             + their transmission lobe (model.h), when the material has one
                              + lights after the second, whole, per vertex) / scale, ao
    GLSL 1.10 cannot portably sample a texture per vertex, so shift jitter is
    dropped and the sparkle mask is replaced by its mean
@@ -151,11 +152,20 @@ static char *lighting_vertex(const ht_plan *plan, const ht_fixed4_program *p, bo
             ht_strbuf_addf(&sb, "    rgb += %s * %s[%d] * clamp(%s + (1.0 - %s) * dot(N, L%d), 0.0, 1.0);\n", kd,
                            HT_U_LIGHT_COLOR, l, wrap, wrap, l);
     }
+    if (ht_model_has_transmission(&plan->shading)) {
+        char tt[HT_GLSL_VEC3_SIZE];
+        ht_glsl_vec3(plan->shading.transmission.color, tt);
+        ht_strbuf_add(&sb, "    /* The LUT lights' transmission, broad in azimuth: per vertex like the diffuse. */\n");
+        for (int l = 0; l < p->lights; l++)
+            ht_strbuf_addf(&sb, "    rgb += transmission(T, L%d, V) * %s * %s[%d];\n", l, tt, HT_U_LIGHT_COLOR, l);
+    }
     if (plan->light_count > p->lights)
         ht_strbuf_add(&sb, "    /* Lights after the LUTs' two: diffuse and highlights per vertex. */\n");
     for (int l = p->lights; l < plan->light_count; l++) {
         if (kk) ht_strbuf_addf(&sb, "    rgb += hair_light(L%d, V, T) * %s[%d];\n", l, HT_U_LIGHT_COLOR, l);
-        else ht_strbuf_addf(&sb, "    rgb += hair_light(L%d, V, N, t1, t2) * %s[%d];\n", l, HT_U_LIGHT_COLOR, l);
+        else
+            ht_strbuf_addf(&sb, "    rgb += hair_light(L%d, V, N, t1, t2%s) * %s[%d];\n", l, ht_glsl_transmission_arg(plan),
+                           HT_U_LIGHT_COLOR, l);
     }
     ht_strbuf_add(&sb, "    /* ao rides in alpha to the final stage, which multiplies it in. */\n");
     ht_strbuf_addf(&sb, "    %s = vec4(rgb / %s, %s);\n", es ? "v_color" : "gl_FrontColor", HT_U_LUT_SCALE,
@@ -230,6 +240,7 @@ static void list(const ht_plan *plan, const ht_fixed4_program *p, ht_tier_output
     ht_output_add_feature(out, "coords vertex-shader (local viewer, the scene's light types)");
     if (plan->shading.model != HT_MODEL_KAJIYA_KAY)
         ht_output_add_feature(out, "diffuse per vertex, each light clamped as the model");
+    if (ht_model_has_transmission(&plan->shading)) ht_output_add_feature(out, "transmission per vertex");
 
     if (plan->shift)
         ht_output_add_dropped(out, "shift: the per-texel jitter (t1, t2 per vertex: GLSL 1.10 vertex texture "

@@ -205,6 +205,12 @@ static cJSON *fit_entry(const ht_marschner_fit *fit) {
         cJSON_AddNumberToObject(l, "exponent", lobes[i]->exponent);
         cJSON_AddNumberToObject(l, "shift", lobes[i]->shift);
     }
+    cJSON *t = cJSON_AddObjectToObject(o, "transmission");
+    cJSON_AddItemToObject(t, "color", cJSON_CreateDoubleArray(s->transmission.color, 3));
+    cJSON_AddNumberToObject(t, "centre", s->transmission.centre);
+    cJSON_AddNumberToObject(t, "sharpness", s->transmission.sharpness);
+    cJSON_AddNumberToObject(t, "azimuth", s->transmission.azimuth);
+    cJSON_AddNumberToObject(t, "rms_error", fit->tt_rms); /* its shape against M_TT N_TT alone */
     return o;
 }
 
@@ -364,6 +370,14 @@ static ht_result hash_values(input_hash *h, const ht_material *m, const ht_scene
         hash_doubles(h, &lobes[i]->exponent, 1);
         hash_doubles(h, &lobes[i]->shift, 1);
     }
+    /* Only a lobe that draws is hashed: without one the key is as before. */
+    if (ht_model_has_transmission(&m->shading)) {
+        const ht_transmission *t = &m->shading.transmission;
+        hash_doubles(h, t->color, 3);
+        hash_doubles(h, &t->centre, 1);
+        hash_doubles(h, &t->sharpness, 1);
+        hash_doubles(h, &t->azimuth, 1);
+    }
     hash_doubles(h, &m->opaque_cutoff, 1);
     for (int i = 0; i < HT_TEX_COUNT; i++) {
         const ht_texture_source *t = &m->textures[i];
@@ -440,8 +454,8 @@ static ht_result generate(const ht_generate_desc *desc, int threads, ht_generate
     }
     if (b->physical) {
         char line[160];
-        snprintf(line, sizeof line, "the fibre: Scheuermann constants fitted to it, rms %.1f/255, "
-                 "max %.0f/255 over %d samples (manifest \"fit\")", b->fit.rms * 255, b->fit.max_error * 255,
+        snprintf(line, sizeof line, "the fibre: Scheuermann constants fitted to it, with a transmission lobe, "
+                 "rms %.1f/255, max %.0f/255 over %d samples of the scene's lights (manifest \"fit\")", b->fit.rms * 255, b->fit.max_error * 255,
                  HT_MARSCHNER_FIT_SAMPLES);
         for (int t = 0; t < b->tier_count; t++)
             if (b->tiers[t].tier != HT_TIER_MARSCHNER) ht_output_add_dropped(&b->tiers[t], line);

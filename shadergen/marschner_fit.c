@@ -1,17 +1,24 @@
-/* marschner_fit.c — Scheuermann constants fitted to a Marschner material
-   (marschner_fit.h says how and why). */
+/* marschner_fit.c — Scheuermann constants with a transmission lobe fitted
+   to a Marschner material (marschner_fit.h says how and why). */
 #include "marschner_fit.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include <hairtier/ht_limits.h>
+
 #include "rng.h"
+
+#define SAMPLES HT_MARSCHNER_FIT_SAMPLES
+#define FACTORS 4 /* diffuse, primary, secondary, transmission */
 
 typedef struct sample {
     ht_surface s;
-    ht_light_ray light;
-    double target[3];
+    ht_light_ray lights[HT_MAX_LIGHTS]; /* the scene's, its colours */
+    int light_count;
+    double target[3];    /* the whole fibre under every light, clamped to [0, 1] */
+    double tt_target[3]; /* its M_TT N_TT alone, clamped likewise */
 } sample;
 
 static void random_unit(ht_rng *r, double v[3]) {
@@ -25,22 +32,62 @@ static void random_unit(ht_rng *r, double v[3]) {
 
 static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-static void make_samples(const ht_shading *m, sample *out) {
+/* M_TT N_TT of the fibre for unit T, L, V (model_marschner.h's angles). */
+static void tt_lobe(const ht_marschner *m, const double T[3], const double L[3], const double V[3], double out[3]) {
+    double sin_i = dot3(T, L), sin_r = dot3(T, V), lp[3], vp[3];
+    for (int i = 0; i < 3; i++) lp[i] = L[i] - sin_i * T[i], vp[i] = V[i] - sin_r * T[i];
+    double nl = sqrt(dot3(lp, lp)), nv = sqrt(dot3(vp, vp));
+    double cos_phi = nl > 1e-9 && nv > 1e-9 ? fmin(1, fmax(-1, dot3(lp, vp) / (nl * nv))) : 1;
+    double n[3];
+    ht_marschner_azimuthal(m, HT_LOBE_TT, sqrt(fmax(0, 1 - sin_r * sin_r)), acos(cos_phi), n);
+    double mp = ht_marschner_longitudinal(m, HT_LOBE_TT, sin_i, sin_r);
+    for (int c = 0; c < 3; c++) out[c] = mp * n[c];
+}
+
+static void normalized(const double v[3], double out[3]) {
+    double len = sqrt(dot3(v, v));
+    for (int i = 0; i < 3; i++) out[i] = len > 0 ? v[i] / len : 0;
+}
+
+static void cross3(const double a[3], const double b[3], double out[3]) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* A direction towards the eye from a pixel of the scene's frame: the
+   camera's ray through a random point of its (square) field of view. */
+static void view_direction(ht_rng *r, const ht_camera *cam, double V[3]) {
+    double fwd[3], up[3], right[3], upv[3], d[3];
+    for (int i = 0; i < 3; i++) fwd[i] = (double)cam->target[i] - cam->eye[i], up[i] = cam->up[i];
+    normalized(fwd, fwd);
+    cross3(fwd, up, right);
+    normalized(right, right);
+    cross3(right, fwd, upv);
+    double k = tan((double)cam->fov_y * HT_PI / 360), x = ht_rng_range(r, -k, k), y = ht_rng_range(r, -k, k);
+    for (int i = 0; i < 3; i++) d[i] = -(fwd[i] + x * right[i] + y * upv[i]);
+    normalized(d, V);
+}
+
+/* Samples of the scene's light layout: its camera's view directions, its
+   lights (directions and colours; a point light seen from the camera's
+   target), strands in every direction with their ribbon normal towards the
+   viewer. The lights fall on the front and the back of the hair alike:
+   backlit.json's key is behind it, every scene's fill too. */
+static void make_samples(const ht_shading *m, const ht_scene *scene, sample *out) {
     ht_rng rng = ht_rng_seed(2016);
-    for (int n = 0; n < HT_MARSCHNER_FIT_SAMPLES; n++) {
+    for (int n = 0; n < SAMPLES; n++) {
         sample *p = &out[n];
         memset(p, 0, sizeof *p);
-        double T[3], N[3], L[3], V[3];
+        double T[3], N[3], V[3];
         random_unit(&rng, T);
-        do { /* N perpendicular to T, as on a ribbon */
+        view_direction(&rng, &scene->camera, V);
+        do { /* N perpendicular to T, as on a ribbon, facing the viewer */
             random_unit(&rng, N);
             double d = dot3(N, T);
             for (int i = 0; i < 3; i++) N[i] -= d * T[i];
-        } while (dot3(N, N) < 1e-3);
-        double len = sqrt(dot3(N, N));
-        for (int i = 0; i < 3; i++) N[i] /= len;
-        do random_unit(&rng, L); while (dot3(N, L) < -0.25);
-        do random_unit(&rng, V); while (dot3(N, V) <= 0);
+        } while (dot3(N, N) < 1e-3 || dot3(N, V) <= 0);
+        normalized(N, N);
         memcpy(p->s.T, T, sizeof T);
         memcpy(p->s.N, N, sizeof N);
         memcpy(p->s.V, V, sizeof V);
@@ -48,16 +95,28 @@ static void make_samples(const ht_shading *m, sample *out) {
         p->s.shift_tex = 0.5;
         p->s.sparkle = 1;
         p->s.ao = 1;
-        memcpy(p->light.L, L, sizeof L);
-        p->light.color[0] = p->light.color[1] = p->light.color[2] = 1;
-        ht_model_shade_d(m, &p->s, &p->light, 1, p->target);
-        for (int c = 0; c < 3; c++) p->target[c] = fmin(p->target[c], 1);
+        p->light_count = scene->light_count;
+        for (int l = 0; l < scene->light_count; l++) {
+            const ht_light *sl = &scene->lights[l];
+            double L[3], tt[3];
+            for (int i = 0; i < 3; i++)
+                L[i] = sl->type == HT_LIGHT_POINT ? (double)sl->vector[i] - scene->camera.target[i] : sl->vector[i];
+            normalized(L, L);
+            memcpy(p->lights[l].L, L, sizeof L);
+            for (int c = 0; c < 3; c++) p->lights[l].color[c] = sl->color[c];
+            tt_lobe(&m->marschner, T, L, V, tt);
+            for (int c = 0; c < 3; c++) p->tt_target[c] += sl->color[c] * tt[c];
+        }
+        ht_model_shade_d(m, &p->s, p->lights, p->light_count, p->target);
+        for (int c = 0; c < 3; c++) p->target[c] = fmin(p->target[c], 1), p->tt_target[c] = fmin(p->tt_target[c], 1);
     }
 }
 
-/* The nonlinear parameters, in the order the search visits them. */
-enum { WRAP, E1, S1, E2, S2, PARAMS };
-static const double lo[PARAMS] = { 0, 0, -1, 0, -1 }, hi[PARAMS] = { 1, 8, 1, 8, 1 }; /* exponents as log(1 + e) */
+/* The nonlinear parameters, in the order the search visits them: wrap,
+   the highlights' exponents (as log(1 + e)) and shifts, the transmission's
+   centre, sharpness (log2(1 + k)) and azimuth exponent (log(1 + e)). */
+enum { WRAP, E1, S1, E2, S2, TC, TK, TA, PARAMS };
+static const double lo[PARAMS] = { 0, 0, -1, 0, -1, -0.5, 0, 0 }, hi[PARAMS] = { 1, 8, 1, 8, 1, 0.5, 13, 8 };
 
 static void to_shading(const double x[PARAMS], ht_shading *s) {
     memset(s, 0, sizeof *s);
@@ -67,127 +126,262 @@ static void to_shading(const double x[PARAMS], ht_shading *s) {
     s->primary.shift = x[S1];
     s->secondary.exponent = expm1(x[E2]);
     s->secondary.shift = x[S2];
+    s->transmission.centre = x[TC];
+    s->transmission.sharpness = exp2(x[TK]) - 1;
+    s->transmission.azimuth = expm1(x[TA]);
 }
 
-/* For fixed wrap, exponents and shifts: the three factors per sample
-   (colours at 1; the model treats the channels alike and is linear in the
-   colours, so one call with each colour on a channel of its own gives all
-   three, bit for bit), then per channel the colours in [0, 1] that minimise the
-   squared error (normal equations; a colour outside [0, 1] is pinned to
-   its bound and the rest solved again). Returns the sum of squares. */
-static double solve_colours(const sample *ps, const double x[PARAMS], ht_shading *out, double *f_buf) {
-    ht_shading s;
-    to_shading(x, &s);
-    ht_shading split = s;
+/* Each factor's colour bound: a highlight's 1, the transmission's more. */
+static const double colour_max[FACTORS] = { 1, 1, 1, HT_LIMIT_TRANSMISSION };
+
+/* Least squares for k colours in [0, colour_max] (per channel): minimises the sum
+   over samples of (sum_i coef_i f_i - y)^2 by the normal equations; a
+   colour outside [0, 1] is pinned to its bound and the rest solved again.
+   f holds FACTORS per sample and channel, y 3 per sample; both read at
+   channel c. Samples with skip[n] set are left out. */
+/* Factor i's bound; a fit of one factor is the transmission's alone. */
+static double hi_of(int k, int i) { return k == 1 ? colour_max[3] : colour_max[i]; }
+
+static void least_squares(const double *f, int k, const double *y, int c, const bool *skip, double coef[FACTORS]) {
+    bool pinned[FACTORS] = { false };
+    for (int i = 0; i < FACTORS; i++) coef[i] = 0;
+    for (int round = 0; round < 2 * FACTORS; round++) {
+        double a[FACTORS][FACTORS] = { { 0 } }, b[FACTORS] = { 0 };
+        for (int n = 0; n < SAMPLES; n++) {
+            if (skip[n]) continue;
+            const double *fn = &f[(n * 3 + c) * FACTORS];
+            double yn = y[n * 3 + c];
+            for (int i = 0; i < k; i++)
+                if (pinned[i]) yn -= coef[i] * fn[i];
+            for (int i = 0; i < k; i++) {
+                if (pinned[i]) continue;
+                b[i] += fn[i] * yn;
+                for (int j = 0; j < k; j++)
+                    if (!pinned[j]) a[i][j] += fn[i] * fn[j];
+            }
+        }
+        for (int i = 0; i < k; i++)
+            if (pinned[i]) a[i][i] = 1, b[i] = coef[i];
+        /* Gaussian elimination with a ridge against singular systems */
+        for (int i = 0; i < k; i++) a[i][i] += 1e-9;
+        for (int i = 0; i < k; i++)
+            for (int j = i + 1; j < k; j++) {
+                double r = a[j][i] / a[i][i];
+                for (int l = i; l < k; l++) a[j][l] -= r * a[i][l];
+                b[j] -= r * b[i];
+            }
+        for (int i = k - 1; i >= 0; i--) {
+            double v = b[i];
+            for (int l = i + 1; l < k; l++) v -= a[i][l] * coef[l];
+            coef[i] = v / a[i][i];
+        }
+        bool again = false;
+        for (int i = 0; i < k; i++)
+            if (!pinned[i] && (coef[i] < 0 || coef[i] > hi_of(k, i))) {
+                coef[i] = coef[i] < 0 ? 0 : hi_of(k, i);
+                pinned[i] = again = true;
+            }
+        if (!again) break;
+    }
+    for (int i = 0; i < k; i++) coef[i] = fmin(hi_of(k, i), fmax(0, coef[i]));
+}
+
+static double predict(const double *f, int k, int n, int c, const double coef[FACTORS]) {
+    double v = 0;
+    for (int i = 0; i < k; i++) v += coef[i] * f[(n * 3 + c) * FACTORS + i];
+    return v;
+}
+
+/* least_squares as a framebuffer sees it: both sides clamp at 1, so a
+   sample whose target is 1 and whose fit reaches 1 has no error. Such
+   samples are left out and the fit solved again, until the set holds
+   (at most 4 times). Returns the sum of squares of the clamped errors. */
+static double clamped_least_squares(const double *f, int k, const double *y, int c, double coef[FACTORS]) {
+    bool skip[SAMPLES] = { false };
+    for (int pass = 0; pass < 4; pass++) {
+        least_squares(f, k, y, c, skip, coef);
+        bool changed = false;
+        for (int n = 0; n < SAMPLES; n++) {
+            bool s = predict(f, k, n, c, coef) >= 1;
+            changed |= s != skip[n];
+            skip[n] = s;
+        }
+        if (!changed) break;
+    }
+    double total = 0;
+    for (int n = 0; n < SAMPLES; n++) {
+        double e = fmin(predict(f, k, n, c, coef), 1) - y[n * 3 + c];
+        total += e * e;
+    }
+    return total;
+}
+
+/* The factors per sample and channel (FACTORS each), and the parameters
+   they were made for: the highlights' (columns 0-2) and the
+   transmission's (column 3) are remade only when their own parameters
+   change, which a coordinate search does one at a time. */
+typedef struct factor_cache {
+    double *f;
+    double x[PARAMS];
+    bool highlights, transmission; /* columns valid for x */
+} factor_cache;
+
+/* Each light's colours at 1 (the model treats the channels alike and is
+   linear in the colours, so one call with each highlight colour on a
+   channel of its own gives three, bit for bit) and its transmission tt,
+   times the light's colour. */
+static const double *factors(const sample *ps, const double x[PARAMS], factor_cache *fc) {
+    const bool highlights = !fc->highlights || memcmp(x, fc->x, sizeof *x * TC) != 0;
+    const bool transmission = !fc->transmission || memcmp(x + TC, fc->x + TC, sizeof *x * (PARAMS - TC)) != 0;
+    if (!highlights && !transmission) return fc->f;
+    ht_shading split;
+    to_shading(x, &split);
     memcpy(split.diffuse_color, (const double[3]){ 1, 0, 0 }, sizeof split.diffuse_color);
     memcpy(split.primary.color, (const double[3]){ 0, 1, 0 }, sizeof split.primary.color);
     memcpy(split.secondary.color, (const double[3]){ 0, 0, 1 }, sizeof split.secondary.color);
-    for (int n = 0; n < HT_MARSCHNER_FIT_SAMPLES; n++)
-        ht_model_shade_d(&split, &ps[n].s, &ps[n].light, 1, &f_buf[n * 3]);
+    const int first = highlights ? 0 : 3, last = transmission ? 3 : 2;
+    for (int n = 0; n < SAMPLES; n++) {
+        double *fn = &fc->f[n * 3 * FACTORS];
+        for (int c = 0; c < 3; c++)
+            for (int i = first; i <= last; i++) fn[c * FACTORS + i] = 0;
+        for (int l = 0; l < ps[n].light_count; l++) {
+            ht_light_ray white = { .color = { 1, 1, 1 } };
+            memcpy(white.L, ps[n].lights[l].L, sizeof white.L);
+            double g[FACTORS] = { 0 };
+            if (highlights) ht_model_shade_d(&split, &ps[n].s, &white, 1, g);
+            if (transmission) g[3] = ht_model_transmission_d(&split.transmission, ps[n].s.T, white.L, ps[n].s.V);
+            for (int c = 0; c < 3; c++)
+                for (int i = first; i <= last; i++) fn[c * FACTORS + i] += ps[n].lights[l].color[c] * g[i];
+        }
+    }
+    memcpy(fc->x, x, sizeof fc->x);
+    fc->highlights = fc->transmission = true;
+    return fc->f;
+}
+
+/* For fixed nonlinear parameters: the colours that fit best, the sum of
+   squares over every sample and channel. y is the targets, stride 3. */
+static double solve_colours(const sample *ps, const double *y, const double x[PARAMS], ht_shading *out,
+                            factor_cache *fc) {
+    ht_shading s;
+    to_shading(x, &s);
+    const double *f = factors(ps, x, fc);
     double total = 0;
+    double *colours[FACTORS] = { s.diffuse_color, s.primary.color, s.secondary.color, s.transmission.color };
     for (int c = 0; c < 3; c++) {
-        double coef[3] = { 0, 0, 0 };
-        bool pinned[3] = { false, false, false };
-        for (int round = 0; round < 4; round++) {
-            double a[3][3] = { { 0 } }, b[3] = { 0 };
-            for (int n = 0; n < HT_MARSCHNER_FIT_SAMPLES; n++) {
-                const double *f = &f_buf[n * 3];
-                double y = ps[n].target[c];
-                for (int i = 0; i < 3; i++)
-                    if (pinned[i]) y -= coef[i] * f[i];
-                for (int i = 0; i < 3; i++) {
-                    if (pinned[i]) continue;
-                    b[i] += f[i] * y;
-                    for (int j = 0; j < 3; j++)
-                        if (!pinned[j]) a[i][j] += f[i] * f[j];
-                }
-            }
-            for (int i = 0; i < 3; i++)
-                if (pinned[i]) a[i][i] = 1, b[i] = coef[i];
-            /* Gaussian elimination with a ridge against singular systems */
-            for (int i = 0; i < 3; i++) a[i][i] += 1e-9;
-            for (int i = 0; i < 3; i++)
-                for (int j = i + 1; j < 3; j++) {
-                    double r = a[j][i] / a[i][i];
-                    for (int k = i; k < 3; k++) a[j][k] -= r * a[i][k];
-                    b[j] -= r * b[i];
-                }
-            for (int i = 2; i >= 0; i--) {
-                double v = b[i];
-                for (int k = i + 1; k < 3; k++) v -= a[i][k] * coef[k];
-                coef[i] = v / a[i][i];
-            }
-            bool again = false;
-            for (int i = 0; i < 3; i++)
-                if (!pinned[i] && (coef[i] < 0 || coef[i] > 1)) {
-                    coef[i] = coef[i] < 0 ? 0 : 1;
-                    pinned[i] = again = true;
-                }
-            if (!again) break;
-        }
-        for (int i = 0; i < 3; i++) coef[i] = fmin(1, fmax(0, coef[i]));
-        s.diffuse_color[c] = coef[0];
-        s.primary.color[c] = coef[1];
-        s.secondary.color[c] = coef[2];
-        for (int n = 0; n < HT_MARSCHNER_FIT_SAMPLES; n++) {
-            const double *f = &f_buf[n * 3];
-            double e = coef[0] * f[0] + coef[1] * f[1] + coef[2] * f[2] - ps[n].target[c];
-            total += e * e;
-        }
+        double coef[FACTORS];
+        total += clamped_least_squares(f, FACTORS, y, c, coef);
+        for (int i = 0; i < FACTORS; i++) colours[i][c] = coef[i];
     }
     if (out) *out = s;
     return total;
 }
 
-ht_result ht_marschner_fit_scheuermann(const ht_shading *m, ht_marschner_fit *out) {
-    memset(out, 0, sizeof *out);
-    if (m->model != HT_MODEL_MARSCHNER) return HT_ERR_INVALID_ARGUMENT;
-    sample *ps = malloc(sizeof *ps * HT_MARSCHNER_FIT_SAMPLES);
-    double *f = malloc(sizeof *f * HT_MARSCHNER_FIT_SAMPLES * 3);
-    if (!ps || !f) {
-        free(ps);
-        free(f);
-        return HT_ERR_OUT_OF_MEMORY;
+/* The transmission's shape alone against M_TT N_TT: its colour per
+   channel by least squares (the other factors out). */
+static double tt_error(const sample *ps, const double *y, const double x[PARAMS], factor_cache *fc) {
+    const double *tt = factors(ps, x, fc) + 3; /* column 3 read as a fit of one factor */
+    double total = 0;
+    for (int c = 0; c < 3; c++) {
+        double coef[FACTORS];
+        total += clamped_least_squares(tt, 1, y, c, coef);
     }
-    make_samples(m, ps);
-    /* A coarse grid over the exponents and shifts, wrap 0.25. */
-    double best[PARAMS] = { 0.25, log1p(80), -0.1, log1p(20), 0.1 }, best_err = solve_colours(ps, best, NULL, f);
-    const double exps[] = { 10, 40, 160, 640 }, shifts[] = { -0.3, -0.1, 0.1, 0.3 };
-    for (int a = 0; a < 4; a++)
-        for (int b = 0; b < 4; b++)
-            for (int c = 0; c < 4; c++)
-                for (int d = 0; d < 4; d++) {
-                    double x[PARAMS] = { 0.25, log1p(exps[a]), shifts[b], log1p(exps[c]), shifts[d] };
-                    double e = solve_colours(ps, x, NULL, f);
-                    if (e < best_err) best_err = e, memcpy(best, x, sizeof best);
-                }
-    /* Coordinate search: golden section on each parameter in turn. */
+    return total;
+}
+
+typedef double (*objective)(const sample *ps, const double *y, const double x[PARAMS], factor_cache *fc);
+
+static double whole_error(const sample *ps, const double *y, const double x[PARAMS], factor_cache *fc) {
+    return solve_colours(ps, y, x, NULL, fc);
+}
+
+/* Golden section on each parameter of [first, last] in turn, from best. */
+static double coordinate_search(objective err_of, const sample *ps, const double *y, int first, int last, int rounds,
+                                double best[PARAMS], double best_err, factor_cache *f) {
     const double g = (sqrt(5) - 1) / 2;
-    for (int round = 0; round < 3; round++)
-        for (int p = 0; p < PARAMS; p++) {
+    for (int round = 0; round < rounds; round++)
+        for (int p = first; p <= last; p++) {
             double a = lo[p], b = hi[p], x[PARAMS];
             memcpy(x, best, sizeof x);
-            for (int it = 0; it < 18; it++) {
+            for (int it = 0; it < 12; it++) { /* the bracket shrinks to 0.3 % */
                 double c = b - g * (b - a), d = a + g * (b - a);
                 x[p] = c;
-                double ec = solve_colours(ps, x, NULL, f);
+                double ec = err_of(ps, y, x, f);
                 x[p] = d;
-                double ed = solve_colours(ps, x, NULL, f);
+                double ed = err_of(ps, y, x, f);
                 if (ec < ed) b = d;
                 else a = c;
             }
             x[p] = (a + b) / 2;
-            double e = solve_colours(ps, x, NULL, f);
-            if (e < best_err) best_err = e, memcpy(best, x, sizeof best);
+            double e = err_of(ps, y, x, f);
+            if (e < best_err) best_err = e, memcpy(best, x, sizeof x);
         }
-    solve_colours(ps, best, &out->shading, f);
-    out->rms = sqrt(best_err / (3.0 * HT_MARSCHNER_FIT_SAMPLES));
-    for (int n = 0; n < HT_MARSCHNER_FIT_SAMPLES; n++) {
-        double rgb[3];
-        ht_model_shade_d(&out->shading, &ps[n].s, &ps[n].light, 1, rgb);
-        for (int c = 0; c < 3; c++) out->max_error = fmax(out->max_error, fabs(rgb[c] - ps[n].target[c]));
+    return best_err;
+}
+
+ht_result ht_marschner_fit_scheuermann(const ht_shading *m, const ht_scene *scene, ht_marschner_fit *out) {
+    memset(out, 0, sizeof *out);
+    if (m->model != HT_MODEL_MARSCHNER) return HT_ERR_INVALID_ARGUMENT;
+    sample *ps = malloc(sizeof *ps * SAMPLES);
+    factor_cache fc = { .f = malloc(sizeof *fc.f * SAMPLES * 3 * FACTORS) };
+    double *y = malloc(sizeof *y * SAMPLES * 3), *y_tt = malloc(sizeof *y_tt * SAMPLES * 3);
+    if (!ps || !fc.f || !y || !y_tt) {
+        free(ps);
+        free(fc.f);
+        free(y);
+        free(y_tt);
+        return HT_ERR_OUT_OF_MEMORY;
     }
+    make_samples(m, scene, ps);
+    for (int n = 0; n < SAMPLES; n++)
+        for (int c = 0; c < 3; c++) y[n * 3 + c] = ps[n].target[c], y_tt[n * 3 + c] = ps[n].tt_target[c];
+    /* The transmission's shape first, against TT alone: a grid, then golden
+       sections. */
+    double best[PARAMS] = { 0.25, log1p(80), -0.1, log1p(20), 0.1, 0, 7, log1p(4) };
+    double tt_best = tt_error(ps, y_tt, best, &fc);
+    const double centres[] = { -0.1, 0, 0.1 }, sharps[] = { 4, 7, 10 }, azimuths[] = { 0.5, 1.5, 3 };
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            for (int c = 0; c < 3; c++) {
+                double x[PARAMS];
+                memcpy(x, best, sizeof x);
+                x[TC] = centres[a], x[TK] = sharps[b], x[TA] = azimuths[c];
+                double e = tt_error(ps, y_tt, x, &fc);
+                if (e < tt_best) tt_best = e, memcpy(best, x, sizeof best);
+            }
+    tt_best = coordinate_search(tt_error, ps, y_tt, TC, TA, 2, best, tt_best, &fc);
+    out->tt_rms = sqrt(tt_best / (3.0 * SAMPLES));
+    /* Then the highlights on a coarse grid, wrap 0.25, with every colour
+       solved jointly, and golden sections over all of it. */
+    double best_err = solve_colours(ps, y, best, NULL, &fc);
+    const double exps[] = { 10, 80, 640 }, shifts[] = { -0.2, 0, 0.2 };
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            for (int c = 0; c < 3; c++)
+                for (int d = 0; d < 3; d++) {
+                    double x[PARAMS];
+                    memcpy(x, best, sizeof x);
+                    x[E1] = log1p(exps[a]), x[S1] = shifts[b], x[E2] = log1p(exps[c]), x[S2] = shifts[d];
+                    double e = solve_colours(ps, y, x, NULL, &fc);
+                    if (e < best_err) best_err = e, memcpy(best, x, sizeof best);
+                }
+    best_err = coordinate_search(whole_error, ps, y, WRAP, TA, 3, best, best_err, &fc);
+    solve_colours(ps, y, best, &out->shading, &fc);
+    /* Both sides as a framebuffer keeps them, clamped to [0, 1]. */
+    double sum = 0;
+    for (int n = 0; n < SAMPLES; n++) {
+        double rgb[3];
+        ht_model_shade_d(&out->shading, &ps[n].s, ps[n].lights, ps[n].light_count, rgb);
+        for (int c = 0; c < 3; c++) {
+            double e = fabs(fmin(rgb[c], 1) - ps[n].target[c]);
+            sum += e * e;
+            out->max_error = fmax(out->max_error, e);
+        }
+    }
+    out->rms = sqrt(sum / (3.0 * SAMPLES));
     free(ps);
-    free(f);
+    free(fc.f);
+    free(y);
+    free(y_tt);
     return HT_OK;
 }

@@ -82,6 +82,27 @@ static ht_result parse_diffuse(const ht_jctx *c, const cJSON *root, bool wrap_al
 }
 
 /* dir of `file_name` + rel, unless rel is absolute or there is no dir. */
+/* "transmission" (Scheuermann only, optional; model.h's ht_transmission):
+   "color" required, "centre", "sharpness", "azimuth" default 0. Absent:
+   no lobe. The ranges are ht_shading_check's, run by the material check. */
+static ht_result parse_transmission(const ht_jctx *c, const cJSON *root, ht_transmission *out) {
+    static const char *const keys[] = { "color", "centre", "sharpness", "azimuth", NULL };
+    const cJSON *obj = NULL;
+    ht_result r = ht_json_object(c, root, "", "transmission", false, &obj);
+    if (r != HT_OK || !obj) return r;
+    r = ht_json_keys(c, obj, "transmission", keys);
+    if (r == HT_OK)
+        r = ht_json_vec(c, obj, "transmission", "color", NULL, 3, HT_JRANGE(0, HT_LIMIT_TRANSMISSION), out->color);
+    if (r == HT_OK) r = ht_json_number(c, obj, "transmission", "centre", &(double){ 0 }, HT_JRANGE(-1, 1), &out->centre);
+    if (r == HT_OK)
+        r = ht_json_number(c, obj, "transmission", "sharpness", &(double){ 0 }, HT_JRANGE(0, HT_LIMIT_EXPONENT),
+                           &out->sharpness);
+    if (r == HT_OK)
+        r = ht_json_number(c, obj, "transmission", "azimuth", &(double){ 0 }, HT_JRANGE(0, HT_LIMIT_EXPONENT),
+                           &out->azimuth);
+    return r;
+}
+
 static ht_result resolve_path(const ht_jctx *c, const char *field, const char *file_name,
                               const char *rel, char out[1024]) {
     size_t dir_len = 0;
@@ -199,7 +220,8 @@ static ht_result parse_alpha(const ht_jctx *c, const cJSON *root, ht_material *m
 static ht_result parse_material(const ht_jctx *c, const cJSON *root, const char *file_name,
                                 ht_material *m) {
     static const char *const keys[] = {
-        "format", "name", "model", "diffuse", "primary", "secondary", "marschner", "textures", "alpha", NULL,
+        "format", "name", "model", "diffuse", "primary", "secondary", "transmission", "marschner", "textures", "alpha",
+        NULL,
     };
     static const char *const models[] = { "scheuermann", "kajiya-kay", "marschner", NULL };
     /* The format first: a scene file handed over by mistake should say so,
@@ -213,6 +235,8 @@ static ht_result parse_material(const ht_jctx *c, const cJSON *root, const char 
     bool kk = model == 1, marschner = model == 2;
     m->shading.model = kk ? HT_MODEL_KAJIYA_KAY : (marschner ? HT_MODEL_MARSCHNER : HT_MODEL_SCHEUERMANN);
     r = parse_diffuse(c, root, !kk && !marschner, models[model], &m->shading);
+    if (r == HT_OK && model != 0)
+        r = ht_json_forbid(c, root, "", "transmission", "only model \"scheuermann\" has a transmission lobe");
     if (r == HT_OK && marschner) {
         r = ht_json_forbid(c, root, "", "primary",
                            "model \"marschner\" has no Scheuermann highlights; its lobes come from \"marschner\"");
@@ -229,6 +253,7 @@ static ht_result parse_material(const ht_jctx *c, const cJSON *root, const char 
         snprintf(why, sizeof why, "only model \"marschner\" takes it; this material is \"%s\"", models[model]);
         r = ht_json_forbid(c, root, "", "marschner", why);
     }
+    if (r == HT_OK && model == 0) r = parse_transmission(c, root, &m->shading.transmission);
     if (r == HT_OK) r = parse_lobe(c, root, "primary", !kk, models[model], &m->shading.primary);
     if (r == HT_OK) {
         if (kk)

@@ -71,6 +71,9 @@ bool ht_output_add_es_entry(ht_tier_output *out, const char *version, const char
                             const char *vertex, const char *fragment);
 void ht_output_add_feature(ht_tier_output *out, const char *feature);
 void ht_output_add_dropped(ht_tier_output *out, const char *reason);
+/* "transmission: WHY" in dropped when the plan's shading has a
+   transmission lobe the tier does not draw; nothing otherwise. */
+void ht_output_drop_transmission(ht_tier_output *out, const ht_plan *plan, const char *why);
 /* "scheuermann", "1 directional light", "2 point lights", ...: the model and
    lights of the plan, in the order bundles list them. */
 void ht_output_add_model_features(ht_tier_output *out, const ht_plan *plan);
@@ -105,6 +108,9 @@ void ht_glsl_light_uniforms(ht_strbuf *sb, const ht_plan *plan, const ht_glsl_sh
 /* The functions the lighting needs (normalize_or_zero, the highlights of
    the plan's lobes, the per-light term), before main(). */
 void ht_glsl_shading_functions(ht_strbuf *sb, const ht_plan *plan, const ht_glsl_shading_inputs *in);
+/* ", T" when the plan draws a transmission lobe (hair_light's last
+   argument, the unshifted tangent), else "": for a caller's own calls. */
+const char *ht_glsl_transmission_arg(const ht_plan *plan);
 /* Statements inside main() that declare and sum `rgb` over the plan's
    lights, exactly as runtime/shading/model.c does. */
 void ht_glsl_shading_body(ht_strbuf *sb, const ht_plan *plan, const ht_glsl_shading_inputs *in);

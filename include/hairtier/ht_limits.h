@@ -24,6 +24,9 @@ extern "C" {
 /* ---- shading constants (a material and every tier program alike) ---- */
 #define HT_LIMIT_EXPONENT 10000.0   /* a highlight's exponent: 0 .. this */
 #define HT_LIMIT_SHIFT    100.0     /* a highlight's tangent shift: -this .. this */
+/* A transmission lobe's colour, each channel 0 .. this: Marschner's TT
+   peaks near 2 per unit of light (brown, M_TT N_TT), above a highlight's 1. */
+#define HT_LIMIT_TRANSMISSION 4.0
 
 /* ---- files: the most bytes read from one file of each kind (file_open.h) ---- */
 #define HT_LIMIT_FILE_JSON    (16u << 20)   /* materials, scenes, manifests, combiner programs */

@@ -9,7 +9,8 @@
        S(t,e) = smoothstep(-1, 0, dot(t,H)) * sin(t,H)^e
        diff   = saturate(mix(wrap, 1, dot(N,L))) * diffuse.color
        spec   = primary.color * S(t1, e1) + secondary.color * sparkle * S(t2, e2)
-       rgb    = sum over lights of (diff + spec) * base * light.color * ao
+       tt     = transmission.color * ht_model_transmission(T, L, V)  (when present)
+       rgb    = sum over lights of (diff + spec + tt) * base * light.color * ao
 
    Kajiya-Kay: diff = sin(T,L) * diffuse.color, spec = primary.color * S(T, e1).
    Marschner:  diff = sin(T,L) * diffuse.color, spec = ht_marschner_fibre_vectors
@@ -60,6 +61,24 @@ typedef struct ht_lobe {
     double shift;    /* along N, any finite value; [-100,100] from files */
 } ht_lobe;
 
+/* Scheuermann's transmission lobe, light passing through the fibre towards
+   the viewer (a fit of Marschner's TT; HT_MODEL_SCHEUERMANN only):
+       h   = (asin(T.L) + asin(T.V)) / 2  theta_h, radians (Marschner's M_TT
+                                          is a Gaussian in it: measured 3x
+                                          closer than in sines)
+       a   = (1 - cos phi) / 2            phi between L and V around T
+       tt  = exp2(-sharpness (h - centre)^2) * a^azimuth
+   cos phi = dot of L and V projected normal to T (each unit, or zero when
+   parallel to T: then cos phi = 0); tt = 0 when T, L or V has no direction;
+   a^0 = 1. A zero colour is no lobe: no term, bit for bit the shading
+   without it (every tier leaves it out). */
+typedef struct ht_transmission {
+    double color[3];  /* [0, HT_LIMIT_TRANSMISSION] each; all 0: no transmission */
+    double centre;    /* theta_h at the peak, radians, [-1, 1] */
+    double sharpness; /* [0, 10000] */
+    double azimuth;   /* [0, 10000] */
+} ht_transmission;
+
 /* The material constants the shading needs (textures excluded). */
 typedef struct ht_shading {
     ht_model_kind model;
@@ -68,6 +87,7 @@ typedef struct ht_shading {
     ht_lobe primary;
     ht_lobe secondary;    /* ignored by Kajiya-Kay */
     ht_marschner marschner; /* Marschner only; primary, secondary and wrap are then unused */
+    ht_transmission transmission; /* Scheuermann only; zero: none (last: positional initialisers keep their meaning) */
 } ht_shading;
 
 /* What one shaded point sees. Vectors need not be unit length. */
@@ -99,6 +119,13 @@ HT_API void ht_model_shade_f(const ht_shading *m, const ht_surface *s,
 /* S(t,e) for t and h of any length; 0 when either has no direction. */
 HT_API double ht_model_highlight_d(const double t[3], const double h[3], double exponent);
 HT_API float ht_model_highlight_f(const float t[3], const float h[3], float exponent);
+
+/* True when m draws a transmission lobe (a Scheuermann shading with a
+   non-zero transmission colour): the one test every tier asks. */
+HT_API bool ht_model_has_transmission(const ht_shading *m);
+/* The lobe's scalar factor tt (see ht_transmission) for T, L, V of any length. */
+HT_API double ht_model_transmission_d(const ht_transmission *t, const double T[3], const double L[3],
+                                      const double V[3]);
 
 /* S as a function of c = dot(t,H) of unit vectors (what a LUT indexes). */
 HT_API double ht_model_highlight_of_cos_d(double c, double exponent);

@@ -15,7 +15,9 @@
    - sin^e with e = 0 is 1, also at sin = 0 (pow(0,0) := 1), so S = the
      smoothstep factor alone; sin = 0 with e > 0 gives 0.
    - smoothstep(-1,0,x) is 0 at x <= -1 and 1 at x >= 0.
-   - Kajiya-Kay diffuse sin(T,L) is 0 when T or L has no direction. */
+   - Kajiya-Kay diffuse sin(T,L) is 0 when T or L has no direction.
+   - The transmission lobe is 0 when T, L or V has no direction; L or V
+     parallel to T has no azimuth and takes cos(phi) = 0. */
 #ifndef HT_MODEL_PASS
 #include <hairtier/model.h>
 
@@ -37,6 +39,19 @@
 #undef FN
 
 /* Precision-independent entry points (double only). */
+bool ht_model_has_transmission(const ht_shading *m) {
+    const double *c = m->transmission.color;
+    return m->model == HT_MODEL_SCHEUERMANN && (c[0] != 0 || c[1] != 0 || c[2] != 0);
+}
+
+double ht_model_transmission_d(const ht_transmission *t, const double T[3], const double L[3], const double V[3]) {
+    double tn[3], ln[3], vn[3];
+    normalize_or_zero_d(T, tn);
+    normalize_or_zero_d(L, ln);
+    normalize_or_zero_d(V, vn);
+    return transmission_unit_d(t, tn, ln, vn);
+}
+
 double ht_model_highlight_of_cos_d(double c, double exponent) {
     if (c > 1.0) c = 1.0;
     if (c < -1.0) c = -1.0;
@@ -152,6 +167,21 @@ static void FN(shifted_tangent)(const real T[3], const real N[3], real amount, r
     FN(normalize_or_zero)(v, out);
 }
 
+static real FN(clamp1)(real x) { return x < -1 ? (real)-1 : (x > 1 ? (real)1 : x); }
+
+/* ht_transmission's tt on unit-or-zero T, L, V. */
+static real FN(transmission_unit)(const ht_transmission *t, const real T[3], const real L[3], const real V[3]) {
+    if (!FN(has_direction)(T) || !FN(has_direction)(L) || !FN(has_direction)(V)) return 0;
+    const real tl = FN(dot3)(T, L), tv = FN(dot3)(T, V);
+    real lp[3], vp[3], lr[3], vr[3];
+    for (int i = 0; i < 3; i++) lr[i] = L[i] - tl * T[i], vr[i] = V[i] - tv * T[i];
+    FN(normalize_or_zero)(lr, lp);
+    FN(normalize_or_zero)(vr, vp);
+    const real u = (asin(FN(clamp1)(tl)) + asin(FN(clamp1)(tv))) / 2 - (real)t->centre;
+    const real a = FN(saturate)((1 - FN(dot3)(lp, vp)) / 2);
+    return exp2(-(real)t->sharpness * u * u) * FN(power)(a, (real)t->azimuth);
+}
+
 static void FN(to_real)(const double in[3], real out[3]) {
     for (int i = 0; i < 3; i++) out[i] = (real)in[i];
 }
@@ -167,6 +197,7 @@ void FN(ht_model_shade)(const ht_shading *m, const ht_surface *s,
     FN(normalize_or_zero)(v_raw, V);
 
     const bool marschner = m->model == HT_MODEL_MARSCHNER;
+    const bool transmission = ht_model_has_transmission(m);
     const bool kajiya_kay = m->model == HT_MODEL_KAJIYA_KAY || marschner;
     const real jitter = kajiya_kay ? 0 : (real)s->shift_tex - (real)0.5;
     real t1[3], t2[3];
@@ -205,9 +236,12 @@ void FN(ht_model_shade)(const ht_shading *m, const ht_surface *s,
             s1 = FN(highlight_unit)(t1, H, (real)m->primary.exponent);
             s2 = FN(highlight_unit)(t2, H, (real)m->secondary.exponent) * (real)s->sparkle;
         }
+        /* Left out entirely without a lobe: the sum stays bit for bit. */
+        const real tt = transmission ? FN(transmission_unit)(&m->transmission, T, L, V) : 0;
         for (int i = 0; i < 3; i++) {
             real lit = diffuse * (real)m->diffuse_color[i] + s1 * (real)m->primary.color[i]
                      + s2 * (real)m->secondary.color[i];
+            if (transmission) lit += tt * (real)m->transmission.color[i];
             sum[i] += lit * (real)s->base[i] * (real)lights[li].color[i] * (real)s->ao;
         }
     }

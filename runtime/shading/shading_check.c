@@ -43,11 +43,30 @@ static bool lobe_ok(const char *file, const char *name, const ht_lobe *l, char *
     return number_ok(file, field, l->shift, -HT_LIMIT_SHIFT, HT_LIMIT_SHIFT, err, err_size);
 }
 
+/* A transmission lobe (model.h): Scheuermann's only, so any other model
+   must leave it zero. */
+static bool transmission_ok(const char *file, const ht_shading *s, char *err, size_t err_size) {
+    const ht_transmission *t = &s->transmission;
+    const bool none = t->color[0] == 0 && t->color[1] == 0 && t->color[2] == 0 && t->centre == 0 &&
+                      t->sharpness == 0 && t->azimuth == 0;
+    if (s->model != HT_MODEL_SCHEUERMANN && !none)
+        return field_fail(file, "transmission", err, err_size, "only model \"scheuermann\" has a transmission lobe");
+    for (int i = 0; i < 3; i++) {
+        char field[64];
+        snprintf(field, sizeof field, "transmission.color[%d]", i);
+        if (!number_ok(file, field, t->color[i], 0, HT_LIMIT_TRANSMISSION, err, err_size)) return false;
+    }
+    return number_ok(file, "transmission.centre", t->centre, -1, 1, err, err_size) &&
+           number_ok(file, "transmission.sharpness", t->sharpness, 0, HT_LIMIT_EXPONENT, err, err_size) &&
+           number_ok(file, "transmission.azimuth", t->azimuth, 0, HT_LIMIT_EXPONENT, err, err_size);
+}
+
 bool ht_shading_check(const ht_shading *s, const char *file, char *err, size_t err_size) {
     if (s->model != HT_MODEL_SCHEUERMANN && s->model != HT_MODEL_KAJIYA_KAY)
         return field_fail(file, "model", err, err_size, "unknown model %d", (int)s->model);
     return ht_shading_check_color(s->diffuse_color, file, "diffuse", err, err_size) &&
            number_ok(file, "diffuse.wrap", s->wrap, 0, 1, err, err_size) &&
            lobe_ok(file, "primary", &s->primary, err, err_size) &&
-           (s->model == HT_MODEL_KAJIYA_KAY || lobe_ok(file, "secondary", &s->secondary, err, err_size));
+           (s->model == HT_MODEL_KAJIYA_KAY || lobe_ok(file, "secondary", &s->secondary, err, err_size)) &&
+           transmission_ok(file, s, err, err_size);
 }

@@ -1,5 +1,5 @@
 /* shading_check.h — the one check of a Scheuermann or Kajiya-Kay shading's
-   constants (colours, wrap, exponents, shifts), shared by the material
+   constants (colours, wrap, exponents, shifts, the transmission lobe), shared by the material
    check (ht_material_check) and the readers of every tier program that
    carries them (fixed4.json, gl11.json): the same ranges (ht_limits.h) and
    the same words everywhere. Internal.
