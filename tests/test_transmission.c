@@ -147,7 +147,8 @@ static void test_with_a_colour_full_vertex_and_gl11_draw_it_and_fixed4_and_fixed
     ht_generated g;
     char err[512];
     assert_int_equal(ht_generate(&(ht_generate_desc){ .material = &m }, &g, err, sizeof err), HT_OK);
-    const char *drawing[] = { "full.frag", "full-es.frag", "vertex.vert" };
+    const char *drawing[] = { "full.frag", "full-es2.frag", "full-es3.frag", "vertex.vert", "vertex-es2.vert",
+                              "vertex-es3.vert" };
     for (size_t i = 0; i < sizeof drawing / sizeof *drawing; i++) {
         const ht_generated_file *f = ht_generated_find(&g, drawing[i]);
         assert_non_null(f);
