@@ -1,13 +1,23 @@
 /* emit_glsl.c — the full tier: the shading model per pixel in GLSL 1.20, its
-   alpha-only Z-prime program, and an ESSL 1.00 port of the main pair. Only
+   alpha-only Z-prime program, an ESSL 1.00 port of the main pair, and an
+   ESSL 1.00 all-mediump fragment stage for devices without fragment highp
+   (full-es2-mediump.frag, paired with full-es.vert; mediump.h). Only
    what the plan models is written; material constants are literals, so the
    runtime sets nothing but the eye, the lights and the samplers. */
 #include <stdio.h>
 #include <string.h>
 
-#include "shader_interface.h"
+#include <stdlib.h>
+
 #include "glsl_stages.h"
+#include "mediump_glsl.h"
+#include "shader_interface.h"
 #include "strbuf.h"
+
+/* Which fragment text: desktop GLSL 1.20, ESSL 1.00 with highp directions
+   where the device has them, or ESSL 1.00 all mediump (fp16-safe: the
+   table of mediump.h). */
+typedef enum fragment_variant { DESKTOP, ES, ES_MEDIUMP } fragment_variant;
 
 /* The ES fragment shader's precision choice: directions (normalisation, the
    highlight's sine near 0 or 1) need highp where the device has it; the
@@ -38,7 +48,33 @@ static ht_glsl_vertex_layout layout_of(const ht_plan *plan) {
     return (ht_glsl_vertex_layout){ .banner = banner, .normal = !kajiya_kay(plan), .uv = uses_uv(plan) };
 }
 
-static char *main_fragment(const ht_plan *plan, bool es) {
+/* The mediump table's functions (heap: the table is a few hundred KiB). */
+static void mediump_functions(ht_strbuf *sb, const ht_plan *plan) {
+    ht_mp_program *p = malloc(sizeof *p);
+    if (!p) return; /* glslang then rejects the call to shade() */
+    const ht_mp_desc d = ht_mp_desc_of_plan(plan);
+    ht_mp_build(&d, p);
+    ht_strbuf_add(sb, "/* Every step rounds to fp16 and stays in its range (shadergen/mediump.h). */\n");
+    ht_mp_write_functions(sb, p);
+    free(p);
+}
+
+/* rgb = shade(...) with the table's inputs in its parameter order. */
+static void mediump_call(ht_strbuf *sb, const ht_plan *plan) {
+    ht_strbuf_add(sb, "    vec3 rgb = shade(v_position, v_tangent");
+    if (!kajiya_kay(plan)) ht_strbuf_add(sb, ", v_normal");
+    ht_strbuf_addf(sb, ", %s", HT_U_EYE);
+    for (int i = 0; i < plan->light_count; i++)
+        ht_strbuf_addf(sb, ", %s[%d].xyz, %s[%d]", HT_U_LIGHT_VECTOR, i, HT_U_LIGHT_COLOR, i);
+    if (plan->shift) ht_strbuf_add(sb, ", detail.r");
+    if (plan->sparkle) ht_strbuf_add(sb, ", detail.g");
+    if (plan->base) ht_strbuf_add(sb, ", albedo.rgb");
+    if (plan->ao) ht_strbuf_add(sb, ", v_ao");
+    ht_strbuf_add(sb, ");\n");
+}
+
+static char *main_fragment(const ht_plan *plan, fragment_variant variant) {
+    const bool es = variant != DESKTOP, mediump = variant == ES_MEDIUMP;
     const ht_glsl_vertex_layout layout = layout_of(plan);
     const bool albedo = plan->base || plan->alpha, detail = plan->shift || plan->sparkle;
     ht_glsl_shading_inputs in = {
@@ -49,16 +85,17 @@ static char *main_fragment(const ht_plan *plan, bool es) {
         .sparkle = plan->sparkle ? "detail.g" : NULL,
         .base = plan->base ? "albedo.rgb" : NULL,
         .ao = plan->ao ? "v_ao" : NULL,
-        .direction_precision = es ? ES_DIRECTION : "",
-        .colour_precision = es ? "mediump " : "",
-        .min_length2 = es ? "HT_MIN_LENGTH2" : NULL,
+        .direction_precision = variant == ES ? ES_DIRECTION : "",
+        .colour_precision = variant == ES ? "mediump " : "",
+        .min_length2 = variant == ES ? "HT_MIN_LENGTH2" : NULL,
     };
     const char *dp = in.direction_precision, *cp = in.colour_precision;
     ht_strbuf sb;
     ht_strbuf_init(&sb);
     ht_strbuf_add(&sb, es ? "#version 100\n" : "#version 120\n");
-    banner(&sb, plan, es ? "ESSL fragment stage" : "fragment stage");
-    if (es) ht_strbuf_add(&sb, es_precision_block);
+    banner(&sb, plan, mediump ? "ESSL fragment stage, mediump (fp16-safe)" : es ? "ESSL fragment stage" : "fragment stage");
+    if (variant == ES) ht_strbuf_add(&sb, es_precision_block);
+    if (mediump) ht_strbuf_add(&sb, "precision mediump float;\n");
     if (albedo) ht_strbuf_addf(&sb, "uniform sampler2D %s; /* rgb = base, a = alpha */\n", HT_U_ALBEDO);
     if (detail)
         ht_strbuf_addf(&sb, "uniform sampler2D %s; /* %s */\n", HT_U_DETAIL,
@@ -71,12 +108,14 @@ static char *main_fragment(const ht_plan *plan, bool es) {
     }
     ht_glsl_varyings(&sb, plan, &layout, dp, cp);
     ht_strbuf_add(&sb, "\n");
-    ht_glsl_shading_functions(&sb, plan, &in);
+    if (mediump) mediump_functions(&sb, plan);
+    else ht_glsl_shading_functions(&sb, plan, &in);
     ht_strbuf_add(&sb, "void main() {\n");
     if (albedo) ht_strbuf_addf(&sb, "    %svec4 albedo = texture2D(%s, v_uv);\n", cp, HT_U_ALBEDO);
     if (detail) ht_strbuf_addf(&sb, "    %svec4 detail = texture2D(%s, v_uv);\n", cp, HT_U_DETAIL);
-    if (plan->shift) ht_strbuf_addf(&sb, "    %sfloat jitter = detail.r - 0.5;\n", dp);
-    ht_glsl_shading_body(&sb, plan, &in);
+    if (plan->shift && !mediump) ht_strbuf_addf(&sb, "    %sfloat jitter = detail.r - 0.5;\n", dp);
+    if (mediump) mediump_call(&sb, plan);
+    else ht_glsl_shading_body(&sb, plan, &in);
     const char *alpha = plan->alpha ? "albedo.a" : "1.0";
     if (es) {
         ht_strbuf_addf(&sb, "    if ((%s >= %s) != (%s > 0.5)) discard;\n", alpha, HT_ES_U_ALPHA_REF,
@@ -106,7 +145,7 @@ ht_result ht_emit_full(const ht_plan *plan, ht_tier_output *out, char *err, size
     ht_result r = ht_output_add_text(out, "full.vert", "vertex", ht_glsl_main_vertex(plan, &layout, false),
                                      HT_STAGE_VERTEX, 120, false, err, err_size);
     if (r == HT_OK)
-        r = ht_output_add_text(out, "full.frag", "fragment", main_fragment(plan, false),
+        r = ht_output_add_text(out, "full.frag", "fragment", main_fragment(plan, DESKTOP),
                                HT_STAGE_FRAGMENT, 120, false, err, err_size);
     if (r == HT_OK)
         r = ht_output_add_text(out, "full-prime.vert", "prime_vertex", ht_glsl_prime_stage(plan, banner, false),
@@ -118,7 +157,10 @@ ht_result ht_emit_full(const ht_plan *plan, ht_tier_output *out, char *err, size
         r = ht_output_add_text(out, "full-es.vert", "es_vertex", ht_glsl_main_vertex(plan, &layout, true),
                                HT_STAGE_VERTEX, 100, true, err, err_size);
     if (r == HT_OK)
-        r = ht_output_add_text(out, "full-es.frag", "es_fragment", main_fragment(plan, true),
+        r = ht_output_add_text(out, "full-es.frag", "es_fragment", main_fragment(plan, ES),
+                               HT_STAGE_FRAGMENT, 100, true, err, err_size);
+    if (r == HT_OK)
+        r = ht_output_add_text(out, "full-es2-mediump.frag", "es2_mediump_fragment", main_fragment(plan, ES_MEDIUMP),
                                HT_STAGE_FRAGMENT, 100, true, err, err_size);
     if (r != HT_OK) ht_tier_output_free(out);
     return r;
