@@ -74,3 +74,66 @@ ht_mp_desc ht_mp_desc_of_plan(const ht_plan *plan) {
     memcpy(d.light_types, plan->light_types, sizeof d.light_types);
     return d;
 }
+
+/* ---- the desktop fp16 emulation (measurement only, never shipped) ---- */
+
+/* Round-to-nearest fp16 in fp32 GLSL: 11 significant bits above 2^-14, a
+   2^-24 quantum below; the exponent from log2, corrected where log2 is
+   inexact next to a power of two. */
+static const char emulation_functions[] =
+    "float to_half(float x) {\n"
+    "    float a = abs(x);\n"
+    "    float e = floor(log2(max(a, 6.103515625e-05)));\n"
+    "    if (a >= exp2(e + 1.0)) e += 1.0;\n"
+    "    if (a < exp2(e) && e > -14.0) e -= 1.0;\n"
+    "    float q = exp2(e - 10.0);\n"
+    "    return sign(x) * min(floor(a / q + 0.5) * q, 65504.0);\n"
+    "}\n"
+    "vec3 to_half(vec3 v) { return vec3(to_half(v.x), to_half(v.y), to_half(v.z)); }\n";
+
+static bool starts(const char *line, const char *prefix) { return strncmp(line, prefix, strlen(prefix)) == 0; }
+
+/* One line of the ES text as the emulation writes it. */
+static void emulate_line(ht_strbuf *sb, const char *line, size_t n) {
+    char text[4096];
+    snprintf(text, sizeof text, "%.*s", (int)n, line);
+    const char *eq = strstr(text, " = ");
+    if (strcmp(text, "#version 100") == 0) {
+        ht_strbuf_add(sb, "#version 120\n");
+    } else if (strcmp(text, "precision mediump float;") == 0) {
+        ht_strbuf_add(sb, emulation_functions);
+    } else if (strstr(text, "discard;") || starts(text, "uniform mediump float")) {
+        /* desktop GL keeps the alpha test of the pass (GLSL 1.20 has no
+           precision qualifiers) */
+    } else if (starts(text, "    vec3 rgb = shade(")) {
+        /* every input rounds as a mediump varying or uniform does */
+        const char *args = text + strlen("    vec3 rgb = shade(");
+        ht_strbuf_add(sb, "    vec3 rgb = shade(");
+        const char *end = strrchr(args, ')');
+        for (const char *a = args; a < end;) {
+            size_t len = strcspn(a, ",)");
+            ht_strbuf_addf(sb, "%sto_half(%.*s)", a == args ? "" : ", ", (int)len, a);
+            a += len;
+            if (*a == ',') a += 2;
+        }
+        ht_strbuf_add(sb, ");\n");
+    } else if (eq && starts(text, "    ") && !starts(text, "    bool ") && !starts(text, "    vec4 ") &&
+               !starts(text, "    gl_") &&
+               !strstr(text, "&&") && !strstr(text, "||") && text[strlen(text) - 1] == ';') {
+        /* a step: its result rounds to fp16 */
+        ht_strbuf_addf(sb, "%.*s = to_half(%.*s);\n", (int)(eq - text), text, (int)(strlen(eq + 3) - 1), eq + 3);
+    } else {
+        ht_strbuf_addf(sb, "%s\n", text);
+    }
+}
+
+char *ht_mp_desktop_emulation(const char *es_text) {
+    ht_strbuf sb;
+    ht_strbuf_init(&sb);
+    for (const char *line = es_text; *line;) {
+        const size_t n = strcspn(line, "\n");
+        emulate_line(&sb, line, n);
+        line += n + (line[n] == '\n');
+    }
+    return ht_strbuf_take(&sb);
+}
