@@ -191,16 +191,21 @@ static int highlight(ht_mp_program *p, const char *name, double exponent) {
     const double floor_log = fmax(HT_MP_EXP2_FLOOR / k, -64.0); /* log2(sin^2) >= -28 anyway */
     const literal a1 = num(-1.0 / ln2), a2 = num(-1.0 / (2.0 * ln2)), a3 = num(-1.0 / (3.0 * ln2)),
                   a4 = num(-1.0 / (4.0 * ln2)), minimum = num(HT_MP_MIN_NORMAL), fl = num(floor_log),
-                  half_e = num(k);
+                  half_e = num(k), root_half_e = num(sqrt(k)), exp2_floor = num(HT_MP_EXP2_FLOOR);
     step(f, "x", HT_MP_MUL, 2, "c", "c");
     step(f, "near_peak", HT_MP_LT, 2, "x", "0.125");
+    /* e/2 log2(1 - x) = (c sqrt(e/2))^2 (a1 + x (a2 + x (a3 + x a4))):
+       c^2 alone falls below 2^-14 (and flushes) while e/2 c^2 still
+       matters, (c sqrt(e/2))^2 does not */
     step(f, "series", HT_MP_MUL, 2, "x", a4.s);
     step(f, "series", HT_MP_ADD, 2, "series", a3.s);
     step(f, "series", HT_MP_MUL, 2, "series", "x");
     step(f, "series", HT_MP_ADD, 2, "series", a2.s);
     step(f, "series", HT_MP_MUL, 2, "series", "x");
     step(f, "series", HT_MP_ADD, 2, "series", a1.s);
-    step(f, "series", HT_MP_MUL, 2, "series", "x");
+    step(f, "u", HT_MP_MUL, 2, "c", root_half_e.s);
+    step(f, "u", HT_MP_MUL, 2, "u", "u");
+    step(f, "series", HT_MP_MUL, 2, "series", "u");
     step(f, "cr", HT_MP_CROSS, 2, "t", "h");
     step(f, "m", HT_MP_ABSMAX, 1, "cr");
     step(f, "apart", HT_MP_GT, 2, "m", "0.0");
@@ -212,9 +217,11 @@ static int highlight(ht_mp_program *p, const char *name, double exponent) {
     step(f, "log_d", HT_MP_LOG2, 1, "d");
     step(f, "log_d", HT_MP_MUL, 2, "log_d", "2.0");
     step(f, "crossed", HT_MP_ADD, 2, "log_d", "log_w2");
-    step(f, "log_sin2", HT_MP_SELECT, 3, "near_peak", "series", "crossed");
-    step(f, "log_sin2", HT_MP_MAX, 2, "log_sin2", fl.s);
-    step(f, "power", HT_MP_MUL, 2, "log_sin2", half_e.s);
+    /* floored before the product: e/2 (-28) would overflow */
+    step(f, "crossed", HT_MP_MAX, 2, "crossed", fl.s);
+    step(f, "crossed", HT_MP_MUL, 2, "crossed", half_e.s);
+    step(f, "power", HT_MP_SELECT, 3, "near_peak", "series", "crossed");
+    step(f, "power", HT_MP_MAX, 2, "power", exp2_floor.s);
     step(f, "power", HT_MP_EXP2, 1, "power");
     step(f, "s", HT_MP_MUL, 2, "rise", "power");
     step(f, "lit", HT_MP_OR, 2, "near_peak", "apart");

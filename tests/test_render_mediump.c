@@ -8,8 +8,8 @@
    against a reference means an added error at R + 9.1 dB (MSEs add), so a
    pair at >= 50 dB loses <= 0.5 dB for any tier measured at up to ~41 dB.
 
-   By default two pairs at 128² (the highest exponent backlit, and
-   Kajiya-Kay); HT_MEDIUMP_ALL_PAIRS=1 measures every shipped material x
+   By default one pair at 128² (the highest exponent, backlit: the half
+   vector near L = -V is where fp16 errs most); HT_MEDIUMP_ALL_PAIRS=1 measures every shipped material x
    scene at 256² with a 2000-hair fur ball (test_render_accuracy's sweep). */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -144,8 +144,7 @@ static void test_fp16_frames_stay_within_the_target_of_fp32(void **state) {
     int below = 0;
     for (size_t mi = 0; mi < sizeof materials / sizeof materials[0]; mi++)
         for (size_t si = 0; si < sizeof scenes / sizeof scenes[0]; si++) {
-            const bool sample = (strcmp(materials[mi], "high-contrast") == 0 && strcmp(scenes[si], "backlit") == 0) ||
-                                (strcmp(materials[mi], "kajiya-kay") == 0 && strcmp(scenes[si], "furball") == 0);
+            const bool sample = strcmp(materials[mi], "high-contrast") == 0 && strcmp(scenes[si], "backlit") == 0;
             if (!all && !sample) continue;
             char material[256], scene[256];
             snprintf(material, sizeof material, "materials/%s.json", materials[mi]);
