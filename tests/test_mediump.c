@@ -22,17 +22,8 @@
 #include <hairtier/model.h>
 #include "mediump.h"
 #include "mediump_mirror.h"
-#include "rng.h"
+#include "mediump_measure.h"
 #include "support_probe.h"
-
-typedef struct errors {
-    int max_byte;   /* largest |mirror - oracle| of any channel, in 1/255 */
-    long samples;
-    long nonfinite; /* colours that are NaN or Inf */
-    ht_mp_stats stats;
-    ht_mp_inputs worst;  /* the inputs of max_byte, printed on failure */
-    double worst_got[3], worst_want[3];
-} errors;
 
 /* The probe materials' colours (support_probe.c write_material). */
 static ht_shading shading(ht_model_kind model, double e1, double s1, double e2, double s2) {
@@ -62,72 +53,28 @@ static ht_mp_desc desc_of(const ht_shading *m, int light_count, const ht_light_t
     return d;
 }
 
-/* |L/|L| + V/|V||: below HT_OPPOSITE the half vector is ill-conditioned
-   (its direction moves by the fp16 error of L and V, ~2^-11, over this
-   length), so those samples are bounded apart. */
-#define HT_OPPOSITE 0.0625
-static double half_length(const double L[3], const double V[3]) {
-    const double l = sqrt(L[0] * L[0] + L[1] * L[1] + L[2] * L[2]), v = sqrt(V[0] * V[0] + V[1] * V[1] + V[2] * V[2]);
-    double h2 = 0;
-    for (int k = 0; k < 3; k++) h2 += (L[k] / l + V[k] / v) * (L[k] / l + V[k] / v);
-    return sqrt(h2);
-}
-
-/* One pixel: the mirror and the oracle on the same inputs, as bytes, into
-   e[0], or e[1] when some light is within HT_OPPOSITE of L = -V. */
-static void compare(const ht_mp_mirror *mm, const ht_mp_desc *d, const ht_mp_inputs *in, bool flush, errors e2[2]) {
-    ht_surface s = { .shift_tex = d->jitter ? in->shift_texel : 0.5,
-                     .sparkle = d->sparkle ? in->sparkle : 1.0,
-                     .ao = in->ao };
-    ht_light_ray rays[HT_MAX_LIGHTS];
-    for (int k = 0; k < 3; k++) {
-        s.T[k] = in->tangent[k];
-        s.N[k] = in->normal[k];
-        s.V[k] = in->eye[k] - in->position[k];
-        s.base[k] = d->base ? in->base[k] : 1.0;
-        for (int i = 0; i < d->light_count; i++) {
-            rays[i].L[k] = in->light[i][k] - (d->light_types[i] == HT_LIGHT_POINT ? in->position[k] : 0.0);
-            rays[i].color[k] = in->colour[i][k];
-        }
-    }
-    double want[3], got[3];
-    errors *e = &e2[0];
-    for (int i = 0; i < d->light_count; i++)
-        if (half_length(rays[i].L, s.V) < HT_OPPOSITE) e = &e2[1];
-    ht_model_shade_d(&d->shading, &s, rays, d->light_count, want);
-    ht_mp_mirror_shade(mm, in, flush, got, &e->stats);
-    e->samples++;
-    for (int k = 0; k < 3; k++) {
-        if (!isfinite(got[k])) {
-            e->nonfinite++;
-            continue;
-        }
-        const int diff = abs(ht_probe_to_byte(got[k]) - ht_probe_to_byte(want[k]));
-        if (diff > e->max_byte) {
-            e->max_byte = diff;
-            e->worst = *in;
-            memcpy(e->worst_got, got, sizeof got);
-            memcpy(e->worst_want, want, sizeof want);
-        }
-    }
-}
-
-static void expect(const char *what, const errors *e, int bound) {
+static void expect(const char *what, const ht_mp_error *e, int bound) {
     if (e->samples == 0) return;
-    printf("%-40s %8ld samples: max %d/255, %ld overflows, %ld subnormal results of %ld\n", what, e->samples,
+    printf("%-44s %8ld samples: max %2d/255, %ld overflows, %ld subnormal results of %ld\n", what, e->samples,
            e->max_byte, e->stats.overflows, e->stats.subnormals, e->stats.results);
     assert_int_equal(e->nonfinite, 0);
     assert_int_equal(e->stats.overflows, 0);
     if (e->max_byte > bound) {
         const ht_mp_inputs *w = &e->worst;
-        printf("  worst: P (%g %g %g) T (%g %g %g) N (%g %g %g) eye (%g %g %g) L0 (%g %g %g) L1 (%g %g %g)\n"
-               "  mirror (%g %g %g) oracle (%g %g %g)\n",
+        printf("  worst: P (%g %g %g) T (%g %g %g) N (%g %g %g) eye (%g %g %g) L0 (%g %g %g) L1 (%g %g %g)\n",
                w->position[0], w->position[1], w->position[2], w->tangent[0], w->tangent[1], w->tangent[2],
                w->normal[0], w->normal[1], w->normal[2], w->eye[0], w->eye[1], w->eye[2], w->light[0][0],
-               w->light[0][1], w->light[0][2], w->light[1][0], w->light[1][1], w->light[1][2], e->worst_got[0],
-               e->worst_got[1], e->worst_got[2], e->worst_want[0], e->worst_want[1], e->worst_want[2]);
+               w->light[0][1], w->light[0][2], w->light[1][0], w->light[1][1], w->light[1][2]);
         fail_msg("%s: %d/255 > the pinned %d/255", what, e->max_byte, bound);
     }
+}
+
+static void expect_both(const char *what, bool flush, const ht_mp_measurement *m, int bound, int opposite_bound) {
+    char line[128];
+    snprintf(line, sizeof line, "%s%s", what, flush ? " (flushed)" : "");
+    expect(line, &m->regular, bound);
+    snprintf(line, sizeof line, "%s, L ~ -V%s", what, flush ? " (flushed)" : "");
+    expect(line, &m->opposite, opposite_bound);
 }
 
 /* ---- the probe grid ---- */
@@ -137,7 +84,7 @@ static void probe_with(const char *name, const ht_shading *m, ht_light light, in
     const ht_mp_desc d = desc_of(m, 1, &type, false);
     ht_mp_mirror *mm = mirror_of(&d);
     for (int flush = 0; flush < 2; flush++) {
-        errors e[2] = { 0 };
+        ht_mp_measurement e = { 0 };
         for (int py = 0; py < HT_PROBE_SIZE; py++)
             for (int px = 0; px < HT_PROBE_SIZE; px++) {
                 double P[3];
@@ -152,13 +99,11 @@ static void probe_with(const char *name, const ht_shading *m, ht_light light, in
                     in.light[0][k] = light.vector[k];
                     in.colour[0][k] = light.color[k];
                 }
-                compare(mm, &d, &in, flush, e);
+                ht_mp_compare(mm, &d, &in, flush, &e);
             }
         char what[96];
-        snprintf(what, sizeof what, "probe %s%s", name, flush ? " (flushed)" : "");
-        expect(what, &e[0], bound);
-        snprintf(what, sizeof what, "probe %s, L ~ -V%s", name, flush ? " (flushed)" : "");
-        expect(what, &e[1], opposite_bound);
+        snprintf(what, sizeof what, "probe %s", name);
+        expect_both(what, flush, &e, bound, opposite_bound);
     }
     ht_mp_mirror_free(mm);
 }
@@ -195,62 +140,23 @@ static void test_probe_at_the_maximum_exponent(void **state) {
 
 /* ---- random directions ---- */
 
-static void random_vector(ht_rng *r, double min_log2, double max_log2, double v[3]) {
-    double len;
-    do {
-        for (int k = 0; k < 3; k++) v[k] = ht_rng_range(r, -1, 1);
-        len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    } while (len < 1e-3 || len > 1);
-    const double scale = exp2(ht_rng_range(r, min_log2, max_log2)) / len;
-    for (int k = 0; k < 3; k++) v[k] *= scale;
-}
-
 static long samples(void) {
     const char *s = getenv("HT_MEDIUMP_SAMPLES");
     long n = s ? strtol(s, NULL, 10) : 20000;
     return n > 0 ? n : 20000;
 }
 
-/* Two lights (one point), textures, ao, T, N and the directional light
-   2^-4 .. 2^10 long (2^20 squared: a plain dot(v, v) would overflow). */
+/* Two lights (one point), textures, ao: mediump_measure.h's inputs. */
 static void random_with(const char *name, const ht_shading *m, int bound, int opposite_bound) {
     const ht_light_type types[2] = { HT_LIGHT_DIRECTIONAL, HT_LIGHT_POINT };
     const ht_mp_desc d = desc_of(m, 2, types, true);
-    ht_mp_mirror *mm = mirror_of(&d);
-    const long n = samples();
     for (int flush = 0; flush < 2; flush++) {
-        ht_rng r = ht_rng_seed(2101);
-        errors e[2] = { 0 };
-        for (long i = 0; i < n; i++) {
-            ht_mp_inputs in = { .shift_texel = ht_rng_unit(&r), .sparkle = ht_rng_unit(&r), .ao = ht_rng_unit(&r) };
-            /* from 2^-4: a shorter vector's small components fall below
-               2^-14 and flush, which no rescaling can undo */
-            random_vector(&r, -4, 10, in.tangent);
-            random_vector(&r, -4, 10, in.normal);
-            /* positions near a unit-sized head, the eye and point light
-               at least 2 units away: mediump positions carry 2^-11 of
-               their size (docs/accuracy.md) */
-            random_vector(&r, -4, 1, in.position);
-            double view[3];
-            random_vector(&r, 1, 6, view);
-            random_vector(&r, -4, 10, in.light[0]);
-            random_vector(&r, 1, 6, in.light[1]);
-            for (int k = 0; k < 3; k++) {
-                in.eye[k] = in.position[k] + view[k];
-                in.light[1][k] += in.position[k];
-                in.base[k] = ht_rng_unit(&r);
-                in.colour[0][k] = ht_rng_range(&r, 0, 1);
-                in.colour[1][k] = ht_rng_range(&r, 0, 1);
-            }
-            compare(mm, &d, &in, flush, e);
-        }
+        ht_mp_measurement e = { 0 };
+        assert_true(ht_mp_measure_random(&d, samples(), 2101, flush, NULL, &e));
         char what[96];
-        snprintf(what, sizeof what, "random %s%s", name, flush ? " (flushed)" : "");
-        expect(what, &e[0], bound);
-        snprintf(what, sizeof what, "random %s, L ~ -V%s", name, flush ? " (flushed)" : "");
-        expect(what, &e[1], opposite_bound);
+        snprintf(what, sizeof what, "random %s", name);
+        expect_both(what, flush, &e, bound, opposite_bound);
     }
-    ht_mp_mirror_free(mm);
 }
 
 static void test_random_directions(void **state) {
@@ -267,12 +173,117 @@ static void test_random_directions(void **state) {
     random_with("kajiya-kay 60", &kk, 99, 99);
 }
 
+/* ---- the extremes ---- */
+
+/* One directional light, V fixed, L turned so that c = t.H sweeps across
+   the highlight's peak (c = 0) in steps far finer than its width; then T
+   exactly along H, against H, along L. */
+static void sweep_peak(const char *name, const ht_shading *m, int bound) {
+    const ht_light_type type = HT_LIGHT_DIRECTIONAL;
+    const ht_mp_desc d = desc_of(m, 1, &type, false);
+    ht_mp_mirror *mm = mirror_of(&d);
+    for (int flush = 0; flush < 2; flush++) {
+        ht_mp_measurement e = { 0 };
+        for (int i = -2000; i <= 2000; i++) {
+            /* V = z, L in the x-z plane at angle a from z: H at a/2, c = sin(a/2) */
+            const double a = 0.05 * i / 2000.0;
+            ht_mp_inputs in = { .tangent = { 1, 0, 0 }, .normal = { 0, 1, 0 }, .eye = { 0, 0, 3 }, .ao = 1,
+                                .light = { { sin(a), 0, cos(a) } }, .colour = { { 1, 1, 1 } } };
+            ht_mp_compare(mm, &d, &in, flush, &e);
+        }
+        const double H[3] = { sin(0.5), 0, cos(0.5) };
+        const ht_mp_inputs special[] = {
+            { .tangent = { H[0], H[1], H[2] }, .normal = { 0, 1, 0 }, .eye = { 0, 0, 3 }, .ao = 1, /* T || H */
+              .light = { { sin(1.0), 0, cos(1.0) } }, .colour = { { 1, 1, 1 } } },
+            { .tangent = { -H[0], -H[1], -H[2] }, .normal = { 0, 1, 0 }, .eye = { 0, 0, 3 }, .ao = 1, /* T = -H */
+              .light = { { sin(1.0), 0, cos(1.0) } }, .colour = { { 1, 1, 1 } } },
+            { .tangent = { sin(1.0), 0, cos(1.0) }, .normal = { 0, 1, 0 }, .eye = { 0, 0, 3 }, .ao = 1, /* T || L */
+              .light = { { sin(1.0), 0, cos(1.0) } }, .colour = { { 1, 1, 1 } } },
+            { .tangent = { 0, 0, 1 }, .normal = { 1, 0, 0 }, .eye = { 0, 0, 3 }, .ao = 1, /* grazing: L, V _|_ N */
+              .light = { { 0, 1, 0 } }, .colour = { { 1, 1, 1 } } },
+        };
+        for (size_t k = 0; k < sizeof special / sizeof special[0]; k++) ht_mp_compare(mm, &d, &special[k], flush, &e);
+        char what[96];
+        snprintf(what, sizeof what, "peak and parallels %s", name);
+        expect_both(what, flush, &e, bound, 0);
+    }
+    ht_mp_mirror_free(mm);
+}
+
+static void test_extremes(void **state) {
+    (void)state;
+    const ht_shading plain = shading(HT_MODEL_SCHEUERMANN, 80, 0, 24, 0);
+    const ht_shading contrast = shading(HT_MODEL_SCHEUERMANN, 900, 0, 300, 0);
+    const ht_shading huge = shading(HT_MODEL_SCHEUERMANN, HT_LIMIT_EXPONENT, 0, HT_LIMIT_EXPONENT, 0);
+    const ht_shading kk = shading(HT_MODEL_KAJIYA_KAY, 60, 0, 0, 0);
+    sweep_peak("80 / 24", &plain, 99);
+    sweep_peak("900 / 300", &contrast, 99);
+    sweep_peak("10000 / 10000", &huge, 99);
+    sweep_peak("kajiya-kay 60", &kk, 99);
+}
+
+/* The overflow count has teeth: normalize(v) as a plain dot(v, v) overflows
+   fp16 for |v| = 300 (90 000 > 65 504), which the table's rescaled
+   normalize_or_zero never does (the random sweep's 2^10-long vectors). */
+static void test_a_plain_normalize_overflows(void **state) {
+    (void)state;
+    ht_mp_program *p = calloc(1, sizeof *p);
+    assert_non_null(p);
+    ht_mp_function *f = &p->functions[p->function_count++];
+    snprintf(f->name, sizeof f->name, "shade");
+    f->type = HT_MP_VEC3;
+    snprintf(f->params[0], sizeof f->params[0], "tangent");
+    f->param_types[f->param_count++] = HT_MP_VEC3;
+    f->steps[f->step_count++] = (ht_mp_step){ .op = HT_MP_DOT, .arg_count = 2, .dst = "len2", .args = { "tangent", "tangent" } };
+    f->steps[f->step_count++] = (ht_mp_step){ .op = HT_MP_INVSQRT, .arg_count = 1, .dst = "r", .args = { "len2" } };
+    f->steps[f->step_count++] = (ht_mp_step){ .op = HT_MP_MUL, .arg_count = 2, .dst = "u", .args = { "tangent", "r" } };
+    snprintf(f->result, sizeof f->result, "u");
+    char err[256];
+    ht_mp_mirror *mm = ht_mp_mirror_new(p, err, sizeof err);
+    free(p);
+    assert_non_null(mm);
+    ht_mp_stats stats = { 0 };
+    double rgb[3];
+    ht_mp_mirror_shade(mm, &(ht_mp_inputs){ .tangent = { 300, 0, 0 } }, false, rgb, &stats);
+    assert_true(stats.overflows > 0);
+    ht_mp_mirror_free(mm);
+}
+
+/* The rounding helper against GCC's _Float16 (correctly rounded, ties to
+   even) where the compiler has it, on every magnitude fp16 has and ties. */
+static void test_round_half_matches_float16(void **state) {
+    (void)state;
+#ifdef __FLT16_MAX__
+    for (int e = -30; e <= 17; e++)
+        for (int i = 0; i < 4096; i++) {
+            const double x = ldexp(1.0 + i / 4096.0, e);
+            for (int sign = -1; sign <= 1; sign += 2) {
+                const double want = (double)(_Float16)(sign * x), got = ht_mp_round_half(sign * x);
+                if (!(want == got || (isinf(want) && isinf(got) && (want > 0) == (got > 0))))
+                    fail_msg("%.17g: %.17g, _Float16 %.17g", sign * x, got, want);
+            }
+        }
+#else
+    printf("no _Float16 in this compiler: helper checked on the fp16 edges only\n");
+#endif
+    assert_true(ht_mp_round_half(65504.0) == 65504.0);
+    assert_true(isinf(ht_mp_round_half(65520.0)));
+    assert_true(ht_mp_round_half(65519.0) == 65504.0);
+    assert_true(ht_mp_round_half(1.0 + 0x1p-11) == 1.0);            /* a tie: to even */
+    assert_true(ht_mp_round_half(1.0 + 3 * 0x1p-11) == 1.0 + 0x1p-9); /* a tie: to even */
+    assert_true(ht_mp_round_half(0x1p-25) == 0.0);                     /* half the least subnormal: to even 0 */
+    assert_true(ht_mp_round_half(0x1.8p-24) == 0x1p-23);
+}
+
 int main(void) {
     ht_probe_make_cells();
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_probe_within_3_of_255),
         cmocka_unit_test(test_probe_at_the_maximum_exponent),
         cmocka_unit_test(test_random_directions),
+        cmocka_unit_test(test_extremes),
+        cmocka_unit_test(test_a_plain_normalize_overflows),
+        cmocka_unit_test(test_round_half_matches_float16),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
