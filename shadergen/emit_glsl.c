@@ -11,6 +11,7 @@
 
 #include "glsl_stages.h"
 #include "mediump_glsl.h"
+#include "mediump_measure.h"
 #include "shader_interface.h"
 #include "strbuf.h"
 
@@ -124,6 +125,22 @@ static char *main_fragment(const ht_plan *plan, fragment_variant variant) {
     ht_strbuf_addf(&sb, "    gl_FragColor = vec4(rgb, %s);\n", alpha);
     ht_strbuf_add(&sb, "}\n");
     return ht_strbuf_take(&sb);
+}
+
+/* Random directions the manifest's mediump error is measured on: 0.05 s of
+   hairgen's time, within 1/255 of the 10^6 sweep (docs/accuracy.md). */
+#define MEDIUMP_SAMPLES 2048
+#define MEDIUMP_SEED 21
+
+void ht_emit_full_mediump_error(const ht_plan *plan, ht_tier_output *out) {
+    const ht_mp_desc d = ht_mp_desc_of_plan(plan);
+    for (int flush = 0; flush < 2; flush++) {
+        ht_mp_measurement m = { 0 };
+        if (!ht_mp_measure_random(&d, MEDIUMP_SAMPLES, MEDIUMP_SEED, flush, plan->light_colors, &m)) return;
+        out->mediump.samples = m.regular.samples + m.opposite.samples;
+        if (m.regular.max_byte > out->mediump.max_byte) out->mediump.max_byte = m.regular.max_byte;
+        if (m.opposite.max_byte > out->mediump.opposite_max_byte) out->mediump.opposite_max_byte = m.opposite.max_byte;
+    }
 }
 
 ht_result ht_emit_full(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size) {
