@@ -1,9 +1,10 @@
 /* test_mediump.c — the fp16 mirror of full-es2-mediump.frag against the
    oracle (ht_model_shade_d): on the probe grid of test_render_probe.c, on
-   random directions and lengths, and at the extremes (exponent 10000, T || H,
-   T || L, grazing, vectors from 2^-10 to 2^10 long). No step may overflow
-   fp16, no colour may be NaN or Inf, and the 8-bit error stays within the
-   bounds docs/accuracy.md reports. Every measurement runs twice: with fp16
+   random directions and lengths (mediump_measure.h), and at the extremes
+   (exponent 10000 across its peak, T || H, T = -H, T || L, grazing). No
+   step may overflow fp16, no colour may be NaN or Inf, and the 8-bit error
+   stays within the bounds docs/accuracy.md reports, near L = -V apart
+   (mediump_measure.h says why). Every measurement runs twice: with fp16
    subnormals and flushed to zero (devices differ).
 
    HT_MEDIUMP_SAMPLES=N sets the random directions per material (default
@@ -118,15 +119,15 @@ static void test_probe_within_3_of_255(void **state) {
     const ht_shading wide = shading(HT_MODEL_SCHEUERMANN, 80, 100.0, 24, -100.0);
     const ht_shading zero = shading(HT_MODEL_SCHEUERMANN, 0, 0, 0, 0);
     const ht_shading kk = shading(HT_MODEL_KAJIYA_KAY, 60, 0, 0, 0);
-    probe_with("plain, first light", &plain, first_light(), 3, 99);
-    probe_with("plain, L = -V at the centre", &plain, ht_probe_directional(0, 0, -1), 3, 99);
-    probe_with("plain, L = V", &plain, ht_probe_directional(0, 0, 1), 3, 99);
-    probe_with("plain, grazing light", &plain, ht_probe_directional(1, 0, 0), 3, 99);
+    probe_with("plain, first light", &plain, first_light(), 3, 0);
+    probe_with("plain, L = -V at the centre", &plain, ht_probe_directional(0, 0, -1), 3, 4);
+    probe_with("plain, L = V", &plain, ht_probe_directional(0, 0, 1), 3, 0);
+    probe_with("plain, grazing light", &plain, ht_probe_directional(1, 0, 0), 3, 0);
     probe_with("plain, point light", &plain,
-               (ht_light){ HT_LIGHT_POINT, { 0.8f, 1.1f, 1.5f }, { 1.0f, 0.9f, 0.8f } }, 3, 99);
-    probe_with("shift 100", &wide, first_light(), 3, 99);
-    probe_with("exponent 0", &zero, first_light(), 3, 99);
-    probe_with("kajiya-kay", &kk, first_light(), 3, 99);
+               (ht_light){ HT_LIGHT_POINT, { 0.8f, 1.1f, 1.5f }, { 1.0f, 0.9f, 0.8f } }, 3, 0);
+    probe_with("shift 100", &wide, first_light(), 3, 0);
+    probe_with("exponent 0", &zero, first_light(), 3, 0);
+    probe_with("kajiya-kay", &kk, first_light(), 3, 0);
 }
 
 /* Exponent 10000, the material maximum: the highlight is 0.014 wide, and
@@ -135,7 +136,7 @@ static void test_probe_within_3_of_255(void **state) {
 static void test_probe_at_the_maximum_exponent(void **state) {
     (void)state;
     const ht_shading huge = shading(HT_MODEL_SCHEUERMANN, HT_LIMIT_EXPONENT, 0, HT_LIMIT_EXPONENT, 0);
-    probe_with("exponent 10000", &huge, first_light(), 6, 99);
+    probe_with("exponent 10000", &huge, first_light(), 6, 0);
 }
 
 /* ---- random directions ---- */
@@ -216,10 +217,10 @@ static void test_extremes(void **state) {
     const ht_shading contrast = shading(HT_MODEL_SCHEUERMANN, 900, 0, 300, 0);
     const ht_shading huge = shading(HT_MODEL_SCHEUERMANN, HT_LIMIT_EXPONENT, 0, HT_LIMIT_EXPONENT, 0);
     const ht_shading kk = shading(HT_MODEL_KAJIYA_KAY, 60, 0, 0, 0);
-    sweep_peak("80 / 24", &plain, 99);
-    sweep_peak("900 / 300", &contrast, 99);
-    sweep_peak("10000 / 10000", &huge, 99);
-    sweep_peak("kajiya-kay 60", &kk, 99);
+    sweep_peak("80 / 24", &plain, 1);
+    sweep_peak("900 / 300", &contrast, 1);
+    sweep_peak("10000 / 10000", &huge, 1);
+    sweep_peak("kajiya-kay 60", &kk, 1);
 }
 
 /* The overflow count has teeth: normalize(v) as a plain dot(v, v) overflows
