@@ -167,11 +167,14 @@ static void test_random_directions(void **state) {
     const ht_shading huge = shading(HT_MODEL_SCHEUERMANN, HT_LIMIT_EXPONENT, 0, HT_LIMIT_EXPONENT, 0);
     const ht_shading small = shading(HT_MODEL_SCHEUERMANN, 0.5, 0, 0.01, 0);
     const ht_shading kk = shading(HT_MODEL_KAJIYA_KAY, 60, 0, 0, 0);
-    random_with("80 / 24", &plain, 99, 99);
-    random_with("900 / 300", &contrast, 99, 99);
-    random_with("10000 / 10000", &huge, 99, 99);
-    random_with("0.5 / 0.01", &small, 99, 99);
-    random_with("kajiya-kay 60", &kk, 99, 99);
+    /* the 10^6 run's maxima (docs/accuracy.md): make test's 20 000 samples
+       are its first; the misses of 3/255 are fp16's direction error times
+       the exponent, and L ~ -V */
+    random_with("80 / 24", &plain, 5, 48);
+    random_with("900 / 300", &contrast, 27, 36);
+    random_with("10000 / 10000", &huge, 59, 98);
+    random_with("0.5 / 0.01", &small, 2, 17);
+    random_with("kajiya-kay 60", &kk, 4, 44);
 }
 
 /* ---- the extremes ---- */
