@@ -30,8 +30,15 @@
 /* Best first: the order the runtime walks. */
 enum { TIER_MARSCHNER, TIER_FULL, TIER_VERTEX, TIER_FIXED4, TIER_FIXED, TIER_GL11 };
 
+/* The bundle's full tier carries its mediump variant's measured error. */
+static ht_result emit_full_measured(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size) {
+    ht_result r = ht_emit_full(plan, out, err, err_size);
+    if (r == HT_OK) ht_emit_full_mediump_error(plan, out);
+    return r;
+}
+
 static ht_result (*const emitters[HT_BUILD_TIERS])(const ht_plan *, ht_tier_output *, char *, size_t) = {
-    ht_emit_marschner, ht_emit_full, ht_emit_vertex, ht_emit_fixed4, ht_emit_fixed, ht_emit_gl11
+    ht_emit_marschner, emit_full_measured, ht_emit_vertex, ht_emit_fixed4, ht_emit_fixed, ht_emit_gl11
 };
 
 /* Whether a tier's emitter reads plan.sparkle_mean or plan.albedo_max, and

@@ -13,9 +13,9 @@ typedef enum ht_stage {
 } ht_stage;
 
 typedef struct ht_out_text {
-    char file[48];       /* "full.vert", "full-es.frag", "fixed.json" */
+    char file[48];       /* "full.vert", "full-es2.frag", "fixed.json" */
     char role[24];       /* manifest key: "vertex", "fragment", "prime_vertex",
-                            "prime_fragment", "es_vertex", "es_fragment", "program" */
+                            "prime_fragment", "program"; "" for an ES text, named by an es entry */
     char *text;          /* malloc'd, NUL-terminated */
     ht_stage stage;
     int glsl_version;    /* 110, 120, 100 (ES) */
@@ -65,6 +65,13 @@ typedef struct ht_tier_output {
     int feature_count;
     char dropped[HT_OUT_MAX_LIST][160];
     int dropped_count;
+    /* full only: its mediump fragment variant's 8-bit error as the fp16
+       mirror measures it against the tier's model (mediump_measure.h);
+       samples 0 when the tier has no such variant. */
+    struct {
+        long samples;
+        int max_byte, opposite_max_byte; /* opposite: some light within HT_MP_OPPOSITE of L = -V */
+    } mediump;
 } ht_tier_output;
 
 void ht_tier_output_free(ht_tier_output *out);
@@ -72,6 +79,11 @@ void ht_tier_output_free(ht_tier_output *out);
 /* Each returns HT_OK or HT_ERR_COMPILE with glslang's log in err. Every GLSL
    text is validated with ht_glsl_validate before it is returned. */
 ht_result ht_emit_full(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
+/* Fills out->mediump (the full tier's, emitted from plan): its mediump
+   variant's error under the scene's lights, with and without fp16
+   subnormals (the larger), on 2048 random directions (~0.05 s; the
+   generator's build runs it, ht_emit_full alone does not). */
+void ht_emit_full_mediump_error(const ht_plan *plan, ht_tier_output *out);
 ht_result ht_emit_vertex(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
 ht_result ht_emit_fixed(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size);
 /* HT_ERR_UNSUPPORTED (err says why) when the plan needs what the tier

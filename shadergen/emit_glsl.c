@@ -1,14 +1,25 @@
 /* emit_glsl.c — the full tier: the shading model per pixel in GLSL 1.20, its
-   alpha-only Z-prime program, and the main pair for GL ES (ESSL 1.00, and
-   ESSL 3.00 converted from it). Only
+   alpha-only Z-prime program, the main pair for GL ES (ESSL 1.00, and
+   ESSL 3.00 converted from it), and an ESSL 1.00 all-mediump fragment
+   stage for devices without fragment highp (full-es2-mediump.frag, paired
+   with full-es2.vert; mediump.h). Only
    what the plan models is written; material constants are literals, so the
    runtime sets nothing but the eye, the lights and the samplers. */
 #include <stdio.h>
 #include <string.h>
 
-#include "shader_interface.h"
+#include <stdlib.h>
+
 #include "glsl_stages.h"
+#include "mediump_glsl.h"
+#include "mediump_measure.h"
+#include "shader_interface.h"
 #include "strbuf.h"
+
+/* Which fragment text: desktop GLSL 1.20, ESSL 1.00 with highp directions
+   where the device has them, or ESSL 1.00 all mediump (fp16-safe: the
+   table of mediump.h). */
+typedef enum fragment_variant { DESKTOP, ES, ES_MEDIUMP } fragment_variant;
 
 /* The ES fragment shader's precision choice: directions (normalisation, the
    highlight's sine near 0 or 1) need highp where the device has it; the
@@ -39,7 +50,33 @@ static ht_glsl_vertex_layout layout_of(const ht_plan *plan) {
     return (ht_glsl_vertex_layout){ .banner = banner, .normal = !kajiya_kay(plan), .uv = uses_uv(plan) };
 }
 
-static char *main_fragment(const ht_plan *plan, bool es) {
+/* The mediump table's functions (heap: the table is a few hundred KiB). */
+static void mediump_functions(ht_strbuf *sb, const ht_plan *plan) {
+    ht_mp_program *p = malloc(sizeof *p);
+    if (!p) return; /* glslang then rejects the call to shade() */
+    const ht_mp_desc d = ht_mp_desc_of_plan(plan);
+    ht_mp_build(&d, p);
+    ht_strbuf_add(sb, "/* Every step rounds to fp16 and stays in its range (shadergen/mediump.h). */\n");
+    ht_mp_write_functions(sb, p);
+    free(p);
+}
+
+/* rgb = shade(...) with the table's inputs in its parameter order. */
+static void mediump_call(ht_strbuf *sb, const ht_plan *plan) {
+    ht_strbuf_add(sb, "    vec3 rgb = shade(v_position, v_tangent");
+    if (!kajiya_kay(plan)) ht_strbuf_add(sb, ", v_normal");
+    ht_strbuf_addf(sb, ", %s", HT_U_EYE);
+    for (int i = 0; i < plan->light_count; i++)
+        ht_strbuf_addf(sb, ", %s[%d].xyz, %s[%d]", HT_U_LIGHT_VECTOR, i, HT_U_LIGHT_COLOR, i);
+    if (plan->shift) ht_strbuf_add(sb, ", detail.r");
+    if (plan->sparkle) ht_strbuf_add(sb, ", detail.g");
+    if (plan->base) ht_strbuf_add(sb, ", albedo.rgb");
+    if (plan->ao) ht_strbuf_add(sb, ", v_ao");
+    ht_strbuf_add(sb, ");\n");
+}
+
+static char *main_fragment(const ht_plan *plan, fragment_variant variant) {
+    const bool es = variant != DESKTOP, mediump = variant == ES_MEDIUMP;
     const ht_glsl_vertex_layout layout = layout_of(plan);
     const bool albedo = plan->base || plan->alpha, detail = plan->shift || plan->sparkle;
     ht_glsl_shading_inputs in = {
@@ -50,16 +87,17 @@ static char *main_fragment(const ht_plan *plan, bool es) {
         .sparkle = plan->sparkle ? "detail.g" : NULL,
         .base = plan->base ? "albedo.rgb" : NULL,
         .ao = plan->ao ? "v_ao" : NULL,
-        .direction_precision = es ? ES_DIRECTION : "",
-        .colour_precision = es ? "mediump " : "",
-        .min_length2 = es ? "HT_MIN_LENGTH2" : NULL,
+        .direction_precision = variant == ES ? ES_DIRECTION : "",
+        .colour_precision = variant == ES ? "mediump " : "",
+        .min_length2 = variant == ES ? "HT_MIN_LENGTH2" : NULL,
     };
     const char *dp = in.direction_precision, *cp = in.colour_precision;
     ht_strbuf sb;
     ht_strbuf_init(&sb);
     ht_strbuf_add(&sb, es ? "#version 100\n" : "#version 120\n");
-    banner(&sb, plan, es ? "ESSL fragment stage" : "fragment stage");
-    if (es) ht_strbuf_add(&sb, es_precision_block);
+    banner(&sb, plan, mediump ? "ESSL fragment stage, mediump (fp16-safe)" : es ? "ESSL fragment stage" : "fragment stage");
+    if (variant == ES) ht_strbuf_add(&sb, es_precision_block);
+    if (mediump) ht_strbuf_add(&sb, "precision mediump float;\n");
     if (albedo) ht_strbuf_addf(&sb, "uniform sampler2D %s; /* rgb = base, a = alpha */\n", HT_U_ALBEDO);
     if (detail)
         ht_strbuf_addf(&sb, "uniform sampler2D %s; /* %s */\n", HT_U_DETAIL,
@@ -72,12 +110,14 @@ static char *main_fragment(const ht_plan *plan, bool es) {
     }
     ht_glsl_varyings(&sb, plan, &layout, dp, cp);
     ht_strbuf_add(&sb, "\n");
-    ht_glsl_shading_functions(&sb, plan, &in);
+    if (mediump) mediump_functions(&sb, plan);
+    else ht_glsl_shading_functions(&sb, plan, &in);
     ht_strbuf_add(&sb, "void main() {\n");
     if (albedo) ht_strbuf_addf(&sb, "    %svec4 albedo = texture2D(%s, v_uv);\n", cp, HT_U_ALBEDO);
     if (detail) ht_strbuf_addf(&sb, "    %svec4 detail = texture2D(%s, v_uv);\n", cp, HT_U_DETAIL);
-    if (plan->shift) ht_strbuf_addf(&sb, "    %sfloat jitter = detail.r - 0.5;\n", dp);
-    ht_glsl_shading_body(&sb, plan, &in);
+    if (plan->shift && !mediump) ht_strbuf_addf(&sb, "    %sfloat jitter = detail.r - 0.5;\n", dp);
+    if (mediump) mediump_call(&sb, plan);
+    else ht_glsl_shading_body(&sb, plan, &in);
     const char *alpha = plan->alpha ? "albedo.a" : "1.0";
     if (es) {
         ht_strbuf_addf(&sb, "    if ((%s >= %s) != (%s > 0.5)) discard;\n", alpha, HT_ES_U_ALPHA_REF,
@@ -86,6 +126,23 @@ static char *main_fragment(const ht_plan *plan, bool es) {
     ht_strbuf_addf(&sb, "    gl_FragColor = vec4(rgb, %s);\n", alpha);
     ht_strbuf_add(&sb, "}\n");
     return ht_strbuf_take(&sb);
+}
+
+/* Random directions the manifest's mediump error is measured on: 0.05 s of
+   hairgen's time, within 1/255 of the 10^6 sweep (docs/accuracy.md). */
+#define MEDIUMP_SAMPLES 2048
+#define MEDIUMP_SEED 21
+
+void ht_emit_full_mediump_error(const ht_plan *plan, ht_tier_output *out) {
+    if (ht_model_has_transmission(&plan->shading)) return; /* no mediump text (ht_emit_full) */
+    const ht_mp_desc d = ht_mp_desc_of_plan(plan);
+    for (int flush = 0; flush < 2; flush++) {
+        ht_mp_measurement m = { 0 };
+        if (!ht_mp_measure_random(&d, MEDIUMP_SAMPLES, MEDIUMP_SEED, flush, plan->light_colors, &m)) return;
+        out->mediump.samples = m.regular.samples + m.opposite.samples;
+        if (m.regular.max_byte > out->mediump.max_byte) out->mediump.max_byte = m.regular.max_byte;
+        if (m.opposite.max_byte > out->mediump.opposite_max_byte) out->mediump.opposite_max_byte = m.opposite.max_byte;
+    }
 }
 
 ht_result ht_emit_full(const ht_plan *plan, ht_tier_output *out, char *err, size_t err_size) {
@@ -107,7 +164,7 @@ ht_result ht_emit_full(const ht_plan *plan, ht_tier_output *out, char *err, size
     ht_result r = ht_output_add_text(out, "full.vert", "vertex", ht_glsl_main_vertex(plan, &layout, false),
                                      HT_STAGE_VERTEX, 120, false, err, err_size);
     if (r == HT_OK)
-        r = ht_output_add_text(out, "full.frag", "fragment", main_fragment(plan, false),
+        r = ht_output_add_text(out, "full.frag", "fragment", main_fragment(plan, DESKTOP),
                                HT_STAGE_FRAGMENT, 120, false, err, err_size);
     if (r == HT_OK)
         r = ht_output_add_text(out, "full-prime.vert", "prime_vertex", ht_glsl_prime_stage(plan, banner, false),
@@ -117,8 +174,20 @@ ht_result ht_emit_full(const ht_plan *plan, ht_tier_output *out, char *err, size
                                HT_STAGE_FRAGMENT, 120, false, err, err_size);
     /* GL ES 3.0 and 2.0 (WebGL 2 and 1): the same shading, highp directions. */
     if (r == HT_OK)
-        r = ht_output_add_es_pair(out, "full", ht_glsl_main_vertex(plan, &layout, true), main_fragment(plan, true),
+        r = ht_output_add_es_pair(out, "full", ht_glsl_main_vertex(plan, &layout, true), main_fragment(plan, ES),
                                   "highp", err, err_size);
+    /* ES 2.0 without fragment highp (Mali-400): the fp16-safe text. Its
+       table (mediump.c) has no transmission lobe yet, so a material with
+       one ships none and such a device is refused full with the reason. */
+    if (r == HT_OK && !ht_model_has_transmission(&plan->shading)) {
+        r = ht_output_add_text(out, "full-es2-mediump.frag", "", main_fragment(plan, ES_MEDIUMP), HT_STAGE_FRAGMENT,
+                               100, true, err, err_size);
+        if (r == HT_OK && !ht_output_add_es_entry(out, "2.0", "1.00", "mediump", "full-es2.vert",
+                                                  "full-es2-mediump.frag")) {
+            if (err && err_size) snprintf(err, err_size, "full: too many GL ES variants for one tier");
+            r = HT_ERR_INVALID_ARGUMENT;
+        }
+    }
     if (r != HT_OK) ht_tier_output_free(out);
     return r;
 }

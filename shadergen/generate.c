@@ -177,6 +177,17 @@ static cJSON *tier_entry(const ht_tier_output *t) {
     for (int i = 0; i < t->feature_count; i++)
         cJSON_AddItemToArray(features, cJSON_CreateString(t->features[i]));
     cJSON_AddItemToObject(o, HT_MANIFEST_KEY_DROPPED, string_array(t->dropped, t->dropped_count));
+    if (t->mediump.samples > 0) { /* docs/bundle.md "es2_mediump" */
+        cJSON *mp = cJSON_AddObjectToObject(o, "es2_mediump");
+        cJSON_AddStringToObject(mp, "api", "gles2");
+        cJSON_AddStringToObject(mp, "essl", "1.00");
+        cJSON_AddStringToObject(mp, "fragment_precision", "mediump");
+        cJSON_AddStringToObject(mp, "vertex", "full-es2.vert");
+        cJSON_AddStringToObject(mp, "fragment", "full-es2-mediump.frag");
+        cJSON_AddNumberToObject(mp, "mirror_samples", (double)t->mediump.samples);
+        cJSON_AddNumberToObject(mp, "mirror_max_error", t->mediump.max_byte);
+        cJSON_AddNumberToObject(mp, "mirror_max_error_near_opposite", t->mediump.opposite_max_byte);
+    }
     return o;
 }
 

@@ -17,6 +17,7 @@
 
 #include "emit.h"
 #include "fixed4_program.h"
+#include "mediump_glsl.h"
 #include "shader_interface.h"
 #include "strbuf.h"
 
@@ -144,7 +145,7 @@ static void check_output(const ht_plan *p, const emitted *e) {
         }
     }
     assert_int_equal(e->full.tier, HT_TIER_FULL);
-    assert_int_equal(e->full.text_count, 8); /* desktop pair, prime pair, ES 3.0 and ES 2.0 pairs */
+    assert_int_equal(e->full.text_count, 9); /* desktop pair, prime pair, ES 3.0 and ES 2.0 pairs, ES 2.0 mediump */
     assert_string_equal(e->full.requires.gl, "2.1");
     assert_string_equal(e->full.requires.glsl, "1.20");
     assert_int_equal(e->full.requires.texture_units, p->texture_count);
@@ -158,16 +159,19 @@ static void check_output(const ht_plan *p, const emitted *e) {
                                { "full-prime.vert", "prime_vertex" }, { "full-prime.frag", "prime_fragment" },
                                /* the ES texts are named by the "es" entries, not as desktop files */
                                { "full-es3.vert", "" }, { "full-es3.frag", "" },
-                               { "full-es2.vert", "" }, { "full-es2.frag", "" } };
-    for (int i = 0; i < 8; i++) assert_string_equal(text_of(&e->full, roles[i][0])->role, roles[i][1]);
+                               { "full-es2.vert", "" }, { "full-es2.frag", "" }, { "full-es2-mediump.frag", "" } };
+    for (int i = 0; i < 9; i++) assert_string_equal(text_of(&e->full, roles[i][0])->role, roles[i][1]);
     assert_int_equal(text_of(&e->full, "full.frag")->glsl_version, 120);
     assert_true(text_of(&e->full, "full-es2.frag")->es);
     assert_int_equal(text_of(&e->full, "full-es2.frag")->glsl_version, 100);
     assert_true(text_of(&e->full, "full-es3.frag")->es);
     assert_int_equal(text_of(&e->full, "full-es3.frag")->glsl_version, 300);
+    assert_true(text_of(&e->full, "full-es2-mediump.frag")->es);
+    assert_int_equal(text_of(&e->full, "full-es2-mediump.frag")->glsl_version, 100);
     /* ES 3.0 first (best first), each with its ESSL version and the highp
-       the shading's directions need. */
-    assert_int_equal(e->full.es_count, 2);
+       the shading's directions need; last the ES 2.0 all-mediump text on the
+       same vertex stage, for a device without fragment highp. */
+    assert_int_equal(e->full.es_count, 3);
     assert_string_equal(e->full.es[0].version, "3.0");
     assert_string_equal(e->full.es[0].essl, "3.00");
     assert_string_equal(e->full.es[0].fragment, "full-es3.frag");
@@ -175,6 +179,10 @@ static void check_output(const ht_plan *p, const emitted *e) {
     assert_string_equal(e->full.es[1].essl, "1.00");
     assert_string_equal(e->full.es[1].vertex, "full-es2.vert");
     assert_string_equal(e->full.es[1].precision, "highp");
+    assert_string_equal(e->full.es[2].version, "2.0");
+    assert_string_equal(e->full.es[2].vertex, "full-es2.vert");
+    assert_string_equal(e->full.es[2].fragment, "full-es2-mediump.frag");
+    assert_string_equal(e->full.es[2].precision, "mediump");
 
     assert_int_equal(e->vertex.tier, HT_TIER_VERTEX);
     /* two desktop vertex shaders, the LUT program, two ES pairs */
@@ -506,6 +514,39 @@ static void test_es_fragment_discards_against_the_alpha_uniforms(void **state) {
     free_both(&e);
 }
 
+/* The mediump text is the table the fp16 mirror evaluates, written out
+   whole (no step lost or added between the two), all in mediump. */
+static void test_mediump_fragment_is_the_mirrored_table(void **state) {
+    (void)state;
+    ht_material m = dark_brown_like();
+    for (int lights = 1; lights <= 2; lights++) {
+        ht_plan p = plan_of(&m, lights, 0);
+        emitted e;
+        emit_both(&p, &e);
+        const char *text = text_of(&e.full, "full-es2-mediump.frag")->text;
+        ht_mp_program *prog = malloc(sizeof *prog);
+        assert_non_null(prog);
+        const ht_mp_desc d = ht_mp_desc_of_plan(&p);
+        ht_mp_build(&d, prog);
+        ht_strbuf sb;
+        ht_strbuf_init(&sb);
+        ht_mp_write_functions(&sb, prog);
+        char *functions = ht_strbuf_take(&sb);
+        assert_non_null(strstr(text, functions));
+        assert_non_null(strstr(text, "precision mediump float;\n"));
+        assert_null(strstr(text, "highp"));
+        assert_non_null(strstr(text, "vec3 rgb = shade(v_position, v_tangent, v_normal, u_eye, u_light_vector[0].xyz"));
+        /* the manifest's measurement of it */
+        assert_int_equal(e.full.mediump.samples, 0);
+        ht_emit_full_mediump_error(&p, &e.full);
+        assert_int_equal(e.full.mediump.samples, 2048);
+        assert_true(e.full.mediump.max_byte <= 3);
+        free(functions);
+        free(prog);
+        free_both(&e);
+    }
+}
+
 static void test_vertex_tier_drops_shift_and_sparkle_with_reasons(void **state) {
     (void)state;
     ht_material m = dark_brown_like();
@@ -606,6 +647,7 @@ int main(void) {
         cmocka_unit_test(test_emitting_twice_is_byte_identical),
         cmocka_unit_test(test_extreme_exponents_and_shifts_validate_and_stay_guarded),
         cmocka_unit_test(test_es_fragment_discards_against_the_alpha_uniforms),
+        cmocka_unit_test(test_mediump_fragment_is_the_mirrored_table),
         cmocka_unit_test(test_vertex_tier_drops_shift_and_sparkle_with_reasons),
         cmocka_unit_test(test_float_literals_read_back_exactly_and_validate),
         cmocka_unit_test(test_float_literals_ignore_the_locale),
