@@ -182,9 +182,9 @@ static void test_es3_application_state_survives_a_frame(void **state) {
     offscreen_close(gl);
 }
 
-/* The highp text on a device without fragment highp: refused with the
-   reason, the vertex tier's mediump text drawn; with a mediump variant in
-   the manifest, that variant. */
+/* A device without fragment highp: full through the bundle's all-mediump
+   ES 2.0 text; with that entry removed from the manifest, the highp text
+   refused with the reason and the vertex tier's mediump text drawn. */
 static void test_es3_no_fragment_highp_takes_mediump_or_refuses_with_reason(void **state) {
     (void)state;
     HT_TEST_DRIVER_INDEPENDENT();
@@ -196,37 +196,38 @@ static void test_es3_no_fragment_highp_takes_mediump_or_refuses_with_reason(void
     ht_test_es_draw d;
     if (!ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES3, HT_TIER_AUTO, &mali, &d)) fail_msg("%s", d.log);
     assert_non_null(strstr(d.log, "device GL ES 2.0, ESSL 1.00, fragment mediump only"));
-    assert_non_null(strstr(d.log, "skipped full: full-es2.frag needs fragment highp, the device's fragment stage "
-                                  "has none (glGetShaderPrecisionFormat), and the bundle has no mediump variant"));
-    assert_int_equal(d.tier, HT_TIER_VERTEX);
-    assert_non_null(strstr(d.log, "vertex-es2.frag (ESSL 1.00, fragment mediump)"));
+    assert_int_equal(d.tier, HT_TIER_FULL);
+    assert_non_null(strstr(d.log, "full-es2-mediump.frag (ESSL 1.00, fragment mediump)"));
+    ht_test_es_draw_free(&d);
+    /* With highp the highp texts stay first. */
+    if (!ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES3, HT_TIER_AUTO, NULL, &d)) fail_msg("%s", d.log);
+    assert_non_null(strstr(d.log, "full-es3.frag (ESSL 3.00, fragment highp)"));
     ht_test_es_draw_free(&d);
 
-    /* Forced and strict, the refusal is the error. */
-    assert_false(ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES3, HT_TIER_FULL, &mali, &d));
-    assert_non_null(strstr(d.log, "needs fragment highp"));
-
-    /* A bundle whose full tier lists a mediump ES 2.0 text gets it. */
+    /* The same bundle without its mediump entry. */
     char copy[160];
-    snprintf(copy, sizeof copy, "%s-mediump", bundle);
+    snprintf(copy, sizeof copy, "%s-highp-only", bundle);
     ht_test_copy_dir(bundle, copy);
     cJSON *root = ht_test_read_json(copy, "manifest.json");
     cJSON *full = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "tiers"), 0);
     assert_string_equal(cJSON_GetObjectItem(full, "name")->valuestring, "full");
-    cJSON *entry = cJSON_Duplicate(cJSON_GetArrayItem(cJSON_GetObjectItem(full, "es"), 1), 1);
-    cJSON_ReplaceItemInObject(entry, "fragment_precision", cJSON_CreateString("mediump"));
-    cJSON_AddItemToArray(cJSON_GetObjectItem(full, "es"), entry);
+    cJSON *es = cJSON_GetObjectItem(full, "es");
+    assert_int_equal(cJSON_GetArraySize(es), 3);
+    assert_string_equal(cJSON_GetObjectItem(cJSON_GetArrayItem(es, 2), "fragment_precision")->valuestring, "mediump");
+    cJSON_DeleteItemFromArray(es, 2);
     char *text = cJSON_Print(root);
     ht_test_write_file(copy, "manifest.json", text);
     free(text);
     cJSON_Delete(root);
     if (!ht_test_es_draw_scene(copy, "furball", OFFSCREEN_API_GLES3, HT_TIER_AUTO, &mali, &d)) fail_msg("%s", d.log);
-    assert_int_equal(d.tier, HT_TIER_FULL);
-    assert_non_null(strstr(d.log, "full-es2.frag (ESSL 1.00, fragment mediump)"));
+    assert_non_null(strstr(d.log, "skipped full: full-es2.frag needs fragment highp, the device's fragment stage "
+                                  "has none (glGetShaderPrecisionFormat), and the bundle has no mediump variant"));
+    assert_int_equal(d.tier, HT_TIER_VERTEX);
+    assert_non_null(strstr(d.log, "vertex-es2.frag (ESSL 1.00, fragment mediump)"));
     ht_test_es_draw_free(&d);
-    /* With highp the highp text stays first. */
-    if (!ht_test_es_draw_scene(copy, "furball", OFFSCREEN_API_GLES3, HT_TIER_AUTO, NULL, &d)) fail_msg("%s", d.log);
-    assert_non_null(strstr(d.log, "full-es3.frag (ESSL 3.00, fragment highp)"));
+    /* Forced and strict, the refusal is the error. */
+    assert_false(ht_test_es_draw_scene(copy, "furball", OFFSCREEN_API_GLES3, HT_TIER_FULL, &mali, &d));
+    assert_non_null(strstr(d.log, "needs fragment highp"));
     ht_test_es_draw_free(&d);
 }
 
