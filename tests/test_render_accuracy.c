@@ -22,7 +22,6 @@
 #include <hairtier/scene.h>
 #include "metrics.h"
 #include "support_osmesa.h"
-#include "support_render.h"
 #include "support_scene.h"
 #include "support_scratch.h"
 
@@ -149,46 +148,9 @@ static int json_files(const char *dir, char names[][64], int max) {
     return n;
 }
 
-/* One scene of the sweep: its copy (ACCURACY_SIZE², ACCURACY_HAIRS; as
-   shipped under HAIRTIER_SWEEP=shipped), loaded, its meshes built once for
-   every material (they depend on the scene only). */
-typedef struct sweep_scene {
-    char path[600];
-    ht_scene scene;
-    ht_mesh hair, head;
-} sweep_scene;
-
-/* The one context, remade only when a scene's size differs from the last. */
+/* The one context, remade only when a scene's size differs from the last
+   (support_scene.h's ht_test_view_draw). */
 static ht_test_gl gl;
-
-static void use_context(int width, int height) {
-    if (gl.context && gl.width == width && gl.height == height) return;
-    if (gl.context) ht_test_gl_destroy(&gl);
-    char err[256];
-    if (!ht_test_gl_create(&gl, width, height, NULL, err, sizeof err)) fail_msg("context: %s", err);
-}
-
-/* What `hairview --bundle BUNDLE --scene SCENE --tier TIER --strict
-   -o OUT.png` draws (HAIRTIER_VARIANT=device for a "-device" name, else
-   exact), in this process: the tier forced and strict, the scene's hair
-   and head, its camera and lights, on the scene's background. */
-static void draw_tier(const char *bundle, const sweep_scene *s, const char *name, ht_image *img) {
-    const char *device = strstr(name, "-device");
-    char tier[16];
-    snprintf(tier, sizeof tier, "%.*s", device ? (int)(device - name) : (int)strlen(name), name);
-    use_context(s->scene.width, s->scene.height);
-    ht_renderer *r = ht_test_renderer_create(
-        (ht_renderer_desc){ .tier = ht_tier_from_name(tier), .strict = true,
-                            .variant = device ? HT_VARIANT_DEVICE : HT_VARIANT_EXACT },
-        bundle, HT_OK);
-    assert_int_equal(ht_renderer_set_mesh(r, &s->hair), HT_OK);
-    const ht_frame_desc frame = { .camera = s->scene.camera, .lights = s->scene.lights,
-                                  .light_count = s->scene.light_count,
-                                  .aspect = (float)s->scene.width / (float)s->scene.height,
-                                  .opaque = s->head.index_count ? &s->head : NULL };
-    ht_test_draw(&gl, r, &frame, s->scene.background, img);
-    ht_renderer_destroy(r);
-}
 
 static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(void **state) {
     (void)state;
@@ -210,17 +172,18 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
     int below_target = 0;
     int failures = 0;
     char err[1024];
-    static sweep_scene scenes[8];
+    /* Each scene's copy (ACCURACY_SIZE², ACCURACY_HAIRS; as shipped under
+       HAIRTIER_SWEEP=shipped), loaded and its meshes built once for every
+       material (they depend on the scene only). */
+    static ht_test_view_scene scenes[8];
     for (int sc = 0; sc < sn; sc++) {
         char shipped_scene[600], copy[80];
         snprintf(shipped_scene, sizeof shipped_scene, "scenes/%s.json", scene_names[sc]);
         snprintf(copy, sizeof copy, "sweep-%.63s.json", scene_names[sc]);
+        char path[600];
         ht_test_scene_copy(shipped_scene, work, copy, shipped ? 0 : ACCURACY_SIZE, shipped ? 0 : ACCURACY_HAIRS, false,
-                           scenes[sc].path, sizeof scenes[sc].path);
-        if (ht_scene_load(scenes[sc].path, &scenes[sc].scene, err, sizeof err) != HT_OK) fail_msg("%s", err);
-        if (ht_scene_build_meshes(&scenes[sc].scene, scenes[sc].path, &scenes[sc].hair, &scenes[sc].head, err,
-                                  sizeof err) != HT_OK)
-            fail_msg("%s", err);
+                           path, sizeof path);
+        ht_test_view_scene_load(path, &scenes[sc]);
     }
     for (int mat = 0; mat < mn; mat++) {
         char material_path[1100];
@@ -244,7 +207,13 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
             ht_image full = { 0 };
             for (int t = 0; t < count; t++) {
                 ht_image img;
-                draw_tier(bundle, &scenes[sc], names[t], &img);
+                /* What `HAIRTIER_VARIANT=exact|device hairview --bundle BUNDLE
+                   --scene SCENE --tier T --strict` draws. */
+                const char *device = strstr(names[t], "-device");
+                char tier[16];
+                snprintf(tier, sizeof tier, "%.*s", device ? (int)(device - names[t]) : (int)strlen(names[t]),
+                         names[t]);
+                ht_test_view_draw(&gl, bundle, &scenes[sc], tier, device != NULL, &img);
                 if (t == 0) {
                     full = img;
                     continue;
@@ -276,10 +245,7 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
             ht_image_free(&full);
         }
     }
-    for (int sc = 0; sc < sn; sc++) {
-        ht_mesh_free(&scenes[sc].hair);
-        ht_mesh_free(&scenes[sc].head);
-    }
+    for (int sc = 0; sc < sn; sc++) ht_test_view_scene_free(&scenes[sc]);
     if (gl.context) ht_test_gl_destroy(&gl);
     if (shipped) printf("shipped sweep: %d below target (docs/accuracy.md says why)\n", below_target);
     assert_int_equal(failures, 0);
