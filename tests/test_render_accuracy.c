@@ -26,6 +26,9 @@
 #include "support_scratch.h"
 
 static char work[64];
+/* The sweep's one context, remade only when a scene's size differs from
+   the last (support_scene.h's ht_test_view_draw). */
+static ht_test_gl gl;
 
 static int setup(void **state) {
     (void)state;
@@ -34,6 +37,7 @@ static int setup(void **state) {
 
 static int teardown(void **state) {
     (void)state;
+    if (gl.context) ht_test_gl_destroy(&gl);
     return ht_test_scratch_remove(work);
 }
 
@@ -148,10 +152,6 @@ static int json_files(const char *dir, char names[][64], int max) {
     return n;
 }
 
-/* The one context, remade only when a scene's size differs from the last
-   (support_scene.h's ht_test_view_draw). */
-static ht_test_gl gl;
-
 static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(void **state) {
     (void)state;
     if (on_softpipe()) {
@@ -246,7 +246,6 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
         }
     }
     for (int sc = 0; sc < sn; sc++) ht_test_view_scene_free(&scenes[sc]);
-    if (gl.context) ht_test_gl_destroy(&gl);
     if (shipped) printf("shipped sweep: %d below target (docs/accuracy.md says why)\n", below_target);
     assert_int_equal(failures, 0);
 }
