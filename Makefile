@@ -290,7 +290,7 @@ test:
 # (docs/accuracy.md, "Every shipped pair at its shipped size"; about 25
 # times the pinned 256² sweep that make test runs): its lines, then pass or fail.
 ACCURACY_RESULTS := $(BUILD)/accuracy-results
-accuracy: $(BUILD)/tests/test_render_accuracy $(HAIRGEN) $(PROGRAMS)
+accuracy: $(BUILD)/tests/test_render_accuracy
 	@rm -rf $(ACCURACY_RESULTS) && mkdir -p $(ACCURACY_RESULTS)
 	@HAIRTIER_SWEEP=shipped $(RUN_TEST) $(ACCURACY_RESULTS)/shipped-sweep llvmpipe osmesa $<
 	@grep '^shipped' $(ACCURACY_RESULTS)/shipped-sweep.log || true

@@ -12,6 +12,7 @@
 #include <string.h>
 #include <sys/wait.h>
 
+#include "support_render.h"
 #include "support_scene.h"
 #include "support_scratch.h"
 
@@ -112,4 +113,38 @@ int ht_test_bundle_tiers(const char *bundle, char names[HT_TIER_COUNT][16], cons
     assert_true(n >= 2);
     assert_string_equal(names[0], first);
     return n;
+}
+
+void ht_test_view_scene_load(const char *path, ht_test_view_scene *out) {
+    char err[1024];
+    *out = (ht_test_view_scene){ 0 };
+    snprintf(out->path, sizeof out->path, "%s", path);
+    if (ht_scene_load(path, &out->scene, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    if (ht_scene_build_meshes(&out->scene, path, &out->hair, &out->head, err, sizeof err) != HT_OK)
+        fail_msg("%s", err);
+}
+
+void ht_test_view_scene_free(ht_test_view_scene *s) {
+    ht_mesh_free(&s->hair);
+    ht_mesh_free(&s->head);
+}
+
+void ht_test_view_draw(ht_test_gl *gl, const char *bundle, const ht_test_view_scene *s, const char *tier, bool device,
+                       ht_image *img) {
+    const ht_scene *sc = &s->scene;
+    if (!gl->context || gl->width != sc->width || gl->height != sc->height) {
+        char err[256];
+        if (gl->context) ht_test_gl_destroy(gl);
+        if (!ht_test_gl_create(gl, sc->width, sc->height, NULL, err, sizeof err)) fail_msg("context: %s", err);
+    }
+    ht_renderer *r = ht_test_renderer_create(
+        (ht_renderer_desc){ .tier = ht_tier_from_name(tier), .strict = true,
+                            .variant = device ? HT_VARIANT_DEVICE : HT_VARIANT_EXACT },
+        bundle, HT_OK);
+    assert_int_equal(ht_renderer_set_mesh(r, &s->hair), HT_OK);
+    const ht_frame_desc frame = { .camera = sc->camera, .lights = sc->lights, .light_count = sc->light_count,
+                                  .aspect = (float)sc->width / (float)sc->height,
+                                  .opaque = s->head.index_count ? &s->head : NULL };
+    ht_test_draw(gl, r, &frame, sc->background, img);
+    ht_renderer_destroy(r);
 }

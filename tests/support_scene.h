@@ -11,6 +11,8 @@
 #include <stddef.h>
 
 #include <hairtier/hairtier.h>
+#include <hairtier/scene.h>
+#include "support_osmesa.h"
 
 struct cJSON;
 
@@ -31,5 +33,23 @@ void ht_test_scene_thin_strands(const char *dir, const char *name, int every);
 /* The bundle's tiers, best first; the first must be `first`, and there are
    at least two. Returns how many. */
 int ht_test_bundle_tiers(const char *bundle, char names[HT_TIER_COUNT][16], const char *first);
+
+/* A scene file loaded and its meshes built (hair, and head when it has
+   one), for drawing it in this process the way hairview does. */
+typedef struct ht_test_view_scene {
+    char path[600];
+    ht_scene scene;
+    ht_mesh hair, head;
+} ht_test_view_scene;
+void ht_test_view_scene_load(const char *path, ht_test_view_scene *out);
+void ht_test_view_scene_free(ht_test_view_scene *s);
+/* What `hairview --bundle BUNDLE --scene S --tier TIER --strict` draws
+   (HAIRTIER_VARIANT=device when device, else exact), in this process: a
+   renderer with the tier forced and strict (support_render.h's
+   ht_test_renderer_create), the scene's hair and head, camera, lights and
+   aspect, on its background, read back as RGBA. gl is made (or remade) at
+   the scene's size when it is not already; ht_test_gl_destroy it after. */
+void ht_test_view_draw(ht_test_gl *gl, const char *bundle, const ht_test_view_scene *s, const char *tier, bool device,
+                       ht_image *img);
 
 #endif

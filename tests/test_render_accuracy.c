@@ -1,8 +1,11 @@
 /* test_render_accuracy — the speed-for-accuracy trade on every shipped
    material x scene: each tier's whole-frame distance from the material's
    best tier (PSNR, SSIM, CIEDE2000 mean and p95; shadergen/metrics.h),
-   rendered by the real programs (build/hairgen, build/hairview --tier) on
-   llvmpipe, held to the pins of data/accuracy_pins.h. */
+   generated and drawn in this process the way the programs do (hairgen:
+   ht_generate_bundle; hairview --tier T --strict: a renderer on the
+   scene's hair, head, camera and lights), each scene's meshes built once
+   and one GL context shared, on llvmpipe, held to the pins of
+   data/accuracy_pins.h. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -16,11 +19,16 @@
 
 #include <hairtier/hairgen.h>
 #include <hairtier/image.h>
+#include <hairtier/scene.h>
 #include "metrics.h"
+#include "support_osmesa.h"
 #include "support_scene.h"
 #include "support_scratch.h"
 
 static char work[64];
+/* The sweep's one context, remade only when a scene's size differs from
+   the last (support_scene.h's ht_test_view_draw). */
+static ht_test_gl gl;
 
 static int setup(void **state) {
     (void)state;
@@ -29,6 +37,7 @@ static int setup(void **state) {
 
 static int teardown(void **state) {
     (void)state;
+    if (gl.context) ht_test_gl_destroy(&gl);
     return ht_test_scratch_remove(work);
 }
 
@@ -155,15 +164,29 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
     printf("accuracy sweep: pinned in the plain build only\n");
     return;
 #endif
-    char materials[16][64], scenes[8][64];
-    int mn = json_files("materials", materials, 16), sn = json_files("scenes", scenes, 8);
+    char materials[16][64], scene_names[8][64];
+    int mn = json_files("materials", materials, 16), sn = json_files("scenes", scene_names, 8);
     assert_true(mn >= 4 && sn >= 2);
     const bool print_pins = getenv("HAIRTIER_PRINT_PINS") && strcmp(getenv("HAIRTIER_PRINT_PINS"), "1") == 0;
     const bool shipped = getenv("HAIRTIER_SWEEP") && strcmp(getenv("HAIRTIER_SWEEP"), "shipped") == 0;
     int below_target = 0;
     int failures = 0;
+    char err[1024];
+    /* Each scene's copy (ACCURACY_SIZE², ACCURACY_HAIRS; as shipped under
+       HAIRTIER_SWEEP=shipped), loaded and its meshes built once for every
+       material (they depend on the scene only). */
+    static ht_test_view_scene scenes[8];
+    for (int sc = 0; sc < sn; sc++) {
+        char shipped_scene[600], copy[80];
+        snprintf(shipped_scene, sizeof shipped_scene, "scenes/%s.json", scene_names[sc]);
+        snprintf(copy, sizeof copy, "sweep-%.63s.json", scene_names[sc]);
+        char path[600];
+        ht_test_scene_copy(shipped_scene, work, copy, shipped ? 0 : ACCURACY_SIZE, shipped ? 0 : ACCURACY_HAIRS, false,
+                           path, sizeof path);
+        ht_test_view_scene_load(path, &scenes[sc]);
+    }
     for (int mat = 0; mat < mn; mat++) {
-        char material_path[1100], err[1024];
+        char material_path[1100];
         ht_material material;
         snprintf(material_path, sizeof material_path, "materials/%s.json", materials[mat]);
         assert_int_equal(ht_material_load(material_path, &material, err, sizeof err), HT_OK);
@@ -171,15 +194,11 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
            tiers are measured against it. */
         const char *reference = material.shading.model == HT_MODEL_MARSCHNER ? "marschner" : "full";
         for (int sc = 0; sc < sn; sc++) {
-            char path[600], cmd[4096], bundle[256], png[256];
-            char shipped_scene[600];
-            snprintf(shipped_scene, sizeof shipped_scene, "scenes/%s.json", scenes[sc]);
-            ht_test_scene_copy(shipped_scene, work, "sweep.json", shipped ? 0 : ACCURACY_SIZE, shipped ? 0 : ACCURACY_HAIRS,
-                               false, path, sizeof path);
+            /* What `hairgen MATERIAL --scene SCENE -o BUNDLE` writes. */
+            char bundle[256];
             snprintf(bundle, sizeof bundle, "%s/sweep-bundle", work);
-            snprintf(cmd, sizeof cmd, "%s/hairgen materials/%s.json --scene %s -o %s >/dev/null", ht_test_build_dir(),
-                     materials[mat], path, bundle);
-            ht_test_run_command(cmd);
+            if (ht_generate_bundle(material_path, scenes[sc].path, bundle, NULL, err, sizeof err) != HT_OK)
+                fail_msg("hairgen %s --scene %s: %s", material_path, scenes[sc].path, err);
             char names[2 * HT_TIER_COUNT][16];
             int count = ht_test_bundle_tiers(bundle, names, reference);
             for (int t = 0, n = count; shipped && t < n; t++)
@@ -188,16 +207,13 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
             ht_image full = { 0 };
             for (int t = 0; t < count; t++) {
                 ht_image img;
+                /* What `HAIRTIER_VARIANT=exact|device hairview --bundle BUNDLE
+                   --scene SCENE --tier T --strict` draws. */
                 const char *device = strstr(names[t], "-device");
-                snprintf(png, sizeof png, "%s/sweep-%s.png", work, names[t]);
-                /* One timed frame: the image is what is measured, not the time. */
-                snprintf(cmd, sizeof cmd,
-                         "HAIRTIER_VARIANT=%s %s/hairview --bundle %s --scene %s --tier %.*s --strict --frames 1 -o %s "
-                         ">/dev/null 2>&1",
-                         device ? "device" : "exact", ht_test_build_dir(), bundle, path,
-                         device ? (int)(device - names[t]) : (int)strlen(names[t]), names[t], png);
-                ht_test_run_command(cmd);
-                assert_int_equal(ht_image_read_png(png, &img, err, sizeof err), HT_OK);
+                char tier[16];
+                snprintf(tier, sizeof tier, "%.*s", device ? (int)(device - names[t]) : (int)strlen(names[t]),
+                         names[t]);
+                ht_test_view_draw(&gl, bundle, &scenes[sc], tier, device != NULL, &img);
                 if (t == 0) {
                     full = img;
                     continue;
@@ -208,27 +224,28 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
                                           : strcmp(names[t], "fixed") == 0 ? TARGET_FIXED_DB
                                                                            : 0.0;
                     printf("shipped %-14s x %-8s %-13s %6.2f dB, SSIM %.4f, CIEDE2000 mean %.3f p95 %.3f%s\n",
-                           materials[mat], scenes[sc], names[t], m.psnr_db, m.ssim, m.delta_e00_mean,
+                           materials[mat], scene_names[sc], names[t], m.psnr_db, m.ssim, m.delta_e00_mean,
                            m.delta_e00_p95, m.psnr_db < target ? " BELOW TARGET" : "");
                     below_target += m.psnr_db < target;
                     ht_image_free(&img);
                     continue;
                 }
-                const accuracy_pin *pin = pinned(materials[mat], scenes[sc], names[t]);
+                const accuracy_pin *pin = pinned(materials[mat], scene_names[sc], names[t]);
                 printf("accuracy %-14s x %-8s %-7s %6.2f dB, SSIM %.4f, CIEDE2000 mean %.3f p95 %.3f", materials[mat],
-                       scenes[sc], names[t], m.psnr_db, m.ssim, m.delta_e00_mean, m.delta_e00_p95);
+                       scene_names[sc], names[t], m.psnr_db, m.ssim, m.delta_e00_mean, m.delta_e00_p95);
                 if (pin)
                     printf(" (pinned at %.2f dB, %.4f, %.3f, %.3f)\n", pin->min_db, pin->min_ssim,
                            pin->max_delta_e_mean, pin->max_delta_e_p95);
                 else
                     printf("\n  no pin for this pair and tier\n");
-                if (print_pins) print_pin_line(materials[mat], scenes[sc], names[t], &m);
+                if (print_pins) print_pin_line(materials[mat], scene_names[sc], names[t], &m);
                 failures += pin ? misses(&m, pin) : 1;
                 ht_image_free(&img);
             }
             ht_image_free(&full);
         }
     }
+    for (int sc = 0; sc < sn; sc++) ht_test_view_scene_free(&scenes[sc]);
     if (shipped) printf("shipped sweep: %d below target (docs/accuracy.md says why)\n", below_target);
     assert_int_equal(failures, 0);
 }
