@@ -10,12 +10,14 @@
 #       libstdc++), the glvnd packages (libegl1 libglvnd0 libopengl0 libgl1
 #       libglx0 libgles2), the bundles and the references.
 #   tools/device_nvidia.sh run [images|bench|all]   there (carry .device):
-#       images: every scene (furball, patches) with every tier forced
-#       (strict), auto selection, and the gl13 and gl20 device profiles
+#       images: every scene with every tier forced (strict), auto
+#       selection, and the gl13 and gl20 device profiles
 #       (HAIRTIER_DEVICE_PROFILE: NVIDIA has no MESA_GL_VERSION_OVERRIDE),
-#       each image's PSNR against llvmpipe's of the same tier/profile, and
-#       a tier sheet; bench: bench_frame on the fur ball at 8 000, 200 000
-#       and 1 000 000 hairs (512x512). Writes to $OUT (default out/device):
+#       each image's PSNR against llvmpipe's of the same tier/profile; the
+#       shader tiers on EGL ES 2.0 and 3.x contexts (--api gles2|gles3)
+#       against NVIDIA's desktop GL image of the same tier; a tier sheet.
+#       bench: bench_frame on the fur ball at 8 000, 200 000 and 1 000 000
+#       hairs (512x512), and on ES 2.0 and 3.x at 8 000 and 200 000. Writes to $OUT (default out/device):
 #       summary.md (the tables), run.log (everything printed) and
 #       images.tar.gz (every PNG, the references too): three files, within
 #       the device tool's eight.
@@ -32,10 +34,12 @@ TIERS="full vertex fixed4 fixed gl11"
 # The material each scene is drawn with, and its tiers: backlit shows the
 # Marschner material, whose bundle has the marschner tier above full.
 material_for() { if [ "$1" = backlit ]; then echo brown-marschner; else echo dark-brown; fi; }
+es_tiers_for() { if [ "$1" = backlit ]; then echo "marschner full vertex"; else echo "full vertex"; fi; }
 tiers_for() { if [ "$1" = backlit ]; then echo "marschner $TIERS"; else echo "$TIERS"; fi; }
 PROFILES="gl13 gl20"
 # Overridable to try the script on a small machine (Mesa's EGL works too).
 BENCH_HAIRS=${BENCH_HAIRS:-"8000 200000 1000000"}
+BENCH_ES_HAIRS=${BENCH_ES_HAIRS:-"8000 200000"}
 FRAMES=${FRAMES:-20}   # timed frames per image run
 
 die() { echo "device_nvidia: $*" >&2; exit 1; }
@@ -149,9 +153,38 @@ images() {
             cat "$txt" "$WORK/$s-$t-metrics.txt" >>"$LOG" 2>/dev/null || true
         done
     done
+    es_images
     echo "== tier_sheet furball (NVIDIA)" >>"$LOG"
     "$DEV/bin/tier_sheet" --context egl --bundle "$DEV/bundles/furball" --scene scenes/furball.json --frames 5 \
         -o "$WORK/furball-sheet-nvidia.png" >>"$LOG" 2>&1 || echo "tier_sheet failed" >>"$LOG"
+}
+
+# The GL ES tiers on NVIDIA's ES contexts (EGL): each shader tier forced
+# and auto, against the same tier on NVIDIA's desktop GL (images() made
+# those first).
+es_images() {
+    {
+        echo
+        echo "## GL ES on NVIDIA (EGL ES contexts) vs desktop GL on NVIDIA, same bundle, scene, tier"
+        echo
+        echo "| scene | api | run | tier | frame ms | PSNR dB | hair PSNR dB | max diff /255 |"
+        echo "| --- | --- | --- | --- | --- | --- | --- | --- |"
+    } >>"$WORK/images.md"
+    for s in $SCENES; do
+        for api in gles2 gles3; do
+            for t in $(es_tiers_for "$s") auto; do
+                png="$WORK/$s-$t-$api.png" txt="$WORK/$s-$t-$api.txt" m="$WORK/$s-$t-$api-metrics.txt"
+                echo "== $s $t $api (NVIDIA)" >>"$LOG"
+                set -- --context egl --api "$api" --bundle "$DEV/bundles/$s" --scene "scenes/$s.json" --frames "$FRAMES" -o "$png"
+                if [ "$t" = auto ]; then "$HAIRVIEW" "$@" >"$txt" 2>&1; else "$HAIRVIEW" "$@" --tier "$t" --strict >"$txt" 2>&1; fi &&
+                    "$DEV/bin/png_metrics" "$WORK/$s-$t-nvidia.png" "$png" >"$m" 2>&1 &&
+                    echo "| $s | $api | $t | $(field "$txt" tier) | $(field "$txt" frame_ms) | $(field "$m" psnr_db) |" \
+                         "$(field "$m" hair_psnr_db) | $(field "$m" max_diff) |" >>"$WORK/images.md" ||
+                    echo "| $s | $api | $t | failed: $(tail -1 "$txt") | | | | |" >>"$WORK/images.md"
+                cat "$txt" "$m" >>"$LOG" 2>/dev/null || true
+            done
+        done
+    done
 }
 
 bench() {
@@ -167,6 +200,18 @@ bench() {
             echo "bench_frame --hairs $h failed: $(tail -1 "$WORK/bench-$h.txt")" >>"$WORK/bench.md"
         fi
         cat "$WORK/bench-$h.txt" >>"$LOG"
+    done
+    # The ES tiers against the ES geometry floor (fixed tiers do not run on ES 2.0/3.x).
+    for api in gles2 gles3; do
+        for h in $BENCH_ES_HAIRS; do
+            echo "== bench_frame --api $api --hairs $h (NVIDIA)" >>"$LOG"
+            if "$DEV/bin/bench_frame" --context egl --api "$api" --hairs "$h" --size 512 --frames 9 >"$WORK/bench-$api-$h.txt" 2>&1; then
+                { echo '```'; cat "$WORK/bench-$api-$h.txt"; echo '```'; echo; } >>"$WORK/bench.md"
+            else
+                echo "bench_frame --api $api --hairs $h failed: $(tail -1 "$WORK/bench-$api-$h.txt")" >>"$WORK/bench.md"
+            fi
+            cat "$WORK/bench-$api-$h.txt" >>"$LOG"
+        done
     done
 }
 
