@@ -22,7 +22,7 @@
 
 /* ---- the clock (what examples/timing.h gives the programs) ---- */
 
-static double now_ms(void) {
+double ht_measure_clock_ms(void) {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec / 1e6;
@@ -33,8 +33,7 @@ static int compare_doubles(const void *pa, const void *pb) {
     return (a > b) - (a < b);
 }
 
-/* The median of v[0..n-1], n >= 1 (v is sorted in place). */
-static double median(double *v, int n) {
+double ht_measure_median(double *v, int n) {
     qsort(v, (size_t)n, sizeof *v, compare_doubles);
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
@@ -125,12 +124,12 @@ static ht_result draw_frame(tier_run *t, const ht_scene *s, const ht_frame_desc 
                        t->entry->name, t->ctx->display);
     t->last_log[0] = '\0';
     const offscreen_gl *gl = &t->ctx->gl;
-    double t0 = now_ms();
+    double t0 = ht_measure_clock_ms();
     gl->ClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
     gl->Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     ht_result r = ht_renderer_draw(t->renderer, frame);
     gl->Finish();
-    *ms = now_ms() - t0;
+    *ms = ht_measure_clock_ms() - t0;
     t->rgba = offscreen_read(t->ctx); /* untimed: EGL reads the frame back */
     if (r != HT_OK)
         return ht_fail(err, err_size, r, "measure: %s: draw failed: %s", t->entry->name,
@@ -197,11 +196,11 @@ static ht_result measure_all(tier_run *runs, int count, int full, const char *di
 
     snprintf(out->driver, sizeof out->driver, "%s", ht_renderer_caps(runs[full].renderer)->renderer);
     snprintf(out->reference, sizeof out->reference, "%s", runs[full].entry->name);
-    double full_ms = median(runs[full].ms, HT_MEASURE_TIMED_FRAMES);
+    double full_ms = ht_measure_median(runs[full].ms, HT_MEASURE_TIMED_FRAMES);
     for (int i = 0; i < count && r == HT_OK; i++) {
         ht_measure_tier *m = &out->tiers[i];
         snprintf(m->name, sizeof m->name, "%s", runs[i].entry->name);
-        m->frame_ms = i == full ? full_ms : median(runs[i].ms, HT_MEASURE_TIMED_FRAMES);
+        m->frame_ms = i == full ? full_ms : ht_measure_median(runs[i].ms, HT_MEASURE_TIMED_FRAMES);
         m->cost_ratio = m->frame_ms / full_ms;
         char why[512];
         r = ht_metrics_compare(&(ht_metrics_desc){ .reference = runs[full].rgba, .test = runs[i].rgba,
@@ -217,7 +216,7 @@ static ht_result measure_all(tier_run *runs, int count, int full, const char *di
         const tier_run *d = &runs[count + i];
         if (r != HT_OK || !d->renderer) continue;
         m->device.present = true;
-        m->device.frame_ms = median(runs[count + i].ms, HT_MEASURE_TIMED_FRAMES);
+        m->device.frame_ms = ht_measure_median(runs[count + i].ms, HT_MEASURE_TIMED_FRAMES);
         m->device.cost_ratio = m->device.frame_ms / full_ms;
         r = ht_metrics_compare(&(ht_metrics_desc){ .reference = runs[full].rgba, .test = d->rgba,
                                                    .width = s->width, .height = s->height },

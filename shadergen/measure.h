@@ -65,6 +65,11 @@ typedef struct ht_measure_result {
    character boundary), HT_MEASURE_BUILT_IN_SCENE for NULL. */
 void ht_measure_scene_label(const char *scene_path, char out[64]);
 
+/* The monotonic clock in ms, and the median of v[0..n-1] (n >= 1; v is
+   sorted in place): what every measured frame time is made of. */
+double ht_measure_clock_ms(void);
+double ht_measure_median(double *v, int n);
+
 /* Renders `scene` with every tier of the bundle in dir and measures each
    against full. Fails when the bundle has no full tier, when any tier
    cannot run on this driver (forced, strict: the line says why) or when a

@@ -10,21 +10,11 @@
 #include "errfmt.h"
 #include "file_atomic.h"
 #include "json_check.h"
+#include "measure.h"
 #include "measure_lod.h"
 #include "offscreen.h"
 
 static const double sizes[HT_MEASURE_LOD_SIZES] = { 1.0, 0.5, 0.25 };
-
-static double now_ms(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec / 1e6;
-}
-
-static int compare_doubles(const void *pa, const void *pb) {
-    double a = *(const double *)pa, b = *(const double *)pb;
-    return (a > b) - (a < b);
-}
 
 /* One level at one size: set the mesh, one warm-up and the timed frames;
    its last frame copied into rgba. */
@@ -33,17 +23,16 @@ static ht_result draw_level(offscreen *o, ht_renderer *r, const ht_scene *s, con
     ht_result res = ht_renderer_set_mesh(r, mesh);
     double t[HT_MEASURE_LOD_TIMED_FRAMES];
     for (int k = 0; k <= HT_MEASURE_LOD_TIMED_FRAMES && res == HT_OK; k++) {
-        const double t0 = now_ms();
+        const double t0 = ht_measure_clock_ms();
         o->gl.ClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
         o->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         res = ht_renderer_draw(r, f);
         o->gl.Finish();
-        if (k > 0) t[k - 1] = now_ms() - t0;
+        if (k > 0) t[k - 1] = ht_measure_clock_ms() - t0;
     }
     if (res != HT_OK) return res;
     memcpy(rgba, offscreen_read(o), (size_t)o->width * (size_t)o->height * 4);
-    qsort(t, HT_MEASURE_LOD_TIMED_FRAMES, sizeof *t, compare_doubles);
-    *ms = t[HT_MEASURE_LOD_TIMED_FRAMES / 2];
+    *ms = ht_measure_median(t, HT_MEASURE_LOD_TIMED_FRAMES);
     return HT_OK;
 }
 
