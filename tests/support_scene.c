@@ -148,3 +148,29 @@ void ht_test_view_draw(ht_test_gl *gl, const char *bundle, const ht_test_view_sc
     ht_test_draw(gl, r, &frame, sc->background, img);
     ht_renderer_destroy(r);
 }
+
+/* A frame as RGBA8, what ht_metrics_compare reads (hairview may write RGB). */
+static uint8_t *as_rgba(const ht_image *img) {
+    size_t n = (size_t)img->width * img->height;
+    uint8_t *rgba = malloc(n * 4);
+    assert_non_null(rgba);
+    for (size_t i = 0; i < n; i++) {
+        const uint8_t *p = img->pixels + i * img->channels;
+        for (int c = 0; c < 3; c++) rgba[i * 4 + c] = p[img->channels >= 3 ? c : 0];
+        rgba[i * 4 + 3] = 255;
+    }
+    return rgba;
+}
+
+ht_metrics ht_test_whole_frame_metrics(const ht_image *reference, const ht_image *test) {
+    uint8_t *a = as_rgba(reference), *b = as_rgba(test);
+    ht_metrics whole;
+    char err[256];
+    assert_int_equal(ht_metrics_compare(&(ht_metrics_desc){ .reference = a, .test = b, .width = reference->width,
+                                                            .height = reference->height },
+                                        &whole, NULL, err, sizeof err),
+                     HT_OK);
+    free(a);
+    free(b);
+    return whole;
+}

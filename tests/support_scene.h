@@ -1,7 +1,8 @@
 /* support_scene.h — what the tests that run the programs on shipped scenes
-   share (test_render_scenes.c, test_render_accuracy.c, test_render_drivers.c):
-   a command that must succeed, a scene copied elsewhere (smaller) that still
-   finds its strand file, and a bundle's tier names.
+   share (test_render_scenes.c, test_render_accuracy.c, test_render_drivers.c,
+   test_render_mediump.c, test_measure_lod.c, test_thin_strands.c): a command
+   that must succeed, a scene copied elsewhere (smaller) that still finds its
+   strand file, a bundle's tier names, and two frames' whole-frame metrics.
 
    Helpers that check fail the running cmocka test. */
 #ifndef HT_SUPPORT_SCENE_H
@@ -12,6 +13,7 @@
 
 #include <hairtier/hairtier.h>
 #include <hairtier/scene.h>
+#include "metrics.h"
 #include "support_osmesa.h"
 
 struct cJSON;
@@ -51,5 +53,9 @@ void ht_test_view_scene_free(ht_test_view_scene *s);
    the scene's size when it is not already; ht_test_gl_destroy it after. */
 void ht_test_view_draw(ht_test_gl *gl, const char *bundle, const ht_test_view_scene *s, const char *tier, bool device,
                        ht_image *img);
+
+/* PSNR, SSIM and CIEDE2000 of test against reference over the whole frame
+   (shadergen/metrics.h), from images of any channel count. */
+ht_metrics ht_test_whole_frame_metrics(const ht_image *reference, const ht_image *test);
 
 #endif

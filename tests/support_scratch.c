@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "support_scratch.h"
@@ -89,6 +90,18 @@ bool ht_test_path_exists(const char *path) {
 const char *ht_test_build_dir(void) {
     const char *b = getenv("HAIRTIER_BUILD");
     return b ? b : "build";
+}
+
+int ht_test_run_program(const char *program, const char *args, char *out, size_t size) {
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd, "'%s/%s' %s 2>&1", ht_test_build_dir(), program, args);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    size_t n = fread(out, 1, size - 1, p);
+    out[n] = '\0';
+    int status = pclose(p);
+    assert_true(WIFEXITED(status));
+    return WEXITSTATUS(status);
 }
 
 struct cJSON *ht_test_read_json(const char *dir, const char *name) {

@@ -31,6 +31,10 @@ char *ht_test_read_all(const char *path, size_t *size);
 bool ht_test_path_exists(const char *path);
 /* Where the programs under test were built: $HAIRTIER_BUILD, else "build". */
 const char *ht_test_build_dir(void);
+/* Runs build/PROGRAM ARGS (ARGS already quoted for the shell), stdout and
+   stderr into out (NUL-terminated, truncated to size); fails the test
+   unless it exits normally; returns its exit status. */
+int ht_test_run_program(const char *program, const char *args, char *out, size_t size);
 /* DIR/NAME parsed as JSON (cJSON_Delete), failing the test when it cannot be read or parsed. */
 struct cJSON *ht_test_read_json(const char *dir, const char *name);
 /* DIR/NAME, a JSON object, rewritten with its top-level key set to value. */

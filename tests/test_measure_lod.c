@@ -17,40 +17,23 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 
 #include <hairtier/lod.h>
 #include "manifest.h"
+#include "support_scene.h"
 #include "support_scratch.h"
 
 static char work[64], bundle[128];
 
-static int run(const char *program, const char *args, char *out, size_t size) {
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd, "'%s/%s' %s 2>&1", ht_test_build_dir(), program, args);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t n = fread(out, 1, size - 1, p);
-    out[n] = '\0';
-    int status = pclose(p);
-    assert_true(WIFEXITED(status));
-    return WEXITSTATUS(status);
-}
-
 static int setup(void **state) {
     (void)state;
     if (!ht_test_scratch_create(work, sizeof work, "measure_lod")) return -1;
-    cJSON *scene = ht_test_read_json("scenes", "furball.json");
-    cJSON_ReplaceItemInObjectCaseSensitive(scene, "resolution", cJSON_CreateIntArray((const int[]){ 96, 96 }, 2));
-    cJSON_ReplaceItemInObjectCaseSensitive(cJSON_GetObjectItem(scene, "geometry"), "hairs", cJSON_CreateNumber(2000));
-    char *text = cJSON_Print(scene);
-    ht_test_write_file(work, "scene.json", text);
-    free(text);
-    cJSON_Delete(scene);
+    char scene[128];
+    ht_test_scene_copy("scenes/furball.json", work, "scene.json", 96, 2000, false, scene, sizeof scene);
     snprintf(bundle, sizeof bundle, "%s/bundle", work);
     char args[512], out[16384];
     snprintf(args, sizeof args, "materials/dark-brown.json --scene %s/scene.json --measure-lods -o %s", work, bundle);
-    if (run("hairgen", args, out, sizeof out) != 0) {
+    if (ht_test_run_program("hairgen", args, out, sizeof out) != 0) {
         fprintf(stderr, "%s", out);
         return -1;
     }
@@ -103,7 +86,7 @@ static void hairview_picks_the_cell_the_error_rule_picks(void **state) {
     assert_true(pick >= 10 && cells[pick].psnr >= db);
     snprintf(args, sizeof args, "--bundle %s --scene %s/scene.json --size 0.25 --lod auto --policy error:%g --frames 1 -o %s/e.png",
              bundle, work, db, work);
-    if (run("hairview", args, out, sizeof out) != 0) fail_msg("hairview %s: %s", args, out);
+    if (ht_test_run_program("hairview", args, out, sizeof out) != 0) fail_msg("hairview %s: %s", args, out);
     char want[32];
     snprintf(want, sizeof want, "lod=%d ", cells[pick].lod);
     if (!strstr(out, want)) fail_msg("expected %s in:\n%s", want, out);

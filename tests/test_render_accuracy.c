@@ -46,33 +46,6 @@ static bool on_softpipe(void) {
     return d && strcmp(d, "softpipe") == 0;
 }
 
-/* A frame as RGBA8, what ht_metrics_compare reads (hairview may write RGB). */
-static uint8_t *as_rgba(const ht_image *img) {
-    size_t n = (size_t)img->width * img->height;
-    uint8_t *rgba = malloc(n * 4);
-    assert_non_null(rgba);
-    for (size_t i = 0; i < n; i++) {
-        const uint8_t *p = img->pixels + i * img->channels;
-        for (int c = 0; c < 3; c++) rgba[i * 4 + c] = p[img->channels >= 3 ? c : 0];
-        rgba[i * 4 + 3] = 255;
-    }
-    return rgba;
-}
-
-/* PSNR, SSIM and CIEDE2000 of test against reference over the whole frame. */
-static ht_metrics whole_frame_metrics(const ht_image *reference, const ht_image *test) {
-    uint8_t *a = as_rgba(reference), *b = as_rgba(test);
-    ht_metrics whole;
-    char err[256];
-    assert_int_equal(ht_metrics_compare(&(ht_metrics_desc){ .reference = a, .test = b, .width = reference->width,
-                                                            .height = reference->height },
-                                        &whole, NULL, err, sizeof err),
-                     HT_OK);
-    free(a);
-    free(b);
-    return whole;
-}
-
 /* The sweep's frames (all pairs x all tiers, llvmpipe): the shipped scenes
    at this side, the fur ball with this many hairs, to keep them cheap. */
 #define ACCURACY_SIZE 256
@@ -218,7 +191,7 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
                     full = img;
                     continue;
                 }
-                ht_metrics m = whole_frame_metrics(&full, &img);
+                ht_metrics m = ht_test_whole_frame_metrics(&full, &img);
                 if (shipped) {
                     const double target = strcmp(names[t], "vertex") == 0  ? TARGET_VERTEX_DB
                                           : strcmp(names[t], "fixed") == 0 ? TARGET_FIXED_DB

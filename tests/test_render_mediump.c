@@ -44,32 +44,6 @@ static int teardown(void **state) {
     return ht_test_scratch_remove(work);
 }
 
-static char *read_text(const char *path) {
-    FILE *f = fopen(path, "rb");
-    if (!f) fail_msg("%s: cannot read", path);
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *text = malloc((size_t)n + 1);
-    assert_non_null(text);
-    assert_int_equal(fread(text, 1, (size_t)n, f), (size_t)n);
-    text[n] = '\0';
-    fclose(f);
-    return text;
-}
-
-static uint8_t *as_rgba(const ht_image *img) {
-    size_t n = (size_t)img->width * img->height;
-    uint8_t *rgba = malloc(n * 4);
-    assert_non_null(rgba);
-    for (size_t i = 0; i < n; i++) {
-        const uint8_t *p = img->pixels + i * img->channels;
-        for (int c = 0; c < 3; c++) rgba[i * 4 + c] = p[img->channels >= 3 ? c : 0];
-        rgba[i * 4 + 3] = 255;
-    }
-    return rgba;
-}
-
 static void render(const char *bundle, const char *scene, const char *png, ht_image *img) {
     char cmd[2048], err[512];
     snprintf(cmd, sizeof cmd, "%s/hairview --bundle %s --scene %s --tier full --strict -o %s >/dev/null 2>&1",
@@ -80,22 +54,9 @@ static void render(const char *bundle, const char *scene, const char *png, ht_im
 
 /* The fp16 frame's PSNR against the fp32 frame of one pair. */
 static double measure(const char *material, const char *scene_file, int size, int hairs) {
-    char path[128], bundle[128], fp16[128], cmd[4096], png[256], err[512];
+    char path[128], bundle[128], fp16[128], cmd[4096], png[256];
     /* the scene at the measured size (and hair count, for a fur ball) */
-    char *text = read_text(scene_file);
-    cJSON *root = cJSON_Parse(text);
-    free(text);
-    assert_non_null(root);
-    cJSON_ReplaceItemInObjectCaseSensitive(root, "resolution", cJSON_CreateIntArray((const int[]){ size, size }, 2));
-    ht_test_keep_strand_file(root, scene_file);
-    cJSON *geometry = cJSON_GetObjectItem(root, "geometry");
-    if (cJSON_GetObjectItem(geometry, "hairs"))
-        cJSON_ReplaceItemInObjectCaseSensitive(geometry, "hairs", cJSON_CreateNumber(hairs));
-    char *small = cJSON_Print(root);
-    cJSON_Delete(root);
-    ht_test_write_file(work, "scene.json", small);
-    cJSON_free(small);
-    snprintf(path, sizeof path, "%s/scene.json", work);
+    ht_test_scene_copy(scene_file, work, "scene.json", size, hairs, false, path, sizeof path);
 
     snprintf(bundle, sizeof bundle, "%s/bundle", work);
     snprintf(fp16, sizeof fp16, "%s/bundle-fp16", work);
@@ -103,7 +64,8 @@ static double measure(const char *material, const char *scene_file, int size, in
              fp16, ht_test_build_dir(), material, path, bundle, bundle, fp16);
     ht_test_run_command(cmd);
     snprintf(png, sizeof png, "%s/full-es2-mediump.frag", bundle);
-    char *es = read_text(png);
+    char *es = ht_test_read_all(png, NULL);
+    assert_non_null(es);
     char *emulated = ht_mp_desktop_emulation(es);
     free(es);
     ht_test_write_file(fp16, "full.frag", emulated);
@@ -114,14 +76,7 @@ static double measure(const char *material, const char *scene_file, int size, in
     render(bundle, path, png, &a);
     snprintf(png, sizeof png, "%s/fp16.png", work);
     render(fp16, path, png, &b);
-    uint8_t *ra = as_rgba(&a), *rb = as_rgba(&b);
-    ht_metrics m;
-    assert_int_equal(ht_metrics_compare(&(ht_metrics_desc){ .reference = ra, .test = rb, .width = a.width,
-                                                            .height = a.height },
-                                        &m, NULL, err, sizeof err),
-                     HT_OK);
-    free(ra);
-    free(rb);
+    const ht_metrics m = ht_test_whole_frame_metrics(&a, &b);
     ht_image_free(&a);
     ht_image_free(&b);
     return m.psnr_db;

@@ -11,44 +11,26 @@
 #include <stdint.h>
 #include <cmocka.h>
 
-#include <cJSON.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
+#include "support_scene.h"
 #include "support_scratch.h"
 
 static char work[64];
 
 /* PROGRAM ARGS from the repository root: its exit status, output in out. */
-static int run(const char *program, const char *args, char *out, size_t size) {
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd, "'%s/%s' %s 2>&1", ht_test_build_dir(), program, args);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t n = fread(out, 1, size - 1, p);
-    out[n] = '\0';
-    int status = pclose(p);
-    assert_true(WIFEXITED(status));
-    return WEXITSTATUS(status);
-}
-
 static int setup(void **state) {
     (void)state;
     if (!ht_test_scratch_create(work, sizeof work, "thin")) return -1;
     /* The fur ball scene at 256 x 256 with 3 000 hairs: a quarter is 64 x 64. */
-    cJSON *scene = ht_test_read_json("scenes", "furball.json");
-    cJSON_ReplaceItemInObjectCaseSensitive(scene, "resolution", cJSON_CreateIntArray((const int[]){ 256, 256 }, 2));
-    cJSON_ReplaceItemInObjectCaseSensitive(cJSON_GetObjectItem(scene, "geometry"), "hairs", cJSON_CreateNumber(3000));
-    char *text = cJSON_Print(scene);
-    ht_test_write_file(work, "scene.json", text);
-    free(text);
-    cJSON_Delete(scene);
+    char scene[128];
+    ht_test_scene_copy("scenes/furball.json", work, "scene.json", 256, 3000, false, scene, sizeof scene);
     char args[512], out[4096];
     snprintf(args, sizeof args, "materials/dark-brown.json --scene %s/scene.json -o %s/bundle -q", work, work);
-    if (run("hairgen", args, out, sizeof out) != 0) {
+    if (ht_test_run_program("hairgen", args, out, sizeof out) != 0) {
         fprintf(stderr, "%s", out);
         return -1;
     }
@@ -65,13 +47,13 @@ static void view(const char *name, const char *options, char *out, size_t size) 
     char args[1024];
     snprintf(args, sizeof args, "--bundle %s/bundle --scene %s/scene.json --size 0.25 --frames 1 %s -o %s/%s.png", work,
              work, options, work, name);
-    if (run("hairview", args, out, size) != 0) fail_msg("hairview %s: %s", options, out);
+    if (ht_test_run_program("hairview", args, out, size) != 0) fail_msg("hairview %s: %s", options, out);
 }
 
 static double psnr_to_reference(const char *name) {
     char args[512], out[1024];
     snprintf(args, sizeof args, "%s/reference.png %s/%s.png", work, work, name);
-    assert_int_equal(run("png_metrics", args, out, sizeof out), 0);
+    assert_int_equal(ht_test_run_program("png_metrics", args, out, sizeof out), 0);
     double db = 0;
     assert_int_equal(sscanf(out, "psnr_db=%lf", &db), 1);
     return db;
