@@ -52,7 +52,9 @@ static void render(const char *bundle, const char *scene, const char *png, ht_im
     assert_int_equal(ht_image_read_png(png, img, err, sizeof err), HT_OK);
 }
 
-/* The fp16 frame's PSNR against the fp32 frame of one pair. */
+/* The fp16 frame's PSNR against the fp32 frame of one pair; NAN when the
+   bundle has no mediump text (a material with a transmission lobe:
+   emit_glsl.c ships none). */
 static double measure(const char *material, const char *scene_file, int size, int hairs) {
     char path[128], bundle[128], fp16[128], cmd[4096], png[256];
     /* the scene at the measured size (and hair count, for a fur ball) */
@@ -64,6 +66,7 @@ static double measure(const char *material, const char *scene_file, int size, in
              fp16, ht_test_build_dir(), material, path, bundle, bundle, fp16);
     ht_test_run_command(cmd);
     snprintf(png, sizeof png, "%s/full-es2-mediump.frag", bundle);
+    if (!ht_test_path_exists(png)) return NAN;
     char *es = ht_test_read_all(png, NULL);
     assert_non_null(es);
     char *emulated = ht_mp_desktop_emulation(es);
@@ -105,6 +108,10 @@ static void test_fp16_frames_stay_within_the_target_of_fp32(void **state) {
             snprintf(material, sizeof material, "materials/%s.json", materials[mi]);
             snprintf(scene, sizeof scene, "scenes/%s.json", scenes[si]);
             const double db = measure(material, scene, all ? 256 : 128, all ? 2000 : 500);
+            if (isnan(db) && strcmp(materials[mi], "brown-marschner") == 0) {
+                printf("| %s × %s | no mediump text (transmission lobe) |\n", materials[mi], scenes[si]);
+                continue;
+            }
             printf("| %s × %s | %.1f |\n", materials[mi], scenes[si], db);
             /* identical frames would mean the rounding never ran */
             assert_true(isfinite(db));
