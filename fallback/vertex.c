@@ -105,13 +105,20 @@ static ht_result create_es(vertex_state *s, const ht_tier_context *ctx, char *er
 static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_t err_size) {
     *out = NULL;
     if (!ctx->gl->has_shaders) return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "no shader entry points");
+    /* Selection checks the manifest; a bundle written before the vertex tier
+       listed GL_ARB_texture_env_combine is caught here (desktop GL only: on
+       ES the combiner stages are a fragment shader). */
+    if (!ctx->caps->es && !ctx->caps->has_combine)
+        return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "needs GL_ARB_texture_env_combine");
+    if (!ctx->caps->es && (!ctx->gl->has_multitexture || !ctx->gl->ActiveTexture))
+        return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "no glActiveTexture");
+    vertex_state *s = calloc(1, sizeof *s);
+    if (!s) return HT_ERR_OUT_OF_MEMORY;
+    s->gl = ctx->gl;
+    s->log = ctx->log;
+    s->log_user = ctx->log_user;
+    s->light_count = ctx->bundle->light_count;
     if (ctx->caps->es) {
-        vertex_state *s = calloc(1, sizeof *s);
-        if (!s) return HT_ERR_OUT_OF_MEMORY;
-        s->gl = ctx->gl;
-        s->log = ctx->log;
-        s->log_user = ctx->log_user;
-        s->light_count = ctx->bundle->light_count;
         ht_result r = create_es(s, ctx, err, err_size);
         if (r != HT_OK) {
             destroy(s);
@@ -120,17 +127,6 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
         *out = s;
         return HT_OK;
     }
-    /* Selection checks the manifest; a bundle written before the vertex tier
-       listed GL_ARB_texture_env_combine is caught here. */
-    if (!ctx->caps->has_combine) return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "needs GL_ARB_texture_env_combine");
-    if (!ctx->gl->has_multitexture || !ctx->gl->ActiveTexture)
-        return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "no glActiveTexture");
-    vertex_state *s = calloc(1, sizeof *s);
-    if (!s) return HT_ERR_OUT_OF_MEMORY;
-    s->gl = ctx->gl;
-    s->log = ctx->log;
-    s->log_user = ctx->log_user;
-    s->light_count = ctx->bundle->light_count;
     const ht_manifest_tier *t = ctx->tier;
     const char *vert = ht_manifest_tier_file(t, "vertex");
     const char *pvert = ht_manifest_tier_file(t, "prime_vertex");
