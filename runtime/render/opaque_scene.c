@@ -5,17 +5,21 @@
 
 /* The head: simple fixed-function lighting from the frame's lights. Every
    lighting parameter that shapes it is set here, not inherited. */
-void ht_renderer_draw_opaque(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f) {
-    const ht_gl *gl = &r->gl;
-    if (!m->vertices || !m->indices || m->index_count == 0) return;
+void ht_renderer_opaque_state(const ht_gl *gl) {
     ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, 0);
     ht_gl_bind_buffer(gl, GL_ELEMENT_ARRAY_BUFFER, 0);
     gl->Disable(GL_CULL_FACE);
     gl->Disable(GL_BLEND);
-    gl->Disable(GL_ALPHA_TEST);
     gl->DepthFunc(GL_LESS);
     gl->DepthMask(GL_TRUE);
     gl->ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
+void ht_renderer_draw_opaque(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f) {
+    const ht_gl *gl = &r->gl;
+    if (!m->vertices || !m->indices || m->index_count == 0) return;
+    ht_renderer_opaque_state(gl);
+    gl->Disable(GL_ALPHA_TEST);
     gl->Enable(GL_LIGHTING);
     gl->Enable(GL_NORMALIZE);
     const float ambient[4] = { 0.08f, 0.08f, 0.08f, 1 }, zero[4] = { 0, 0, 0, 1 };

@@ -135,13 +135,7 @@ void ht_renderer_draw_opaque_es(ht_renderer *r, const ht_mesh *m, const ht_tier_
     const ht_gl *gl = &r->gl;
     if (!m->vertices || !m->indices || m->index_count == 0 || r->opaque_failed) return;
     if (!r->opaque_program && !build(r)) return;
-    ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, 0);
-    ht_gl_bind_buffer(gl, GL_ELEMENT_ARRAY_BUFFER, 0);
-    gl->Disable(GL_CULL_FACE);
-    gl->Disable(GL_BLEND);
-    gl->DepthFunc(GL_LESS);
-    gl->DepthMask(GL_TRUE);
-    gl->ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    ht_renderer_opaque_state(gl);
     gl->UseProgram(r->opaque_program);
     float vectors[HT_MAX_LIGHTS * 4] = { 0 }, colors[HT_MAX_LIGHTS * 3] = { 0 };
     for (int i = 0; i < f->light_count && i < HT_MAX_LIGHTS; i++) {

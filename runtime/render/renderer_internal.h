@@ -111,6 +111,10 @@ void ht_gl_state_restore_es(ht_renderer *r, const ht_gl_state *s);
 /* opaque_scene.c; on GL ES opaque_scene_es.c (a program of the runtime's
    own lighting the head as GL's fixed-function lighting does, made at the
    first frame with a head and freed with the renderer). */
+/* The state the head is drawn with on desktop GL and ES alike: client
+   arrays (no buffers bound), no culling or blending, depth test and
+   writes, every colour channel. */
+void ht_renderer_opaque_state(const ht_gl *gl);
 void ht_renderer_draw_opaque(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f);
 void ht_renderer_draw_opaque_es(ht_renderer *r, const ht_mesh *m, const ht_tier_frame *f);
 void ht_renderer_release_opaque_es(ht_renderer *r);
