@@ -26,6 +26,9 @@ DEB_PACKAGES := libosmesa6-dev libegl-dev libegl-mesa0 glslang-dev glslang-tools
 CPPFLAGS += -Iinclude -Iruntime/io -Iruntime/shading -Iruntime/mesh -Iruntime/render -Ishadergen -Ifallback -Iplatform -I/usr/include/cjson -I/usr/include/libpng16
 CFLAGS   += -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra $(WERROR) $(OPT) $(SAN) -MMD -MP
 LDFLAGS  += $(SAN)
+# gold links the tests and programs (static glslang) about three times faster than bfd.
+LD_GOLD  := $(if $(shell command -v ld.gold 2>/dev/null),-fuse-ld=gold)
+LDFLAGS  += $(LD_GOLD)
 # glslang's static libraries are C++; its pkg-config file is read lazily,
 # after the packages are installed.
 GLSLANG_LIBS = $(shell pkg-config --libs glslang) -lglslang-default-resource-limits -lstdc++
