@@ -299,9 +299,10 @@ accuracy: $(BUILD)/tests/test_render_accuracy
 	@grep '^shipped' $(ACCURACY_RESULTS)/shipped-sweep.log || true
 	@tests/test_summary.sh $(ACCURACY_RESULTS)
 
+# -g1: line tables for the sanitizers' reports, without the full debug info that slows compiling and linking.
 asan:
 	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 \
-	$(MAKE) BUILD=build-asan OPT="-O1 -g -fno-omit-frame-pointer" \
+	$(MAKE) BUILD=build-asan OPT="-O1 -g1 -fno-omit-frame-pointer" \
 	  SAN="-fsanitize=address,undefined -fno-sanitize-recover=undefined" test
 
 # Every benchmark through build/bench_suite: the generator and mesh figures,
@@ -385,7 +386,7 @@ FUZZ_DEB_PACKAGES := clang libclang-rt-14-dev
 
 fuzz-build: deps
 	$(call install_missing,$(FUZZ_DEB_PACKAGES))
-	$(MAKE) $(PARALLEL) BUILD=$(FUZZ_BUILD) CC=clang CXX=clang++ OPT="-O1 -g -fno-omit-frame-pointer" SAN="$(FUZZ_SAN)" \
+	$(MAKE) $(PARALLEL) BUILD=$(FUZZ_BUILD) CC=clang CXX=clang++ OPT="-O1 -g1 -fno-omit-frame-pointer" SAN="$(FUZZ_SAN)" \
 	  $(patsubst %,$(FUZZ_BUILD)/fuzz/%,$(FUZZ_TARGETS))
 
 # Seeds: the shipped materials and scenes, a generated bundle's manifest,
