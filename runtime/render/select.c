@@ -9,10 +9,17 @@
 #include "select.h"
 #include "errfmt.h"
 
+/* A tier without GLSL: the fixed-function tiers (fixed4, fixed, gl11). */
+static bool fixed_function(const ht_manifest_tier *t) { return t->glsl_major == 0 && t->es_count == 0; }
+
 int ht_select_es_target(const ht_caps *c, const ht_manifest_tier *t, char *why, size_t why_size) {
     if (t->es_count == 0) {
-        snprintf(why, why_size, "no GL ES target in the bundle (this tier needs desktop GL %d.%d)", t->gl_major,
-                 t->gl_minor);
+        if (fixed_function(t))
+            snprintf(why, why_size, "fixed function: GL ES 2.0 on has none (desktop GL %d.%d or GL ES 1.1 runs it)",
+                     t->gl_major, t->gl_minor);
+        else
+            snprintf(why, why_size, "no GL ES target in the bundle (this tier needs desktop GL %d.%d)", t->gl_major,
+                     t->gl_minor);
         return -1;
     }
     bool precision_failed = false;
@@ -46,8 +53,38 @@ int ht_select_es_target(const ht_caps *c, const ht_manifest_tier *t, char *why, 
     return -1;
 }
 
+/* The extensions and units a tier lists (ES 1.1 meets the desktop names
+   it made core: caps.c). */
+static bool check_extensions_and_units(const ht_caps *c, const char *extensions, const ht_manifest_tier *t,
+                                       char *why, size_t why_size) {
+    for (int i = 0; i < t->extension_count; i++)
+        if (!ht_caps_satisfies_extension(c, extensions, t->extensions[i])) {
+            snprintf(why, why_size, "needs %s", t->extensions[i]);
+            return false;
+        }
+    if (t->texture_units > c->texture_units) {
+        snprintf(why, why_size, "needs %d texture units, have %d", t->texture_units, c->texture_units);
+        return false;
+    }
+    return true;
+}
+
+/* GL ES 1.1 runs the fixed-function tiers only; the desktop GL version a
+   tier names is not compared (ES 1.1 is GL 1.5 without 3D textures and the
+   crossbar, which the backends check themselves). */
+static bool check_es1(const ht_caps *c, const char *extensions, const ht_manifest_tier *t, char *why,
+                      size_t why_size) {
+    if (!fixed_function(t)) {
+        snprintf(why, why_size, "GL ES %d.%d has no shaders (this tier needs GLSL %d.%02d)", c->gl_major,
+                 c->gl_minor, t->glsl_major, t->glsl_minor);
+        return false;
+    }
+    return check_extensions_and_units(c, extensions, t, why, why_size);
+}
+
 bool ht_select_check_requirements(const ht_caps *c, const char *extensions, const ht_manifest_tier *t,
                                   char *why, size_t why_size) {
+    if (ht_caps_es1(c)) return check_es1(c, extensions, t, why, why_size);
     if (c->es) return ht_select_es_target(c, t, why, why_size) >= 0;
     if (!ht_version_at_least(c->gl_major, c->gl_minor, t->gl_major, t->gl_minor)) {
         snprintf(why, why_size, "needs GL %d.%d, have %d.%d", t->gl_major, t->gl_minor, c->gl_major, c->gl_minor);
@@ -68,16 +105,7 @@ bool ht_select_check_requirements(const ht_caps *c, const char *extensions, cons
                  c->glsl_major, c->glsl_minor);
         return false;
     }
-    for (int i = 0; i < t->extension_count; i++)
-        if (!ht_caps_satisfies_extension(c, extensions, t->extensions[i])) {
-            snprintf(why, why_size, "needs %s", t->extensions[i]);
-            return false;
-        }
-    if (t->texture_units > c->texture_units) {
-        snprintf(why, why_size, "needs %d texture units, have %d", t->texture_units, c->texture_units);
-        return false;
-    }
-    return true;
+    return check_extensions_and_units(c, extensions, t, why, why_size);
 }
 
 /* Why bundle tier i cannot run, or false when it can. */
