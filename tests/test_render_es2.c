@@ -31,7 +31,7 @@ static void test_es2_context_is_es2_and_draws_the_essl100_text(void **state) {
 
 static void test_es2_every_scene_and_glsl_tier_matches_desktop_gl(void **state) {
     (void)state;
-    ht_test_es_scenes_match_desktop(OFFSCREEN_API_GLES2, NULL);
+    ht_test_es_scenes_match_desktop(OFFSCREEN_API_GLES2, NULL, HT_TEST_ES_SCENES);
 }
 
 static int teardown(void **state) {
