@@ -44,30 +44,30 @@ typedef enum core_flag { FLAG_NONE, FLAG_MULTITEXTURE, FLAG_COMBINE, FLAG_CROSSB
 /* Every extension the runtime asks about by name, one known_extensions bit
    each (at most 32). Those with a version became core then, and the flag
    says whether this context (after its profile) may use them; version 0.0:
-   never core here, only the list counts. es1: core in GL ES 1.1 (its
-   multitexture, combiners with DOT3, VBOs and edge clamping), the only
-   way the desktop names are met on an ES 1.x context. */
-static const struct { const char *name; int major, minor; core_flag flag; bool es1; } known[] = {
-    { "GL_EXT_texture3D", 1, 2, FLAG_3D, false },
-    { "GL_EXT_texture_edge_clamp", 1, 2, FLAG_NONE, true },
-    { "GL_SGIS_texture_edge_clamp", 1, 2, FLAG_NONE, true },
-    { "GL_ARB_multitexture", 1, 3, FLAG_MULTITEXTURE, true },
-    { "GL_ARB_texture_env_combine", 1, 3, FLAG_COMBINE, true },
-    { "GL_EXT_texture_env_combine", 1, 3, FLAG_COMBINE, true },
-    { "GL_ARB_texture_env_dot3", 1, 3, FLAG_COMBINE, true },
-    { "GL_ARB_texture_cube_map", 1, 3, FLAG_NONE, false },
-    { "GL_ARB_texture_border_clamp", 1, 3, FLAG_NONE, false },
-    { "GL_ARB_texture_env_crossbar", 1, 4, FLAG_CROSSBAR, false },
-    { "GL_ARB_vertex_buffer_object", 1, 5, FLAG_VBO, true },
-    { "GL_ARB_shader_objects", 2, 0, FLAG_SHADERS, false },
-    { "GL_ARB_vertex_shader", 2, 0, FLAG_SHADERS, false },
-    { "GL_ARB_fragment_shader", 2, 0, FLAG_FRAGMENT, false },
-    { "GL_ARB_shading_language_100", 2, 0, FLAG_SHADERS, false },
-    { "GL_ARB_texture_non_power_of_two", 2, 0, FLAG_NONE, false },
-    { "GL_EXT_texture_cube_map", 0, 0, FLAG_NONE, false },
-    { "GL_ARB_texture_rectangle", 0, 0, FLAG_NONE, false },
-    { "GL_NV_texture_rectangle", 0, 0, FLAG_NONE, false },
-    { "GL_EXT_texture_rectangle", 0, 0, FLAG_NONE, false },
+   never core here, only the list counts. es1: core since GL ES 1.<es1>
+   (multitexture and edge clamping in 1.0; combiners with DOT3 and VBOs in
+   1.1), -1 never: the only way the desktop names are met on ES 1.x. */
+static const struct { const char *name; int major, minor; core_flag flag; int es1; } known[] = {
+    { "GL_EXT_texture3D", 1, 2, FLAG_3D, -1 },
+    { "GL_EXT_texture_edge_clamp", 1, 2, FLAG_NONE, 0 },
+    { "GL_SGIS_texture_edge_clamp", 1, 2, FLAG_NONE, 0 },
+    { "GL_ARB_multitexture", 1, 3, FLAG_MULTITEXTURE, 0 },
+    { "GL_ARB_texture_env_combine", 1, 3, FLAG_COMBINE, 1 },
+    { "GL_EXT_texture_env_combine", 1, 3, FLAG_COMBINE, 1 },
+    { "GL_ARB_texture_env_dot3", 1, 3, FLAG_COMBINE, 1 },
+    { "GL_ARB_texture_cube_map", 1, 3, FLAG_NONE, -1 },
+    { "GL_ARB_texture_border_clamp", 1, 3, FLAG_NONE, -1 },
+    { "GL_ARB_texture_env_crossbar", 1, 4, FLAG_CROSSBAR, -1 },
+    { "GL_ARB_vertex_buffer_object", 1, 5, FLAG_VBO, 1 },
+    { "GL_ARB_shader_objects", 2, 0, FLAG_SHADERS, -1 },
+    { "GL_ARB_vertex_shader", 2, 0, FLAG_SHADERS, -1 },
+    { "GL_ARB_fragment_shader", 2, 0, FLAG_FRAGMENT, -1 },
+    { "GL_ARB_shading_language_100", 2, 0, FLAG_SHADERS, -1 },
+    { "GL_ARB_texture_non_power_of_two", 2, 0, FLAG_NONE, -1 },
+    { "GL_EXT_texture_cube_map", 0, 0, FLAG_NONE, -1 },
+    { "GL_ARB_texture_rectangle", 0, 0, FLAG_NONE, -1 },
+    { "GL_NV_texture_rectangle", 0, 0, FLAG_NONE, -1 },
+    { "GL_EXT_texture_rectangle", 0, 0, FLAG_NONE, -1 },
 };
 #define KNOWN_COUNT (int)(sizeof known / sizeof known[0])
 _Static_assert(sizeof known / sizeof known[0] <= 32, "known_extensions is 32 bits");
@@ -112,7 +112,7 @@ bool ht_caps_satisfies_extension(const ht_caps *c, const char *list, const char 
     int k = known_index(name, strlen(name));
     if (k < 0) return ht_extension_list_has(list, name);
     if (!flag_set(c, known[k].flag)) return false;
-    bool core = c->es ? known[k].es1 && ht_caps_es1(c) && ht_caps_gl_at_least(c, 1, 1)
+    bool core = c->es ? known[k].es1 >= 0 && ht_caps_es1(c) && ht_caps_gl_at_least(c, 1, known[k].es1)
                       : known[k].major > 0 && ht_caps_gl_at_least(c, known[k].major, known[k].minor);
     return (c->known_extensions & (1u << k)) || core;
 }
