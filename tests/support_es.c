@@ -60,6 +60,12 @@ void ht_test_es_cleanup(void) {
     memset(bundles, 0, sizeof bundles);
 }
 
+int ht_test_es_teardown(void **state) {
+    (void)state;
+    ht_test_es_cleanup();
+    return 0;
+}
+
 static void keep_log(void *user, const char *line) {
     ht_test_es_draw *d = user;
     size_t n = strlen(d->log);

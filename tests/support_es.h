@@ -44,6 +44,8 @@ double ht_test_es_psnr(const ht_test_es_draw *a, const ht_test_es_draw *b);
 extern const char *const ht_test_es_scene_names[HT_TEST_ES_SCENES];
 const char *ht_test_es_bundle(int scene);
 void ht_test_es_cleanup(void);
+/* The ES tests' group teardown: ht_test_es_cleanup. */
+int ht_test_es_teardown(void **state);
 
 /* The same passes, fixed state, ranges and no GL error in both traces (the
    ES 2.0+ alpha test is the texts' discard, recorded from the one rule). */

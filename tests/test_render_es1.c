@@ -230,12 +230,6 @@ static void test_es1_what_it_cannot_run_is_refused_with_reason(void **state) {
     assert_non_null(strstr(d.log, "make a GL ES 1 context (hairview --api gles1)"));
 }
 
-static int teardown(void **state) {
-    (void)state;
-    ht_test_es_cleanup();
-    return 0;
-}
-
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_es1_context_is_es11_and_skips_the_glsl_tiers),
@@ -243,5 +237,5 @@ int main(void) {
         cmocka_unit_test(test_es1_application_state_survives_a_frame),
         cmocka_unit_test(test_es1_what_it_cannot_run_is_refused_with_reason),
     };
-    return cmocka_run_group_tests(tests, NULL, teardown);
+    return cmocka_run_group_tests(tests, NULL, ht_test_es_teardown);
 }

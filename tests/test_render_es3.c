@@ -274,12 +274,6 @@ static void test_es3_mismatched_profiles_are_refused_with_one_line(void **state)
     assert_non_null(strstr(d.log, "device profile: a desktop GL 2.0 device, the context is OpenGL ES 3."));
 }
 
-static int teardown(void **state) {
-    (void)state;
-    ht_test_es_cleanup();
-    return 0;
-}
-
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_es3_furball_full_matches_desktop_gl),
@@ -290,5 +284,5 @@ int main(void) {
         cmocka_unit_test(test_es3_videocore4_draws_with_16_bit_indices),
         cmocka_unit_test(test_es3_mismatched_profiles_are_refused_with_one_line),
     };
-    return cmocka_run_group_tests(tests, NULL, teardown);
+    return cmocka_run_group_tests(tests, NULL, ht_test_es_teardown);
 }
