@@ -13,6 +13,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,6 +33,13 @@ static void test_es1_context_is_es11_and_skips_the_glsl_tiers(void **state) {
     assert_non_null(strstr(d.log, "skipped full, vertex: shaders: GL ES 1.x has none (desktop GL 2.0 or GL ES 2.0 "
                                   "runs it)\n"));
     assert_int_equal(d.tier, HT_TIER_FIXED4);
+    /* Without GL_OES_element_index_uint: 16-bit indices, the same pixels. */
+    const ht_device_profile no_uint = { .hide_extensions = "GL_OES_element_index_uint" };
+    ht_test_es_draw shorts;
+    if (!ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES1, HT_TIER_AUTO, &no_uint, &shorts))
+        fail_msg("%s", shorts.log);
+    assert_true(isinf(ht_test_es_psnr(&d, &shorts)));
+    ht_test_es_draw_free(&shorts);
     ht_test_es_draw_free(&d);
     /* The fixed tier's 3D LUT: two 2D textures, the error said once. */
     if (!ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES1, HT_TIER_FIXED, NULL, &d)) fail_msg("%s", d.log);
