@@ -76,7 +76,7 @@ TESTS     := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 # Tests that render and so run a second time on softpipe (GALLIUM_DRIVER=
 # softpipe), Mesa's second driver; every test runs on llvmpipe.
 SOFTPIPE_TESTS := test_render_app_state test_render_drivers test_render_buffer_arrays test_render_marschner test_render_fixed test_render_fixed4 test_render_gl11 test_render_glsl_compile \
-                  test_render_passes test_render_probe test_render_robustness test_render_scenes test_render_es3
+                  test_render_passes test_render_probe test_render_robustness test_render_scenes test_render_es3 test_render_es1
 $(foreach t,$(filter-out $(notdir $(TESTS)),$(SOFTPIPE_TESTS)),$(error SOFTPIPE_TESTS: no tests/$(t).c))
 # Render tests that run once more on llvmpipe through EGL (a pbuffer on
 # Mesa's surfaceless platform) instead of OSMesa: HAIRTIER_CONTEXT=egl
@@ -252,7 +252,7 @@ TEST_SCRIPTS := tests/install_test.sh tests/header_examples.sh
 PROGRAM_TESTS := $(notdir $(basename $(shell grep -l 'HAIRTIER_BUILD\|ht_test_build_dir' $(TEST_SRC))))
 # The slowest runs first (most CPU first), so the last ones to end are short.
 SLOW_RUNS := test_render_accuracy.llvmpipe test_render_drivers.llvmpipe test_marschner_lut.llvmpipe \
-             test_render_marschner.llvmpipe test_render_es2.llvmpipe test_render_es3.llvmpipe \
+             test_render_marschner.llvmpipe test_render_es2.llvmpipe test_render_es3.llvmpipe test_render_es1.llvmpipe \
              test_render_faults.llvmpipe test_measure.llvmpipe \
              test_render_scenes.softpipe test_render_scenes.llvmpipe test_render_marschner.softpipe \
              test_render_drivers.softpipe test_model_marschner.llvmpipe test_render_passes.softpipe \
