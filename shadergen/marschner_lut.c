@@ -75,19 +75,27 @@ ht_result ht_marschner_lut_bake(const ht_marschner *m, ht_marschner_lut *out) {
     for (int y = 0; y < ms; y++) {
         ht_marschner_azimuthal(m, HT_LOBE_REST, cos(axis(y, ms, -HT_PI / 2, HT_PI / 2)), 0, &rest_n[y * 3]);
     }
-    ht_marschner_m_lobe lobes[HT_LOBE_COUNT]; /* ht_marschner_longitudinal's, made once */
-    for (int p = 0; p < HT_LOBE_COUNT; p++) {
-        double beta = ht_marschner_width(m, (ht_marschner_lobe)p);
-        lobes[p] = ht_marschner_m_lobe_of(beta * beta, 2 * ht_marschner_shift(m, (ht_marschner_lobe)p));
+    /* M a row at a time (one theta_r), its values ht_marschner_longitudinal's */
+    double *sines = malloc(sizeof *sines * (size_t)ms * 2);
+    if (!sines) {
+        free(rest_n);
+        goto done;
     }
-    for (int y = 0; y < ms; y++)
-        for (int x = 0; x < ms; x++) {
-            double si = sin(axis(x, ms, -HT_PI / 2, HT_PI / 2)), sr = sin(axis(y, ms, -HT_PI / 2, HT_PI / 2));
-            double *v = &mv[((size_t)y * ms + x) * 6];
-            for (int p = 0; p < 3; p++) v[p] = ht_marschner_m_lobe_at(&lobes[p], si, sr);
-            double mr = ht_marschner_m_lobe_at(&lobes[HT_LOBE_REST], si, sr);
-            for (int c = 0; c < 3; c++) v[3 + c] = mr * rest_n[y * 3 + c];
+    double *row = sines + ms;
+    for (int x = 0; x < ms; x++) sines[x] = sin(axis(x, ms, -HT_PI / 2, HT_PI / 2));
+    for (int p = 0; p < HT_LOBE_COUNT; p++) {
+        ht_marschner_m_lobe lobe = ht_marschner_m_lobe_for(m, (ht_marschner_lobe)p);
+        for (int y = 0; y < ms; y++) {
+            ht_marschner_m_lobe_row(&lobe, sines[y], sines, ms, row);
+            for (int x = 0; x < ms; x++) {
+                double *v = &mv[((size_t)y * ms + x) * 6];
+                if (p < HT_LOBE_REST) v[p] = row[x];
+                else
+                    for (int c = 0; c < 3; c++) v[3 + c] = row[x] * rest_n[y * 3 + c];
+            }
         }
+    }
+    free(sines);
     free(rest_n);
     /* N_TRT a column of phi at a time (one theta_r), its values ht_marschner_azimuthal's */
     double phis[HT_MARSCHNER_LUT_N_SIZE], column[HT_MARSCHNER_LUT_N_SIZE][3];

@@ -56,11 +56,33 @@ ht_marschner_m_lobe ht_marschner_m_lobe_of(double v, double two_alpha) {
                                   .cos_2a = cos(two_alpha), .sin_2a = sin(two_alpha) };
 }
 
+/* M for clamped sines and their cosines. */
+static double longitudinal_of(const ht_marschner_m_lobe *l, double sin_i, double cos_i, double sin_r, double cos_r) {
+    return exp(log_bessel_i0(cos_i * cos_r / l->v) - sin_i * sin_r / l->v - l->log_norm);
+}
+
+static double cos_of(double clamped_sin) { return sqrt(1 - clamped_sin * clamped_sin); }
+
 static double longitudinal_unrotated(const ht_marschner_m_lobe *l, double sin_i, double sin_r) {
     sin_i = clamp1(sin_i);
     sin_r = clamp1(sin_r);
-    double cos_i = sqrt(1 - sin_i * sin_i), cos_r = sqrt(1 - sin_r * sin_r);
-    return exp(log_bessel_i0(cos_i * cos_r / l->v) - sin_i * sin_r / l->v - l->log_norm);
+    return longitudinal_of(l, sin_i, cos_of(sin_i), sin_r, cos_of(sin_r));
+}
+
+/* sin_r rotated by -2 alpha: centres the lobe on theta_h = alpha; a
+   rotation past a pole folds back (|cos|), which keeps the integral 1. */
+static double rotated(const ht_marschner_m_lobe *l, double sin_r) {
+    sin_r = clamp1(sin_r);
+    return clamp1(sin_r * l->cos_2a - cos_of(sin_r) * l->sin_2a);
+}
+
+void ht_marschner_m_lobe_row(const ht_marschner_m_lobe *l, double sin_r, const double *sin_i, int count,
+                             double *out) {
+    const double sin_rot = rotated(l, sin_r), cos_rot = cos_of(sin_rot);
+    for (int x = 0; x < count; x++) {
+        double si = clamp1(sin_i[x]);
+        out[x] = longitudinal_of(l, si, cos_of(si), sin_rot, cos_rot);
+    }
 }
 
 double ht_marschner_longitudinal_v(double v, double sin_i, double sin_r) {
@@ -68,20 +90,15 @@ double ht_marschner_longitudinal_v(double v, double sin_i, double sin_r) {
     return longitudinal_unrotated(&l, sin_i, sin_r);
 }
 
-double ht_marschner_m_lobe_at(const ht_marschner_m_lobe *l, double sin_i, double sin_r) {
-    /* Rotating theta_r by -2 alpha centres the lobe on theta_h = alpha; a
-       rotation past a pole folds back (|cos|), which keeps the integral 1. */
-    sin_r = clamp1(sin_r);
-    double cos_r = sqrt(1 - sin_r * sin_r);
-    double sin_rot = clamp1(sin_r * l->cos_2a - cos_r * l->sin_2a);
-    return longitudinal_unrotated(l, sin_i, sin_rot);
+ht_marschner_m_lobe ht_marschner_m_lobe_for(const ht_marschner *m, ht_marschner_lobe p) {
+    double beta = ht_marschner_width(m, p);
+    return ht_marschner_m_lobe_of(beta * beta, 2 * ht_marschner_shift(m, p));
 }
 
 double ht_marschner_longitudinal(const ht_marschner *m, ht_marschner_lobe p,
                                  double sin_i, double sin_r) {
-    double beta = ht_marschner_width(m, p);
-    ht_marschner_m_lobe l = ht_marschner_m_lobe_of(beta * beta, 2 * ht_marschner_shift(m, p));
-    return ht_marschner_m_lobe_at(&l, sin_i, sin_r);
+    ht_marschner_m_lobe l = ht_marschner_m_lobe_for(m, p);
+    return longitudinal_unrotated(&l, sin_i, rotated(&l, sin_r));
 }
 
 /* Bravais' indices of the fibre's cross-section seen at theta_r. */

@@ -8,15 +8,18 @@
 
 #include <hairtier/model_marschner.h>
 
-/* M_p's constants: variance v = beta_p^2, rotation 2 alpha_p. */
+/* M_p's constants: variance v = beta_p^2, rotation by -2 alpha_p. */
 typedef struct ht_marschner_m_lobe {
     double v, log_norm, cos_2a, sin_2a;
 } ht_marschner_m_lobe;
 
 ht_marschner_m_lobe ht_marschner_m_lobe_of(double v, double two_alpha);
-/* ht_marschner_longitudinal(m, p, sin_i, sin_r) for the lobe made with
-   v = beta_p^2, two_alpha = 2 alpha_p. */
-double ht_marschner_m_lobe_at(const ht_marschner_m_lobe *l, double sin_i, double sin_r);
+/* Lobe p's: v = beta_p^2, two_alpha = 2 alpha_p. */
+ht_marschner_m_lobe ht_marschner_m_lobe_for(const ht_marschner *m, ht_marschner_lobe p);
+/* out[x] = ht_marschner_longitudinal(m, p, sin_i[x], sin_r) for x < count,
+   l = ht_marschner_m_lobe_for(m, p): a row of the M texture. */
+void ht_marschner_m_lobe_row(const ht_marschner_m_lobe *l, double sin_r, const double *sin_i, int count,
+                             double *out);
 
 /* out[i] = ht_marschner_azimuthal(m, HT_LOBE_TRT, cos_theta_r, phi[i]),
    RGB, for i < count: the same adaptive integration at the same
