@@ -264,9 +264,9 @@ static void integrand_of(const integrand *f, const node_value *v, double out[3])
     for (int i = 0; i < 3; i++) out[i] = v->a[i] * w;
 }
 
-/* Gauss-Kronrod 7-15 (QUADPACK's qk15) nodes on [-1, 1] (and their
-   negatives), Kronrod and Gauss weights. Node n of a panel is
-   kronrod_x(k) with k = n / 2, negated when n is odd. */
+/* Gauss-Kronrod 7-15 (QUADPACK's qk15): the nodes on [0, 1] (each also
+   negated), the Kronrod and the Gauss weights. Node n of a panel is
+   gk_x[n / 2], negated when n is odd (gk_node). */
 #define GK_NODES 15
 static const double gk_x[8] = { 0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
                                 0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
