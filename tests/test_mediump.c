@@ -169,7 +169,8 @@ static void test_probe_with_a_transmission_lobe(void **state) {
     probe_with("brown-marschner fit, first light", &fit, first_light(), 3, 0);
     probe_with("brown-marschner fit, from behind", &fit, ht_probe_directional(0.3f, 0.4f, -1), 3, 0);
     probe_with("brown-marschner fit, L = -V", &fit, ht_probe_directional(0, 0, -1), 5, 4);
-    probe_with("lobe sharpness 10000", &sharp, ht_probe_directional(0.3f, 0.4f, -1), 3, 0);
+    /* the material maximum: slope 71 per radian, so 6/255 like exponent 10000 */
+    probe_with("lobe sharpness 10000", &sharp, ht_probe_directional(0.3f, 0.4f, -1), 6, 0);
     probe_with("lobe azimuth 0.5", &broad, ht_probe_directional(0.3f, 0.4f, -1), 3, 0);
     probe_with("lobe azimuth 0", &flat, ht_probe_directional(0.3f, 0.4f, -1), 3, 0);
 }
@@ -227,9 +228,13 @@ static void test_random_directions_with_a_transmission_lobe(void **state) {
     const ht_shading plain = shading(HT_MODEL_SCHEUERMANN, 80, -0.1, 24, 0.15);
     const ht_shading sharp = with_lobe(plain, 0.0, HT_LIMIT_EXPONENT, 4.0);
     const ht_shading broad = with_lobe(plain, -0.5, 2.0, 0.5);
-    random_with("brown-marschner fit", &fit, 99, 99);
-    random_with("lobe sharpness 10000", &sharp, 99, 99);
-    random_with("lobe azimuth 0.5", &broad, 99, 99);
+    /* the 10^6 run's maxima (docs/accuracy.md), as above; the lobe-less
+       80 / 24 of the same material gave 5 and 48 there: the sharp lobe and
+       the steep a^0.5 (L or V nearly along T, whose azimuth fp16 inputs
+       fix only to 2^-11 / sin) add the rest */
+    random_with("brown-marschner fit", &fit, 5, 5);
+    random_with("lobe sharpness 10000", &sharp, 7, 48);
+    random_with("lobe azimuth 0.5", &broad, 9, 49);
 }
 
 /* ---- the extremes ---- */

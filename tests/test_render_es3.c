@@ -183,7 +183,7 @@ static void test_es3_application_state_survives_a_frame(void **state) {
 }
 
 /* A device without fragment highp: full through the bundle's all-mediump
-   ES 2.0 text; with that entry removed from the manifest, the highp text
+   ES 2.0 text (a material with a transmission lobe too); with that entry removed from the manifest, the highp text
    refused with the reason and the vertex tier's mediump text drawn. */
 static void test_es3_no_fragment_highp_takes_mediump_or_refuses_with_reason(void **state) {
     (void)state;
@@ -197,6 +197,11 @@ static void test_es3_no_fragment_highp_takes_mediump_or_refuses_with_reason(void
     if (!ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES3, HT_TIER_AUTO, &mali, &d)) fail_msg("%s", d.log);
     assert_non_null(strstr(d.log, "device GL ES 2.0, ESSL 1.00, fragment mediump only"));
     assert_int_equal(d.tier, HT_TIER_FULL);
+    assert_non_null(strstr(d.log, "full-es2-mediump.frag (ESSL 1.00, fragment mediump)"));
+    ht_test_es_draw_free(&d);
+    /* brown-marschner's full tier has a transmission lobe: it has a mediump text too. */
+    if (!ht_test_es_draw_scene(ht_test_es_bundle(3), "backlit", OFFSCREEN_API_GLES3, HT_TIER_FULL, &mali, &d))
+        fail_msg("%s", d.log);
     assert_non_null(strstr(d.log, "full-es2-mediump.frag (ESSL 1.00, fragment mediump)"));
     ht_test_es_draw_free(&d);
     /* With highp the highp texts stay first. */
