@@ -82,16 +82,10 @@ static void test_es2_without_uint_indices_draws_a_large_mesh_in_chunks(void **st
     ht_test_es_draw_free(&d);
 }
 
-static int teardown(void **state) {
-    (void)state;
-    ht_test_es_cleanup();
-    return 0;
-}
-
 int main(void) {
     setenv("MESA_GLES_VERSION_OVERRIDE", "2.0", 1);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_es2_without_uint_indices_draws_a_large_mesh_in_chunks),
     };
-    return cmocka_run_group_tests(tests, NULL, teardown);
+    return cmocka_run_group_tests(tests, NULL, ht_test_es_teardown);
 }
