@@ -21,7 +21,7 @@
    do (platform/offscreen.h); --hairs goes to 1 000 000 (32 M vertices at
    16 joints: a real GPU's size, not llvmpipe's). --api gles2|gles3 times
    the GLSL tiers on a GL ES context ("full-gles2", "vertex-gles2", ...;
-   the fixed tiers are desktop GL only) beside the full tier on a desktop
+   the fixed tiers run on desktop GL and ES 1.1 only) beside the full tier on a desktop
    GL context of the same driver ("full", a second EGL context), frames
    round-robin across both: the ratios and errors are then against
    desktop full, the floor is ES's. */
