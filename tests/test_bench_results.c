@@ -315,6 +315,7 @@ static void test_es_runs_get_their_own_tables(void **state) {
     assert_non_null(strstr(es, "### furball × llvmpipe, gles3\n"));
     assert_non_null(strstr(es, "| full-gles2 | 210.0 | 2.10 | 1.40 |"));
     assert_non_null(strstr(es, "`full-gles2` / `full` is what GL ES costs the same tier"));
+    assert_non_null(strstr(es, "`full-gles3` / `full` is what GL ES costs the same tier"));
     assert_true(strstr(md, "## Scaling") > es);
     free(md);
     bench_rows_free(&rows);

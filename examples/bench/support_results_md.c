@@ -41,14 +41,17 @@ static bool matrix_table(FILE *f, const bench_rows *rows, size_t first) {
     const bool es = bench_row_is_es(h);
     bool ok = fprintf(f, "### %s × %s%s%s\n\n", h->scene, h->driver, es ? ", " : "", es ? h->series : "") >= 0;
     if (h->hairs >= 0) ok = ok && fprintf(f, "%ld hairs, ", h->hairs) >= 0;
+    char note[192];
+    if (es)
+        snprintf(note, sizeof note, " (the floor on the GL ES context, full on a desktop GL context of the same "
+                 "driver: `full-%s` / `full` is what GL ES costs the same tier)", h->series);
+    else
+        snprintf(note, sizeof note, " (a `-device` tier is that tier's device-only variant)");
     ok = ok && fprintf(f,
                        "%ld triangles, %ld×%ld, %s; median of %ld frames after one warm-up, tiers taken "
                        "round-robin, %s; ratios and errors against this run's floor and full%s.\n\n",
                        h->triangles, h->width, h->height, h->renderer, h->frames,
-                       es ? "camera still" : "still and with the eye orbiting a little every frame",
-                       es ? " (the floor on the GL ES context, full on a desktop GL context of the same driver: "
-                            "`full-gles2` / `full` is what GL ES costs the same tier)"
-                          : " (a `-device` tier is that tier's device-only variant)") >= 0;
+                       es ? "camera still" : "still and with the eye orbiting a little every frame", note) >= 0;
     ok = ok && fputs("| tier | still: median ms | / floor | / full | orbiting: median ms | / full | PSNR dB | SSIM | "
                      "ΔE00 mean | ΔE00 p95 | FLIP mean | CPU vertices per frame: still / orbiting |\n"
                      "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n", f) >= 0;
