@@ -19,7 +19,12 @@
    Run: make bench (build/bench_suite runs it per scene and driver).
    --context osmesa|egl and --egl-device N pick the GL context as hairview's
    do (platform/offscreen.h); --hairs goes to 1 000 000 (32 M vertices at
-   16 joints: a real GPU's size, not llvmpipe's). */
+   16 joints: a real GPU's size, not llvmpipe's). --api gles2|gles3 times
+   the GLSL tiers on a GL ES context ("full-gles2", "vertex-gles2", ...;
+   the fixed tiers run on desktop GL and ES 1.1 only) beside the full tier on a desktop
+   GL context of the same driver ("full", a second EGL context), frames
+   round-robin across both: the ratios and errors are then against
+   desktop full, the floor is ES's. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -49,7 +54,8 @@ static bool HAIRS_GIVEN = false, ORBIT = true;
 static offscreen_kind CONTEXT = OFFSCREEN_AUTO;
 static int EGL_DEVICE = -1;
 static offscreen_api API = OFFSCREEN_API_GL;
-static offscreen *gl;   /* the one context every contender draws in */
+static offscreen *gl;   /* the context every contender draws in, but ... */
+static offscreen *desk; /* ... desktop full's in a GL ES run (NULL otherwise) */
 static const char *SCENE = "scenes/furball.json", *CSV = NULL, *SERIES = "matrix";
 
 static void quiet(void *user, const char *line) { (void)user, (void)line; }
@@ -58,6 +64,7 @@ typedef struct contender {
     const char *name;        /* as printed */
     const char *tier;        /* as recorded: "floor", "full", ... */
     ht_renderer *renderer;   /* NULL: the tier does not run here */
+    offscreen *context;      /* where it draws: gl or desk */
     double samples[MAX_FRAMES], orbit_samples[MAX_FRAMES];
     uint64_t cpu_still, cpu_orbit;   /* per-vertex CPU work over the timed frames */
     unsigned char *image;    /* the last timed frame, GL rows; what the metrics compare */
@@ -77,9 +84,9 @@ static ht_frame_desc frame_of(const stage *st) {
                             .aspect = (float)WIDTH / (float)HEIGHT, .opaque = st->head };
 }
 
-static void clear(const ht_scene *s) {
-    gl->gl.ClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
-    gl->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+static void clear(offscreen *o, const ht_scene *s) {
+    o->gl.ClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
+    o->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 }
 
 /* NULL when the tier does not run here (or, for HT_VARIANT_DEVICE, has no
@@ -124,12 +131,14 @@ static bool time_round_robin(contender *c, int count, const stage *st, bool orbi
         for (int k = 0; k < count; k++) {
             if (!c[k].renderer) continue;
             if (i == 0) before[k] = ht_renderer_get_stats(c[k].renderer).cpu_vertices;
-            clear(st->scene);
+            offscreen *o = c[k].context;
+            if (desk && !offscreen_make_current(o)) return false;
+            clear(o, st->scene);
             double t0 = now_ms();
             if (ht_renderer_draw(c[k].renderer, &frame) != HT_OK) return false;
-            gl->gl.Finish();
+            o->gl.Finish();
             if (i >= 0) (orbit ? c[k].orbit_samples : c[k].samples)[i] = now_ms() - t0;
-            if (i == FRAMES - 1 && !orbit) memcpy(c[k].image, offscreen_read(gl), (size_t)WIDTH * HEIGHT * 4);
+            if (i == FRAMES - 1 && !orbit) memcpy(c[k].image, offscreen_read(o), (size_t)WIDTH * HEIGHT * 4);
         }
     }
     for (int k = 0; k < count; k++) {
@@ -317,31 +326,58 @@ static int run(const char *work) {
     };
     enum { TIERS = sizeof runs / sizeof runs[0] };
     _Static_assert(TIERS + 1 <= MAX_CONTENDERS, "MAX_CONTENDERS");
-    contender c[TIERS + 1] = { { .name = "geometry floor", .tier = "floor",
+    contender c[TIERS + 1] = { { .name = "geometry floor", .tier = "floor", .context = gl,
                                  .renderer = create(dir, HT_TIER_AUTO, true, HT_VARIANT_EXACT, &mesh) } };
-    for (int k = 0; k < TIERS; k++) {
-        ht_tier t = ht_tier_from_name(runs[k].tier);
-        c[k + 1] = (contender){ .name = runs[k].name, .tier = runs[k].name,
-                                .renderer = t == HT_TIER_COUNT ? NULL
-                                                               : create(dir, t, false, runs[k].variant, &mesh) };
+    int count = TIERS + 1;
+    if (API == OFFSCREEN_API_GL || API == OFFSCREEN_API_GLES1) {
+        for (int k = 0; k < TIERS; k++) {
+            ht_tier t = ht_tier_from_name(runs[k].tier);
+            c[k + 1] = (contender){ .name = runs[k].name, .tier = runs[k].name, .context = gl,
+                                    .renderer = t == HT_TIER_COUNT ? NULL
+                                                                   : create(dir, t, false, runs[k].variant, &mesh) };
+        }
+    } else {
+        /* floor, desktop full, then the GLSL tiers on ES ("full-gles2", ...) */
+        static char names[2][32];
+        for (int k = 0; k < 2; k++) {
+            snprintf(names[k], sizeof names[k], "%s-%s", runs[k].tier, offscreen_api_name(API));
+            c[k + 2] = (contender){ .name = names[k], .tier = names[k], .context = gl,
+                                    .renderer = create(dir, ht_tier_from_name(runs[k].tier), false, HT_VARIANT_EXACT,
+                                                       &mesh) };
+        }
+        count = 4;
+        desk = offscreen_open(&(offscreen_desc){ .kind = OFFSCREEN_EGL, .width = WIDTH, .height = HEIGHT,
+                                                 .egl_device = EGL_DEVICE, .api = OFFSCREEN_API_GL }, err, sizeof err);
+        if (!desk) fprintf(stderr, "bench_frame: desktop GL beside GL ES: %s\n", err);
+        c[1] = (contender){ .name = "full-gl", .tier = "full", .context = desk,
+                            .renderer = desk ? create(dir, HT_TIER_FULL, false, HT_VARIANT_EXACT, &mesh) : NULL };
+        if (!offscreen_make_current(gl)) c[1].renderer = NULL;
     }
     bool images = true;
-    for (int k = 0; k <= TIERS; k++)
+    for (int k = 0; k < count; k++)
         if (c[k].renderer && !(c[k].image = malloc((size_t)WIDTH * HEIGHT * 4))) images = false;
     stage st = { &scene, head.index_count ? &head : NULL };
-    for (REF = 1; REF < TIERS && !c[REF].renderer; REF++) {}
+    for (REF = 1; REF < count - 1 && !c[REF].renderer; REF++) {}
     if (!images) {
         fprintf(stderr, "bench_frame: out of memory for the tiers' images\n");
-    } else if (!c[0].renderer || !c[REF].renderer || !time_round_robin(c, TIERS + 1, &st, false) ||
-               (ORBIT && !time_round_robin(c, TIERS + 1, &st, true))) {
+    } else if (!c[0].renderer || !c[REF].renderer || !time_round_robin(c, count, &st, false) ||
+               (ORBIT && !time_round_robin(c, count, &st, true))) {
         fprintf(stderr, "bench_frame: the geometry floor or every tier failed to render\n");
-    } else if (measure_errors(c, TIERS + 1)) {
-        print_table(c, TIERS + 1);
-        status = CSV && !write_csv(c, TIERS + 1, &scene, mesh.index_count / 3) ? 1 : 0;
+    } else if (measure_errors(c, count)) {
+        print_table(c, count);
+        status = CSV && !write_csv(c, count, &scene, mesh.index_count / 3) ? 1 : 0;
     }
-    for (int k = 0; k <= TIERS; k++) {
-        if (c[k].renderer) ht_renderer_destroy(c[k].renderer);
+    for (int k = 0; k < count; k++) {
+        if (c[k].renderer) {
+            if (desk) offscreen_make_current(c[k].context);
+            ht_renderer_destroy(c[k].renderer);
+        }
         free(c[k].image);
+    }
+    if (desk) {
+        offscreen_close(desk);
+        desk = NULL;
+        offscreen_make_current(gl);
     }
 close_context:
     ht_mesh_free(&mesh);
@@ -381,7 +417,8 @@ static const cli_program program = {
             "  --frames F     timed frames, 1.." CLI_STR(MAX_FRAMES) " (default 9)\n"
             "  --csv FILE     also write the rows, series NAME (--series, default matrix)\n"
             "  --context K    osmesa or egl; --egl-device N: EGL device N\n"
-            "  --api A        gl (default), gles1, gles2 or gles3: a GL ES context (EGL)\n",
+            "  --api A        gl (default), gles1, gles2 or gles3: a GL ES context (EGL); on gles2 and\n"
+            "                 gles3 the GLSL tiers beside full on desktop GL (a second EGL context)\n",
     .long_options = long_options,
 };
 

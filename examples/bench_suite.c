@@ -11,7 +11,12 @@
       orbiting a little every frame, its ratios to the geometry floor and
       to full taken in that same run, and its error against full's image;
    3. build/bench_frame on the fur ball at 1k, 5k, 20k and 40k hairs on
-      llvmpipe (the scaling series; the matrix's 10k run is its fifth point).
+      llvmpipe (the scaling series; the matrix's 10k run is its fifth point);
+   4. build/bench_frame --api gles2 and gles3 (series "gles2", "gles3"):
+      the GLSL tiers on a GL ES context beside desktop full, every scene on
+      llvmpipe, the patches on softpipe (its fur ball would add ~4 min a
+      run), camera still; ES 2.0 is Mesa's ES lowered by
+      MESA_GLES_VERSION_OVERRIDE=2.0, so the ESSL 1.00 texts run.
    Their own tables print as they run; after each step a progress line with
    the time taken and an ETA (from the steps so far against a predicted
    weight per step). Then writes, atomically, DIR/results.csv (every row),
@@ -63,6 +68,7 @@ enum { SCALING_FRAMES = 5 };
 
 #define MAX_STEPS 32
 #define CONTENDERS 8   /* the floor, five tiers and the device variants of fixed4 and fixed */
+#define ES_CONTENDERS 4 /* the floor, desktop full, full and vertex on GL ES */
 #define WARM_UP 1
 
 typedef enum step_kind { FIGURES, PRINT_ONLY, FRAME } step_kind;
@@ -76,6 +82,7 @@ typedef struct step {
     int size, frames;
     bool orbit;
     const char *series;
+    const char *api;         /* bench_frame --api; NULL: desktop GL */
     double weight;           /* predicted seconds; only their proportions matter */
 } step;
 
@@ -83,10 +90,11 @@ typedef struct step {
    which grows with pixels and, on the fur ball, with hairs (the same run's
    fit: a 1k-hair frame costs 0.35 of a 10k one); the patches scene costs
    0.13 of the 10k fur ball. */
-static double frame_weight(const driver *d, bool furball, int hairs, int size, int frames, bool orbit) {
+static double frame_weight(const driver *d, bool furball, int hairs, int size, int frames, bool orbit,
+                           int contenders) {
     double pixels = (double)size * size / (512.0 * 512.0);
     double per_frame = d->frame_s * pixels * (furball ? 0.27 + 0.73 * hairs / 10000.0 : 0.13);
-    return CONTENDERS * (frames + WARM_UP) * (orbit ? 2 : 1) * per_frame;
+    return contenders * (frames + WARM_UP) * (orbit ? 2 : 1) * per_frame;
 }
 
 static int plan(step *s, bool quick) {
@@ -104,7 +112,7 @@ static int plan(step *s, bool quick) {
             bool orbit = d == 0;
             s[n++] = (step){ .kind = FRAME, .program = "bench_frame", .driver = dr->name, .scene = scenes[k],
                              .hairs = hairs, .size = size, .frames = frames, .orbit = orbit, .series = "matrix",
-                             .weight = frame_weight(dr, furball, hairs, size, frames, orbit) };
+                             .weight = frame_weight(dr, furball, hairs, size, frames, orbit, CONTENDERS) };
         }
     for (size_t i = 0; i < sizeof scaling_hairs / sizeof scaling_hairs[0]; i++) {
         const driver *dr = &drivers[0];
@@ -112,14 +120,28 @@ static int plan(step *s, bool quick) {
         int hairs = quick ? scaling_hairs[i] / 10 : scaling_hairs[i];
         s[n++] = (step){ .kind = FRAME, .program = "bench_frame", .driver = dr->name, .scene = "scenes/furball.json",
                          .hairs = hairs, .size = size, .frames = frames, .orbit = false, .series = "scaling",
-                         .weight = frame_weight(dr, true, hairs, size, frames, false) };
+                         .weight = frame_weight(dr, true, hairs, size, frames, false, CONTENDERS) };
     }
+    static const char *const apis[] = { "gles2", "gles3" };
+    for (size_t a = 0; a < sizeof apis / sizeof apis[0]; a++)
+        for (size_t d = 0; d < sizeof drivers / sizeof drivers[0]; d++)
+            for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; k++) {
+                const driver *dr = &drivers[d];
+                bool furball = strstr(scenes[k], "furball") != NULL;
+                if (d > 0 && furball) continue;
+                int size = quick ? 96 : dr->size, frames = quick ? 2 : dr->frames;
+                int hairs = furball ? (quick ? dr->furball_hairs / 10 : dr->furball_hairs) : 0;
+                s[n++] = (step){ .kind = FRAME, .program = "bench_frame", .driver = dr->name, .scene = scenes[k],
+                                 .hairs = hairs, .size = size, .frames = frames, .orbit = false,
+                                 .series = apis[a], .api = apis[a],
+                                 .weight = frame_weight(dr, furball, hairs, size, frames, false, ES_CONTENDERS) };
+            }
     return n;
 }
 
 /* ---- running a step ---- */
 
-#define MAX_ARGS 16
+#define MAX_ARGS 20
 
 typedef struct argv_buf {
     char text[MAX_ARGS][1024];
@@ -152,13 +174,15 @@ static void command_line(const step *s, const char *bindir, const char *csv, arg
     arg(a, "%s", "--frames"), arg_int(a, s->frames);
     if (!s->orbit) arg(a, "%s", "--no-orbit");
     arg(a, "%s", "--series"), arg(a, "%s", s->series);
+    if (s->api) arg(a, "%s", "--api"), arg(a, "%s", s->api);
     arg(a, "%s", "--csv"), arg(a, "%s", csv);
 }
 
-/* Runs argv with GALLIUM_DRIVER=driver (when given); with capture, its
-   stdout comes through a pipe, each line echoed and handed to on_line.
-   0 when it exits 0. */
-static int run_child(char *const argv[], const char *driver, bool capture, bench_rows *rows, const char *series) {
+/* Runs argv with GALLIUM_DRIVER=driver (when given), and for --api gles2
+   Mesa's GL ES lowered to 2.0; with capture, its stdout comes through a
+   pipe, each line echoed and handed to on_line. 0 when it exits 0. */
+static int run_child(char *const argv[], const char *driver, const char *api, bool capture, bench_rows *rows,
+                     const char *series) {
     int fds[2] = { -1, -1 };
     if (capture && pipe(fds) != 0) return -1;
     fflush(stdout);
@@ -166,6 +190,7 @@ static int run_child(char *const argv[], const char *driver, bool capture, bench
     if (pid < 0) return -1;
     if (pid == 0) {
         if (driver) setenv("GALLIUM_DRIVER", driver, 1);
+        if (api && strcmp(api, "gles2") == 0) setenv("MESA_GLES_VERSION_OVERRIDE", "2.0", 1);
         if (capture) {
             dup2(fds[1], STDOUT_FILENO);
             close(fds[0]);
@@ -333,7 +358,7 @@ static int run(const char *bindir, const char *work, const char *out_dir, bool q
         print_command(s, a.argv);
         printf("\n");
         double t0 = now_ms();
-        if (run_child(a.argv, s->driver, s->kind == FIGURES, &rows, s->series) != 0) {
+        if (run_child(a.argv, s->driver, s->api, s->kind == FIGURES, &rows, s->series) != 0) {
             fprintf(stderr, "bench_suite: step %d failed: %s\n", i + 1, a.argv[0]);
             status = 1;
             break;

@@ -134,7 +134,6 @@ static char *main_fragment(const ht_plan *plan, fragment_variant variant) {
 #define MEDIUMP_SEED 21
 
 void ht_emit_full_mediump_error(const ht_plan *plan, ht_tier_output *out) {
-    if (ht_model_has_transmission(&plan->shading)) return; /* no mediump text (ht_emit_full) */
     const ht_mp_desc d = ht_mp_desc_of_plan(plan);
     for (int flush = 0; flush < 2; flush++) {
         ht_mp_measurement m = { 0 };
@@ -176,10 +175,8 @@ ht_result ht_emit_full(const ht_plan *plan, ht_tier_output *out, char *err, size
     if (r == HT_OK)
         r = ht_output_add_es_pair(out, "full", ht_glsl_main_vertex(plan, &layout, true), main_fragment(plan, ES),
                                   "highp", err, err_size);
-    /* ES 2.0 without fragment highp (Mali-400): the fp16-safe text. Its
-       table (mediump.c) has no transmission lobe yet, so a material with
-       one ships none and such a device is refused full with the reason. */
-    if (r == HT_OK && !ht_model_has_transmission(&plan->shading)) {
+    /* ES 2.0 without fragment highp (Mali-400): the fp16-safe text. */
+    if (r == HT_OK) {
         r = ht_output_add_text(out, "full-es2-mediump.frag", "", main_fragment(plan, ES_MEDIUMP), HT_STAGE_FRAGMENT,
                                100, true, err, err_size);
         if (r == HT_OK && !ht_output_add_es_entry(out, "2.0", "1.00", "mediump", "full-es2.vert",

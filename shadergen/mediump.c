@@ -232,21 +232,93 @@ static int highlight(ht_mp_program *p, const char *name, double exponent) {
 }
 
 typedef struct fns {
-    int nz, length, shifted, primary, secondary, light;
+    int nz, length, shifted, primary, secondary, transmission, light;
 } fns;
+
+/* model.h's ht_transmission on unit-or-zero T, L, V (mediump.h says how
+   each part stays in fp16). */
+static int transmission(ht_mp_program *p, const ht_transmission *t, const fns *k) {
+    const int fn = begin(p, "transmission", HT_MP_FLOAT);
+    ht_mp_function *f = &p->functions[fn];
+    const literal centre = num(t->centre), root_sharpness = num(sqrt(t->sharpness)), azimuth = num(t->azimuth),
+                  minimum = num(HT_MP_MIN_NORMAL), exp2_floor = num(HT_MP_EXP2_FLOOR),
+                  floor_log = num(t->azimuth > 0 ? fmax(HT_MP_EXP2_FLOOR / t->azimuth, -64.0) : 0.0),
+                  clamp_hi = num(sqrt(-HT_MP_EXP2_FLOOR)), clamp_lo = num(-sqrt(-HT_MP_EXP2_FLOOR));
+    param(f, "T", HT_MP_VEC3);
+    param(f, "L", HT_MP_VEC3);
+    param(f, "V", HT_MP_VEC3);
+    step(f, "tt", HT_MP_DOT, 2, "T", "T");
+    step(f, "ll", HT_MP_DOT, 2, "L", "L");
+    step(f, "vv", HT_MP_DOT, 2, "V", "V");
+    /* a bool is assigned a comparison once (ht_mp_desktop_emulation
+       rounds a reassigned float step and knows a bool only by && and ||) */
+    step(f, "has_t", HT_MP_GT, 2, "tt", "0.0");
+    step(f, "has_l", HT_MP_GT, 2, "ll", "0.0");
+    step(f, "has_v", HT_MP_GT, 2, "vv", "0.0");
+    step(f, "ok", HT_MP_AND, 2, "has_t", "has_l");
+    step(f, "ok", HT_MP_AND, 2, "ok", "has_v");
+    step(f, "tl", HT_MP_DOT, 2, "T", "L");
+    step(f, "tv", HT_MP_DOT, 2, "T", "V");
+    step(f, "along", HT_MP_MUL, 2, "T", "tl");
+    step(f, "lr", HT_MP_SUB, 2, "L", "along");
+    step(f, "along", HT_MP_MUL, 2, "T", "tv");
+    step(f, "vr", HT_MP_SUB, 2, "V", "along");
+    /* theta_h - centre, then the Gaussian in it */
+    call(f, "across", k->length, 1, "lr");
+    step(f, "theta", HT_MP_ATAN2, 2, "tl", "across");
+    call(f, "across", k->length, 1, "vr");
+    step(f, "u", HT_MP_ATAN2, 2, "tv", "across");
+    step(f, "u", HT_MP_ADD, 2, "theta", "u");
+    step(f, "u", HT_MP_MUL, 2, "u", "0.5");
+    step(f, "u", HT_MP_SUB, 2, "u", centre.s);
+    step(f, "u", HT_MP_MUL, 2, "u", root_sharpness.s);
+    step(f, "u", HT_MP_CLAMP, 3, "u", clamp_lo.s, clamp_hi.s);
+    step(f, "u", HT_MP_MUL, 2, "u", "u");
+    step(f, "g", HT_MP_SUB, 2, "0.0", "u");
+    step(f, "g", HT_MP_EXP2, 1, "g");
+    if (t->azimuth != 0.0) {
+        /* a = (1 - cos phi) / 2 = |lp - vp|^2 / 4; 1/2 (cos phi = 0) when
+           L or V runs along T (model.c) */
+        call(f, "lp", k->nz, 1, "lr");
+        call(f, "vp", k->nz, 1, "vr");
+        step(f, "d", HT_MP_SUB, 2, "lp", "vp");
+        step(f, "a", HT_MP_DOT, 2, "d", "d");
+        step(f, "a", HT_MP_MUL, 2, "a", "0.25");
+        step(f, "a", HT_MP_MIN, 2, "a", "1.0");
+        step(f, "both", HT_MP_DOT, 2, "lp", "lp");
+        step(f, "has_lp", HT_MP_GT, 2, "both", "0.0");
+        step(f, "both", HT_MP_DOT, 2, "vp", "vp");
+        step(f, "has_vp", HT_MP_GT, 2, "both", "0.0");
+        step(f, "apart", HT_MP_AND, 2, "has_lp", "has_vp");
+        step(f, "a", HT_MP_SELECT, 3, "apart", "a", "0.5");
+        step(f, "lit", HT_MP_GT, 2, "a", "0.0");
+        step(f, "power", HT_MP_MAX, 2, "a", minimum.s);
+        step(f, "power", HT_MP_LOG2, 1, "power");
+        step(f, "power", HT_MP_MAX, 2, "power", floor_log.s);
+        step(f, "power", HT_MP_MUL, 2, "power", azimuth.s);
+        step(f, "power", HT_MP_MAX, 2, "power", exp2_floor.s);
+        step(f, "power", HT_MP_EXP2, 1, "power");
+        step(f, "power", HT_MP_SELECT, 3, "lit", "power", "0.0");
+        step(f, "g", HT_MP_MUL, 2, "g", "power");
+    }
+    step(f, "g", HT_MP_SELECT, 3, "ok", "g", "0.0");
+    result(f, "g");
+    return fn;
+}
 
 static int hair_light_scheuermann(ht_mp_program *p, const ht_mp_desc *d, const fns *k) {
     const ht_shading *m = &d->shading;
     const int fn = begin(p, "hair_light", HT_MP_VEC3);
     ht_mp_function *f = &p->functions[fn];
     const literal wrap = num(m->wrap), rest = num(1.0 - m->wrap), kd = vec(m->diffuse_color),
-                  k1 = vec(m->primary.color), k2 = vec(m->secondary.color);
+                  k1 = vec(m->primary.color), k2 = vec(m->secondary.color), ktt = vec(m->transmission.color);
     param(f, "L", HT_MP_VEC3);
     param(f, "V", HT_MP_VEC3);
     param(f, "N", HT_MP_VEC3);
     param(f, "t1", HT_MP_VEC3);
     param(f, "t2", HT_MP_VEC3);
     if (d->sparkle) param(f, "sparkle", HT_MP_FLOAT);
+    if (k->transmission >= 0) param(f, "T", HT_MP_VEC3);
     step(f, "h", HT_MP_ADD, 2, "L", "V");
     call(f, "H", k->nz, 1, "h");
     step(f, "nl", HT_MP_DOT, 2, "N", "L");
@@ -261,6 +333,11 @@ static int hair_light_scheuermann(ht_mp_program *p, const ht_mp_desc *d, const f
     step(f, "rgb", HT_MP_ADD, 2, "rgb", "spec");
     step(f, "spec", HT_MP_MUL, 2, k2.s, "s2");
     step(f, "rgb", HT_MP_ADD, 2, "rgb", "spec");
+    if (k->transmission >= 0) {
+        call(f, "through", k->transmission, 3, "T", "L", "V");
+        step(f, "spec", HT_MP_MUL, 2, ktt.s, "through");
+        step(f, "rgb", HT_MP_ADD, 2, "rgb", "spec");
+    }
     result(f, "rgb");
     return fn;
 }
@@ -333,7 +410,10 @@ static void shade(ht_mp_program *p, const ht_mp_desc *d, const fns *k) {
         else step(f, "l", HT_MP_MUL, 2, name, "1.0");
         call(f, "L", k->nz, 1, "l");
         if (kk) call(f, "lit", k->light, 3, "L", "V", "T");
+        else if (d->sparkle && k->transmission >= 0)
+            call(f, "lit", k->light, 7, "L", "V", "N", "t1", "t2", "sparkle", "T");
         else if (d->sparkle) call(f, "lit", k->light, 6, "L", "V", "N", "t1", "t2", "sparkle");
+        else if (k->transmission >= 0) call(f, "lit", k->light, 6, "L", "V", "N", "t1", "t2", "T");
         else call(f, "lit", k->light, 5, "L", "V", "N", "t1", "t2");
         /* model.c's order: lit * base * light colour * ao */
         if (d->base) step(f, "lit", HT_MP_MUL, 2, "lit", "base");
@@ -348,12 +428,14 @@ static void shade(ht_mp_program *p, const ht_mp_desc *d, const fns *k) {
 void ht_mp_build(const ht_mp_desc *desc, ht_mp_program *out) {
     memset(out, 0, sizeof *out);
     const bool kk = desc->shading.model == HT_MODEL_KAJIYA_KAY;
-    fns k = { .length = -1, .shifted = -1, .secondary = -1 };
+    const bool tt = ht_model_has_transmission(&desc->shading);
+    fns k = { .length = -1, .shifted = -1, .secondary = -1, .transmission = -1 };
     k.nz = normalize_or_zero(out);
-    if (kk) k.length = safe_length(out);
-    else k.shifted = shifted_tangent(out, k.nz);
+    if (kk || tt) k.length = safe_length(out);
+    if (!kk) k.shifted = shifted_tangent(out, k.nz);
     k.primary = highlight(out, "highlight_primary", desc->shading.primary.exponent);
     if (!kk) k.secondary = highlight(out, "highlight_secondary", desc->shading.secondary.exponent);
+    if (tt) k.transmission = transmission(out, &desc->shading.transmission, &k);
     k.light = kk ? hair_light_kajiya_kay(out, desc, &k) : hair_light_scheuermann(out, desc, &k);
     shade(out, desc, &k);
 }

@@ -11,7 +11,13 @@
    - sin^e is exp2(e/2 * log2(sin^2)): log2(sin^2) from a series in c^2 near
      the peak (sin near 1 has no fp16 resolution, c^2 does), from the
      rescaled cross product elsewhere (near T || H), floored so e/2 times it
-     stays >= -16 (exp2 then is below 2^-16, the value is 0 to 8 bits). */
+     stays >= -16 (exp2 then is below 2^-16, the value is 0 to 8 bits);
+   - the transmission lobe's theta is atan(T.L, |L - (T.L) T|), not asin
+     (asin's slope is infinite at T || L: fp16's 2^-11 in T.L would move
+     it by 2^-5 rad); exp2(-sharpness u^2) squares u sqrt(sharpness)
+     clamped to +-4 (so >= 2^-16); the azimuth's (1 - cos phi) / 2 is
+     |l - v|^2 / 4 of the unit projections (exact near 0, where a^e with
+     e < 1 is steep), and a^e is exp2 of a floored log as sin^e is. */
 #ifndef HT_MEDIUMP_H
 #define HT_MEDIUMP_H
 
@@ -21,7 +27,7 @@
 #include <hairtier/model.h>
 
 #define HT_MP_NAME 24   /* a variable, function or literal */
-#define HT_MP_ARGS 6
+#define HT_MP_ARGS 8
 #define HT_MP_LITERAL 128 /* "vec3(a, b, c)" of three GLSL floats */
 #define HT_MP_PARAMS 24
 #define HT_MP_STEPS 64
@@ -39,6 +45,7 @@ typedef enum ht_mp_op {
     HT_MP_LT, HT_MP_GT, HT_MP_AND, HT_MP_OR,
     HT_MP_SELECT, /* a ? b : c */
     HT_MP_CALL,   /* function fn of the program on the args */
+    HT_MP_ATAN2,  /* atan(y, x) of a, b: the angle of (x, y) */
 } ht_mp_op;
 
 /* dst = op(args): an argument is a variable of the function, a parameter,

@@ -31,6 +31,7 @@ static void expression(ht_strbuf *sb, const ht_mp_program *p, const ht_mp_step *
     case HT_MP_AND: ht_strbuf_addf(sb, "%s && %s", a[0], a[1]); break;
     case HT_MP_OR: ht_strbuf_addf(sb, "%s || %s", a[0], a[1]); break;
     case HT_MP_SELECT: ht_strbuf_addf(sb, "%s ? %s : %s", a[0], a[1], a[2]); break;
+    case HT_MP_ATAN2: ht_strbuf_addf(sb, "atan(%s, %s)", a[0], a[1]); break;
     case HT_MP_CALL:
         ht_strbuf_addf(sb, "%s(", p->functions[s->fn].name);
         for (int i = 0; i < s->arg_count; i++) ht_strbuf_addf(sb, "%s%s", i ? ", " : "", a[i]);

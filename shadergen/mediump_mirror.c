@@ -242,6 +242,7 @@ static void run_step(const ht_mp_mirror *m, const cfunction *f, const cstep *s, 
     case HT_MP_INVSQRT: r[0] = round_counted(1.0 / sqrt(a[0]), c); break;
     case HT_MP_LOG2: r[0] = round_counted(log2(a[0]), c); break;
     case HT_MP_EXP2: r[0] = round_counted(exp2(a[0]), c); break;
+    case HT_MP_ATAN2: r[0] = round_counted(atan2(a[0], b[0]), c); break;
     case HT_MP_SMOOTH: { /* t = clamp(x + 1, 0, 1); t t (3 - 2 t) */
         const double t = fmin(fmax(round_counted(a[0] + 1.0, c), 0.0), 1.0);
         r[0] = round_counted(round_counted(t * t, c) * round_counted(3.0 - 2.0 * t, c), c);

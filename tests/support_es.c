@@ -74,6 +74,11 @@ static void keep_log(void *user, const char *line) {
 
 bool ht_test_es_draw_scene(const char *bundle, const char *scene_name, offscreen_api api, ht_tier tier,
                            const ht_device_profile *profile, ht_test_es_draw *out) {
+    return ht_test_es_draw_scene_hairs(bundle, scene_name, api, tier, profile, HT_TEST_ES_FURBALL_HAIRS, out);
+}
+
+bool ht_test_es_draw_scene_hairs(const char *bundle, const char *scene_name, offscreen_api api, ht_tier tier,
+                                 const ht_device_profile *profile, int furball_hairs, ht_test_es_draw *out) {
     memset(out, 0, sizeof *out);
     char path[96], err[1024];
     snprintf(path, sizeof path, "scenes/%s.json", scene_name);
@@ -85,7 +90,7 @@ bool ht_test_es_draw_scene(const char *bundle, const char *scene_name, offscreen
     }
     /* Small and cheap: the same camera and lights, fewer pixels and hairs. */
     s.width = s.height = HT_TEST_ES_SIZE;
-    if (s.geometry == HT_GEOMETRY_FURBALL) s.furball.hairs = HT_TEST_ES_FURBALL_HAIRS;
+    if (s.geometry == HT_GEOMETRY_FURBALL) s.furball.hairs = furball_hairs;
     if (ht_scene_build_meshes(&s, path, &hair, &head, err, sizeof err) != HT_OK) {
         snprintf(out->log, sizeof out->log, "%s", err);
         return false;
@@ -109,6 +114,7 @@ bool ht_test_es_draw_scene(const char *bundle, const char *scene_name, offscreen
     gl->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     if (ht_renderer_draw(r, &frame) != HT_OK) goto done;
     out->tier = ht_renderer_tier(r);
+    out->index_count = hair.index_count;
     out->trace = *ht_renderer_trace(r);
     const unsigned char *rgba = offscreen_read(gl);
     if (ht_image_alloc(&out->image, s.width, s.height, 4) != HT_OK) goto done;

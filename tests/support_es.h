@@ -11,6 +11,7 @@
 #define HT_SUPPORT_ES_H
 
 #include <stdbool.h>
+#include <stdint.h>
 
 #include <hairtier/hairtier.h>
 #include <hairtier/image.h>
@@ -26,6 +27,7 @@ typedef struct ht_test_es_draw {
     ht_image image;            /* RGBA, rows top to bottom */
     ht_tier tier;              /* the tier that drew */
     ht_trace trace;
+    uint32_t index_count;      /* the hair mesh's */
     char log[1024];            /* the renderer's lines, newline-separated (cut) */
 } ht_test_es_draw;
 
@@ -35,6 +37,9 @@ typedef struct ht_test_es_draw {
    applied (NULL: none). False with why in out->log when any step fails. */
 bool ht_test_es_draw_scene(const char *bundle, const char *scene, offscreen_api api, ht_tier tier,
                            const ht_device_profile *profile, ht_test_es_draw *out);
+/* The same with furball_hairs hairs on a fur ball scene. */
+bool ht_test_es_draw_scene_hairs(const char *bundle, const char *scene, offscreen_api api, ht_tier tier,
+                                 const ht_device_profile *profile, int furball_hairs, ht_test_es_draw *out);
 void ht_test_es_draw_free(ht_test_es_draw *d);
 /* Whole-frame PSNR of two draws. */
 double ht_test_es_psnr(const ht_test_es_draw *a, const ht_test_es_draw *b);

@@ -283,6 +283,44 @@ static void test_markdown_says_whether_psnr_and_flip_rank_tiers_alike(void **sta
     }
 }
 
+/* GL ES runs (bench_frame --api): their own runs and tables beside the
+   desktop ones, ratios to the run's desktop full; their tier names stay
+   out of the desktop tiers the plots colour. */
+static void test_es_runs_get_their_own_tables(void **state) {
+    (void)state;
+    bench_rows rows = { 0 };
+    sample_rows(&rows);
+    const char *es_tiers[] = { "floor", "full", "full-gles2", "vertex-gles2" };
+    for (int a = 0; a < 2; a++)
+        for (int t = 0; t < 4; t++)
+            frame_row(&rows, a ? "gles3" : "gles2", "furball", "llvmpipe", 10000, a ? (t < 2 ? es_tiers[t] : "full-gles3")
+                                                                                     : es_tiers[t],
+                      t == 0 ? 100 : 150 + 30 * t * (t > 1), 150, t == 1 ? INFINITY : 45);
+    for (size_t i = 0; i < rows.count; i++) assert_true(bench_row_is_frame(&rows.row[i]));
+    assert_true(bench_row_is_es(&rows.row[rows.count - 1]));
+    assert_false(bench_row_is_es(&rows.row[0]));
+    const char *tiers[8];
+    assert_int_equal(bench_rows_tiers(&rows, tiers, 8), 3);
+    size_t first[8];
+    assert_int_equal(bench_rows_matrix_runs(&rows, first, 8), 2);
+    assert_int_equal(bench_rows_series_runs(&rows, "gles2", first, 8), 1);
+    assert_non_null(bench_rows_find(&rows, first[0], "vertex-gles2"));
+    assert_int_equal(bench_rows_series_runs(&rows, "gles3", first, 8), 1);
+    assert_null(bench_rows_find(&rows, first[0], "full-gles2"));
+    char *md = to_text(write_md, &rows);
+    const char *es = strstr(md, "## GL ES tiers beside desktop GL's full\n");
+    assert_non_null(es);
+    assert_true(es > strstr(md, "### furball × softpipe\n"));
+    assert_non_null(strstr(es, "### furball × llvmpipe, gles2\n"));
+    assert_non_null(strstr(es, "### furball × llvmpipe, gles3\n"));
+    assert_non_null(strstr(es, "| full-gles2 | 210.0 | 2.10 | 1.40 |"));
+    assert_non_null(strstr(es, "`full-gles2` / `full` is what GL ES costs the same tier"));
+    assert_non_null(strstr(es, "`full-gles3` / `full` is what GL ES costs the same tier"));
+    assert_true(strstr(md, "## Scaling") > es);
+    free(md);
+    bench_rows_free(&rows);
+}
+
 static void test_markdown_of_no_rows_is_only_the_title(void **state) {
     (void)state;
     bench_rows rows = { 0 };
@@ -311,6 +349,7 @@ int main(void) {
         cmocka_unit_test(test_views_group_runs_and_order_the_scaling_series),
         cmocka_unit_test(test_markdown_has_a_table_per_run_the_scaling_table_and_figures),
         cmocka_unit_test(test_markdown_says_whether_psnr_and_flip_rank_tiers_alike),
+        cmocka_unit_test(test_es_runs_get_their_own_tables),
         cmocka_unit_test(test_markdown_of_no_rows_is_only_the_title),
         cmocka_unit_test(test_md_numbers_show_not_applicable_and_infinity),
     };

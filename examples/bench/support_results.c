@@ -263,9 +263,16 @@ bool bench_rows_read_csv(const char *path, bench_rows *rows, char *err, size_t e
 
 /* ---- views ---- */
 
-bool bench_row_is_frame(const bench_row *r) {
+/* matrix and scaling: desktop GL runs, the tiers the plots colour */
+static bool desktop_frame(const bench_row *r) {
     return strcmp(r->series, "matrix") == 0 || strcmp(r->series, "scaling") == 0;
 }
+
+bool bench_row_is_es(const bench_row *r) {
+    return strcmp(r->series, "gles2") == 0 || strcmp(r->series, "gles3") == 0;
+}
+
+bool bench_row_is_frame(const bench_row *r) { return desktop_frame(r) || bench_row_is_es(r); }
 
 int bench_tier_index(const char *const tiers[], size_t count, const char *name) {
     for (size_t i = 0; i < count; i++)
@@ -276,7 +283,7 @@ int bench_tier_index(const char *const tiers[], size_t count, const char *name) 
 size_t bench_rows_tiers(const bench_rows *rows, const char *tiers[], size_t max) {
     size_t n = 0;
     for (size_t i = 0; i < rows->count && n < max; i++)
-        if (bench_row_is_frame(&rows->row[i]) && bench_tier_index(tiers, n, rows->row[i].tier) < 0)
+        if (desktop_frame(&rows->row[i]) && bench_tier_index(tiers, n, rows->row[i].tier) < 0)
             tiers[n++] = rows->row[i].tier;
     return n;
 }
@@ -291,10 +298,14 @@ bool bench_rows_same_run(const bench_row *a, const bench_row *b) {
 }
 
 size_t bench_rows_matrix_runs(const bench_rows *rows, size_t first[], size_t max) {
+    return bench_rows_series_runs(rows, "matrix", first, max);
+}
+
+size_t bench_rows_series_runs(const bench_rows *rows, const char *series, size_t first[], size_t max) {
     size_t n = 0;
     for (size_t i = 0; i < rows->count && n < max; i++) {
         const bench_row *r = &rows->row[i];
-        if (strcmp(r->series, "matrix") != 0) continue;
+        if (strcmp(r->series, series) != 0) continue;
         bool seen = false;
         for (size_t k = 0; k < n && !seen; k++) seen = bench_rows_same_run(&rows->row[first[k]], r);
         if (!seen) first[n++] = i;

@@ -5,7 +5,9 @@
    tier of one scene on one driver, with its ratios to the geometry floor and
    to the full tier taken in the same run, with the camera still and with
    the eye orbiting a little every frame, and its error against full's
-   image) or a generator figure (series "generator": figure, value, unit,
+   image; series "gles2" or "gles3": a GLSL tier on a GL ES context,
+   "full-gles2", ..., its ratios and error against desktop GL's "full" of
+   the same run, the floor the ES context's) or a generator figure (series "generator": figure, value, unit,
    the other columns empty).
 
    Usage:
@@ -37,7 +39,7 @@
     "cpu_vertices_still,cpu_vertices_orbit,figure,value,unit"
 
 typedef struct bench_row {
-    char series[16];            /* "matrix", "scaling" or "generator" */
+    char series[16];            /* "matrix", "scaling", "gles2", "gles3" or "generator" */
     char scene[64];             /* scene file name without .json */
     char driver[32];            /* first word of GL_RENDERER: llvmpipe, softpipe */
     char renderer[128];         /* GL_RENDERER in full */
@@ -79,9 +81,11 @@ bool bench_rows_read_csv(const char *path, bench_rows *rows, char *err, size_t e
 
 /* ---- views the report writers share ---- */
 
-/* A row of a frame measurement (series "matrix" or "scaling"). */
+/* A row of a frame measurement (series "matrix", "scaling", "gles2" or "gles3"). */
 bool bench_row_is_frame(const bench_row *r);
-/* The distinct tiers of the frame rows, in order of first appearance (the
+/* A row of a GL ES run (series "gles2" or "gles3"). */
+bool bench_row_is_es(const bench_row *r);
+/* The distinct tiers of the desktop GL frame rows (matrix and scaling), in order of first appearance (the
    benchmark's order: floor, full, vertex, ...); at most max. A tier keeps its
    index, so its colour is the same in every plot. */
 size_t bench_rows_tiers(const bench_rows *rows, const char *tiers[], size_t max);
@@ -92,6 +96,8 @@ int bench_tier_index(const char *const tiers[], size_t count, const char *name);
 bool bench_rows_same_run(const bench_row *a, const bench_row *b);
 /* The first row of each run in the matrix series, in order; at most max. */
 size_t bench_rows_matrix_runs(const bench_rows *rows, size_t first[], size_t max);
+/* The same for any series ("gles2", ...). */
+size_t bench_rows_series_runs(const bench_rows *rows, const char *series, size_t first[], size_t max);
 /* The first row of each run of the scaling series, and of the matrix run
    with the same scene, driver and size (the point both series share),
    ordered by hair count; a hair count both have is taken from the scaling

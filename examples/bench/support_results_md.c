@@ -38,14 +38,20 @@ static bool order_line(FILE *f, const bench_rows *rows, size_t first) {
 
 static bool matrix_table(FILE *f, const bench_rows *rows, size_t first) {
     const bench_row *h = &rows->row[first];
-    bool ok = fprintf(f, "### %s × %s\n\n", h->scene, h->driver) >= 0;
+    const bool es = bench_row_is_es(h);
+    bool ok = fprintf(f, "### %s × %s%s%s\n\n", h->scene, h->driver, es ? ", " : "", es ? h->series : "") >= 0;
     if (h->hairs >= 0) ok = ok && fprintf(f, "%ld hairs, ", h->hairs) >= 0;
+    char note[192];
+    if (es)
+        snprintf(note, sizeof note, " (the floor on the GL ES context, full on a desktop GL context of the same "
+                 "driver: `full-%s` / `full` is what GL ES costs the same tier)", h->series);
+    else
+        snprintf(note, sizeof note, " (a `-device` tier is that tier's device-only variant)");
     ok = ok && fprintf(f,
                        "%ld triangles, %ld×%ld, %s; median of %ld frames after one warm-up, tiers taken "
-                       "round-robin, still and with the eye orbiting a little every frame; ratios and errors "
-                       "against this run's floor and full (a `-device` tier is that tier's device-only "
-                       "variant).\n\n",
-                       h->triangles, h->width, h->height, h->renderer, h->frames) >= 0;
+                       "round-robin, %s; ratios and errors against this run's floor and full%s.\n\n",
+                       h->triangles, h->width, h->height, h->renderer, h->frames,
+                       es ? "camera still" : "still and with the eye orbiting a little every frame", note) >= 0;
     ok = ok && fputs("| tier | still: median ms | / floor | / full | orbiting: median ms | / full | PSNR dB | SSIM | "
                      "ΔE00 mean | ΔE00 p95 | FLIP mean | CPU vertices per frame: still / orbiting |\n"
                      "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n", f) >= 0;
@@ -120,6 +126,14 @@ bool bench_write_markdown(FILE *f, const bench_rows *rows, const bench_markdown 
     for (size_t i = 0; ok && i < n; i++) ok = matrix_table(f, rows, runs[i]);
     if (ok && n && md->cost_svg)
         ok = fprintf(f, "![error against cost, one point per tier](%s)\n\n", md->cost_svg) >= 0;
+    static const char *const es_series[] = { "gles2", "gles3" };
+    bool es_heading = false;
+    for (size_t s = 0; ok && s < sizeof es_series / sizeof es_series[0]; s++) {
+        n = bench_rows_series_runs(rows, es_series[s], runs, MAX_RUNS);
+        if (n && !es_heading) ok = fputs("## GL ES tiers beside desktop GL's full\n\n", f) >= 0;
+        es_heading = es_heading || n;
+        for (size_t i = 0; ok && i < n; i++) ok = matrix_table(f, rows, runs[i]);
+    }
     n = bench_rows_scaling_runs(rows, runs, MAX_RUNS);
     if (ok && n) ok = scaling_table(f, rows, runs, n);
     if (ok && n && md->scaling_svg)

@@ -8,6 +8,7 @@
 #include "gl_error.h"
 #include "errfmt.h"
 #include "caps.h"
+#include "index_chunks.h"
 #include "renderer_internal.h"
 #include "shader_interface.h"
 
@@ -17,8 +18,11 @@ void ht_renderer_release_mesh(ht_renderer *r) {
     r->vbo = r->ibo = 0;
     free(r->vertices);
     free(r->indices);
+    free(r->chunks);
     r->vertices = NULL;
     r->indices = NULL;
+    r->chunks = NULL;
+    r->chunk_count = 0;
     r->has_mesh = false;
 }
 
@@ -49,22 +53,41 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
     ht_result checked = ht_renderer_check_mesh(r, "ht_renderer_set_mesh: mesh", mesh);
     if (checked != HT_OK) return checked;
     /* ES 2.0 without GL_OES_element_index_uint indexes 65536 vertices
-       (Mesa's vc4 truncates 32-bit indices, docs/materials.md). */
+       (Mesa's vc4 truncates 32-bit indices, docs/materials.md): a larger
+       mesh goes up split into runs of its own vertices (index_chunks.h),
+       drawn one after another. A tier with per-vertex arrays of its own
+       (set_mesh) would need them split too: refused instead. */
     const bool short_indices = ht_renderer_short_indices(r);
-    if (short_indices && mesh->vertex_count > 65536u) {
+    const bool split = short_indices && mesh->vertex_count > HT_CHUNK_VERTICES;
+    if (split && r->backend && r->backend->set_mesh) {
         ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: mesh: %u vertices, this device indexes "
-                     "65536 (16-bit indices: no GL_OES_element_index_uint)", mesh->vertex_count);
+                     "65536 (16-bit indices: no GL_OES_element_index_uint) and the %s tier's own vertex arrays "
+                     "are not split", mesh->vertex_count, ht_tier_name(r->tier));
         return HT_ERR_UNSUPPORTED;
     }
     ht_renderer_release_mesh(r);
-    size_t vbytes = (size_t)mesh->vertex_count * sizeof(ht_vertex);
-    size_t ibytes = (size_t)mesh->index_count * (short_indices ? sizeof(uint16_t) : sizeof(uint32_t));
-    uint16_t *indices16 = short_indices ? ht_renderer_indices16(mesh->indices, mesh->index_count) : NULL;
+    ht_index_chunks chunks = { 0 };
+    uint16_t *indices16 = NULL;
+    const ht_vertex *vertex_data = mesh->vertices;
+    uint32_t vertex_count = mesh->vertex_count;
+    if (split) {
+        if (ht_index_chunks_split(mesh, &chunks)) {
+            indices16 = chunks.indices;
+            vertex_data = chunks.vertices;
+            vertex_count = chunks.vertex_count;
+            r->chunks = chunks.chunks;
+            r->chunk_count = chunks.chunk_count;
+        }
+    } else if (short_indices) {
+        indices16 = ht_renderer_indices16(mesh->indices, mesh->index_count);
+    }
     if (short_indices && !indices16) {
         ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: mesh: out of memory for %u indices",
                      mesh->index_count);
         return HT_ERR_OUT_OF_MEMORY;
     }
+    size_t vbytes = (size_t)vertex_count * sizeof(ht_vertex);
+    size_t ibytes = (size_t)mesh->index_count * (short_indices ? sizeof(uint16_t) : sizeof(uint32_t));
     const void *index_data = short_indices ? (const void *)indices16 : (const void *)mesh->indices;
     r->index_type = short_indices ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
     if (r->caps.has_vbo) {
@@ -72,10 +95,11 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
         r->gl.GenBuffers(1, &r->vbo);
         r->gl.GenBuffers(1, &r->ibo);
         r->gl.BindBuffer(GL_ARRAY_BUFFER, r->vbo);
-        r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)vbytes, mesh->vertices, GL_STATIC_DRAW);
+        r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)vbytes, vertex_data, GL_STATIC_DRAW);
         r->gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo);
         r->gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)ibytes, index_data, GL_STATIC_DRAW);
         free(indices16);
+        free(chunks.vertices);
         r->gl.BindBuffer(GL_ARRAY_BUFFER, 0);
         r->gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
         GLenum e = r->gl.GetError();
@@ -89,16 +113,18 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
         r->indices = malloc(ibytes ? ibytes : 1);
         if (!r->vertices || !r->indices) {
             free(indices16);
+            free(chunks.vertices);
             ht_renderer_release_mesh(r);
             ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: mesh: out of memory for %u vertices",
                          mesh->vertex_count);
             return HT_ERR_OUT_OF_MEMORY;
         }
-        if (vbytes) memcpy(r->vertices, mesh->vertices, vbytes);
+        if (vbytes) memcpy(r->vertices, vertex_data, vbytes);
         if (ibytes) memcpy(r->indices, index_data, ibytes);
         free(indices16);
+        free(chunks.vertices);
     }
-    r->vertex_count = mesh->vertex_count;
+    r->vertex_count = vertex_count;
     r->index_count = mesh->index_count;
     r->has_mesh = true;
     if (r->backend && r->backend->set_mesh) {
@@ -113,9 +139,11 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
     return HT_OK;
 }
 
-/* A member of ht_vertex: an offset into the bound VBO when base is NULL
-   (GL takes offsets as pointers), else its address in base. */
-static const void *array_at(const ht_vertex *base, size_t offset) {
+/* A member of vertex first of ht_vertex arrays: an offset into the bound
+   VBO when base is NULL (GL takes offsets as pointers), else its address
+   in base. */
+static const void *array_at(const ht_vertex *base, uint32_t first, size_t offset) {
+    offset += (size_t)first * sizeof(ht_vertex);
     return base ? (const void *)((const char *)base + offset) : (const void *)(uintptr_t)offset;
 }
 
@@ -126,7 +154,7 @@ static const void *array_at(const ht_vertex *base, size_t offset) {
    set_arrays). */
 /* GL ES: every array is a generic attribute at shader_interface.h's
    locations, which the ES texts and the head's program bind. */
-static void set_es_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes) {
+static void set_es_arrays(ht_renderer *r, const ht_vertex *base, uint32_t first, bool hair_attributes) {
     const ht_gl *gl = &r->gl;
     const GLsizei stride = (GLsizei)sizeof(ht_vertex);
     static const struct { GLuint location; GLint size; size_t offset; bool hair; } arrays[] = {
@@ -139,32 +167,36 @@ static void set_es_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attri
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++) {
         if (arrays[i].hair && !hair_attributes) continue;
         gl->VertexAttribPointer(arrays[i].location, arrays[i].size, GL_FLOAT, GL_FALSE, stride,
-                                array_at(base, arrays[i].offset));
+                                array_at(base, first, arrays[i].offset));
         gl->EnableVertexAttribArray(arrays[i].location);
     }
 }
 
 void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes) {
+    ht_renderer_set_arrays_from(r, base, 0, hair_attributes);
+}
+
+void ht_renderer_set_arrays_from(ht_renderer *r, const ht_vertex *base, uint32_t first, bool hair_attributes) {
     const ht_gl *gl = &r->gl;
     const GLsizei stride = (GLsizei)sizeof(ht_vertex);
     if (ht_caps_es_programs(&r->caps)) {
-        set_es_arrays(r, base, hair_attributes);
+        set_es_arrays(r, base, first, hair_attributes);
         return;
     }
     gl->EnableClientState(GL_VERTEX_ARRAY);
-    gl->VertexPointer(3, GL_FLOAT, stride, array_at(base, offsetof(ht_vertex, position)));
+    gl->VertexPointer(3, GL_FLOAT, stride, array_at(base, first, offsetof(ht_vertex, position)));
     gl->EnableClientState(GL_NORMAL_ARRAY);
-    gl->NormalPointer(GL_FLOAT, stride, array_at(base, offsetof(ht_vertex, normal)));
+    gl->NormalPointer(GL_FLOAT, stride, array_at(base, first, offsetof(ht_vertex, normal)));
     if (!hair_attributes) return;
     if (gl->ClientActiveTexture) gl->ClientActiveTexture(GL_TEXTURE0);
     gl->EnableClientState(GL_TEXTURE_COORD_ARRAY);
-    gl->TexCoordPointer(2, GL_FLOAT, stride, array_at(base, offsetof(ht_vertex, uv)));
+    gl->TexCoordPointer(2, GL_FLOAT, stride, array_at(base, first, offsetof(ht_vertex, uv)));
     if (r->backend && r->backend->generic_attributes) {
         gl->VertexAttribPointer(HT_ATTR_TANGENT_LOCATION, 3, GL_FLOAT, GL_FALSE, stride,
-                                array_at(base, offsetof(ht_vertex, tangent)));
+                                array_at(base, first, offsetof(ht_vertex, tangent)));
         gl->EnableVertexAttribArray(HT_ATTR_TANGENT_LOCATION);
         gl->VertexAttribPointer(HT_ATTR_AO_LOCATION, 1, GL_FLOAT, GL_FALSE, stride,
-                                array_at(base, offsetof(ht_vertex, ao)));
+                                array_at(base, first, offsetof(ht_vertex, ao)));
         gl->EnableVertexAttribArray(HT_ATTR_AO_LOCATION);
     }
 }

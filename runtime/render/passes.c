@@ -2,9 +2,12 @@
    order"): the fixed depth/cull/blend/alpha state of each, the loop that
    hands each (sub-)pass to the backend and draws, and the trace read back
    from GL. Once, here, so every tier draws the same passes. */
+#include <stdint.h>
+
 #include "caps.h"
 #include "gl_error.h"
 #include "errfmt.h"
+#include "index_chunks.h"
 #include "renderer_internal.h"
 #include "shader_interface.h"
 
@@ -112,15 +115,26 @@ static bool bind_flat(ht_renderer *r, const ht_tier_frame *tf) {
     return true;
 }
 
-/* The hair, pass by pass over the whole sorted index range: every tier
-   draws the same passes and ranges; only the shading differs. */
+/* The index list of a chunk: an offset into the bound buffer, or the
+   address in the private copy. */
+static const void *indices_at(const ht_renderer *r, uint32_t first_index) {
+    const size_t offset = (size_t)first_index * (r->index_type == GL_UNSIGNED_SHORT ? 2u : 4u);
+    return r->caps.has_vbo ? (const void *)(uintptr_t)offset : (const void *)((const char *)r->indices + offset);
+}
+
+/* The hair, pass by pass over the whole sorted index range (in its order,
+   chunk by chunk where a split mesh has chunks): every tier draws the same
+   passes and ranges; only the shading differs. */
 ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf) {
     const ht_gl *gl = &r->gl;
     if (!r->has_mesh || r->index_count == 0) return HT_OK;
+    const ht_index_chunk whole = { 0, r->index_count, 0 };
+    const ht_index_chunk *chunks = r->chunk_count ? r->chunks : &whole;
+    const uint32_t chunk_count = r->chunk_count ? r->chunk_count : 1;
+    const ht_vertex *vertices = r->caps.has_vbo ? NULL : r->vertices;
     ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, r->vbo);
     ht_gl_bind_buffer(gl, GL_ELEMENT_ARRAY_BUFFER, r->ibo);
-    ht_renderer_set_arrays(r, r->caps.has_vbo ? NULL : r->vertices, true);
-    const void *indices = r->caps.has_vbo ? NULL : r->indices;
+    ht_renderer_set_arrays(r, vertices, true);
 
     if (r->backend) r->backend->begin_frame(r->backend_state, tf);
     ht_result result = HT_OK;
@@ -133,19 +147,26 @@ ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf) {
             if (r->backend) r->backend->bind_pass(r->backend_state, pass, sub);
             else flat_ok = bind_flat(r, tf);
             if (ht_caps_es_programs(&r->caps)) set_es_alpha(r, pass);
-            ht_trace_entry e = { .pass = pass, .sub_pass = sub, .first_index = 0, .index_count = r->index_count };
+            ht_trace_entry e = { .pass = pass, .sub_pass = sub };
             if (r->record_trace) record_state(r, &e);
             bool draw = flat_ok && (!r->backend || !r->backend->set_arrays ||
                                     r->backend->set_arrays(r->backend_state, pass, sub));
-            if (draw) gl->DrawElements(GL_TRIANGLES, (GLsizei)r->index_count, r->index_type, indices);
-            e.gl_error = gl->GetError();
-            if (e.gl_error != GL_NO_ERROR) {
-                ht_log_linef(r->log, r->log_user, "hairtier: pass %d.%d (%s): %s", p, sub,
-                             r->backend ? ht_tier_name(r->tier) : "flat", ht_gl_error_name(e.gl_error));
-                result = HT_ERR_GL;
-                while (gl->GetError() != GL_NO_ERROR) {}
+            for (uint32_t c = 0; c < chunk_count; c++) {
+                if (chunk_count > 1) ht_renderer_set_arrays_from(r, vertices, chunks[c].first_vertex, true);
+                if (draw)
+                    gl->DrawElements(GL_TRIANGLES, (GLsizei)chunks[c].index_count, r->index_type,
+                                     indices_at(r, chunks[c].first_index));
+                e.first_index = chunks[c].first_index;
+                e.index_count = chunks[c].index_count;
+                e.gl_error = gl->GetError();
+                if (e.gl_error != GL_NO_ERROR) {
+                    ht_log_linef(r->log, r->log_user, "hairtier: pass %d.%d (%s): %s", p, sub,
+                                 r->backend ? ht_tier_name(r->tier) : "flat", ht_gl_error_name(e.gl_error));
+                    result = HT_ERR_GL;
+                    while (gl->GetError() != GL_NO_ERROR) {}
+                }
+                if (r->record_trace && r->trace.count < HT_TRACE_MAX) r->trace.entries[r->trace.count++] = e;
             }
-            if (r->record_trace && r->trace.count < HT_TRACE_MAX) r->trace.entries[r->trace.count++] = e;
         }
     }
     if (r->backend) r->backend->end_frame(r->backend_state);

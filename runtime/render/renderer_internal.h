@@ -39,6 +39,8 @@ struct ht_renderer {
     bool has_mesh;
     GLenum index_type;                /* GL_UNSIGNED_INT; GL_UNSIGNED_SHORT on GL ES 2.0 without
                                          GL_OES_element_index_uint (mesh_gpu.c) */
+    struct ht_index_chunk *chunks;    /* 16-bit draws of a mesh over 65536 vertices (index_chunks.h); */
+    uint32_t chunk_count;             /* 0: one draw of the whole index list */
     int vertex_attribs;               /* GL_MAX_VERTEX_ATTRIBS (capped), 0 without shaders */
     int max_lights;                   /* GL_MAX_LIGHTS (capped): the head turns off the ones it does not use */
     unsigned warned;                  /* frame warnings already logged once (validate.c) */
@@ -82,6 +84,8 @@ void ht_renderer_draw_client_elements(ht_renderer *r, const ht_mesh *m);
 /* base: NULL with the hair VBO bound, else the vertices; hair_attributes:
    uv and the backend's generic attributes too (the head needs neither). */
 void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes);
+/* The same from vertex first on (a chunk of a split mesh). */
+void ht_renderer_set_arrays_from(ht_renderer *r, const ht_vertex *base, uint32_t first, bool hair_attributes);
 void ht_renderer_clear_arrays(ht_renderer *r);
 
 /* gl_state.c: save (HT_ERR_GL with one line and nothing changed when an

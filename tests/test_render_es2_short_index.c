@@ -1,0 +1,91 @@
+/* test_render_es2_short_index — a GL ES 2.0 device without 32-bit indices
+   (VideoCore IV, Mesa vc4) drawing a hair mesh of more than 65536
+   vertices: llvmpipe restricted by MESA_GLES_VERSION_OVERRIDE=2.0 and
+   MESA_EXTENSION_OVERRIDE=-GL_OES_element_index_uint (Mesa then leaves the
+   extension out of GL_EXTENSIONS, which is what the runtime reads; it
+   warns that the functionality itself stays). The mesh goes up split into
+   16-bit chunks (index_chunks.h) and draws the image the same context
+   type draws with 32-bit indices, drawn in a child process before this
+   one's first context (Mesa reads the override once per process). */
+#define _POSIX_C_SOURCE 200809L
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "support_child.h"
+#include "support_es.h"
+
+/* More hairs than 65536 vertices hold, few pixels. */
+#define HAIRS 4000
+
+static char reference_png[256];
+
+static int draw_reference(void) {
+    unsetenv("MESA_EXTENSION_OVERRIDE");
+    ht_test_es_draw d;
+    char err[256];
+    if (!ht_test_es_draw_scene_hairs(ht_test_es_bundle(0), "furball", OFFSCREEN_API_GLES2, HT_TIER_FULL, NULL, HAIRS,
+                                     &d))
+        return 1;
+    if (d.trace.count != 4) return 2; /* one draw a pass: 32-bit indices */
+    if (ht_image_write_png(reference_png, &d.image, err, sizeof err) != HT_OK) return 3;
+    ht_test_es_draw_free(&d);
+    return 0;
+}
+
+static void test_es2_without_uint_indices_draws_a_large_mesh_in_chunks(void **state) {
+    (void)state;
+    const char *bundle = ht_test_es_bundle(0);
+    assert_non_null(bundle);
+    snprintf(reference_png, sizeof reference_png, "%s/uint-indices.png", bundle);
+    ht_test_fork_child(draw_reference);
+
+    setenv("MESA_EXTENSION_OVERRIDE", "-GL_OES_element_index_uint", 1);
+    ht_test_es_draw d;
+    if (!ht_test_es_draw_scene_hairs(bundle, "furball", OFFSCREEN_API_GLES2, HT_TIER_FULL, NULL, HAIRS, &d))
+        fail_msg("%s", d.log);
+    assert_non_null(strstr(d.log, "device GL ES 2.0"));
+    /* Each pass: the chunks in order, tiling the sorted index list. */
+    const int chunks = d.trace.count / 4;
+    printf("%u indices in %d chunks a pass\n", d.index_count, chunks);
+    assert_true(chunks >= 2);
+    assert_int_equal(d.trace.count, 4 * chunks);
+    for (int p = 0; p < 4; p++) {
+        uint32_t next = 0;
+        for (int c = 0; c < chunks; c++) {
+            const ht_trace_entry *e = &d.trace.entries[p * chunks + c];
+            assert_int_equal(e->pass, p);
+            assert_int_equal(e->gl_error, 0);
+            assert_int_equal(e->first_index, next);
+            assert_true(e->index_count > 0);
+            next += e->index_count;
+        }
+        assert_int_equal(next, d.index_count);
+    }
+    ht_test_es_draw ref = { 0 };
+    char err[256];
+    assert_int_equal(ht_image_read_png(reference_png, &ref.image, err, sizeof err), HT_OK);
+    long differ = 0;
+    for (size_t i = 0; i < (size_t)ref.image.width * ref.image.height * 4; i++)
+        differ += ref.image.pixels[i] != d.image.pixels[i];
+    const double db = ht_test_es_psnr(&ref, &d);
+    printf("16-bit chunks against 32-bit indices: %ld of %d bytes differ, %.2f dB\n", differ,
+           ref.image.width * ref.image.height * 4, db);
+    assert_true(differ == 0 || db >= HT_TEST_ES_MIN_PSNR_DB);
+    ht_test_es_draw_free(&ref);
+    ht_test_es_draw_free(&d);
+}
+
+int main(void) {
+    setenv("MESA_GLES_VERSION_OVERRIDE", "2.0", 1);
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_es2_without_uint_indices_draws_a_large_mesh_in_chunks),
+    };
+    return cmocka_run_group_tests(tests, NULL, ht_test_es_teardown);
+}
