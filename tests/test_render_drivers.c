@@ -39,8 +39,8 @@
 /* Rendered small, the fur balls and the ratboy's strands thinned: the
    cells prove which code runs and that it draws the same picture; the
    shipped size is test_render_scenes' job. */
-#define SIZE 128
-#define HAIRS 1000
+#define SIZE 64
+#define HAIRS 250
 #define STRAND_EVERY 4
 #define MIN_PSNR_DB 40.0
 
