@@ -14,7 +14,9 @@
    is at least a pixel wide) and prints `lod=N strands=K strand_px=W`
    first; --size and --distance shrink the hair on screen; --samples
    multisamples (platform/offscreen_msaa.c); --supersample K draws K x K
-   times the pixels and box-filters them down (a reference; docs/lod.md).
+   times the pixels and box-filters them down (a reference; docs/lod.md);
+   --width-rule draws a strand under a pixel (at the pixels drawn) about a
+   pixel wide with its opacity scaled by the ratio, blended far to near (lod.h).
    --context picks how the GL context is made (platform/offscreen.h; default
    HAIRTIER_CONTEXT, else osmesa where libOSMesa loads, else egl);
    --egl-device N draws on EGL device N (EGL_EXT_platform_device) and implies
@@ -52,6 +54,7 @@ typedef struct options {
     double distance;      /* 0: the scene's camera; else the eye this far from the target */
     int samples;          /* 0: no multisampling; else the framebuffer's samples */
     int supersample;      /* 1; K: drawn K x K times larger, box-filtered down to the PNG */
+    bool width_rule;      /* lod.h's width rule on the mesh drawn */
 } options;
 
 /* The library's log: every line goes to stderr, one line late, so that
@@ -81,7 +84,7 @@ static int fail(ht_result r) {
 }
 
 enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT, KEY_PROFILE, KEY_LOD, KEY_SIZE, KEY_DISTANCE, KEY_SAMPLES,
-       KEY_SUPERSAMPLE };
+       KEY_SUPERSAMPLE, KEY_WIDTH_RULE };
 static const struct option long_options[] = {
     VIEW_ARGS_LONG_OPTIONS,
     { "tier", required_argument, NULL, KEY_TIER },
@@ -94,6 +97,7 @@ static const struct option long_options[] = {
     { "distance", required_argument, NULL, KEY_DISTANCE },
     { "samples", required_argument, NULL, KEY_SAMPLES },
     { "supersample", required_argument, NULL, KEY_SUPERSAMPLE },
+    { "width-rule", no_argument, NULL, KEY_WIDTH_RULE },
     { 0 },
 };
 
@@ -102,6 +106,7 @@ static const cli_program program = {
     .synopsis = "usage: hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]\n"
                 "                [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]\n"
                 "                [--lod auto|N] [--size F] [--distance D] [--samples N] [--supersample K]\n"
+                "                [--width-rule]\n"
                 "                [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]\n"
                 "                [--device-profile NAME] -o OUT.png\n",
     .help = "Renders SCENE with the bundle's tier that the device runs best (or --tier, --policy) and writes\n"
@@ -118,6 +123,8 @@ static const cli_program program = {
             "  --distance D    the eye D scene units from the target, along the scene's view (default: the scene's)\n"
             "  --samples N     draw multisampled, N samples (2..32; a framebuffer object, GL 3.0), resolved before the PNG\n"
             "  --supersample K draw K x K times the pixels and box-filter them down (1..8; a reference)\n"
+            "  --width-rule    strands under a pixel drawn a pixel wide, opacity scaled by the ratio (docs/lod.md);\n"
+            "                  prints width_rule=F opacity=S\n"
             "  --context K     osmesa or egl (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl)\n"
             "  --egl-device N  draw on EGL device N (implies --context egl)\n"
             "  --api A         gl (default), gles2 or gles3 (GL ES through EGL); gles1: not supported yet\n"
@@ -148,6 +155,7 @@ static const char *take(void *user, int key, const char *value) {
     }
     case KEY_STRICT: o->strict = true; return NULL;
     case KEY_FLAT: o->flat = true; return NULL;
+    case KEY_WIDTH_RULE: o->width_rule = true; return NULL;
     case KEY_PROFILE: {
         char err[200];
         if (ht_device_profile_parse(value, &o->profile, err, sizeof err) == HT_OK) return NULL;
@@ -288,6 +296,28 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
     return 0;
 }
 
+/* --width-rule on the mesh choose_lod left: its strands' width at the
+   pixels drawn (a supersampled frame's too), widened to about a pixel,
+   the opacity scaled by the inverse. */
+static int apply_width_rule(const options *o, const ht_scene *s, ht_renderer *r, ht_mesh *hair) {
+    const double px = ht_projected_width_px(ht_mesh_mean_width(hair), eye_distance(s), s->camera.fov_y, s->height);
+    const double f = ht_width_rule_widen(px);
+    if (f > 1.0) {
+        ht_mesh wide;
+        ht_result res = ht_mesh_build_lod(hair, &(ht_lod_desc){ .strand_stride = 1, .widen = (float)f }, &wide);
+        if (res != HT_OK) {
+            fprintf(stderr, "hairview: %s: geometry: --width-rule: %s\n", o->view.scene, ht_result_string(res));
+            return 1;
+        }
+        ht_mesh_free(hair);
+        *hair = wide;
+        ht_mesh_sort_back_to_front(hair, s->camera.eye);
+        if ((res = ht_renderer_set_opacity_scale(r, (float)(1.0 / f))) != HT_OK) return fail(res);
+    }
+    printf("width_rule=%.3f opacity=%.3f\n", f, 1.0 / f);
+    return 0;
+}
+
 static int run(const options *o, view *v) {
     char err[1024];
     ht_scene scene;
@@ -327,6 +357,7 @@ static int run(const options *o, view *v) {
     if (ht_policy_parse(policy_text && policy_text[0] ? policy_text : NULL, &policy, err, sizeof err) != HT_OK)
         policy.kind = HT_POLICY_BEST; /* the renderer has refused it already */
     if (choose_lod(o, &scene, scene_distance, o->flat ? NULL : v->renderer, &policy, &v->hair)) return 1;
+    if (o->width_rule && apply_width_rule(o, &scene, v->renderer, &v->hair)) return 1;
     if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
     print_held();
 

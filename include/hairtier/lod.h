@@ -50,6 +50,8 @@ extern "C" {
 typedef struct ht_lod_desc {
     uint32_t strand_stride; /* 0 or 1: every strand; k: the first ceil(n / k) of the order */
     float max_turn_deg;     /* 0: every row; else rows turning less than this go, [0, 90] */
+    float widen;            /* 0 or 1: the area rule alone; f > 1: every ribbon f times wider
+                               again (the width rule, ht_width_rule_widen), [0, 1024] */
 } ht_lod_desc;
 
 /* The shipped ladder, level 0 (full) to HT_LOD_LEVELS - 1: stride 2^level,
@@ -90,6 +92,36 @@ HT_API double ht_projected_width_px(double width, double distance, double fov_y_
 #define HT_LOD_HYSTERESIS 0.25
 HT_API int ht_lod_pick_best(double strand_px, int current, int max_level);
 
+/* The width rule (docs/lod.md): a strand narrower than a pixel is drawn
+   about a pixel wide, its opacity scaled by (projected width / drawn
+   width), so its coverage is kept instead of aliasing. Per draw: the
+   factor for a mesh whose mean strand is strand_px wide, rounded up to a
+   quarter octave (2^(k/4), so a widened mesh serves a range of sizes);
+   1 at a pixel or wider. The mesh drawn is ht_mesh_build_lod with .widen =
+   f (stride 1: every strand), the opacity ht_renderer_set_opacity_scale(r,
+   1 / f): width x opacity, the coverage, stays the strand's. */
+HT_API double ht_width_rule_widen(double strand_px);
+
+/* The width rule's strands are translucent (opacity 1 / f): their
+   coverage composes only when they are blended far to near, so the
+   widened mesh is drawn in this order instead of inside out: components
+   by their centroid's distance from eye, farthest first (sort_key = minus
+   that distance). Once per camera position; the opaque cutoff sends every
+   scaled fragment to the blended passes (ht_renderer_set_opacity_scale). */
+HT_API void ht_mesh_sort_back_to_front(ht_mesh *mesh, const float eye[3]);
+
+/* Scales the hair's drawn alpha by scale in every pass of every tier (a
+   uniform in the GLSL texts, the last combiner stage's constant in fixed4,
+   the vertex tier and fixed, the colour array in gl11); (0, 1], 1 (the
+   default) draws alpha as the material has it. Below 1 the passes' alpha
+   reference is 1: the Z-prime and opaque passes (alpha >= ref) take no
+   scaled fragment and the back and front passes (alpha < ref) blend every
+   one, so none is dropped and none is drawn opaque, which would undo the
+   scale (a material's lower cutoff would otherwise keep some opaque).
+   HT_ERR_INVALID_ARGUMENT outside (0, 1]. */
+typedef struct ht_renderer ht_renderer;
+HT_API ht_result ht_renderer_set_opacity_scale(ht_renderer *r, float scale);
+
 /* One measured (LOD, tier) pair at a projected size (hairgen --measure's
    cells): PSNR against (LOD 0, top tier) at that size and the frame cost
    as a ratio of it. */
@@ -126,7 +158,6 @@ typedef struct ht_lod_chain {
     double width;                  /* full's mean ribbon width */
 } ht_lod_chain;
 HT_API ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out);
-typedef struct ht_renderer ht_renderer;
 HT_API int ht_lod_chain_select(ht_lod_chain *chain, ht_renderer *r, const ht_camera *camera, int viewport_h,
                                ht_result *result);
 HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);

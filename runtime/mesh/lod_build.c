@@ -18,6 +18,7 @@
 
 #define MAX_TURN_DEG 90.0f
 #define WIDTH_ROUNDS 4 /* refits of the width to the area */
+#define MAX_WIDEN 1024.0f /* lod.h's bound on the width rule's factor */
 
 void ht_lod_level(int level, ht_lod_desc *out) {
     if (!out) return;
@@ -27,6 +28,7 @@ void ht_lod_level(int level, ht_lod_desc *out) {
     /* 4 degrees a level, at most 8: on the fur ball at a quarter size 8
        alone costs 33 dB PSNR against full detail, 16 alone 25 dB. */
     out->max_turn_deg = level < 2 ? 4.0f * (float)level : 8.0f;
+    out->widen = 0.0f;
 }
 
 int ht_lod_max_level(const ht_mesh *mesh) {
@@ -173,7 +175,8 @@ ht_result ht_mesh_build_lod(const ht_mesh *full, const ht_lod_desc *desc, ht_mes
     if (!out) return HT_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
     if (!full || !desc || !full->vertices || !full->indices || !full->components || full->component_count == 0 ||
-        !(desc->max_turn_deg >= 0 && desc->max_turn_deg <= MAX_TURN_DEG))
+        !(desc->max_turn_deg >= 0 && desc->max_turn_deg <= MAX_TURN_DEG) ||
+        !(desc->widen >= 0 && desc->widen <= MAX_WIDEN))
         return HT_ERR_INVALID_ARGUMENT;
     const uint32_t n = full->component_count, stride = desc->strand_stride ? desc->strand_stride : 1;
     const uint32_t kept = n / stride + (n % stride != 0);
@@ -214,6 +217,9 @@ ht_result ht_mesh_build_lod(const ht_mesh *full, const ht_lod_desc *desc, ht_mes
         if (!(drawn > 0) || fabs(drawn / area_all - 1) < 0.002) break;
         widen *= area_all / drawn;
     }
+    /* The width rule's factor on top (lod.h): the drawn area grows by it,
+       and the opacity the caller sets shrinks by it. */
+    if (desc->widen > 1.0f) write_lod(full, runs, rows, cos_turn, keep, widen * desc->widen, out);
 done:
     free(runs);
     free(rank);

@@ -1,6 +1,6 @@
 /* renderer_lod.c — the bundle's measured LOD cells (manifest "lods",
    hairgen --measure-lods) handed to the application as ht_lod_cell, for
-   ht_lod_pick_error. */
+   ht_lod_pick_error; the width rule's opacity scale (lod.h). */
 #include <hairtier/lod.h>
 #include "renderer_internal.h"
 
@@ -13,4 +13,10 @@ int ht_renderer_lod_cells(const ht_renderer *r, ht_lod_cell *out, int max) {
         out[n++] = (ht_lod_cell){ .lod = l->cells[i].level, .tier = tier, .size = l->cells[i].size,
                                   .psnr = l->cells[i].psnr_db, .cost = l->cells[i].cost_ratio };
     return n;
+}
+
+ht_result ht_renderer_set_opacity_scale(ht_renderer *r, float scale) {
+    if (!r || !(scale > 0.0f && scale <= 1.0f)) return HT_ERR_INVALID_ARGUMENT;
+    r->opacity_cut = 1.0f - scale;
+    return HT_OK;
 }

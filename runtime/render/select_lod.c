@@ -10,6 +10,12 @@ double ht_projected_width_px(double width, double distance, double fov_y_deg, in
     return width * viewport_h / (2.0 * distance * tan(fov_y_deg * M_PI / 360.0));
 }
 
+double ht_width_rule_widen(double strand_px) {
+    if (!(strand_px > 0) || strand_px >= 1.0 || !isfinite(strand_px)) return 1.0;
+    const double quarters = ceil(4.0 * -log2(strand_px) - 1e-9);
+    return fmin(exp2(quarters / 4.0), 1024.0);
+}
+
 int ht_lod_pick_best(double strand_px, int current, int max_level) {
     if (max_level < 0) max_level = 0;
     /* The ideal level as a real number: log2 of how many times too thin. */
