@@ -68,7 +68,7 @@ static int argument_count(GLenum combine) {
 
 bool ht_combiner_stage_scale_alpha(const ht_combiner_stage *in, float opacity, ht_combiner_stage *out) {
     if (in->combine_alpha != GL_REPLACE) return false;
-    for (int a = 0; a < 3; a++)
+    for (int a = 0; a < argument_count(in->combine_rgb); a++)
         if (in->source_rgb[a] == GL_CONSTANT &&
             (in->operand_rgb[a] == GL_SRC_ALPHA || in->operand_rgb[a] == GL_ONE_MINUS_SRC_ALPHA))
             return false;
