@@ -304,7 +304,7 @@ static int apply_width_rule(const options *o, const ht_scene *s, ht_renderer *r,
     const double f = ht_width_rule_widen(px);
     if (f > 1.0) {
         ht_mesh wide;
-        ht_result res = ht_mesh_build_lod(hair, &(ht_lod_desc){ .strand_stride = 1, .widen = (float)f }, &wide);
+        ht_result res = ht_mesh_widen(hair, f, &wide);
         if (res != HT_OK) {
             fprintf(stderr, "hairview: %s: geometry: --width-rule: %s\n", o->view.scene, ht_result_string(res));
             return 1;

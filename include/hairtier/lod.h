@@ -50,8 +50,6 @@ extern "C" {
 typedef struct ht_lod_desc {
     uint32_t strand_stride; /* 0 or 1: every strand; k: the first ceil(n / k) of the order */
     float max_turn_deg;     /* 0: every row; else rows turning less than this go, [0, 90] */
-    float widen;            /* 0 or 1: the area rule alone; f > 1: every ribbon f times wider
-                               again (the width rule, ht_width_rule_widen), [0, 1024] */
 } ht_lod_desc;
 
 /* The shipped ladder, level 0 (full) to HT_LOD_LEVELS - 1: stride 2^level,
@@ -97,10 +95,16 @@ HT_API int ht_lod_pick_best(double strand_px, int current, int max_level);
    width), so its coverage is kept instead of aliasing. Per draw: the
    factor for a mesh whose mean strand is strand_px wide, rounded up to a
    quarter octave (2^(k/4), so a widened mesh serves a range of sizes);
-   1 at a pixel or wider. The mesh drawn is ht_mesh_build_lod with .widen =
-   f (stride 1: every strand), the opacity ht_renderer_set_opacity_scale(r,
-   1 / f): width x opacity, the coverage, stays the strand's. */
+   1 at a pixel or wider. The mesh drawn is ht_mesh_widen(mesh, f), the
+   opacity ht_renderer_set_opacity_scale(r, 1 / f): width x opacity, the
+   coverage, stays the strand's. */
 HT_API double ht_width_rule_widen(double strand_px);
+
+/* Every ribbon of a mesh (a builder's layout, as ht_mesh_build_lod takes)
+   `factor` times as wide about its centre line, [1, 1024]; every strand and
+   row kept, the order kept. HT_ERR_INVALID_ARGUMENT, HT_ERR_OUT_OF_MEMORY;
+   on failure *out is zeroed. */
+HT_API ht_result ht_mesh_widen(const ht_mesh *mesh, double factor, ht_mesh *out);
 
 /* The width rule's strands are translucent (opacity 1 / f): their
    coverage composes only when they are blended far to near, so the
@@ -142,6 +146,18 @@ typedef struct ht_lod_cell {
 #define HT_LOD_ERROR_HYSTERESIS_DB 1.0
 HT_API int ht_lod_pick_error(const ht_lod_cell *cells, int count, double size, double db, int current);
 
+/* The `frame:MS` rule on the same cells: at the measured size nearest
+   `size`, the most accurate pair whose frame, cost x reference_ms (the
+   (LOD 0, top tier) frame at this size, timed on this device), is within
+   budget_ms; none within: the cheapest. With hysteresis: the current pair
+   stays while its frame is within budget_ms x (1 + HT_LOD_FRAME_HYSTERESIS)
+   and no pair within budget_ms is HT_LOD_ERROR_HYSTERESIS_DB more
+   accurate. Returns an index into cells, -1 when count is 0 or
+   reference_ms is not positive. */
+#define HT_LOD_FRAME_HYSTERESIS 0.1
+HT_API int ht_lod_pick_frame(const ht_lod_cell *cells, int count, double size, double budget_ms, double reference_ms,
+                             int current);
+
 /* Every level of one mesh, switched per frame by the best rule: level 0
    is the caller's mesh (borrowed: it must outlive the chain), the others
    are built here. ht_lod_chain_select picks the level for this frame's
@@ -163,9 +179,9 @@ HT_API int ht_lod_chain_select(ht_lod_chain *chain, ht_renderer *r, const ht_cam
 HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);
 HT_API void ht_lod_chain_free(ht_lod_chain *chain);
 
-/* The bundle's measured cells (hairgen --measure-lods: the reference tier
-   at every LOD and size), at most max into out; how many. 0 when the
-   bundle has none. */
+/* The bundle's measured cells (hairgen --measure-lods: every tier at every
+   LOD and size, against (LOD 0, the bundle's first tier)), at most max
+   into out; how many. 0 when the bundle has none. */
 HT_API int ht_renderer_lod_cells(const ht_renderer *r, ht_lod_cell *out, int max);
 
 #ifdef __cplusplus
