@@ -243,38 +243,90 @@ static const char *apply_view(const options *o, ht_scene *s) {
     return NULL;
 }
 
-/* Replaces the full mesh by the level --lod asks for (auto: lod.h's best
-   rule at the camera's distance to the target) and prints what it drew. */
+/* The eye's distance from the camera's target. */
 static double eye_distance(const ht_scene *s) {
     double d = 0;
     for (int k = 0; k < 3; k++) d += ((double)s->camera.eye[k] - s->camera.target[k]) * (s->camera.eye[k] - s->camera.target[k]);
     return sqrt(d);
 }
 
-/* --lod auto: with an error:DB policy and a bundle measured with
-   --measure-lods, the cheapest level meeting DB at this projected size
-   (the scene's times --size, over --distance's change); else the best
-   rule. */
-static int auto_level(const options *o, const ht_renderer *r, const ht_policy *policy, double size, double px,
-                      int max_level) {
-    ht_lod_cell cells[64];
-    const int n = r && policy->kind == HT_POLICY_ERROR ? ht_renderer_lod_cells(r, cells, 64) : 0;
-    const int pick = n ? ht_lod_pick_error(cells, n, size, policy->value, -1) : -1;
-    (void)o;
-    if (pick >= 0 && cells[pick].lod <= max_level) {
-        printf("lod_error: level %d at size %.3f: %.2f dB, cost %.3fx level 0\n", cells[pick].lod, size,
-               cells[pick].psnr, cells[pick].cost);
-        return cells[pick].lod;
-    }
-    return ht_lod_pick_best(px, -1, max_level);
+/* The renderer again, strict on `tier` (the pair's), where it draws another. */
+static int retier(const options *o, view *v, ht_tier tier) {
+    if (ht_renderer_tier(v->renderer) == tier) return 0;
+    ht_renderer_destroy(v->renderer);
+    v->renderer = NULL;
+    ht_result r = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->view.bundle,
+                                                          .tier = tier, .strict = true, .log = log_line,
+                                                          .profile = o->profile },
+                                     &v->renderer);
+    return r == HT_OK ? 0 : fail(r);
 }
 
-static int choose_lod(const options *o, const ht_scene *s, double scene_distance, const ht_renderer *r,
-                      const ht_policy *policy, ht_mesh *hair) {
+/* frame:MS's reference: the (LOD 0, reference tier) frame at this size on
+   this device, the mean of 3 after a warm-up. 0 when it cannot draw. */
+static double reference_ms(const options *o, const view *v, const ht_scene *s, const ht_frame_desc *f, ht_tier tier) {
+    ht_renderer *r = NULL;
+    if (ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->view.bundle,
+                                                .tier = tier, .strict = true, .profile = o->profile },
+                           &r) != HT_OK)
+        return 0;
+    double ms = 0;
+    if (ht_renderer_set_mesh(r, &v->hair) == HT_OK) {
+        view timed = *v;
+        timed.renderer = r;
+        ht_result fr = HT_OK;
+        draw_frame(s, &timed, f, &fr);
+        const double t0 = now_ms();
+        for (int i = 0; i < 3; i++) draw_frame(s, &timed, f, &fr);
+        ms = fr == HT_OK ? (now_ms() - t0) / 3 : 0;
+    }
+    ht_renderer_destroy(r);
+    return ms;
+}
+
+/* --lod auto with error:DB or frame:MS and a bundle measured with
+   --measure-lods: the (LOD, tier) pair the rule picks at this projected
+   size (the scene's times --size, over --distance's change), the renderer
+   made to draw its tier; else (-1) the best rule decides the level. */
+static int auto_pair(const options *o, view *v, const ht_scene *s, const ht_frame_desc *f, const ht_policy *policy,
+                     double size, int max_level, int *level) {
+    ht_lod_cell cells[128];
+    *level = -1;
+    const bool rule = policy->kind == HT_POLICY_ERROR || policy->kind == HT_POLICY_FRAME;
+    const int n = rule && !o->flat ? ht_renderer_lod_cells(v->renderer, cells, 128) : 0;
+    int ref = -1;
+    for (int i = 0; i < n; i++)
+        if (cells[i].lod == 0 && isinf(cells[i].psnr)) ref = i;
+    if (n == 0 || ref < 0) return 0;
+    double ms = 0;
+    if (policy->kind == HT_POLICY_FRAME && !(ms = reference_ms(o, v, s, f, cells[ref].tier))) return 0;
+    const int pick = policy->kind == HT_POLICY_ERROR ? ht_lod_pick_error(cells, n, size, policy->value, -1)
+                                                     : ht_lod_pick_frame(cells, n, size, policy->value, ms, -1);
+    if (pick < 0 || cells[pick].lod > max_level) return 0;
+    printf("lod_pair: lod=%d tier=%s at size %.3f: %.2f dB, cost %.3fx (lod 0, %s)", cells[pick].lod,
+           ht_tier_name(cells[pick].tier), size, cells[pick].psnr, cells[pick].cost, ht_tier_name(cells[ref].tier));
+    if (policy->kind == HT_POLICY_FRAME) printf(" = %.3f ms of %.3f", cells[pick].cost * ms, policy->value);
+    printf("\n");
+    *level = cells[pick].lod;
+    return retier(o, v, cells[pick].tier);
+}
+
+/* Replaces the full mesh by the level --lod asks for (auto: the pair rule
+   above, else lod.h's best rule at the camera's distance to the target)
+   and prints what it drew; *paired: the pair rule chose the tier too. */
+static int choose_lod(const options *o, const ht_scene *s, double scene_distance, view *v, const ht_frame_desc *f,
+                      const ht_policy *policy, bool *paired) {
+    ht_mesh *hair = &v->hair;
     const double d = eye_distance(s);
     const double px = ht_projected_width_px(ht_mesh_mean_width(hair), d, s->camera.fov_y, s->height / o->supersample);
     const int max_level = ht_lod_max_level(hair);
-    const int level = o->lod < 0 ? auto_level(o, r, policy, o->size * scene_distance / d, px, max_level) : o->lod;
+    int level = o->lod;
+    *paired = false;
+    if (o->lod < 0) {
+        if (auto_pair(o, v, s, f, policy, o->size * scene_distance / d, max_level, &level)) return 1;
+        *paired = level >= 0;
+        if (level < 0) level = ht_lod_pick_best(px, -1, max_level);
+    }
     if (level > max_level) {
         fprintf(stderr, "hairview: --lod: %d is past this scene's last level %d (%u strands)\n", level, max_level,
                 hair->component_count);
@@ -356,15 +408,17 @@ static int run(const options *o, view *v) {
     ht_policy policy = { HT_POLICY_BEST, 0 };
     if (ht_policy_parse(policy_text && policy_text[0] ? policy_text : NULL, &policy, err, sizeof err) != HT_OK)
         policy.kind = HT_POLICY_BEST; /* the renderer has refused it already */
-    if (choose_lod(o, &scene, scene_distance, o->flat ? NULL : v->renderer, &policy, &v->hair)) return 1;
+    ht_frame_desc frame = { .camera = scene.camera, .lights = scene.lights, .light_count = scene.light_count,
+                            .aspect = (float)scene.width / (float)scene.height,
+                            .opaque = v->head.index_count ? &v->head : NULL };
+    bool paired = false;
+    if (choose_lod(o, &scene, scene_distance, v, &frame, &policy, &paired)) return 1;
+    print_held();
     if (o->width_rule && apply_width_rule(o, &scene, v->renderer, &v->hair)) return 1;
     if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
     print_held();
 
-    ht_frame_desc frame = { .camera = scene.camera, .lights = scene.lights, .light_count = scene.light_count,
-                            .aspect = (float)scene.width / (float)scene.height,
-                            .opaque = v->head.index_count ? &v->head : NULL };
-    if (!o->flat && policy.kind == HT_POLICY_FRAME) {
+    if (!o->flat && !paired && policy.kind == HT_POLICY_FRAME) {
         if ((r = ht_renderer_choose_by_frame_time(v->renderer, &v->hair, &frame, 0)) != HT_OK) return fail(r);
         print_held();
     }

@@ -63,9 +63,10 @@ static const char help[] =
     "                        EGL), compare each with the reference tier and write the\n"
     "                        numbers into its manifest (HAIRGEN_OSMESA, HAIRGEN_EGL name\n"
     "                        other libraries; HAIRTIER_CONTEXT=osmesa|egl forces one)\n"
-    "  --measure-lods        --measure, then the first tier at every geometry LOD of the\n"
-    "                        scene at 1, 1/2 and 1/4 of its size (cost, error, the pop\n"
-    "                        between levels) into the manifest's \"lods\" (docs/lod.md)\n"
+    "  --measure-lods        --measure, then every tier at every geometry LOD of the scene\n"
+    "                        at 1, 1/2 and 1/4 of its size against (LOD 0, first tier):\n"
+    "                        cost, error, the pop between levels, into the manifest's\n"
+    "                        \"lods\" (docs/lod.md)\n"
     "  --emit-header OUT.h   write the bundle as one C header (beside DIR, or instead of it)\n"
     "  --header-symbol NAME  the header's C name (default: from the material's name)\n"
     "  --help, --version     this text; the version and the bundle generator version\n";

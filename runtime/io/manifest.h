@@ -114,7 +114,7 @@ _Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader r
 #define HT_MANIFEST_KEY_STRANDS "strands"
 #define HT_MANIFEST_KEY_SIZE "size"
 #define HT_MANIFEST_KEY_POP_PSNR_DB "pop_psnr_db"
-#define HT_MANIFEST_MAX_LOD_CELLS 24
+#define HT_MANIFEST_MAX_LOD_CELLS 96 /* 3 sizes x 5 levels x 6 tiers, and room */
 /* Limits of a measured object's numbers. */
 #define HT_MANIFEST_MAX_PSNR_DB 1000.0
 #define HT_MANIFEST_MAX_DELTA_E 1000.0
@@ -191,6 +191,7 @@ typedef struct ht_manifest_tier {
    identical to itself; no level before). */
 typedef struct ht_manifest_lod_cell {
     int level;                     /* 0..HT_LOD_LEVELS - 1 */
+    char tier[16];                 /* the tier drawn; a cell without "tier": the lods' */
     uint32_t strands;
     double size;                   /* (0, 4]: projected size / the scene's */
     double psnr_db, ssim, delta_e00_mean, cost_ratio, pop_psnr_db;

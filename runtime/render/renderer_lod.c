@@ -7,11 +7,13 @@
 int ht_renderer_lod_cells(const ht_renderer *r, ht_lod_cell *out, int max) {
     if (!r || !r->have_bundle || !out || max <= 0) return 0;
     const ht_manifest_lods *l = &r->bundle.lods;
-    const ht_tier tier = ht_tier_from_name(l->tier);
     int n = 0;
-    for (int i = 0; i < l->cell_count && n < max; i++)
+    for (int i = 0; i < l->cell_count && n < max; i++) {
+        const ht_tier tier = ht_tier_from_name(l->cells[i].tier);
+        if (tier == HT_TIER_COUNT) continue; /* a tier this runtime does not know */
         out[n++] = (ht_lod_cell){ .lod = l->cells[i].level, .tier = tier, .size = l->cells[i].size,
                                   .psnr = l->cells[i].psnr_db, .cost = l->cells[i].cost_ratio };
+    }
     return n;
 }
 
