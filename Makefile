@@ -469,7 +469,7 @@ endef
 report-check: all $(BUILD)/tests/report_screenshot_check
 	$(call install_missing,chromium)
 	@rm -rf $(REPORT_CHECK) && mkdir -p $(REPORT_CHECK)
-	$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json -o $(REPORT_CHECK)/bundle >/dev/null
+	$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json --measure-lods -o $(REPORT_CHECK)/bundle >/dev/null
 	$(BUILD)/haircompare --bundle $(REPORT_CHECK)/bundle --scene scenes/furball.json --frames 3 -o $(REPORT_CHECK)/report
 	$(call page_size,$(REPORT_CHECK)/report/index.html,$(REPORT_CHECK)/size)
 	@read w h <$(REPORT_CHECK)/size; echo "report-check: the page is $$w x $$h px in a $(REPORT_WIDTH) px window"; \
