@@ -11,7 +11,10 @@
       orbiting a little every frame, its ratios to the geometry floor and
       to full taken in that same run, and its error against full's image;
    3. build/bench_frame on the fur ball at 1k, 5k, 20k and 40k hairs on
-      llvmpipe (the scaling series; the matrix's 10k run is its fifth point).
+      llvmpipe (the scaling series; the matrix's 10k run is its fifth point);
+   4. build/bench_frame --lods --samples 4 on the 8 000-hair fur ball at
+      half and a quarter of the size on llvmpipe: (LOD, tier) pairs beside
+      full detail (series "lods", in results.csv; docs/lod.md).
    Their own tables print as they run; after each step a progress line with
    the time taken and an ETA (from the steps so far against a predicted
    weight per step). Then writes, atomically, DIR/results.csv (every row),
@@ -75,6 +78,7 @@ typedef struct step {
     int hairs;               /* 0: the scene's (not a fur ball) */
     int size, frames;
     bool orbit;
+    bool lods;               /* bench_frame --lods --samples 4: (LOD, tier) pairs */
     const char *series;
     double weight;           /* predicted seconds; only their proportions matter */
 } step;
@@ -114,12 +118,23 @@ static int plan(step *s, bool quick) {
                          .hairs = hairs, .size = size, .frames = frames, .orbit = false, .series = "scaling",
                          .weight = frame_weight(dr, true, hairs, size, frames, false) };
     }
+    /* (LOD, tier) pairs beside full detail at half and a quarter size, 4
+       samples (docs/lod.md): rows of series "lods" in results.csv. */
+    for (int half = 1; half <= 2; half++) {
+        const driver *dr = &drivers[0];
+        int size = (quick ? 96 : dr->size) >> half, frames = quick ? 2 : SCALING_FRAMES;
+        if (size < 16) size = 16;
+        s[n++] = (step){ .kind = FRAME, .program = "bench_frame", .driver = dr->name, .scene = "scenes/furball.json",
+                         .hairs = quick ? 800 : 8000, .size = size, .frames = frames, .orbit = false, .lods = true,
+                         .series = "lods",
+                         .weight = frame_weight(dr, true, quick ? 800 : 8000, size, frames, false) };
+    }
     return n;
 }
 
 /* ---- running a step ---- */
 
-#define MAX_ARGS 16
+#define MAX_ARGS 20
 
 typedef struct argv_buf {
     char text[MAX_ARGS][1024];
@@ -151,6 +166,7 @@ static void command_line(const step *s, const char *bindir, const char *csv, arg
     arg(a, "%s", "--size"), arg_int(a, s->size);
     arg(a, "%s", "--frames"), arg_int(a, s->frames);
     if (!s->orbit) arg(a, "%s", "--no-orbit");
+    if (s->lods) arg(a, "%s", "--lods"), arg(a, "%s", "--samples"), arg(a, "%s", "4");
     arg(a, "%s", "--series"), arg(a, "%s", s->series);
     arg(a, "%s", "--csv"), arg(a, "%s", csv);
 }
