@@ -437,7 +437,8 @@ check-valgrind: all
 
 # ---- haircompare's report in a real browser ----
 # Debian's chromium is installed here only (it is big, and nothing else
-# needs it). The report of the fur ball's five 512² tiers must fit a
+# needs it). The report of the fur ball's five 512² tiers (and, its bundle
+# measured with --measure-lods, its level x tier grid) must fit a
 # REPORT_WIDTH px window: laid out by Chromium at that width, its
 # scrollWidth is at most REPORT_WIDTH. Then every <img> of it must be found,
 # full size, in a screenshot of the whole page at that width
