@@ -92,8 +92,9 @@ static ht_result measure_size(const char *dir, const ht_manifest *bundle, const 
     s.width = (int)fmax(16, lround(scene->width * size));
     s.height = (int)fmax(16, lround(scene->height * size));
     char why[1024];
-    offscreen *o = offscreen_open(&(offscreen_desc){ .width = s.width, .height = s.height, .egl_device = -1 }, why,
-                                  sizeof why);
+    offscreen *o = offscreen_open(&(offscreen_desc){ .width = s.width, .height = s.height, .egl_device = -1,
+                                                     .samples = out->samples },
+                                  why, sizeof why);
     if (!o) return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: lods: %s", why);
     const size_t bytes = (size_t)s.width * (size_t)s.height * 4;
     unsigned char *base = malloc(bytes), *prev = malloc(bytes), *cur = malloc(bytes);
@@ -131,10 +132,14 @@ static ht_result measure_size(const char *dir, const ht_manifest *bundle, const 
     return res;
 }
 
-ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file, ht_measure_lods *out,
-                              char *err, size_t err_size) {
+ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file, int samples,
+                              ht_measure_lods *out, char *err, size_t err_size) {
     if (err && err_size) err[0] = '\0';
     memset(out, 0, sizeof *out);
+    if (samples != 0 && (samples < 2 || samples > HT_MANIFEST_MAX_LOD_SAMPLES))
+        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: lods: --lod-samples: %d, expected 2..%d",
+                       samples, HT_MANIFEST_MAX_LOD_SAMPLES);
+    out->samples = samples;
     ht_manifest *bundle = malloc(sizeof *bundle);
     ht_mesh levels[HT_LOD_LEVELS] = { 0 }, head = { 0 };
     char why[1024];
@@ -171,6 +176,7 @@ static void add_psnr(cJSON *o, const char *key, double db) {
 static cJSON *lods_object(const ht_measure_lods *m) {
     cJSON *o = cJSON_CreateObject(), *cells = cJSON_CreateArray();
     cJSON_AddStringToObject(o, HT_MANIFEST_KEY_LOD_TIER, m->tier);
+    if (m->samples) cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_SAMPLES, m->samples);
     for (int i = 0; i < m->count; i++) {
         const ht_measure_lod_cell *c = &m->cells[i];
         cJSON *j = cJSON_CreateObject();
@@ -225,6 +231,7 @@ void ht_measure_lods_print(FILE *out, const ht_measure_lods *m) {
     fprintf(out, "lods: every (level, tier) against (level 0, %s) at each size; pop = PSNR against the tier's level before\n",
             m->tier);
     if (m->skipped[0]) fprintf(out, "lods: not run on this context: %s\n", m->skipped);
+    if (m->samples) fprintf(out, "lods: every frame with %d samples a pixel\n", m->samples);
     fprintf(out, "%5s %5s %-10s %8s %9s %7s %9s %9s %9s\n", "size", "level", "tier", "strands", "cost", "psnr_db", "ssim",
             "de00", "pop_db");
     for (int i = 0; i < m->count; i++) {

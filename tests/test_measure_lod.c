@@ -19,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <hairtier/lod.h>
 #include "manifest.h"
@@ -142,6 +143,26 @@ static void a_bad_cell_is_refused_naming_it(void **state) {
     assert_int_equal(ht_manifest_parse(json, bundle, "manifest.json", m, err, sizeof err), HT_ERR_PARSE);
     assert_non_null(strstr(err, "lods.cells[2].level"));
     assert_null(strchr(err, '\n'));
+    /* the frames' samples: 2..32 when present */
+    cJSON_ReplaceItemInObjectCaseSensitive(cell, "level", cJSON_CreateNumber(1));
+    cJSON_AddNumberToObject(cJSON_GetObjectItem(root, "lods"), "samples", 1);
+    free(json);
+    json = cJSON_Print(root);
+    assert_int_equal(ht_manifest_parse(json, bundle, "manifest.json", m, err, sizeof err), HT_ERR_PARSE);
+    assert_non_null(strstr(err, "lods.samples"));
+    cJSON_ReplaceItemInObjectCaseSensitive(cJSON_GetObjectItem(root, "lods"), "samples", cJSON_CreateNumber(4));
+    free(json);
+    json = cJSON_Print(root);
+    assert_int_equal(ht_manifest_parse(json, bundle, "manifest.json", m, err, sizeof err), HT_OK);
+    assert_int_equal(m->lods.samples, 4);
+    /* hairgen refuses a sample count it cannot draw, writing nothing */
+    char args[512], out[4096];
+    snprintf(args, sizeof args, "materials/dark-brown.json --scene %s/scene.json --lod-samples 1 -o %s/never", work, work);
+    assert_true(ht_test_run_program("hairgen", args, out, sizeof out) != 0);
+    assert_non_null(strstr(out, "--lod-samples"));
+    char never[160];
+    snprintf(never, sizeof never, "%s/never", work);
+    assert_int_not_equal(access(never, F_OK), 0);
     free(m);
     free(json);
     cJSON_Delete(root);

@@ -110,6 +110,8 @@ _Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader r
 #define HT_MANIFEST_KEY_LODS "lods"
 #define HT_MANIFEST_KEY_LOD_TIER "tier"
 #define HT_MANIFEST_KEY_CELLS "cells"
+#define HT_MANIFEST_KEY_SAMPLES "samples"     /* optional: the LOD frames' multisampling */
+#define HT_MANIFEST_MAX_LOD_SAMPLES 32
 #define HT_MANIFEST_KEY_LEVEL "level"
 #define HT_MANIFEST_KEY_STRANDS "strands"
 #define HT_MANIFEST_KEY_SIZE "size"
@@ -199,6 +201,7 @@ typedef struct ht_manifest_lod_cell {
 
 typedef struct ht_manifest_lods {
     char tier[16];                 /* "" when the manifest has no "lods" */
+    int samples;                   /* 0: one sample a pixel; else the frames' (hairgen --lod-samples) */
     ht_manifest_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
     int cell_count;
 } ht_manifest_lods;

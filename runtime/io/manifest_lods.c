@@ -54,7 +54,7 @@ static ht_result parse_cell(const ht_jctx *c, const cJSON *cell, const char *pat
 }
 
 ht_result ht_manifest_parse_lods(const ht_jctx *c, const cJSON *root, ht_manifest_lods *out) {
-    static const char *const known[] = { K(LOD_TIER), K(CELLS), K(SCENE), K(DRIVER), NULL };
+    static const char *const known[] = { K(LOD_TIER), K(CELLS), K(SCENE), K(DRIVER), K(SAMPLES), NULL };
     memset(out, 0, sizeof *out);
     const cJSON *lods, *cells;
     int count = 0;
@@ -63,6 +63,9 @@ ht_result ht_manifest_parse_lods(const ht_jctx *c, const cJSON *root, ht_manifes
     if ((r = ht_json_keys(c, lods, K(LODS), known)) != HT_OK ||
         (r = ht_json_string(c, lods, K(LODS), K(LOD_TIER), NULL, out->tier, sizeof out->tier)) != HT_OK ||
         (r = ht_json_array(c, lods, K(LODS), K(CELLS), true, 1, HT_MANIFEST_MAX_LOD_CELLS, &cells, &count)) != HT_OK)
+        return r;
+    if (cJSON_GetObjectItemCaseSensitive(lods, K(SAMPLES)) &&
+        (r = ht_json_int32(c, lods, K(LODS), K(SAMPLES), NULL, 2, HT_MANIFEST_MAX_LOD_SAMPLES, &out->samples)) != HT_OK)
         return r;
     for (const cJSON *cell = cells->child; cell && r == HT_OK; cell = cell->next) {
         char path[HT_JSON_PATH_MAX];
