@@ -7,7 +7,9 @@
    joints (--hairs). The floor is the same mesh drawn in the same four passes
    with a flat colour and no textures or shaders (ht_renderer_desc.flat).
    Prints the median frame time of each, the ratios tier / floor and
-   tier / full, PSNR against full (shadergen/metrics.h, whole frame) and the
+   tier / full, PSNR against full (shadergen/metrics.h, whole frame; on GL
+   ES 1.1, which has no full tier, against the best tier that runs, and
+   the CSV's columns against full are not numbers) and the
    per-vertex CPU work per frame (ht_renderer_get_stats), with the camera
    still and again with the eye orbiting the target by ORBIT_STEP every
    frame, as in a game (--no-orbit skips that); frames are taken
@@ -147,15 +149,19 @@ static bool time_round_robin(contender *c, int count, const stage *st, bool orbi
     return true;
 }
 
-/* Each tier's error against full's image of this run. */
+/* The contender the others are measured against: full, or where it does
+   not run (GL ES 1.1: no shaders) the best tier that does. */
+static int REF = 1;
+
+/* Each tier's error against the reference's image of this run. */
 static bool measure_errors(contender *c, int count) {
     char err[256];
     for (int k = 0; k < count; k++) {
         if (!c[k].renderer) continue;
-        if (ht_metrics_compare(&(ht_metrics_desc){ .reference = c[1].image, .test = c[k].image, .width = WIDTH,
+        if (ht_metrics_compare(&(ht_metrics_desc){ .reference = c[REF].image, .test = c[k].image, .width = WIDTH,
                                                    .height = HEIGHT },
                                &c[k].whole, &c[k].hair, err, sizeof err) != HT_OK ||
-            ht_flip_compare(&(ht_flip_desc){ .reference = c[1].image, .test = c[k].image, .width = WIDTH,
+            ht_flip_compare(&(ht_flip_desc){ .reference = c[REF].image, .test = c[k].image, .width = WIDTH,
                                              .height = HEIGHT },
                             NULL, &c[k].flip, err, sizeof err) != HT_OK) {
             fprintf(stderr, "bench_frame: %s: %s\n", c[k].name, err);
@@ -195,6 +201,8 @@ static bool write_rows(FILE *f, void *rows, char *why, size_t why_size) {
 static bool write_csv(const contender *c, int count, const ht_scene *scene, uint32_t triangles) {
     bench_rows rows = { 0 };
     const double floor_ms = median_ms(&c[0]), full_ms = median_ms(&c[1]);
+    /* Columns against full: not a number where full did not run. */
+    const bool full = REF == 1;
     bool ok = true;
     for (int k = 0; k < count && ok; k++) {
         bench_row *r = bench_rows_add(&rows);
@@ -214,13 +222,18 @@ static bool write_csv(const contender *c, int count, const ht_scene *scene, uint
         if (!r->ran) continue;
         r->median_ms = median_ms(&c[k]);
         r->per_floor = r->median_ms / floor_ms;
-        r->per_full = r->median_ms / full_ms;
+        r->per_full = full ? r->median_ms / full_ms : NAN;
         r->whole = c[k].whole, r->hair = c[k].hair;
         r->flip_mean = c[k].flip.mean, r->flip_p95 = c[k].flip.p95;
+        if (!full) {
+            r->whole.psnr_db = r->whole.ssim = r->whole.delta_e00_mean = r->whole.delta_e00_p95 = NAN;
+            r->hair.psnr_db = r->hair.ssim = r->hair.delta_e00_mean = r->hair.delta_e00_p95 = NAN;
+            r->flip_mean = r->flip_p95 = NAN;
+        }
         r->cpu_still = (double)c[k].cpu_still / FRAMES;
         r->cpu_orbit = ORBIT ? (double)c[k].cpu_orbit / FRAMES : NAN;
         r->orbit_ms = ORBIT ? median_orbit_ms(&c[k]) : NAN;
-        r->orbit_per_full = ORBIT ? r->orbit_ms / median_orbit_ms(&c[1]) : NAN;
+        r->orbit_per_full = ORBIT && full ? r->orbit_ms / median_orbit_ms(&c[1]) : NAN;
     }
     char err[512] = "out of memory";
     if (ok) ok = ht_file_write_atomic(CSV, write_rows, &rows, err, sizeof err) == HT_OK;
@@ -230,12 +243,15 @@ static bool write_csv(const contender *c, int count, const ht_scene *scene, uint
 }
 
 static void print_table(const contender *c, int count) {
-    const double floor_ms = median_ms(&c[0]), full_ms = median_ms(&c[1]);
-    const double full_orbit = ORBIT ? median_orbit_ms(&c[1]) : NAN;
+    const double floor_ms = median_ms(&c[0]), full_ms = median_ms(&c[REF]);
+    const double full_orbit = ORBIT ? median_orbit_ms(&c[REF]) : NAN;
+    char per_ref[16], vs_ref[16];
+    snprintf(per_ref, sizeof per_ref, "/ %.6s", c[REF].name);
+    snprintf(vs_ref, sizeof vs_ref, "vs %.6s", c[REF].name);
     printf("  %-14s %31s %21s %22s %9s %9s\n", "", "camera still", "eye orbiting", "CPU vertices per frame",
            "PSNR dB", "FLIP");
-    printf("  %-14s %9s %10s %10s %10s %10s %11s %10s %9s %9s\n", "", "median", "/ floor", "/ full", "median", "/ full",
-           "still", "orbiting", "vs full", "mean");
+    printf("  %-14s %9s %10s %10s %10s %10s %11s %10s %9s %9s\n", "", "median", "/ floor", per_ref, "median", per_ref,
+           "still", "orbiting", vs_ref, "mean");
     for (int k = 0; k < count; k++) {
         if (!c[k].renderer) {
             printf("  %-14s       n/a (does not run here)\n", c[k].name);
@@ -256,18 +272,18 @@ static void print_table(const contender *c, int count) {
 }
 
 /* --lods: the pair error:DB would pick among this run's contenders (the
-   cheapest, by its median against full's, whose PSNR against full detail
-   is at least db), as the runtime's rule does over measured cells. */
+   cheapest whose PSNR against the reference, full detail in full, is at
+   least db), as the runtime's rule does over measured cells. */
 static void print_error_pick(const contender *c, int count, double db) {
-    const double full_ms = median_ms(&c[1]);
+    const double ref_ms = median_ms(&c[REF]);
     int pick = -1;
     for (int k = 1; k < count; k++)
         if (c[k].renderer && c[k].whole.psnr_db >= db && (pick < 0 || median_ms(&c[k]) < median_ms(&c[pick])))
             pick = k;
     if (pick < 0) printf("error:%g picks none of these pairs\n", db);
     else
-        printf("error:%g picks %s: %.2fx full detail's cost, %.1f dB\n", db, c[pick].name, median_ms(&c[pick]) / full_ms,
-               c[pick].whole.psnr_db);
+        printf("error:%g picks %s: %.2fx %s's cost, %.1f dB\n", db, c[pick].name, median_ms(&c[pick]) / ref_ms,
+               c[REF].name, c[pick].whole.psnr_db);
 }
 
 /* Everything but the scratch directory, which main removes whatever this
@@ -353,11 +369,12 @@ static int run(const char *work) {
     for (int k = 0; k <= TIERS; k++)
         if (c[k].renderer && !(c[k].image = malloc((size_t)WIDTH * HEIGHT * 4))) images = false;
     stage st = { &scene, head.index_count ? &head : NULL };
+    for (REF = 1; REF < TIERS && !c[REF].renderer; REF++) {}
     if (!images) {
         fprintf(stderr, "bench_frame: out of memory for the tiers' images\n");
-    } else if (!c[0].renderer || !c[1].renderer || !time_round_robin(c, TIERS + 1, &st, false) ||
+    } else if (!c[0].renderer || !c[REF].renderer || !time_round_robin(c, TIERS + 1, &st, false) ||
                (ORBIT && !time_round_robin(c, TIERS + 1, &st, true))) {
-        fprintf(stderr, "bench_frame: the geometry floor or the full tier did not render\n");
+        fprintf(stderr, "bench_frame: the geometry floor or every tier failed to render\n");
     } else if (measure_errors(c, TIERS + 1)) {
         print_table(c, TIERS + 1);
         if (LODS) print_error_pick(c, TIERS + 1, 30.0);
@@ -398,7 +415,7 @@ static const cli_program program = {
     .name = "bench_frame",
     .synopsis = "usage: bench_frame [--scene SCENE.json] [--hairs N] [--size S] [--frames F] [--no-orbit]\n"
                 "                   [--csv FILE [--series NAME]] [--context osmesa|egl] [--egl-device N]\n"
-                "                   [--api gl|gles2|gles3] [--lods] [--samples N]\n",
+                "                   [--api gl|gles1|gles2|gles3] [--lods] [--samples N]\n",
     .help = "Times every tier of dark-brown against the geometry floor on one context, frames round-robin:\n"
             "median frame ms, the ratios to the floor and to full, PSNR against full and the per-vertex CPU\n"
             "work, with the camera still and orbiting (--no-orbit skips that).\n"
@@ -408,7 +425,7 @@ static const cli_program program = {
             "  --frames F     timed frames, 1.." CLI_STR(MAX_FRAMES) " (default 9)\n"
             "  --csv FILE     also write the rows, series NAME (--series, default matrix)\n"
             "  --context K    osmesa or egl; --egl-device N: EGL device N\n"
-            "  --api A        gl (default), gles2 or gles3: a GL ES context (EGL)\n"
+            "  --api A        gl (default), gles1, gles2 or gles3: a GL ES context (EGL)\n"
             "  --lods         (LOD, tier) pairs instead of the tiers: full detail, levels 1 and 2 in full,\n"
             "                 fixed4 and gl11 (docs/lod.md), and the pair error:30 picks among them\n"
             "  --samples N    a multisampled framebuffer, 2..32 samples (GL 3.0)\n",

@@ -53,7 +53,7 @@ static const struct option long_options[] = { VIEW_ARGS_LONG_OPTIONS, { 0 } };
 static const cli_program program = {
     .name = "haircompare",
     .synopsis = "usage: haircompare --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl] [--egl-device N]\n"
-                "                   [--api gl|gles2|gles3]\n"
+                "                   [--api gl|gles1|gles2|gles3]\n"
                 "                   -o REPORT_DIR\n",
     .help = "Renders SCENE with every tier of the bundle the device runs (forced, strict) and writes\n"
             "REPORT_DIR/index.html: the tier images side by side, each tier's per-pixel CIEDE2000\n"

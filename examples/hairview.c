@@ -4,10 +4,10 @@
    build/hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]
                   [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]
                   [--lod auto|N] [--size F] [--distance D] [--samples N] [--supersample K]
-                  [--context osmesa|egl] [--egl-device N] [--api gl|gles2|gles3]
+                  [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]
                   [--device-profile NAME] -o OUT.png
 
-   --api gles2|gles3 draws on a GL ES context (EGL); --device-profile NAME
+   --api gles1|gles2|gles3 draws on a GL ES context (EGL); --device-profile NAME
    caps what the runtime may use to a named device's (hairtier.h, e.g.
    mali400), on that device's API unless --api says otherwise.
    --lod picks the geometry level (lod.h; auto: full detail while a strand
@@ -127,7 +127,7 @@ static const cli_program program = {
             "                  prints width_rule=F opacity=S\n"
             "  --context K     osmesa or egl (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl)\n"
             "  --egl-device N  draw on EGL device N (implies --context egl)\n"
-            "  --api A         gl (default), gles2 or gles3 (GL ES through EGL); gles1: not supported yet\n"
+            "  --api A         gl (default), gles1, gles2 or gles3 (GL ES through EGL; ES 1.1 runs the\n                  fixed-function tiers only)\n"
             "  --device-profile NAME  what a named device allows: gl11, gl13, gl20, videocore4, mali400,\n"
             "                  videocore6 (an ES device's API unless --api is given)\n"
             "On failure: one line naming the file or field on stderr, exit 1, no PNG; usage errors exit 2.\n",

@@ -248,7 +248,7 @@ static const struct option long_options[] = { VIEW_ARGS_LONG_OPTIONS, { 0 } };
 static const cli_program program = {
     .name = "tier_sheet",
     .synopsis = "usage: tier_sheet --bundle DIR --scene SCENE.json [--frames N] [--context osmesa|egl] [--egl-device N]\n"
-                "                  [--api gl|gles2|gles3]\n"
+                "                  [--api gl|gles1|gles2|gles3]\n"
                 "                  -o SHEET.png\n",
     .help = "Renders SCENE with every tier of the bundle (forced, strict) side by side.\n"
             "Panels left to right: marschner (when it runs), full, vertex, fixed4, fixed, gl11; errors are\n"
@@ -259,7 +259,7 @@ static const cli_program program = {
             "mean error (over pixels covered in either image) and max error, in /255.\n"
             "--context: how the GL context is made (default HAIRTIER_CONTEXT, else osmesa where\n"
             "libOSMesa loads, else egl); --egl-device N: EGL device N (EGL_EXT_platform_device);\n"
-            "--api gles2|gles3: a GL ES context (EGL).\n",
+            "--api gles1|gles2|gles3: a GL ES context (EGL; ES 1.1: fixed4, fixed, gl11).\n",
     .short_options = VIEW_ARGS_SHORT_OPTIONS,
     .long_options = long_options,
 };

@@ -51,6 +51,7 @@
 #include "fixed_coords.h"
 #include "fixed_device.h"
 #include "fixed_soa.h"
+#include "fixed_split.h"
 #include "gl_error.h"
 #include "tier_program.h"
 #include "gl_texture.h"
@@ -84,6 +85,8 @@ typedef struct fixed_state {
     int lut_unit;                             /* the unit of the stage reading the LUT */
     bool matrix_rule;                         /* the program's LUT coords are "texture-matrix" */
     bool device_variant;                      /* the program is fixed_device.h's, over t1 (ht_variant) */
+    int split_unit;                           /* no 3D textures: the split LUT's first unit (fixed_split.h), or -1 */
+    int split_error;                          /* its largest texel error, 1/255 */
     bool matrix_loaded;                       /* the LUT unit's texture matrix is not identity */
     bool point_light_logged;
     ht_vertex *vertices;                      /* copy of the mesh's, for coords, tangents and uv */
@@ -163,7 +166,7 @@ static ht_result load_program(fixed_state *s, const ht_tier_context *ctx, char *
 }
 
 /* What the device must offer for this program: refused with one line. */
-static ht_result check_device(const fixed_state *s, const ht_tier_context *ctx, const char *path,
+static ht_result check_device(const fixed_state *s, const ht_tier_context *ctx, const char *path, bool device,
                               char *err, size_t err_size) {
     const ht_combiner_program *p = &s->program;
     const ht_caps *c = ctx->caps;
@@ -173,8 +176,9 @@ static ht_result check_device(const fixed_state *s, const ht_tier_context *ctx, 
         return HT_ERR_UNSUPPORTED;
     }
     if (p->stage_count > c->texture_units) {
-        snprintf(err, err_size, "%s: %d stages need %d texture units, have %d", path, p->stage_count,
-                 p->stage_count, c->texture_units);
+        snprintf(err, err_size, "%s: %d stages need %d texture units, have %d%s", path, p->stage_count,
+                 p->stage_count, c->texture_units,
+                 s->split_unit >= 0 ? " (2 of them for the 3D LUT split in two 2D textures: no 3D textures)" : "");
         return HT_ERR_UNSUPPORTED;
     }
     if (p->stage_count > 1 && (!gl->ActiveTexture || !gl->ClientActiveTexture)) {
@@ -195,7 +199,7 @@ static ht_result check_device(const fixed_state *s, const ht_tier_context *ctx, 
     int largest = n[0] > n[1] ? n[0] : n[1];
     if (n[2] > largest) largest = n[2];
     for (int i = 0; i < p->stage_count; i++) {
-        if (p->stages[i].target != GL_TEXTURE_3D) continue;
+        if (p->stages[i].target != GL_TEXTURE_3D || device) continue;
         if (!c->has_3d_textures || !gl->TexImage3D) {
             snprintf(err, err_size, "LUT %dx%dx%d needs 3D textures (GL 1.2), have none", n[0], n[1], n[2]);
             return HT_ERR_UNSUPPORTED;
@@ -284,6 +288,42 @@ static ht_result upload_device_lut(fixed_state *s, const ht_tier_context *ctx, i
     return r;
 }
 
+/* No 3D textures: the LUT stage rewritten as fixed_split.h's three stages,
+   their two LUT images made from the bundle's 3D one. */
+static ht_result split_lut(fixed_state *s, const ht_tier_context *ctx, int stage, ht_image split[2], char *err,
+                           size_t err_size) {
+    char path[HT_LIMIT_BUNDLE_FILE_PATH];
+    ht_image img = { 0 };
+    int depth = 1;
+    ht_result r = ht_fixed_split_program(&s->program, stage, err, err_size);
+    if (r != HT_OK) return r;
+    /* the LUT's manifest entry is checked against the original stage */
+    ht_combiner_program rewritten = s->program;
+    s->program.stages[stage].target = GL_TEXTURE_3D;
+    r = read_stage_image(s, ctx, stage, &img, &depth, path, sizeof path, err, err_size);
+    s->program = rewritten;
+    if (r != HT_OK) return r;
+    r = ht_fixed_split_lut(s->program.lut_size, &img, &split[1], &split[0], &s->split_error);
+    ht_image_free(&img);
+    if (r != HT_OK) return ht_fail(err, err_size, r, "%s: cannot split the 3D LUT into 2D textures", path);
+    s->split_unit = stage;
+    return HT_OK;
+}
+
+/* Stage i's texture where the LUT is split: C, A, then a white texel. */
+static ht_result upload_split_stage(fixed_state *s, int i, ht_image split[2], char *err, size_t err_size) {
+    static const unsigned char white[4] = { 255, 255, 255, 255 };
+    const ht_image texel = { .width = 1, .height = 1, .channels = 4, .pixels = (uint8_t *)white };
+    const int part = i - s->split_unit;
+    const ht_combiner_stage *st = &s->program.stages[i];
+    static const char *const names[3] = { "fixed LUT, c axis", "fixed LUT, a-b slice", "white texel" };
+    return ht_gl_texture_upload(s->gl, &(ht_gl_texture_desc){ .target = GL_TEXTURE_2D,
+                                                              .image = part < 2 ? &split[part] : &texel,
+                                                              .filter = st->filter, .wrap = GL_CLAMP_TO_EDGE,
+                                                              .name = names[part] },
+                                &s->textures[i], err, err_size);
+}
+
 static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_t err_size) {
     *out = NULL;
     fixed_state *s = calloc(1, sizeof *s);
@@ -293,13 +333,23 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
     s->log = ctx->log;
     s->log_user = ctx->log_user;
     char path[HT_LIMIT_BUNDLE_FILE_PATH];
+    s->split_unit = -1;
     ht_result r = load_program(s, ctx, path, sizeof path, err, err_size);
-    if (r == HT_OK) r = check_device(s, ctx, path, err, err_size);
-    s->device_variant = r == HT_OK && ctx->device_variant && ht_fixed_device_applies(&s->program);
+    const bool device = r == HT_OK && ctx->device_variant && ht_fixed_device_applies(&s->program);
+    const int lut3d = r == HT_OK ? ht_fixed_split_lut_stage(&s->program) : -1;
+    ht_image split[2] = { { 0 }, { 0 } };
+    if (r == HT_OK && lut3d >= 0 && !device && !ctx->caps->has_3d_textures)
+        r = split_lut(s, ctx, lut3d, split, err, err_size);
+    if (r == HT_OK) r = check_device(s, ctx, path, device, err, err_size);
+    s->device_variant = r == HT_OK && device;
     for (int i = 0; r == HT_OK && i < s->program.stage_count; i++)
-        r = s->device_variant && s->program.stages[i].coords == HT_COORDS_CPU_DOTS
+        r = s->split_unit >= 0 && i >= s->split_unit && i < s->split_unit + 3
+                ? upload_split_stage(s, i, split, err, err_size)
+            : s->device_variant && s->program.stages[i].coords == HT_COORDS_CPU_DOTS
                 ? upload_device_lut(s, ctx, i, err, err_size)
                 : upload_stage(s, ctx, i, err, err_size);
+    ht_image_free(&split[0]);
+    ht_image_free(&split[1]);
     if (r != HT_OK) {
         destroy(s);
         return r;
@@ -312,16 +362,20 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
     for (int i = 0; i < s->program.stage_count; i++)
         if (strcmp(s->program.stages[i].texture, s->program.lut_texture) == 0) s->lut_unit = s->program.stages[i].unit;
     const int *n = s->program.lut_size;
+    char split_note[112] = "";
+    if (s->split_unit >= 0)
+        snprintf(split_note, sizeof split_note, ", LUT split into %dx%d + %dx1 2D textures (no 3D textures: texel "
+                 "error up to %d/255)", n[0], n[1], n[2], s->split_error);
     char prime[48] = "no stage";
     if (s->prime_first < s->program.stage_count)
         snprintf(prime, sizeof prime, "stages %d..%d", s->prime_first, s->program.stage_count - 1);
     ht_log_linef(s->log, s->log_user, "hairtier: fixed: %d combiner stages, LUT %dx%dx%d scale %d light scale %g, "
-                 "%d light%s (%d additive sub-pass%s), prime Z uses %s, coordinates %s", s->program.stage_count, n[0],
+                 "%d light%s (%d additive sub-pass%s), prime Z uses %s, coordinates %s%s", s->program.stage_count, n[0],
                  n[1], n[2], s->program.lut_scale, s->program.light_scale, s->slot_count, s->slot_count == 1 ? "" : "s",
                  s->slot_count - 1, s->slot_count == 2 ? "" : "es", prime,
                  s->device_variant ? "by the texture matrix over t1 (infinite viewer: the device-only variant)"
                  : s->matrix_rule  ? "by the texture matrix (infinite viewer)"
-                                   : "on the CPU per vertex");
+                                   : "on the CPU per vertex", split_note);
     *out = s;
     return HT_OK;
 }
@@ -599,6 +653,11 @@ static void bind_pass(void *state, ht_pass pass, int sub_pass) {
             }
         }
         apply_env(gl, st);
+        if (i == s->split_unit) {
+            float m[16];
+            ht_fixed_split_matrix(m);
+            load_texture_matrix(s, st->unit, m);
+        }
     }
     const light_slot *slot = sub_pass < s->slot_count ? &s->slots[sub_pass] : NULL;
     if (slot && slot->frame_matrix) {
@@ -672,6 +731,7 @@ static void end_frame(void *state) {
         gl->DisableClientState(GL_TEXTURE_COORD_ARRAY);
     }
     if (s->matrix_loaded) load_texture_matrix(s, s->lut_unit, NULL);
+    if (s->split_unit >= 0) load_texture_matrix(s, s->split_unit, NULL);
     s->matrix_loaded = false;
     for (int k = 0; k < s->slot_count; k++) s->slots[k].frame_matrix = false;
     active_unit(s, 0);

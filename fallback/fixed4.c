@@ -332,11 +332,13 @@ static void set_lighting(const fixed4_state *s) {
     gl->LoadMatrixf(s->view);
     const float no_ambient[4] = { 0, 0, 0, 1 };
     gl->LightModelfv(GL_LIGHT_MODEL_AMBIENT, no_ambient);
-    gl->LightModeli(GL_LIGHT_MODEL_TWO_SIDE, GL_FALSE);
+    gl->LightModelf(GL_LIGHT_MODEL_TWO_SIDE, 0.0f);
     gl->Materialfv(GL_FRONT_AND_BACK, GL_AMBIENT, one);
     gl->Materialfv(GL_FRONT_AND_BACK, GL_SPECULAR, zero);
     gl->Materialfv(GL_FRONT_AND_BACK, GL_EMISSION, zero);
-    gl->ColorMaterial(GL_FRONT_AND_BACK, GL_DIFFUSE);
+    /* ES 1.x has no glColorMaterial: its colour material is ambient and
+       diffuse, the same here (the colour array's rgb is 1, as the ambient). */
+    if (gl->ColorMaterial) gl->ColorMaterial(GL_FRONT_AND_BACK, GL_DIFFUSE);
     gl->Enable(GL_COLOR_MATERIAL);
     gl->Enable(GL_LIGHTING);
 }

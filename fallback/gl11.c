@@ -190,6 +190,11 @@ static void begin_frame(void *state, const ht_tier_frame *f) {
     key.opacity = 1.0f - f->opacity_cut;
     if (s->colors_valid && memcmp(&key, &s->key, sizeof key) == 0) return;
     ht_gl11_shade(&s->program, &s->soa, f->lights, key.light_count, f->eye, s->colors);
+    /* Desktop GL clamps array colours before interpolating them; llvmpipe's
+       ES 1.1 interpolates them unclamped: clamped here, every driver draws
+       the same (the colours are >= 0; alpha is 1). */
+    for (size_t i = 0; i < 4 * s->soa.count; i++)
+        if (s->colors[i] > 1.0f) s->colors[i] = 1.0f;
     /* GL_MODULATE: the drawn alpha is the albedo's x the colour's */
     for (size_t i = 0; key.opacity != 1.0f && i < s->soa.count; i++) s->colors[4 * i + 3] = key.opacity;
     atomic_fetch_add_explicit(&cpu_vertices_total, (uint64_t)s->soa.count, memory_order_relaxed);

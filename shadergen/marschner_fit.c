@@ -8,6 +8,7 @@
 
 #include <hairtier/ht_limits.h>
 
+#include "model_terms.h"
 #include "rng.h"
 
 #define SAMPLES HT_MARSCHNER_FIT_SAMPLES
@@ -144,22 +145,40 @@ static double hi_of(int k, int i) { return k == 1 ? colour_max[3] : colour_max[i
 
 static void least_squares(const double *f, int k, const double *y, int c, const bool *skip, double coef[FACTORS]) {
     bool pinned[FACTORS] = { false };
-    for (int i = 0; i < FACTORS; i++) coef[i] = 0;
+    for (int i = 0; i < k; i++) coef[i] = 0;
     for (int round = 0; round < 2 * FACTORS; round++) {
         double a[FACTORS][FACTORS] = { { 0 } }, b[FACTORS] = { 0 };
+        int free[FACTORS], free_count = 0, fixed[FACTORS], fixed_count = 0; /* the unpinned and pinned factors */
+        for (int i = 0; i < k; i++) {
+            if (pinned[i]) fixed[fixed_count++] = i;
+            else free[free_count++] = i;
+        }
+        /* a is symmetric: its upper triangle summed, the lower copied (the same products) */
+        if (free_count == FACTORS) /* the common case, unrolled: the same sums in the same order */
+            for (int n = 0; n < SAMPLES; n++) {
+                if (skip[n]) continue;
+                const double *fn = &f[(n * 3 + c) * FACTORS];
+                const double yn = y[n * 3 + c], f0 = fn[0], f1 = fn[1], f2 = fn[2], f3 = fn[3];
+                b[0] += f0 * yn, b[1] += f1 * yn, b[2] += f2 * yn, b[3] += f3 * yn;
+                a[0][0] += f0 * f0, a[0][1] += f0 * f1, a[0][2] += f0 * f2, a[0][3] += f0 * f3;
+                a[1][1] += f1 * f1, a[1][2] += f1 * f2, a[1][3] += f1 * f3;
+                a[2][2] += f2 * f2, a[2][3] += f2 * f3;
+                a[3][3] += f3 * f3;
+            }
+        else
         for (int n = 0; n < SAMPLES; n++) {
             if (skip[n]) continue;
             const double *fn = &f[(n * 3 + c) * FACTORS];
             double yn = y[n * 3 + c];
-            for (int i = 0; i < k; i++)
-                if (pinned[i]) yn -= coef[i] * fn[i];
-            for (int i = 0; i < k; i++) {
-                if (pinned[i]) continue;
+            for (int p = 0; p < fixed_count; p++) yn -= coef[fixed[p]] * fn[fixed[p]];
+            for (int p = 0; p < free_count; p++) {
+                const int i = free[p];
                 b[i] += fn[i] * yn;
-                for (int j = 0; j < k; j++)
-                    if (!pinned[j]) a[i][j] += fn[i] * fn[j];
+                for (int q = p; q < free_count; q++) a[i][free[q]] += fn[i] * fn[free[q]];
             }
         }
+        for (int p = 0; p < free_count; p++)
+            for (int q = p + 1; q < free_count; q++) a[free[q]][free[p]] = a[free[p]][free[q]];
         for (int i = 0; i < k; i++)
             if (pinned[i]) a[i][i] = 1, b[i] = coef[i];
         /* Gaussian elimination with a ridge against singular systems */
@@ -198,11 +217,13 @@ static double predict(const double *f, int k, int n, int c, const double coef[FA
    (at most 4 times). Returns the sum of squares of the clamped errors. */
 static double clamped_least_squares(const double *f, int k, const double *y, int c, double coef[FACTORS]) {
     bool skip[SAMPLES] = { false };
+    double fitted[SAMPLES]; /* the last pass's predictions: the final coef's */
     for (int pass = 0; pass < 4; pass++) {
         least_squares(f, k, y, c, skip, coef);
         bool changed = false;
         for (int n = 0; n < SAMPLES; n++) {
-            bool s = predict(f, k, n, c, coef) >= 1;
+            fitted[n] = predict(f, k, n, c, coef);
+            bool s = fitted[n] >= 1;
             changed |= s != skip[n];
             skip[n] = s;
         }
@@ -210,62 +231,78 @@ static double clamped_least_squares(const double *f, int k, const double *y, int
     }
     double total = 0;
     for (int n = 0; n < SAMPLES; n++) {
-        double e = fmin(predict(f, k, n, c, coef), 1) - y[n * 3 + c];
+        double e = fmin(fitted[n], 1) - y[n * 3 + c];
         total += e * e;
     }
     return total;
 }
 
 /* The factors per sample and channel (FACTORS each), and the parameters
-   they were made for: the highlights' (columns 0-2) and the
-   transmission's (column 3) are remade only when their own parameters
+   they were made for: each column is remade only when its own parameters
    change, which a coordinate search does one at a time. */
 typedef struct factor_cache {
     double *f;
     double x[PARAMS];
-    bool highlights, transmission; /* columns valid for x */
+    bool valid[FACTORS]; /* column i made for x */
+    /* what they are made of, in order (sample n's lights at n * light_count), kept compact */
+    ht_model_light_terms *terms;
+    int light_count;
+    double colour[HT_MAX_LIGHTS][3];
 } factor_cache;
 
-/* Each light's colours at 1 (the model treats the channels alike and is
-   linear in the colours, so one call with each highlight colour on a
-   channel of its own gives three, bit for bit) and its transmission tt,
-   times the light's colour. */
-static const double *factors(const sample *ps, const double x[PARAMS], factor_cache *fc) {
-    const bool highlights = !fc->highlights || memcmp(x, fc->x, sizeof *x * TC) != 0;
-    const bool transmission = !fc->transmission || memcmp(x + TC, fc->x + TC, sizeof *x * (PARAMS - TC)) != 0;
-    if (!highlights && !transmission) return fc->f;
-    ht_shading split;
-    to_shading(x, &split);
-    memcpy(split.diffuse_color, (const double[3]){ 1, 0, 0 }, sizeof split.diffuse_color);
-    memcpy(split.primary.color, (const double[3]){ 0, 1, 0 }, sizeof split.primary.color);
-    memcpy(split.secondary.color, (const double[3]){ 0, 0, 1 }, sizeof split.secondary.color);
-    const int first = highlights ? 0 : 3, last = transmission ? 3 : 2;
+/* The samples' light terms and the lights' colours (every sample's lights are the scene's). */
+static void factor_inputs(const sample *ps, factor_cache *fc) {
+    fc->light_count = ps[0].light_count;
+    for (int n = 0; n < SAMPLES; n++)
+        for (int l = 0; l < fc->light_count; l++)
+            ht_model_light_terms_init(&ps[n].s, ps[n].lights[l].L, &fc->terms[n * fc->light_count + l]);
+    for (int l = 0; l < fc->light_count; l++) memcpy(fc->colour[l], ps[0].lights[l].color, sizeof fc->colour[l]);
+}
+
+/* Column i's parameters, x[first] to x[last]. */
+static const int column_first[FACTORS] = { WRAP, E1, E2, TC }, column_last[FACTORS] = { WRAP, S1, S2, TA };
+
+/* Each light's terms (ht_model_shade_d's diffuse, highlights and
+   transmission for a white light, base, ao and sparkle 1) times the
+   light's colour, summed over the lights. */
+static const double *factors(const double x[PARAMS], factor_cache *fc) {
+    bool stale[FACTORS], any = false;
+    for (int i = 0; i < FACTORS; i++) {
+        size_t size = sizeof *x * (size_t)(column_last[i] - column_first[i] + 1);
+        stale[i] = !fc->valid[i] || memcmp(x + column_first[i], fc->x + column_first[i], size) != 0;
+        any |= stale[i];
+    }
+    if (!any) return fc->f;
+    ht_shading s;
+    to_shading(x, &s);
     for (int n = 0; n < SAMPLES; n++) {
         double *fn = &fc->f[n * 3 * FACTORS];
         for (int c = 0; c < 3; c++)
-            for (int i = first; i <= last; i++) fn[c * FACTORS + i] = 0;
-        for (int l = 0; l < ps[n].light_count; l++) {
-            ht_light_ray white = { .color = { 1, 1, 1 } };
-            memcpy(white.L, ps[n].lights[l].L, sizeof white.L);
+            for (int i = 0; i < FACTORS; i++)
+                if (stale[i]) fn[c * FACTORS + i] = 0;
+        for (int l = 0; l < fc->light_count; l++) {
+            const ht_model_light_terms *t = &fc->terms[n * fc->light_count + l];
             double g[FACTORS] = { 0 };
-            if (highlights) ht_model_shade_d(&split, &ps[n].s, &white, 1, g);
-            if (transmission) g[3] = ht_model_transmission_d(&split.transmission, ps[n].s.T, white.L, ps[n].s.V);
+            if (stale[0]) g[0] = ht_model_wrap_diffuse_d(t->n_dot_l, s.wrap);
+            if (stale[1]) g[1] = ht_model_light_highlight(t, s.primary.shift, s.primary.exponent);
+            if (stale[2]) g[2] = ht_model_light_highlight(t, s.secondary.shift, s.secondary.exponent);
+            if (stale[3]) g[3] = ht_model_light_transmission(t, &s.transmission);
             for (int c = 0; c < 3; c++)
-                for (int i = first; i <= last; i++) fn[c * FACTORS + i] += ps[n].lights[l].color[c] * g[i];
+                for (int i = 0; i < FACTORS; i++)
+                    if (stale[i]) fn[c * FACTORS + i] += fc->colour[l][c] * g[i];
         }
     }
     memcpy(fc->x, x, sizeof fc->x);
-    fc->highlights = fc->transmission = true;
+    for (int i = 0; i < FACTORS; i++) fc->valid[i] = true;
     return fc->f;
 }
 
 /* For fixed nonlinear parameters: the colours that fit best, the sum of
    squares over every sample and channel. y is the targets, stride 3. */
-static double solve_colours(const sample *ps, const double *y, const double x[PARAMS], ht_shading *out,
-                            factor_cache *fc) {
+static double solve_colours(const double *y, const double x[PARAMS], ht_shading *out, factor_cache *fc) {
     ht_shading s;
     to_shading(x, &s);
-    const double *f = factors(ps, x, fc);
+    const double *f = factors(x, fc);
     double total = 0;
     double *colours[FACTORS] = { s.diffuse_color, s.primary.color, s.secondary.color, s.transmission.color };
     for (int c = 0; c < 3; c++) {
@@ -279,8 +316,8 @@ static double solve_colours(const sample *ps, const double *y, const double x[PA
 
 /* The transmission's shape alone against M_TT N_TT: its colour per
    channel by least squares (the other factors out). */
-static double tt_error(const sample *ps, const double *y, const double x[PARAMS], factor_cache *fc) {
-    const double *tt = factors(ps, x, fc) + 3; /* column 3 read as a fit of one factor */
+static double tt_error(const double *y, const double x[PARAMS], factor_cache *fc) {
+    const double *tt = factors(x, fc) + 3; /* column 3 read as a fit of one factor */
     double total = 0;
     for (int c = 0; c < 3; c++) {
         double coef[FACTORS];
@@ -289,15 +326,15 @@ static double tt_error(const sample *ps, const double *y, const double x[PARAMS]
     return total;
 }
 
-typedef double (*objective)(const sample *ps, const double *y, const double x[PARAMS], factor_cache *fc);
+typedef double (*objective)(const double *y, const double x[PARAMS], factor_cache *fc);
 
-static double whole_error(const sample *ps, const double *y, const double x[PARAMS], factor_cache *fc) {
-    return solve_colours(ps, y, x, NULL, fc);
+static double whole_error(const double *y, const double x[PARAMS], factor_cache *fc) {
+    return solve_colours(y, x, NULL, fc);
 }
 
 /* Golden section on each parameter of [first, last] in turn, from best. */
-static double coordinate_search(objective err_of, const sample *ps, const double *y, int first, int last, int rounds,
-                                double best[PARAMS], double best_err, factor_cache *f) {
+static double coordinate_search(objective err_of, const double *y, int first, int last, int rounds, double best[PARAMS],
+                                double best_err, factor_cache *f) {
     const double g = (sqrt(5) - 1) / 2;
     for (int round = 0; round < rounds; round++)
         for (int p = first; p <= last; p++) {
@@ -306,14 +343,14 @@ static double coordinate_search(objective err_of, const sample *ps, const double
             for (int it = 0; it < 12; it++) { /* the bracket shrinks to 0.3 % */
                 double c = b - g * (b - a), d = a + g * (b - a);
                 x[p] = c;
-                double ec = err_of(ps, y, x, f);
+                double ec = err_of(y, x, f);
                 x[p] = d;
-                double ed = err_of(ps, y, x, f);
+                double ed = err_of(y, x, f);
                 if (ec < ed) b = d;
                 else a = c;
             }
             x[p] = (a + b) / 2;
-            double e = err_of(ps, y, x, f);
+            double e = err_of(y, x, f);
             if (e < best_err) best_err = e, memcpy(best, x, sizeof x);
         }
     return best_err;
@@ -323,22 +360,25 @@ ht_result ht_marschner_fit_scheuermann(const ht_shading *m, const ht_scene *scen
     memset(out, 0, sizeof *out);
     if (m->model != HT_MODEL_MARSCHNER) return HT_ERR_INVALID_ARGUMENT;
     sample *ps = malloc(sizeof *ps * SAMPLES);
-    factor_cache fc = { .f = malloc(sizeof *fc.f * SAMPLES * 3 * FACTORS) };
+    factor_cache fc = { .f = malloc(sizeof *fc.f * SAMPLES * 3 * FACTORS),
+                        .terms = malloc(sizeof *fc.terms * SAMPLES * HT_MAX_LIGHTS) };
     double *y = malloc(sizeof *y * SAMPLES * 3), *y_tt = malloc(sizeof *y_tt * SAMPLES * 3);
-    if (!ps || !fc.f || !y || !y_tt) {
+    if (!ps || !fc.f || !fc.terms || !y || !y_tt) {
         free(ps);
         free(fc.f);
+        free(fc.terms);
         free(y);
         free(y_tt);
         return HT_ERR_OUT_OF_MEMORY;
     }
     make_samples(m, scene, ps);
+    factor_inputs(ps, &fc);
     for (int n = 0; n < SAMPLES; n++)
         for (int c = 0; c < 3; c++) y[n * 3 + c] = ps[n].target[c], y_tt[n * 3 + c] = ps[n].tt_target[c];
     /* The transmission's shape first, against TT alone: a grid, then golden
        sections. */
     double best[PARAMS] = { 0.25, log1p(80), -0.1, log1p(20), 0.1, 0, 7, log1p(4) };
-    double tt_best = tt_error(ps, y_tt, best, &fc);
+    double tt_best = tt_error(y_tt, best, &fc);
     const double centres[] = { -0.1, 0, 0.1 }, sharps[] = { 4, 7, 10 }, azimuths[] = { 0.5, 1.5, 3 };
     for (int a = 0; a < 3; a++)
         for (int b = 0; b < 3; b++)
@@ -346,14 +386,14 @@ ht_result ht_marschner_fit_scheuermann(const ht_shading *m, const ht_scene *scen
                 double x[PARAMS];
                 memcpy(x, best, sizeof x);
                 x[TC] = centres[a], x[TK] = sharps[b], x[TA] = azimuths[c];
-                double e = tt_error(ps, y_tt, x, &fc);
+                double e = tt_error(y_tt, x, &fc);
                 if (e < tt_best) tt_best = e, memcpy(best, x, sizeof best);
             }
-    tt_best = coordinate_search(tt_error, ps, y_tt, TC, TA, 2, best, tt_best, &fc);
+    tt_best = coordinate_search(tt_error, y_tt, TC, TA, 2, best, tt_best, &fc);
     out->tt_rms = sqrt(tt_best / (3.0 * SAMPLES));
     /* Then the highlights on a coarse grid, wrap 0.25, with every colour
        solved jointly, and golden sections over all of it. */
-    double best_err = solve_colours(ps, y, best, NULL, &fc);
+    double best_err = solve_colours(y, best, NULL, &fc);
     const double exps[] = { 10, 80, 640 }, shifts[] = { -0.2, 0, 0.2 };
     for (int a = 0; a < 3; a++)
         for (int b = 0; b < 3; b++)
@@ -362,11 +402,11 @@ ht_result ht_marschner_fit_scheuermann(const ht_shading *m, const ht_scene *scen
                     double x[PARAMS];
                     memcpy(x, best, sizeof x);
                     x[E1] = log1p(exps[a]), x[S1] = shifts[b], x[E2] = log1p(exps[c]), x[S2] = shifts[d];
-                    double e = solve_colours(ps, y, x, NULL, &fc);
+                    double e = solve_colours(y, x, NULL, &fc);
                     if (e < best_err) best_err = e, memcpy(best, x, sizeof best);
                 }
-    best_err = coordinate_search(whole_error, ps, y, WRAP, TA, 3, best, best_err, &fc);
-    solve_colours(ps, y, best, &out->shading, &fc);
+    best_err = coordinate_search(whole_error, y, WRAP, TA, 3, best, best_err, &fc);
+    solve_colours(y, best, &out->shading, &fc);
     /* Both sides as a framebuffer keeps them, clamped to [0, 1]. */
     double sum = 0;
     for (int n = 0; n < SAMPLES; n++) {
@@ -381,6 +421,7 @@ ht_result ht_marschner_fit_scheuermann(const ht_shading *m, const ht_scene *scen
     out->rms = sqrt(sum / (3.0 * SAMPLES));
     free(ps);
     free(fc.f);
+    free(fc.terms);
     free(y);
     free(y_tt);
     return HT_OK;

@@ -1,6 +1,7 @@
 /* marschner_lut.c — bakes the Marschner tier's lookup textures from the
    oracle and reads them back as the fragment shader does. */
 #include "marschner_lut.h"
+#include "model_marschner_bake.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -42,13 +43,16 @@ double ht_marschner_lut_texel(const ht_image *img, int half, int x, int y, int c
    cos(theta_i) weighs them down), so it is stored in logarithms:
    t = log(1 + M / k) / log(1 + scale / k), decoded k (exp(t log(1 + scale / k)) - 1):
    a step of t is a fixed fraction of M + k. */
-static uint16_t encode_log(double v, double scale) {
+static double log_scale_of(double scale) { return log1p(scale / HT_MARSCHNER_LUT_LOG_KNEE); }
+
+/* log_scale: log_scale_of(the channel's scale), made once per channel. */
+static uint16_t encode_log(double v, double scale, double log_scale) {
     if (!(scale > 0)) return 0;
-    return encode(log1p(fmax(v, 0) / HT_MARSCHNER_LUT_LOG_KNEE), log1p(scale / HT_MARSCHNER_LUT_LOG_KNEE));
+    return encode(log1p(fmax(v, 0) / HT_MARSCHNER_LUT_LOG_KNEE), log_scale);
 }
 
 double ht_marschner_lut_decode_log(double t, double scale) {
-    return HT_MARSCHNER_LUT_LOG_KNEE * expm1(t * log1p(scale / HT_MARSCHNER_LUT_LOG_KNEE));
+    return HT_MARSCHNER_LUT_LOG_KNEE * expm1(t * log_scale_of(scale));
 }
 
 /* Raw values at every texel, then scaled: per texel M_R, M_TT, M_TRT,
@@ -71,20 +75,35 @@ ht_result ht_marschner_lut_bake(const ht_marschner *m, ht_marschner_lut *out) {
     for (int y = 0; y < ms; y++) {
         ht_marschner_azimuthal(m, HT_LOBE_REST, cos(axis(y, ms, -HT_PI / 2, HT_PI / 2)), 0, &rest_n[y * 3]);
     }
-    for (int y = 0; y < ms; y++)
-        for (int x = 0; x < ms; x++) {
-            double si = sin(axis(x, ms, -HT_PI / 2, HT_PI / 2)), sr = sin(axis(y, ms, -HT_PI / 2, HT_PI / 2));
-            double *v = &mv[((size_t)y * ms + x) * 6];
-            for (int p = 0; p < 3; p++) v[p] = ht_marschner_longitudinal(m, (ht_marschner_lobe)p, si, sr);
-            double mr = ht_marschner_longitudinal(m, HT_LOBE_REST, si, sr);
-            for (int c = 0; c < 3; c++) v[3 + c] = mr * rest_n[y * 3 + c];
+    /* M a row at a time (one theta_r), its values ht_marschner_longitudinal's */
+    double *sines = malloc(sizeof *sines * (size_t)ms * 2);
+    if (!sines) {
+        free(rest_n);
+        goto done;
+    }
+    double *row = sines + ms;
+    for (int x = 0; x < ms; x++) sines[x] = sin(axis(x, ms, -HT_PI / 2, HT_PI / 2));
+    for (int p = 0; p < HT_LOBE_COUNT; p++) {
+        ht_marschner_m_lobe lobe = ht_marschner_m_lobe_for(m, (ht_marschner_lobe)p);
+        for (int y = 0; y < ms; y++) {
+            ht_marschner_m_lobe_row(&lobe, sines[y], sines, ms, row);
+            for (int x = 0; x < ms; x++) {
+                double *v = &mv[((size_t)y * ms + x) * 6];
+                if (p < HT_LOBE_REST) v[p] = row[x];
+                else
+                    for (int c = 0; c < 3; c++) v[3 + c] = row[x] * rest_n[y * 3 + c];
+            }
         }
+    }
+    free(sines);
     free(rest_n);
-    for (int y = 0; y < ns; y++)
-        for (int x = 0; x < ns; x++) {
-            double cos_r = cos(axis(x, ns, 0, HT_PI / 2)), phi = axis(y, ns, 0, HT_PI);
-            ht_marschner_azimuthal(m, HT_LOBE_TRT, cos_r, phi, &nv[((size_t)y * ns + x) * 3]);
-        }
+    /* N_TRT a column of phi at a time (one theta_r), its values ht_marschner_azimuthal's */
+    double phis[HT_MARSCHNER_LUT_N_SIZE], column[HT_MARSCHNER_LUT_N_SIZE][3];
+    for (int y = 0; y < ns; y++) phis[y] = axis(y, ns, 0, HT_PI);
+    for (int x = 0; x < ns; x++) {
+        ht_marschner_trt_column(m, cos(axis(x, ns, 0, HT_PI / 2)), phis, ns, column);
+        for (int y = 0; y < ns; y++) memcpy(&nv[((size_t)y * ns + x) * 3], column[y], sizeof column[y]);
+    }
     for (size_t i = 0; i < (size_t)ms * ms; i++) {
         for (int p = 0; p < 3; p++) out->m_scale[p] = fmax(out->m_scale[p], mv[i * 6 + p]);
         for (int c = 0; c < 3; c++) out->rest_scale = fmax(out->rest_scale, mv[i * 6 + 3 + c]);
@@ -92,11 +111,14 @@ ht_result ht_marschner_lut_bake(const ht_marschner *m, ht_marschner_lut *out) {
     for (size_t i = 0; i < (size_t)ns * ns * 3; i++) out->n_scale = fmax(out->n_scale, nv[i]);
     memset(out->m.pixels, 255, (size_t)out->m.width * out->m.height * 4); /* the unused alpha: opaque */
     memset(out->n.pixels, 255, (size_t)out->n.width * out->n.height * 4);
+    double log_m_scale[3], log_rest_scale = log_scale_of(out->rest_scale);
+    for (int p = 0; p < 3; p++) log_m_scale[p] = log_scale_of(out->m_scale[p]);
     for (int y = 0; y < ms; y++)
         for (int x = 0; x < ms; x++) {
             const double *v = &mv[((size_t)y * ms + x) * 6];
-            for (int p = 0; p < 3; p++) put(&out->m, 0, x, y, p, encode_log(v[p], out->m_scale[p]));
-            for (int c = 0; c < 3; c++) put(&out->m, 1, x, y, c, encode_log(v[3 + c], out->rest_scale));
+            for (int p = 0; p < 3; p++) put(&out->m, 0, x, y, p, encode_log(v[p], out->m_scale[p], log_m_scale[p]));
+            for (int c = 0; c < 3; c++)
+                put(&out->m, 1, x, y, c, encode_log(v[3 + c], out->rest_scale, log_rest_scale));
         }
     for (int y = 0; y < ns; y++)
         for (int x = 0; x < ns; x++) {

@@ -1,6 +1,6 @@
-/* support_es.h — the GL ES render tests' shared work (test_render_es2,
-   test_render_es3): every shipped scene, small, drawn with each GLSL tier
-   of its bundle forced and with auto, on a real EGL GL ES context and on a
+/* support_es.h — the GL ES render tests' shared work (test_render_es1,
+   test_render_es2, test_render_es3): every shipped scene, small, drawn with
+   each tier of its bundle the API runs forced and with auto, on a real EGL GL ES context and on a
    desktop GL context of the same driver, compared in PSNR.
 
    Usage:
@@ -44,10 +44,18 @@ double ht_test_es_psnr(const ht_test_es_draw *a, const ht_test_es_draw *b);
 extern const char *const ht_test_es_scene_names[HT_TEST_ES_SCENES];
 const char *ht_test_es_bundle(int scene);
 void ht_test_es_cleanup(void);
+/* The ES tests' group teardown: ht_test_es_cleanup. */
+int ht_test_es_teardown(void **state);
 
-/* Every scene, each GLSL tier of its bundle forced and auto: api against
-   desktop GL at HT_TEST_ES_MIN_PSNR_DB, the same tier drawn on both;
-   prints one line per draw (scene, tier, dB). Fails the cmocka test. */
-void ht_test_es_scenes_match_desktop(offscreen_api api, const ht_device_profile *profile);
+/* The same passes, fixed state, ranges and no GL error in both traces (the
+   ES 2.0+ alpha test is the texts' discard, recorded from the one rule). */
+void ht_test_es_assert_same_passes(const ht_test_es_draw *desk, const ht_test_es_draw *es);
+
+/* Every scene, each tier of its bundle that api runs (ES 1.x: fixed4, fixed,
+   gl11; ES 2.0+: the GLSL tiers) forced and auto: api against desktop GL
+   at HT_TEST_ES_MIN_PSNR_DB, the same tier drawn on both, the same passes;
+   prints one line per draw (scene, tier, dB). Fails the cmocka test. The
+   first `scenes` of ht_test_es_scene_names (HT_TEST_ES_SCENES: all). */
+void ht_test_es_scenes_match_desktop(offscreen_api api, const ht_device_profile *profile, int scenes);
 
 #endif

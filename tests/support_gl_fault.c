@@ -42,7 +42,12 @@
 #define ARGS_Materialfv face, pname, params
 #define ARGS_ColorMaterial face, mode
 #define ARGS_Lightf light, pname, param
-#define ARGS_LightModeli pname, param
+#define ARGS_LightModelf pname, param
+#define ARGS_GetLightfv light, pname, params
+#define ARGS_GetMaterialfv face, pname, params
+#define ARGS_GetTexEnviv target, pname, params
+#define ARGS_GetTexEnvfv target, pname, params
+#define ARGS_GetPointerv pname, params
 #define ARGS_PolygonMode face, mode
 #define ARGS_PushAttrib mask
 #define ARGS_PopAttrib

@@ -2,7 +2,8 @@
    strings and precision answer give (a table of entry points that answers
    as llvmpipe's ES contexts, Mali's and an ES 1.1 layer do), and which ES
    text of a tier such a device selects (a manifest read by the runtime's
-   reader). The real contexts are test_render_es2 and test_render_es3. */
+   reader). The real contexts are test_render_es1, test_render_es2 and
+   test_render_es3. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -50,7 +51,7 @@ static ht_gl es_table(void) {
     gl.GetError = get_error;
     gl.GetShaderPrecisionFormat = precision_format;
     gl.ActiveTexture = active_texture;
-    gl.has_multitexture = gl.has_vbo = gl.has_shaders = gl.has_precision = true;
+    gl.has_multitexture = gl.has_vbo = gl.has_shaders = gl.has_precision = gl.has_fixed = true;
     gl.es = true;
     return gl;
 }
@@ -95,6 +96,49 @@ static void test_caps_es_from_llvmpipe_and_mali_strings(void **state) {
     assert_false(c.has_shaders);
     assert_true(c.has_combine);
     assert_int_equal(c.texture_units, 2);
+}
+
+/* ES 1.x: the desktop names ES 1.1 made core are met (multitexture,
+   combine, DOT3, VBOs), 3D textures and the crossbar are not; ES 1.0 has
+   neither combiners nor VBOs; the selection keeps the fixed-function tiers
+   there and says why the others cannot run, and on ES 2.0+ why the
+   fixed-function ones cannot. */
+static void test_caps_es1_core_names_and_selection(void **state) {
+    (void)state;
+    ht_caps c = probe("OpenGL ES-CL 1.1", NULL, 0, 0);
+    assert_true(ht_caps_es1(&c) && !ht_caps_es_programs(&c));
+    static const char *const core[] = { "GL_ARB_multitexture", "GL_ARB_texture_env_combine", "GL_ARB_texture_env_dot3",
+                                        "GL_ARB_vertex_buffer_object", "GL_EXT_texture_edge_clamp" };
+    for (size_t i = 0; i < sizeof core / sizeof core[0]; i++) assert_true(ht_caps_satisfies_extension(&c, "", core[i]));
+    assert_false(ht_caps_satisfies_extension(&c, "", "GL_EXT_texture3D"));
+    assert_false(ht_caps_satisfies_extension(&c, "", "GL_ARB_texture_env_crossbar"));
+    assert_false(ht_caps_satisfies_extension(&c, "", "GL_ARB_shader_objects"));
+    assert_false(c.has_3d_textures || c.has_crossbar);
+
+    ht_caps es10 = probe("OpenGL ES-CM 1.0", NULL, 0, 0);
+    assert_true(ht_caps_es1(&es10));
+    assert_false(es10.has_combine || es10.has_vbo);
+    assert_false(ht_caps_satisfies_extension(&es10, "", "GL_ARB_texture_env_combine"));
+
+    ht_manifest_tier fixed4 = { .name = "fixed4", .tier = HT_TIER_FIXED4, .gl_major = 1, .gl_minor = 3,
+                                .extension_count = 2, .texture_units = 2 };
+    snprintf(fixed4.extensions[0], sizeof fixed4.extensions[0], "GL_ARB_multitexture");
+    snprintf(fixed4.extensions[1], sizeof fixed4.extensions[1], "GL_ARB_texture_env_combine");
+    char why[256] = "";
+    assert_true(ht_select_check_requirements(&c, "", &fixed4, why, sizeof why));
+    fixed4.texture_units = 4;
+    assert_false(ht_select_check_requirements(&c, "", &fixed4, why, sizeof why));
+    assert_string_equal(why, "needs 4 texture units, have 2");
+    fixed4.texture_units = 2;
+    assert_false(ht_select_check_requirements(&es10, "", &fixed4, why, sizeof why));
+    assert_string_equal(why, "needs GL_ARB_texture_env_combine");
+    const ht_manifest_tier full = { .name = "full", .tier = HT_TIER_FULL, .gl_major = 2, .glsl_major = 1,
+                                    .glsl_minor = 20 };
+    assert_false(ht_select_check_requirements(&c, "", &full, why, sizeof why));
+    assert_string_equal(why, "shaders: GL ES 1.x has none (desktop GL 2.0 or GL ES 2.0 runs it)");
+    ht_caps es3 = probe("OpenGL ES 3.2 Mesa 22.3.6", "OpenGL ES GLSL ES 3.20", 32, 23);
+    assert_false(ht_select_check_requirements(&es3, "", &fixed4, why, sizeof why));
+    assert_string_equal(why, "fixed function: GL ES 2.0 and later have none (desktop GL or GL ES 1.1 runs it)");
 }
 
 static void test_caps_es_profiles_lower_an_es_context(void **state) {
@@ -187,6 +231,7 @@ static void test_manifest_es_entries_are_read_strictly(void **state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_caps_es_from_llvmpipe_and_mali_strings),
+        cmocka_unit_test(test_caps_es1_core_names_and_selection),
         cmocka_unit_test(test_caps_es_profiles_lower_an_es_context),
         cmocka_unit_test(test_select_es_text_by_version_and_fragment_precision),
         cmocka_unit_test(test_manifest_es_entries_are_read_strictly),

@@ -21,6 +21,7 @@
 #include "emit.h"
 #include "fixed_coords.h"
 #include "fixed_soa.h"
+#include "fixed_split.h"
 #include "hairgen_internal.h"
 #include "rng.h"
 #include "support_combiner_eval.h"
@@ -1327,6 +1328,72 @@ static void test_float_soa_coordinates_match_the_double_reference(void **state) 
         }
 }
 
+
+/* No 3D textures (GL ES 1.1): an additive LUT comes back exactly from its
+   two 2D halves (a slice clipped at 255 stays clipped), and the LUT stage
+   becomes C, A + C and the original stage reading the sum; a LUT stage that
+   reads the previous colour, or a fourth stage, is refused with a line. */
+static void test_split_lut_is_exact_for_an_additive_lut(void **state) {
+    (void)state;
+    const int n[3] = { 4, 4, 4 };
+    ht_image lut = { 0 }, a, c;
+    assert_int_equal(ht_image_alloc(&lut, 4, 16, 3), HT_OK);
+    for (int z = 0; z < 4; z++)
+        for (int y = 0; y < 4; y++)
+            for (int x = 0; x < 4; x++)
+                for (int k = 0; k < 3; k++) {
+                    int v = 10 * x + 5 * y + 7 * z * (k + 1) + (x == 3 && y == 3 ? 240 : 0);
+                    lut.pixels[((size_t)(z * 4 + y) * 4 + (size_t)x) * 3 + (size_t)k] = (uint8_t)(v > 255 ? 255 : v);
+                }
+    int worst = -1;
+    assert_int_equal(ht_fixed_split_lut(n, &lut, &a, &c, &worst), HT_OK);
+    assert_int_equal(worst, 0);
+    assert_int_equal(a.width * 10 + a.height, 44);
+    assert_int_equal(c.width * 10 + c.height, 41);
+    assert_int_equal(c.pixels[3 * 3 + 2], 63); /* 7 z (k + 1) at z = 3, blue */
+    ht_image_free(&a);
+    ht_image_free(&c);
+    ht_image_free(&lut);
+
+    ht_combiner_program p = { .model = HT_MODEL_SCHEUERMANN, .stage_count = 2, .lut_size = { 4, 4, 4 } };
+    snprintf(p.lut_texture, sizeof p.lut_texture, "fixed-lut");
+    ht_combiner_stage_defaults(&p.stages[0], 0);
+    ht_combiner_stage_defaults(&p.stages[1], 1);
+    snprintf(p.stages[0].texture, sizeof p.stages[0].texture, "fixed-lut");
+    p.stages[0].target = GL_TEXTURE_3D;
+    p.stages[0].coords = HT_COORDS_CPU_DOTS;
+    p.stages[0].source_rgb[1] = GL_PRIMARY_COLOR;
+    snprintf(p.stages[1].texture, sizeof p.stages[1].texture, "albedo");
+    assert_int_equal(ht_fixed_split_lut_stage(&p), 0);
+    char err[256];
+    ht_combiner_program bad = p;
+    bad.stages[0].source_rgb[1] = GL_PREVIOUS;
+    assert_int_equal(ht_fixed_split_program(&bad, 0, err, sizeof err), HT_ERR_UNSUPPORTED);
+    assert_non_null(strstr(err, "LUT stage 0 reads the previous stage's colour"));
+    bad = p;
+    bad.stage_count = 3;
+    bad.stages[2] = p.stages[1];
+    bad.stages[2].unit = 2;
+    assert_int_equal(ht_fixed_split_program(&bad, 0, err, sizeof err), HT_ERR_UNSUPPORTED);
+    assert_non_null(strstr(err, "3 stages and 2 more"));
+    assert_int_equal(ht_fixed_split_program(&p, 0, err, sizeof err), HT_OK);
+    assert_int_equal(p.stage_count, 4);
+    assert_int_equal(ht_fixed_split_lut_stage(&p), -1);
+    assert_int_equal(p.stages[0].combine_rgb, GL_REPLACE);
+    assert_int_equal(p.stages[1].combine_rgb, GL_ADD);
+    assert_int_equal(p.stages[1].source_rgb[1], GL_PREVIOUS);
+    assert_int_equal(p.stages[2].combine_rgb, GL_MODULATE);
+    assert_int_equal(p.stages[2].source_rgb[0], GL_PREVIOUS);
+    assert_int_equal(p.stages[2].source_rgb[1], GL_PRIMARY_COLOR);
+    assert_string_equal(p.stages[3].texture, "albedo");
+    assert_int_equal(p.stages[3].unit, 3);
+    float m[16];
+    ht_fixed_split_matrix(m);
+    const float r = 0.75f; /* (s, t, r, 1) -> (r, 1/2) */
+    assert_true(m[0] * 0.1f + m[4] * 0.2f + m[8] * r + m[12] == r);
+    assert_true(m[1] * 0.1f + m[5] * 0.2f + m[9] * r + m[13] == 0.5f);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_float_soa_coordinates_match_the_double_reference),
@@ -1354,6 +1421,7 @@ int main(void) {
         cmocka_unit_test(test_texture_matrix_colours_make_a_vertex_without_tangent_black),
         cmocka_unit_test(test_whole_tier_emulated_on_cpu_tracks_the_oracle),
         cmocka_unit_test(test_degenerate_vertices_give_the_models_answer),
+        cmocka_unit_test(test_split_lut_is_exact_for_an_additive_lut),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

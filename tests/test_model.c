@@ -20,6 +20,7 @@
 
 #include <hairtier/hairtier.h>
 #include <hairtier/model.h>
+#include "model_terms.h"
 #include "rng.h"
 
 /* ---- the documented rules, written out independently of model.c ---- */
@@ -644,6 +645,37 @@ static void test_a_million_random_points_are_finite_bounded_and_agree(void **sta
                   ratio_worst.sample, ratio_worst.exponent, ratio_worst.error);
 }
 
+/* The fit's terms (model_terms.h) are what ht_model_shade_d adds, bit for
+   bit: each factor alone with its colour 1 on one channel, for a white
+   light with base, ao and sparkle 1 and no shift texture, over random
+   vectors of any length (zero ones included), shifts and exponents. */
+static void test_light_terms_are_shade_d_bit_for_bit(void **state) {
+    (void)state;
+    ht_rng r = ht_rng_seed(11);
+    for (int n = 0; n < 20000; n++) {
+        ht_shading m = { .model = HT_MODEL_SCHEUERMANN, .wrap = ht_rng_unit(&r),
+                         .diffuse_color = { 1, 0, 0 }, .primary = { .color = { 0, 1, 0 } },
+                         .secondary = { .color = { 0, 0, 1 } } };
+        m.primary.exponent = random_exponent(&r), m.primary.shift = random_shift(&r);
+        m.secondary.exponent = random_exponent(&r), m.secondary.shift = random_shift(&r);
+        ht_transmission t = { .centre = ht_rng_range(&r, -0.5, 0.5), .sharpness = exp2(ht_rng_range(&r, 0, 13)) - 1,
+                              .azimuth = random_exponent(&r) };
+        ht_surface s = { .base = { 1, 1, 1 }, .shift_tex = 0.5, .sparkle = 1, .ao = 1 };
+        ht_light_ray light = { .color = { 1, 1, 1 } };
+        random_vector(&r, s.T), random_vector(&r, s.N), random_vector(&r, s.V), random_vector(&r, light.L);
+        double want[3];
+        ht_model_shade_d(&m, &s, &light, 1, want);
+        ht_model_light_terms g;
+        ht_model_light_terms_init(&s, light.L, &g);
+        const double got[3] = { ht_model_wrap_diffuse_d(g.n_dot_l, m.wrap),
+                                ht_model_light_highlight(&g, m.primary.shift, m.primary.exponent),
+                                ht_model_light_highlight(&g, m.secondary.shift, m.secondary.exponent) };
+        assert_memory_equal(got, want, sizeof want);
+        double tt = ht_model_transmission_d(&t, s.T, light.L, s.V), tt_got = ht_model_light_transmission(&g, &t);
+        assert_memory_equal(&tt_got, &tt, sizeof tt);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_parallel_vectors_whose_float_dot_exceeds_one_give_finite_highlights),
@@ -662,6 +694,7 @@ int main(void) {
         cmocka_unit_test(test_light_opposite_the_view_has_no_highlight),
         cmocka_unit_test(test_lights_add_up),
         cmocka_unit_test(test_a_million_random_points_are_finite_bounded_and_agree),
+        cmocka_unit_test(test_light_terms_are_shade_d_bit_for_bit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -70,6 +70,11 @@ static void longitudinal_is_normalised(void **state) {
 
 /* The whole fibre() integrated over the sphere of light directions
    (midpoint rule in theta_i and phi; fibre is even in phi). */
+/* The fibre is sum_p M_p(theta_i) N_p(phi) (model_marschner.h), so the
+   sphere's midpoint sum of fibre() is the sum over p of a sum over theta_i
+   times a sum over phi; that fibre() is that sum of products is checked on
+   one row of the grid per theta_r (a product per point costs 120 times the
+   integrals). */
 static void white_furnace(void **state) {
     (void)state;
     const double thetas_r[] = { -60 * DEG, 0, 35 * DEG, 75 * DEG };
@@ -78,15 +83,28 @@ static void white_furnace(void **state) {
         ht_marschner m = default_fibre();
         m.width_r = beta;
         for (size_t r = 0; r < sizeof thetas_r / sizeof *thetas_r; r++) {
-            const int thetas = 120, phis = 90;
-            double energy = 0, dt = HT_PI / thetas, dp = HT_PI / phis;
-            for (int k = 0; k < thetas; k++) {
-                double theta_i = -HT_PI / 2 + (k + 0.5) * dt;
-                for (int j = 0; j < phis; j++) {
-                    double rgb[3];
-                    ht_marschner_fibre(&m, sin(theta_i), sin(thetas_r[r]), cos((j + 0.5) * dp), rgb);
-                    energy += 2 * rgb[0] * cos(theta_i) * dt * dp;
+            enum { THETAS = 120, PHIS = 90 };
+            const double dt = HT_PI / THETAS, dp = HT_PI / PHIS, sin_r = sin(thetas_r[r]);
+            double n[HT_LOBE_COUNT][PHIS][3], energy = 0;
+            for (int p = 0; p < HT_LOBE_COUNT; p++)
+                for (int j = 0; j < PHIS; j++)
+                    ht_marschner_azimuthal(&m, (ht_marschner_lobe)p, cos(thetas_r[r]), (j + 0.5) * dp, n[p][j]);
+            for (int p = 0; p < HT_LOBE_COUNT; p++) {
+                double m_sum = 0, n_sum = 0;
+                for (int k = 0; k < THETAS; k++) {
+                    double theta_i = -HT_PI / 2 + (k + 0.5) * dt;
+                    m_sum += ht_marschner_longitudinal(&m, (ht_marschner_lobe)p, sin(theta_i), sin_r) * cos(theta_i) * dt;
                 }
+                for (int j = 0; j < PHIS; j++) n_sum += n[p][j][0] * dp;
+                energy += 2 * m_sum * n_sum;
+            }
+            const double theta_i = 20 * DEG; /* the row where fibre() itself is summed */
+            for (int j = 0; j < PHIS; j++) {
+                double rgb[3], want = 0;
+                ht_marschner_fibre(&m, sin(theta_i), sin_r, cos((j + 0.5) * dp), rgb);
+                for (int p = 0; p < HT_LOBE_COUNT; p++)
+                    want += ht_marschner_longitudinal(&m, (ht_marschner_lobe)p, sin(theta_i), sin_r) * n[p][j][0];
+                assert_double_equal(rgb[0], want, 1e-12 * want);
             }
             print_message("furnace beta %.1f theta_r %+.0f deg: %.4f\n", beta, thetas_r[r] / DEG, energy);
             if (energy < lowest) lowest = energy;

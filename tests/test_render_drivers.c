@@ -6,8 +6,10 @@
    cell: no crash, the tier the selection rules promise for what the driver
    reports (the rules are restated here from docs/DESIGN.md, not taken from
    caps.c), and the same image (>= 40 dB) as that tier forced on the
-   unrestricted driver. Mesa reads both variables once per process, so each
-   cell is a child process (this binary with --cell).
+   unrestricted driver. Mesa reads both variables at its first context, once
+   per process, so each cell is a forked child that makes its first context;
+   the parent loads libOSMesa and the scenes once, before any context, and
+   the children inherit them.
 
    On softpipe (GALLIUM_DRIVER=softpipe, an interpreter) the test keeps the cell of the crash this test was built for, GL 1.3 without
    shaders (fixed4 on client arrays); llvmpipe runs every cell. */
@@ -30,6 +32,7 @@
 #include <hairtier/hairgen.h>
 #include "metrics.h"
 #include "offscreen.h"
+#include "offscreen_backend.h"
 #include "support_scene.h"
 #include "support_scratch.h"
 
@@ -79,13 +82,12 @@ static const restriction restrictions[] = {
 static const char *const versions[] = { "1.1", "1.2", "1.3", "1.4", "1.5", "2.0", "2.1" };
 #define VERSION_COUNT (sizeof versions / sizeof versions[0])
 
-/* The cells' copy of scene i (SIZE², HAIRS, STRAND_EVERY): WORK/NAME.json. */
-static const char *scene_path(const char *work, size_t i, char *out, size_t size) {
-    snprintf(out, size, "%s/%s.json", work, scenes[i].name);
-    return out;
-}
-
 /* ---- the child: one context, every scene drawn, images to files ---- */
+
+/* The cells' scenes, loaded by the parent before any context. */
+static tier_scene loaded[SCENE_COUNT];
+static bool loaded_ok[SCENE_COUNT];
+static char load_error[SCENE_COUNT][1024];
 
 static void child_log(void *user, const char *line) {
     (void)user;
@@ -99,8 +101,8 @@ static bool write_all(const char *path, const void *data, size_t size) {
     return fclose(f) == 0 && ok;
 }
 
-/* argv: --cell WORK TAG TIER. Prints "driver VERSION", "extensions LIST",
-   then per scene "scene NAME tier TIER" (or "scene NAME failed RESULT");
+/* In a child: the cell TAG drawing every scene as TIER. Prints "driver
+   VERSION", "extensions LIST", then per scene "scene NAME tier TIER" (or "scene NAME failed RESULT");
    writes WORK/TAG-NAME.rgba. */
 static int run_cell(const char *work, const char *tag, const char *tier_name) {
     char err[1024];
@@ -116,12 +118,11 @@ static int run_cell(const char *work, const char *tag, const char *tier_name) {
     printf("driver %s\nextensions %s\n", version ? version : "", extensions ? extensions : "");
     fflush(stdout);
     for (size_t i = 0; i < SCENE_COUNT; i++) {
-        tier_scene s;
-        char path[256];
-        if (tier_scene_load(scene_path(work, i, path, sizeof path), &s, err, sizeof err) != HT_OK) {
-            printf("scene %s failed %s\n", scenes[i].name, err);
+        if (!loaded_ok[i]) {
+            printf("scene %s failed %s\n", scenes[i].name, load_error[i]);
             continue;
         }
+        const tier_scene s = loaded[i];
         char bundle[256], out[320];
         snprintf(bundle, sizeof bundle, "%s/%s-bundle", work, scenes[i].name);
         ht_renderer *r = NULL;
@@ -146,7 +147,6 @@ static int run_cell(const char *work, const char *tag, const char *tier_name) {
         else printf("scene %s failed %s\n", scenes[i].name, ht_result_string(res));
         fflush(stdout);
         ht_renderer_destroy(r);
-        tier_scene_free(&s);
     }
     offscreen_close(gl);
     return 0;
@@ -155,10 +155,10 @@ static int run_cell(const char *work, const char *tag, const char *tier_name) {
 /* ---- the parent ---- */
 
 static char work[64];
-static char self_exe[4096];
 
 static int setup(void **state) {
     (void)state;
+    char err_of_setup[1024];
     if (!ht_test_scratch_create(work, sizeof work, "drivers")) return -1;
     for (size_t i = 0; i < SCENE_COUNT; i++) {
         char out[256], err[1024], path[256], name[64];
@@ -170,20 +170,29 @@ static int setup(void **state) {
             fprintf(stderr, "setup: %s\n", err);
             return -1;
         }
+        loaded_ok[i] = tier_scene_load(path, &loaded[i], load_error[i], sizeof load_error[i]) == HT_OK;
     }
+    /* libOSMesa (and LLVM under it) relocated once, not per cell; no context yet */
+    const char *context = getenv("HAIRTIER_CONTEXT");
+    if ((!context || strcmp(context, "osmesa") == 0) && !offscreen_osmesa_available(NULL, err_of_setup, sizeof err_of_setup))
+        fprintf(stderr, "setup: %s (the cells will say so)\n", err_of_setup);
     return 0;
 }
 
 static int teardown(void **state) {
     (void)state;
+    for (size_t i = 0; i < SCENE_COUNT; i++)
+        if (loaded_ok[i]) tier_scene_free(&loaded[i]);
     return ht_test_scratch_remove(work);
 }
 
-/* Starts this binary as a cell with the two variables (NULL: unset), its
-   stdout and stderr into WORK/TAG.log. */
+/* Forks a cell with the two variables (NULL: unset), its stdout and stderr
+   into WORK/TAG.log. */
 static pid_t start_child(const char *version, const char *override, const char *tag, const char *tier) {
     char log[256];
     snprintf(log, sizeof log, "%s/%s.log", work, tag);
+    fflush(stdout); /* else the child writes the parent's pending output again */
+    fflush(stderr);
     pid_t pid = fork();
     assert_true(pid >= 0);
     if (pid == 0) {
@@ -193,8 +202,9 @@ static pid_t start_child(const char *version, const char *override, const char *
         else unsetenv("MESA_GL_VERSION_OVERRIDE");
         if (override) setenv("MESA_EXTENSION_OVERRIDE", override, 1);
         else unsetenv("MESA_EXTENSION_OVERRIDE");
-        execl(self_exe, self_exe, "--cell", work, tag, tier, (char *)NULL);
-        _exit(127);
+        int code = run_cell(work, tag, tier);
+        fflush(stdout);
+        _exit(code);
     }
     return pid;
 }
@@ -376,11 +386,7 @@ static void test_gl13_without_shaders_draws_fixed4_with_client_arrays(void **sta
     free(out);
 }
 
-int main(int argc, char **argv) {
-    if (argc == 5 && strcmp(argv[1], "--cell") == 0) return run_cell(argv[2], argv[3], argv[4]);
-    ssize_t n = readlink("/proc/self/exe", self_exe, sizeof self_exe - 1);
-    if (n <= 0) return 1;
-    self_exe[n] = '\0';
+int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_gl13_without_shaders_draws_fixed4_with_client_arrays),
         cmocka_unit_test(test_restricted_drivers_draw_the_promised_tier_without_crashing),

@@ -31,13 +31,7 @@ static void test_es2_context_is_es2_and_draws_the_essl100_text(void **state) {
 
 static void test_es2_every_scene_and_glsl_tier_matches_desktop_gl(void **state) {
     (void)state;
-    ht_test_es_scenes_match_desktop(OFFSCREEN_API_GLES2, NULL);
-}
-
-static int teardown(void **state) {
-    (void)state;
-    ht_test_es_cleanup();
-    return 0;
+    ht_test_es_scenes_match_desktop(OFFSCREEN_API_GLES2, NULL, HT_TEST_ES_SCENES);
 }
 
 int main(void) {
@@ -46,5 +40,5 @@ int main(void) {
         cmocka_unit_test(test_es2_context_is_es2_and_draws_the_essl100_text),
         cmocka_unit_test(test_es2_every_scene_and_glsl_tier_matches_desktop_gl),
     };
-    return cmocka_run_group_tests(tests, NULL, teardown);
+    return cmocka_run_group_tests(tests, NULL, ht_test_es_teardown);
 }

@@ -4,8 +4,8 @@
    on desktop GL (support_es.h); the four passes record the same state as
    on desktop GL; the application's GL state comes back after a frame; a
    device without fragment highp gets a mediump text or the highp one is
-   refused with its reason; ES 1.1 and mismatched profiles are refused
-   with one line. On softpipe (support_driver.h) the fur ball's full tier
+   refused with its reason; mismatched profiles are refused with one line
+   (ES 1.1 has its own test: test_render_es1). On softpipe (support_driver.h) the fur ball's full tier
    only. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -42,7 +42,7 @@ static void test_es3_furball_full_matches_desktop_gl(void **state) {
 static void test_es3_every_scene_and_glsl_tier_matches_desktop_gl(void **state) {
     (void)state;
     HT_TEST_DRIVER_INDEPENDENT(); /* the case above draws on softpipe */
-    ht_test_es_scenes_match_desktop(OFFSCREEN_API_GLES3, NULL);
+    ht_test_es_scenes_match_desktop(OFFSCREEN_API_GLES3, NULL, HT_TEST_ES_SCENES);
 }
 
 /* Same passes, same fixed state, same ranges: the alpha test is the ES
@@ -58,22 +58,7 @@ static void test_es3_passes_record_the_desktop_state(void **state) {
         assert_true(ht_test_es_draw_scene(bundle, "patches", OFFSCREEN_API_GL, tiers[i], NULL, &desk));
         assert_true(ht_test_es_draw_scene(bundle, "patches", OFFSCREEN_API_GLES3, tiers[i], NULL, &es));
         assert_int_equal(es.trace.count, 4);
-        assert_int_equal(es.trace.count, desk.trace.count);
-        for (int k = 0; k < es.trace.count; k++) {
-            const ht_trace_entry *a = &desk.trace.entries[k], *b = &es.trace.entries[k];
-            assert_int_equal(a->pass, b->pass);
-            assert_int_equal(a->cull, b->cull);
-            if (a->cull) assert_int_equal(a->cull_face, b->cull_face);
-            assert_int_equal(a->depth_func, b->depth_func);
-            assert_int_equal(a->depth_write, b->depth_write);
-            assert_int_equal(a->color_write, b->color_write);
-            assert_int_equal(a->blend, b->blend);
-            assert_true(b->alpha_test);
-            assert_int_equal(a->alpha_func, b->alpha_func);
-            assert_true(a->alpha_ref == b->alpha_ref);
-            assert_int_equal(a->index_count, b->index_count);
-            assert_int_equal(b->gl_error, 0);
-        }
+        ht_test_es_assert_same_passes(&desk, &es);
         ht_test_es_draw_free(&desk);
         ht_test_es_draw_free(&es);
     }
@@ -273,15 +258,12 @@ static void test_es3_videocore4_draws_with_16_bit_indices(void **state) {
     offscreen_close(gl);
 }
 
-static void test_es1_and_mismatched_profiles_are_refused_with_one_line(void **state) {
+static void test_es3_mismatched_profiles_are_refused_with_one_line(void **state) {
     (void)state;
     HT_TEST_DRIVER_INDEPENDENT();
     const char *bundle = ht_test_es_bundle(0);
     assert_non_null(bundle);
     ht_test_es_draw d;
-    assert_false(ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES1, HT_TIER_AUTO, NULL, &d));
-    assert_non_null(strstr(d.log, "OpenGL ES-CM 1.1"));
-    assert_non_null(strstr(d.log, ": GL ES 1.x is not supported yet"));
     ht_device_profile p;
     char err[256];
     assert_int_equal(ht_device_profile_parse("videocore4", &p, err, sizeof err), HT_OK);
@@ -292,12 +274,6 @@ static void test_es1_and_mismatched_profiles_are_refused_with_one_line(void **st
     assert_non_null(strstr(d.log, "device profile: a desktop GL 2.0 device, the context is OpenGL ES 3."));
 }
 
-static int teardown(void **state) {
-    (void)state;
-    ht_test_es_cleanup();
-    return 0;
-}
-
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_es3_furball_full_matches_desktop_gl),
@@ -306,7 +282,7 @@ int main(void) {
         cmocka_unit_test(test_es3_application_state_survives_a_frame),
         cmocka_unit_test(test_es3_no_fragment_highp_takes_mediump_or_refuses_with_reason),
         cmocka_unit_test(test_es3_videocore4_draws_with_16_bit_indices),
-        cmocka_unit_test(test_es1_and_mismatched_profiles_are_refused_with_one_line),
+        cmocka_unit_test(test_es3_mismatched_profiles_are_refused_with_one_line),
     };
-    return cmocka_run_group_tests(tests, NULL, teardown);
+    return cmocka_run_group_tests(tests, NULL, ht_test_es_teardown);
 }

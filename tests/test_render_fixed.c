@@ -1162,7 +1162,7 @@ static void test_device_with_small_3d_textures_is_refused(void **state) {
     ht_combiner_program p = bundle_program(fx.bundle_dir);
     int largest = largest_lut_axis(&p);
     assert_true(p.lut_size[2] > 1); /* dark-brown's LUT is 3D */
-    char reason[256];
+    char reason[512];
     snprintf(reason, sizeof reason, "LUT %dx%dx%d needs GL_MAX_3D_TEXTURE_SIZE %d, have 16", p.lut_size[0],
              p.lut_size[1], p.lut_size[2], largest);
     expect_refused((ht_device_profile){ .max_3d_texture_size = 16 }, fx.bundle_dir, reason);
@@ -1175,10 +1175,17 @@ static void test_device_with_small_3d_textures_is_refused(void **state) {
     assert_int_equal(ht_renderer_tier(r), HT_TIER_FIXED);
     assert_int_equal(ht_renderer_caps(r)->max_3d_texture_size, largest);
     ht_renderer_destroy(r);
-    /* No 3D textures at all. */
-    snprintf(reason, sizeof reason, "LUT %dx%dx%d needs 3D textures (GL 1.2), have none", p.lut_size[0],
-             p.lut_size[1], p.lut_size[2]);
+    /* No 3D textures at all: the LUT as two 2D textures (fixed_split.h),
+       two more units; with four the tier draws. */
+    snprintf(reason, sizeof reason, "%s/fixed.json: %d stages need %d texture units, have 2 (2 of them for the 3D "
+             "LUT split in two 2D textures: no 3D textures)", fx.bundle_dir, p.stage_count + 2, p.stage_count + 2);
     expect_refused((ht_device_profile){ .hide_extensions = "GL_EXT_texture3D" }, fx.bundle_dir, reason);
+    r = create((ht_renderer_desc){ .profile = { .gl_major = 1, .gl_minor = 3, .texture_units = 4,
+                                                .hide_extensions = "GL_EXT_texture3D" },
+                                   .tier = HT_TIER_FIXED, .strict = true }, HT_OK);
+    assert_int_equal(ht_renderer_tier(r), HT_TIER_FIXED);
+    assert_true(ht_test_logged("2D textures (no 3D textures: texel error up to 1/255)"));
+    ht_renderer_destroy(r);
 }
 
 /* ---- broken bundles ---- */

@@ -15,11 +15,12 @@
 #       (HAIRTIER_DEVICE_PROFILE: NVIDIA has no MESA_GL_VERSION_OVERRIDE),
 #       each image's PSNR against llvmpipe's of the same tier/profile; the
 #       shader tiers on EGL ES 2.0 and 3.x contexts (--api gles2|gles3)
+#       and the fixed-function tiers on an ES 1.1 context (--api gles1)
 #       against NVIDIA's desktop GL image of the same tier; a tier sheet.
 #       bench: bench_frame on the fur ball at 8 000, 200 000 and 1 000 000
 #       hairs (512x512), its --lods pairs (4 samples) at 8 000 and
-#       1 000 000 hairs at 256 and 128, and on ES 2.0 and 3.x at 8 000 and
-#       200 000. Writes to $OUT (default out/device):
+#       1 000 000 hairs at 256 and 128, and on ES 1.1, 2.0 and 3.x at 8 000
+#       and 200 000. Writes to $OUT (default out/device):
 #       summary.md (the tables), run.log (everything printed) and
 #       images.tar.gz (every PNG, the references too): three files, within
 #       the device tool's eight.
@@ -36,7 +37,13 @@ TIERS="full vertex fixed4 fixed gl11"
 # The material each scene is drawn with, and its tiers: backlit shows the
 # Marschner material, whose bundle has the marschner tier above full.
 material_for() { if [ "$1" = backlit ]; then echo brown-marschner; else echo dark-brown; fi; }
-es_tiers_for() { if [ "$1" = backlit ]; then echo "marschner full vertex"; else echo "full vertex"; fi; }
+# The tiers an ES context runs: the shader tiers on ES 2.0/3.x, the
+# fixed-function ones on ES 1.1.
+es_tiers_for() {
+    if [ "$2" = gles1 ]; then echo "fixed4 fixed gl11"
+    elif [ "$1" = backlit ]; then echo "marschner full vertex"
+    else echo "full vertex"; fi
+}
 tiers_for() { if [ "$1" = backlit ]; then echo "marschner $TIERS"; else echo "$TIERS"; fi; }
 PROFILES="gl13 gl20"
 # Overridable to try the script on a small machine (Mesa's EGL works too).
@@ -165,9 +172,9 @@ images() {
         -o "$WORK/furball-sheet-nvidia.png" >>"$LOG" 2>&1 || echo "tier_sheet failed" >>"$LOG"
 }
 
-# The GL ES tiers on NVIDIA's ES contexts (EGL): each shader tier forced
-# and auto, against the same tier on NVIDIA's desktop GL (images() made
-# those first).
+# The GL ES tiers on NVIDIA's ES contexts (EGL): each tier the context
+# runs forced and auto, against the same tier on NVIDIA's desktop GL
+# (images() made those first).
 es_images() {
     {
         echo
@@ -177,13 +184,14 @@ es_images() {
         echo "| --- | --- | --- | --- | --- | --- | --- | --- |"
     } >>"$WORK/images.md"
     for s in $SCENES; do
-        for api in gles2 gles3; do
-            for t in $(es_tiers_for "$s") auto; do
+        for api in gles1 gles2 gles3; do
+            for t in $(es_tiers_for "$s" "$api") auto; do
                 png="$WORK/$s-$t-$api.png" txt="$WORK/$s-$t-$api.txt" m="$WORK/$s-$t-$api-metrics.txt"
                 echo "== $s $t $api (NVIDIA)" >>"$LOG"
                 set -- --context egl --api "$api" --bundle "$DEV/bundles/$s" --scene "scenes/$s.json" --frames "$FRAMES" -o "$png"
+                # against desktop GL's image of the tier the ES context drew (auto on ES 1.1: fixed4)
                 if [ "$t" = auto ]; then "$HAIRVIEW" "$@" >"$txt" 2>&1; else "$HAIRVIEW" "$@" --tier "$t" --strict >"$txt" 2>&1; fi &&
-                    "$DEV/bin/png_metrics" "$WORK/$s-$t-nvidia.png" "$png" >"$m" 2>&1 &&
+                    "$DEV/bin/png_metrics" "$WORK/$s-$(field "$txt" tier)-nvidia.png" "$png" >"$m" 2>&1 &&
                     echo "| $s | $api | $t | $(field "$txt" tier) | $(field "$txt" frame_ms) | $(field "$m" psnr_db) |" \
                          "$(field "$m" hair_psnr_db) | $(field "$m" max_diff) |" >>"$WORK/images.md" ||
                     echo "| $s | $api | $t | failed: $(tail -1 "$txt") | | | | |" >>"$WORK/images.md"
@@ -220,8 +228,9 @@ bench() {
             cat "$WORK/bench-lods-$h-$sz.txt" >>"$LOG"
         done
     done
-    # The ES tiers against the ES geometry floor (fixed tiers do not run on ES 2.0/3.x).
-    for api in gles2 gles3; do
+    # The ES tiers against the ES geometry floor (fixed tiers run on ES 1.1
+    # only, the shader tiers on ES 2.0/3.x only).
+    for api in gles1 gles2 gles3; do
         for h in $BENCH_ES_HAIRS; do
             echo "== bench_frame --api $api --hairs $h (NVIDIA)" >>"$LOG"
             if "$DEV/bin/bench_frame" --context egl --api "$api" --hairs "$h" --size 512 --frames 9 >"$WORK/bench-$api-$h.txt" 2>&1; then

@@ -10,7 +10,7 @@
    others, and draws hair in Scheuermann's four passes over a mesh whose
    strands are sorted inside to outside once, at load time.
 
-   Usage (any GL 1.1+ compatibility context, or GL ES 2.0+ context, current; my_getproc hands out
+   Usage (any GL 1.1+ compatibility context, or GL ES 1.1 / 2.0+ context, current; my_getproc hands out
    its entry points, my_log gets each log line):
        ht_mesh mesh;   // built once, sorted inside out once
        if (ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 10000 }, &mesh) != HT_OK) return;
@@ -420,7 +420,14 @@ HT_API ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh);
    mask, the program, the active unit and every unit's 2D texture, both
    buffer bindings, the vertex array object (ES 3: it draws with object 0)
    and on that object every attribute's enable and attributes 0-7's
-   arrays.
+   arrays. On GL ES 1.1 it reads back and restores the same fixed-function
+   state as its own: those enables and functions, the alpha test, lighting,
+   colour material, normalize, rescale normal, fog and logic op enables, shade model,
+   current colour, light model, lights 0-7 and the material, the matrix
+   mode and the projection, modelview and texture matrices, per unit the 2D
+   enable and texture and the whole texture environment, the vertex,
+   normal, colour and texture coordinate arrays, the active and
+   client-active units and both buffer bindings.
    ht_renderer_create and ht_renderer_set_mesh are not wrapped that way:
    they leave the current program 0, the active unit's 2D (and 3D) texture
    binding 0, GL_UNPACK_ALIGNMENT 4 and GL_ARRAY_BUFFER and

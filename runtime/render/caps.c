@@ -44,28 +44,30 @@ typedef enum core_flag { FLAG_NONE, FLAG_MULTITEXTURE, FLAG_COMBINE, FLAG_CROSSB
 /* Every extension the runtime asks about by name, one known_extensions bit
    each (at most 32). Those with a version became core then, and the flag
    says whether this context (after its profile) may use them; version 0.0:
-   never core here, only the list counts. */
-static const struct { const char *name; int major, minor; core_flag flag; } known[] = {
-    { "GL_EXT_texture3D", 1, 2, FLAG_3D },
-    { "GL_EXT_texture_edge_clamp", 1, 2, FLAG_NONE },
-    { "GL_SGIS_texture_edge_clamp", 1, 2, FLAG_NONE },
-    { "GL_ARB_multitexture", 1, 3, FLAG_MULTITEXTURE },
-    { "GL_ARB_texture_env_combine", 1, 3, FLAG_COMBINE },
-    { "GL_EXT_texture_env_combine", 1, 3, FLAG_COMBINE },
-    { "GL_ARB_texture_env_dot3", 1, 3, FLAG_COMBINE },
-    { "GL_ARB_texture_cube_map", 1, 3, FLAG_NONE },
-    { "GL_ARB_texture_border_clamp", 1, 3, FLAG_NONE },
-    { "GL_ARB_texture_env_crossbar", 1, 4, FLAG_CROSSBAR },
-    { "GL_ARB_vertex_buffer_object", 1, 5, FLAG_VBO },
-    { "GL_ARB_shader_objects", 2, 0, FLAG_SHADERS },
-    { "GL_ARB_vertex_shader", 2, 0, FLAG_SHADERS },
-    { "GL_ARB_fragment_shader", 2, 0, FLAG_FRAGMENT },
-    { "GL_ARB_shading_language_100", 2, 0, FLAG_SHADERS },
-    { "GL_ARB_texture_non_power_of_two", 2, 0, FLAG_NONE },
-    { "GL_EXT_texture_cube_map", 0, 0, FLAG_NONE },
-    { "GL_ARB_texture_rectangle", 0, 0, FLAG_NONE },
-    { "GL_NV_texture_rectangle", 0, 0, FLAG_NONE },
-    { "GL_EXT_texture_rectangle", 0, 0, FLAG_NONE },
+   never core here, only the list counts. es1: core since GL ES 1.<es1>
+   (multitexture and edge clamping in 1.0; combiners with DOT3 and VBOs in
+   1.1), -1 never: the only way the desktop names are met on ES 1.x. */
+static const struct { const char *name; int major, minor; core_flag flag; int es1; } known[] = {
+    { "GL_EXT_texture3D", 1, 2, FLAG_3D, -1 },
+    { "GL_EXT_texture_edge_clamp", 1, 2, FLAG_NONE, 0 },
+    { "GL_SGIS_texture_edge_clamp", 1, 2, FLAG_NONE, 0 },
+    { "GL_ARB_multitexture", 1, 3, FLAG_MULTITEXTURE, 0 },
+    { "GL_ARB_texture_env_combine", 1, 3, FLAG_COMBINE, 1 },
+    { "GL_EXT_texture_env_combine", 1, 3, FLAG_COMBINE, 1 },
+    { "GL_ARB_texture_env_dot3", 1, 3, FLAG_COMBINE, 1 },
+    { "GL_ARB_texture_cube_map", 1, 3, FLAG_NONE, -1 },
+    { "GL_ARB_texture_border_clamp", 1, 3, FLAG_NONE, -1 },
+    { "GL_ARB_texture_env_crossbar", 1, 4, FLAG_CROSSBAR, -1 },
+    { "GL_ARB_vertex_buffer_object", 1, 5, FLAG_VBO, 1 },
+    { "GL_ARB_shader_objects", 2, 0, FLAG_SHADERS, -1 },
+    { "GL_ARB_vertex_shader", 2, 0, FLAG_SHADERS, -1 },
+    { "GL_ARB_fragment_shader", 2, 0, FLAG_FRAGMENT, -1 },
+    { "GL_ARB_shading_language_100", 2, 0, FLAG_SHADERS, -1 },
+    { "GL_ARB_texture_non_power_of_two", 2, 0, FLAG_NONE, -1 },
+    { "GL_EXT_texture_cube_map", 0, 0, FLAG_NONE, -1 },
+    { "GL_ARB_texture_rectangle", 0, 0, FLAG_NONE, -1 },
+    { "GL_NV_texture_rectangle", 0, 0, FLAG_NONE, -1 },
+    { "GL_EXT_texture_rectangle", 0, 0, FLAG_NONE, -1 },
 };
 #define KNOWN_COUNT (int)(sizeof known / sizeof known[0])
 _Static_assert(sizeof known / sizeof known[0] <= 32, "known_extensions is 32 bits");
@@ -110,7 +112,8 @@ bool ht_caps_satisfies_extension(const ht_caps *c, const char *list, const char 
     int k = known_index(name, strlen(name));
     if (k < 0) return ht_extension_list_has(list, name);
     if (!flag_set(c, known[k].flag)) return false;
-    bool core = known[k].major > 0 && ht_caps_gl_at_least(c, known[k].major, known[k].minor);
+    bool core = c->es ? known[k].es1 >= 0 && ht_caps_es1(c) && ht_caps_gl_at_least(c, 1, known[k].es1)
+                      : known[k].major > 0 && ht_caps_gl_at_least(c, known[k].major, known[k].minor);
     return (c->known_extensions & (1u << k)) || core;
 }
 
@@ -151,17 +154,18 @@ static bool append_extension(char **list, size_t *used, size_t *cap, const char 
     return true;
 }
 
-/* GL ES: what its version makes core. ES 1.x is fixed-function with
-   multitexture, GL_COMBINE and VBOs core; ES 2.0 and later are shaders,
-   VBOs and units for samplers, with neither combiners nor 3D textures the
-   tiers could use. */
+/* GL ES: what its version makes core. ES 1.1 is fixed-function with
+   multitexture, GL_COMBINE (DOT3 too) and VBOs core; ES 1.0 has neither
+   combiners nor VBOs; ES 2.0 and later are shaders, VBOs and units for
+   samplers, with neither combiners nor 3D textures the tiers could use.
+   No ES has the crossbar (GL_TEXTUREn sources) or 3D textures here. */
 static void derive_es_flags(ht_caps *c, const ht_gl *gl) {
-    const bool programmable = c->gl_major >= 2;
+    const bool programmable = c->gl_major >= 2, es11 = !programmable && ht_caps_gl_at_least(c, 1, 1);
     c->has_multitexture = gl->has_multitexture;
-    c->has_combine = !programmable;
+    c->has_combine = es11 && gl->has_fixed;
     c->has_crossbar = false;
     c->has_3d_textures = false;
-    c->has_vbo = gl->has_vbo;
+    c->has_vbo = gl->has_vbo && (programmable || es11);
     c->has_shaders = programmable && gl->has_shaders;
     c->has_vertex_shaders = c->has_fragment_shaders = c->has_shaders;
 }
@@ -236,7 +240,8 @@ ht_result ht_caps_probe_gl(const ht_gl *gl, ht_caps *out, char **extensions) {
     derive_flags(out, gl);
     out->texture_units = 1;
     if (out->has_multitexture) {
-        /* Shader units on ES 2.0+ (GL_MAX_TEXTURE_UNITS is the fixed-function count). */
+        /* Shader units on ES 2.0+ (GL_MAX_TEXTURE_UNITS is the fixed-function
+           count, ES 1.x's and desktop GL's). */
         GLint units = 1;
         gl->GetIntegerv(out->es && out->gl_major >= 2 ? GL_MAX_TEXTURE_IMAGE_UNITS : GL_MAX_TEXTURE_UNITS, &units);
         out->texture_units = units > 1 ? units : 1;
@@ -297,7 +302,7 @@ void ht_caps_apply_profile(ht_caps *c, const ht_device_profile *p) {
     for (int k = 0; p->hide_extensions && k < KNOWN_COUNT; k++)
         if (ht_extension_list_has(p->hide_extensions, known[k].name)) c->known_extensions &= ~(1u << k);
     /* Re-derive from the lowered version and list; a flag never comes back. */
-    ht_gl present = { .has_tex3d = c->has_3d_textures, .has_multitexture = c->has_multitexture,
+    ht_gl present = { .has_fixed = true, .has_tex3d = c->has_3d_textures, .has_multitexture = c->has_multitexture,
                       .has_vbo = c->has_vbo && !p->no_vbo, .has_shaders = c->has_shaders && !p->no_shaders };
     bool combine = c->has_combine, crossbar = c->has_crossbar;
     bool fragment = c->has_fragment_shaders && !p->no_fragment_shaders;

@@ -63,4 +63,9 @@ static inline bool ht_caps_gl_at_least(const ht_caps *c, int major, int minor) {
     return ht_version_at_least(c->gl_major, c->gl_minor, major, minor);
 }
 
+/* GL ES 1.x: fixed function, no shaders (the fixed4, fixed and gl11 tiers
+   draw there); ES 2.0 and later: programs only, no fixed function. */
+static inline bool ht_caps_es1(const ht_caps *c) { return c->es && c->gl_major < 2; }
+static inline bool ht_caps_es_programs(const ht_caps *c) { return c->es && c->gl_major >= 2; }
+
 #endif

@@ -4,7 +4,7 @@
 
 #include "gl_api.h"
 
-enum gl_group { GROUP_core, GROUP_fixed, GROUP_tex3d, GROUP_multitexture, GROUP_client_units, GROUP_vbo, GROUP_shaders, GROUP_stringi,
+enum gl_group { GROUP_core, GROUP_fixed, GROUP_desktop, GROUP_tex3d, GROUP_multitexture, GROUP_client_units, GROUP_vbo, GROUP_shaders, GROUP_stringi,
                 GROUP_precision, GROUP_vao, GROUP_LAST = GROUP_vao };
 
 typedef struct gl_entry {
@@ -57,7 +57,8 @@ ht_result ht_gl_load(ht_gl *gl, ht_getproc_fn getproc, char *err, size_t err_siz
     for (size_t i = 0; i < ENTRY_COUNT; i++) {
         void *p = lookup(getproc, entries[i].name);
         if (!p) {
-            if (entries[i].group == GROUP_core || (entries[i].group == GROUP_fixed && !gl->es)) {
+            if (entries[i].group == GROUP_core ||
+                ((entries[i].group == GROUP_fixed || entries[i].group == GROUP_desktop) && !gl->es)) {
                 snprintf(err, err_size, "gl_api: gl%s: entry point missing (GL 1.1 required)",
                          entries[i].name);
                 return HT_ERR_UNSUPPORTED;
@@ -71,6 +72,9 @@ ht_result ht_gl_load(ht_gl *gl, ht_getproc_fn getproc, char *err, size_t err_siz
     }
     for (int g = GROUP_fixed; g <= GROUP_LAST; g++)
         if (!group_ok[g]) clear_group(gl, (enum gl_group)g);
+    gl->has_fixed = group_ok[GROUP_fixed];
+    /* Never called on ES (gl_api.h), whatever getproc answered. */
+    if (gl->es) clear_group(gl, GROUP_desktop);
     gl->has_tex3d = group_ok[GROUP_tex3d];
     /* glClientActiveTexture: GL 1.3's client side of the units (ES 2.0 has
        none); without glActiveTexture it is of no use either. */

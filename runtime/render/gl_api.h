@@ -11,7 +11,7 @@
 
    GL 1.1 entry points are required (OSMesaGetProcAddress, wglGetProcAddress
    wrappers and eglGetProcAddress with core-symbol lookup return them), the
-   fixed-function ones on desktop GL only (gl.es). Every later group is
+   fixed-function and desktop-only ones on desktop GL only (gl.es). Every later group is
    optional: a group whose entry point is missing is cleared
    (its has_ flag is false, its pointers NULL) instead of failing the load.
    ARB-suffixed names are tried when the core name is missing.
@@ -59,14 +59,19 @@
     X(fixed, void, Lightfv, (GLenum light, GLenum pname, const GLfloat *params)) \
     X(fixed, void, LightModelfv, (GLenum pname, const GLfloat *params)) \
     X(fixed, void, Materialfv, (GLenum face, GLenum pname, const GLfloat *params)) \
-    X(fixed, void, ColorMaterial, (GLenum face, GLenum mode)) \
+    X(desktop, void, ColorMaterial, (GLenum face, GLenum mode)) \
     X(fixed, void, Lightf, (GLenum light, GLenum pname, GLfloat param)) \
-    X(fixed, void, LightModeli, (GLenum pname, GLint param)) \
-    X(fixed, void, PolygonMode, (GLenum face, GLenum mode)) \
-    X(fixed, void, PushAttrib, (GLbitfield mask)) \
-    X(fixed, void, PopAttrib, (void)) \
-    X(fixed, void, PushClientAttrib, (GLbitfield mask)) \
-    X(fixed, void, PopClientAttrib, (void)) \
+    X(fixed, void, LightModelf, (GLenum pname, GLfloat param)) \
+    X(fixed, void, GetLightfv, (GLenum light, GLenum pname, GLfloat *params)) \
+    X(fixed, void, GetMaterialfv, (GLenum face, GLenum pname, GLfloat *params)) \
+    X(fixed, void, GetTexEnviv, (GLenum target, GLenum pname, GLint *params)) \
+    X(fixed, void, GetTexEnvfv, (GLenum target, GLenum pname, GLfloat *params)) \
+    X(fixed, void, GetPointerv, (GLenum pname, void **params)) \
+    X(desktop, void, PolygonMode, (GLenum face, GLenum mode)) \
+    X(desktop, void, PushAttrib, (GLbitfield mask)) \
+    X(desktop, void, PopAttrib, (void)) \
+    X(desktop, void, PushClientAttrib, (GLbitfield mask)) \
+    X(desktop, void, PopClientAttrib, (void)) \
     X(fixed, void, ShadeModel, (GLenum mode)) \
     X(core, void, GenTextures, (GLsizei n, GLuint *textures)) \
     X(core, void, DeleteTextures, (GLsizei n, const GLuint *textures)) \
@@ -122,9 +127,11 @@ typedef struct ht_gl {
     bool has_tex3d, has_multitexture, has_vbo, has_shaders, has_stringi, has_precision, has_vao;
     /* An OpenGL ES context (GL_VERSION "OpenGL ES ..."): the fixed-function
        group (GL 1.1's matrices, lighting, client arrays, alpha test,
-       attribute stacks, texture environments) is optional there and never
-       called from ES 2.0 on; everywhere else it is required. */
-    bool es;
+       texture environments) is optional there (has_fixed: all of it
+       present; ES 1.x draws with it, ES 2.0 on never calls it), and the
+       desktop group (attribute stacks, glPolygonMode, glColorMaterial) is
+       never called on ES; everywhere else both are required. */
+    bool es, has_fixed;
 } ht_gl;
 
 /* Fills gl from getproc. HT_ERR_UNSUPPORTED when a GL 1.1 entry point is

@@ -7,6 +7,7 @@
 
 #include "gl_error.h"
 #include "errfmt.h"
+#include "caps.h"
 #include "renderer_internal.h"
 #include "shader_interface.h"
 
@@ -23,6 +24,16 @@ void ht_renderer_release_mesh(ht_renderer *r) {
 
 bool ht_renderer_short_indices(const ht_renderer *r) {
     return r->caps.es && !ht_extension_list_has(r->extensions, "GL_OES_element_index_uint");
+}
+
+void ht_renderer_draw_client_elements(ht_renderer *r, const ht_mesh *m) {
+    uint16_t *indices16 = NULL;
+    if (ht_renderer_short_indices(r) &&
+        (m->vertex_count > 65536u || !(indices16 = ht_renderer_indices16(m->indices, m->index_count))))
+        return;
+    r->gl.DrawElements(GL_TRIANGLES, (GLsizei)m->index_count, indices16 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT,
+                       indices16 ? (const void *)indices16 : (const void *)m->indices);
+    free(indices16);
 }
 
 uint16_t *ht_renderer_indices16(const uint32_t *indices, uint32_t count) {
@@ -136,7 +147,7 @@ static void set_es_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attri
 void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes) {
     const ht_gl *gl = &r->gl;
     const GLsizei stride = (GLsizei)sizeof(ht_vertex);
-    if (r->caps.es) {
+    if (ht_caps_es_programs(&r->caps)) {
         set_es_arrays(r, base, hair_attributes);
         return;
     }
@@ -163,7 +174,7 @@ void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_att
    client attributes at the end of the frame. */
 void ht_renderer_clear_arrays(ht_renderer *r) {
     const ht_gl *gl = &r->gl;
-    if (r->caps.es) {
+    if (ht_caps_es_programs(&r->caps)) {
         static const GLuint locations[] = { HT_ES_ATTR_POSITION_LOCATION, HT_ES_ATTR_NORMAL_LOCATION,
                                             HT_ES_ATTR_UV_LOCATION, HT_ATTR_TANGENT_LOCATION, HT_ATTR_AO_LOCATION };
         for (size_t i = 0; i < sizeof locations / sizeof locations[0]; i++) gl->DisableVertexAttribArray(locations[i]);

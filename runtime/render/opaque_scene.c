@@ -25,8 +25,8 @@ void ht_renderer_draw_opaque(ht_renderer *r, const ht_mesh *m, const ht_tier_fra
     const float ambient[4] = { 0.08f, 0.08f, 0.08f, 1 }, zero[4] = { 0, 0, 0, 1 };
     const float material[4] = { 0.55f, 0.5f, 0.45f, 1 };
     gl->LightModelfv(GL_LIGHT_MODEL_AMBIENT, ambient);
-    gl->LightModeli(GL_LIGHT_MODEL_TWO_SIDE, GL_FALSE);
-    gl->LightModeli(GL_LIGHT_MODEL_LOCAL_VIEWER, GL_FALSE);
+    gl->LightModelf(GL_LIGHT_MODEL_TWO_SIDE, 0.0f);
+    if (!gl->es) gl->LightModelf(GL_LIGHT_MODEL_LOCAL_VIEWER, 0.0f); /* ES 1.x: always an infinite viewer */
     gl->Materialfv(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE, material);
     gl->Materialfv(GL_FRONT_AND_BACK, GL_SPECULAR, zero);
     gl->Materialfv(GL_FRONT_AND_BACK, GL_EMISSION, zero);
@@ -51,7 +51,7 @@ void ht_renderer_draw_opaque(ht_renderer *r, const ht_mesh *m, const ht_tier_fra
         gl->Enable(light);
     }
     ht_renderer_set_arrays(r, m->vertices, false);
-    gl->DrawElements(GL_TRIANGLES, (GLsizei)m->index_count, GL_UNSIGNED_INT, m->indices);
+    ht_renderer_draw_client_elements(r, m);
     ht_renderer_clear_arrays(r);
     for (int i = 0; i < HT_MAX_LIGHTS; i++) gl->Disable(GL_LIGHT0 + (GLenum)i);
     gl->Disable(GL_LIGHTING);

@@ -152,18 +152,8 @@ void ht_renderer_draw_opaque_es(ht_renderer *r, const ht_mesh *m, const ht_tier_
     gl->Uniform4fv(r->opaque_u_light_vector, HT_MAX_LIGHTS, vectors);
     gl->Uniform3fv(r->opaque_u_light_color, HT_MAX_LIGHTS, colors);
     gl->Uniform1i(r->opaque_u_light_count, f->light_count);
-    /* 16-bit indices where the device has no others (mesh_gpu.c's rule). */
-    uint16_t *indices16 = NULL;
-    if (ht_renderer_short_indices(r)) {
-        if (m->vertex_count > 65536u || !(indices16 = ht_renderer_indices16(m->indices, m->index_count))) {
-            gl->UseProgram(0);
-            return;
-        }
-    }
     ht_renderer_set_arrays(r, m->vertices, false);
-    gl->DrawElements(GL_TRIANGLES, (GLsizei)m->index_count, indices16 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT,
-                     indices16 ? (const void *)indices16 : (const void *)m->indices);
-    free(indices16);
+    ht_renderer_draw_client_elements(r, m);
     ht_renderer_clear_arrays(r);
     gl->UseProgram(0);
 }

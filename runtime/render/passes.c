@@ -2,6 +2,7 @@
    order"): the fixed depth/cull/blend/alpha state of each, the loop that
    hands each (sub-)pass to the backend and draws, and the trace read back
    from GL. Once, here, so every tier draws the same passes. */
+#include "caps.h"
 #include "gl_error.h"
 #include "errfmt.h"
 #include "renderer_internal.h"
@@ -38,7 +39,7 @@ static void set_pass_state(ht_renderer *r, ht_pass pass) {
     float cutoff;
     ht_pass_alpha_rule(r, pass, &alpha_func, &cutoff);
     gl->Enable(GL_DEPTH_TEST);
-    if (!r->caps.es) {
+    if (!ht_caps_es_programs(&r->caps)) {
         gl->Enable(GL_ALPHA_TEST);
         gl->AlphaFunc(alpha_func, cutoff);
     }
@@ -89,7 +90,7 @@ static void record_state(ht_renderer *r, ht_trace_entry *e) {
     gl->GetBooleanv(GL_COLOR_WRITEMASK, b);
     e->color_write = b[0] || b[1] || b[2] || b[3];
     e->blend = gl->IsEnabled(GL_BLEND) == GL_TRUE;
-    if (r->caps.es) {
+    if (ht_caps_es_programs(&r->caps)) {
         /* The ES texts' discard, which the rule above set. */
         GLenum func;
         ht_pass_alpha_rule(r, e->pass, &func, &e->alpha_ref);
@@ -107,7 +108,7 @@ static void record_state(ht_renderer *r, ht_trace_entry *e) {
 /* Flat mode: the baseline has no texture, lighting or program; GL ES
    draws the colour with a program of the runtime's (opaque_scene_es.c). */
 static bool bind_flat(ht_renderer *r, const ht_tier_frame *tf) {
-    if (r->caps.es) return ht_renderer_bind_flat_es(r, tf);
+    if (ht_caps_es_programs(&r->caps)) return ht_renderer_bind_flat_es(r, tf);
     r->gl.Color4f(r->flat_color[0], r->flat_color[1], r->flat_color[2], 1.0f - tf->opacity_cut);
     return true;
 }
@@ -132,7 +133,7 @@ ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf) {
             bool flat_ok = true;
             if (r->backend) r->backend->bind_pass(r->backend_state, pass, sub);
             else flat_ok = bind_flat(r, tf);
-            if (r->caps.es) set_es_alpha(r, pass);
+            if (ht_caps_es_programs(&r->caps)) set_es_alpha(r, pass);
             ht_trace_entry e = { .pass = pass, .sub_pass = sub, .first_index = 0, .index_count = r->index_count };
             if (r->record_trace) record_state(r, &e);
             bool draw = flat_ok && (!r->backend || !r->backend->set_arrays ||

@@ -86,23 +86,42 @@ static ht_result create_backend(ht_renderer *r) {
     }
 }
 
-/* What this runtime draws on: desktop GL, or GL ES 2.0 and later (a
-   program per tier, VBOs, 32-bit indices); a profile names one API. */
+/* What this runtime draws on: desktop GL, GL ES 1.1 (the fixed-function
+   tiers: combiners, VBOs and the state queries the frame's save needs) or
+   GL ES 2.0 and later (a program per tier); a profile names one API. */
 static ht_result check_api(ht_renderer *r, const ht_device_profile *p) {
     const ht_caps *c = &r->caps;
     char line[320] = "";
     if (p->es_major && !c->es)
         snprintf(line, sizeof line, "device profile: a GL ES %d.%d device, the context is desktop GL %d.%d (%s): "
                  "make a GL ES context (hairview --api gles%d)", p->es_major, p->es_minor, c->gl_major,
-                 c->gl_minor, c->version, p->es_major >= 3 ? 3 : 2);
+                 c->gl_minor, c->version, p->es_major >= 3 ? 3 : p->es_major);
     else if (c->es && (p->gl_major || p->gl_minor))
         snprintf(line, sizeof line, "device profile: a desktop GL %d.%d device, the context is %s", p->gl_major,
                  p->gl_minor, c->version);
-    else if (c->es && c->gl_major < 2)
-        snprintf(line, sizeof line, "%s: GL ES 1.x is not supported yet (the fixed4, fixed and gl11 tiers on ES 1.1's "
-                 "combiners are not built); draw on GL ES 2.0 or later, or desktop GL", c->version);
+    else if (c->es && p->es_major && (p->es_major < 2) != ht_caps_es1(c))
+        snprintf(line, sizeof line, "device profile: a GL ES %d.%d device, the context is %s (ES 1.x is fixed "
+                 "function, ES 2.0 on has programs only): make a GL ES %d context (hairview --api gles%d)",
+                 p->es_major, p->es_minor, c->version, p->es_major, p->es_major >= 3 ? 3 : p->es_major);
     if (!line[0]) return HT_OK;
     ht_log_linef(r->log, r->log_user, "hairtier: %s", line);
+    return HT_ERR_UNSUPPORTED;
+}
+
+/* GL ES 1.0 (a context or a profile): no glGetFloatv or glIsEnabled to
+   read the application's state back, no combiners, no VBOs. */
+static ht_result check_es1(ht_renderer *r) {
+    const ht_caps *c = &r->caps;
+    if (!ht_caps_es1(c)) return HT_OK;
+    if (!ht_caps_gl_at_least(c, 1, 1))
+        ht_log_linef(r->log, r->log_user, "hairtier: GL ES %d.%d (%s): needs GL ES 1.1 (ES 1.0 has no state "
+                     "queries to save the application's state with, no combiners, no VBOs)", c->gl_major,
+                     c->gl_minor, c->version);
+    else if (!r->gl.has_fixed)
+        ht_log_linef(r->log, r->log_user, "hairtier: %s: a fixed-function entry point is missing (getproc)",
+                     c->version);
+    else
+        return HT_OK;
     return HT_ERR_UNSUPPORTED;
 }
 
@@ -190,16 +209,21 @@ ht_result ht_renderer_create(const ht_renderer_desc *desc, ht_renderer **out) {
     if ((res = check_api(r, &profile)) != HT_OK) goto fail;
     ht_caps_apply_profile(&r->caps, &profile);
     ht_caps_hide_extensions(r->extensions, profile.hide_extensions);
+    if ((res = check_es1(r)) != HT_OK) goto fail;
     /* The runtime itself must not call what the profile hides. */
     ht_gl_restrict(&r->gl, r->caps.has_3d_textures, r->caps.has_multitexture, r->caps.has_vbo,
                    r->caps.has_shaders);
     /* What the frame's baseline covers beyond the units (renderer.c). */
     GLint lights = HT_MAX_LIGHTS, attribs = 0;
-    if (!r->caps.es) r->gl.GetIntegerv(GL_MAX_LIGHTS, &lights);
+    if (!ht_caps_es_programs(&r->caps)) r->gl.GetIntegerv(GL_MAX_LIGHTS, &lights);
     r->max_lights = clamp_int(lights, HT_MAX_LIGHTS, HT_RENDERER_MAX_LIGHTS);
     if (r->caps.has_shaders) r->gl.GetIntegerv(GL_MAX_VERTEX_ATTRIBS, &attribs);
     r->vertex_attribs = clamp_int(attribs, 0, HT_RENDERER_MAX_ATTRIBS);
-    if (r->caps.es)
+    if (ht_caps_es1(&r->caps))
+        ht_log_linef(r->log, r->log_user, "hairtier: device GL ES %d.%d (fixed function), %d texture units, %s%s",
+                     r->caps.gl_major, r->caps.gl_minor, r->caps.texture_units, r->caps.renderer,
+                     r->caps.has_combine ? "" : ", no combiners");
+    else if (r->caps.es)
         ht_log_linef(r->log, r->log_user, "hairtier: device GL ES %d.%d, ESSL %d.%02d, fragment %s, %d texture units, %s",
                      r->caps.gl_major, r->caps.gl_minor, r->caps.glsl_major, r->caps.glsl_minor,
                      r->caps.fragment_highp ? "highp" : "mediump only", r->caps.texture_units, r->caps.renderer);
@@ -349,7 +373,7 @@ ht_result ht_renderer_choose_by_frame_time(ht_renderer *r, const ht_mesh *mesh, 
 static ht_result draw_frame(ht_renderer *r, const ht_frame_desc *f, const ht_tier_frame *tf) {
     const ht_gl *gl = &r->gl;
     /* GL ES programs take projection x view as a uniform (glsl_program.c). */
-    if (!r->caps.es) {
+    if (!ht_caps_es_programs(&r->caps)) {
         gl->MatrixMode(GL_PROJECTION);
         gl->LoadMatrixf(tf->projection);
         gl->MatrixMode(GL_MODELVIEW);
@@ -357,7 +381,7 @@ static ht_result draw_frame(ht_renderer *r, const ht_frame_desc *f, const ht_tie
     }
     gl->Enable(GL_DEPTH_TEST);
 
-    if (f->opaque && r->caps.es) ht_renderer_draw_opaque_es(r, f->opaque, tf);
+    if (f->opaque && ht_caps_es_programs(&r->caps)) ht_renderer_draw_opaque_es(r, f->opaque, tf);
     else if (f->opaque) ht_renderer_draw_opaque(r, f->opaque, tf);
     return ht_renderer_draw_passes(r, tf);
 }
@@ -380,7 +404,12 @@ ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
 
     ht_gl_state saved;
     ht_result result;
-    if (r->caps.es) {
+    if (ht_caps_es1(&r->caps)) {
+        ht_gl_state_save_es1(r, &saved);
+        ht_gl_state_set_baseline_es1(r);
+        result = draw_frame(r, f, &tf);
+        ht_gl_state_restore_es1(r, &saved);
+    } else if (r->caps.es) {
         ht_gl_state_save_es(r, &saved);
         ht_gl_state_set_baseline_es(r);
         result = draw_frame(r, f, &tf);

@@ -76,6 +76,10 @@ void ht_renderer_release_mesh(ht_renderer *r);
    (malloc'd; NULL when out of memory). */
 bool ht_renderer_short_indices(const ht_renderer *r);
 uint16_t *ht_renderer_indices16(const uint32_t *indices, uint32_t count);
+/* m's triangles from client memory with the arrays already pointed, as
+   16-bit indices where the device has no others (nothing drawn when m is
+   too big for them or memory is short). */
+void ht_renderer_draw_client_elements(ht_renderer *r, const ht_mesh *m);
 /* base: NULL with the hair VBO bound, else the vertices; hair_attributes:
    uv and the backend's generic attributes too (the head needs neither). */
 void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes);
@@ -89,6 +93,32 @@ typedef struct ht_gl_es_attrib {
     GLint enabled, size, type, normalized, stride, buffer;
     void *pointer;
 } ht_gl_es_attrib;
+/* GL ES 1.1 (gl_state_es1.c): a client array, a unit, the whole set. */
+#define HT_ES1_ENABLES 11
+#define HT_ES1_ENV_INTS 15
+#define HT_ES1_ENV_FLOATS 6
+#define HT_ES1_LIGHT_FLOATS 24
+#define HT_ES1_MATERIAL_FLOATS 17
+#define HT_ES1_MAX_LIGHTS 8
+typedef struct ht_gl_es1_array {
+    GLboolean enabled;
+    GLint size, type, stride, buffer;
+    void *pointer;
+} ht_gl_es1_array;
+typedef struct ht_gl_es1_unit {
+    GLboolean texture_2d;
+    GLint binding, env_int[HT_ES1_ENV_INTS];
+    GLfloat env_float[HT_ES1_ENV_FLOATS];
+    ht_gl_es1_array coords;
+} ht_gl_es1_unit;
+typedef struct ht_gl_es1_state {
+    GLboolean enabled[HT_ES1_ENABLES], light_enabled[HT_ES1_MAX_LIGHTS];
+    GLfloat light[HT_ES1_MAX_LIGHTS][HT_ES1_LIGHT_FLOATS], material[HT_ES1_MATERIAL_FLOATS];
+    GLfloat model_ambient[4], two_side, alpha_ref, color[4];
+    GLint matrix_mode, client_texture, shade_model, alpha_func;
+    ht_gl_es1_array vertex, normal, color_array;
+    ht_gl_es1_unit units[HT_RENDERER_MAX_UNITS];
+} ht_gl_es1_state;
 typedef struct ht_gl_state {
     GLint program;
     GLfloat projection[16], modelview[16];
@@ -99,15 +129,20 @@ typedef struct ht_gl_state {
     GLint texture_2d[HT_RENDERER_MAX_UNITS];
     ht_gl_es_attrib attribs[HT_ES_STATE_ATTRIBS];
     GLint attrib_enabled[HT_RENDERER_MAX_ATTRIBS];
+    ht_gl_es1_state es1;
 } ht_gl_state;
 ht_result ht_gl_state_save(ht_renderer *r, ht_gl_state *s);
 void ht_gl_state_set_baseline(ht_renderer *r);
 void ht_gl_state_restore(ht_renderer *r, const ht_gl_state *s);
 /* gl_state_es.c: the same contract on GL ES 2.0+, by reading back each
-   piece of state a frame changes (hairtier.h: ht_renderer_draw). */
+   piece of state a frame changes (hairtier.h: ht_renderer_draw);
+   gl_state_es1.c: on GL ES 1.1, the fixed-function state the same way. */
 void ht_gl_state_save_es(ht_renderer *r, ht_gl_state *s);
 void ht_gl_state_set_baseline_es(ht_renderer *r);
 void ht_gl_state_restore_es(ht_renderer *r, const ht_gl_state *s);
+void ht_gl_state_save_es1(ht_renderer *r, ht_gl_state *s);
+void ht_gl_state_set_baseline_es1(ht_renderer *r);
+void ht_gl_state_restore_es1(ht_renderer *r, const ht_gl_state *s);
 
 /* opaque_scene.c; on GL ES opaque_scene_es.c (a program of the runtime's
    own lighting the head as GL's fixed-function lighting does, made at the

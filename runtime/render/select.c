@@ -9,10 +9,17 @@
 #include "select.h"
 #include "errfmt.h"
 
+/* A tier without GLSL: the fixed-function tiers (fixed4, fixed, gl11). */
+static bool fixed_function(const ht_manifest_tier *t) { return t->glsl_major == 0 && t->es_count == 0; }
+
 int ht_select_es_target(const ht_caps *c, const ht_manifest_tier *t, char *why, size_t why_size) {
     if (t->es_count == 0) {
-        snprintf(why, why_size, "no GL ES target in the bundle (this tier needs desktop GL %d.%d)", t->gl_major,
-                 t->gl_minor);
+        if (fixed_function(t))
+            snprintf(why, why_size, "fixed function: GL ES 2.0 and later have none (desktop GL or GL ES 1.1 "
+                     "runs it)");
+        else
+            snprintf(why, why_size, "no GL ES target in the bundle (this tier needs desktop GL %d.%d)", t->gl_major,
+                     t->gl_minor);
         return -1;
     }
     bool precision_failed = false;
@@ -46,8 +53,37 @@ int ht_select_es_target(const ht_caps *c, const ht_manifest_tier *t, char *why, 
     return -1;
 }
 
+/* The extensions and units a tier lists (ES 1.1 meets the desktop names
+   it made core: caps.c). */
+static bool check_extensions_and_units(const ht_caps *c, const char *extensions, const ht_manifest_tier *t,
+                                       char *why, size_t why_size) {
+    for (int i = 0; i < t->extension_count; i++)
+        if (!ht_caps_satisfies_extension(c, extensions, t->extensions[i])) {
+            snprintf(why, why_size, "needs %s", t->extensions[i]);
+            return false;
+        }
+    if (t->texture_units > c->texture_units) {
+        snprintf(why, why_size, "needs %d texture units, have %d", t->texture_units, c->texture_units);
+        return false;
+    }
+    return true;
+}
+
+/* GL ES 1.1 runs the fixed-function tiers only; the desktop GL version a
+   tier names is not compared (ES 1.1 is GL 1.5 without 3D textures and the
+   crossbar, which the backends check themselves). */
+static bool check_es1(const ht_caps *c, const char *extensions, const ht_manifest_tier *t, char *why,
+                      size_t why_size) {
+    if (!fixed_function(t)) {
+        snprintf(why, why_size, "shaders: GL ES 1.x has none (desktop GL 2.0 or GL ES 2.0 runs it)");
+        return false;
+    }
+    return check_extensions_and_units(c, extensions, t, why, why_size);
+}
+
 bool ht_select_check_requirements(const ht_caps *c, const char *extensions, const ht_manifest_tier *t,
                                   char *why, size_t why_size) {
+    if (ht_caps_es1(c)) return check_es1(c, extensions, t, why, why_size);
     if (c->es) return ht_select_es_target(c, t, why, why_size) >= 0;
     if (!ht_version_at_least(c->gl_major, c->gl_minor, t->gl_major, t->gl_minor)) {
         snprintf(why, why_size, "needs GL %d.%d, have %d.%d", t->gl_major, t->gl_minor, c->gl_major, c->gl_minor);
@@ -68,16 +104,7 @@ bool ht_select_check_requirements(const ht_caps *c, const char *extensions, cons
                  c->glsl_major, c->glsl_minor);
         return false;
     }
-    for (int i = 0; i < t->extension_count; i++)
-        if (!ht_caps_satisfies_extension(c, extensions, t->extensions[i])) {
-            snprintf(why, why_size, "needs %s", t->extensions[i]);
-            return false;
-        }
-    if (t->texture_units > c->texture_units) {
-        snprintf(why, why_size, "needs %d texture units, have %d", t->texture_units, c->texture_units);
-        return false;
-    }
-    return true;
+    return check_extensions_and_units(c, extensions, t, why, why_size);
 }
 
 /* Why bundle tier i cannot run, or false when it can. */
@@ -99,9 +126,32 @@ static bool tier_blocked(const ht_select_desc *d, int i, char *line, size_t size
     return false;
 }
 
-static void add_skip(ht_selection *out, const char *line) {
+/* "NAME: why". join: a tier the API cannot run at all joins the line
+   before it when that says the same ("fixed4, fixed, gl11: fixed function:
+   ..."): one line for what a whole API lacks, not one per tier. */
+static void add_skip_joined(ht_selection *out, const char *line, bool join) {
+    const char *why = strstr(line, ": ");
+    if (join && out->skipped_count > 0 && why) {
+        char *prev = out->skipped[out->skipped_count - 1];
+        const char *prev_why = strstr(prev, ": ");
+        const size_t name = (size_t)(why - line), prev_name = prev_why ? (size_t)(prev_why - prev) : 0;
+        if (prev_why && strcmp(prev_why, why) == 0 && strlen(prev) + name + 2 < sizeof out->skipped[0]) {
+            memmove(prev + prev_name + 2 + name, prev + prev_name, strlen(prev_why) + 1);
+            memcpy(prev + prev_name, ", ", 2);
+            memcpy(prev + prev_name + 2, line, name);
+            return;
+        }
+    }
     if (out->skipped_count < HT_MANIFEST_MAX_TIERS)
         snprintf(out->skipped[out->skipped_count++], sizeof out->skipped[0], "%s", line);
+}
+
+static void add_skip(ht_selection *out, const char *line) { add_skip_joined(out, line, false); }
+
+/* The context's API has nothing this tier is made of: shaders on GL ES 1.x,
+   fixed function on GL ES 2.0 and later. */
+static bool api_lacks(const ht_caps *c, const ht_manifest_tier *t) {
+    return ht_caps_es1(c) ? !fixed_function(t) : ht_caps_es_programs(c) && fixed_function(t);
 }
 
 static void join_skips(const ht_selection *s, char *out, size_t size) {
@@ -379,7 +429,7 @@ ht_result ht_select_tier(const ht_select_desc *d, ht_selection *out, char *err, 
         bool ok[HT_MANIFEST_MAX_TIERS] = { false };
         bool any = false;
         for (int i = 0; i < b->tier_count; i++) {
-            if (tier_blocked(d, i, line, sizeof line)) add_skip(out, line);
+            if (tier_blocked(d, i, line, sizeof line)) add_skip_joined(out, line, api_lacks(d->caps, &b->tiers[i]));
             else ok[i] = any = true;
         }
         if (any) {

@@ -21,6 +21,8 @@
 #ifndef HT_MODEL_PASS
 #include <hairtier/model.h>
 
+#include "model_terms.h"
+
 #include <tgmath.h>
 
 #define HT_MODEL_PASS 1
@@ -50,6 +52,28 @@ double ht_model_transmission_d(const ht_transmission *t, const double T[3], cons
     normalize_or_zero_d(L, ln);
     normalize_or_zero_d(V, vn);
     return transmission_unit_d(t, tn, ln, vn);
+}
+
+void ht_model_light_terms_init(const ht_surface *s, const double L[3], ht_model_light_terms *g) {
+    normalize_or_zero_d(s->T, g->T);
+    normalize_or_zero_d(s->N, g->N);
+    double V[3], h_raw[3];
+    normalize_or_zero_d(s->V, V);
+    normalize_or_zero_d(L, g->L);
+    for (int i = 0; i < 3; i++) h_raw[i] = g->L[i] + V[i];
+    normalize_or_zero_d(h_raw, g->H);
+    g->n_dot_l = dot3_d(g->N, g->L);
+    g->has_transmission = transmission_geometry_d(g->T, g->L, V, &g->mean_angle, &g->transmission_base);
+}
+
+double ht_model_light_highlight(const ht_model_light_terms *g, double shift, double exponent) {
+    double t[3];
+    shifted_tangent_d(g->T, g->N, shift, t);
+    return highlight_unit_d(t, g->H, exponent);
+}
+
+double ht_model_light_transmission(const ht_model_light_terms *g, const ht_transmission *t) {
+    return g->has_transmission ? transmission_of_d(t, g->mean_angle, g->transmission_base) : 0;
 }
 
 double ht_model_highlight_of_cos_d(double c, double exponent) {
@@ -169,17 +193,31 @@ static void FN(shifted_tangent)(const real T[3], const real N[3], real amount, r
 
 static real FN(clamp1)(real x) { return x < -1 ? (real)-1 : (x > 1 ? (real)1 : x); }
 
-/* ht_transmission's tt on unit-or-zero T, L, V. */
-static real FN(transmission_unit)(const ht_transmission *t, const real T[3], const real L[3], const real V[3]) {
-    if (!FN(has_direction)(T) || !FN(has_direction)(L) || !FN(has_direction)(V)) return 0;
+/* What ht_transmission's tt takes from unit-or-zero T, L, V: the mean
+   longitudinal angle and the azimuth term's base; false when T, L or V
+   has no direction (tt = 0). */
+static bool FN(transmission_geometry)(const real T[3], const real L[3], const real V[3], real *mean_angle,
+                                      real *a) {
+    if (!FN(has_direction)(T) || !FN(has_direction)(L) || !FN(has_direction)(V)) return false;
     const real tl = FN(dot3)(T, L), tv = FN(dot3)(T, V);
     real lp[3], vp[3], lr[3], vr[3];
     for (int i = 0; i < 3; i++) lr[i] = L[i] - tl * T[i], vr[i] = V[i] - tv * T[i];
     FN(normalize_or_zero)(lr, lp);
     FN(normalize_or_zero)(vr, vp);
-    const real u = (asin(FN(clamp1)(tl)) + asin(FN(clamp1)(tv))) / 2 - (real)t->centre;
-    const real a = FN(saturate)((1 - FN(dot3)(lp, vp)) / 2);
+    *mean_angle = (asin(FN(clamp1)(tl)) + asin(FN(clamp1)(tv))) / 2;
+    *a = FN(saturate)((1 - FN(dot3)(lp, vp)) / 2);
+    return true;
+}
+
+static real FN(transmission_of)(const ht_transmission *t, real mean_angle, real a) {
+    const real u = mean_angle - (real)t->centre;
     return exp2(-(real)t->sharpness * u * u) * FN(power)(a, (real)t->azimuth);
+}
+
+/* ht_transmission's tt on unit-or-zero T, L, V. */
+static real FN(transmission_unit)(const ht_transmission *t, const real T[3], const real L[3], const real V[3]) {
+    real mean_angle, a;
+    return FN(transmission_geometry)(T, L, V, &mean_angle, &a) ? FN(transmission_of)(t, mean_angle, a) : 0;
 }
 
 static void FN(to_real)(const double in[3], real out[3]) {
