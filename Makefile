@@ -441,7 +441,8 @@ check-valgrind: all
 
 # ---- haircompare's report in a real browser ----
 # Debian's chromium is installed here only (it is big, and nothing else
-# needs it). The report of the fur ball's five 512² tiers must fit a
+# needs it). The report of the fur ball's five 512² tiers (and, its bundle
+# measured with --measure-lods, its level x tier grid) must fit a
 # REPORT_WIDTH px window: laid out by Chromium at that width, its
 # scrollWidth is at most REPORT_WIDTH. Then every <img> of it must be found,
 # full size, in a screenshot of the whole page at that width
@@ -473,7 +474,7 @@ endef
 report-check: all $(BUILD)/tests/report_screenshot_check
 	$(call install_missing,chromium)
 	@rm -rf $(REPORT_CHECK) && mkdir -p $(REPORT_CHECK)
-	$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json -o $(REPORT_CHECK)/bundle >/dev/null
+	$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json --measure-lods -o $(REPORT_CHECK)/bundle >/dev/null
 	$(BUILD)/haircompare --bundle $(REPORT_CHECK)/bundle --scene scenes/furball.json --frames 3 -o $(REPORT_CHECK)/report
 	$(call page_size,$(REPORT_CHECK)/report/index.html,$(REPORT_CHECK)/size)
 	@read w h <$(REPORT_CHECK)/size; echo "report-check: the page is $$w x $$h px in a $(REPORT_WIDTH) px window"; \

@@ -24,7 +24,12 @@
    the fixed tiers run on desktop GL and ES 1.1 only) beside the full tier on a desktop
    GL context of the same driver ("full", a second EGL context), frames
    round-robin across both: the ratios and errors are then against
-   desktop full, the floor is ES's. */
+   desktop full, the floor is ES's. --lods times (LOD,
+   tier) pairs instead of the tiers (docs/lod.md): full detail in the full
+   tier, then levels 1 and 2 of the mesh (lod.h's ladder) in full, fixed4
+   and gl11, each against full detail's image, and names the pair
+   error:30 would pick among them (the cheapest at >= 30 dB); --samples N
+   draws every contender multisampled. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -35,6 +40,7 @@
 #include "file_atomic.h"
 #include <hairtier/hairgen.h>
 #include <hairtier/hairtier.h>
+#include <hairtier/lod.h>
 #include "flip.h"
 #include "metrics.h"
 #include "offscreen.h"
@@ -44,13 +50,14 @@
 #include "timing.h"
 
 #define MAX_FRAMES 64
-#define MAX_CONTENDERS 10
+#define MAX_CONTENDERS 12
 #define ORBIT_STEP 0.0175f /* radians a frame: one degree */
 
 static int WIDTH = 512, HEIGHT = 512, FRAMES = 9, HAIRS = 10000;
 #define MAX_HAIRS 1000000
 
-static bool HAIRS_GIVEN = false, ORBIT = true;
+static bool HAIRS_GIVEN = false, ORBIT = true, LODS = false;
+static int SAMPLES = 0;
 static offscreen_kind CONTEXT = OFFSCREEN_AUTO;
 static int EGL_DEVICE = -1;
 static offscreen_api API = OFFSCREEN_API_GL;
@@ -92,6 +99,7 @@ static void clear(offscreen *o, const ht_scene *s) {
 /* NULL when the tier does not run here (or, for HT_VARIANT_DEVICE, has no
    device-only variant for this bundle). */
 static ht_renderer *create(const char *bundle, ht_tier tier, bool flat, ht_variant variant, const ht_mesh *mesh) {
+    if (!mesh) return NULL; /* a LOD this mesh does not have */
     ht_renderer *r = NULL;
     if (ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = bundle, .tier = tier,
                                                 .strict = true, .flat = flat, .log = quiet,
@@ -272,6 +280,21 @@ static void print_table(const contender *c, int count) {
     }
 }
 
+/* --lods: the pair error:DB would pick among this run's contenders (the
+   cheapest whose PSNR against the reference, full detail in full, is at
+   least db), as the runtime's rule does over measured cells. */
+static void print_error_pick(const contender *c, int count, double db) {
+    const double ref_ms = median_ms(&c[REF]);
+    int pick = -1;
+    for (int k = 1; k < count; k++)
+        if (c[k].renderer && c[k].whole.psnr_db >= db && (pick < 0 || median_ms(&c[k]) < median_ms(&c[pick])))
+            pick = k;
+    if (pick < 0) printf("error:%g picks none of these pairs\n", db);
+    else
+        printf("error:%g picks %s: %.2fx %s's cost, %.1f dB\n", db, c[pick].name, median_ms(&c[pick]) / ref_ms,
+               c[REF].name, c[pick].whole.psnr_db);
+}
+
 /* Everything but the scratch directory, which main removes whatever this
    returns. */
 static int run(const char *work) {
@@ -290,7 +313,8 @@ static int run(const char *work) {
     }
 
     gl = offscreen_open(&(offscreen_desc){ .kind = CONTEXT, .width = WIDTH, .height = HEIGHT,
-                                           .egl_device = EGL_DEVICE, .api = API }, err, sizeof err);
+                                           .egl_device = EGL_DEVICE, .api = API, .samples = SAMPLES },
+                        err, sizeof err);
     if (!gl) {
         fprintf(stderr, "bench_frame: %s\n", err);
         return 1;
@@ -318,31 +342,47 @@ static int run(const char *work) {
     printf(", %dx%d, %s (%s), median of %d frames\n", WIDTH, HEIGHT, (const char *)gl->gl.GetString(GL_RENDERER),
            gl->display, FRAMES);
     /* Best first, as the bundle lists them; a tier this build lacks is skipped. */
-    static const struct { const char *name, *tier; ht_variant variant; } runs[] = {
-        { "full", "full", HT_VARIANT_EXACT },     { "vertex", "vertex", HT_VARIANT_EXACT },
-        { "fixed4", "fixed4", HT_VARIANT_EXACT }, { "fixed4-device", "fixed4", HT_VARIANT_DEVICE },
-        { "fixed", "fixed", HT_VARIANT_EXACT },   { "fixed-device", "fixed", HT_VARIANT_DEVICE },
-        { "gl11", "gl11", HT_VARIANT_EXACT },
+    typedef struct run_desc { const char *name, *tier; ht_variant variant; int lod; } run_desc;
+    static const run_desc tier_runs[] = {
+        { "full", "full", HT_VARIANT_EXACT, 0 },     { "vertex", "vertex", HT_VARIANT_EXACT, 0 },
+        { "fixed4", "fixed4", HT_VARIANT_EXACT, 0 }, { "fixed4-device", "fixed4", HT_VARIANT_DEVICE, 0 },
+        { "fixed", "fixed", HT_VARIANT_EXACT, 0 },   { "fixed-device", "fixed", HT_VARIANT_DEVICE, 0 },
+        { "gl11", "gl11", HT_VARIANT_EXACT, 0 },
     };
-    enum { TIERS = sizeof runs / sizeof runs[0] };
+    /* --lods: (LOD, tier) pairs beside full detail (the same contender slots). */
+    static const run_desc lod_runs[] = {
+        { "full", "full", HT_VARIANT_EXACT, 0 },        { "lod1-full", "full", HT_VARIANT_EXACT, 1 },
+        { "lod2-full", "full", HT_VARIANT_EXACT, 2 },   { "lod1-fixed4", "fixed4", HT_VARIANT_EXACT, 1 },
+        { "lod2-fixed4", "fixed4", HT_VARIANT_EXACT, 2 }, { "lod1-gl11", "gl11", HT_VARIANT_EXACT, 1 },
+        { "lod2-gl11", "gl11", HT_VARIANT_EXACT, 2 },
+    };
+    _Static_assert(sizeof tier_runs / sizeof tier_runs[0] == sizeof lod_runs / sizeof lod_runs[0], "one count");
+    enum { TIERS = sizeof tier_runs / sizeof tier_runs[0] };
     _Static_assert(TIERS + 1 <= MAX_CONTENDERS, "MAX_CONTENDERS");
+    const run_desc *runs = LODS ? lod_runs : tier_runs;
+    ht_mesh lods[3] = { { 0 } }; /* [1], [2]: the levels --lods draws */
+    for (int l = 1; LODS && l < 3 && l <= ht_lod_max_level(&mesh); l++) {
+        ht_lod_desc d;
+        ht_lod_level(l, &d);
+        if (ht_mesh_build_lod(&mesh, &d, &lods[l]) != HT_OK) fprintf(stderr, "bench_frame: LOD %d: not built\n", l);
+    }
     contender c[TIERS + 1] = { { .name = "geometry floor", .tier = "floor", .context = gl,
                                  .renderer = create(dir, HT_TIER_AUTO, true, HT_VARIANT_EXACT, &mesh) } };
     int count = TIERS + 1;
     if (API == OFFSCREEN_API_GL || API == OFFSCREEN_API_GLES1) {
         for (int k = 0; k < TIERS; k++) {
             ht_tier t = ht_tier_from_name(runs[k].tier);
+            const ht_mesh *m = runs[k].lod == 0 ? &mesh : lods[runs[k].lod].vertices ? &lods[runs[k].lod] : NULL;
             c[k + 1] = (contender){ .name = runs[k].name, .tier = runs[k].name, .context = gl,
-                                    .renderer = t == HT_TIER_COUNT ? NULL
-                                                                   : create(dir, t, false, runs[k].variant, &mesh) };
+                                    .renderer = t == HT_TIER_COUNT ? NULL : create(dir, t, false, runs[k].variant, m) };
         }
     } else {
         /* floor, desktop full, then the GLSL tiers on ES ("full-gles2", ...) */
         static char names[2][32];
         for (int k = 0; k < 2; k++) {
-            snprintf(names[k], sizeof names[k], "%s-%s", runs[k].tier, offscreen_api_name(API));
+            snprintf(names[k], sizeof names[k], "%s-%s", tier_runs[k].tier, offscreen_api_name(API));
             c[k + 2] = (contender){ .name = names[k], .tier = names[k], .context = gl,
-                                    .renderer = create(dir, ht_tier_from_name(runs[k].tier), false, HT_VARIANT_EXACT,
+                                    .renderer = create(dir, ht_tier_from_name(tier_runs[k].tier), false, HT_VARIANT_EXACT,
                                                        &mesh) };
         }
         count = 4;
@@ -365,6 +405,7 @@ static int run(const char *work) {
         fprintf(stderr, "bench_frame: the geometry floor or every tier failed to render\n");
     } else if (measure_errors(c, count)) {
         print_table(c, count);
+        if (LODS) print_error_pick(c, count, 30.0);
         status = CSV && !write_csv(c, count, &scene, mesh.index_count / 3) ? 1 : 0;
     }
     for (int k = 0; k < count; k++) {
@@ -379,6 +420,7 @@ static int run(const char *work) {
         desk = NULL;
         offscreen_make_current(gl);
     }
+    for (int l = 0; l < 3; l++) ht_mesh_free(&lods[l]);
 close_context:
     ht_mesh_free(&mesh);
     ht_mesh_free(&head);
@@ -388,7 +430,7 @@ close_context:
 }
 
 enum { KEY_HAIRS = CLI_LONG_ONLY, KEY_FRAMES, KEY_SCENE, KEY_CSV, KEY_SERIES, KEY_EGL_DEVICE, KEY_CONTEXT, KEY_API,
-       KEY_NO_ORBIT, KEY_SIZE };
+       KEY_NO_ORBIT, KEY_SIZE, KEY_LODS, KEY_SAMPLES };
 static const struct option long_options[] = {
     { "hairs", required_argument, NULL, KEY_HAIRS },
     { "frames", required_argument, NULL, KEY_FRAMES },
@@ -400,6 +442,8 @@ static const struct option long_options[] = {
     { "api", required_argument, NULL, KEY_API },
     { "no-orbit", no_argument, NULL, KEY_NO_ORBIT },
     { "size", required_argument, NULL, KEY_SIZE },
+    { "lods", no_argument, NULL, KEY_LODS },
+    { "samples", required_argument, NULL, KEY_SAMPLES },
     { 0 },
 };
 
@@ -407,7 +451,7 @@ static const cli_program program = {
     .name = "bench_frame",
     .synopsis = "usage: bench_frame [--scene SCENE.json] [--hairs N] [--size S] [--frames F] [--no-orbit]\n"
                 "                   [--csv FILE [--series NAME]] [--context osmesa|egl] [--egl-device N]\n"
-                "                   [--api gl|gles1|gles2|gles3]\n",
+                "                   [--api gl|gles1|gles2|gles3] [--lods] [--samples N]\n",
     .help = "Times every tier of dark-brown against the geometry floor on one context, frames round-robin:\n"
             "median frame ms, the ratios to the floor and to full, PSNR against full and the per-vertex CPU\n"
             "work, with the camera still and orbiting (--no-orbit skips that).\n"
@@ -418,7 +462,10 @@ static const cli_program program = {
             "  --csv FILE     also write the rows, series NAME (--series, default matrix)\n"
             "  --context K    osmesa or egl; --egl-device N: EGL device N\n"
             "  --api A        gl (default), gles1, gles2 or gles3: a GL ES context (EGL); on gles2 and\n"
-            "                 gles3 the GLSL tiers beside full on desktop GL (a second EGL context)\n",
+            "                 gles3 the GLSL tiers beside full on desktop GL (a second EGL context)\n"
+            "  --lods         (LOD, tier) pairs instead of the tiers: full detail, levels 1 and 2 in full,\n"
+            "                 fixed4 and gl11 (docs/lod.md), and the pair error:30 picks among them\n"
+            "  --samples N    a multisampled framebuffer, 2..32 samples (GL 3.0)\n",
     .long_options = long_options,
 };
 
@@ -458,6 +505,8 @@ static const char *take(void *user, int key, const char *value) {
     case KEY_CONTEXT: return offscreen_context_value(value, &CONTEXT);
     case KEY_API: return offscreen_api_value(value, &API);
     case KEY_NO_ORBIT: ORBIT = false; return NULL;
+    case KEY_LODS: LODS = true; return NULL;
+    case KEY_SAMPLES: return number("--samples", value, 2, 32, &SAMPLES);
     case KEY_SIZE:
         if ((why = number("--size", value, 16, 4096, &size))) return why;
         WIDTH = HEIGHT = size;

@@ -17,6 +17,9 @@
       llvmpipe, the patches on softpipe (its fur ball would add ~4 min a
       run), camera still; ES 2.0 is Mesa's ES lowered by
       MESA_GLES_VERSION_OVERRIDE=2.0, so the ESSL 1.00 texts run.
+   5. build/bench_frame --lods --samples 4 on the 8 000-hair fur ball at
+      half and a quarter of the size on llvmpipe: (LOD, tier) pairs beside
+      full detail (series "lods", in results.csv; docs/lod.md).
    Their own tables print as they run; after each step a progress line with
    the time taken and an ETA (from the steps so far against a predicted
    weight per step). Then writes, atomically, DIR/results.csv (every row),
@@ -81,6 +84,7 @@ typedef struct step {
     int hairs;               /* 0: the scene's (not a fur ball) */
     int size, frames;
     bool orbit;
+    bool lods;               /* bench_frame --lods --samples 4: (LOD, tier) pairs */
     const char *series;
     const char *api;         /* bench_frame --api; NULL: desktop GL */
     double weight;           /* predicted seconds; only their proportions matter */
@@ -136,6 +140,17 @@ static int plan(step *s, bool quick) {
                                  .series = apis[a], .api = apis[a],
                                  .weight = frame_weight(dr, furball, hairs, size, frames, false, ES_CONTENDERS) };
             }
+    /* (LOD, tier) pairs beside full detail at half and a quarter size, 4
+       samples (docs/lod.md): rows of series "lods" in results.csv. */
+    for (int half = 1; half <= 2; half++) {
+        const driver *dr = &drivers[0];
+        int size = (quick ? 96 : dr->size) >> half, frames = quick ? 2 : SCALING_FRAMES;
+        if (size < 16) size = 16;
+        s[n++] = (step){ .kind = FRAME, .program = "bench_frame", .driver = dr->name, .scene = "scenes/furball.json",
+                         .hairs = quick ? 800 : 8000, .size = size, .frames = frames, .orbit = false, .lods = true,
+                         .series = "lods",
+                         .weight = frame_weight(dr, true, quick ? 800 : 8000, size, frames, false, CONTENDERS) };
+    }
     return n;
 }
 
@@ -173,6 +188,7 @@ static void command_line(const step *s, const char *bindir, const char *csv, arg
     arg(a, "%s", "--size"), arg_int(a, s->size);
     arg(a, "%s", "--frames"), arg_int(a, s->frames);
     if (!s->orbit) arg(a, "%s", "--no-orbit");
+    if (s->lods) arg(a, "%s", "--lods"), arg(a, "%s", "--samples"), arg(a, "%s", "4");
     arg(a, "%s", "--series"), arg(a, "%s", s->series);
     if (s->api) arg(a, "%s", "--api"), arg(a, "%s", s->api);
     arg(a, "%s", "--csv"), arg(a, "%s", csv);

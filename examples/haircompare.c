@@ -14,7 +14,9 @@
    table row: frame ms, cost ratio to the reference, PSNR, SSIM, ΔE00 mean
    and p95 (shadergen/metrics.h) beside the bundle's measured numbers, and
    the features the manifest says the tier drops; then an SVG plot of
-   error against cost. Why not grow tier_sheet: its one PNG is the quick
+   error against cost. A bundle measured with hairgen --measure-lods gets
+   a grid too: every geometry LOD by every tier at a quarter size, each
+   against (LOD 0, the reference), beside the manifest's numbers. Why not grow tier_sheet: its one PNG is the quick
    look on a terminal and in docs; a report is a directory written whole
    (temporary sibling, renamed at the end) with a table and plot that a PNG
    cannot carry. Both share the rendering (tier_render.c).
@@ -23,6 +25,7 @@
    1 when no tier ran or on any other failure (one line on stderr, no
    report, REPORT_DIR as it was), 2 on usage. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,6 +36,7 @@
 #include "compare/report_dir.h"
 #include "compare/tier_render.h"
 #include <hairtier/image.h>
+#include <hairtier/lod.h>
 #include "cli.h"
 #include "offscreen.h"
 #include "view_args.h"
@@ -188,6 +192,72 @@ static void print_table(const report *r) {
                r->tiers[o.b].name);
 }
 
+/* The LOD x tier grid (report.h): every level of the scene's hair drawn
+   by every tier that ran, at the measured size nearest REPORT_LOD_SIZE,
+   against (level 0, the reference tier). Only for a bundle with "lods". */
+static ht_result build_lod_grid(const options *o, const char *tmp, const tier_scene *ts, report *rep, char *err,
+                                size_t err_size) {
+    report_lod_grid *g = &rep->lods;
+    if (rep->measured_lods.cell_count == 0 || rep->reference < 0) return HT_OK;
+    g->size = report_lod_size(&rep->measured_lods);
+    tier_scene small = *ts;
+    small.scene.width = (int)fmax(16, lround(ts->scene.width * g->size));
+    small.scene.height = (int)fmax(16, lround(ts->scene.height * g->size));
+    g->width = small.scene.width;
+    g->height = small.scene.height;
+    g->levels = ht_lod_max_level(&ts->hair) + 1;
+    if (g->levels > REPORT_LOD_MAX_LEVELS) g->levels = REPORT_LOD_MAX_LEVELS;
+    const int w = g->width, h = g->height;
+    tier_frame frames[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS];
+    memset(frames, 0, sizeof frames);
+    ht_result r = HT_OK;
+    for (int l = 0; l < g->levels && r == HT_OK; l++) {
+        ht_mesh lod = { 0 };
+        if (l > 0) {
+            ht_lod_desc d;
+            ht_lod_level(l, &d);
+            if ((r = ht_mesh_build_lod(&ts->hair, &d, &lod)) != HT_OK) {
+                snprintf(err, err_size, "%s: geometry: cannot build LOD %d: %s", rep->scene, l, ht_result_string(r));
+                break;
+            }
+            small.hair = lod;
+        }
+        g->strands[l] = small.hair.component_count;
+        for (int t = 0; t < rep->tier_count && r == HT_OK; t++) {
+            report_lod_cell *c = &g->cells[l][t];
+            if (!rep->tiers[t].ran) continue;
+            fprintf(stderr, "haircompare: rendering level %d with %s at %gx\n", l, rep->tiers[t].name, g->size);
+            tier_render(o->view.bundle, &small, rep->tiers[t].tier, o->view.frames, &frames[l][t]);
+            if (!(c->ran = frames[l][t].ran)) continue;
+            c->frame_ms = frames[l][t].frame_ms;
+            char name[sizeof rep->tiers[t].name], path[4300];
+            memcpy(name, rep->tiers[t].name, sizeof name); /* a copy, as in compare_tier (-Wrestrict) */
+            snprintf(c->image, sizeof c->image, "lod%d-%s.png", l, name);
+            snprintf(path, sizeof path, "%s/%s", tmp, c->image);
+            ht_image img = { 0 };
+            r = write_frame(path, frames[l][t].rgba, w, h, &img, err, err_size);
+            ht_image_free(&img);
+        }
+        ht_mesh_free(&lod);
+        small.hair = ts->hair;
+    }
+    const tier_frame *ref = &frames[0][rep->reference];
+    for (int l = 0; l < g->levels && r == HT_OK; l++)
+        for (int t = 0; t < rep->tier_count && r == HT_OK; t++) {
+            report_lod_cell *c = &g->cells[l][t];
+            if (!c->ran || !ref->ran) continue;
+            r = ht_metrics_compare(&(ht_metrics_desc){ .reference = ref->rgba, .test = frames[l][t].rgba,
+                                                       .width = w, .height = h },
+                                   &c->whole, NULL, err, err_size);
+            if (l == 0 && t == rep->reference) c->whole.psnr_db = INFINITY;
+            c->cost_ratio = c->frame_ms / ref->frame_ms;
+        }
+    report_lod_attach_measured(rep);
+    for (int l = 0; l < REPORT_LOD_MAX_LEVELS; l++)
+        for (int t = 0; t < REPORT_MAX_TIERS; t++) tier_frame_free(&frames[l][t]);
+    return r;
+}
+
 /* Renders, measures and writes every file into tmp; 0 or 1. */
 static int build(const options *o, const char *tmp, const tier_scene *ts, report *rep, char *err, size_t err_size) {
     tier_frame frames[REPORT_MAX_TIERS] = { 0 };
@@ -229,6 +299,7 @@ static int build(const options *o, const char *tmp, const tier_scene *ts, report
                                               &heats[t], err, err_size) != HT_OK)
             goto done;
     if (ref >= 0 && write_crops(o, tmp, rep, bg, images, heats, err, err_size) != HT_OK) goto done;
+    if (build_lod_grid(o, tmp, ts, rep, err, err_size) != HT_OK) goto done;
 
     char path[4300];
     snprintf(path, sizeof path, "%s/index.html", tmp);

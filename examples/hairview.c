@@ -14,7 +14,9 @@
    is at least a pixel wide) and prints `lod=N strands=K strand_px=W`
    first; --size and --distance shrink the hair on screen; --samples
    multisamples (platform/offscreen_msaa.c); --supersample K draws K x K
-   times the pixels and box-filters them down (a reference; docs/lod.md).
+   times the pixels and box-filters them down (a reference; docs/lod.md);
+   --width-rule draws a strand under a pixel (at the pixels drawn) about a
+   pixel wide with its opacity scaled by the ratio, blended far to near (lod.h).
    --context picks how the GL context is made (platform/offscreen.h; default
    HAIRTIER_CONTEXT, else osmesa where libOSMesa loads, else egl);
    --egl-device N draws on EGL device N (EGL_EXT_platform_device) and implies
@@ -52,6 +54,7 @@ typedef struct options {
     double distance;      /* 0: the scene's camera; else the eye this far from the target */
     int samples;          /* 0: no multisampling; else the framebuffer's samples */
     int supersample;      /* 1; K: drawn K x K times larger, box-filtered down to the PNG */
+    bool width_rule;      /* lod.h's width rule on the mesh drawn */
 } options;
 
 /* The library's log: every line goes to stderr, one line late, so that
@@ -81,7 +84,7 @@ static int fail(ht_result r) {
 }
 
 enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT, KEY_PROFILE, KEY_LOD, KEY_SIZE, KEY_DISTANCE, KEY_SAMPLES,
-       KEY_SUPERSAMPLE };
+       KEY_SUPERSAMPLE, KEY_WIDTH_RULE };
 static const struct option long_options[] = {
     VIEW_ARGS_LONG_OPTIONS,
     { "tier", required_argument, NULL, KEY_TIER },
@@ -94,6 +97,7 @@ static const struct option long_options[] = {
     { "distance", required_argument, NULL, KEY_DISTANCE },
     { "samples", required_argument, NULL, KEY_SAMPLES },
     { "supersample", required_argument, NULL, KEY_SUPERSAMPLE },
+    { "width-rule", no_argument, NULL, KEY_WIDTH_RULE },
     { 0 },
 };
 
@@ -102,6 +106,7 @@ static const cli_program program = {
     .synopsis = "usage: hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]\n"
                 "                [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]\n"
                 "                [--lod auto|N] [--size F] [--distance D] [--samples N] [--supersample K]\n"
+                "                [--width-rule]\n"
                 "                [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]\n"
                 "                [--device-profile NAME] -o OUT.png\n",
     .help = "Renders SCENE with the bundle's tier that the device runs best (or --tier, --policy) and writes\n"
@@ -118,6 +123,8 @@ static const cli_program program = {
             "  --distance D    the eye D scene units from the target, along the scene's view (default: the scene's)\n"
             "  --samples N     draw multisampled, N samples (2..32; a framebuffer object, GL 3.0), resolved before the PNG\n"
             "  --supersample K draw K x K times the pixels and box-filter them down (1..8; a reference)\n"
+            "  --width-rule    strands under a pixel drawn a pixel wide, opacity scaled by the ratio (docs/lod.md);\n"
+            "                  prints width_rule=F opacity=S\n"
             "  --context K     osmesa or egl (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl)\n"
             "  --egl-device N  draw on EGL device N (implies --context egl)\n"
             "  --api A         gl (default), gles1, gles2 or gles3 (GL ES through EGL; ES 1.1 runs the\n                  fixed-function tiers only)\n"
@@ -148,6 +155,7 @@ static const char *take(void *user, int key, const char *value) {
     }
     case KEY_STRICT: o->strict = true; return NULL;
     case KEY_FLAT: o->flat = true; return NULL;
+    case KEY_WIDTH_RULE: o->width_rule = true; return NULL;
     case KEY_PROFILE: {
         char err[200];
         if (ht_device_profile_parse(value, &o->profile, err, sizeof err) == HT_OK) return NULL;
@@ -235,38 +243,90 @@ static const char *apply_view(const options *o, ht_scene *s) {
     return NULL;
 }
 
-/* Replaces the full mesh by the level --lod asks for (auto: lod.h's best
-   rule at the camera's distance to the target) and prints what it drew. */
+/* The eye's distance from the camera's target. */
 static double eye_distance(const ht_scene *s) {
     double d = 0;
     for (int k = 0; k < 3; k++) d += ((double)s->camera.eye[k] - s->camera.target[k]) * (s->camera.eye[k] - s->camera.target[k]);
     return sqrt(d);
 }
 
-/* --lod auto: with an error:DB policy and a bundle measured with
-   --measure-lods, the cheapest level meeting DB at this projected size
-   (the scene's times --size, over --distance's change); else the best
-   rule. */
-static int auto_level(const options *o, const ht_renderer *r, const ht_policy *policy, double size, double px,
-                      int max_level) {
-    ht_lod_cell cells[64];
-    const int n = r && policy->kind == HT_POLICY_ERROR ? ht_renderer_lod_cells(r, cells, 64) : 0;
-    const int pick = n ? ht_lod_pick_error(cells, n, size, policy->value, -1) : -1;
-    (void)o;
-    if (pick >= 0 && cells[pick].lod <= max_level) {
-        printf("lod_error: level %d at size %.3f: %.2f dB, cost %.3fx level 0\n", cells[pick].lod, size,
-               cells[pick].psnr, cells[pick].cost);
-        return cells[pick].lod;
-    }
-    return ht_lod_pick_best(px, -1, max_level);
+/* The renderer again, strict on `tier` (the pair's), where it draws another. */
+static int retier(const options *o, view *v, ht_tier tier) {
+    if (ht_renderer_tier(v->renderer) == tier) return 0;
+    ht_renderer_destroy(v->renderer);
+    v->renderer = NULL;
+    ht_result r = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->view.bundle,
+                                                          .tier = tier, .strict = true, .log = log_line,
+                                                          .profile = o->profile },
+                                     &v->renderer);
+    return r == HT_OK ? 0 : fail(r);
 }
 
-static int choose_lod(const options *o, const ht_scene *s, double scene_distance, const ht_renderer *r,
-                      const ht_policy *policy, ht_mesh *hair) {
+/* frame:MS's reference: the (LOD 0, reference tier) frame at this size on
+   this device, the mean of 3 after a warm-up. 0 when it cannot draw. */
+static double reference_ms(const options *o, const view *v, const ht_scene *s, const ht_frame_desc *f, ht_tier tier) {
+    ht_renderer *r = NULL;
+    if (ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->view.bundle,
+                                                .tier = tier, .strict = true, .profile = o->profile },
+                           &r) != HT_OK)
+        return 0;
+    double ms = 0;
+    if (ht_renderer_set_mesh(r, &v->hair) == HT_OK) {
+        view timed = *v;
+        timed.renderer = r;
+        ht_result fr = HT_OK;
+        draw_frame(s, &timed, f, &fr);
+        const double t0 = now_ms();
+        for (int i = 0; i < 3; i++) draw_frame(s, &timed, f, &fr);
+        ms = fr == HT_OK ? (now_ms() - t0) / 3 : 0;
+    }
+    ht_renderer_destroy(r);
+    return ms;
+}
+
+/* --lod auto with error:DB or frame:MS and a bundle measured with
+   --measure-lods: the (LOD, tier) pair the rule picks at this projected
+   size (the scene's times --size, over --distance's change), the renderer
+   made to draw its tier; else (-1) the best rule decides the level. */
+static int auto_pair(const options *o, view *v, const ht_scene *s, const ht_frame_desc *f, const ht_policy *policy,
+                     double size, int max_level, int *level) {
+    ht_lod_cell cells[128];
+    *level = -1;
+    const bool rule = policy->kind == HT_POLICY_ERROR || policy->kind == HT_POLICY_FRAME;
+    const int n = rule && !o->flat ? ht_renderer_lod_cells(v->renderer, cells, 128) : 0;
+    int ref = -1;
+    for (int i = 0; i < n; i++)
+        if (cells[i].lod == 0 && isinf(cells[i].psnr)) ref = i;
+    if (n == 0 || ref < 0) return 0;
+    double ms = 0;
+    if (policy->kind == HT_POLICY_FRAME && !(ms = reference_ms(o, v, s, f, cells[ref].tier))) return 0;
+    const int pick = policy->kind == HT_POLICY_ERROR ? ht_lod_pick_error(cells, n, size, policy->value, -1)
+                                                     : ht_lod_pick_frame(cells, n, size, policy->value, ms, -1);
+    if (pick < 0 || cells[pick].lod > max_level) return 0;
+    printf("lod_pair: lod=%d tier=%s at size %.3f: %.2f dB, cost %.3fx (lod 0, %s)", cells[pick].lod,
+           ht_tier_name(cells[pick].tier), size, cells[pick].psnr, cells[pick].cost, ht_tier_name(cells[ref].tier));
+    if (policy->kind == HT_POLICY_FRAME) printf(" = %.3f ms of %.3f", cells[pick].cost * ms, policy->value);
+    printf("\n");
+    *level = cells[pick].lod;
+    return retier(o, v, cells[pick].tier);
+}
+
+/* Replaces the full mesh by the level --lod asks for (auto: the pair rule
+   above, else lod.h's best rule at the camera's distance to the target)
+   and prints what it drew; *paired: the pair rule chose the tier too. */
+static int choose_lod(const options *o, const ht_scene *s, double scene_distance, view *v, const ht_frame_desc *f,
+                      const ht_policy *policy, bool *paired) {
+    ht_mesh *hair = &v->hair;
     const double d = eye_distance(s);
     const double px = ht_projected_width_px(ht_mesh_mean_width(hair), d, s->camera.fov_y, s->height / o->supersample);
     const int max_level = ht_lod_max_level(hair);
-    const int level = o->lod < 0 ? auto_level(o, r, policy, o->size * scene_distance / d, px, max_level) : o->lod;
+    int level = o->lod;
+    *paired = false;
+    if (o->lod < 0) {
+        if (auto_pair(o, v, s, f, policy, o->size * scene_distance / d, max_level, &level)) return 1;
+        *paired = level >= 0;
+        if (level < 0) level = ht_lod_pick_best(px, -1, max_level);
+    }
     if (level > max_level) {
         fprintf(stderr, "hairview: --lod: %d is past this scene's last level %d (%u strands)\n", level, max_level,
                 hair->component_count);
@@ -285,6 +345,28 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
         *hair = lod;
     }
     printf("lod=%d strands=%u strand_px=%.3f\n", level, hair->component_count, px);
+    return 0;
+}
+
+/* --width-rule on the mesh choose_lod left: its strands' width at the
+   pixels drawn (a supersampled frame's too), widened to about a pixel,
+   the opacity scaled by the inverse. */
+static int apply_width_rule(const options *o, const ht_scene *s, ht_renderer *r, ht_mesh *hair) {
+    const double px = ht_projected_width_px(ht_mesh_mean_width(hair), eye_distance(s), s->camera.fov_y, s->height);
+    const double f = ht_width_rule_widen(px);
+    if (f > 1.0) {
+        ht_mesh wide;
+        ht_result res = ht_mesh_widen(hair, f, &wide);
+        if (res != HT_OK) {
+            fprintf(stderr, "hairview: %s: geometry: --width-rule: %s\n", o->view.scene, ht_result_string(res));
+            return 1;
+        }
+        ht_mesh_free(hair);
+        *hair = wide;
+        ht_mesh_sort_back_to_front(hair, s->camera.eye);
+        if ((res = ht_renderer_set_opacity_scale(r, (float)(1.0 / f))) != HT_OK) return fail(res);
+    }
+    printf("width_rule=%.3f opacity=%.3f\n", f, 1.0 / f);
     return 0;
 }
 
@@ -326,14 +408,17 @@ static int run(const options *o, view *v) {
     ht_policy policy = { HT_POLICY_BEST, 0 };
     if (ht_policy_parse(policy_text && policy_text[0] ? policy_text : NULL, &policy, err, sizeof err) != HT_OK)
         policy.kind = HT_POLICY_BEST; /* the renderer has refused it already */
-    if (choose_lod(o, &scene, scene_distance, o->flat ? NULL : v->renderer, &policy, &v->hair)) return 1;
-    if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
-    print_held();
-
     ht_frame_desc frame = { .camera = scene.camera, .lights = scene.lights, .light_count = scene.light_count,
                             .aspect = (float)scene.width / (float)scene.height,
                             .opaque = v->head.index_count ? &v->head : NULL };
-    if (!o->flat && policy.kind == HT_POLICY_FRAME) {
+    bool paired = false;
+    if (choose_lod(o, &scene, scene_distance, v, &frame, &policy, &paired)) return 1;
+    print_held();
+    if (o->width_rule && apply_width_rule(o, &scene, v->renderer, &v->hair)) return 1;
+    if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
+    print_held();
+
+    if (!o->flat && !paired && policy.kind == HT_POLICY_FRAME) {
         if ((r = ht_renderer_choose_by_frame_time(v->renderer, &v->hair, &frame, 0)) != HT_OK) return fail(r);
         print_held();
     }

@@ -66,6 +66,20 @@ static int argument_count(GLenum combine) {
 
 /* ---- public helpers ---- */
 
+bool ht_combiner_stage_scale_alpha(const ht_combiner_stage *in, float opacity, ht_combiner_stage *out) {
+    if (in->combine_alpha != GL_REPLACE) return false;
+    for (int a = 0; a < argument_count(in->combine_rgb); a++)
+        if (in->source_rgb[a] == GL_CONSTANT &&
+            (in->operand_rgb[a] == GL_SRC_ALPHA || in->operand_rgb[a] == GL_ONE_MINUS_SRC_ALPHA))
+            return false;
+    *out = *in;
+    out->combine_alpha = GL_MODULATE;
+    out->source_alpha[1] = GL_CONSTANT;
+    out->operand_alpha[1] = GL_SRC_ALPHA;
+    out->constant[3] = opacity;
+    return true;
+}
+
 void ht_combiner_stage_defaults(ht_combiner_stage *s, int unit) {
     memset(s, 0, sizeof *s);
     s->unit = unit;

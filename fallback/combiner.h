@@ -154,6 +154,11 @@ typedef struct ht_combiner_program {
    uv coordinates, no texture name. Arguments a function does not read must
    keep these values (the JSON omits them). */
 void ht_combiner_stage_defaults(ht_combiner_stage *s, int unit);
+/* The width rule (docs/lod.md) on a program's last stage: its alpha
+   REPLACE(a) becomes MODULATE(a, the constant's alpha = opacity). False
+   (out untouched) where the stage's alpha is another function or its rgb
+   reads the constant's alpha, which the scale would change. */
+bool ht_combiner_stage_scale_alpha(const ht_combiner_stage *in, float opacity, ht_combiner_stage *out);
 
 /* The LUT mapping above: d of texel x's centre, and the texture coordinate
    of d (clamped to [-1,1]) on an axis of `size` texels. A size-1 axis holds

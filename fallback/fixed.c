@@ -76,6 +76,8 @@ typedef struct light_slot {
 
 typedef struct fixed_state {
     const ht_gl *gl;
+    float opacity_cut;                        /* the frame's width rule (tier.h) */
+    bool opacity_refused;                     /* logged once: the program's last alpha cannot take it */
     const ht_caps *caps;
     ht_combiner_program program;
     GLuint textures[HT_COMBINER_MAX_STAGES];  /* per stage */
@@ -572,6 +574,7 @@ static void begin_matrix_slot(fixed_state *s, light_slot *slot, const ht_tier_fr
 
 static void begin_frame(void *state, const ht_tier_frame *f) {
     fixed_state *s = state;
+    s->opacity_cut = f->opacity_cut;
     if (!s->vertices) return;
     for (int k = 0; k < s->slot_count; k++) {
         light_slot *slot = &s->slots[k];
@@ -641,6 +644,14 @@ static void bind_pass(void *state, ht_pass pass, int sub_pass) {
         gl->BindTexture(st->target, s->textures[i]);
         gl->Enable(st->target);
         gl->TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
+        ht_combiner_stage scaled;
+        if (i + 1 == s->program.stage_count && s->opacity_cut > 0.0f) {
+            if (ht_combiner_stage_scale_alpha(st, 1.0f - s->opacity_cut, &scaled)) st = &scaled;
+            else if (!s->opacity_refused) {
+                s->opacity_refused = true;
+                ht_log_linef(s->log, s->log_user, "hairtier: fixed: the last stage's alpha takes no width-rule opacity");
+            }
+        }
         apply_env(gl, st);
         if (i == s->split_unit) {
             float m[16];

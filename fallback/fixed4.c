@@ -252,6 +252,7 @@ static void update_local_coords(fixed4_state *s, const float eye[3]) {
 
 static void begin_frame(void *state, const ht_tier_frame *f) {
     fixed4_state *s = state;
+    s->stages.opacity_cut = f->opacity_cut;
     const ht_fixed4_program *p = &s->program;
     for (int l = 0; l < HT_FIXED4_MAX_LIGHTS; l++) {
         const bool lit = l < p->lights && l < f->light_count;

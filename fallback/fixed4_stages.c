@@ -99,8 +99,9 @@ void ht_fixed4_stages_update(ht_fixed4_stages *st, const float light_colors[][3]
 typedef struct env {
     GLenum rgb, alpha;
     GLenum src_rgb[3], op_rgb[3];
-    GLenum src_alpha[1], op_alpha[1];
+    GLenum src_alpha[2], op_alpha[2]; /* the second: GL_MODULATE's */
     int scale;
+    float constant_alpha;             /* the width rule's opacity where src_alpha[1] is GL_CONSTANT */
 } env;
 
 static void apply_env(const ht_gl *gl, const env *e) {
@@ -115,6 +116,12 @@ static void apply_env(const ht_gl *gl, const env *e) {
     }
     gl->TexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA, (GLint)e->src_alpha[0]);
     gl->TexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_ALPHA, (GLint)e->op_alpha[0]);
+    if (e->alpha == GL_MODULATE) {
+        gl->TexEnvi(GL_TEXTURE_ENV, GL_SOURCE1_ALPHA, (GLint)e->src_alpha[1]);
+        gl->TexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_ALPHA, (GLint)e->op_alpha[1]);
+        const GLfloat constant[4] = { 0, 0, 0, e->constant_alpha };
+        gl->TexEnvfv(GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, constant);
+    }
     gl->TexEnvf(GL_TEXTURE_ENV, GL_RGB_SCALE, (GLfloat)e->scale);
     gl->TexEnvf(GL_TEXTURE_ENV, GL_ALPHA_SCALE, 1.0f);
 }
@@ -126,14 +133,17 @@ static env stage_env(const ht_fixed4_stages *st, int unit) {
         /* first LUT: + primary (Scheuermann's diffuse; Kajiya-Kay's is black) */
         GLenum other = unit == 0 ? GL_PRIMARY_COLOR : GL_PREVIOUS;
         return (env){ GL_ADD, GL_REPLACE, { GL_TEXTURE, other }, { GL_SRC_COLOR, GL_SRC_COLOR },
-                      { other }, { GL_SRC_ALPHA }, 1 };
+                      { other, other }, { GL_SRC_ALPHA, GL_SRC_ALPHA }, 1, 1.0f };
     }
     if (unit == albedo_unit)
         return (env){ GL_MODULATE, GL_REPLACE, { GL_TEXTURE, GL_PREVIOUS }, { GL_SRC_COLOR, GL_SRC_COLOR },
-                      { GL_PREVIOUS }, { GL_SRC_ALPHA }, 1 };
-    /* final: rgb x ao (carried in alpha) x scale; alpha = the albedo's coverage */
-    return (env){ GL_MODULATE, GL_REPLACE, { GL_PREVIOUS, GL_PREVIOUS }, { GL_SRC_COLOR, GL_SRC_ALPHA },
-                  { GL_TEXTURE }, { GL_SRC_ALPHA }, st->scale };
+                      { GL_PREVIOUS, GL_PREVIOUS }, { GL_SRC_ALPHA, GL_SRC_ALPHA }, 1, 1.0f };
+    /* final: rgb x ao (carried in alpha) x scale; alpha = the albedo's
+       coverage, x the width rule's opacity (a constant) where it applies */
+    const bool scaled = st->opacity_cut > 0.0f;
+    return (env){ GL_MODULATE, scaled ? GL_MODULATE : GL_REPLACE, { GL_PREVIOUS, GL_PREVIOUS },
+                  { GL_SRC_COLOR, GL_SRC_ALPHA }, { GL_TEXTURE, GL_CONSTANT }, { GL_SRC_ALPHA, GL_SRC_ALPHA },
+                  st->scale, 1.0f - st->opacity_cut };
 }
 
 void ht_fixed4_stages_bind(const ht_fixed4_stages *st, bool prime) {

@@ -37,6 +37,9 @@ typedef struct ht_fixed4_stages {
     bool baked;
     float baked_colors[HT_FIXED4_MAX_LIGHTS][3];
     int scale;
+    /* the frame's width rule (tier.h): the final stage's alpha x (1 - this),
+       through its constant colour */
+    float opacity_cut;
 } ht_fixed4_stages;
 
 void ht_fixed4_stages_init(ht_fixed4_stages *st, const ht_gl *gl, const ht_fixed4_program *program,

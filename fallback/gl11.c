@@ -43,6 +43,7 @@ typedef struct shade_key {
         int type;
         float vector[3], color[3];
     } lights[HT_MAX_LIGHTS];
+    float opacity; /* the width rule's (tier.h): every colour's alpha */
 } shade_key;
 
 typedef struct gl11_state {
@@ -186,6 +187,7 @@ static void begin_frame(void *state, const ht_tier_frame *f) {
         memcpy(key.lights[l].vector, f->lights[l].vector, sizeof key.lights[l].vector);
         memcpy(key.lights[l].color, f->lights[l].color, sizeof key.lights[l].color);
     }
+    key.opacity = 1.0f - f->opacity_cut;
     if (s->colors_valid && memcmp(&key, &s->key, sizeof key) == 0) return;
     ht_gl11_shade(&s->program, &s->soa, f->lights, key.light_count, f->eye, s->colors);
     /* Desktop GL clamps array colours before interpolating them; llvmpipe's
@@ -193,6 +195,8 @@ static void begin_frame(void *state, const ht_tier_frame *f) {
        the same (the colours are >= 0; alpha is 1). */
     for (size_t i = 0; i < 4 * s->soa.count; i++)
         if (s->colors[i] > 1.0f) s->colors[i] = 1.0f;
+    /* GL_MODULATE: the drawn alpha is the albedo's x the colour's */
+    for (size_t i = 0; key.opacity != 1.0f && i < s->soa.count; i++) s->colors[4 * i + 3] = key.opacity;
     atomic_fetch_add_explicit(&cpu_vertices_total, (uint64_t)s->soa.count, memory_order_relaxed);
     s->cpu_vertices += s->soa.count;
     s->key = key;
@@ -217,9 +221,9 @@ static bool set_arrays(void *state, ht_pass pass, int sub_pass) {
     const ht_gl *gl = s->gl;
     if (!s->have_mesh || !s->colors_valid) return false;
     if (pass == HT_PASS_PRIME_Z) {
-        /* alpha only: white x the albedo's alpha */
+        /* alpha only: white x the albedo's alpha (x the width rule's) */
         gl->DisableClientState(GL_COLOR_ARRAY);
-        gl->Color4f(1, 1, 1, 1);
+        gl->Color4f(1, 1, 1, s->key.opacity);
         return true;
     }
     /* the buffer, or (none: no VBOs, or its upload was refused) client

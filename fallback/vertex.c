@@ -156,6 +156,7 @@ fail:
    the primary colour) and LUTs for this frame's colours. */
 static void begin_frame(void *state, const ht_tier_frame *f) {
     vertex_state *s = state;
+    s->stages.opacity_cut = f->opacity_cut;
     float colors[HT_MAX_LIGHTS][3] = { { 0 } };
     for (int l = 0; l < s->light_count && l < f->light_count && l < HT_MAX_LIGHTS; l++)
         memcpy(colors[l], f->lights[l].color, sizeof colors[l]);

@@ -103,6 +103,7 @@ static char *main_fragment(const ht_plan *plan, fragment_variant variant) {
         ht_strbuf_addf(&sb, "uniform sampler2D %s; /* %s */\n", HT_U_DETAIL,
                        plan->sparkle ? (plan->shift ? "r = shift, g = sparkle" : "g = sparkle") : "r = shift");
     ht_glsl_light_uniforms(&sb, plan, &in);
+    ht_glsl_opacity_uniform(&sb);
     if (es) {
         ht_strbuf_add(&sb, "/* ES has no alpha test: 1 keeps alpha >= ref, 0 keeps alpha < ref. */\n");
         ht_strbuf_addf(&sb, "uniform mediump float %s;\n", HT_ES_U_ALPHA_REF);
@@ -118,12 +119,7 @@ static char *main_fragment(const ht_plan *plan, fragment_variant variant) {
     if (plan->shift && !mediump) ht_strbuf_addf(&sb, "    %sfloat jitter = detail.r - 0.5;\n", dp);
     if (mediump) mediump_call(&sb, plan);
     else ht_glsl_shading_body(&sb, plan, &in);
-    const char *alpha = plan->alpha ? "albedo.a" : "1.0";
-    if (es) {
-        ht_strbuf_addf(&sb, "    if ((%s >= %s) != (%s > 0.5)) discard;\n", alpha, HT_ES_U_ALPHA_REF,
-                       HT_ES_U_ALPHA_PASS_OPAQUE);
-    }
-    ht_strbuf_addf(&sb, "    gl_FragColor = vec4(rgb, %s);\n", alpha);
+    ht_glsl_alpha_output(&sb, "rgb", plan->alpha ? "albedo.a" : "1.0", es);
     ht_strbuf_add(&sb, "}\n");
     return ht_strbuf_take(&sb);
 }

@@ -195,6 +195,7 @@ static char *main_fragment(const ht_plan *plan, const ht_marschner_lut *lut, boo
                        HT_U_LIGHT_VECTOR, plan->light_count);
         ht_strbuf_addf(&sb, "uniform vec3 %s[%d];\n", HT_U_LIGHT_COLOR, plan->light_count);
     }
+    ht_glsl_opacity_uniform(&sb);
     if (es) {
         ht_strbuf_add(&sb, "/* ES has no alpha test: 1 keeps alpha >= ref, 0 keeps alpha < ref. */\n");
         ht_strbuf_addf(&sb, "uniform float %s;\n", HT_ES_U_ALPHA_REF);
@@ -224,11 +225,7 @@ static char *main_fragment(const ht_plan *plan, const ht_marschner_lut *lut, boo
         if (plan->ao) ht_strbuf_add(&sb, " * v_ao");
         ht_strbuf_add(&sb, ";\n");
     }
-    const char *alpha = plan->alpha ? "albedo.a" : "1.0";
-    if (es)
-        ht_strbuf_addf(&sb, "    if ((%s >= %s) != (%s > 0.5)) discard;\n", alpha, HT_ES_U_ALPHA_REF,
-                       HT_ES_U_ALPHA_PASS_OPAQUE);
-    ht_strbuf_addf(&sb, "    gl_FragColor = vec4(rgb, %s);\n", alpha);
+    ht_glsl_alpha_output(&sb, "rgb", plan->alpha ? "albedo.a" : "1.0", es);
     ht_strbuf_add(&sb, "}\n");
     return ht_strbuf_take(&sb);
 }

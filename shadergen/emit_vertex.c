@@ -24,6 +24,7 @@
 #include "combiner.h"
 #include "emit.h"
 #include "fixed4_program.h"
+#include "glsl_stages.h"
 #include "shader_interface.h"
 #include "strbuf.h"
 
@@ -192,6 +193,7 @@ static char *es_fragment(const ht_plan *plan, const ht_fixed4_program *p) {
     for (int k = 0; k < luts; k++) ht_strbuf_addf(&sb, "uniform sampler2D %s%d;\n", HT_ES_U_LUT_PREFIX, k);
     if (albedo) ht_strbuf_addf(&sb, "uniform sampler2D %s; /* rgb = base, a = alpha */\n", HT_U_ALBEDO);
     ht_strbuf_addf(&sb, "uniform float %s; /* the final stage's scale: 1, 2 or 4 */\n", HT_U_LUT_SCALE);
+    ht_glsl_opacity_uniform(&sb);
     ht_strbuf_add(&sb, "/* ES has no alpha test: 1 keeps alpha >= ref, 0 keeps alpha < ref. */\n");
     ht_strbuf_addf(&sb, "uniform float %s;\nuniform float %s;\n", HT_ES_U_ALPHA_REF, HT_ES_U_ALPHA_PASS_OPAQUE);
     for (int k = 0; k < luts; k++) ht_strbuf_addf(&sb, "varying vec2 v_lut%d;\n", k);
@@ -204,9 +206,7 @@ static char *es_fragment(const ht_plan *plan, const ht_fixed4_program *p) {
     else ht_strbuf_add(&sb, "    vec4 albedo = vec4(1.0);\n");
     ht_strbuf_add(&sb, "    c = albedo.rgb * c;\n");
     ht_strbuf_addf(&sb, "    vec3 rgb = clamp(c * clamp(v_color.a, 0.0, 1.0) * %s, 0.0, 1.0);\n", HT_U_LUT_SCALE);
-    ht_strbuf_addf(&sb, "    if ((albedo.a >= %s) != (%s > 0.5)) discard;\n", HT_ES_U_ALPHA_REF,
-                   HT_ES_U_ALPHA_PASS_OPAQUE);
-    ht_strbuf_add(&sb, "    gl_FragColor = vec4(rgb, albedo.a);\n");
+    ht_glsl_alpha_output(&sb, "rgb", "albedo.a", true);
     ht_strbuf_add(&sb, "}\n");
     return ht_strbuf_take(&sb);
 }

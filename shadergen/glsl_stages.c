@@ -1,6 +1,7 @@
 /* glsl_stages.c — see glsl_stages.h. */
 #include "glsl_stages.h"
 
+#include <stdio.h>
 #include <string.h>
 
 #include "shader_interface.h"
@@ -54,6 +55,18 @@ char *ht_glsl_main_vertex(const ht_plan *plan, const ht_glsl_vertex_layout *l, b
     return ht_strbuf_take(&sb);
 }
 
+void ht_glsl_opacity_uniform(ht_strbuf *sb) {
+    ht_strbuf_addf(sb, "uniform float %s; /* the width rule: alpha x (1 - this) */\n", HT_U_OPACITY_CUT);
+}
+
+void ht_glsl_alpha_output(ht_strbuf *sb, const char *rgb, const char *alpha, bool es_discard) {
+    ht_strbuf_addf(sb, "    float drawn_alpha = %s * (1.0 - %s);\n", alpha, HT_U_OPACITY_CUT);
+    if (es_discard)
+        ht_strbuf_addf(sb, "    if ((drawn_alpha >= %s) != (%s > 0.5)) discard;\n", HT_ES_U_ALPHA_REF,
+                       HT_ES_U_ALPHA_PASS_OPAQUE);
+    ht_strbuf_addf(sb, "    gl_FragColor = vec4(%s, drawn_alpha);\n", rgb);
+}
+
 /* The Z-prime pass writes no colour: transform, and alpha for the test. */
 char *ht_glsl_prime_stage(const ht_plan *plan, ht_glsl_banner_fn banner, bool fragment) {
     ht_strbuf sb;
@@ -62,15 +75,16 @@ char *ht_glsl_prime_stage(const ht_plan *plan, ht_glsl_banner_fn banner, bool fr
     banner(&sb, plan, fragment ? "Z-prime fragment stage" : "Z-prime vertex stage");
     if (fragment && plan->alpha) ht_strbuf_addf(&sb, "uniform sampler2D %s; /* a = alpha */\n", HT_U_ALBEDO);
     if (plan->alpha) ht_strbuf_add(&sb, "varying vec2 v_uv;\n");
+    if (fragment) ht_glsl_opacity_uniform(&sb);
     ht_strbuf_add(&sb, "\nvoid main() {\n");
     if (!fragment) {
         ht_strbuf_add(&sb, "    /* ftransform(): depth bit-identical to every pass of every tier. */\n");
         ht_strbuf_add(&sb, "    gl_Position = ftransform();\n");
         if (plan->alpha) ht_strbuf_add(&sb, "    v_uv = gl_MultiTexCoord0.xy;\n");
-    } else if (plan->alpha) {
-        ht_strbuf_addf(&sb, "    gl_FragColor = vec4(1.0, 1.0, 1.0, texture2D(%s, v_uv).a);\n", HT_U_ALBEDO);
     } else {
-        ht_strbuf_add(&sb, "    gl_FragColor = vec4(1.0);\n");
+        char alpha[64];
+        snprintf(alpha, sizeof alpha, plan->alpha ? "texture2D(%s, v_uv).a" : "1.0", HT_U_ALBEDO);
+        ht_glsl_alpha_output(&sb, "vec3(1.0)", alpha, false);
     }
     ht_strbuf_add(&sb, "}\n");
     return ht_strbuf_take(&sb);

@@ -29,6 +29,12 @@ void ht_glsl_varyings(ht_strbuf *sb, const ht_plan *plan, const ht_glsl_vertex_l
 char *ht_glsl_main_vertex(const ht_plan *plan, const ht_glsl_vertex_layout *l, bool es);
 /* The Z-prime stage (malloc'd): position only, and the albedo's alpha for
    the alpha test when the plan has alpha. */
+/* The width rule's uniform (shader_interface.h) and a fragment stage's
+   last lines: alpha scaled by it, ES's discard against the pass's rule on
+   that drawn alpha, gl_FragColor = vec4(rgb, drawn alpha). */
+void ht_glsl_opacity_uniform(ht_strbuf *sb);
+void ht_glsl_alpha_output(ht_strbuf *sb, const char *rgb, const char *alpha, bool es_discard);
+
 char *ht_glsl_prime_stage(const ht_plan *plan, ht_glsl_banner_fn banner, bool fragment);
 
 /* The ESSL 3.00 text (malloc'd) of an ESSL 1.00 one: "#version 300 es",

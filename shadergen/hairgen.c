@@ -63,28 +63,33 @@ static const char help[] =
     "                        EGL), compare each with the reference tier and write the\n"
     "                        numbers into its manifest (HAIRGEN_OSMESA, HAIRGEN_EGL name\n"
     "                        other libraries; HAIRTIER_CONTEXT=osmesa|egl forces one)\n"
-    "  --measure-lods        --measure, then the first tier at every geometry LOD of the\n"
-    "                        scene at 1, 1/2 and 1/4 of its size (cost, error, the pop\n"
-    "                        between levels) into the manifest's \"lods\" (docs/lod.md)\n"
+    "  --measure-lods        --measure, then every tier at every geometry LOD of the scene\n"
+    "                        at 1, 1/2 and 1/4 of its size against (LOD 0, first tier):\n"
+    "                        cost, error, the pop between levels, into the manifest's\n"
+    "                        \"lods\" (docs/lod.md)\n"
+    "  --lod-samples N       --measure-lods with every LOD frame drawn with N samples (2..32),\n"
+    "                        as hairview --samples N draws\n"
     "  --emit-header OUT.h   write the bundle as one C header (beside DIR, or instead of it)\n"
     "  --header-symbol NAME  the header's C name (default: from the material's name)\n"
     "  --help, --version     this text; the version and the bundle generator version\n";
 
 typedef struct options {
     const char *scene, *out_dir, *depfile, *jobs, *header, *symbol;
+    int lod_samples;
     int batch, force, quiet, depfile_per_bundle, measure, measure_lods;
     const char **materials;
     int material_count;
 } options;
 
 enum { KEY_SCENE = CLI_LONG_ONLY, KEY_EMIT_HEADER, KEY_HEADER_SYMBOL, KEY_MEASURE, KEY_MEASURE_LODS, KEY_BATCH, KEY_FORCE, KEY_MD,
-       KEY_MF };
+       KEY_MF, KEY_LOD_SAMPLES };
 static const struct option long_options[] = {
     { "scene", required_argument, NULL, KEY_SCENE },
     { "emit-header", required_argument, NULL, KEY_EMIT_HEADER },
     { "header-symbol", required_argument, NULL, KEY_HEADER_SYMBOL },
     { "measure", no_argument, NULL, KEY_MEASURE },
     { "measure-lods", no_argument, NULL, KEY_MEASURE_LODS },
+    { "lod-samples", required_argument, NULL, KEY_LOD_SAMPLES },
     { "batch", no_argument, NULL, KEY_BATCH },
     { "force", no_argument, NULL, KEY_FORCE },
     { "MD", no_argument, NULL, KEY_MD },
@@ -125,6 +130,15 @@ static const char *take(void *user, int key, const char *value) {
     case KEY_HEADER_SYMBOL: return once(&o->symbol, value, "--header-symbol");
     case KEY_MEASURE: o->measure = 1; return NULL;
     case KEY_MEASURE_LODS: o->measure = o->measure_lods = 1; return NULL;
+    case KEY_LOD_SAMPLES: {
+        char *end;
+        const long n = strtol(value, &end, 10);
+        if (end == value || *end || n < 2 || n > HT_MANIFEST_MAX_LOD_SAMPLES)
+            return "--lod-samples: expected a sample count in 2..32";
+        o->measure = o->measure_lods = 1;
+        o->lod_samples = (int)n;
+        return NULL;
+    }
     case KEY_BATCH: o->batch = 1; return NULL;
     case KEY_FORCE: o->force = 1; return NULL;
     case 'q': o->quiet = 1; return NULL;
@@ -155,7 +169,8 @@ static int run_measure_or_header(const options *o, const char *material) {
     char err[2048] = "";
     /* A bad symbol is refused before DIR is written. */
     ht_result r = o->symbol ? ht_header_symbol_check(o->symbol, err, sizeof err) : HT_OK;
-    ht_measure_job job = { .scene_path = o->scene, .out_dir = o->out_dir, .lods = o->measure_lods };
+    ht_measure_job job = { .scene_path = o->scene, .out_dir = o->out_dir, .lods = o->measure_lods,
+                           .lod_samples = o->lod_samples };
     FILE *summary = o->quiet ? NULL : stdout;
     if (r == HT_OK && o->out_dir) {
         ht_bundle_report report;

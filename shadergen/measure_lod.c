@@ -1,5 +1,7 @@
 /* measure_lod.c — hairgen --measure-lods (measure_lod.h). */
 #include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -36,66 +38,108 @@ static ht_result draw_level(offscreen *o, ht_renderer *r, const ht_scene *s, con
     return HT_OK;
 }
 
-/* Every level at one size into out->cells. */
-static ht_result measure_size(const char *dir, const ht_manifest_tier *tier, const ht_scene *scene, double size,
+/* One tier's levels at one size into out->cells: against base (LOD 0 of
+   the first tier, drawn by that tier's call, which sets base and base_ms)
+   and the tier's level before. */
+static ht_result measure_tier(offscreen *o, ht_renderer *r, const ht_scene *s, const ht_frame_desc *f,
+                              const char *tier, double size, const ht_mesh *levels, int level_count, bool first,
+                              unsigned char *base, double *base_ms, unsigned char *prev, unsigned char *cur,
+                              ht_measure_lods *out, char *err, size_t err_size) {
+    const size_t bytes = (size_t)s->width * (size_t)s->height * 4;
+    char why[1024];
+    for (int l = 0; l < level_count; l++) {
+        if (out->count >= HT_MANIFEST_MAX_LOD_CELLS)
+            return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: lods: more than %d cells",
+                           HT_MANIFEST_MAX_LOD_CELLS);
+        ht_measure_lod_cell *c = &out->cells[out->count];
+        ht_result res = draw_level(o, r, s, f, &levels[l], cur, &c->frame_ms);
+        if (res != HT_OK)
+            return ht_fail(err, err_size, res, "measure: lods: %s level %d at size %g: %s", tier, l, size,
+                           ht_result_string(res));
+        if (first && l == 0) {
+            memcpy(base, cur, bytes);
+            *base_ms = c->frame_ms;
+        }
+        c->level = l;
+        snprintf(c->tier, sizeof c->tier, "%s", tier);
+        c->strands = levels[l].component_count;
+        c->size = size;
+        c->cost_ratio = *base_ms > 0 ? c->frame_ms / *base_ms : 1.0;
+        res = ht_metrics_compare(&(ht_metrics_desc){ .reference = base, .test = cur, .width = s->width,
+                                                     .height = s->height },
+                                 &c->whole, NULL, why, sizeof why);
+        ht_metrics pop = { .psnr_db = INFINITY };
+        if (res == HT_OK && l > 0)
+            res = ht_metrics_compare(&(ht_metrics_desc){ .reference = prev, .test = cur, .width = s->width,
+                                                         .height = s->height },
+                                     &pop, NULL, why, sizeof why);
+        if (res != HT_OK)
+            return ht_fail(err, err_size, res, "measure: lods: %s level %d at size %g: %s", tier, l, size, why);
+        /* The reference pair is itself exactly, whatever a redraw gives. */
+        if (first && l == 0) c->whole.psnr_db = INFINITY;
+        c->pop_psnr_db = pop.psnr_db;
+        memcpy(prev, cur, bytes);
+        out->count++;
+    }
+    return HT_OK;
+}
+
+/* Every tier at every level at one size into out->cells. */
+static ht_result measure_size(const char *dir, const ht_manifest *bundle, const ht_scene *scene, double size,
                               const ht_mesh *levels, int level_count, const ht_mesh *head, ht_measure_lods *out,
                               char *err, size_t err_size) {
     ht_scene s = *scene;
     s.width = (int)fmax(16, lround(scene->width * size));
     s.height = (int)fmax(16, lround(scene->height * size));
     char why[1024];
-    offscreen *o = offscreen_open(&(offscreen_desc){ .width = s.width, .height = s.height, .egl_device = -1 }, why,
-                                  sizeof why);
+    offscreen *o = offscreen_open(&(offscreen_desc){ .width = s.width, .height = s.height, .egl_device = -1,
+                                                     .samples = out->samples },
+                                  why, sizeof why);
     if (!o) return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: lods: %s", why);
-    ht_renderer *r = NULL;
-    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = dir,
-                                                            .tier = tier->tier, .strict = true, .policy = "best",
-                                                            .log = NULL },
-                                       &r);
     const size_t bytes = (size_t)s.width * (size_t)s.height * 4;
     unsigned char *base = malloc(bytes), *prev = malloc(bytes), *cur = malloc(bytes);
-    if (res == HT_OK && (!base || !prev || !cur)) res = HT_ERR_OUT_OF_MEMORY;
+    ht_result res = base && prev && cur ? HT_OK : HT_ERR_OUT_OF_MEMORY;
     const ht_frame_desc f = { .camera = s.camera, .lights = s.lights, .light_count = s.light_count,
                               .aspect = (float)s.width / (float)s.height, .opaque = head->index_count ? head : NULL };
     double base_ms = 0;
-    for (int l = 0; l < level_count && res == HT_OK; l++) {
-        ht_measure_lod_cell *c = &out->cells[out->count];
-        res = draw_level(o, r, &s, &f, &levels[l], l ? cur : base, &c->frame_ms);
-        if (res != HT_OK) break;
-        if (l == 0) base_ms = c->frame_ms;
-        c->level = l;
-        c->strands = levels[l].component_count;
-        c->size = size;
-        c->cost_ratio = base_ms > 0 ? c->frame_ms / base_ms : 1.0;
-        const ht_metrics_desc d = { .reference = base, .test = l ? cur : base, .width = s.width, .height = s.height };
-        res = ht_metrics_compare(&d, &c->whole, NULL, why, sizeof why);
-        ht_metrics pop = { .psnr_db = INFINITY };
-        if (res == HT_OK && l > 0)
-            res = ht_metrics_compare(&(ht_metrics_desc){ .reference = prev, .test = cur, .width = s.width,
-                                                         .height = s.height },
-                                     &pop, NULL, why, sizeof why);
-        if (res != HT_OK) {
-            ht_set_error(err, err_size, "measure: lods: level %d at size %g: %s", l, size, why);
-            break;
+    for (int t = 0; t < bundle->tier_count && res == HT_OK; t++) {
+        const ht_manifest_tier *tier = &bundle->tiers[t];
+        ht_renderer *r = NULL;
+        ht_result made = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = dir,
+                                                                 .tier = tier->tier, .strict = true,
+                                                                 .policy = "best", .log = NULL },
+                                            &r);
+        if (made != HT_OK) {
+            if (t == 0) {
+                res = ht_fail(err, err_size, made, "measure: lods: %s at size %g: %s", tier->name, size,
+                              ht_result_string(made));
+            } else if (!strstr(out->skipped, tier->name)) {
+                const size_t n = strlen(out->skipped);
+                snprintf(out->skipped + n, sizeof out->skipped - n, "%s%s", n ? " " : "", tier->name);
+            }
+            continue;
         }
-        c->pop_psnr_db = pop.psnr_db;
-        memcpy(prev, l ? cur : base, bytes);
-        out->count++;
+        res = measure_tier(o, r, &s, &f, tier->name, size, levels, level_count, t == 0, base, &base_ms, prev, cur,
+                           out, err, err_size);
+        ht_renderer_destroy(r);
     }
-    if (res != HT_OK && (!err || !err[0]))
-        ht_set_error(err, err_size, "measure: lods: %s at size %g: %s", tier->name, size, ht_result_string(res));
+    if (res == HT_OK && base_ms <= 0 && !out->count)
+        res = ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: lods: no tier drew at size %g", size);
     free(base);
     free(prev);
     free(cur);
-    ht_renderer_destroy(r);
     offscreen_close(o);
     return res;
 }
 
-ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file, ht_measure_lods *out,
-                              char *err, size_t err_size) {
+ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file, int samples,
+                              ht_measure_lods *out, char *err, size_t err_size) {
     if (err && err_size) err[0] = '\0';
     memset(out, 0, sizeof *out);
+    if (samples != 0 && (samples < 2 || samples > HT_MANIFEST_MAX_LOD_SAMPLES))
+        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: lods: --lod-samples: %d, expected 2..%d",
+                       samples, HT_MANIFEST_MAX_LOD_SAMPLES);
+    out->samples = samples;
     ht_manifest *bundle = malloc(sizeof *bundle);
     ht_mesh levels[HT_LOD_LEVELS] = { 0 }, head = { 0 };
     char why[1024];
@@ -116,7 +160,7 @@ ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char
     }
     snprintf(out->tier, sizeof out->tier, "%s", bundle->tiers[0].name);
     for (int i = 0; i < HT_MEASURE_LOD_SIZES && r == HT_OK; i++)
-        r = measure_size(dir, &bundle->tiers[0], scene, sizes[i], levels, level_count, &head, out, err, err_size);
+        r = measure_size(dir, bundle, scene, sizes[i], levels, level_count, &head, out, err, err_size);
     for (int l = 0; l < HT_LOD_LEVELS; l++) ht_mesh_free(&levels[l]);
     ht_mesh_free(&head);
     free(bundle);
@@ -132,10 +176,12 @@ static void add_psnr(cJSON *o, const char *key, double db) {
 static cJSON *lods_object(const ht_measure_lods *m) {
     cJSON *o = cJSON_CreateObject(), *cells = cJSON_CreateArray();
     cJSON_AddStringToObject(o, HT_MANIFEST_KEY_LOD_TIER, m->tier);
+    if (m->samples) cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_SAMPLES, m->samples);
     for (int i = 0; i < m->count; i++) {
         const ht_measure_lod_cell *c = &m->cells[i];
         cJSON *j = cJSON_CreateObject();
         cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_LEVEL, c->level);
+        cJSON_AddStringToObject(j, HT_MANIFEST_KEY_LOD_TIER, c->tier);
         cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_STRANDS, c->strands);
         cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_SIZE, c->size);
         add_psnr(j, HT_MANIFEST_KEY_PSNR_DB, c->whole.psnr_db);
@@ -182,12 +228,15 @@ ht_result ht_measure_lods_write(const char *dir, const ht_measure_lods *m, char 
 }
 
 void ht_measure_lods_print(FILE *out, const ht_measure_lods *m) {
-    fprintf(out, "lods: tier %s against level 0 at each size; pop = PSNR against the level before\n", m->tier);
-    fprintf(out, "%5s %5s %8s %9s %7s %9s %9s %9s\n", "size", "level", "strands", "cost", "psnr_db", "ssim", "de00",
-            "pop_db");
+    fprintf(out, "lods: every (level, tier) against (level 0, %s) at each size; pop = PSNR against the tier's level before\n",
+            m->tier);
+    if (m->skipped[0]) fprintf(out, "lods: not run on this context: %s\n", m->skipped);
+    if (m->samples) fprintf(out, "lods: every frame with %d samples a pixel\n", m->samples);
+    fprintf(out, "%5s %5s %-10s %8s %9s %7s %9s %9s %9s\n", "size", "level", "tier", "strands", "cost", "psnr_db", "ssim",
+            "de00", "pop_db");
     for (int i = 0; i < m->count; i++) {
         const ht_measure_lod_cell *c = &m->cells[i];
-        fprintf(out, "%5.2f %5d %8u %9.3f %7.2f %9.4f %9.3f %9.2f\n", c->size, c->level, c->strands, c->cost_ratio,
-                c->whole.psnr_db, c->whole.ssim, c->whole.delta_e00_mean, c->pop_psnr_db);
+        fprintf(out, "%5.2f %5d %-10s %8u %9.3f %7.2f %9.4f %9.3f %9.2f\n", c->size, c->level, c->tier, c->strands,
+                c->cost_ratio, c->whole.psnr_db, c->whole.ssim, c->whole.delta_e00_mean, c->pop_psnr_db);
     }
 }

@@ -1,13 +1,13 @@
-/* measure_lod.h — hairgen --measure-lods: the bundle's reference tier
-   (its first: marschner or full) drawn at every geometry LOD of the scene
-   (include/hairtier/lod.h's ladder, up to ht_lod_max_level) at
-   HT_MEASURE_LOD_SIZES projected sizes (the image scaled: 1, 1/2, 1/4),
-   each cell against LOD 0 at the same size (PSNR, SSIM, ΔE00 mean, cost
-   as a ratio of LOD 0's median frame) and against the level before (the
+/* measure_lod.h — hairgen --measure-lods: every tier of the bundle drawn
+   at every geometry LOD of the scene (include/hairtier/lod.h's ladder, up
+   to ht_lod_max_level) at HT_MEASURE_LOD_SIZES projected sizes (the image
+   scaled: 1, 1/2, 1/4), each (LOD, tier) cell against (LOD 0, the bundle's
+   first tier) at the same size (PSNR, SSIM, ΔE00 mean, cost as a ratio of
+   that pair's median frame) and against the tier's level before (the
    pop), written into the manifest's "lods" object (manifest.h), which
-   ht_renderer_lod_cells hands to ht_lod_pick_error. One tier only: every
-   tier at every LOD would multiply --measure's cost by the levels times
-   the sizes. Errors are one line starting "measure: lods: ". */
+   ht_renderer_lod_cells hands to ht_lod_pick_error / ht_lod_pick_frame.
+   A tier this context cannot run is left out (listed in skipped); the
+   first tier must run. Errors are one line starting "measure: lods: ". */
 #ifndef HT_MEASURE_LOD_H
 #define HT_MEASURE_LOD_H
 
@@ -23,22 +23,27 @@
 
 typedef struct ht_measure_lod_cell {
     int level;
+    char tier[16];           /* the tier drawn */
     uint32_t strands;
     double size;
-    ht_metrics whole;        /* against LOD 0 at this size */
+    ht_metrics whole;        /* against (LOD 0, the first tier) at this size */
     double frame_ms, cost_ratio;
-    double pop_psnr_db;      /* against level - 1 at this size; INFINITY at level 0 */
+    double pop_psnr_db;      /* against the tier's level - 1 at this size; INFINITY at level 0 */
 } ht_measure_lod_cell;
 
 typedef struct ht_measure_lods {
-    char tier[16];           /* the tier drawn */
+    char tier[16];           /* the reference tier: the bundle's first */
+    char skipped[128];       /* tiers this context could not run, space-separated */
+    int samples;             /* 0: one a pixel; else the frames' multisampling */
     ht_measure_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
     int count;
 } ht_measure_lods;
 
 /* Draws and measures (needs an offscreen context: OSMesa, else EGL). */
-ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file, ht_measure_lods *out,
-                              char *err, size_t err_size);
+/* samples: 0, one a pixel; 2..32, every frame multisampled (the manifest
+   records it). */
+ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file, int samples,
+                              ht_measure_lods *out, char *err, size_t err_size);
 /* Replaces the "lods" object of dir/manifest.json (whole or not at all),
    after checking the runtime reads the result. */
 ht_result ht_measure_lods_write(const char *dir, const ht_measure_lods *m, char *err, size_t err_size);

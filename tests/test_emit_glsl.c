@@ -387,7 +387,7 @@ static void test_prime_shaders_sample_nothing_without_alpha(void **state) {
     assert_null(strstr(pf, "sampler"));
     assert_null(strstr(pf, "texture2D"));
     assert_null(strstr(pv, "varying"));
-    assert_non_null(strstr(pf, "gl_FragColor = vec4(1.0);"));
+    assert_non_null(strstr(pf, "gl_FragColor = vec4(vec3(1.0), drawn_alpha);"));
     free_both(&e);
 
     set_textures(&m, 1u << HT_TEX_ALPHA);
@@ -511,6 +511,29 @@ static void test_es_fragment_discards_against_the_alpha_uniforms(void **state) {
     assert_null(strstr(vf, "highp"));
     /* The desktop shaders leave alpha testing to glAlphaFunc. */
     assert_null(strstr(text_of(&e.full, "full.frag")->text, "discard"));
+    /* ES discards on the alpha drawn: the width rule's scale included. */
+    assert_true(strstr(es, "drawn_alpha >= u_alpha_ref") && strstr(vf, "drawn_alpha >= u_alpha_ref"));
+    free_both(&e);
+}
+
+/* The width rule (lod.h): every fragment text the GLSL tiers draw hair
+   with, the Z-prime's included, scales its alpha by the one uniform. */
+static void test_every_fragment_text_takes_the_width_rules_opacity(void **state) {
+    (void)state;
+    ht_material m = dark_brown_like();
+    ht_plan p = plan_of(&m, 1, 0);
+    emitted e;
+    emit_both(&p, &e);
+    const char *full[] = { "full.frag", "full-prime.frag", "full-es2.frag", "full-es3.frag" };
+    for (size_t i = 0; i < sizeof full / sizeof full[0]; i++) {
+        const ht_out_text *t = text_of(&e.full, full[i]);
+        assert_non_null(strstr(t->text, "uniform float " HT_U_OPACITY_CUT ";"));
+        assert_non_null(strstr(t->text, "drawn_alpha = "));
+        assert_non_null(strstr(t->text, "(1.0 - " HT_U_OPACITY_CUT ")"));
+    }
+    const char *vertex[] = { "vertex-es2.frag", "vertex-es3.frag" };
+    for (size_t i = 0; i < 2; i++)
+        assert_non_null(strstr(text_of(&e.vertex, vertex[i])->text, "(1.0 - " HT_U_OPACITY_CUT ")"));
     free_both(&e);
 }
 
@@ -647,6 +670,7 @@ int main(void) {
         cmocka_unit_test(test_emitting_twice_is_byte_identical),
         cmocka_unit_test(test_extreme_exponents_and_shifts_validate_and_stay_guarded),
         cmocka_unit_test(test_es_fragment_discards_against_the_alpha_uniforms),
+        cmocka_unit_test(test_every_fragment_text_takes_the_width_rules_opacity),
         cmocka_unit_test(test_mediump_fragment_is_the_mirrored_table),
         cmocka_unit_test(test_vertex_tier_drops_shift_and_sparkle_with_reasons),
         cmocka_unit_test(test_float_literals_read_back_exactly_and_validate),

@@ -254,6 +254,89 @@ static void error_budget_picks_cheapest_pair_with_hysteresis(void **state) {
     assert_int_equal(ht_lod_pick_error(cells, 0, 0.5, 30, -1), -1);
 }
 
+/* Pairs of every tier: the budget picks across tiers and levels, a
+   cheaper tier at a finer level beating a coarser level of the top tier. */
+static void error_budget_composes_lod_and_tier(void **state) {
+    (void)state;
+    const ht_lod_cell cells[] = {
+        { 0, HT_TIER_FULL, 0.25, INFINITY, 1.00 }, { 1, HT_TIER_FULL, 0.25, 31, 0.50 },
+        { 2, HT_TIER_FULL, 0.25, 29, 0.25 },       { 0, HT_TIER_FIXED4, 0.25, 33, 0.60 },
+        { 1, HT_TIER_FIXED4, 0.25, 30.2, 0.30 },   { 2, HT_TIER_FIXED4, 0.25, 28, 0.15 },
+        { 1, HT_TIER_GL11, 0.25, 26, 0.20 },
+    };
+    const int n = (int)(sizeof cells / sizeof cells[0]);
+    assert_int_equal(ht_lod_pick_error(cells, n, 0.25, 30, -1), 4); /* (1, fixed4): 0.30x at 30.2 dB */
+    assert_int_equal(ht_lod_pick_error(cells, n, 0.25, 32, -1), 3); /* (0, fixed4) */
+    assert_int_equal(ht_lod_pick_error(cells, n, 0.25, 25, -1), 5); /* (2, fixed4): the cheapest above 25 */
+    /* the tier is part of the pair: (1, full) held stays, it is not (1, fixed4) */
+    assert_int_equal(ht_lod_pick_error(cells, n, 0.25, 30, 1), 1);
+}
+
+/* frame:MS: the most accurate pair within the budget (reference 10 ms),
+   none within: the cheapest; hysteresis on both sides. */
+static void frame_budget_picks_most_accurate_pair_with_hysteresis(void **state) {
+    (void)state;
+    const ht_lod_cell cells[] = {
+        { 0, HT_TIER_FULL, 0.5, INFINITY, 1.00 }, { 1, HT_TIER_FULL, 0.5, 31, 0.50 },
+        { 2, HT_TIER_FULL, 0.5, 29, 0.25 },       { 1, HT_TIER_FIXED4, 0.5, 30.5, 0.30 },
+        { 2, HT_TIER_FIXED4, 0.5, 28, 0.15 },     { 0, HT_TIER_FULL, 1.0, INFINITY, 1.00 },
+        { 1, HT_TIER_FULL, 1.0, 27, 0.45 },
+    };
+    const int n = (int)(sizeof cells / sizeof cells[0]);
+    assert_int_equal(ht_lod_pick_frame(cells, n, 0.5, 20, 10, -1), 0);  /* everything fits: full detail */
+    assert_int_equal(ht_lod_pick_frame(cells, n, 0.5, 5, 10, -1), 1);   /* 5 ms: (1, full) at 31 dB */
+    assert_int_equal(ht_lod_pick_frame(cells, n, 0.5, 3.2, 10, -1), 3); /* 3.2 ms: (1, fixed4) beats (2, full) */
+    assert_int_equal(ht_lod_pick_frame(cells, n, 0.5, 1, 10, -1), 4);   /* none fits: the cheapest */
+    assert_int_equal(ht_lod_pick_frame(cells, n, 0.6, 5, 10, -1), 1);   /* nearest measured size */
+    assert_int_equal(ht_lod_pick_frame(cells, n, 1.0, 5, 10, -1), 6);
+    /* Held (1, full) at 5.3 ms against a 5 ms budget: within 10 %, it stays. */
+    assert_int_equal(ht_lod_pick_frame(cells, n, 0.5, 4.9, 10, 1), 1);
+    /* Past the margin it goes, to the best within. */
+    assert_int_equal(ht_lod_pick_frame(cells, n, 0.5, 4.0, 10, 1), 3);
+    /* Held (2, full): (1, fixed4) is 1.5 dB better within the budget: switch;
+       held (1, fixed4) and (1, full) only 0.5 dB better: stay. */
+    assert_int_equal(ht_lod_pick_frame(cells, n, 0.5, 5, 10, 2), 1);
+    assert_int_equal(ht_lod_pick_frame(cells, n, 0.5, 5, 10, 3), 3);
+    /* A budget oscillating +-8 % around (1, full)'s 5 ms switches once. */
+    int cur = -1, switches = 0;
+    for (int f = 0; f < 100; f++) {
+        const int next = ht_lod_pick_frame(cells, n, 0.5, 5.0 * (1 + 0.08 * sin(f * 0.7)), 10, cur);
+        switches += cur >= 0 && next != cur;
+        cur = next;
+    }
+    assert_true(switches <= 1);
+    assert_int_equal(ht_lod_pick_frame(cells, n, 0.5, 5, 0, -1), -1);
+    assert_int_equal(ht_lod_pick_frame(cells, 0, 0.5, 5, 10, -1), -1);
+}
+
+/* The width rule's factor: a pixel wide or up to a quarter octave more. */
+static void width_rule_reaches_a_pixel(void **state) {
+    (void)state;
+    assert_true(ht_width_rule_widen(1.0) == 1.0 && ht_width_rule_widen(3.0) == 1.0 && ht_width_rule_widen(0) == 1.0);
+    assert_true(ht_width_rule_widen(NAN) == 1.0);
+    for (double px = 0.01; px < 1.0; px *= 1.07) {
+        const double f = ht_width_rule_widen(px);
+        assert_true(f * px >= 1.0 - 1e-9 && f * px < pow(2, 0.25) + 1e-9);
+        assert_true(fabs(4 * log2(f) - round(4 * log2(f))) < 1e-9);
+    }
+    /* ht_mesh_widen scales every ribbon's width about its centre line */
+    ht_mesh full, wide;
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 200 }, &full), HT_OK);
+    assert_int_equal(ht_mesh_widen(&full, 2.5, &wide), HT_OK);
+    assert_int_equal(wide.component_count, full.component_count);
+    assert_true(fabs(ht_mesh_mean_width(&wide) / ht_mesh_mean_width(&full) - 2.5) < 0.02);
+    ht_mesh_free(&wide);
+    assert_int_equal(ht_mesh_widen(&full, 0.5, &wide), HT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(ht_mesh_widen(&full, NAN, &wide), HT_ERR_INVALID_ARGUMENT);
+    /* back to front: the farthest centroid from the eye first */
+    const float eye[3] = { 0, 0, 5 };
+    ht_mesh_sort_back_to_front(&full, eye);
+    for (uint32_t c = 1; c < full.component_count; c++)
+        assert_true(full.components[c - 1].sort_key <= full.components[c].sort_key);
+    assert_true(full.components[0].sort_key < full.components[full.component_count - 1].sort_key);
+    ht_mesh_free(&full);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(coverage_furball),
@@ -264,6 +347,9 @@ int main(void) {
         cmocka_unit_test(bad_meshes_refused),
         cmocka_unit_test(best_keeps_full_detail_to_a_pixel_with_hysteresis),
         cmocka_unit_test(error_budget_picks_cheapest_pair_with_hysteresis),
+        cmocka_unit_test(error_budget_composes_lod_and_tier),
+        cmocka_unit_test(frame_budget_picks_most_accurate_pair_with_hysteresis),
+        cmocka_unit_test(width_rule_reaches_a_pixel),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -18,10 +18,13 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <math.h>
+
 #include <GL/gl.h>
 
 #include <hairtier/hairgen.h>
 #include <hairtier/hairtier.h>
+#include <hairtier/lod.h>
 #include "manifest.h"
 #include "support_log.h"
 #include "support_osmesa.h"
@@ -158,6 +161,42 @@ static void test_render_glsl_tiers_share_the_flat_pass_list(void **state) {
     for (int i = 0; i < 2; i++)
         expect_flat_pass_list(flat, create((ht_renderer_desc){ .tier = tiers[i], .strict = true }, HT_OK), tiers[i]);
     ht_renderer_destroy(flat);
+}
+
+/* How far the image is from the background, summed over every channel. */
+static double ink(const ht_image *img) {
+    double sum = 0;
+    for (int i = 0; i < img->width * img->height; i++)
+        for (int c = 0; c < 3; c++)
+            sum += fabs(img->pixels[i * img->channels + c] / 255.0 - ht_test_background[c]);
+    return sum;
+}
+
+/* The width rule's opacity (lod.h) in every tier: the same four passes
+   with the reference at 1 (the Z-prime and opaque passes take no scaled
+   fragment, the blended ones every one) and about half the ink at half
+   the opacity: a tier that ignored the scale would keep all of it, one
+   that dropped scaled strands would lose nearly all. */
+static void test_render_opacity_scale_blends_every_strand_in_every_tier(void **state) {
+    (void)state;
+    const ht_tier tiers[] = { HT_TIER_FULL, HT_TIER_VERTEX, HT_TIER_FIXED4, HT_TIER_FIXED, HT_TIER_GL11 };
+    for (size_t i = 0; i < sizeof tiers / sizeof tiers[0]; i++) {
+        ht_renderer *r = create((ht_renderer_desc){ .tier = tiers[i], .strict = true }, HT_OK);
+        assert_int_equal(ht_renderer_set_opacity_scale(r, 0.0f), HT_ERR_INVALID_ARGUMENT);
+        assert_int_equal(ht_renderer_set_opacity_scale(r, 1.5f), HT_ERR_INVALID_ARGUMENT);
+        assert_int_equal(ht_renderer_set_opacity_scale(r, NAN), HT_ERR_INVALID_ARGUMENT);
+        ht_image whole, half;
+        render(r, &whole);
+        assert_int_equal(ht_renderer_set_opacity_scale(r, 0.5f), HT_OK);
+        render(r, &half);
+        check_trace(ht_renderer_trace(r), 1.0f);
+        const double ratio = ink(&half) / ink(&whole);
+        printf("%s: ink at opacity 0.5 / at 1: %.3f\n", ht_tier_name(tiers[i]), ratio);
+        assert_true(ratio > 0.3 && ratio < 0.7);
+        ht_image_free(&whole);
+        ht_image_free(&half);
+        ht_renderer_destroy(r);
+    }
 }
 
 /* A Marschner material's bundle: its tier draws the same passes, same
@@ -453,6 +492,7 @@ int main(int argc, char **argv) {
         cmocka_unit_test(test_render_flat_mode_draws_the_four_passes_in_order),
         cmocka_unit_test(test_render_glsl_tiers_share_the_flat_pass_list),
         cmocka_unit_test(test_render_marschner_tier_shares_the_flat_pass_list),
+        cmocka_unit_test(test_render_opacity_scale_blends_every_strand_in_every_tier),
         cmocka_unit_test(test_render_depth_equal_pass_colours_opaque_texels),
         cmocka_unit_test(test_render_broken_full_shader_drops_to_vertex),
         cmocka_unit_test(test_render_missing_shader_file_drops_to_vertex),

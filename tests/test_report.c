@@ -687,9 +687,73 @@ static void test_report_dir_is_written_whole_and_replaces_only_a_report(void **s
     assert_int_equal(report_dir_publish(tmp, path, err, sizeof err), HT_OK);
 }
 
+/* ---- the LOD x tier grid ---- */
+
+/* sample_report's tiers with a two-level grid at a quarter size and the
+   manifest's cells for some of them. */
+static void sample_lod_report(report *r) {
+    sample_report(r);
+    r->measured_lods.cell_count = 3;
+    r->measured_lods.cells[0] = (ht_manifest_lod_cell){ .level = 1, .tier = "vertex", .size = 0.25, .psnr_db = 31.25,
+                                                        .cost_ratio = 0.375 };
+    r->measured_lods.cells[1] = (ht_manifest_lod_cell){ .level = 1, .tier = "vertex", .size = 1.0, .psnr_db = 20,
+                                                        .cost_ratio = 0.5 };
+    r->measured_lods.cells[2] = (ht_manifest_lod_cell){ .level = 0, .tier = "full", .size = 0.5, .psnr_db = INFINITY,
+                                                        .cost_ratio = 1 };
+    r->lods = (report_lod_grid){ .levels = 2, .size = report_lod_size(&r->measured_lods), .width = 16, .height = 16,
+                                 .strands = { 400, 200 } };
+    const int ran[3] = { 0, 1, 3 }; /* full, vertex, gl11: fixed did not run */
+    for (int l = 0; l < 2; l++)
+        for (int i = 0; i < 3; i++) {
+            report_lod_cell *c = &r->lods.cells[l][ran[i]];
+            c->ran = true;
+            static const char *const names[3] = { "full", "vertex", "gl11" };
+            snprintf(c->image, sizeof c->image, "lod%d-%s.png", l, names[i]);
+            c->cost_ratio = l ? 0.5 : 1.0;
+            c->whole.psnr_db = l == 0 && i == 0 ? INFINITY : 30.0 + i + l;
+        }
+    report_lod_attach_measured(r);
+}
+
+static void test_lod_grid_shows_every_level_by_every_tier_that_ran(void **state) {
+    (void)state;
+    report r;
+    sample_lod_report(&r);
+    /* 0.25 measured: the quarter size, and its cell only */
+    assert_true(r.lods.size == 0.25);
+    assert_true(r.lods.cells[1][1].measured && r.lods.cells[1][1].measured_psnr_db == 31.25);
+    assert_false(r.lods.cells[0][0].measured);
+    capture c;
+    assert_int_equal(report_write_page(capture_open(&c), &r), 0);
+    char *html = capture_close(&c);
+    expect_in(html, "<h2>Geometry levels &#215; tiers at 0.25 of the scene&#8217;s size</h2>");
+    expect_in(html, "<thead><tr><th>level</th><th>full</th><th>vertex</th><th>gl11</th></tr></thead>");
+    expect_in(html, "<tr><th scope=\"row\">1<br><span>200 strands</span></th>");
+    for (int l = 0; l < 2; l++)
+        for (const char *const *t = (const char *const[]){ "full", "vertex", "gl11", NULL }; *t; t++) {
+            char tag[128];
+            snprintf(tag, sizeof tag, "<img src=\"lod%d-%s.png\" width=\"16\" height=\"16\"", l, *t);
+            assert_int_equal(count_of(html, tag), 1);
+        }
+    assert_null(strstr(html, "lod0-fixed"));
+    expect_in(html, "&#8734; dB, 1.00&#215;");
+    expect_in(html, "32.0 dB, 0.50&#215;<br><span>[31.2 dB, 0.38&#215;]</span>");
+    /* 12 images above, 6 grid cells */
+    assert_int_equal(count_of(html, "<img "), 11);
+    free(html);
+    /* A bundle without "lods": no grid. */
+    r.lods.levels = 0;
+    assert_int_equal(report_write_page(capture_open(&c), &r), 0);
+    html = capture_close(&c);
+    assert_null(strstr(html, "Geometry levels"));
+    free(html);
+    report_free(&r);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_escape_writes_every_markup_character_as_a_reference),
+        cmocka_unit_test(test_lod_grid_shows_every_level_by_every_tier_that_ran),
         cmocka_unit_test(test_table_has_a_row_per_tier_with_its_numbers_needs_and_drops),
         cmocka_unit_test(test_table_says_whether_psnr_and_flip_rank_tiers_alike),
         cmocka_unit_test(test_table_shows_the_bundles_measured_numbers_beside_its_own),

@@ -1,16 +1,23 @@
 /* test_thin_strands — thin strands at a quarter of the scene's size (the
    fur ball's strands about 0.45 px wide): hairview --samples 4 is at least
    3 dB closer (PSNR) to a 16x supersampled reference (--supersample 4)
-   than one sample a pixel, and --lod auto draws a coarser level whose
-   strands are about a pixel wide. A cheap version of docs/lod.md's
-   measurement (3 000 hairs, 64 x 64 pixels). Runs the programs
-   (HAIRTIER_BUILD). */
+   than one sample a pixel; --lod auto draws a coarser level whose
+   strands are about a pixel wide; and the width rule (--width-rule: a
+   strand drawn about a pixel wide, its opacity scaled by the ratio) is at
+   least 3 dB closer than full detail without it in every tier of the
+   bundle (full, vertex, fixed4, fixed, gl11; the vertex tier's ES 2.0
+   texts, whose discard is the full tier's too; gl11 and fixed, split LUT,
+   on ES 1.1): a tier that widened without scaling, or dropped the scaled
+   strands in its alpha test, would be further, not closer. A cheap
+   version of docs/lod.md's measurement (3 000 hairs, 64 x 64 pixels).
+   Runs the programs (HAIRTIER_BUILD). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -86,10 +93,47 @@ static void auto_lod_widens_thin_strands_to_a_pixel(void **state) {
     assert_int_equal(strands, (3000 + (1u << level) - 1) >> level);
 }
 
+/* Every tier, with and without the rule, against the full tier's
+   supersampled reference (the first test made it). */
+static void width_rule_is_3_db_closer_in_every_tier(void **state) {
+    (void)state;
+    static const struct { const char *name, *options; } tiers[] = {
+        { "full", "--tier full" },           { "vertex", "--tier vertex" },
+        { "fixed4", "--tier fixed4" },       { "fixed", "--tier fixed" },
+        { "gl11", "--tier gl11" },           { "vertex_es2", "--tier vertex --context egl --api gles2" },
+        { "gl11_es1", "--tier gl11 --context egl --api gles1" },
+        { "fixed_es1", "--tier fixed --context egl --api gles1" },
+    };
+    char out[4096], options[256], name[64];
+    for (size_t i = 0; i < sizeof tiers / sizeof tiers[0]; i++) {
+        double db[2];
+        for (int rule = 0; rule < 2; rule++) {
+            snprintf(name, sizeof name, "%s_%d", tiers[i].name, rule);
+            snprintf(options, sizeof options, "--strict %s%s", tiers[i].options, rule ? " --width-rule" : "");
+            view(name, options, out, sizeof out);
+            if (rule) {
+                double widen = 0, opacity = 0, px = 0;
+                const char *lod = strstr(out, "strand_px="), *line = strstr(out, "width_rule=");
+                assert_true(lod && line);
+                assert_int_equal(sscanf(lod, "strand_px=%lf", &px), 1);
+                assert_int_equal(sscanf(line, "width_rule=%lf opacity=%lf", &widen, &opacity), 2);
+                /* drawn a pixel wide or up to a quarter octave more, as opaque as that thins it */
+                assert_true(px < 1.0 && widen * px >= 0.999 && widen * px < 1.19);
+                assert_true(fabs(widen * opacity - 1.0) < 0.01);
+            }
+            db[rule] = psnr_to_reference(name);
+        }
+        printf("%-10s PSNR against 16x supersampled: %.2f dB, with the width rule %.2f dB\n", tiers[i].name, db[0],
+               db[1]);
+        assert_true(db[1] >= db[0] + 3.0);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(multisampling_is_3_db_closer_to_supersampled),
         cmocka_unit_test(auto_lod_widens_thin_strands_to_a_pixel),
+        cmocka_unit_test(width_rule_is_3_db_closer_in_every_tier),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -18,7 +18,9 @@
 #       and the fixed-function tiers on an ES 1.1 context (--api gles1)
 #       against NVIDIA's desktop GL image of the same tier; a tier sheet.
 #       bench: bench_frame on the fur ball at 8 000, 200 000 and 1 000 000
-#       hairs (512x512), and on ES 1.1, 2.0 and 3.x at 8 000 and 200 000. Writes to $OUT (default out/device):
+#       hairs (512x512), its --lods pairs (4 samples) at 8 000 and
+#       1 000 000 hairs at 256 and 128, and on ES 1.1, 2.0 and 3.x at 8 000
+#       and 200 000. Writes to $OUT (default out/device):
 #       summary.md (the tables), run.log (everything printed) and
 #       images.tar.gz (every PNG, the references too): three files, within
 #       the device tool's eight.
@@ -47,6 +49,10 @@ PROFILES="gl13 gl20"
 # Overridable to try the script on a small machine (Mesa's EGL works too).
 BENCH_HAIRS=${BENCH_HAIRS:-"8000 200000 1000000"}
 BENCH_ES_HAIRS=${BENCH_ES_HAIRS:-"8000 200000"}
+# The (LOD, tier) pairs of bench_frame --lods (docs/lod.md), at half and a
+# quarter of 512, 4 samples: issue 23's cost target.
+BENCH_LOD_HAIRS=${BENCH_LOD_HAIRS:-"8000 1000000"}
+BENCH_LOD_SIZES=${BENCH_LOD_SIZES:-"256 128"}
 FRAMES=${FRAMES:-20}   # timed frames per image run
 
 die() { echo "device_nvidia: $*" >&2; exit 1; }
@@ -208,6 +214,19 @@ bench() {
             echo "bench_frame --hairs $h failed: $(tail -1 "$WORK/bench-$h.txt")" >>"$WORK/bench.md"
         fi
         cat "$WORK/bench-$h.txt" >>"$LOG"
+    done
+    # (LOD, tier) pairs beside full detail, and the pair error:30 picks among them.
+    for h in $BENCH_LOD_HAIRS; do
+        for sz in $BENCH_LOD_SIZES; do
+            echo "== bench_frame --lods --samples 4 --hairs $h --size $sz (NVIDIA)" >>"$LOG"
+            if "$DEV/bin/bench_frame" --context egl --lods --samples 4 --no-orbit --hairs "$h" --size "$sz" --frames 9 \
+                >"$WORK/bench-lods-$h-$sz.txt" 2>&1; then
+                { echo '```'; cat "$WORK/bench-lods-$h-$sz.txt"; echo '```'; echo; } >>"$WORK/bench.md"
+            else
+                echo "bench_frame --lods --hairs $h --size $sz failed: $(tail -1 "$WORK/bench-lods-$h-$sz.txt")" >>"$WORK/bench.md"
+            fi
+            cat "$WORK/bench-lods-$h-$sz.txt" >>"$LOG"
+        done
     done
     # The ES tiers against the ES geometry floor (fixed tiers run on ES 1.1
     # only, the shader tiers on ES 2.0/3.x only).

@@ -21,6 +21,7 @@
 #define HT_EXAMPLES_REPORT_H
 
 #include <stdbool.h>
+#include <stdint.h>
 #include <stdio.h>
 
 #include "crop.h"
@@ -69,6 +70,31 @@ typedef struct report_tier {
     char crop[64], heatmap_crop[64]; /* the zoomed crops of those two, "" when absent */
 } report_tier;
 
+/* The LOD x tier grid (report_lod.c), for a bundle measured with hairgen
+   --measure-lods: every geometry level (rows) drawn by every tier that ran
+   (columns) at REPORT_LOD_SIZE of the scene's size, each against (level 0,
+   the reference tier) at that size, beside the manifest's numbers for the
+   cell. Images at their pixel size: six tiers of a 512-pixel scene are
+   6 x 128 px, well inside the 1400 px window. */
+#define REPORT_LOD_SIZE 0.25
+#define REPORT_LOD_MAX_LEVELS 5
+typedef struct report_lod_cell {
+    bool ran;
+    char image[64];                /* file beside index.html */
+    double frame_ms, cost_ratio;   /* cost: over (level 0, the reference tier)'s in this run */
+    ht_metrics whole;              /* against (level 0, the reference tier) at the grid's size */
+    bool measured;                 /* the manifest has this cell: */
+    double measured_psnr_db, measured_cost_ratio;
+} report_lod_cell;
+
+typedef struct report_lod_grid {
+    int levels;                    /* 0: no grid (the bundle has no "lods") */
+    double size;                   /* of the scene's: the measured size nearest REPORT_LOD_SIZE */
+    int width, height;             /* of every grid image */
+    uint32_t strands[REPORT_LOD_MAX_LEVELS];
+    report_lod_cell cells[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS]; /* [level][the report's tier] */
+} report_lod_grid;
+
 typedef struct report {
     char material[64];
     char *notes[REPORT_MAX_NOTES]; /* the manifest's root "notes" (malloc'd) */
@@ -81,6 +107,8 @@ typedef struct report {
     int tier_count;
     int reference;                 /* the tier every other is measured against; -1 when none ran */
     crop_region crop;              /* where the crops were cut (w 0: none) */
+    ht_manifest_lods measured_lods; /* the manifest's "lods" (cell_count 0: none) */
+    report_lod_grid lods;
 } report;
 
 void report_init(report *r);
@@ -141,6 +169,17 @@ void report_write_table(FILE *f, const report *r);
 metric_order report_metric_order(const report *r);
 /* What each tier needs and the features it drops. */
 void report_write_needs(FILE *f, const report *r);
+
+/* ---- the LOD x tier grid (report_lod.c) ---- */
+
+/* The grid's size for these measured cells: the measured size nearest
+   REPORT_LOD_SIZE; 0 when there are none. */
+double report_lod_size(const ht_manifest_lods *m);
+/* Fills each grid cell's measured numbers from r->measured_lods. */
+void report_lod_attach_measured(report *r);
+/* The section: a table, levels down, tiers across. Nothing when
+   r->lods.levels is 0. */
+void report_write_lod_grid(FILE *f, const report *r);
 /* The whole page. 0, or -1 when the stream reports an error. */
 int report_write_page(FILE *f, const report *r);
 

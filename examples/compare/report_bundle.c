@@ -63,6 +63,7 @@ ht_result report_read_bundle(report *r, const char *bundle, char *err, size_t er
         p->known = p->tier != HT_TIER_COUNT;
         p->measured = m->tiers[t].measured;
     }
+    r->measured_lods = m->lods;
     free(m);
 
     /* The manifest was read and checked above: only the lists are new here. */

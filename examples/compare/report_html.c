@@ -113,6 +113,9 @@ static void write_style(FILE *f, const report *r) {
             "th.measured,td.measured{background:#1b2126}\n"
             "thead th.measured{background:#222b31}\n"
             "td.none{color:#8a8a8a;text-align:center}\n"
+            "td.lod{font-size:12px;white-space:nowrap}\n"
+            "td.lod img{display:block;margin-bottom:4px}\n"
+            "td.lod span,tbody th span{color:#9a9a9a;font-size:12px;font-weight:400}\n"
             "tbody th{font-size:15px}\n"
             "td.num{text-align:right;white-space:nowrap;font-variant-numeric:tabular-nums}\n"
             "td.needs{max-width:360px}\n"
@@ -272,6 +275,7 @@ int report_write_page(FILE *f, const report *r) {
     fputs("<h2>Colour scale</h2>\n", f);
     report_write_legend(f, r);
     write_crops(f, r);
+    report_write_lod_grid(f, r);
     fputs("<h2>Measurements against ", f);
     report_escape(f, report_reference_name(r));
     fputs("</h2>\n", f);

@@ -90,6 +90,42 @@ HT_API double ht_projected_width_px(double width, double distance, double fov_y_
 #define HT_LOD_HYSTERESIS 0.25
 HT_API int ht_lod_pick_best(double strand_px, int current, int max_level);
 
+/* The width rule (docs/lod.md): a strand narrower than a pixel is drawn
+   about a pixel wide, its opacity scaled by (projected width / drawn
+   width), so its coverage is kept instead of aliasing. Per draw: the
+   factor for a mesh whose mean strand is strand_px wide, rounded up to a
+   quarter octave (2^(k/4), so a widened mesh serves a range of sizes);
+   1 at a pixel or wider. The mesh drawn is ht_mesh_widen(mesh, f), the
+   opacity ht_renderer_set_opacity_scale(r, 1 / f): width x opacity, the
+   coverage, stays the strand's. */
+HT_API double ht_width_rule_widen(double strand_px);
+
+/* Every ribbon of a mesh (a builder's layout, as ht_mesh_build_lod takes)
+   `factor` times as wide about its centre line, [1, 1024]; every strand and
+   row kept, the order kept. HT_ERR_INVALID_ARGUMENT, HT_ERR_OUT_OF_MEMORY;
+   on failure *out is zeroed. */
+HT_API ht_result ht_mesh_widen(const ht_mesh *mesh, double factor, ht_mesh *out);
+
+/* The width rule's strands are translucent (opacity 1 / f): their
+   coverage composes only when they are blended far to near, so the
+   widened mesh is drawn in this order instead of inside out: components
+   by their centroid's distance from eye, farthest first (sort_key = minus
+   that distance). Once per camera position; the opaque cutoff sends every
+   scaled fragment to the blended passes (ht_renderer_set_opacity_scale). */
+HT_API void ht_mesh_sort_back_to_front(ht_mesh *mesh, const float eye[3]);
+
+/* Scales the hair's drawn alpha by scale in every pass of every tier (a
+   uniform in the GLSL texts, the last combiner stage's constant in fixed4,
+   the vertex tier and fixed, the colour array in gl11); (0, 1], 1 (the
+   default) draws alpha as the material has it. Below 1 the passes' alpha
+   reference is 1: the Z-prime and opaque passes (alpha >= ref) take no
+   scaled fragment and the back and front passes (alpha < ref) blend every
+   one, so none is dropped and none is drawn opaque, which would undo the
+   scale (a material's lower cutoff would otherwise keep some opaque).
+   HT_ERR_INVALID_ARGUMENT outside (0, 1]. */
+typedef struct ht_renderer ht_renderer;
+HT_API ht_result ht_renderer_set_opacity_scale(ht_renderer *r, float scale);
+
 /* One measured (LOD, tier) pair at a projected size (hairgen --measure's
    cells): PSNR against (LOD 0, top tier) at that size and the frame cost
    as a ratio of it. */
@@ -110,6 +146,18 @@ typedef struct ht_lod_cell {
 #define HT_LOD_ERROR_HYSTERESIS_DB 1.0
 HT_API int ht_lod_pick_error(const ht_lod_cell *cells, int count, double size, double db, int current);
 
+/* The `frame:MS` rule on the same cells: at the measured size nearest
+   `size`, the most accurate pair whose frame, cost x reference_ms (the
+   (LOD 0, top tier) frame at this size, timed on this device), is within
+   budget_ms; none within: the cheapest. With hysteresis: the current pair
+   stays while its frame is within budget_ms x (1 + HT_LOD_FRAME_HYSTERESIS)
+   and no pair within budget_ms is HT_LOD_ERROR_HYSTERESIS_DB more
+   accurate. Returns an index into cells, -1 when count is 0 or
+   reference_ms is not positive. */
+#define HT_LOD_FRAME_HYSTERESIS 0.1
+HT_API int ht_lod_pick_frame(const ht_lod_cell *cells, int count, double size, double budget_ms, double reference_ms,
+                             int current);
+
 /* Every level of one mesh, switched per frame by the best rule: level 0
    is the caller's mesh (borrowed: it must outlive the chain), the others
    are built here. ht_lod_chain_select picks the level for this frame's
@@ -126,15 +174,14 @@ typedef struct ht_lod_chain {
     double width;                  /* full's mean ribbon width */
 } ht_lod_chain;
 HT_API ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out);
-typedef struct ht_renderer ht_renderer;
 HT_API int ht_lod_chain_select(ht_lod_chain *chain, ht_renderer *r, const ht_camera *camera, int viewport_h,
                                ht_result *result);
 HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);
 HT_API void ht_lod_chain_free(ht_lod_chain *chain);
 
-/* The bundle's measured cells (hairgen --measure-lods: the reference tier
-   at every LOD and size), at most max into out; how many. 0 when the
-   bundle has none. */
+/* The bundle's measured cells (hairgen --measure-lods: every tier at every
+   LOD and size, against (LOD 0, the bundle's first tier)), at most max
+   into out; how many. 0 when the bundle has none. */
 HT_API int ht_renderer_lod_cells(const ht_renderer *r, ht_lod_cell *out, int max);
 
 #ifdef __cplusplus

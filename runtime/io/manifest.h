@@ -110,11 +110,13 @@ _Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader r
 #define HT_MANIFEST_KEY_LODS "lods"
 #define HT_MANIFEST_KEY_LOD_TIER "tier"
 #define HT_MANIFEST_KEY_CELLS "cells"
+#define HT_MANIFEST_KEY_SAMPLES "samples"     /* optional: the LOD frames' multisampling */
+#define HT_MANIFEST_MAX_LOD_SAMPLES 32
 #define HT_MANIFEST_KEY_LEVEL "level"
 #define HT_MANIFEST_KEY_STRANDS "strands"
 #define HT_MANIFEST_KEY_SIZE "size"
 #define HT_MANIFEST_KEY_POP_PSNR_DB "pop_psnr_db"
-#define HT_MANIFEST_MAX_LOD_CELLS 24
+#define HT_MANIFEST_MAX_LOD_CELLS 96 /* 3 sizes x 5 levels x 6 tiers, and room */
 /* Limits of a measured object's numbers. */
 #define HT_MANIFEST_MAX_PSNR_DB 1000.0
 #define HT_MANIFEST_MAX_DELTA_E 1000.0
@@ -191,6 +193,7 @@ typedef struct ht_manifest_tier {
    identical to itself; no level before). */
 typedef struct ht_manifest_lod_cell {
     int level;                     /* 0..HT_LOD_LEVELS - 1 */
+    char tier[16];                 /* the tier drawn; a cell without "tier": the lods' */
     uint32_t strands;
     double size;                   /* (0, 4]: projected size / the scene's */
     double psnr_db, ssim, delta_e00_mean, cost_ratio, pop_psnr_db;
@@ -198,6 +201,7 @@ typedef struct ht_manifest_lod_cell {
 
 typedef struct ht_manifest_lods {
     char tier[16];                 /* "" when the manifest has no "lods" */
+    int samples;                   /* 0: one sample a pixel; else the frames' (hairgen --lod-samples) */
     ht_manifest_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
     int cell_count;
 } ht_manifest_lods;

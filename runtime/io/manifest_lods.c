@@ -1,6 +1,7 @@
 /* manifest_lods.c — the manifest's optional "lods" object (manifest.h):
-   the reference tier's measured cost and error at each geometry LOD and
-   projected size, which the error:DB rule for (LOD, tier) pairs reads
+   every tier's measured cost and error at each geometry LOD and projected
+   size against (LOD 0, the reference tier), which the error:DB and
+   frame:MS rules for (LOD, tier) pairs read
    (include/hairtier/lod.h, ht_lod_pick_error). */
 #include <math.h>
 #include <stdio.h>
@@ -24,12 +25,19 @@ static ht_result psnr(const ht_jctx *c, const cJSON *cell, const char *path, con
     return ht_json_number(c, cell, path, key, NULL, HT_JRANGE(0, HT_MANIFEST_MAX_PSNR_DB), out);
 }
 
-static ht_result parse_cell(const ht_jctx *c, const cJSON *cell, const char *path, ht_manifest_lod_cell *out) {
-    static const char *const known[] = { K(LEVEL), K(STRANDS), K(SIZE), K(PSNR_DB), K(SSIM), K(DELTA_E00_MEAN),
-                                         K(COST_RATIO), K(POP_PSNR_DB), NULL };
+static ht_result parse_cell(const ht_jctx *c, const cJSON *cell, const char *path, const char *lods_tier,
+                            ht_manifest_lod_cell *out) {
+    static const char *const known[] = { K(LEVEL), K(LOD_TIER), K(STRANDS), K(SIZE), K(PSNR_DB), K(SSIM),
+                                         K(DELTA_E00_MEAN), K(COST_RATIO), K(POP_PSNR_DB), NULL };
     int64_t strands = 0;
     ht_result r = ht_json_keys(c, cell, path, known);
     if (r == HT_OK) r = ht_json_int32(c, cell, path, K(LEVEL), NULL, 0, HT_LOD_LEVELS - 1, &out->level);
+    /* A cell of the one-tier format has no "tier": the lods' own. */
+    const size_t n = strnlen(lods_tier, sizeof out->tier - 1);
+    memcpy(out->tier, lods_tier, n);
+    out->tier[n] = '\0';
+    if (r == HT_OK && cJSON_GetObjectItemCaseSensitive(cell, K(LOD_TIER)))
+        r = ht_json_string(c, cell, path, K(LOD_TIER), NULL, out->tier, sizeof out->tier);
     if (r == HT_OK) r = ht_json_int(c, cell, path, K(STRANDS), NULL, 1, UINT32_MAX, &strands);
     if (r == HT_OK) r = ht_json_number(c, cell, path, K(SIZE), NULL, HT_JRANGE_LO_OPEN(0, 4), &out->size);
     if (r == HT_OK) r = psnr(c, cell, path, K(PSNR_DB), &out->psnr_db);
@@ -46,7 +54,7 @@ static ht_result parse_cell(const ht_jctx *c, const cJSON *cell, const char *pat
 }
 
 ht_result ht_manifest_parse_lods(const ht_jctx *c, const cJSON *root, ht_manifest_lods *out) {
-    static const char *const known[] = { K(LOD_TIER), K(CELLS), K(SCENE), K(DRIVER), NULL };
+    static const char *const known[] = { K(LOD_TIER), K(CELLS), K(SCENE), K(DRIVER), K(SAMPLES), NULL };
     memset(out, 0, sizeof *out);
     const cJSON *lods, *cells;
     int count = 0;
@@ -56,10 +64,13 @@ ht_result ht_manifest_parse_lods(const ht_jctx *c, const cJSON *root, ht_manifes
         (r = ht_json_string(c, lods, K(LODS), K(LOD_TIER), NULL, out->tier, sizeof out->tier)) != HT_OK ||
         (r = ht_json_array(c, lods, K(LODS), K(CELLS), true, 1, HT_MANIFEST_MAX_LOD_CELLS, &cells, &count)) != HT_OK)
         return r;
+    if (cJSON_GetObjectItemCaseSensitive(lods, K(SAMPLES)) &&
+        (r = ht_json_int32(c, lods, K(LODS), K(SAMPLES), NULL, 2, HT_MANIFEST_MAX_LOD_SAMPLES, &out->samples)) != HT_OK)
+        return r;
     for (const cJSON *cell = cells->child; cell && r == HT_OK; cell = cell->next) {
         char path[HT_JSON_PATH_MAX];
         ht_json_path_index(path, K(LODS) "." K(CELLS), out->cell_count);
-        r = parse_cell(c, cell, path, &out->cells[out->cell_count]);
+        r = parse_cell(c, cell, path, out->tier, &out->cells[out->cell_count]);
         if (r == HT_OK) out->cell_count++;
     }
     if (r != HT_OK) memset(out, 0, sizeof *out);

@@ -18,6 +18,7 @@
 
 #define MAX_TURN_DEG 90.0f
 #define WIDTH_ROUNDS 4 /* refits of the width to the area */
+#define MAX_WIDEN 1024.0 /* lod.h's bound on the width rule's factor */
 
 void ht_lod_level(int level, ht_lod_desc *out) {
     if (!out) return;
@@ -169,11 +170,13 @@ static double mesh_area(const ht_mesh *m) {
     return a;
 }
 
-ht_result ht_mesh_build_lod(const ht_mesh *full, const ht_lod_desc *desc, ht_mesh *out) {
+/* A LOD, every ribbon `extra` times wider again after the area rule (the
+   width rule's factor; 1: none). */
+static ht_result build_lod(const ht_mesh *full, const ht_lod_desc *desc, double extra, ht_mesh *out) {
     if (!out) return HT_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
     if (!full || !desc || !full->vertices || !full->indices || !full->components || full->component_count == 0 ||
-        !(desc->max_turn_deg >= 0 && desc->max_turn_deg <= MAX_TURN_DEG))
+        !(desc->max_turn_deg >= 0 && desc->max_turn_deg <= MAX_TURN_DEG) || !(extra >= 1 && extra <= MAX_WIDEN))
         return HT_ERR_INVALID_ARGUMENT;
     const uint32_t n = full->component_count, stride = desc->strand_stride ? desc->strand_stride : 1;
     const uint32_t kept = n / stride + (n % stride != 0);
@@ -214,12 +217,23 @@ ht_result ht_mesh_build_lod(const ht_mesh *full, const ht_lod_desc *desc, ht_mes
         if (!(drawn > 0) || fabs(drawn / area_all - 1) < 0.002) break;
         widen *= area_all / drawn;
     }
+    /* The width rule's factor on top (lod.h): the drawn area grows by it,
+       and the opacity the caller sets shrinks by it. */
+    if (extra > 1) write_lod(full, runs, rows, cos_turn, keep, widen * extra, out);
 done:
     free(runs);
     free(rank);
     free(rows);
     free(keep);
     return r;
+}
+
+ht_result ht_mesh_build_lod(const ht_mesh *full, const ht_lod_desc *desc, ht_mesh *out) {
+    return build_lod(full, desc, 1.0, out);
+}
+
+ht_result ht_mesh_widen(const ht_mesh *mesh, double factor, ht_mesh *out) {
+    return build_lod(mesh, &(ht_lod_desc){ .strand_stride = 1, .max_turn_deg = 0 }, factor, out);
 }
 
 double ht_mesh_mean_width(const ht_mesh *m) {

@@ -14,7 +14,8 @@
 #define DEFAULT_CUTOFF 0.98f
 
 void ht_pass_alpha_rule(const ht_renderer *r, ht_pass pass, GLenum *func, float *ref) {
-    *ref = r->have_bundle ? r->bundle.opaque_cutoff : DEFAULT_CUTOFF;
+    /* The width rule's scaled strands all blend (lod.h says why). */
+    *ref = r->opacity_cut > 0.0f ? 1.0f : r->have_bundle ? r->bundle.opaque_cutoff : DEFAULT_CUTOFF;
     *func = pass == HT_PASS_PRIME_Z || pass == HT_PASS_OPAQUE ? GL_GEQUAL : GL_LESS;
 }
 
@@ -111,7 +112,7 @@ static void record_state(ht_renderer *r, ht_trace_entry *e) {
    draws the colour with a program of the runtime's (opaque_scene_es.c). */
 static bool bind_flat(ht_renderer *r, const ht_tier_frame *tf) {
     if (ht_caps_es_programs(&r->caps)) return ht_renderer_bind_flat_es(r, tf);
-    r->gl.Color4f(r->flat_color[0], r->flat_color[1], r->flat_color[2], 1.0f);
+    r->gl.Color4f(r->flat_color[0], r->flat_color[1], r->flat_color[2], 1.0f - tf->opacity_cut);
     return true;
 }
 

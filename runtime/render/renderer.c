@@ -398,6 +398,7 @@ ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
     ht_light lights[HT_MAX_LIGHTS];
     tf.light_count = ht_renderer_plan_lights(r, f, lights);
     tf.lights = lights;
+    tf.opacity_cut = r->opacity_cut;
     while (r->gl.GetError() != GL_NO_ERROR) {}
     r->trace.count = 0;
 

@@ -27,6 +27,7 @@ struct ht_renderer {
     bool record_trace;
     bool flat;
     float flat_color[3];
+    float opacity_cut;                /* the width rule: hair alpha x (1 - this); ht_renderer_set_opacity_scale */
     ht_tier tier;                     /* HT_TIER_COUNT in flat mode */
     char reason[HT_SELECT_REASON];
     const ht_tier_backend *backend;   /* NULL in flat mode */

@@ -1,16 +1,24 @@
 /* renderer_lod.c — the bundle's measured LOD cells (manifest "lods",
    hairgen --measure-lods) handed to the application as ht_lod_cell, for
-   ht_lod_pick_error. */
+   ht_lod_pick_error; the width rule's opacity scale (lod.h). */
 #include <hairtier/lod.h>
 #include "renderer_internal.h"
 
 int ht_renderer_lod_cells(const ht_renderer *r, ht_lod_cell *out, int max) {
     if (!r || !r->have_bundle || !out || max <= 0) return 0;
     const ht_manifest_lods *l = &r->bundle.lods;
-    const ht_tier tier = ht_tier_from_name(l->tier);
     int n = 0;
-    for (int i = 0; i < l->cell_count && n < max; i++)
+    for (int i = 0; i < l->cell_count && n < max; i++) {
+        const ht_tier tier = ht_tier_from_name(l->cells[i].tier);
+        if (tier == HT_TIER_COUNT) continue; /* a tier this runtime does not know */
         out[n++] = (ht_lod_cell){ .lod = l->cells[i].level, .tier = tier, .size = l->cells[i].size,
                                   .psnr = l->cells[i].psnr_db, .cost = l->cells[i].cost_ratio };
+    }
     return n;
+}
+
+ht_result ht_renderer_set_opacity_scale(ht_renderer *r, float scale) {
+    if (!r || !(scale > 0.0f && scale <= 1.0f)) return HT_ERR_INVALID_ARGUMENT;
+    r->opacity_cut = 1.0f - scale;
+    return HT_OK;
 }

@@ -2,12 +2,19 @@
    (LOD, tier) pair) draws at a projected size: pure functions, lod.h says
    the rules. Hysteresis lives here and nowhere else. */
 #include <math.h>
+#include <stdbool.h>
 
 #include <hairtier/lod.h>
 
 double ht_projected_width_px(double width, double distance, double fov_y_deg, int viewport_h) {
     if (!(width > 0) || !(distance > 0) || !(fov_y_deg > 0 && fov_y_deg < 180) || viewport_h <= 0) return 0;
     return width * viewport_h / (2.0 * distance * tan(fov_y_deg * M_PI / 360.0));
+}
+
+double ht_width_rule_widen(double strand_px) {
+    if (!(strand_px > 0) || strand_px >= 1.0 || !isfinite(strand_px)) return 1.0;
+    const double quarters = ceil(4.0 * -log2(strand_px) - 1e-9);
+    return fmin(exp2(quarters / 4.0), 1024.0);
 }
 
 int ht_lod_pick_best(double strand_px, int current, int max_level) {
@@ -27,19 +34,32 @@ int ht_lod_pick_best(double strand_px, int current, int max_level) {
 
 static double size_distance(double a, double b) { return fabs(log2(a) - log2(b)); }
 
-int ht_lod_pick_error(const ht_lod_cell *cells, int count, double size, double db, int current) {
-    if (!cells || count <= 0 || !(size > 0)) return -1;
+/* The measured size nearest `size` (in log2): the rules compare cells there only. */
+static double nearest_size(const ht_lod_cell *cells, int count, double size) {
     double nearest = cells[0].size;
     for (int i = 1; i < count; i++)
         if (cells[i].size > 0 && size_distance(cells[i].size, size) < size_distance(nearest, size)) nearest = cells[i].size;
-    int best = -1, most_accurate = -1, held = -1;
+    return nearest;
+}
+
+/* The cell at `size` holding the same pair as cells[current]; -1: none. */
+static int held_pair(const ht_lod_cell *cells, int count, double size, int current) {
+    if (current < 0 || current >= count) return -1;
+    for (int i = 0; i < count; i++)
+        if (cells[i].size == size && cells[i].lod == cells[current].lod && cells[i].tier == cells[current].tier)
+            return i;
+    return -1;
+}
+
+int ht_lod_pick_error(const ht_lod_cell *cells, int count, double size, double db, int current) {
+    if (!cells || count <= 0 || !(size > 0)) return -1;
+    const double nearest = nearest_size(cells, count, size);
+    int best = -1, most_accurate = -1;
+    const int held = held_pair(cells, count, nearest, current);
     for (int i = 0; i < count; i++) {
         if (cells[i].size != nearest) continue;
         if (most_accurate < 0 || cells[i].psnr > cells[most_accurate].psnr) most_accurate = i;
         if (cells[i].psnr >= db && (best < 0 || cells[i].cost < cells[best].cost)) best = i;
-        if (current >= 0 && current < count && cells[i].lod == cells[current].lod &&
-            cells[i].tier == cells[current].tier)
-            held = i;
     }
     if (best < 0) return most_accurate;
     /* Hysteresis: the pair in use stays while it meets the budget and no
@@ -53,4 +73,28 @@ int ht_lod_pick_error(const ht_lod_cell *cells, int count, double size, double d
         return cheaper >= 0 ? cheaper : held;
     }
     return best;
+}
+
+/* a more accurate than b; equal PSNR: the cheaper */
+static bool better(const ht_lod_cell *a, const ht_lod_cell *b) {
+    return a->psnr > b->psnr || (a->psnr == b->psnr && a->cost < b->cost);
+}
+
+int ht_lod_pick_frame(const ht_lod_cell *cells, int count, double size, double budget_ms, double reference_ms,
+                      int current) {
+    if (!cells || count <= 0 || !(size > 0) || !(reference_ms > 0) || !(budget_ms > 0)) return -1;
+    const double nearest = nearest_size(cells, count, size);
+    int best = -1, cheapest = -1;
+    for (int i = 0; i < count; i++) {
+        if (cells[i].size != nearest) continue;
+        if (cheapest < 0 || cells[i].cost < cells[cheapest].cost) cheapest = i;
+        if (cells[i].cost * reference_ms <= budget_ms && (best < 0 || better(&cells[i], &cells[best]))) best = i;
+    }
+    const int held = held_pair(cells, count, nearest, current);
+    /* Hysteresis: the pair in use stays while it is near the budget and no
+       pair within it is more accurate by the margin. */
+    if (held >= 0 && cells[held].cost * reference_ms <= budget_ms * (1 + HT_LOD_FRAME_HYSTERESIS) &&
+        (best < 0 || cells[best].psnr < cells[held].psnr + HT_LOD_ERROR_HYSTERESIS_DB))
+        return held;
+    return best >= 0 ? best : cheapest;
 }

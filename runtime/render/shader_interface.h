@@ -43,6 +43,11 @@
    which its primary colour is divided by. */
 #define HT_U_LUT_SCALE      "u_lut_scale"    /* float */
 
+/* The width rule (docs/lod.md): a strand drawn wider than it is has its
+   alpha scaled by (1 - this); 0, GLSL's initial value, draws it as it is.
+   Every fragment text (and the GLSL Z-prime) multiplies its alpha by it. */
+#define HT_U_OPACITY_CUT    "u_opacity_cut"  /* float */
+
 /* Samplers: names the manifest lists with their unit. */
 #define HT_U_ALBEDO         "u_albedo"       /* rgb = base, a = alpha */
 #define HT_U_DETAIL         "u_detail"       /* r = shift, g = sparkle */

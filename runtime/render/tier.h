@@ -54,6 +54,10 @@ typedef struct ht_tier_frame {
     int light_count;               /* 0..HT_MAX_LIGHTS */
     float view[16];                /* column-major, as loaded into GL_MODELVIEW */
     float projection[16];          /* column-major, as loaded into GL_PROJECTION */
+    /* The width rule (docs/lod.md): every pass's hair alpha x (1 - this),
+       in [0, 1); 0 draws alpha as it is. Each backend scales its own final
+       alpha (a uniform, a combiner constant, the colour array). */
+    float opacity_cut;
 } ht_tier_frame;
 
 typedef struct ht_tier_backend {
