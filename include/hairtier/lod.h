@@ -42,6 +42,7 @@
 
 #include "export.h"
 #include "hairtier.h"
+#include "image.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -131,6 +132,51 @@ HT_API int ht_lod_chain_select(ht_lod_chain *chain, ht_renderer *r, const ht_cam
                                ht_result *result);
 HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);
 HT_API void ht_lod_chain_free(ht_lod_chain *chain);
+
+/* Cards (lod_cards.c, docs/lod.md): clumps of strands replaced by one
+   textured ribbon each, the coarsest geometry. A clump is a run of
+   strands_per_card neighbours on the Z-order curve of the strands' key
+   points (the curve the LOD order strides over). Its card follows the
+   clump's mean centre line (each strand resampled root 0 to tip 1), lies
+   across the principal direction of the strands' spread about it and is
+   as wide as the farthest strand's edge on each row; tangents along it,
+   unit, root to tip; the normal is the strands' mean normal made
+   perpendicular to the tangent. A card is rows of two vertices like a
+   strand's ribbon (the same four passes, the same inside-out sort), its uv
+   the card's cell of the atlas, its vertex ao 1 (the ao is in the atlas).
+   The atlas is baked from the strands the card replaces, rasterised into
+   the card's (u across, v root to tip) space with 4 x 4 samples a texel,
+   each strand sampling the material's own textures at its own uv (box-
+   filtered across u over the texels one strand's width covers):
+     albedo  rgb = the strands' base x their ao (alpha-weighted mean),
+             a = coverage 1 - prod(1 - alpha) over the strands at a sample;
+     detail  r = 0.5 + tangent shift: the strand's tangent against the
+             card's frame (t.N / t.T) plus the material's shift there,
+             g = sparkle;
+   so every tier, which samples albedo and detail at uv, draws cards as
+   it draws strands (docs/lod.md says what each tier keeps of them). */
+#define HT_CARDS_DEFAULT_STRANDS 32
+typedef struct ht_cards_desc {
+    uint32_t strands_per_card;       /* 0: HT_CARDS_DEFAULT_STRANDS */
+    int atlas_width, atlas_height;   /* 0: strand_albedo's size, else 256 */
+    const ht_image *strand_albedo;   /* NULL: base 1, alpha 1; else RGBA: base.rgb, alpha.a */
+    const ht_image *strand_detail;   /* NULL: shift 0.5, sparkle 1; else shift in r, sparkle in g */
+} ht_cards_desc;
+
+typedef struct ht_cards {
+    ht_mesh mesh;        /* one component per card, sorted inside out */
+    ht_image albedo;     /* RGBA atlas, strand_albedo's layout */
+    ht_image detail;     /* RGBA atlas, strand_detail's layout */
+    ht_image ao;         /* 1 channel: the baked ao albedo.rgb is multiplied by */
+    int columns, rows;   /* the atlas's grid of cells, one a card, row-major */
+} ht_cards;
+
+/* HT_ERR_INVALID_ARGUMENT for a mesh not made of ribbons (as
+   ht_mesh_build_lod), an image that is not RGBA, or more cards than the
+   atlas has cells of at least 2 x 4 texels; HT_ERR_OUT_OF_MEMORY. On
+   failure *out is zeroed. */
+HT_API ht_result ht_mesh_build_cards(const ht_mesh *full, const ht_cards_desc *desc, ht_cards *out);
+HT_API void ht_cards_free(ht_cards *cards);
 
 /* The bundle's measured cells (hairgen --measure-lods: the reference tier
    at every LOD and size), at most max into out; how many. 0 when the
