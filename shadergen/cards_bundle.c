@@ -124,28 +124,24 @@ static ht_result read_texture(const char *dir, const char *name, bool required, 
     return r;
 }
 
-ht_result ht_cards_bundle_write(const char *bundle_dir, const char *scene_path, uint32_t strands_per_card,
-                                int atlas_size, const char *out_dir, FILE *summary, char *err, size_t err_size) {
-    ht_scene scene;
-    ht_mesh hair = { 0 };
+ht_result ht_cards_bundle_write_mesh(const char *bundle_dir, const ht_mesh *hair, uint32_t strands_per_card,
+                                     int atlas_size, const char *out_dir, FILE *summary, char *err, size_t err_size) {
     ht_image albedo = { 0 }, detail = { 0 };
     ht_cards cards = { 0 };
     bool made_dir = false;
-    ht_result r = ht_scene_load(scene_path, &scene, err, err_size);
-    if (r == HT_OK) r = ht_scene_build_meshes(&scene, scene_path, &hair, NULL, err, err_size);
-    if (r == HT_OK) r = read_texture(bundle_dir, "albedo.png", true, &albedo, err, err_size);
+    ht_result r = read_texture(bundle_dir, "albedo.png", true, &albedo, err, err_size);
     if (r == HT_OK) r = read_texture(bundle_dir, "detail.png", false, &detail, err, err_size);
     if (r == HT_OK && detail.pixels && (detail.width != albedo.width || detail.height != albedo.height))
         r = ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "%s/detail.png: %dx%d, albedo.png is %dx%d; cards share one atlas grid",
                     bundle_dir, detail.width, detail.height, albedo.width, albedo.height);
     if (r == HT_OK) {
-        r = ht_mesh_build_cards(&hair, &(ht_cards_desc){ .strands_per_card = strands_per_card, .strand_albedo = &albedo,
-                                                         .atlas_width = atlas_size, .atlas_height = atlas_size,
-                                                         .strand_detail = detail.pixels ? &detail : NULL },
+        r = ht_mesh_build_cards(hair, &(ht_cards_desc){ .strands_per_card = strands_per_card, .strand_albedo = &albedo,
+                                                        .atlas_width = atlas_size, .atlas_height = atlas_size,
+                                                        .strand_detail = detail.pixels ? &detail : NULL },
                                 &cards);
         if (r != HT_OK)
-            ht_fail(err, err_size, r, "%s: --cards %u: %u strands do not make cards in a %dx%d atlas (%s)", scene_path,
-                    strands_per_card, hair.component_count, atlas_size, atlas_size, ht_result_string(r));
+            ht_fail(err, err_size, r, "%s: cards of %u strands: %u strands do not make cards in a %dx%d atlas (%s)",
+                    out_dir, strands_per_card, hair->component_count, atlas_size, atlas_size, ht_result_string(r));
     }
     if (r == HT_OK) {
         if (mkdir(out_dir, 0755) != 0) r = ht_fail(err, err_size, HT_ERR_IO, "%s: %s", out_dir, strerror(errno));
@@ -164,12 +160,23 @@ ht_result ht_cards_bundle_write(const char *bundle_dir, const char *scene_path, 
     }
     if (r == HT_OK && summary)
         fprintf(summary, "cards: %u cards of %u strands (%u strands), atlas %dx%d in %dx%d cells -> %s\n",
-                cards.mesh.component_count, strands_per_card, hair.component_count, cards.albedo.width,
+                cards.mesh.component_count, strands_per_card, hair->component_count, cards.albedo.width,
                 cards.albedo.height, cards.columns, cards.rows, out_dir);
     if (r != HT_OK && made_dir) remove_dir(out_dir);
     ht_cards_free(&cards);
     ht_image_free(&albedo);
     ht_image_free(&detail);
+    return r;
+}
+
+ht_result ht_cards_bundle_write(const char *bundle_dir, const char *scene_path, uint32_t strands_per_card,
+                                int atlas_size, const char *out_dir, FILE *summary, char *err, size_t err_size) {
+    ht_scene scene;
+    ht_mesh hair = { 0 };
+    ht_result r = ht_scene_load(scene_path, &scene, err, err_size);
+    if (r == HT_OK) r = ht_scene_build_meshes(&scene, scene_path, &hair, NULL, err, err_size);
+    if (r == HT_OK)
+        r = ht_cards_bundle_write_mesh(bundle_dir, &hair, strands_per_card, atlas_size, out_dir, summary, err, err_size);
     ht_mesh_free(&hair);
     return r;
 }

@@ -27,4 +27,10 @@
 ht_result ht_cards_bundle_write(const char *bundle_dir, const char *scene_path, uint32_t strands_per_card,
                                 int atlas_size, const char *out_dir, FILE *summary, char *err, size_t err_size);
 
+/* The same from a mesh already built (sorted inside out, as
+   ht_scene_build_meshes leaves it); hairview's --cards must build the same
+   cards: ht_mesh_build_cards with this strands_per_card and atlas size. */
+ht_result ht_cards_bundle_write_mesh(const char *bundle_dir, const ht_mesh *hair, uint32_t strands_per_card,
+                                     int atlas_size, const char *out_dir, FILE *summary, char *err, size_t err_size);
+
 #endif

@@ -19,6 +19,7 @@
 
 #include <hairtier/hairtier.h>
 #include <hairtier/lod.h>
+#include "cards_bundle.h"
 #include "support_render.h"
 
 #define SIZE 48
@@ -48,6 +49,23 @@ static int draw_lod(ht_renderer *r, const ht_mesh *mesh, ht_trace *trace) {
     return changed;
 }
 
+/* The hair's ink: each pixel's largest channel difference from the
+   background, summed (a faint card edge counts as little as it shows). */
+static double ink_of(ht_renderer *r, const ht_mesh *mesh) {
+    assert_int_equal(ht_renderer_set_mesh(r, mesh), HT_OK);
+    const ht_frame_desc frame = ht_test_furball_frame(3.0f);
+    ht_image img;
+    ht_test_draw(&fx.gl, r, &frame, ht_test_background, &img);
+    double ink = 0;
+    for (int i = 0; i < img.width * img.height; i++) {
+        double d = 0;
+        for (int c = 0; c < 3; c++) d = fmax(d, fabs(img.pixels[i * img.channels + c] / 255.0 - ht_test_background[c]));
+        ink += d;
+    }
+    ht_image_free(&img);
+    return ink;
+}
+
 static void same_passes_every_lod(ht_tier tier) {
     ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = tier, .strict = true }, fx.bundle_dir, HT_OK);
     ht_trace full;
@@ -74,6 +92,52 @@ static void same_passes_every_lod(ht_tier tier) {
         ht_mesh_free(&lod);
     }
     ht_renderer_destroy(r);
+}
+
+/* Cards (lod.h) of 16 strands, drawn from a bundle carrying their atlas
+   (hairgen --cards): the same four passes with the same state as full
+   detail's in the tier (only the draw range differs: the cards' whole
+   index buffer), no GL error, and ink (ink_of) within CARDS_INK_BOUND of
+   full detail's. */
+#define CARDS_STRANDS 16
+#define CARDS_ATLAS 128
+#define CARDS_INK_BOUND 0.25
+
+static void cards_same_passes(ht_tier tier) {
+    char dir[192], err[512] = "";
+    snprintf(dir, sizeof dir, "%s/cards-%s", fx.work, ht_tier_name(tier));
+    if (ht_cards_bundle_write_mesh(fx.bundle_dir, &fx.mesh, CARDS_STRANDS, CARDS_ATLAS, dir, NULL, err, sizeof err) != HT_OK)
+        fail_msg("%s", err);
+    ht_cards cards;
+    assert_int_equal(ht_mesh_build_cards(&fx.mesh, &(ht_cards_desc){ .strands_per_card = CARDS_STRANDS,
+                                                                     .atlas_width = CARDS_ATLAS,
+                                                                     .atlas_height = CARDS_ATLAS },
+                                         &cards),
+                     HT_OK);
+    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = tier, .strict = true }, fx.bundle_dir, HT_OK);
+    ht_trace full;
+    draw_lod(r, &fx.mesh, &full);
+    const double full_ink = ink_of(r, &fx.mesh);
+    ht_renderer_destroy(r);
+    r = ht_test_renderer_create((ht_renderer_desc){ .tier = tier, .strict = true }, dir, HT_OK);
+    ht_trace t;
+    draw_lod(r, &cards.mesh, &t);
+    const double ink = ink_of(r, &cards.mesh);
+    printf("%s cards: %u cards, ink %.1f, full detail %.1f (%+.1f%%)\n", ht_tier_name(tier), cards.mesh.component_count,
+           ink, full_ink, 100 * (ink / full_ink - 1));
+    assert_int_equal(ht_renderer_tier(r), tier);
+    assert_int_equal(t.count, full.count);
+    for (int i = 0; i < t.count; i++) {
+        assert_int_equal(t.entries[i].gl_error, GL_NO_ERROR);
+        assert_int_equal(t.entries[i].index_count, cards.mesh.index_count);
+        ht_trace_entry e = t.entries[i];
+        e.index_count = full.entries[i].index_count;
+        if (memcmp(&e, &full.entries[i], sizeof e) != 0)
+            fail_msg("%s cards: pass %d differs from full detail's", ht_tier_name(tier), i);
+    }
+    assert_true(fabs(ink / full_ink - 1) <= CARDS_INK_BOUND);
+    ht_renderer_destroy(r);
+    ht_cards_free(&cards);
 }
 
 /* A camera pulled from 3 to 40 and back, jittering by 3 %: the chain
@@ -127,6 +191,10 @@ static void full_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER
 static void vertex_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_VERTEX); }
 static void fixed_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_FIXED); }
 static void gl11_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_GL11); }
+static void cards_full(void **state) { (void)state; cards_same_passes(HT_TIER_FULL); }
+static void cards_vertex(void **state) { (void)state; cards_same_passes(HT_TIER_VERTEX); }
+static void cards_fixed(void **state) { (void)state; cards_same_passes(HT_TIER_FIXED); }
+static void cards_gl11(void **state) { (void)state; cards_same_passes(HT_TIER_GL11); }
 
 int main(void) {
     const struct CMUnitTest tests[] = {
@@ -134,6 +202,10 @@ int main(void) {
         cmocka_unit_test(vertex_tier),
         cmocka_unit_test(fixed_tier),
         cmocka_unit_test(gl11_tier),
+        cmocka_unit_test(cards_full),
+        cmocka_unit_test(cards_vertex),
+        cmocka_unit_test(cards_fixed),
+        cmocka_unit_test(cards_gl11),
         cmocka_unit_test(chain_switches_with_the_distance),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
