@@ -6,6 +6,7 @@
 
 #include <cJSON.h>
 #include <dirent.h>
+#include <math.h>
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
@@ -72,9 +73,34 @@ static void remove_dir(const char *dir) {
     rmdir(dir);
 }
 
+/* The fraction of an RGBA image's covered texels (alpha > 0) whose alpha
+   is at least a (0..255). */
+static double opaque_fraction(const ht_image *img, int a) {
+    size_t covered = 0, opaque = 0;
+    for (size_t i = 0; i < (size_t)img->width * img->height; i++) {
+        covered += img->pixels[4 * i + 3] > 0;
+        opaque += img->pixels[4 * i + 3] >= a && img->pixels[4 * i + 3] > 0;
+    }
+    return covered ? (double)opaque / covered : 0;
+}
+
+/* The cards' opaque cutoff: the alpha above which as large a part of the
+   atlas's coverage lies as of the material's above its own cutoff. Drawn
+   with the material's, the smooth baked coverage would rarely reach it:
+   nothing would write depth in the prime-Z pass and every card would
+   blend in inside-out order, far side over near side (docs/lod.md). */
+static double cards_cutoff(const ht_image *material, const ht_image *atlas, double cutoff) {
+    const double target = opaque_fraction(material, (int)ceil(cutoff * 255));
+    int a = 255;
+    while (a > 1 && opaque_fraction(atlas, a) < target) a--;
+    return a / 255.0 < cutoff ? a / 255.0 : cutoff;
+}
+
 /* The manifest with textures.albedo and .detail the atlas's size (the
-   runtime checks each texture against its entry). */
-static ht_result write_manifest(const char *from, const char *to, int w, int h, char *err, size_t err_size) {
+   runtime checks each texture against its entry) and the cards' opaque
+   cutoff. */
+static ht_result write_manifest(const char *from, const char *to, int w, int h, const ht_image *material,
+                                const ht_image *atlas, double *cutoff_out, char *err, size_t err_size) {
     char path[4096], *text = NULL;
     snprintf(path, sizeof path, "%s/manifest.json", from);
     if (!(text = ht_file_read_text(path, MAX_BUNDLE_FILE, err, err_size))) return HT_ERR_IO;
@@ -93,6 +119,13 @@ static ht_result write_manifest(const char *from, const char *to, int w, int h, 
             cJSON_SetNumberValue(cJSON_GetObjectItemCaseSensitive(t, "width"), w);
             cJSON_SetNumberValue(cJSON_GetObjectItemCaseSensitive(t, "height"), h);
         }
+    }
+    cJSON *cutoff = cJSON_GetObjectItemCaseSensitive(root, "opaque_cutoff");
+    if (r == HT_OK && !cJSON_IsNumber(cutoff))
+        r = ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "%s: opaque_cutoff: expected a number", path);
+    if (r == HT_OK) {
+        *cutoff_out = cards_cutoff(material, atlas, cutoff->valuedouble);
+        cJSON_SetNumberValue(cutoff, *cutoff_out);
     }
     char *out = r == HT_OK ? cJSON_Print(root) : NULL;
     cJSON_Delete(root);
@@ -148,7 +181,9 @@ ht_result ht_cards_bundle_write_mesh(const char *bundle_dir, const ht_mesh *hair
         else made_dir = true;
     }
     if (r == HT_OK) r = copy_bundle(bundle_dir, out_dir, err, err_size);
-    if (r == HT_OK) r = write_manifest(bundle_dir, out_dir, atlas_size, atlas_size, err, err_size);
+    double cutoff = 0;
+    if (r == HT_OK)
+        r = write_manifest(bundle_dir, out_dir, atlas_size, atlas_size, &albedo, &cards.albedo, &cutoff, err, err_size);
     char path[4096];
     if (r == HT_OK) {
         snprintf(path, sizeof path, "%s/albedo.png", out_dir);
@@ -159,9 +194,9 @@ ht_result ht_cards_bundle_write_mesh(const char *bundle_dir, const ht_mesh *hair
         r = ht_image_write_png(path, &cards.detail, err, err_size);
     }
     if (r == HT_OK && summary)
-        fprintf(summary, "cards: %u cards of %u strands (%u strands), atlas %dx%d in %dx%d cells -> %s\n",
+        fprintf(summary, "cards: %u cards of %u strands (%u strands), atlas %dx%d in %dx%d cells, opaque cutoff %.3f -> %s\n",
                 cards.mesh.component_count, strands_per_card, hair->component_count, cards.albedo.width,
-                cards.albedo.height, cards.columns, cards.rows, out_dir);
+                cards.albedo.height, cards.columns, cards.rows, cutoff, out_dir);
     if (r != HT_OK && made_dir) remove_dir(out_dir);
     ht_cards_free(&cards);
     ht_image_free(&albedo);

@@ -304,12 +304,21 @@ static void resolve_cell(const bake *b, const int cell[4], ht_cards *out) {
             const size_t texel = (size_t)y * b->W + x;
             const double *a = b->acc[texel * ACC] > 0 ? b->acc + texel * ACC : mean;
             const double w = a[0] > 0 ? a[0] : 1;
+            /* The samples inside the card: its edges run through the edge
+               texels' centres (local_to_texel), where GL's bilinear filter
+               reads them. */
             double cover = 0;
-            for (int s = 0; s < SUB * SUB; s++) cover += 1 - b->transmit[texel * SUB * SUB + s];
+            int inside = 0;
+            for (int s = 0; s < SUB * SUB; s++) {
+                const double px = x + (s % SUB + 0.5) / SUB, py = y + (s / SUB + 0.5) / SUB;
+                if (px < cell[0] + 0.5 || px > cell[2] - 0.5 || py < cell[1] + 0.5 || py > cell[3] - 0.5) continue;
+                cover += 1 - b->transmit[texel * SUB * SUB + s];
+                inside++;
+            }
             const double ao = a[0] > 0 ? a[6] / w : 1;
             uint8_t *al = out->albedo.pixels + texel * 4, *de = out->detail.pixels + texel * 4;
             for (int c = 0; c < 3; c++) al[c] = byte_of(a[0] > 0 ? a[1 + c] / w * ao : 1);
-            al[3] = byte_of(cover / (SUB * SUB));
+            al[3] = byte_of(inside ? cover / inside : 0);
             de[0] = byte_of(a[0] > 0 ? 0.5 + a[4] / w : 0.5);
             de[1] = byte_of(a[0] > 0 ? a[5] / w : 1);
             de[2] = 0;
