@@ -20,6 +20,7 @@
 #include <hairtier/hairtier.h>
 #include <hairtier/lod.h>
 #include "cards_bundle.h"
+#include "support_gl_fault.h"
 #include "support_render.h"
 
 #define SIZE 48
@@ -96,8 +97,8 @@ static void same_passes_every_lod(ht_tier tier) {
 
 /* Cards (lod.h) of 16 strands, drawn from a bundle carrying their atlas
    (hairgen --cards): the same four passes with the same state as full
-   detail's in the tier (only the draw range differs: the cards' whole
-   index buffer), no GL error, and ink (ink_of) within CARDS_INK_BOUND of
+   detail's in the tier (only the draw range differs, the cards' whole
+   index buffer, and the alpha reference, the cards bundle's own cutoff), no GL error, and ink (ink_of) within CARDS_INK_BOUND of
    full detail's. */
 #define CARDS_STRANDS 16
 #define CARDS_ATLAS 128
@@ -130,8 +131,11 @@ static void cards_same_passes(ht_tier tier) {
     for (int i = 0; i < t.count; i++) {
         assert_int_equal(t.entries[i].gl_error, GL_NO_ERROR);
         assert_int_equal(t.entries[i].index_count, cards.mesh.index_count);
+        /* The cards bundle's own opaque cutoff (hairgen --cards), lower. */
+        assert_true(t.entries[i].alpha_ref <= full.entries[i].alpha_ref);
         ht_trace_entry e = t.entries[i];
         e.index_count = full.entries[i].index_count;
+        e.alpha_ref = full.entries[i].alpha_ref;
         if (memcmp(&e, &full.entries[i], sizeof e) != 0)
             fail_msg("%s cards: pass %d differs from full detail's", ht_tier_name(tier), i);
     }
@@ -143,15 +147,18 @@ static void cards_same_passes(ht_tier tier) {
 /* A camera pulled from 3 to 40 and back, jittering by 3 %: the chain
    goes only coarser on the way out and finer on the way back (512 pixels
    high for the choice), reaching the level the rule gives at 40, each
-   frame draws the chosen level's whole index buffer in the four passes. */
+   frame draws the chosen level's range of the one uploaded buffer in the
+   four passes, and no switch uploads anything (glBufferData counted). */
 static void chain_switches_with_the_distance(void **state) {
     (void)state;
     ht_lod_chain chain;
     assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
     assert_int_equal(chain.count, 4); /* 400 hairs: levels 0..3 */
-    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true }, fx.bundle_dir,
-                                             HT_OK);
+    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
+                                                                 .getproc = ht_test_fault_getproc },
+                                             fx.bundle_dir, HT_OK);
     int switches = 0, last = -1, peak = 0, steps = 120;
+    long uploads_at_first = -1;
     for (int f = 0; f < 2 * steps; f++) {
         const double t = f < steps ? (double)f / (steps - 1) : (double)(2 * steps - 1 - f) / (steps - 1);
         const float d = (float)((3.0 + 37.0 * t) * (1.0 + 0.03 * ((f % 3) - 1)));
@@ -160,6 +167,11 @@ static void chain_switches_with_the_distance(void **state) {
         const int level = ht_lod_chain_select(&chain, r, &frame.camera, 512, &res);
         assert_int_equal(res, HT_OK);
         assert_true(level >= 0 && level < chain.count);
+        /* One upload, at the first select: a switch moves the draw range. */
+        if (f == 0) {
+            uploads_at_first = ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA];
+            ht_fault_arm(HT_FAULT_NONE, 0);
+        }
         if (last >= 0 && level != last) switches++;
         /* Moving away never finer, coming back never coarser: the jitter
            does not flicker across a boundary. */
@@ -172,11 +184,17 @@ static void chain_switches_with_the_distance(void **state) {
             ht_image_free(&img);
             const ht_trace *t = ht_renderer_trace(r);
             assert_int_equal(t->count, HT_PASS_COUNT);
-            for (int i = 0; i < t->count; i++)
+            for (int i = 0; i < t->count; i++) {
                 assert_int_equal(t->entries[i].index_count, ht_lod_chain_mesh(&chain, level)->index_count);
+                assert_int_equal(t->entries[i].first_index, chain.first[level]);
+            }
         }
     }
-    printf("chain: %d switches over %d frames, up to level %d, back at level %d\n", switches, 2 * steps, peak, last);
+    printf("chain: %d switches over %d frames, up to level %d, back at level %d; glBufferData %ld at the first "
+           "select, %ld after\n", switches, 2 * steps, peak, last, uploads_at_first,
+           ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA]);
+    assert_int_equal(uploads_at_first, 2); /* the vertex and the index buffer */
+    assert_int_equal(ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA], 0);
     const ht_frame_desc far = ht_test_furball_frame(40.0f);
     double d2 = 0;
     for (int k = 0; k < 3; k++) d2 += (double)far.camera.eye[k] * far.camera.eye[k];

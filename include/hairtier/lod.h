@@ -113,21 +113,29 @@ HT_API int ht_lod_pick_error(const ht_lod_cell *cells, int count, double size, d
 
 /* Every level of one mesh, switched per frame by the best rule: level 0
    is the caller's mesh (borrowed: it must outlive the chain), the others
-   are built here. ht_lod_chain_select picks the level for this frame's
-   camera (the strand width projected at the distance from the eye to the
-   mesh's centre, ht_lod_pick_best with its hysteresis) and, when it
-   changes, hands the renderer that level's mesh (ht_renderer_set_mesh: an
-   upload); it returns the level drawn, or -1 with *result set when the
-   upload fails (the renderer keeps the mesh it had). */
+   are built here, and all of them are concatenated into one mesh (`all`,
+   level l the indices [first[l], first[l] + count[l])). The first
+   ht_lod_chain_select on a renderer uploads `all` once
+   (ht_renderer_set_mesh); from then on it picks the level for this
+   frame's camera (the strand width projected at the distance from the eye
+   to the mesh's centre, ht_lod_pick_best with its hysteresis) and, when
+   it changes, only moves the renderer's draw range
+   (ht_renderer_set_draw_range: no upload). It returns the level drawn, or
+   -1 with *result set when the upload fails (the renderer keeps the mesh
+   it had). A renderer whose mesh the application replaced: set `uploaded`
+   to NULL so the next select uploads `all` again. */
+typedef struct ht_renderer ht_renderer;
 typedef struct ht_lod_chain {
     const ht_mesh *full;
     ht_mesh levels[HT_LOD_LEVELS]; /* [0] unused: full */
     int count;                     /* levels built, 1 + ht_lod_max_level(full) */
     int current;                   /* -1 until the first select */
     double width;                  /* full's mean ribbon width */
+    ht_mesh all;                   /* every level, one after the other */
+    uint32_t first[HT_LOD_LEVELS], index_count[HT_LOD_LEVELS]; /* level l's range in all */
+    const ht_renderer *uploaded;   /* the renderer holding `all`, NULL: none yet */
 } ht_lod_chain;
 HT_API ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out);
-typedef struct ht_renderer ht_renderer;
 HT_API int ht_lod_chain_select(ht_lod_chain *chain, ht_renderer *r, const ht_camera *camera, int viewport_h,
                                ht_result *result);
 HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);

@@ -111,15 +111,19 @@ static bool bind_flat(ht_renderer *r, const ht_tier_frame *tf) {
     return true;
 }
 
-/* The hair, pass by pass over the whole sorted index range: every tier
+/* The hair, pass by pass over the draw range (the whole sorted index
+   buffer unless ht_renderer_set_draw_range chose a level's): every tier
    draws the same passes and ranges; only the shading differs. */
 ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf) {
     const ht_gl *gl = &r->gl;
-    if (!r->has_mesh || r->index_count == 0) return HT_OK;
+    if (!r->has_mesh || r->draw_count == 0) return HT_OK;
     ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, r->vbo);
     ht_gl_bind_buffer(gl, GL_ELEMENT_ARRAY_BUFFER, r->ibo);
     ht_renderer_set_arrays(r, r->caps.has_vbo ? NULL : r->vertices, true);
-    const void *indices = r->caps.has_vbo ? NULL : r->indices;
+    /* The draw range (ht_renderer_set_draw_range): an offset into the
+       index buffer, or into the private copy. */
+    const size_t offset = (size_t)r->draw_first * (r->index_type == GL_UNSIGNED_SHORT ? 2 : 4);
+    const void *indices = r->caps.has_vbo ? (const void *)(uintptr_t)offset : (const void *)((const char *)r->indices + offset);
 
     if (r->backend) r->backend->begin_frame(r->backend_state, tf);
     ht_result result = HT_OK;
@@ -132,11 +136,12 @@ ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf) {
             if (r->backend) r->backend->bind_pass(r->backend_state, pass, sub);
             else flat_ok = bind_flat(r, tf);
             if (r->caps.es) set_es_alpha(r, pass);
-            ht_trace_entry e = { .pass = pass, .sub_pass = sub, .first_index = 0, .index_count = r->index_count };
+            ht_trace_entry e = { .pass = pass, .sub_pass = sub, .first_index = r->draw_first,
+                                  .index_count = r->draw_count };
             if (r->record_trace) record_state(r, &e);
             bool draw = flat_ok && (!r->backend || !r->backend->set_arrays ||
                                     r->backend->set_arrays(r->backend_state, pass, sub));
-            if (draw) gl->DrawElements(GL_TRIANGLES, (GLsizei)r->index_count, r->index_type, indices);
+            if (draw) gl->DrawElements(GL_TRIANGLES, (GLsizei)r->draw_count, r->index_type, indices);
             e.gl_error = gl->GetError();
             if (e.gl_error != GL_NO_ERROR) {
                 ht_log_linef(r->log, r->log_user, "hairtier: pass %d.%d (%s): %s", p, sub,
