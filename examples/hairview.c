@@ -3,7 +3,7 @@
 
    build/hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]
                   [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]
-                  [--lod auto|N | --cards N] [--size F] [--distance D] [--samples N] [--supersample K]
+                  [--lod auto|N | --cards] [--size F] [--distance D] [--samples N] [--supersample K]
                   [--context osmesa|egl] [--egl-device N] [--api gl|gles2|gles3]
                   [--device-profile NAME] -o OUT.png
 
@@ -52,7 +52,7 @@ typedef struct options {
     double distance;      /* 0: the scene's camera; else the eye this far from the target */
     int samples;          /* 0: no multisampling; else the framebuffer's samples */
     int supersample;      /* 1; K: drawn K x K times larger, box-filtered down to the PNG */
-    int cards;            /* 0: strands; N: cards of N strands (the bundle: hairgen --cards) */
+    bool cards;           /* the bundle's stored cards (hairgen --cards) instead of the strands */
 } options;
 
 /* The library's log: every line goes to stderr, one line late, so that
@@ -91,7 +91,7 @@ static const struct option long_options[] = {
     { "flat", no_argument, NULL, KEY_FLAT },
     { "device-profile", required_argument, NULL, KEY_PROFILE },
     { "lod", required_argument, NULL, KEY_LOD },
-    { "cards", required_argument, NULL, KEY_CARDS },
+    { "cards", no_argument, NULL, KEY_CARDS },
     { "size", required_argument, NULL, KEY_SIZE },
     { "distance", required_argument, NULL, KEY_DISTANCE },
     { "samples", required_argument, NULL, KEY_SAMPLES },
@@ -103,7 +103,7 @@ static const cli_program program = {
     .name = "hairview",
     .synopsis = "usage: hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]\n"
                 "                [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]\n"
-                "                [--lod auto|N | --cards N] [--size F] [--distance D] [--samples N] [--supersample K]\n"
+                "                [--lod auto|N | --cards] [--size F] [--distance D] [--samples N] [--supersample K]\n"
                 "                [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]\n"
                 "                [--device-profile NAME] -o OUT.png\n",
     .help = "Renders SCENE with the bundle's tier that the device runs best (or --tier, --policy) and writes\n"
@@ -116,8 +116,8 @@ static const cli_program program = {
             "  --frames N      timed frames, 1..100000\n"
             "  --lod L         auto (full detail while a strand is >= 1 px wide, docs/lod.md) or a level 0..4\n"
             "                  (default 0); prints lod=N strands=K strand_px=W\n"
-            "  --cards N       the scene's cards (clumps of N strands as textured ribbons) instead of its\n"
-            "                  strands; the bundle from hairgen --cards (docs/lod.md)\n"
+            "  --cards         the cards the bundle stores (hairgen --cards: clumps of strands as\n"
+            "                  textured ribbons, docs/lod.md) instead of the scene's strands\n"
             "  --size F        draw F times the scene's image size, (0, 4] (default 1)\n"
             "  --distance D    the eye D scene units from the target, along the scene's view (default: the scene's)\n"
             "  --samples N     draw multisampled, N samples (2..32; a framebuffer object, GL 3.0), resolved before the PNG\n"
@@ -158,13 +158,7 @@ static const char *take(void *user, int key, const char *value) {
         snprintf(message, sizeof message, "--device-profile: %s", err);
         return message;
     }
-    case KEY_CARDS: {
-        char *end;
-        const long n = strtol(value, &end, 10);
-        if (!*value || *end || n < 1 || n > 65536) return "--cards: expected strands per card, 1..65536";
-        o->cards = (int)n;
-        return NULL;
-    }
+    case KEY_CARDS: o->cards = true; return NULL;
     case KEY_LOD: {
         char *end;
         if (strcmp(value, "auto") == 0) { o->lod = -1; return NULL; }
@@ -299,30 +293,30 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
     return 0;
 }
 
-/* --cards N: the scene's cards replace its strands; their uv index the
-   atlas the bundle carries (hairgen --cards), laid out for its albedo's
-   size. */
+/* --cards: the cards stored in the bundle (hairgen --cards writes its
+   lods.bin and the atlas their uv index) replace the scene's strands. */
 static int use_cards(const options *o, ht_mesh *hair) {
-    char path[4200];
-    uint32_t w = 0, h = 0;
-    snprintf(path, sizeof path, "%s/albedo.png", o->view.bundle);
-    if (!ht_image_png_header_size(path, &w, &h)) {
-        fprintf(stderr, "hairview: %s: --cards: no readable albedo.png (make the bundle with hairgen --cards)\n", path);
+    char path[4200], err[512];
+    snprintf(path, sizeof path, "%s/%s", o->view.bundle, HT_LOD_FILE_NAME);
+    ht_lod_file ladder;
+    if (ht_lod_file_read(path, &ladder, err, sizeof err) != HT_OK) {
+        fprintf(stderr, "hairview: --cards: %s (make the bundle with hairgen --cards)\n", err);
         return 1;
     }
-    ht_cards cards;
-    ht_result r = ht_mesh_build_cards(hair, &(ht_cards_desc){ .strands_per_card = (uint32_t)o->cards,
-                                                              .atlas_width = (int)w, .atlas_height = (int)h },
-                                      &cards);
+    int level = 0;
+    while (level < ladder.level_count && ladder.levels[level].kind != HT_LOD_KIND_CARDS) level++;
+    ht_mesh cards;
+    ht_result r = level < ladder.level_count ? ht_lod_file_level_mesh(&ladder, level, &cards) : HT_ERR_INVALID_ARGUMENT;
     if (r != HT_OK) {
-        fprintf(stderr, "hairview: %s: --cards %d: %s\n", o->view.scene, o->cards, ht_result_string(r));
+        fprintf(stderr, "hairview: %s: levels: no cards level (%s)\n", path, ht_result_string(r));
+        ht_lod_file_free(&ladder);
         return 1;
     }
-    printf("cards=%u strands=%u\n", cards.mesh.component_count, hair->component_count);
+    printf("cards=%u strands_per_card=%u strands=%u\n", cards.component_count, ladder.levels[level].param,
+           hair->component_count);
+    ht_lod_file_free(&ladder);
     ht_mesh_free(hair);
-    *hair = cards.mesh;
-    memset(&cards.mesh, 0, sizeof cards.mesh);
-    ht_cards_free(&cards);
+    *hair = cards;
     return 0;
 }
 

@@ -13,6 +13,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "bundle_sums.h"
 #include "errfmt.h"
 #include "file_open.h"
 #include <hairtier/image.h>
@@ -22,7 +23,25 @@
 #define MAX_BUNDLE_FILE (256u << 20)
 
 static bool is_replaced(const char *name) {
-    return !strcmp(name, "albedo.png") || !strcmp(name, "detail.png") || !strcmp(name, "manifest.json");
+    return !strcmp(name, "albedo.png") || !strcmp(name, "detail.png") || !strcmp(name, "manifest.json") ||
+           !strcmp(name, HT_LOD_FILE_NAME);
+}
+
+/* The files the cards bundle writes itself, their bytes for file_sums. */
+typedef struct written {
+    const char *name;
+    unsigned char *data;
+    size_t size;
+} written;
+#define WRITTEN_MAX 3
+
+static ht_result write_bytes(const char *dir, const written *w, char *err, size_t err_size) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", dir, w->name);
+    FILE *f = fopen(path, "wb");
+    const bool ok = f && fwrite(w->data, 1, w->size, f) == w->size;
+    const bool closed = f && fclose(f) == 0;
+    return ok && closed ? HT_OK : ht_fail(err, err_size, HT_ERR_IO, "%s: %s", path, strerror(errno));
 }
 
 static ht_result copy_file(const char *from, const char *to, char *err, size_t err_size) {
@@ -100,7 +119,8 @@ static double cards_cutoff(const ht_image *material, const ht_image *atlas, doub
    runtime checks each texture against its entry) and the cards' opaque
    cutoff. */
 static ht_result write_manifest(const char *from, const char *to, int w, int h, const ht_image *material,
-                                const ht_image *atlas, double *cutoff_out, char *err, size_t err_size) {
+                                const ht_image *atlas, const written *files, int file_count, double *cutoff_out,
+                                char *err, size_t err_size) {
     char path[4096], *text = NULL;
     snprintf(path, sizeof path, "%s/manifest.json", from);
     if (!(text = ht_file_read_text(path, MAX_BUNDLE_FILE, err, err_size))) return HT_ERR_IO;
@@ -127,6 +147,13 @@ static ht_result write_manifest(const char *from, const char *to, int w, int h, 
         *cutoff_out = cards_cutoff(material, atlas, cutoff->valuedouble);
         cJSON_SetNumberValue(cutoff, *cutoff_out);
     }
+    cJSON *sums = cJSON_GetObjectItemCaseSensitive(root, "file_sums");
+    for (int i = 0; r == HT_OK && i < file_count; i++)
+        if (cJSON_IsObject(sums) && !ht_bundle_sums_set(sums, files[i].name, files[i].data, files[i].size))
+            r = ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: file_sums: out of memory", path);
+    cJSON_DeleteItemFromObjectCaseSensitive(root, "lod_file");
+    if (r == HT_OK && !cJSON_AddStringToObject(root, "lod_file", HT_LOD_FILE_NAME))
+        r = ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: lod_file: out of memory", path);
     char *out = r == HT_OK ? cJSON_Print(root) : NULL;
     cJSON_Delete(root);
     if (r != HT_OK) return r;
@@ -181,18 +208,23 @@ ht_result ht_cards_bundle_write_mesh(const char *bundle_dir, const ht_mesh *hair
         else made_dir = true;
     }
     if (r == HT_OK) r = copy_bundle(bundle_dir, out_dir, err, err_size);
+    /* The atlas and the cards' geometry (lods.bin, one cards level). */
+    written files[WRITTEN_MAX] = { { "albedo.png", NULL, 0 }, { "detail.png", NULL, 0 }, { HT_LOD_FILE_NAME, NULL, 0 } };
+    const ht_lod_file ladder = { .mesh = cards.mesh, .level_count = 1,
+                                 .levels = { { HT_LOD_KIND_CARDS, strands_per_card, 0, cards.mesh.index_count, 0,
+                                               cards.mesh.component_count } } };
+    if (r == HT_OK) r = ht_image_encode_png(&cards.albedo, &files[0].data, &files[0].size, err, err_size);
+    if (r == HT_OK && detail.pixels) r = ht_image_encode_png(&cards.detail, &files[1].data, &files[1].size, err, err_size);
+    if (r == HT_OK && (r = ht_lod_file_encode(&ladder, &files[2].data, &files[2].size)) != HT_OK)
+        ht_fail(err, err_size, r, "%s/%s: cannot encode the cards (%s)", out_dir, HT_LOD_FILE_NAME, ht_result_string(r));
+    for (int i = 0; r == HT_OK && i < WRITTEN_MAX; i++)
+        if (files[i].data) r = write_bytes(out_dir, &files[i], err, err_size);
+    const written listed[WRITTEN_MAX] = { files[0], detail.pixels ? files[1] : files[2], files[2] };
     double cutoff = 0;
     if (r == HT_OK)
-        r = write_manifest(bundle_dir, out_dir, atlas_size, atlas_size, &albedo, &cards.albedo, &cutoff, err, err_size);
-    char path[4096];
-    if (r == HT_OK) {
-        snprintf(path, sizeof path, "%s/albedo.png", out_dir);
-        r = ht_image_write_png(path, &cards.albedo, err, err_size);
-    }
-    if (r == HT_OK && detail.pixels) {
-        snprintf(path, sizeof path, "%s/detail.png", out_dir);
-        r = ht_image_write_png(path, &cards.detail, err, err_size);
-    }
+        r = write_manifest(bundle_dir, out_dir, atlas_size, atlas_size, &albedo, &cards.albedo, listed,
+                           detail.pixels ? 3 : 2, &cutoff, err, err_size);
+    for (int i = 0; i < WRITTEN_MAX; i++) free(files[i].data);
     if (r == HT_OK && summary)
         fprintf(summary, "cards: %u cards of %u strands (%u strands), atlas %dx%d in %dx%d cells, opaque cutoff %.3f -> %s\n",
                 cards.mesh.component_count, strands_per_card, hair->component_count, cards.albedo.width,

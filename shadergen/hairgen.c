@@ -71,7 +71,8 @@ static const char help[] =
     "                        between levels) into the manifest's \"lods\" (docs/lod.md)\n"
     "  --cards BUNDLE        write DIR: BUNDLE with its albedo and detail textures replaced\n"
     "                        by the atlas of the scene's cards, clumps of N strands (default\n"
-    "                        32) as textured ribbons (hairview --cards N draws them; docs/lod.md)\n"
+    "                        32) as textured ribbons, stored in DIR/lods.bin (hairview --cards\n"
+    "                        draws them; docs/lod.md)\n"
     "  --emit-header OUT.h   write the bundle as one C header (beside DIR, or instead of it)\n"
     "  --header-symbol NAME  the header's C name (default: from the material's name)\n"
     "  --help, --version     this text; the version and the bundle generator version\n";

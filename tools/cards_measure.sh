@@ -24,7 +24,7 @@ for size in ${SIZES:-1 0.5 0.25}; do
   ms0=$(echo "$out" | sed -n 's/frame_ms=//p')
   echo "size $size cards 0 ms $ms0 cost 1"
   for n in ${CARDS:-32 8}; do
-    out=$("$B/hairview" --bundle "$d/cards-$n" --scene "$sc" --cards "$n" --size "$size" --frames "${FRAMES:-2}" \
+    out=$("$B/hairview" --bundle "$d/cards-$n" --scene "$sc" --cards --size "$size" --frames "${FRAMES:-2}" \
           ${EXTRA:-} -o "$d/s${size}_cards$n.png" 2>/dev/null) || { echo "size $size cards $n: failed"; continue; }
     ms=$(echo "$out" | sed -n 's/frame_ms=//p'); k=$(echo "$out" | sed -n 's/cards=\([0-9]*\).*/\1/p')
     m=$("$B/png_metrics" "$d/s${size}_full.png" "$d/s${size}_cards$n.png" | cut -d' ' -f1-4)

@@ -186,6 +186,43 @@ typedef struct ht_cards {
 HT_API ht_result ht_mesh_build_cards(const ht_mesh *full, const ht_cards_desc *desc, ht_cards *out);
 HT_API void ht_cards_free(ht_cards *cards);
 
+/* A stored ladder (docs/bundle.md, "lods.bin"; hairgen --cards writes
+   one with the cards): levels over one vertex and index buffer, each a
+   range of it, read with every count, range, index and float checked, so
+   a hostile file is refused with one line "NAME: FIELD: what is wrong"
+   and nothing allocated. Little-endian:
+     "HTLODS1\n", u32 levels (1..HT_LOD_FILE_MAX_LEVELS), u32 vertices,
+     u32 indices, u32 components, f32 center[3];
+     per level: u32 kind (0 strands, 1 cards), u32 param (the strand
+     stride, or strands per card), u32 first_index, index_count,
+     first_component, component_count;
+     vertices (ht_vertex: 12 f32 each), indices (u32), components (u32
+     first_index, u32 index_count, f32 sort_key); nothing after. */
+#define HT_LOD_FILE_NAME "lods.bin"
+#define HT_LOD_FILE_MAX_LEVELS 8
+#define HT_LOD_FILE_MAX_VERTICES (64u << 20)
+typedef enum ht_lod_kind { HT_LOD_KIND_STRANDS = 0, HT_LOD_KIND_CARDS = 1 } ht_lod_kind;
+typedef struct ht_lod_range {
+    ht_lod_kind kind;
+    uint32_t param;
+    uint32_t first_index, index_count;          /* ht_renderer_set_draw_range's */
+    uint32_t first_component, component_count; /* its components in mesh */
+} ht_lod_range;
+typedef struct ht_lod_file {
+    ht_mesh mesh;                               /* every level, one after the other */
+    ht_lod_range levels[HT_LOD_FILE_MAX_LEVELS];
+    int level_count;
+} ht_lod_file;
+HT_API ht_result ht_lod_file_parse(const void *data, size_t size, const char *name, ht_lod_file *out, char *err,
+                                   size_t err_size);
+HT_API ht_result ht_lod_file_read(const char *path, ht_lod_file *out, char *err, size_t err_size);
+/* The file's bytes (malloc'd), HT_ERR_INVALID_ARGUMENT for a ladder the
+   parser would refuse. */
+HT_API ht_result ht_lod_file_encode(const ht_lod_file *f, unsigned char **data, size_t *size);
+/* Level `level` as a mesh of its own (copies; for a renderer of its own). */
+HT_API ht_result ht_lod_file_level_mesh(const ht_lod_file *f, int level, ht_mesh *out);
+HT_API void ht_lod_file_free(ht_lod_file *f);
+
 /* The bundle's measured cells (hairgen --measure-lods: the reference tier
    at every LOD and size), at most max into out; how many. 0 when the
    bundle has none. */
