@@ -53,12 +53,16 @@ static uint64_t file_bytes(uint64_t levels, uint64_t vertices, uint64_t indices,
 }
 
 /* The ranges and indices of a ladder, whoever made it; NULL when valid,
-   else the field (and *at its index). */
-static const char *check_ladder(const ht_lod_file *f, uint32_t *at) {
+   else the array (and *at the element, *what what is wrong with it). */
+static const char *check_ladder(const ht_lod_file *f, uint32_t *at, const char **what) {
     const ht_mesh *m = &f->mesh;
+    *at = 0;
+    *what = "not whole triangles";
     if (m->index_count % 3) return "indices";
+    *what = "past the vertices";
     for (uint32_t i = 0; i < m->index_count; i++)
         if (m->indices[i] >= m->vertex_count) { *at = i; return "indices"; }
+    *what = "index range past the indices, or sort key not finite";
     for (uint32_t c = 0; c < m->component_count; c++) {
         const ht_component *k = &m->components[c];
         *at = c;
@@ -68,22 +72,27 @@ static const char *check_ladder(const ht_lod_file *f, uint32_t *at) {
     for (int l = 0; l < f->level_count; l++) {
         const ht_lod_range *r = &f->levels[l];
         *at = (uint32_t)l;
-        if (r->kind != HT_LOD_KIND_STRANDS && r->kind != HT_LOD_KIND_CARDS) return "levels.kind";
+        *what = "kind neither strands nor cards";
+        if (r->kind != HT_LOD_KIND_STRANDS && r->kind != HT_LOD_KIND_CARDS) return "levels";
+        *what = "index range past the indices or not whole triangles";
         if (r->first_index % 3 || r->index_count % 3 || r->first_index > m->index_count ||
             r->index_count > m->index_count - r->first_index)
-            return "levels.index range";
+            return "levels";
+        *what = "component range past the components";
         if (r->first_component > m->component_count || r->component_count > m->component_count - r->first_component)
-            return "levels.component range";
+            return "levels";
+        *what = "a component outside the level's index range";
         for (uint32_t c = r->first_component; c < r->first_component + r->component_count; c++) {
             const ht_component *k = &m->components[c];
             if (k->first_index < r->first_index || k->first_index + k->index_count > r->first_index + r->index_count)
-                return "levels.components (outside the level's index range)";
+                return "levels";
         }
     }
     for (uint32_t v = 0; v < m->vertex_count; v++)
     {
         float f[VERTEX_FLOATS];
         vertex_floats(&m->vertices[v], f);
+        *what = "not finite";
         if (!ht_all_finite(f, VERTEX_FLOATS)) { *at = v; return "vertices"; }
     }
     return NULL;
@@ -141,10 +150,10 @@ ht_result ht_lod_file_parse(const void *data, size_t size, const char *name, ht_
         out->mesh.components[c].sort_key = get_f32(&r);
     }
     uint32_t at = 0;
-    const char *bad = check_ladder(out, &at);
+    const char *what = "", *bad = check_ladder(out, &at, &what);
     if (bad) {
         ht_lod_file_free(out);
-        return ht_fail(err, err_size, HT_ERR_PARSE, "%s: %s[%u]: out of range or not finite", name, bad, at);
+        return ht_fail(err, err_size, HT_ERR_PARSE, "%s: %s[%u]: %s", name, bad, at, what);
     }
     return HT_OK;
 }
@@ -167,8 +176,9 @@ ht_result ht_lod_file_encode(const ht_lod_file *f, unsigned char **data, size_t 
     *size = 0;
     const ht_mesh *m = &f->mesh;
     uint32_t at;
+    const char *what;
     if (m->vertex_count > HT_LOD_FILE_MAX_VERTICES || m->index_count / 3 > HT_LOD_FILE_MAX_VERTICES ||
-        m->component_count > HT_LOD_FILE_MAX_VERTICES || check_ladder(f, &at))
+        m->component_count > HT_LOD_FILE_MAX_VERTICES || check_ladder(f, &at, &what))
         return HT_ERR_INVALID_ARGUMENT;
     const uint64_t bytes = file_bytes((uint64_t)f->level_count, m->vertex_count, m->index_count, m->component_count);
     unsigned char *buf = malloc(bytes), *p = buf;
