@@ -96,10 +96,11 @@ static void same_passes_every_lod(ht_tier tier) {
 }
 
 /* Cards (lod.h) of 16 strands, drawn from a bundle carrying their atlas
-   (hairgen --cards): the same four passes with the same state as full
-   detail's in the tier (only the draw range differs, the cards' whole
-   index buffer, and the alpha reference, the cards bundle's own cutoff), no GL error, and ink (ink_of) within CARDS_INK_BOUND of
-   full detail's. */
+   (hairgen --cards) and drawn as it stores them (lods.bin): the same four
+   passes with the same state as full detail's in the tier (only the draw
+   range differs, the cards' whole index buffer, and the alpha reference,
+   the cards bundle's own cutoff), no GL error, and ink (ink_of) within
+   CARDS_INK_BOUND of full detail's. */
 #define CARDS_STRANDS 16
 #define CARDS_ATLAS 128
 #define CARDS_INK_BOUND 0.25
@@ -109,12 +110,16 @@ static void cards_same_passes(ht_tier tier) {
     snprintf(dir, sizeof dir, "%s/cards-%s", fx.work, ht_tier_name(tier));
     if (ht_cards_bundle_write_mesh(fx.bundle_dir, &fx.mesh, CARDS_STRANDS, CARDS_ATLAS, dir, NULL, err, sizeof err) != HT_OK)
         fail_msg("%s", err);
-    ht_cards cards;
-    assert_int_equal(ht_mesh_build_cards(&fx.mesh, &(ht_cards_desc){ .strands_per_card = CARDS_STRANDS,
-                                                                     .atlas_width = CARDS_ATLAS,
-                                                                     .atlas_height = CARDS_ATLAS },
-                                         &cards),
-                     HT_OK);
+    /* The cards as the bundle stores them (lods.bin). */
+    char path[256];
+    snprintf(path, sizeof path, "%s/%s", dir, HT_LOD_FILE_NAME);
+    ht_lod_file ladder;
+    if (ht_lod_file_read(path, &ladder, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    assert_int_equal(ladder.level_count, 1);
+    assert_int_equal(ladder.levels[0].kind, HT_LOD_KIND_CARDS);
+    ht_mesh cards;
+    assert_int_equal(ht_lod_file_level_mesh(&ladder, 0, &cards), HT_OK);
+    ht_lod_file_free(&ladder);
     ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = tier, .strict = true }, fx.bundle_dir, HT_OK);
     ht_trace full;
     draw_lod(r, &fx.mesh, &full);
@@ -122,15 +127,15 @@ static void cards_same_passes(ht_tier tier) {
     ht_renderer_destroy(r);
     r = ht_test_renderer_create((ht_renderer_desc){ .tier = tier, .strict = true }, dir, HT_OK);
     ht_trace t;
-    draw_lod(r, &cards.mesh, &t);
-    const double ink = ink_of(r, &cards.mesh);
-    printf("%s cards: %u cards, ink %.1f, full detail %.1f (%+.1f%%)\n", ht_tier_name(tier), cards.mesh.component_count,
+    draw_lod(r, &cards, &t);
+    const double ink = ink_of(r, &cards);
+    printf("%s cards: %u cards, ink %.1f, full detail %.1f (%+.1f%%)\n", ht_tier_name(tier), cards.component_count,
            ink, full_ink, 100 * (ink / full_ink - 1));
     assert_int_equal(ht_renderer_tier(r), tier);
     assert_int_equal(t.count, full.count);
     for (int i = 0; i < t.count; i++) {
         assert_int_equal(t.entries[i].gl_error, GL_NO_ERROR);
-        assert_int_equal(t.entries[i].index_count, cards.mesh.index_count);
+        assert_int_equal(t.entries[i].index_count, cards.index_count);
         /* The cards bundle's own opaque cutoff (hairgen --cards), lower. */
         assert_true(t.entries[i].alpha_ref <= full.entries[i].alpha_ref);
         ht_trace_entry e = t.entries[i];
@@ -141,7 +146,7 @@ static void cards_same_passes(ht_tier tier) {
     }
     assert_true(fabs(ink / full_ink - 1) <= CARDS_INK_BOUND);
     ht_renderer_destroy(r);
-    ht_cards_free(&cards);
+    ht_mesh_free(&cards);
 }
 
 /* A camera pulled from 3 to 40 and back, jittering by 3 %: the chain
