@@ -30,6 +30,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <hairtier/scene.h>
 #include <hairtier/hairtier.h>
@@ -114,10 +115,11 @@ static const cli_program program = {
             "  --strict        fail instead of falling to a lower tier\n"
             "  --flat          the geometry floor: a flat colour, no bundle needed\n"
             "  --frames N      timed frames, 1..100000\n"
-            "  --lod L         auto (full detail while a strand is >= 1 px wide, docs/lod.md) or a level 0..4\n"
+            "  --lod L         auto (full detail while a strand is >= 1 px wide, docs/lod.md) or a level 0..7\n"
             "                  (default 0); prints lod=N strands=K strand_px=W\n"
             "  --cards         the cards the bundle stores (hairgen --cards: clumps of strands as\n"
-            "                  textured ribbons, docs/lod.md) instead of the scene's strands\n"
+            "                  textured ribbons, docs/lod.md); with such a bundle --lod N draws its\n"
+            "                  stored level N\n"
             "  --size F        draw F times the scene's image size, (0, 4] (default 1)\n"
             "  --distance D    the eye D scene units from the target, along the scene's view (default: the scene's)\n"
             "  --samples N     draw multisampled, N samples (2..32; a framebuffer object, GL 3.0), resolved before the PNG\n"
@@ -163,8 +165,8 @@ static const char *take(void *user, int key, const char *value) {
         char *end;
         if (strcmp(value, "auto") == 0) { o->lod = -1; return NULL; }
         const long n = strtol(value, &end, 10);
-        if (*value && !*end && n >= 0 && n < HT_LOD_LEVELS) { o->lod = (int)n; return NULL; }
-        return "--lod: expected auto or a level 0..4";
+        if (*value && !*end && n >= 0 && n < HT_LOD_FILE_MAX_LEVELS) { o->lod = (int)n; return NULL; }
+        return "--lod: expected auto or a level 0..7";
     }
     case KEY_SAMPLES:
     case KEY_SUPERSAMPLE: {
@@ -293,30 +295,46 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
     return 0;
 }
 
-/* --cards: the cards stored in the bundle (hairgen --cards writes its
-   lods.bin and the atlas their uv index) replace the scene's strands. */
-static int use_cards(const options *o, ht_mesh *hair) {
-    char path[4200], err[512];
-    snprintf(path, sizeof path, "%s/%s", o->view.bundle, HT_LOD_FILE_NAME);
+/* A bundle that stores its levels (lods.bin, hairgen --cards: its
+   textures are an atlas, so the scene's own mesh would sample the wrong
+   texels): every level drawn is the file's. --cards: the cards level;
+   --lod N: level N; auto: the best rule over all of them (the cards one
+   past the last strand level). */
+static int use_stored_levels(const options *o, const ht_scene *s, const char *path, ht_mesh *hair) {
+    char err[512];
     ht_lod_file ladder;
     if (ht_lod_file_read(path, &ladder, err, sizeof err) != HT_OK) {
-        fprintf(stderr, "hairview: --cards: %s (make the bundle with hairgen --cards)\n", err);
+        fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
-    int level = 0;
-    while (level < ladder.level_count && ladder.levels[level].kind != HT_LOD_KIND_CARDS) level++;
-    ht_mesh cards;
-    ht_result r = level < ladder.level_count ? ht_lod_file_level_mesh(&ladder, level, &cards) : HT_ERR_INVALID_ARGUMENT;
-    if (r != HT_OK) {
-        fprintf(stderr, "hairview: %s: levels: no cards level (%s)\n", path, ht_result_string(r));
+    ht_mesh full;
+    ht_result r = ht_lod_file_level_mesh(&ladder, 0, &full);
+    const double px = r == HT_OK ? ht_projected_width_px(ht_mesh_mean_width(&full), eye_distance(s), s->camera.fov_y,
+                                                         s->height / o->supersample)
+                                 : 0;
+    ht_mesh_free(&full);
+    int level = o->lod < 0 ? ht_lod_pick_best(px, -1, ladder.level_count - 1) : o->lod;
+    if (o->cards)
+        for (level = 0; level < ladder.level_count && ladder.levels[level].kind != HT_LOD_KIND_CARDS; level++) {}
+    if (r == HT_OK && level >= ladder.level_count) {
+        fprintf(stderr, "hairview: %s: %s: no level %d (%d stored)\n", path, o->cards ? "--cards" : "--lod", level,
+                ladder.level_count);
         ht_lod_file_free(&ladder);
         return 1;
     }
-    printf("cards=%u strands_per_card=%u strands=%u\n", cards.component_count, ladder.levels[level].param,
-           hair->component_count);
+    ht_mesh mesh;
+    if (r == HT_OK) r = ht_lod_file_level_mesh(&ladder, level, &mesh);
+    if (r != HT_OK) {
+        fprintf(stderr, "hairview: %s: level %d: %s\n", path, level, ht_result_string(r));
+        ht_lod_file_free(&ladder);
+        return 1;
+    }
+    printf("lod=%d kind=%s param=%u components=%u strand_px=%.3f\n", level,
+           ladder.levels[level].kind == HT_LOD_KIND_CARDS ? "cards" : "strands", ladder.levels[level].param,
+           mesh.component_count, px);
     ht_lod_file_free(&ladder);
     ht_mesh_free(hair);
-    *hair = cards;
+    *hair = mesh;
     return 0;
 }
 
@@ -358,8 +376,15 @@ static int run(const options *o, view *v) {
     ht_policy policy = { HT_POLICY_BEST, 0 };
     if (ht_policy_parse(policy_text && policy_text[0] ? policy_text : NULL, &policy, err, sizeof err) != HT_OK)
         policy.kind = HT_POLICY_BEST; /* the renderer has refused it already */
-    if (o->cards ? use_cards(o, &v->hair)
-                 : choose_lod(o, &scene, scene_distance, o->flat ? NULL : v->renderer, &policy, &v->hair))
+    char stored[4200];
+    snprintf(stored, sizeof stored, "%s/%s", o->view.bundle, HT_LOD_FILE_NAME);
+    const bool has_stored = access(stored, F_OK) == 0;
+    if (o->cards && !has_stored) {
+        fprintf(stderr, "hairview: --cards: %s: absent (make the bundle with hairgen --cards)\n", stored);
+        return 1;
+    }
+    if (has_stored ? use_stored_levels(o, &scene, stored, &v->hair)
+                   : choose_lod(o, &scene, scene_distance, o->flat ? NULL : v->renderer, &policy, &v->hair))
         return 1;
     if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
     print_held();

@@ -1,7 +1,8 @@
-/* cards_bundle.c — a bundle whose albedo and detail are a scene's cards
-   atlas (cards_bundle.h). Every other file is copied byte for byte: the
-   tiers' programs and LUTs do not depend on the textures' contents, only
-   on their names and sizes, which the atlas keeps. */
+/* cards_bundle.c — a bundle whose albedo and detail are one atlas of the
+   material's own textures and a scene's cards, and whose lods.bin holds
+   every level, strands and cards (cards_bundle.h). Every other file is
+   copied byte for byte: the tiers' programs and LUTs do not depend on the
+   textures' contents, only on their names (and the manifest's sizes). */
 #include "cards_bundle.h"
 
 #include <cJSON.h>
@@ -16,6 +17,7 @@
 #include "bundle_sums.h"
 #include "errfmt.h"
 #include "file_open.h"
+#include "mesh_internal.h"
 #include <hairtier/image.h>
 #include <hairtier/lod.h>
 #include <hairtier/scene.h>
@@ -92,35 +94,11 @@ static void remove_dir(const char *dir) {
     rmdir(dir);
 }
 
-/* The fraction of an RGBA image's covered texels (alpha > 0) whose alpha
-   is at least a (0..255). */
-static double opaque_fraction(const ht_image *img, int a) {
-    size_t covered = 0, opaque = 0;
-    for (size_t i = 0; i < (size_t)img->width * img->height; i++) {
-        covered += img->pixels[4 * i + 3] > 0;
-        opaque += img->pixels[4 * i + 3] >= a && img->pixels[4 * i + 3] > 0;
-    }
-    return covered ? (double)opaque / covered : 0;
-}
-
-/* The cards' opaque cutoff: the alpha above which as large a part of the
-   atlas's coverage lies as of the material's above its own cutoff. Drawn
-   with the material's, the smooth baked coverage would rarely reach it:
-   nothing would write depth in the prime-Z pass and every card would
-   blend in inside-out order, far side over near side (docs/lod.md). */
-static double cards_cutoff(const ht_image *material, const ht_image *atlas, double cutoff) {
-    const double target = opaque_fraction(material, (int)ceil(cutoff * 255));
-    int a = 255;
-    while (a > 1 && opaque_fraction(atlas, a) < target) a--;
-    return a / 255.0 < cutoff ? a / 255.0 : cutoff;
-}
-
 /* The manifest with textures.albedo and .detail the atlas's size (the
-   runtime checks each texture against its entry) and the cards' opaque
-   cutoff. */
-static ht_result write_manifest(const char *from, const char *to, int w, int h, const ht_image *material,
-                                const ht_image *atlas, const written *files, int file_count, double *cutoff_out,
-                                char *err, size_t err_size) {
+   runtime checks each texture against its entry), the new files' sums
+   and "lod_file". */
+static ht_result write_manifest(const char *from, const char *to, int w, int h, const written *files,
+                                int file_count, char *err, size_t err_size) {
     char path[4096], *text = NULL;
     snprintf(path, sizeof path, "%s/manifest.json", from);
     if (!(text = ht_file_read_text(path, MAX_BUNDLE_FILE, err, err_size))) return HT_ERR_IO;
@@ -139,13 +117,6 @@ static ht_result write_manifest(const char *from, const char *to, int w, int h, 
             cJSON_SetNumberValue(cJSON_GetObjectItemCaseSensitive(t, "width"), w);
             cJSON_SetNumberValue(cJSON_GetObjectItemCaseSensitive(t, "height"), h);
         }
-    }
-    cJSON *cutoff = cJSON_GetObjectItemCaseSensitive(root, "opaque_cutoff");
-    if (r == HT_OK && !cJSON_IsNumber(cutoff))
-        r = ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "%s: opaque_cutoff: expected a number", path);
-    if (r == HT_OK) {
-        *cutoff_out = cards_cutoff(material, atlas, cutoff->valuedouble);
-        cJSON_SetNumberValue(cutoff, *cutoff_out);
     }
     cJSON *sums = cJSON_GetObjectItemCaseSensitive(root, "file_sums");
     for (int i = 0; r == HT_OK && i < file_count; i++)
@@ -184,52 +155,114 @@ static ht_result read_texture(const char *dir, const char *name, bool required, 
     return r;
 }
 
+/* The material's texture into the atlas's top left, with a one-texel
+   border of its wrapped-around texels: a strand's uv, mapped there
+   (strand_uv), samples what it sampled in the material's own texture. */
+static void place_material(const ht_image *material, ht_image *atlas) {
+    const int mw = material->width, mh = material->height;
+    for (int y = 0; y < mh + 2; y++)
+        for (int x = 0; x < mw + 2; x++) {
+            const int sx = (x - 1 + mw) % mw, sy = (y - 1 + mh) % mh;
+            memcpy(atlas->pixels + ((size_t)y * atlas->width + x) * 4, material->pixels + ((size_t)sy * mw + sx) * 4, 4);
+        }
+}
+
+static void strand_uv(ht_mesh *m, int mw, int mh, int W, int H) {
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        m->vertices[v].uv[0] = (float)((1.0 + m->vertices[v].uv[0] * mw) / W);
+        m->vertices[v].uv[1] = (float)((1.0 + m->vertices[v].uv[1] * mh) / H);
+    }
+}
+
+/* The ladder: every strand level of the chain, then the cards, in one
+   buffer (lod.h's ht_lod_file). */
+static ht_result make_ladder(const ht_lod_chain *chain, const ht_mesh *cards, uint32_t strands_per_card,
+                             ht_lod_file *out) {
+    memset(out, 0, sizeof *out);
+    const ht_mesh *all = &chain->all;
+    ht_result r = ht_mesh_alloc(&out->mesh, (uint64_t)all->vertex_count + cards->vertex_count,
+                                (uint64_t)all->index_count + cards->index_count,
+                                (uint64_t)all->component_count + cards->component_count);
+    if (r != HT_OK) return r;
+    ht_mesh *m = &out->mesh;
+    memcpy(m->center, all->center, sizeof m->center);
+    memcpy(m->vertices, all->vertices, sizeof *m->vertices * all->vertex_count);
+    memcpy(m->vertices + all->vertex_count, cards->vertices, sizeof *m->vertices * cards->vertex_count);
+    memcpy(m->indices, all->indices, sizeof *m->indices * all->index_count);
+    for (uint32_t i = 0; i < cards->index_count; i++) m->indices[all->index_count + i] = cards->indices[i] + all->vertex_count;
+    memcpy(m->components, all->components, sizeof *m->components * all->component_count);
+    for (uint32_t c = 0; c < cards->component_count; c++) {
+        m->components[all->component_count + c] = cards->components[c];
+        m->components[all->component_count + c].first_index += all->index_count;
+    }
+    uint32_t component = 0;
+    for (int l = 0; l < chain->count; l++) {
+        const uint32_t n = ht_lod_chain_mesh(chain, l)->component_count;
+        out->levels[l] = (ht_lod_range){ HT_LOD_KIND_STRANDS, 1u << l, chain->first[l], chain->index_count[l], component, n };
+        component += n;
+    }
+    out->levels[chain->count] = (ht_lod_range){ HT_LOD_KIND_CARDS, strands_per_card, all->index_count,
+                                                cards->index_count, all->component_count, cards->component_count };
+    out->level_count = chain->count + 1;
+    return HT_OK;
+}
+
 ht_result ht_cards_bundle_write_mesh(const char *bundle_dir, const ht_mesh *hair, uint32_t strands_per_card,
                                      int atlas_size, const char *out_dir, FILE *summary, char *err, size_t err_size) {
     ht_image albedo = { 0 }, detail = { 0 };
     ht_cards cards = { 0 };
+    ht_lod_chain chain = { 0 };
+    ht_lod_file ladder = { 0 };
     bool made_dir = false;
     ht_result r = read_texture(bundle_dir, "albedo.png", true, &albedo, err, err_size);
     if (r == HT_OK) r = read_texture(bundle_dir, "detail.png", false, &detail, err, err_size);
     if (r == HT_OK && detail.pixels && (detail.width != albedo.width || detail.height != albedo.height))
         r = ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "%s/detail.png: %dx%d, albedo.png is %dx%d; cards share one atlas grid",
                     bundle_dir, detail.width, detail.height, albedo.width, albedo.height);
+    if (r == HT_OK && (albedo.width + 2 > atlas_size || albedo.height + 2 >= atlas_size))
+        r = ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "%s/albedo.png: %dx%d does not fit a %dx%d atlas with a border",
+                    bundle_dir, albedo.width, albedo.height, atlas_size, atlas_size);
     if (r == HT_OK) {
         r = ht_mesh_build_cards(hair, &(ht_cards_desc){ .strands_per_card = strands_per_card, .strand_albedo = &albedo,
                                                         .atlas_width = atlas_size, .atlas_height = atlas_size,
-                                                        .strand_detail = detail.pixels ? &detail : NULL },
+                                                        .strand_detail = detail.pixels ? &detail : NULL,
+                                                        .reserve_rows = albedo.height + 2 },
                                 &cards);
         if (r != HT_OK)
             ht_fail(err, err_size, r, "%s: cards of %u strands: %u strands do not make cards in a %dx%d atlas (%s)",
                     out_dir, strands_per_card, hair->component_count, atlas_size, atlas_size, ht_result_string(r));
+    }
+    if (r == HT_OK && (r = ht_lod_chain_build(hair, &chain)) != HT_OK)
+        ht_fail(err, err_size, r, "%s: the strand levels: %s", out_dir, ht_result_string(r));
+    if (r == HT_OK) {
+        place_material(&albedo, &cards.albedo);
+        if (detail.pixels) place_material(&detail, &cards.detail);
+        strand_uv(&chain.all, albedo.width, albedo.height, atlas_size, atlas_size);
+        if ((r = make_ladder(&chain, &cards.mesh, strands_per_card, &ladder)) != HT_OK)
+            ht_fail(err, err_size, r, "%s: the ladder: %s", out_dir, ht_result_string(r));
     }
     if (r == HT_OK) {
         if (mkdir(out_dir, 0755) != 0) r = ht_fail(err, err_size, HT_ERR_IO, "%s: %s", out_dir, strerror(errno));
         else made_dir = true;
     }
     if (r == HT_OK) r = copy_bundle(bundle_dir, out_dir, err, err_size);
-    /* The atlas and the cards' geometry (lods.bin, one cards level). */
-    written files[WRITTEN_MAX] = { { "albedo.png", NULL, 0 }, { "detail.png", NULL, 0 }, { HT_LOD_FILE_NAME, NULL, 0 } };
-    const ht_lod_file ladder = { .mesh = cards.mesh, .level_count = 1,
-                                 .levels = { { HT_LOD_KIND_CARDS, strands_per_card, 0, cards.mesh.index_count, 0,
-                                               cards.mesh.component_count } } };
+    /* The atlas and every level (lods.bin). */
+    written files[WRITTEN_MAX] = { { "albedo.png", NULL, 0 }, { HT_LOD_FILE_NAME, NULL, 0 }, { "detail.png", NULL, 0 } };
     if (r == HT_OK) r = ht_image_encode_png(&cards.albedo, &files[0].data, &files[0].size, err, err_size);
-    if (r == HT_OK && detail.pixels) r = ht_image_encode_png(&cards.detail, &files[1].data, &files[1].size, err, err_size);
-    if (r == HT_OK && (r = ht_lod_file_encode(&ladder, &files[2].data, &files[2].size)) != HT_OK)
-        ht_fail(err, err_size, r, "%s/%s: cannot encode the cards (%s)", out_dir, HT_LOD_FILE_NAME, ht_result_string(r));
-    for (int i = 0; r == HT_OK && i < WRITTEN_MAX; i++)
-        if (files[i].data) r = write_bytes(out_dir, &files[i], err, err_size);
-    const written listed[WRITTEN_MAX] = { files[0], detail.pixels ? files[1] : files[2], files[2] };
-    double cutoff = 0;
-    if (r == HT_OK)
-        r = write_manifest(bundle_dir, out_dir, atlas_size, atlas_size, &albedo, &cards.albedo, listed,
-                           detail.pixels ? 3 : 2, &cutoff, err, err_size);
+    if (r == HT_OK && (r = ht_lod_file_encode(&ladder, &files[1].data, &files[1].size)) != HT_OK)
+        ht_fail(err, err_size, r, "%s/%s: cannot encode the ladder (%s)", out_dir, HT_LOD_FILE_NAME, ht_result_string(r));
+    if (r == HT_OK && detail.pixels) r = ht_image_encode_png(&cards.detail, &files[2].data, &files[2].size, err, err_size);
+    const int count = detail.pixels ? 3 : 2;
+    for (int i = 0; r == HT_OK && i < count; i++) r = write_bytes(out_dir, &files[i], err, err_size);
+    if (r == HT_OK) r = write_manifest(bundle_dir, out_dir, atlas_size, atlas_size, files, count, err, err_size);
     for (int i = 0; i < WRITTEN_MAX; i++) free(files[i].data);
     if (r == HT_OK && summary)
-        fprintf(summary, "cards: %u cards of %u strands (%u strands), atlas %dx%d in %dx%d cells, opaque cutoff %.3f -> %s\n",
-                cards.mesh.component_count, strands_per_card, hair->component_count, cards.albedo.width,
-                cards.albedo.height, cards.columns, cards.rows, cutoff, out_dir);
+        fprintf(summary, "cards: %u cards of %u strands (%u strands), %d strand levels, atlas %dx%d in %dx%d cells -> %s\n",
+                cards.mesh.component_count, strands_per_card, hair->component_count, chain.count, cards.albedo.width,
+                cards.albedo.height, cards.columns, cards.rows, out_dir);
     if (r != HT_OK && made_dir) remove_dir(out_dir);
+    ht_lod_file_free(&ladder);
+    ht_lod_chain_free(&chain);
     ht_cards_free(&cards);
     ht_image_free(&albedo);
     ht_image_free(&detail);

@@ -56,6 +56,9 @@ typedef struct ht_lod_desc {
 /* The shipped ladder, level 0 (full) to HT_LOD_LEVELS - 1: stride 2^level,
    max_turn_deg 0, 4, 8, 8, 8. Levels outside are clamped. */
 #define HT_LOD_LEVELS 5
+/* The most levels a stored ladder (lods.bin) or a chain holds: the
+   strand levels and the cards. */
+#define HT_LOD_FILE_MAX_LEVELS 8
 HT_API void ht_lod_level(int level, ht_lod_desc *out);
 
 /* The coarsest level worth building for a mesh: the ladder stops before
@@ -123,19 +126,24 @@ HT_API int ht_lod_pick_error(const ht_lod_cell *cells, int count, double size, d
    (ht_renderer_set_draw_range: no upload). It returns the level drawn, or
    -1 with *result set when the upload fails (the renderer keeps the mesh
    it had). A renderer whose mesh the application replaced: set `uploaded`
-   to NULL so the next select uploads `all` again. */
+   to NULL so the next select uploads `all` again.
+   ht_lod_chain_from_file takes the levels a bundle stores instead (its
+   lods.bin, hairgen --cards: the strand levels, then the cards, whose
+   best-rule level is one past the last strand level's). */
 typedef struct ht_renderer ht_renderer;
 typedef struct ht_lod_chain {
     const ht_mesh *full;
-    ht_mesh levels[HT_LOD_LEVELS]; /* [0] unused: full */
+    ht_mesh levels[HT_LOD_FILE_MAX_LEVELS]; /* built here; [0] only from a file */
     int count;                     /* levels built, 1 + ht_lod_max_level(full) */
     int current;                   /* -1 until the first select */
     double width;                  /* full's mean ribbon width */
     ht_mesh all;                   /* every level, one after the other */
-    uint32_t first[HT_LOD_LEVELS], index_count[HT_LOD_LEVELS]; /* level l's range in all */
+    uint32_t first[HT_LOD_FILE_MAX_LEVELS], index_count[HT_LOD_FILE_MAX_LEVELS]; /* level l's range in all */
     const ht_renderer *uploaded;   /* the renderer holding `all`, NULL: none yet */
 } ht_lod_chain;
 HT_API ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out);
+typedef struct ht_lod_file ht_lod_file;
+HT_API ht_result ht_lod_chain_from_file(const ht_lod_file *file, ht_lod_chain *out);
 HT_API int ht_lod_chain_select(ht_lod_chain *chain, ht_renderer *r, const ht_camera *camera, int viewport_h,
                                ht_result *result);
 HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);
@@ -169,6 +177,9 @@ typedef struct ht_cards_desc {
     int atlas_width, atlas_height;   /* 0: strand_albedo's size, else 256 */
     const ht_image *strand_albedo;   /* NULL: base 1, alpha 1; else RGBA: base.rgb, alpha.a */
     const ht_image *strand_detail;   /* NULL: shift 0.5, sparkle 1; else shift in r, sparkle in g */
+    int reserve_rows;                /* rows at the atlas's top left free of cells (hairgen --cards
+                                        puts the material's own textures there); their texels
+                                        are the bake's: the caller fills them */
 } ht_cards_desc;
 
 typedef struct ht_cards {
@@ -177,6 +188,7 @@ typedef struct ht_cards {
     ht_image detail;     /* RGBA atlas, strand_detail's layout */
     ht_image ao;         /* 1 channel: the baked ao albedo.rgb is multiplied by */
     int columns, rows;   /* the atlas's grid of cells, one a card, row-major */
+    int first_row;       /* the grid's top row: desc.reserve_rows */
 } ht_cards;
 
 /* HT_ERR_INVALID_ARGUMENT for a mesh not made of ribbons (as
@@ -199,7 +211,6 @@ HT_API void ht_cards_free(ht_cards *cards);
      vertices (ht_vertex: 12 f32 each), indices (u32), components (u32
      first_index, u32 index_count, f32 sort_key); nothing after. */
 #define HT_LOD_FILE_NAME "lods.bin"
-#define HT_LOD_FILE_MAX_LEVELS 8
 #define HT_LOD_FILE_MAX_VERTICES (64u << 20)
 typedef enum ht_lod_kind { HT_LOD_KIND_STRANDS = 0, HT_LOD_KIND_CARDS = 1 } ht_lod_kind;
 typedef struct ht_lod_range {

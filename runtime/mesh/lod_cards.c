@@ -232,9 +232,9 @@ static void bake_triangle(bake *b, const bake_vertex *v0, const bake_vertex *v1,
 
 /* Card k's cell in texels: [x0, x1) x [y0, y1). */
 static void cell_of(const ht_cards *cards, int W, int H, uint32_t k, int *x0, int *y0, int *x1, int *y1) {
-    const int cw = W / cards->columns, ch = H / cards->rows;
+    const int cw = W / cards->columns, ch = (H - cards->first_row) / cards->rows;
     *x0 = (int)(k % (uint32_t)cards->columns) * cw;
-    *y0 = (int)(k / (uint32_t)cards->columns) * ch;
+    *y0 = cards->first_row + (int)(k / (uint32_t)cards->columns) * ch;
     *x1 = *x0 + cw;
     *y1 = *y0 + ch;
 }
@@ -396,7 +396,7 @@ ht_result ht_mesh_build_cards(const ht_mesh *full, const ht_cards_desc *desc, ht
     memset(out, 0, sizeof *out);
     if (!full || !desc || !full->vertices || !full->indices || !full->components || !full->component_count ||
         !check_rgba(desc->strand_albedo) || !check_rgba(desc->strand_detail) || desc->atlas_width < 0 ||
-        desc->atlas_height < 0)
+        desc->atlas_height < 0 || desc->reserve_rows < 0)
         return HT_ERR_INVALID_ARGUMENT;
     const uint32_t n = full->component_count;
     const uint32_t per = desc->strands_per_card ? desc->strands_per_card : HT_CARDS_DEFAULT_STRANDS;
@@ -417,15 +417,17 @@ ht_result ht_mesh_build_cards(const ht_mesh *full, const ht_cards_desc *desc, ht
     if (r != HT_OK) goto done;
     const uint32_t cards = clump(full, runs, curve, per, seeds, order, first, feat, centres, label);
     /* Cells CELL_ASPECT times taller than wide: rows of cells first. */
-    int grid_rows = (int)ceil(sqrt(cards * (double)W / H / CELL_ASPECT));
+    const int cells_h = H - desc->reserve_rows;
+    int grid_rows = cells_h > 0 ? (int)ceil(sqrt(cards * (double)W / cells_h / CELL_ASPECT)) : 1;
     if (grid_rows < 1) grid_rows = 1;
     const int grid_cols = (int)((cards + (uint32_t)grid_rows - 1) / (uint32_t)grid_rows);
-    if (W / grid_cols < CELL_MIN_W || H / grid_rows < CELL_MIN_H) {
+    if (cells_h <= 0 || W / grid_cols < CELL_MIN_W || cells_h / grid_rows < CELL_MIN_H) {
         r = HT_ERR_INVALID_ARGUMENT;
         goto done;
     }
     out->columns = grid_cols;
     out->rows = grid_rows;
+    out->first_row = desc->reserve_rows;
     uint32_t longest = 0;
     uint64_t vertices = 0;
     for (uint32_t k = 0; k < cards; k++) {

@@ -63,6 +63,34 @@ ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out) {
     return r;
 }
 
+ht_result ht_lod_chain_from_file(const ht_lod_file *f, ht_lod_chain *out) {
+    if (!out) return HT_ERR_INVALID_ARGUMENT;
+    memset(out, 0, sizeof *out);
+    out->current = -1;
+    if (!f || f->level_count < 1 || f->level_count > HT_LOD_FILE_MAX_LEVELS ||
+        f->levels[0].kind != HT_LOD_KIND_STRANDS)
+        return HT_ERR_INVALID_ARGUMENT;
+    ht_result r = ht_mesh_alloc(&out->all, f->mesh.vertex_count, f->mesh.index_count, f->mesh.component_count);
+    if (r != HT_OK) return r;
+    memcpy(out->all.center, f->mesh.center, sizeof out->all.center);
+    memcpy(out->all.vertices, f->mesh.vertices, sizeof *f->mesh.vertices * f->mesh.vertex_count);
+    memcpy(out->all.indices, f->mesh.indices, sizeof *f->mesh.indices * f->mesh.index_count);
+    memcpy(out->all.components, f->mesh.components, sizeof *f->mesh.components * f->mesh.component_count);
+    for (int l = 0; l < f->level_count && r == HT_OK; l++) {
+        r = ht_lod_file_level_mesh(f, l, &out->levels[l]);
+        out->first[l] = f->levels[l].first_index;
+        out->index_count[l] = f->levels[l].index_count;
+        out->count = l + 1;
+    }
+    if (r != HT_OK) {
+        ht_lod_chain_free(out);
+        return r;
+    }
+    out->full = &out->levels[0];
+    out->width = ht_mesh_mean_width(out->full);
+    return HT_OK;
+}
+
 const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *c, int level) {
     if (!c || level < 0 || level >= c->count) return NULL;
     return level ? &c->levels[level] : c->full;
@@ -94,7 +122,7 @@ int ht_lod_chain_select(ht_lod_chain *c, ht_renderer *r, const ht_camera *camera
 
 void ht_lod_chain_free(ht_lod_chain *c) {
     if (!c) return;
-    for (int l = 1; l < HT_LOD_LEVELS; l++) ht_mesh_free(&c->levels[l]);
+    for (int l = 0; l < HT_LOD_FILE_MAX_LEVELS; l++) ht_mesh_free(&c->levels[l]);
     ht_mesh_free(&c->all);
     memset(c, 0, sizeof *c);
     c->current = -1;
