@@ -94,6 +94,53 @@ static void remove_dir(const char *dir) {
     rmdir(dir);
 }
 
+/* The fraction of the covered texels (alpha > 0) of rows [y0, y1) of an
+   RGBA image whose alpha is at least a (0..255). */
+static double opaque_fraction(const ht_image *img, int y0, int y1, int a) {
+    size_t covered = 0, opaque = 0;
+    for (size_t i = (size_t)y0 * img->width; i < (size_t)y1 * img->width; i++) {
+        covered += img->pixels[4 * i + 3] > 0;
+        opaque += img->pixels[4 * i + 3] >= a && img->pixels[4 * i + 3] > 0;
+    }
+    return covered ? (double)opaque / covered : 0;
+}
+
+/* The bundle keeps one opaque cutoff, the material's. Baked coverage is
+   smooth and reaches it less often than the material's opaque cores, so
+   less of a card would prime depth and more would blend in inside-out
+   order, far side over near (docs/lod.md). The cards' alpha is remapped
+   so that their own cutoff c (the alpha above which as large a part of
+   their coverage lies as of the material's above its cutoff) lands on
+   the material's m: unchanged below 0.9 c, stretched from there to c onto
+   [0.9 c, m], [c, 1] onto [m, 1]. Returns c. */
+static double match_cutoff(const ht_image *material, ht_image *atlas, int first_row, double m) {
+    const double target = opaque_fraction(material, 0, material->height, (int)ceil(m * 255));
+    int a = 255;
+    while (a > 1 && opaque_fraction(atlas, first_row, atlas->height, a) < target) a--;
+    const double c = a / 255.0, a0 = 0.9 * c;
+    if (c >= m) return c;
+    for (size_t i = (size_t)first_row * atlas->width; i < (size_t)atlas->height * atlas->width; i++) {
+        const double x = atlas->pixels[4 * i + 3] / 255.0;
+        const double y = x <= a0 ? x : x < c ? a0 + (x - a0) * (m - a0) / (c - a0) : m + (x - c) * (1 - m) / (1 - c);
+        atlas->pixels[4 * i + 3] = (uint8_t)lrint(ht_clamp01(y) * 255);
+    }
+    return c;
+}
+
+/* The material's opaque cutoff, from BUNDLE's manifest. */
+static ht_result read_cutoff(const char *dir, double *cutoff, char *err, size_t err_size) {
+    char path[4096], *text;
+    snprintf(path, sizeof path, "%s/manifest.json", dir);
+    if (!(text = ht_file_read_text(path, MAX_BUNDLE_FILE, err, err_size))) return HT_ERR_IO;
+    cJSON *root = cJSON_Parse(text);
+    free(text);
+    const cJSON *c = cJSON_GetObjectItemCaseSensitive(root, "opaque_cutoff");
+    const bool ok = cJSON_IsNumber(c) && c->valuedouble > 0 && c->valuedouble <= 1;
+    if (ok) *cutoff = c->valuedouble;
+    cJSON_Delete(root);
+    return ok ? HT_OK : ht_fail(err, err_size, HT_ERR_PARSE, "%s: opaque_cutoff: expected a number in (0, 1]", path);
+}
+
 /* The manifest with textures.albedo and .detail the atlas's size (the
    runtime checks each texture against its entry), the new files' sums
    and "lod_file". */
@@ -234,7 +281,10 @@ ht_result ht_cards_bundle_write_mesh(const char *bundle_dir, const ht_mesh *hair
     }
     if (r == HT_OK && (r = ht_lod_chain_build(hair, &chain)) != HT_OK)
         ht_fail(err, err_size, r, "%s: the strand levels: %s", out_dir, ht_result_string(r));
+    double cutoff = 1, cards_cutoff = 1;
+    if (r == HT_OK) r = read_cutoff(bundle_dir, &cutoff, err, err_size);
     if (r == HT_OK) {
+        cards_cutoff = match_cutoff(&albedo, &cards.albedo, cards.first_row, cutoff);
         place_material(&albedo, &cards.albedo);
         if (detail.pixels) place_material(&detail, &cards.detail);
         strand_uv(&chain.all, albedo.width, albedo.height, atlas_size, atlas_size);
@@ -257,9 +307,10 @@ ht_result ht_cards_bundle_write_mesh(const char *bundle_dir, const ht_mesh *hair
     if (r == HT_OK) r = write_manifest(bundle_dir, out_dir, atlas_size, atlas_size, files, count, err, err_size);
     for (int i = 0; i < WRITTEN_MAX; i++) free(files[i].data);
     if (r == HT_OK && summary)
-        fprintf(summary, "cards: %u cards of %u strands (%u strands), %d strand levels, atlas %dx%d in %dx%d cells -> %s\n",
-                cards.mesh.component_count, strands_per_card, hair->component_count, chain.count, cards.albedo.width,
-                cards.albedo.height, cards.columns, cards.rows, out_dir);
+        fprintf(summary, "cards: %u cards of %u strands (%u strands), %d strand levels, atlas %dx%d in %dx%d cells, "
+                "alpha %.3f mapped to the cutoff %.3f -> %s\n", cards.mesh.component_count, strands_per_card,
+                hair->component_count, chain.count, cards.albedo.width, cards.albedo.height, cards.columns, cards.rows,
+                cards_cutoff, cutoff, out_dir);
     if (r != HT_OK && made_dir) remove_dir(out_dir);
     ht_lod_file_free(&ladder);
     ht_lod_chain_free(&chain);

@@ -26,7 +26,7 @@ for size in ${SIZES:-1 0.5 0.25}; do
   for n in ${CARDS:-32 8}; do
     out=$("$B/hairview" --bundle "$d/cards-$n" --scene "$sc" --cards --size "$size" --frames "${FRAMES:-2}" \
           ${EXTRA:-} -o "$d/s${size}_cards$n.png" 2>/dev/null) || { echo "size $size cards $n: failed"; continue; }
-    ms=$(echo "$out" | sed -n 's/frame_ms=//p'); k=$(echo "$out" | sed -n 's/cards=\([0-9]*\).*/\1/p')
+    ms=$(echo "$out" | sed -n 's/frame_ms=//p'); k=$(echo "$out" | sed -n 's/.*kind=cards param=[0-9]* components=\([0-9]*\).*/\1/p')
     m=$("$B/png_metrics" "$d/s${size}_full.png" "$d/s${size}_cards$n.png" | cut -d' ' -f1-4)
     echo "size $size cards $n count $k ms $ms cost $(awk "BEGIN{printf \"%.3f\", $ms / $ms0}") $m"
   done
