@@ -67,6 +67,19 @@ static double ink_of(ht_renderer *r, const ht_mesh *mesh) {
     return ink;
 }
 
+/* t is full's passes with the same state, without a GL error, drawing
+   index_count indices. */
+static void assert_same_passes(const ht_trace *t, const ht_trace *full, uint32_t index_count, const char *what) {
+    assert_int_equal(t->count, full->count);
+    for (int i = 0; i < t->count; i++) {
+        assert_int_equal(t->entries[i].gl_error, GL_NO_ERROR);
+        assert_int_equal(t->entries[i].index_count, index_count);
+        ht_trace_entry e = t->entries[i];
+        e.index_count = full->entries[i].index_count;
+        if (memcmp(&e, &full->entries[i], sizeof e) != 0) fail_msg("%s: pass %d differs from full detail's", what, i);
+    }
+}
+
 static void same_passes_every_lod(ht_tier tier) {
     ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = tier, .strict = true }, fx.bundle_dir, HT_OK);
     ht_trace full;
@@ -80,15 +93,9 @@ static void same_passes_every_lod(ht_tier tier) {
         ht_trace t;
         const int pixels = draw_lod(r, &lod, &t);
         printf("%s level %d: %d hair pixels, full detail %d\n", ht_tier_name(tier), level, pixels, full_pixels);
-        assert_int_equal(t.count, full.count);
-        for (int i = 0; i < t.count; i++) {
-            assert_int_equal(t.entries[i].gl_error, GL_NO_ERROR);
-            assert_int_equal(t.entries[i].index_count, lod.index_count);
-            ht_trace_entry e = t.entries[i];
-            e.index_count = full.entries[i].index_count;
-            if (memcmp(&e, &full.entries[i], sizeof e) != 0)
-                fail_msg("%s level %d: pass %d differs from full detail's", ht_tier_name(tier), level, i);
-        }
+        char what[64];
+        snprintf(what, sizeof what, "%s level %d", ht_tier_name(tier), level);
+        assert_same_passes(&t, &full, lod.index_count, what);
         assert_true(abs(pixels - full_pixels) <= PIXEL_BOUND * full_pixels);
         ht_mesh_free(&lod);
     }
@@ -161,15 +168,7 @@ static void cards_same_passes(ht_tier tier) {
     printf("%s: stored level 0 within %d of full detail; %u cards, ink %.1f, full detail %.1f (%+.1f%%)\n",
            ht_tier_name(tier), worst, cards.component_count, ink, full_ink, 100 * (ink / full_ink - 1));
     assert_true(worst <= CARDS_SAME);
-    assert_int_equal(t.count, full.count);
-    for (int i = 0; i < t.count; i++) {
-        assert_int_equal(t.entries[i].gl_error, GL_NO_ERROR);
-        assert_int_equal(t.entries[i].index_count, cards.index_count);
-        ht_trace_entry e = t.entries[i];
-        e.index_count = full.entries[i].index_count;
-        if (memcmp(&e, &full.entries[i], sizeof e) != 0)
-            fail_msg("%s cards: pass %d differs from full detail's", ht_tier_name(tier), i);
-    }
+    assert_same_passes(&t, &full, cards.index_count, "cards");
     assert_true(fabs(ink / full_ink - 1) <= CARDS_INK_BOUND);
     ht_renderer_destroy(r);
     ht_mesh_free(&cards);
