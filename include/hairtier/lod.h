@@ -150,9 +150,10 @@ HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);
 HT_API void ht_lod_chain_free(ht_lod_chain *chain);
 
 /* Cards (lod_cards.c, docs/lod.md): clumps of strands replaced by one
-   textured ribbon each, the coarsest geometry. A clump is a run of
-   strands_per_card neighbours on the Z-order curve of the strands' key
-   points (the curve the LOD order strides over). Its card follows the
+   textured ribbon each, the coarsest geometry. Clumps are k-means
+   clusters of the strands' centres at root, middle and tip, seeded with
+   runs of strands_per_card neighbours on the Z-order curve of their key
+   points (the curve the LOD order strides over). A card follows the
    clump's mean centre line (each strand resampled root 0 to tip 1), lies
    across the principal direction of the strands' spread about it and is
    as wide as the farthest strand's edge on each row; tangents along it,
