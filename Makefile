@@ -413,6 +413,10 @@ fuzz-seeds: $(HAIRGEN)
 	@cp materials/*.json scenes/*.json $(FUZZ_BUILD)/seed-bundle/*.json $(FUZZ_BUILD)/seeds/fuzz_json/
 	@cp tests/data/strands/*.tfx $(FUZZ_BUILD)/seeds/fuzz_strands_tfx/
 	@cp tests/data/strands/*.hair $(FUZZ_BUILD)/seeds/fuzz_strands_hair/
+	@rm -rf $(FUZZ_BUILD)/seed-cards && mkdir -p $(FUZZ_BUILD)/seeds/fuzz_lod_file
+	@$(HAIRGEN) --cards $(FUZZ_BUILD)/seed-bundle --scene scenes/patches.json --strands-per-card 8 \
+	  -o $(FUZZ_BUILD)/seed-cards >/dev/null
+	@cp $(FUZZ_BUILD)/seed-cards/lods.bin $(FUZZ_BUILD)/seeds/fuzz_lod_file/a.bin
 
 # Each target for FUZZ_SECONDS; its last lines (runs, coverage, any crash)
 # go to $(FUZZ_BUILD)/TARGET.log, a summary line per target to stdout.

@@ -3,7 +3,7 @@
 
    build/hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]
                   [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]
-                  [--lod auto|N] [--size F] [--distance D] [--samples N] [--supersample K]
+                  [--lod auto|N | --cards] [--size F] [--distance D] [--samples N] [--supersample K]
                   [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]
                   [--device-profile NAME] -o OUT.png
 
@@ -32,6 +32,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <hairtier/scene.h>
 #include <hairtier/hairtier.h>
@@ -55,6 +56,7 @@ typedef struct options {
     int samples;          /* 0: no multisampling; else the framebuffer's samples */
     int supersample;      /* 1; K: drawn K x K times larger, box-filtered down to the PNG */
     bool width_rule;      /* lod.h's width rule on the mesh drawn */
+    bool cards;           /* the bundle's stored cards (hairgen --cards) instead of the strands */
 } options;
 
 /* The library's log: every line goes to stderr, one line late, so that
@@ -84,7 +86,7 @@ static int fail(ht_result r) {
 }
 
 enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT, KEY_PROFILE, KEY_LOD, KEY_SIZE, KEY_DISTANCE, KEY_SAMPLES,
-       KEY_SUPERSAMPLE, KEY_WIDTH_RULE };
+       KEY_SUPERSAMPLE, KEY_WIDTH_RULE, KEY_CARDS };
 static const struct option long_options[] = {
     VIEW_ARGS_LONG_OPTIONS,
     { "tier", required_argument, NULL, KEY_TIER },
@@ -93,6 +95,7 @@ static const struct option long_options[] = {
     { "flat", no_argument, NULL, KEY_FLAT },
     { "device-profile", required_argument, NULL, KEY_PROFILE },
     { "lod", required_argument, NULL, KEY_LOD },
+    { "cards", no_argument, NULL, KEY_CARDS },
     { "size", required_argument, NULL, KEY_SIZE },
     { "distance", required_argument, NULL, KEY_DISTANCE },
     { "samples", required_argument, NULL, KEY_SAMPLES },
@@ -105,7 +108,7 @@ static const cli_program program = {
     .name = "hairview",
     .synopsis = "usage: hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]\n"
                 "                [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]\n"
-                "                [--lod auto|N] [--size F] [--distance D] [--samples N] [--supersample K]\n"
+                "                [--lod auto|N | --cards] [--size F] [--distance D] [--samples N] [--supersample K]\n"
                 "                [--width-rule]\n"
                 "                [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]\n"
                 "                [--device-profile NAME] -o OUT.png\n",
@@ -117,8 +120,11 @@ static const cli_program program = {
             "  --strict        fail instead of falling to a lower tier\n"
             "  --flat          the geometry floor: a flat colour, no bundle needed\n"
             "  --frames N      timed frames, 1..100000\n"
-            "  --lod L         auto (full detail while a strand is >= 1 px wide, docs/lod.md) or a level 0..4\n"
+            "  --lod L         auto (full detail while a strand is >= 1 px wide, docs/lod.md) or a level 0..7\n"
             "                  (default 0); prints lod=N strands=K strand_px=W\n"
+            "  --cards         the cards the bundle stores (hairgen --cards: clumps of strands as\n"
+            "                  textured ribbons, docs/lod.md); with such a bundle --lod N draws its\n"
+            "                  stored level N\n"
             "  --size F        draw F times the scene's image size, (0, 4] (default 1)\n"
             "  --distance D    the eye D scene units from the target, along the scene's view (default: the scene's)\n"
             "  --samples N     draw multisampled, N samples (2..32; a framebuffer object, GL 3.0), resolved before the PNG\n"
@@ -162,12 +168,13 @@ static const char *take(void *user, int key, const char *value) {
         snprintf(message, sizeof message, "--device-profile: %s", err);
         return message;
     }
+    case KEY_CARDS: o->cards = true; return NULL;
     case KEY_LOD: {
         char *end;
         if (strcmp(value, "auto") == 0) { o->lod = -1; return NULL; }
         const long n = strtol(value, &end, 10);
-        if (*value && !*end && n >= 0 && n < HT_LOD_LEVELS) { o->lod = (int)n; return NULL; }
-        return "--lod: expected auto or a level 0..4";
+        if (*value && !*end && n >= 0 && n < HT_LOD_FILE_MAX_LEVELS) { o->lod = (int)n; return NULL; }
+        return "--lod: expected auto or a level 0..7";
     }
     case KEY_SAMPLES:
     case KEY_SUPERSAMPLE: {
@@ -370,6 +377,49 @@ static int apply_width_rule(const options *o, const ht_scene *s, ht_renderer *r,
     return 0;
 }
 
+/* A bundle that stores its levels (lods.bin, hairgen --cards: its
+   textures are an atlas, so the scene's own mesh would sample the wrong
+   texels): every level drawn is the file's. --cards: the cards level;
+   --lod N: level N; auto: the best rule over all of them (the cards one
+   past the last strand level). */
+static int use_stored_levels(const options *o, const ht_scene *s, const char *path, ht_mesh *hair) {
+    char err[512];
+    ht_lod_file ladder;
+    if (ht_lod_file_read(path, &ladder, err, sizeof err) != HT_OK) {
+        fprintf(stderr, "hairview: %s\n", err);
+        return 1;
+    }
+    ht_mesh full;
+    ht_result r = ht_lod_file_level_mesh(&ladder, 0, &full);
+    const double px = r == HT_OK ? ht_projected_width_px(ht_mesh_mean_width(&full), eye_distance(s), s->camera.fov_y,
+                                                         s->height / o->supersample)
+                                 : 0;
+    ht_mesh_free(&full);
+    int level = o->lod < 0 ? ht_lod_pick_best(px, -1, ladder.level_count - 1) : o->lod;
+    if (o->cards)
+        for (level = 0; level < ladder.level_count && ladder.levels[level].kind != HT_LOD_KIND_CARDS; level++) {}
+    if (r == HT_OK && level >= ladder.level_count) {
+        fprintf(stderr, "hairview: %s: %s: no level %d (%d stored)\n", path, o->cards ? "--cards" : "--lod", level,
+                ladder.level_count);
+        ht_lod_file_free(&ladder);
+        return 1;
+    }
+    ht_mesh mesh;
+    if (r == HT_OK) r = ht_lod_file_level_mesh(&ladder, level, &mesh);
+    if (r != HT_OK) {
+        fprintf(stderr, "hairview: %s: level %d: %s\n", path, level, ht_result_string(r));
+        ht_lod_file_free(&ladder);
+        return 1;
+    }
+    printf("lod=%d kind=%s param=%u components=%u strand_px=%.3f\n", level,
+           ladder.levels[level].kind == HT_LOD_KIND_CARDS ? "cards" : "strands", ladder.levels[level].param,
+           mesh.component_count, px);
+    ht_lod_file_free(&ladder);
+    ht_mesh_free(hair);
+    *hair = mesh;
+    return 0;
+}
+
 static int run(const options *o, view *v) {
     char err[1024];
     ht_scene scene;
@@ -408,11 +458,20 @@ static int run(const options *o, view *v) {
     ht_policy policy = { HT_POLICY_BEST, 0 };
     if (ht_policy_parse(policy_text && policy_text[0] ? policy_text : NULL, &policy, err, sizeof err) != HT_OK)
         policy.kind = HT_POLICY_BEST; /* the renderer has refused it already */
+    char stored[4200];
+    snprintf(stored, sizeof stored, "%s/%s", o->view.bundle, HT_LOD_FILE_NAME);
+    const bool has_stored = access(stored, F_OK) == 0;
+    if (o->cards && !has_stored) {
+        fprintf(stderr, "hairview: --cards: %s: absent (make the bundle with hairgen --cards)\n", stored);
+        return 1;
+    }
     ht_frame_desc frame = { .camera = scene.camera, .lights = scene.lights, .light_count = scene.light_count,
                             .aspect = (float)scene.width / (float)scene.height,
                             .opaque = v->head.index_count ? &v->head : NULL };
     bool paired = false;
-    if (choose_lod(o, &scene, scene_distance, v, &frame, &policy, &paired)) return 1;
+    if (has_stored ? use_stored_levels(o, &scene, stored, &v->hair)
+                   : choose_lod(o, &scene, scene_distance, v, &frame, &policy, &paired))
+        return 1;
     print_held();
     if (o->width_rule && apply_width_rule(o, &scene, v->renderer, &v->hair)) return 1;
     if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);

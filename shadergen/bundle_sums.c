@@ -19,6 +19,14 @@ static void crc_text(const void *data, size_t size, char out[9]) {
     snprintf(out, 9, "%08x", (unsigned)libdeflate_crc32(0, data, size));
 }
 
+bool ht_bundle_sums_set(cJSON *sums, const char *name, const void *data, size_t size) {
+    char crc[9];
+    crc_text(data, size, crc);
+    cJSON_DeleteItemFromObjectCaseSensitive(sums, name);
+    cJSON *entry = cJSON_AddObjectToObject(sums, name);
+    return entry && cJSON_AddNumberToObject(entry, "size", (double)size) && cJSON_AddStringToObject(entry, "crc32", crc);
+}
+
 cJSON *ht_bundle_sums_json(const ht_generated *g) {
     cJSON *sums = cJSON_CreateObject();
     for (int i = 0; sums && i < g->file_count; i++) {
@@ -31,12 +39,9 @@ cJSON *ht_bundle_sums_json(const ht_generated *g) {
             cJSON_Delete(sums);
             return NULL;
         }
-        char crc[9];
-        crc_text(bytes, size, crc);
+        const bool ok = ht_bundle_sums_set(sums, f->name, bytes, size);
         if (!f->text && bytes != f->png) free(bytes);
-        cJSON *entry = cJSON_AddObjectToObject(sums, f->name);
-        if (!entry || !cJSON_AddNumberToObject(entry, "size", (double)size) ||
-            !cJSON_AddStringToObject(entry, "crc32", crc)) {
+        if (!ok) {
             cJSON_Delete(sums);
             return NULL;
         }

@@ -23,6 +23,10 @@
    but the manifest, or NULL (out of memory, an image no PNG can hold). */
 cJSON *ht_bundle_sums_json(const ht_generated *g);
 
+/* sums[name] = {"size", "crc32"} of data (replacing an entry of that
+   name); false when out of memory. hairgen --cards's files use it too. */
+bool ht_bundle_sums_set(cJSON *sums, const char *name, const void *data, size_t size);
+
 /* Whether every file listed in the manifest text's file_sums (a non-empty
    object of plain file names) is in dir with that size and CRC-32. */
 bool ht_bundle_sums_match(const char *dir, const char *manifest, size_t manifest_size);

@@ -6,9 +6,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cards_bundle.h"
 #include "cli.h"
 #include "errfmt.h"
 #include <hairtier/hairgen.h>
+#include <hairtier/lod.h>
 #include "hairgen_internal.h"
 #include "huge_heap.h"
 #include "manifest.h"
@@ -28,7 +30,8 @@ static const char synopsis[] =
     "       hairgen MATERIAL.json [--scene SCENE.json] [-o DIR] --emit-header OUT.h\n"
     "               [--header-symbol NAME]\n"
     "       hairgen -o OUTDIR MATERIAL.json... [--scene SCENE.json] [-j N] [--force]\n"
-    "               [-MD | -MF FILE] [-q]\n";
+    "               [-MD | -MF FILE] [-q]\n"
+    "       hairgen --cards BUNDLE --scene SCENE.json [--strands-per-card N] -o DIR\n";
 
 static const char help[] =
     "\n"
@@ -69,12 +72,16 @@ static const char help[] =
     "                        \"lods\" (docs/lod.md)\n"
     "  --lod-samples N       --measure-lods with every LOD frame drawn with N samples (2..32),\n"
     "                        as hairview --samples N draws\n"
+    "  --cards BUNDLE        write DIR: BUNDLE with every geometry level of the scene stored in\n"
+    "                        DIR/lods.bin, the strand levels and cards (clumps of N strands,\n"
+    "                        default 32, as textured ribbons), its textures one atlas of the\n"
+    "                        material's and the cards' (hairview --cards, --lod N; docs/lod.md)\n"
     "  --emit-header OUT.h   write the bundle as one C header (beside DIR, or instead of it)\n"
     "  --header-symbol NAME  the header's C name (default: from the material's name)\n"
     "  --help, --version     this text; the version and the bundle generator version\n";
 
 typedef struct options {
-    const char *scene, *out_dir, *depfile, *jobs, *header, *symbol;
+    const char *scene, *out_dir, *depfile, *jobs, *header, *symbol, *cards, *strands_per_card;
     int lod_samples;
     int batch, force, quiet, depfile_per_bundle, measure, measure_lods;
     const char **materials;
@@ -82,7 +89,7 @@ typedef struct options {
 } options;
 
 enum { KEY_SCENE = CLI_LONG_ONLY, KEY_EMIT_HEADER, KEY_HEADER_SYMBOL, KEY_MEASURE, KEY_MEASURE_LODS, KEY_BATCH, KEY_FORCE, KEY_MD,
-       KEY_MF, KEY_LOD_SAMPLES };
+       KEY_MF, KEY_LOD_SAMPLES, KEY_CARDS, KEY_STRANDS_PER_CARD };
 static const struct option long_options[] = {
     { "scene", required_argument, NULL, KEY_SCENE },
     { "emit-header", required_argument, NULL, KEY_EMIT_HEADER },
@@ -94,6 +101,8 @@ static const struct option long_options[] = {
     { "force", no_argument, NULL, KEY_FORCE },
     { "MD", no_argument, NULL, KEY_MD },
     { "MF", required_argument, NULL, KEY_MF },
+    { "cards", required_argument, NULL, KEY_CARDS },
+    { "strands-per-card", required_argument, NULL, KEY_STRANDS_PER_CARD },
     { 0 },
 };
 
@@ -143,6 +152,8 @@ static const char *take(void *user, int key, const char *value) {
     case KEY_FORCE: o->force = 1; return NULL;
     case 'q': o->quiet = 1; return NULL;
     case KEY_MD: o->depfile_per_bundle = 1; return NULL;
+    case KEY_CARDS: return once(&o->cards, value, "--cards");
+    case KEY_STRANDS_PER_CARD: return once(&o->strands_per_card, value, "--strands-per-card");
     default: return cli_unexpected(value);
     }
 }
@@ -191,6 +202,28 @@ static int run_measure_or_header(const options *o, const char *material) {
     return 0;
 }
 
+/* --cards: a bundle's cards atlas (cards_bundle.h). 1024 square: 245
+   cards of the fur ball get cells of 33 x 128 texels. */
+#define HT_CARDS_ATLAS_SIZE 1024
+static int run_cards(const options *o) {
+    long n = HT_CARDS_DEFAULT_STRANDS;
+    if (o->strands_per_card) {
+        char *end;
+        n = strtol(o->strands_per_card, &end, 10);
+        if (end == o->strands_per_card || *end || n < 1 || n > 65536)
+            return cli_usage_error(&program, "--strands-per-card: expected 1..65536");
+    }
+    if (!o->scene || !o->out_dir || o->material_count || o->measure || o->header || o->batch)
+        return cli_usage_error(&program, "--cards: needs --scene and -o, and no material, --measure or --emit-header");
+    char err[2048] = "";
+    if (ht_cards_bundle_write(o->cards, o->scene, (uint32_t)n, HT_CARDS_ATLAS_SIZE, o->out_dir, o->quiet ? NULL : stdout, err,
+                              sizeof err) != HT_OK) {
+        fprintf(stderr, "hairgen: %s\n", err);
+        return 1;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv) {
     ht_gen_trace("main");
     options o = { 0 };
@@ -202,6 +235,11 @@ int main(int argc, char **argv) {
     o.materials = materials;
     int status = cli_parse(&program, argc, argv, take, &o);
     if (status != CLI_RUN) {
+        free(materials);
+        return status;
+    }
+    if (status == CLI_RUN && (o.cards || o.strands_per_card)) {
+        status = o.cards ? run_cards(&o) : cli_usage_error(&program, "--strands-per-card: only with --cards");
         free(materials);
         return status;
     }

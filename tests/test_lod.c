@@ -20,59 +20,14 @@
 
 #include <hairtier/lod.h>
 #include <hairtier/scene.h>
+#include "support_coverage.h"
 
 /* The stated bounds (docs/lod.md): the covered fraction of an orthographic
    view (each pixel's 1 - (1 - ALPHA)^layers, ALPHA the typical strand
-   opacity) and the summed area, LOD against full detail. */
+   opacity, support_coverage.h) and the summed area, LOD against full detail. */
 #define COVERAGE_BOUND 0.10
 #define AREA_BOUND 0.05
 #define ALPHA 0.5
-#define GRID 384
-
-typedef struct view { double lo[2], cell; } view;
-
-static view view_of(const ht_mesh *m) {
-    double lo[2] = { INFINITY, INFINITY }, hi[2] = { -INFINITY, -INFINITY };
-    for (uint32_t i = 0; i < m->vertex_count; i++)
-        for (int k = 0; k < 2; k++) {
-            lo[k] = fmin(lo[k], m->vertices[i].position[k]);
-            hi[k] = fmax(hi[k], m->vertices[i].position[k]);
-        }
-    return (view){ { lo[0], lo[1] }, fmax(hi[0] - lo[0], hi[1] - lo[1]) / GRID };
-}
-
-/* Layers of ribbon over each pixel centre, looking down -z: a point is in
-   a triangle when the three edge functions agree in sign. */
-static double covered_fraction(const ht_mesh *m, const view *v) {
-    uint16_t *layers = calloc((size_t)GRID * GRID, sizeof *layers);
-    assert_non_null(layers);
-    for (uint32_t t = 0; t + 2 < m->index_count; t += 3) {
-        double x[3], y[3];
-        for (int k = 0; k < 3; k++) {
-            x[k] = (m->vertices[m->indices[t + k]].position[0] - v->lo[0]) / v->cell;
-            y[k] = (m->vertices[m->indices[t + k]].position[1] - v->lo[1]) / v->cell;
-        }
-        const int x0 = (int)fmax(0, floor(fmin(x[0], fmin(x[1], x[2])))),
-                  x1 = (int)fmin(GRID - 1, ceil(fmax(x[0], fmax(x[1], x[2]))));
-        const int y0 = (int)fmax(0, floor(fmin(y[0], fmin(y[1], y[2])))),
-                  y1 = (int)fmin(GRID - 1, ceil(fmax(y[0], fmax(y[1], y[2]))));
-        for (int py = y0; py <= y1; py++)
-            for (int px = x0; px <= x1; px++) {
-                const double cx = px + 0.5, cy = py + 0.5;
-                double e[3];
-                for (int k = 0; k < 3; k++) {
-                    const int j = (k + 1) % 3;
-                    e[k] = (x[j] - x[k]) * (cy - y[k]) - (y[j] - y[k]) * (cx - x[k]);
-                }
-                if ((e[0] >= 0 && e[1] >= 0 && e[2] >= 0) || (e[0] <= 0 && e[1] <= 0 && e[2] <= 0))
-                    if (layers[py * GRID + px] < UINT16_MAX) layers[py * GRID + px]++;
-            }
-    }
-    double sum = 0;
-    for (size_t i = 0; i < (size_t)GRID * GRID; i++) sum += 1 - pow(1 - ALPHA, layers[i]);
-    free(layers);
-    return sum / ((double)GRID * GRID);
-}
 
 static double ribbon_area(const ht_mesh *m) {
     double a = 0;
@@ -121,14 +76,14 @@ static void assert_frames(const ht_mesh *m) {
 static void check_scene_levels(const char *file) {
     ht_mesh full;
     build_scene(file, &full);
-    const view v = view_of(&full);
-    const double cover0 = covered_fraction(&full, &v), area0 = ribbon_area(&full);
+    const ht_test_view v = ht_test_view_of(&full, 2);
+    const double cover0 = ht_test_covered_fraction(&full, &v, ALPHA, NULL), area0 = ribbon_area(&full);
     for (int level = 1; level <= ht_lod_max_level(&full); level++) {
         ht_lod_desc d;
         ht_lod_level(level, &d);
         ht_mesh lod;
         assert_int_equal(ht_mesh_build_lod(&full, &d, &lod), HT_OK);
-        const double cover = covered_fraction(&lod, &v), area = ribbon_area(&lod);
+        const double cover = ht_test_covered_fraction(&lod, &v, ALPHA, NULL), area = ribbon_area(&lod);
         printf("%s level %d: strands %u/%u, vertices %u/%u, coverage %.4f/%.4f (%+.1f%%), area %+.1f%%\n", file,
                level, lod.component_count, full.component_count, lod.vertex_count, full.vertex_count, cover, cover0,
                100 * (cover / cover0 - 1), 100 * (area / area0 - 1));
@@ -147,6 +102,54 @@ static void check_scene_levels(const char *file) {
 static void coverage_furball(void **state) { (void)state; check_scene_levels("scenes/furball.json"); }
 static void coverage_patches(void **state) { (void)state; check_scene_levels("scenes/patches.json"); }
 static void coverage_strands(void **state) { (void)state; check_scene_levels("scenes/ratboy.json"); }
+
+/* Cards of 32 strands (lod.h), baked from a material whose alpha is
+   ALPHA everywhere: the covered fraction seen down x, y and z (each
+   pixel's 1 - prod(1 - the atlas's alpha)), summed, against full
+   detail's; frames as the strands'; inside-out order. The mohawk's cards
+   lie in its sheet, seen edge on from the front (docs/lod.md): a wider
+   bound. */
+#define CARDS_COVERAGE_BOUND 0.10
+#define CARDS_COVERAGE_BOUND_MOHAWK 0.25
+#define CARDS_ATLAS 128
+
+static void check_scene_cards(const char *file, uint32_t per_card, double bound) {
+    ht_mesh full;
+    build_scene(file, &full);
+    ht_image material;
+    assert_int_equal(ht_image_alloc(&material, 8, 8, 4), HT_OK);
+    for (int i = 0; i < 8 * 8 * 4; i++) material.pixels[i] = (uint8_t)(i % 4 == 3 ? lrint(ALPHA * 255) : 255);
+    const double alpha = material.pixels[3] / 255.0;
+    ht_cards cards;
+    assert_int_equal(ht_mesh_build_cards(&full, &(ht_cards_desc){ .strands_per_card = per_card, .strand_albedo = &material, .atlas_width = CARDS_ATLAS,
+                                                                  .atlas_height = CARDS_ATLAS },
+                                         &cards),
+                     HT_OK);
+    double sum0 = 0, sum = 0;
+    for (int axis = 0; axis < 3; axis++) {
+        const ht_test_view v = ht_test_view_of(&full, axis);
+        const double c0 = ht_test_covered_fraction(&full, &v, alpha, NULL);
+        const double c = ht_test_covered_fraction(&cards.mesh, &v, 0, &cards.albedo);
+        printf("%s cards, down axis %d: coverage %.4f/%.4f (%+.1f%%)\n", file, axis, c, c0, 100 * (c / c0 - 1));
+        sum0 += c0;
+        sum += c;
+    }
+    printf("%s cards: %u cards of %u strands, %u vertices (%u), coverage %+.1f%%\n", file, cards.mesh.component_count,
+           full.component_count, cards.mesh.vertex_count, full.vertex_count, 100 * (sum / sum0 - 1));
+    assert_true(fabs(sum / sum0 - 1) <= bound);
+    assert_true(cards.mesh.component_count <= (full.component_count + per_card - 1) / per_card);
+    assert_true(cards.mesh.component_count * (uint32_t)cards.columns >= cards.mesh.component_count);
+    assert_frames(&cards.mesh);
+    for (uint32_t c = 1; c < cards.mesh.component_count; c++)
+        assert_true(cards.mesh.components[c - 1].sort_key <= cards.mesh.components[c].sort_key);
+    ht_cards_free(&cards);
+    ht_image_free(&material);
+    ht_mesh_free(&full);
+}
+
+static void cards_coverage_furball(void **state) { (void)state; check_scene_cards("scenes/furball.json", 32, CARDS_COVERAGE_BOUND); }
+static void cards_coverage_patches(void **state) { (void)state; check_scene_cards("scenes/patches.json", 4, CARDS_COVERAGE_BOUND); }
+static void cards_coverage_strands(void **state) { (void)state; check_scene_cards("scenes/ratboy.json", 16, CARDS_COVERAGE_BOUND_MOHAWK); }
 
 /* The order is a permutation, and a prefix of an eighth of it leaves no
    eighth of the fur ball's directions (octants) without hair. */
@@ -342,6 +345,9 @@ int main(void) {
         cmocka_unit_test(coverage_furball),
         cmocka_unit_test(coverage_patches),
         cmocka_unit_test(coverage_strands),
+        cmocka_unit_test(cards_coverage_furball),
+        cmocka_unit_test(cards_coverage_patches),
+        cmocka_unit_test(cards_coverage_strands),
         cmocka_unit_test(order_is_spread_permutation),
         cmocka_unit_test(decimation_drops_straight_rows),
         cmocka_unit_test(bad_meshes_refused),

@@ -19,6 +19,8 @@
 
 #include <hairtier/hairtier.h>
 #include <hairtier/lod.h>
+#include "cards_bundle.h"
+#include "support_gl_fault.h"
 #include "support_render.h"
 
 #define SIZE 48
@@ -48,6 +50,36 @@ static int draw_lod(ht_renderer *r, const ht_mesh *mesh, ht_trace *trace) {
     return changed;
 }
 
+/* The hair's ink: each pixel's largest channel difference from the
+   background, summed (a faint card edge counts as little as it shows). */
+static double ink_of(ht_renderer *r, const ht_mesh *mesh) {
+    assert_int_equal(ht_renderer_set_mesh(r, mesh), HT_OK);
+    const ht_frame_desc frame = ht_test_furball_frame(3.0f);
+    ht_image img;
+    ht_test_draw(&fx.gl, r, &frame, ht_test_background, &img);
+    double ink = 0;
+    for (int i = 0; i < img.width * img.height; i++) {
+        double d = 0;
+        for (int c = 0; c < 3; c++) d = fmax(d, fabs(img.pixels[i * img.channels + c] / 255.0 - ht_test_background[c]));
+        ink += d;
+    }
+    ht_image_free(&img);
+    return ink;
+}
+
+/* t is full's passes with the same state, without a GL error, drawing
+   index_count indices. */
+static void assert_same_passes(const ht_trace *t, const ht_trace *full, uint32_t index_count, const char *what) {
+    assert_int_equal(t->count, full->count);
+    for (int i = 0; i < t->count; i++) {
+        assert_int_equal(t->entries[i].gl_error, GL_NO_ERROR);
+        assert_int_equal(t->entries[i].index_count, index_count);
+        ht_trace_entry e = t->entries[i];
+        e.index_count = full->entries[i].index_count;
+        if (memcmp(&e, &full->entries[i], sizeof e) != 0) fail_msg("%s: pass %d differs from full detail's", what, i);
+    }
+}
+
 static void same_passes_every_lod(ht_tier tier) {
     ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = tier, .strict = true }, fx.bundle_dir, HT_OK);
     ht_trace full;
@@ -61,33 +93,140 @@ static void same_passes_every_lod(ht_tier tier) {
         ht_trace t;
         const int pixels = draw_lod(r, &lod, &t);
         printf("%s level %d: %d hair pixels, full detail %d\n", ht_tier_name(tier), level, pixels, full_pixels);
-        assert_int_equal(t.count, full.count);
-        for (int i = 0; i < t.count; i++) {
-            assert_int_equal(t.entries[i].gl_error, GL_NO_ERROR);
-            assert_int_equal(t.entries[i].index_count, lod.index_count);
-            ht_trace_entry e = t.entries[i];
-            e.index_count = full.entries[i].index_count;
-            if (memcmp(&e, &full.entries[i], sizeof e) != 0)
-                fail_msg("%s level %d: pass %d differs from full detail's", ht_tier_name(tier), level, i);
-        }
+        char what[64];
+        snprintf(what, sizeof what, "%s level %d", ht_tier_name(tier), level);
+        assert_same_passes(&t, &full, lod.index_count, what);
         assert_true(abs(pixels - full_pixels) <= PIXEL_BOUND * full_pixels);
         ht_mesh_free(&lod);
     }
     ht_renderer_destroy(r);
 }
 
+/* A bundle storing every level (hairgen --cards: one atlas holding the
+   material's texture and the cards', lods.bin the fur ball's strand
+   levels and its cards of 16 strands). In the tier: level 0 drawn from it
+   is full detail drawn from the material's own bundle (every channel
+   within CARDS_SAME of it: the strands' uv land on the material's texels
+   in the atlas); the cards are drawn by the same four passes with the
+   same state (only the draw range differs), no GL error, and ink
+   (ink_of) within CARDS_INK_BOUND of full detail's. */
+#define CARDS_STRANDS 16
+#define CARDS_ATLAS 512
+#define CARDS_INK_BOUND 0.25
+#define CARDS_SAME 2
+
+/* Made once, for every test of the group (the bake is most of their cost). */
+static void make_cards_bundle(char *dir, size_t size, ht_lod_file *ladder) {
+    static bool made;
+    char err[512] = "", path[256];
+    snprintf(dir, size, "%s/cards", fx.work);
+    if (!made && ht_cards_bundle_write_mesh(fx.bundle_dir, &fx.mesh, CARDS_STRANDS, CARDS_ATLAS, dir, NULL, err,
+                                            sizeof err) != HT_OK)
+        fail_msg("%s", err);
+    made = true;
+    snprintf(path, sizeof path, "%s/%s", dir, HT_LOD_FILE_NAME);
+    if (ht_lod_file_read(path, ladder, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    assert_int_equal(ladder->level_count, ht_lod_max_level(&fx.mesh) + 2);
+    for (int l = 0; l < ladder->level_count; l++)
+        assert_int_equal(ladder->levels[l].kind, l + 1 < ladder->level_count ? HT_LOD_KIND_STRANDS : HT_LOD_KIND_CARDS);
+}
+
+static void draw_image(ht_renderer *r, const ht_mesh *mesh, ht_image *img) {
+    assert_int_equal(ht_renderer_set_mesh(r, mesh), HT_OK);
+    const ht_frame_desc frame = ht_test_furball_frame(3.0f);
+    ht_test_draw(&fx.gl, r, &frame, ht_test_background, img);
+}
+
+static void cards_same_passes(ht_tier tier) {
+    char dir[192];
+    ht_lod_file ladder;
+    make_cards_bundle(dir, sizeof dir, &ladder);
+    ht_mesh level0, cards;
+    assert_int_equal(ht_lod_file_level_mesh(&ladder, 0, &level0), HT_OK);
+    assert_int_equal(ht_lod_file_level_mesh(&ladder, ladder.level_count - 1, &cards), HT_OK);
+    ht_lod_file_free(&ladder);
+    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = tier, .strict = true }, fx.bundle_dir, HT_OK);
+    ht_trace full;
+    ht_image want, got;
+    draw_lod(r, &fx.mesh, &full);
+    const double full_ink = ink_of(r, &fx.mesh);
+    draw_image(r, &fx.mesh, &want);
+    ht_renderer_destroy(r);
+    r = ht_test_renderer_create((ht_renderer_desc){ .tier = tier, .strict = true }, dir, HT_OK);
+    assert_int_equal(ht_renderer_tier(r), tier);
+    draw_image(r, &level0, &got);
+    int worst = 0;
+    for (int i = 0; i < want.width * want.height * want.channels; i++) {
+        const int d = abs((int)want.pixels[i] - (int)got.pixels[i]);
+        worst = d > worst ? d : worst;
+    }
+    ht_image_free(&want);
+    ht_image_free(&got);
+    ht_trace t;
+    draw_lod(r, &cards, &t);
+    const double ink = ink_of(r, &cards);
+    printf("%s: stored level 0 within %d of full detail; %u cards, ink %.1f, full detail %.1f (%+.1f%%)\n",
+           ht_tier_name(tier), worst, cards.component_count, ink, full_ink, 100 * (ink / full_ink - 1));
+    assert_true(worst <= CARDS_SAME);
+    assert_same_passes(&t, &full, cards.index_count, "cards");
+    assert_true(fabs(ink / full_ink - 1) <= CARDS_INK_BOUND);
+    ht_renderer_destroy(r);
+    ht_mesh_free(&cards);
+    ht_mesh_free(&level0);
+}
+
+/* The stored ladder as a chain (ht_lod_chain_from_file) in one renderer:
+   pulled from 3 to 1000 it reaches the cards, one past the last strand
+   level, and back; one upload at the first select, none at a switch, and
+   each frame draws its level's range. */
+static void stored_chain_reaches_the_cards(void **state) {
+    (void)state;
+    char dir[192];
+    ht_lod_file ladder;
+    make_cards_bundle(dir, sizeof dir, &ladder);
+    ht_lod_chain chain;
+    assert_int_equal(ht_lod_chain_from_file(&ladder, &chain), HT_OK);
+    ht_lod_file_free(&ladder);
+    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
+                                                                 .getproc = ht_test_fault_getproc },
+                                             dir, HT_OK);
+    const float distances[] = { 3, 1000, 3 };
+    const int expect[] = { 0, chain.count - 1, 0 };
+    for (int f = 0; f < 3; f++) {
+        ht_frame_desc frame = ht_test_furball_frame(distances[f]);
+        ht_result res;
+        assert_int_equal(ht_lod_chain_select(&chain, r, &frame.camera, 512, &res), expect[f]);
+        if (f == 0) ht_fault_arm(HT_FAULT_NONE, 0);
+        ht_image img;
+        ht_test_draw(&fx.gl, r, &frame, ht_test_background, &img);
+        ht_image_free(&img);
+        const ht_trace *t = ht_renderer_trace(r);
+        assert_int_equal(t->count, HT_PASS_COUNT);
+        for (int i = 0; i < t->count; i++) {
+            assert_int_equal(t->entries[i].first_index, chain.first[expect[f]]);
+            assert_int_equal(t->entries[i].index_count, chain.index_count[expect[f]]);
+        }
+    }
+    assert_int_equal(ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA], 0);
+    ht_renderer_destroy(r);
+    ht_lod_chain_free(&chain);
+}
+
 /* A camera pulled from 3 to 40 and back, jittering by 3 %: the chain
    goes only coarser on the way out and finer on the way back (512 pixels
    high for the choice), reaching the level the rule gives at 40, each
-   frame draws the chosen level's whole index buffer in the four passes. */
+   frame draws the chosen level's range of the one uploaded buffer in the
+   four passes, and no switch uploads anything (glBufferData counted). */
 static void chain_switches_with_the_distance(void **state) {
     (void)state;
     ht_lod_chain chain;
     assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
     assert_int_equal(chain.count, 4); /* 400 hairs: levels 0..3 */
-    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true }, fx.bundle_dir,
-                                             HT_OK);
+    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
+                                                                 .getproc = ht_test_fault_getproc },
+                                             fx.bundle_dir, HT_OK);
     int switches = 0, last = -1, peak = 0, steps = 120;
+    long uploads_at_first = -1;
     for (int f = 0; f < 2 * steps; f++) {
         const double t = f < steps ? (double)f / (steps - 1) : (double)(2 * steps - 1 - f) / (steps - 1);
         const float d = (float)((3.0 + 37.0 * t) * (1.0 + 0.03 * ((f % 3) - 1)));
@@ -96,6 +235,11 @@ static void chain_switches_with_the_distance(void **state) {
         const int level = ht_lod_chain_select(&chain, r, &frame.camera, 512, &res);
         assert_int_equal(res, HT_OK);
         assert_true(level >= 0 && level < chain.count);
+        /* One upload, at the first select: a switch moves the draw range. */
+        if (f == 0) {
+            uploads_at_first = ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA];
+            ht_fault_arm(HT_FAULT_NONE, 0);
+        }
         if (last >= 0 && level != last) switches++;
         /* Moving away never finer, coming back never coarser: the jitter
            does not flicker across a boundary. */
@@ -108,11 +252,17 @@ static void chain_switches_with_the_distance(void **state) {
             ht_image_free(&img);
             const ht_trace *t = ht_renderer_trace(r);
             assert_int_equal(t->count, HT_PASS_COUNT);
-            for (int i = 0; i < t->count; i++)
+            for (int i = 0; i < t->count; i++) {
                 assert_int_equal(t->entries[i].index_count, ht_lod_chain_mesh(&chain, level)->index_count);
+                assert_int_equal(t->entries[i].first_index, chain.first[level]);
+            }
         }
     }
-    printf("chain: %d switches over %d frames, up to level %d, back at level %d\n", switches, 2 * steps, peak, last);
+    printf("chain: %d switches over %d frames, up to level %d, back at level %d; glBufferData %ld at the first "
+           "select, %ld after\n", switches, 2 * steps, peak, last, uploads_at_first,
+           ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA]);
+    assert_int_equal(uploads_at_first, 2); /* the vertex and the index buffer */
+    assert_int_equal(ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA], 0);
     const ht_frame_desc far = ht_test_furball_frame(40.0f);
     double d2 = 0;
     for (int k = 0; k < 3; k++) d2 += (double)far.camera.eye[k] * far.camera.eye[k];
@@ -127,6 +277,10 @@ static void full_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER
 static void vertex_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_VERTEX); }
 static void fixed_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_FIXED); }
 static void gl11_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_GL11); }
+static void cards_full(void **state) { (void)state; cards_same_passes(HT_TIER_FULL); }
+static void cards_vertex(void **state) { (void)state; cards_same_passes(HT_TIER_VERTEX); }
+static void cards_fixed(void **state) { (void)state; cards_same_passes(HT_TIER_FIXED); }
+static void cards_gl11(void **state) { (void)state; cards_same_passes(HT_TIER_GL11); }
 
 int main(void) {
     const struct CMUnitTest tests[] = {
@@ -134,7 +288,12 @@ int main(void) {
         cmocka_unit_test(vertex_tier),
         cmocka_unit_test(fixed_tier),
         cmocka_unit_test(gl11_tier),
+        cmocka_unit_test(cards_full),
+        cmocka_unit_test(cards_vertex),
+        cmocka_unit_test(cards_fixed),
+        cmocka_unit_test(cards_gl11),
         cmocka_unit_test(chain_switches_with_the_distance),
+        cmocka_unit_test(stored_chain_reaches_the_cards),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -393,6 +393,14 @@ HT_API ht_variant ht_renderer_variant(const ht_renderer *r);
    HT_ERR_INVALID_ARGUMENT and one log line naming the element; the
    previously set mesh stays in place. */
 HT_API ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh);
+/* Draws indices [first_index, first_index + index_count) of the mesh set
+   last instead of all of them (ht_renderer_set_mesh resets it to all): one
+   buffer holding several meshes, e.g. every geometry LOD (lod.h's
+   ht_lod_chain), switched without an upload. HT_ERR_INVALID_ARGUMENT with
+   one log line for a range past the mesh or not of whole triangles (the
+   range in use stays). The fixed-function tiers' per-frame CPU work still
+   covers every vertex of the mesh. */
+HT_API ht_result ht_renderer_set_draw_range(ht_renderer *r, uint32_t first_index, uint32_t index_count);
 /* Draws the opaque mesh, then the hair in the four passes. The frame is
    checked first (finite camera with eye != target and up not parallel to
    the view, fov_y in (0,180), finite lights with colours in [0,4]); a bad

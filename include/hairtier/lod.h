@@ -42,6 +42,7 @@
 
 #include "export.h"
 #include "hairtier.h"
+#include "image.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -55,6 +56,9 @@ typedef struct ht_lod_desc {
 /* The shipped ladder, level 0 (full) to HT_LOD_LEVELS - 1: stride 2^level,
    max_turn_deg 0, 4, 8, 8, 8. Levels outside are clamped. */
 #define HT_LOD_LEVELS 5
+/* The most levels a stored ladder (lods.bin) or a chain holds: the
+   strand levels and the cards. */
+#define HT_LOD_FILE_MAX_LEVELS 8
 HT_API void ht_lod_level(int level, ht_lod_desc *out);
 
 /* The coarsest level worth building for a mesh: the ladder stops before
@@ -160,24 +164,124 @@ HT_API int ht_lod_pick_frame(const ht_lod_cell *cells, int count, double size, d
 
 /* Every level of one mesh, switched per frame by the best rule: level 0
    is the caller's mesh (borrowed: it must outlive the chain), the others
-   are built here. ht_lod_chain_select picks the level for this frame's
-   camera (the strand width projected at the distance from the eye to the
-   mesh's centre, ht_lod_pick_best with its hysteresis) and, when it
-   changes, hands the renderer that level's mesh (ht_renderer_set_mesh: an
-   upload); it returns the level drawn, or -1 with *result set when the
-   upload fails (the renderer keeps the mesh it had). */
+   are built here, and all of them are concatenated into one mesh (`all`,
+   level l the indices [first[l], first[l] + count[l])). The first
+   ht_lod_chain_select on a renderer uploads `all` once
+   (ht_renderer_set_mesh); from then on it picks the level for this
+   frame's camera (the strand width projected at the distance from the eye
+   to the mesh's centre, ht_lod_pick_best with its hysteresis) and, when
+   it changes, only moves the renderer's draw range
+   (ht_renderer_set_draw_range: no upload). It returns the level drawn, or
+   -1 with *result set when the upload fails (the renderer keeps the mesh
+   it had). A renderer whose mesh the application replaced: set `uploaded`
+   to NULL so the next select uploads `all` again.
+   ht_lod_chain_from_file takes the levels a bundle stores instead (its
+   lods.bin, hairgen --cards: the strand levels, then the cards, whose
+   best-rule level is one past the last strand level's). */
+typedef struct ht_renderer ht_renderer;
 typedef struct ht_lod_chain {
     const ht_mesh *full;
-    ht_mesh levels[HT_LOD_LEVELS]; /* [0] unused: full */
+    ht_mesh levels[HT_LOD_FILE_MAX_LEVELS]; /* built here; [0] only from a file */
     int count;                     /* levels built, 1 + ht_lod_max_level(full) */
     int current;                   /* -1 until the first select */
     double width;                  /* full's mean ribbon width */
+    ht_mesh all;                   /* every level, one after the other */
+    uint32_t first[HT_LOD_FILE_MAX_LEVELS], index_count[HT_LOD_FILE_MAX_LEVELS]; /* level l's range in all */
+    const ht_renderer *uploaded;   /* the renderer holding `all`, NULL: none yet */
 } ht_lod_chain;
 HT_API ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out);
+typedef struct ht_lod_file ht_lod_file;
+HT_API ht_result ht_lod_chain_from_file(const ht_lod_file *file, ht_lod_chain *out);
 HT_API int ht_lod_chain_select(ht_lod_chain *chain, ht_renderer *r, const ht_camera *camera, int viewport_h,
                                ht_result *result);
 HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);
 HT_API void ht_lod_chain_free(ht_lod_chain *chain);
+
+/* Cards (lod_cards.c, docs/lod.md): clumps of strands replaced by one
+   textured ribbon each, the coarsest geometry. Clumps are k-means
+   clusters of the strands' centres at root, middle and tip, seeded with
+   runs of strands_per_card neighbours on the Z-order curve of their key
+   points (the curve the LOD order strides over). A card follows the
+   clump's mean centre line (each strand resampled root 0 to tip 1), lies
+   across the principal direction of the strands' spread about it and is
+   as wide as the farthest strand's edge on each row; tangents along it,
+   unit, root to tip; the normal is the strands' mean normal made
+   perpendicular to the tangent. A card is rows of two vertices like a
+   strand's ribbon (the same four passes, the same inside-out sort), its uv
+   the card's cell of the atlas, its vertex ao 1 (the ao is in the atlas).
+   The atlas is baked from the strands the card replaces, rasterised into
+   the card's (u across, v root to tip) space with 4 x 4 samples a texel,
+   each strand sampling the material's own textures at its own uv (box-
+   filtered across u over the texels one strand's width covers):
+     albedo  rgb = the strands' base x their ao (alpha-weighted mean),
+             a = coverage 1 - prod(1 - alpha) over the strands at a sample;
+     detail  r = 0.5 + tangent shift: the strand's tangent against the
+             card's frame (t.N / t.T) plus the material's shift there,
+             g = sparkle;
+   so every tier, which samples albedo and detail at uv, draws cards as
+   it draws strands (docs/lod.md says what each tier keeps of them). */
+#define HT_CARDS_DEFAULT_STRANDS 32
+typedef struct ht_cards_desc {
+    uint32_t strands_per_card;       /* 0: HT_CARDS_DEFAULT_STRANDS */
+    int atlas_width, atlas_height;   /* 0: strand_albedo's size, else 256 */
+    const ht_image *strand_albedo;   /* NULL: base 1, alpha 1; else RGBA: base.rgb, alpha.a */
+    const ht_image *strand_detail;   /* NULL: shift 0.5, sparkle 1; else shift in r, sparkle in g */
+    int reserve_rows;                /* rows at the atlas's top left free of cells (hairgen --cards
+                                        puts the material's own textures there); their texels
+                                        are the bake's: the caller fills them */
+} ht_cards_desc;
+
+typedef struct ht_cards {
+    ht_mesh mesh;        /* one component per card, sorted inside out */
+    ht_image albedo;     /* RGBA atlas, strand_albedo's layout */
+    ht_image detail;     /* RGBA atlas, strand_detail's layout */
+    ht_image ao;         /* 1 channel: the baked ao albedo.rgb is multiplied by */
+    int columns, rows;   /* the atlas's grid of cells, one a card, row-major */
+    int first_row;       /* the grid's top row: desc.reserve_rows */
+} ht_cards;
+
+/* HT_ERR_INVALID_ARGUMENT for a mesh not made of ribbons (as
+   ht_mesh_build_lod), an image that is not RGBA, or more cards than the
+   atlas has cells of at least 2 x 4 texels; HT_ERR_OUT_OF_MEMORY. On
+   failure *out is zeroed. */
+HT_API ht_result ht_mesh_build_cards(const ht_mesh *full, const ht_cards_desc *desc, ht_cards *out);
+HT_API void ht_cards_free(ht_cards *cards);
+
+/* A stored ladder (docs/bundle.md, "lods.bin"; hairgen --cards writes
+   one with the cards): levels over one vertex and index buffer, each a
+   range of it, read with every count, range, index and float checked, so
+   a hostile file is refused with one line "NAME: FIELD: what is wrong"
+   and nothing allocated. Little-endian:
+     "HTLODS1\n", u32 levels (1..HT_LOD_FILE_MAX_LEVELS), u32 vertices,
+     u32 indices, u32 components, f32 center[3];
+     per level: u32 kind (0 strands, 1 cards), u32 param (the strand
+     stride, or strands per card), u32 first_index, index_count,
+     first_component, component_count;
+     vertices (ht_vertex: 12 f32 each), indices (u32), components (u32
+     first_index, u32 index_count, f32 sort_key); nothing after. */
+#define HT_LOD_FILE_NAME "lods.bin"
+#define HT_LOD_FILE_MAX_VERTICES (64u << 20)
+typedef enum ht_lod_kind { HT_LOD_KIND_STRANDS = 0, HT_LOD_KIND_CARDS = 1 } ht_lod_kind;
+typedef struct ht_lod_range {
+    ht_lod_kind kind;
+    uint32_t param;
+    uint32_t first_index, index_count;          /* ht_renderer_set_draw_range's */
+    uint32_t first_component, component_count; /* its components in mesh */
+} ht_lod_range;
+typedef struct ht_lod_file {
+    ht_mesh mesh;                               /* every level, one after the other */
+    ht_lod_range levels[HT_LOD_FILE_MAX_LEVELS];
+    int level_count;
+} ht_lod_file;
+HT_API ht_result ht_lod_file_parse(const void *data, size_t size, const char *name, ht_lod_file *out, char *err,
+                                   size_t err_size);
+HT_API ht_result ht_lod_file_read(const char *path, ht_lod_file *out, char *err, size_t err_size);
+/* The file's bytes (malloc'd), HT_ERR_INVALID_ARGUMENT for a ladder the
+   parser would refuse. */
+HT_API ht_result ht_lod_file_encode(const ht_lod_file *f, unsigned char **data, size_t *size);
+/* Level `level` as a mesh of its own (copies; for a renderer of its own). */
+HT_API ht_result ht_lod_file_level_mesh(const ht_lod_file *f, int level, ht_mesh *out);
+HT_API void ht_lod_file_free(ht_lod_file *f);
 
 /* The bundle's measured cells (hairgen --measure-lods: every tier at every
    LOD and size, against (LOD 0, the bundle's first tier)), at most max

@@ -18,4 +18,10 @@ typedef struct ht_lod_run {
    from an even offset of its first vertex, as the builders write. */
 ht_result ht_lod_runs(const ht_mesh *m, ht_lod_run *runs);
 
+/* The components sorted along the Z-order curve of their key points
+   (lod_order.c): curve[i] = the component at curve position i. Runs of
+   neighbours on it are the strata of the LOD order and the clumps of
+   cards (lod_cards.c). */
+ht_result ht_lod_curve_order(const ht_mesh *m, const ht_lod_run *runs, uint32_t *curve);
+
 #endif

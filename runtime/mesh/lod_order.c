@@ -54,15 +54,15 @@ static void key_point(const ht_mesh *m, const ht_lod_run *run, double out[3]) {
     }
 }
 
-ht_result ht_mesh_strand_order(const ht_mesh *mesh, uint32_t *rank) {
-    if (!mesh || !rank || mesh->component_count == 0) return HT_ERR_INVALID_ARGUMENT;
+ht_result ht_lod_curve_order(const ht_mesh *mesh, const ht_lod_run *runs, uint32_t *curve) {
     const uint32_t n = mesh->component_count;
-    ht_lod_run *runs = malloc(sizeof *runs * n);
     keyed *k = malloc(sizeof *k * n);
     double (*p)[3] = malloc(sizeof *p * n);
-    ht_result r = runs && k && p ? ht_lod_runs(mesh, runs) : HT_ERR_OUT_OF_MEMORY;
-    if (r != HT_OK) goto done;
-
+    if (!k || !p) {
+        free(k);
+        free(p);
+        return HT_ERR_OUT_OF_MEMORY;
+    }
     double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
     for (uint32_t c = 0; c < n; c++) {
         key_point(mesh, &runs[c], p[c]);
@@ -78,6 +78,20 @@ ht_result ht_mesh_strand_order(const ht_mesh *mesh, uint32_t *rank) {
         k[c] = (keyed){ code, c };
     }
     qsort(k, n, sizeof *k, compare_keyed);
+    for (uint32_t i = 0; i < n; i++) curve[i] = k[i].component;
+    free(k);
+    free(p);
+    return HT_OK;
+}
+
+ht_result ht_mesh_strand_order(const ht_mesh *mesh, uint32_t *rank) {
+    if (!mesh || !rank || mesh->component_count == 0) return HT_ERR_INVALID_ARGUMENT;
+    const uint32_t n = mesh->component_count;
+    ht_lod_run *runs = malloc(sizeof *runs * n);
+    uint32_t *curve = malloc(sizeof *curve * n);
+    ht_result r = runs && curve ? ht_lod_runs(mesh, runs) : HT_ERR_OUT_OF_MEMORY;
+    if (r == HT_OK) r = ht_lod_curve_order(mesh, runs, curve);
+    if (r != HT_OK) goto done;
 
     /* Curve position i → rank: walk the bit-reversed sequence over the next
        power of two; each value below n is the next curve position taken. */
@@ -86,11 +100,10 @@ ht_result ht_mesh_strand_order(const ht_mesh *mesh, uint32_t *rank) {
     uint32_t next = 0;
     for (uint64_t j = 0; j < (1ull << bits); j++) {
         const uint64_t i = reverse_bits(j, bits);
-        if (i < n) rank[k[i].component] = next++;
+        if (i < n) rank[curve[i]] = next++;
     }
 done:
     free(runs);
-    free(k);
-    free(p);
+    free(curve);
     return r;
 }

@@ -126,6 +126,8 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
     }
     r->vertex_count = vertex_count;
     r->index_count = mesh->index_count;
+    r->draw_first = 0;
+    r->draw_count = mesh->index_count;
     r->has_mesh = true;
     if (r->backend && r->backend->set_mesh) {
         ht_result res = r->backend->set_mesh(r->backend_state, mesh);
@@ -136,6 +138,20 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
             return res;
         }
     }
+    return HT_OK;
+}
+
+ht_result ht_renderer_set_draw_range(ht_renderer *r, uint32_t first_index, uint32_t index_count) {
+    if (!r) return HT_ERR_INVALID_ARGUMENT;
+    if (!r->has_mesh) return ht_renderer_reject(r, "ht_renderer_set_draw_range", "mesh", "none set");
+    if (first_index % 3 || index_count % 3 || first_index > r->index_count || index_count > r->index_count - first_index) {
+        ht_log_linef(r->log, r->log_user,
+                     "hairtier: ht_renderer_set_draw_range: [%u, +%u): not whole triangles within the mesh's %u indices",
+                     first_index, index_count, r->index_count);
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    r->draw_first = first_index;
+    r->draw_count = index_count;
     return HT_OK;
 }
 

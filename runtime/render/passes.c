@@ -123,12 +123,13 @@ static const void *indices_at(const ht_renderer *r, uint32_t first_index) {
     return r->caps.has_vbo ? (const void *)(uintptr_t)offset : (const void *)((const char *)r->indices + offset);
 }
 
-/* The hair, pass by pass over the whole sorted index range (in its order,
+/* The hair, pass by pass over the draw range (the whole sorted index
+   buffer unless ht_renderer_set_draw_range chose a level's; in its order,
    chunk by chunk where a split mesh has chunks): every tier draws the same
    passes and ranges; only the shading differs. */
 ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf) {
     const ht_gl *gl = &r->gl;
-    if (!r->has_mesh || r->index_count == 0) return HT_OK;
+    if (!r->has_mesh || r->draw_count == 0) return HT_OK;
     const ht_index_chunk whole = { 0, r->index_count, 0 };
     const ht_index_chunk *chunks = r->chunk_count ? r->chunks : &whole;
     const uint32_t chunk_count = r->chunk_count ? r->chunk_count : 1;
@@ -153,12 +154,16 @@ ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf) {
             bool draw = flat_ok && (!r->backend || !r->backend->set_arrays ||
                                     r->backend->set_arrays(r->backend_state, pass, sub));
             for (uint32_t c = 0; c < chunk_count; c++) {
+                /* the chunk's part of the draw range */
+                const uint32_t lo = chunks[c].first_index > r->draw_first ? chunks[c].first_index : r->draw_first;
+                const uint32_t chunk_end = chunks[c].first_index + chunks[c].index_count;
+                const uint32_t range_end = r->draw_first + r->draw_count;
+                const uint32_t hi = chunk_end < range_end ? chunk_end : range_end;
+                if (lo >= hi) continue;
                 if (chunk_count > 1) ht_renderer_set_arrays_from(r, vertices, chunks[c].first_vertex, true);
-                if (draw)
-                    gl->DrawElements(GL_TRIANGLES, (GLsizei)chunks[c].index_count, r->index_type,
-                                     indices_at(r, chunks[c].first_index));
-                e.first_index = chunks[c].first_index;
-                e.index_count = chunks[c].index_count;
+                if (draw) gl->DrawElements(GL_TRIANGLES, (GLsizei)(hi - lo), r->index_type, indices_at(r, lo));
+                e.first_index = lo;
+                e.index_count = hi - lo;
                 e.gl_error = gl->GetError();
                 if (e.gl_error != GL_NO_ERROR) {
                     ht_log_linef(r->log, r->log_user, "hairtier: pass %d.%d (%s): %s", p, sub,

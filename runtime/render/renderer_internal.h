@@ -37,6 +37,7 @@ struct ht_renderer {
     ht_vertex *vertices;
     uint32_t *indices;
     uint32_t vertex_count, index_count;
+    uint32_t draw_first, draw_count;  /* the indices the passes draw (ht_renderer_set_draw_range) */
     bool has_mesh;
     GLenum index_type;                /* GL_UNSIGNED_INT; GL_UNSIGNED_SHORT on GL ES 2.0 without
                                          GL_OES_element_index_uint (mesh_gpu.c) */
