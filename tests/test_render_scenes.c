@@ -122,7 +122,8 @@ static bool on_softpipe(void) {
 static const char *scene_for_driver(const char *scene_path, char *out, size_t out_size) {
     /* A copy made here is already at its size. */
     if (!on_softpipe() || strncmp(scene_path, work, strlen(work)) == 0) return scene_path;
-    return ht_test_scene_copy(scene_path, work, "scene.json", SOFTPIPE_SIZE, SOFTPIPE_HAIRS, false, out, out_size);
+    return ht_test_scene_copy(scene_path, work, "scene.json", ht_test_driver_side(SOFTPIPE_SIZE),
+                              ht_test_driver_hairs(SOFTPIPE_HAIRS), false, out, out_size);
 }
 
 /* The bundle at work/bundle and each tier's frame: through the programs
