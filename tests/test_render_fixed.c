@@ -28,7 +28,10 @@
      any pass, and after a frame the texture environment and texture
      matrices are GL's initial ones: the next tier's frame is the same bytes as before.
    The fixture's bundle keeps full, vertex and fixed only (fixed4 and gl11,
-   which also run at GL 1.3, have their own tests). */
+   which also run at GL 1.3, have their own tests). `make test`'s softpipe
+   run (support_driver.h) draws the selection's fur ball with blond only,
+   probes the texture-matrix rule's two paths (matrix, CPU coordinates)
+   and skips the models' extremes (the plain path with other constants). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
