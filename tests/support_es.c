@@ -13,6 +13,7 @@
 #include <hairtier/hairgen.h>
 #include <hairtier/scene.h>
 #include "metrics.h"
+#include "support_driver.h"
 #include "support_es.h"
 #include "support_scratch.h"
 
@@ -88,9 +89,10 @@ bool ht_test_es_draw_scene_hairs(const char *bundle, const char *scene_name, off
         snprintf(out->log, sizeof out->log, "%s", err);
         return false;
     }
-    /* Small and cheap: the same camera and lights, fewer pixels and hairs. */
+    /* Small and cheap: the same camera and lights, fewer pixels and hairs
+       (fewer again on the softpipe run: support_driver.h). */
     s.width = s.height = HT_TEST_ES_SIZE;
-    if (s.geometry == HT_GEOMETRY_FURBALL) s.furball.hairs = furball_hairs;
+    if (s.geometry == HT_GEOMETRY_FURBALL) s.furball.hairs = ht_test_driver_hairs(furball_hairs);
     if (ht_scene_build_meshes(&s, path, &hair, &head, err, sizeof err) != HT_OK) {
         snprintf(out->log, sizeof out->log, "%s", err);
         return false;

@@ -15,6 +15,7 @@
 
 #include <hairtier/hairgen.h>
 #include "support_log.h"
+#include "support_driver.h"
 #include "support_render.h"
 #include "support_scratch.h"
 
@@ -26,7 +27,8 @@ static const ht_light furball_lights[2] = {
 };
 
 ht_result ht_test_furball_mesh(ht_mesh *out) {
-    static const ht_furball_desc desc = { .hairs = 400, .joints = 8, .length = 0.12f, .width = 0.03f, .seed = 3 };
+    const ht_furball_desc desc = { .hairs = ht_test_driver_hairs(400), .joints = 8, .length = 0.12f,
+                                   .width = 0.03f, .seed = 3 };
     ht_result r = ht_mesh_build_furball(&desc, out);
     if (r == HT_OK) ht_mesh_sort_inside_out(out);
     return r;

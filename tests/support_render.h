@@ -19,7 +19,7 @@ typedef struct ht_test_furball {
     char work[64];          /* scratch directory */
     char bundle_dir[128];   /* work/bundle: materials/dark-brown.json x scenes/furball.json */
     ht_test_gl gl;          /* size x size, current */
-    ht_mesh mesh;           /* 400 hairs, sorted inside out */
+    ht_mesh mesh;           /* 400 hairs (support_driver.h: fewer on softpipe), sorted inside out */
 } ht_test_furball;
 
 /* For cmocka group setup/teardown: false (with the reason on stderr) when

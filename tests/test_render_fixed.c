@@ -28,7 +28,10 @@
      any pass, and after a frame the texture environment and texture
      matrices are GL's initial ones: the next tier's frame is the same bytes as before.
    The fixture's bundle keeps full, vertex and fixed only (fixed4 and gl11,
-   which also run at GL 1.3, have their own tests). */
+   which also run at GL 1.3, have their own tests). `make test`'s softpipe
+   run (support_driver.h) draws the selection's fur ball with blond only,
+   probes the texture-matrix rule's two paths (matrix, CPU coordinates)
+   and skips the models' extremes (the plain path with other constants). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -55,6 +58,7 @@
 #include <hairtier/image.h>
 #include <hairtier/model.h>
 #include "support_combiner_eval.h"
+#include "support_driver.h"
 #include "support_log.h"
 #include "support_osmesa.h"
 #include "support_probe.h"
@@ -326,13 +330,16 @@ static void render(ht_renderer *r, const ht_frame_desc *f, ht_image *img) {
 static ht_test_pixel_stats stats(const ht_image *img) { return ht_test_pixel_stats_of(img, ht_test_background); }
 
 /* One line per trace entry: what the tiers must agree on. */
-static void full_tier_trace(const char *dir, char *out, size_t size) {
+/* The full tier's fur-ball frame: its trace into out, its image into img
+   (NULL: not kept). */
+static void full_tier_trace(const char *dir, char *out, size_t size, ht_image *img) {
     ht_renderer *r = create((ht_renderer_desc){ .bundle_dir = dir, .tier = HT_TIER_FULL, .strict = true }, HT_OK);
     assert_int_equal(ht_renderer_set_mesh(r, &fx.mesh), HT_OK);
-    ht_image img;
+    ht_image frame_img;
     ht_frame_desc f = furball_frame();
-    render(r, &f, &img);
-    ht_image_free(&img);
+    render(r, &f, &frame_img);
+    if (img) *img = frame_img;
+    else ht_image_free(&frame_img);
     ht_test_format_trace(ht_renderer_trace(r), out, size);
     ht_renderer_destroy(r);
 }
@@ -407,18 +414,14 @@ static void test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes(void
     static char full_trace[2][4096], fixed_trace[4096];
     ht_image full_img[2];
     ht_frame_desc f = furball_frame();
-    for (int b = 0; b < 2; b++) {
-        full_tier_trace(dirs[b], full_trace[b], sizeof full_trace[b]);
-        ht_renderer *full = create((ht_renderer_desc){ .bundle_dir = dirs[b], .tier = HT_TIER_FULL, .strict = true },
-                                   HT_OK);
-        assert_int_equal(ht_renderer_set_mesh(full, &fx.mesh), HT_OK);
-        render(full, &f, &full_img[b]);
-        ht_renderer_destroy(full);
-    }
+    /* `make test`'s softpipe run (support_driver.h) draws blond only: its
+       key light is dark-brown's whole frame, sub-pass 0 */
+    const int first_bundle = ht_test_driver_cases_only() ? 1 : 0;
+    for (int b = first_bundle; b < 2; b++) full_tier_trace(dirs[b], full_trace[b], sizeof full_trace[b], &full_img[b]);
 
     /* With the mesh in VBOs (the extension survives GL 1.3 on Mesa) and in
        client arrays. */
-    for (int run = 0; run < 4; run++) {
+    for (int run = 2 * first_bundle; run < 4; run++) {
         const int no_vbo = run & 1, b = run / 2;
         const char *dir = dirs[b];
         ht_renderer *r = create((ht_renderer_desc){ .bundle_dir = dir,
@@ -451,7 +454,7 @@ static void test_gl13_profile_selects_fixed_and_draws_the_full_tiers_passes(void
         ht_image_free(&img);
         ht_renderer_destroy(r);
     }
-    for (int b = 0; b < 2; b++) ht_image_free(&full_img[b]);
+    for (int b = first_bundle; b < 2; b++) ht_image_free(&full_img[b]);
 }
 
 /* Child mode: argv = exe --child BUNDLE, with MESA_GL_VERSION_OVERRIDE=1.3. */
@@ -498,7 +501,7 @@ static int child_main(const char *bundle) {
 static void test_mesa_gl13_driver_runs_fixed_with_the_full_tiers_trace(void **state) {
     (void)state;
     static char out[16384], full_trace[4096];
-    full_tier_trace(fx.bundle_dir, full_trace, sizeof full_trace);
+    full_tier_trace(fx.bundle_dir, full_trace, sizeof full_trace, NULL);
     ht_test_run_child("1.3", fx.bundle_dir, out, sizeof out);
     if (!strstr(out, "version=1.3")) fail_msg("child did not get a GL 1.3 context:\n%s", out);
     if (!strstr(out, "result=ok tier=fixed")) fail_msg("child did not pick fixed:\n%s", out);
@@ -859,6 +862,15 @@ static ht_light bright_light(void) {
     return l;
 }
 
+/* `make test`'s softpipe run (support_driver.h) probes the first
+   `distinct` cases of a list: one per code path of the backend; the rest
+   are those paths with other constants. */
+static void run_probes_on_driver(const probe_case *cases, int count, int distinct) {
+    run_probes(cases, ht_test_driver_cases_only() ? distinct : count);
+}
+
+/* Every generic case on softpipe too: their mean against the oracle is
+   one budget (ORACLE_MEAN), and the brightest cases alone come close to it. */
 static void test_fixed_probe_tracks_emulator_and_oracle_on_generic_cells(void **state) {
     (void)state;
     const probe_case cases[] = {
@@ -888,18 +900,20 @@ static void test_kajiya_kay_probe_through_the_texture_matrix_tracks_emulator_and
     const ht_probe_material kk = { "kajiya-kay", "kajiya-kay", 60, 0, 0, 0, false };
     const ht_probe_material narrow = { "kajiya-kay-300", "kajiya-kay", 300, 0, 0, 0, false };
     const probe_case cases[] = {
+        /* the paths: the texture matrix, CPU coordinates */
         { kk, first_light(), true, true },
+        { kk, (ht_light){ HT_LIGHT_POINT, { 0.8f, 1.1f, 1.5f }, { 1.0f, 0.9f, 0.8f } }, true, false },
         { kk, ht_probe_directional(0, 0, -1), true, true },
         { kk, ht_probe_directional(0, 0, 1), true, true },
         { kk, ht_probe_directional(1, 0, 0), true, true },
         { narrow, ht_probe_directional(-0.4, 0.3, 0.9), true, true },
-        { kk, (ht_light){ HT_LIGHT_POINT, { 0.8f, 1.1f, 1.5f }, { 1.0f, 0.9f, 0.8f } }, true, false },
     };
-    run_probes(cases, (int)(sizeof cases / sizeof cases[0]));
+    run_probes_on_driver(cases, (int)(sizeof cases / sizeof cases[0]), 2);
 }
 
 static void test_fixed_probe_tracks_emulator_at_the_models_extremes(void **state) {
     (void)state;
+    HT_TEST_DRIVER_INDEPENDENT(); /* the generic cells' plain path with other constants */
     /* Light behind the strand: L = -V at the centre pixel, where H has no
        direction and turns by 180 degrees across the centre cell; per-vertex
        H (Heidrich-Seidel) cannot follow that (measured: up to 229/255 in

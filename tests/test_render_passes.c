@@ -26,6 +26,7 @@
 #include <hairtier/hairtier.h>
 #include <hairtier/lod.h>
 #include "manifest.h"
+#include "support_driver.h"
 #include "support_log.h"
 #include "support_osmesa.h"
 #include "support_render.h"
@@ -354,7 +355,8 @@ static void test_render_glsl_tiers_on_just_their_units_match_the_eight_unit_imag
         int lit_eight = lit_pixels(&eight), lit_few = lit_pixels(&few);
         printf("%s tier, %d unit%s: %d lit pixels, %d with the device's units\n", ht_tier_name(cases[i].tier),
                cases[i].units, cases[i].units == 1 ? "" : "s", lit_few, lit_eight);
-        assert_true(lit_eight > SIZE * SIZE / 10);
+        /* not blank; the softpipe run's fur ball has half the hairs (support_driver.h) */
+        assert_true(lit_eight > SIZE * SIZE / (ht_test_driver_cases_only() ? 20 : 10));
         if (memcmp(eight.pixels, few.pixels, (size_t)SIZE * SIZE * 4) != 0)
             fail_msg("%s tier with %d units: the image differs from the device's (%d vs %d lit pixels)",
                      ht_tier_name(cases[i].tier), cases[i].units, lit_few, lit_eight);

@@ -9,8 +9,10 @@
    On softpipe (GALLIUM_DRIVER=softpipe, an interpreter) the scenes render
    at 256², the fur ball with 2000 of its 8000 hairs; llvmpipe keeps the
    shipped scenes. `make test`'s softpipe run (support_driver.h) draws the
-   fur ball only, in this process: every tier on the second driver; the
-   other scenes differ in geometry and material, prepared on the CPU. */
+   fur ball only, in this process, at HT_TEST_DRIVER_SIDE² with
+   HT_TEST_DRIVER_HAIRS: every tier on the second driver, held to the same
+   bounds; the other scenes differ in geometry and material, prepared on
+   the CPU. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -118,11 +120,13 @@ static bool on_softpipe(void) {
 }
 
 /* The scene as shipped, or on softpipe a copy at SOFTPIPE_SIZE² with at
-   most SOFTPIPE_HAIRS in the work directory (everything else unchanged). */
+   most SOFTPIPE_HAIRS (less again in `make test`'s softpipe run) in the
+   work directory (everything else unchanged). */
 static const char *scene_for_driver(const char *scene_path, char *out, size_t out_size) {
     /* A copy made here is already at its size. */
     if (!on_softpipe() || strncmp(scene_path, work, strlen(work)) == 0) return scene_path;
-    return ht_test_scene_copy(scene_path, work, "scene.json", SOFTPIPE_SIZE, SOFTPIPE_HAIRS, false, out, out_size);
+    return ht_test_scene_copy(scene_path, work, "scene.json", ht_test_driver_side(SOFTPIPE_SIZE),
+                              ht_test_driver_hairs(SOFTPIPE_HAIRS), false, out, out_size);
 }
 
 /* The bundle at work/bundle and each tier's frame: through the programs
