@@ -755,8 +755,8 @@ static probe_result probe(const probe_case *pc) {
             const uint8_t *got = img.pixels + ((size_t)row * SIZE + x) * 4;
 
             /* (a) the emulator, fed what GL interpolates to this pixel */
-            int idx[3];
-            double w[3];
+            int idx[3] = { 0, 0, 0 };
+            double w[3] = { 0, 0, 0 };
             cell_weights(&mesh, ci, P, idx, w);
             ht_combiner_fragment frag = { .uv = { (float)c->uv[0], (float)c->uv[1] } };
             for (int k = 0; k < 3; k++)
