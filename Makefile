@@ -273,7 +273,7 @@ RUN_TEST = HAIRTIER_BUILD=$(BUILD) tests/run_test.sh
 # Bundles several render tests share, MATERIAL/SCENE (tests/support_scratch.h,
 # ht_test_fixture_bundle): a Marschner material's bake and fit cost about 2 s
 # a bundle, built once here instead of once per test run.
-FIXTURE_BUNDLES := $(BUILD)/fixtures/brown-marschner/backlit $(BUILD)/fixtures/brown-marschner/furball
+FIXTURE_BUNDLES := $(addprefix $(BUILD)/fixtures/brown-marschner/,backlit furball patches ratboy)
 $(BUILD)/fixtures/%: $(HAIRGEN) $(wildcard materials/*.json scenes/*.json)
 	@rm -rf $@ && mkdir -p $(dir $@)
 	@$(HAIRGEN) -q materials/$(notdir $(patsubst %/,%,$(dir $*))).json --scene scenes/$(notdir $*).json -o $@

@@ -170,7 +170,10 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
             /* What `hairgen MATERIAL --scene SCENE -o BUNDLE` writes. */
             char bundle[256];
             snprintf(bundle, sizeof bundle, "%s/sweep-bundle", work);
-            if (ht_generate_bundle(material_path, scenes[sc].path, bundle, NULL, err, sizeof err) != HT_OK)
+            /* a Marschner bundle from make's fixtures when there: the same bundle at any size */
+            bool shared = material.shading.model == HT_MODEL_MARSCHNER &&
+                          ht_test_fixture_bundle(materials[mat], scene_names[sc], bundle, sizeof bundle);
+            if (!shared && ht_generate_bundle(material_path, scenes[sc].path, bundle, NULL, err, sizeof err) != HT_OK)
                 fail_msg("hairgen %s --scene %s: %s", material_path, scenes[sc].path, err);
             char names[2 * HT_TIER_COUNT][16];
             int count = ht_test_bundle_tiers(bundle, names, reference);
