@@ -175,6 +175,20 @@ static void cards_same_passes(ht_tier tier) {
     ht_mesh_free(&level0);
 }
 
+/* One frame of the chain's renderer: the four passes, each drawing the
+   chain's level `level` range. */
+static void draw_expect_level(ht_renderer *r, const ht_lod_chain *chain, const ht_frame_desc *frame, int level) {
+    ht_image img;
+    ht_test_draw(&fx.gl, r, frame, ht_test_background, &img);
+    ht_image_free(&img);
+    const ht_trace *t = ht_renderer_trace(r);
+    assert_int_equal(t->count, HT_PASS_COUNT);
+    for (int i = 0; i < t->count; i++) {
+        assert_int_equal(t->entries[i].first_index, chain->first[level]);
+        assert_int_equal(t->entries[i].index_count, chain->index_count[level]);
+    }
+}
+
 /* The stored ladder as a chain (ht_lod_chain_from_file) in one renderer:
    pulled from 3 to 1000 it reaches the cards, one past the last strand
    level, and back; one upload at the first select, none at a switch, and
@@ -197,15 +211,7 @@ static void stored_chain_reaches_the_cards(void **state) {
         ht_result res;
         assert_int_equal(ht_lod_chain_select(&chain, r, &frame.camera, 512, &res), expect[f]);
         if (f == 0) ht_fault_arm(HT_FAULT_NONE, 0);
-        ht_image img;
-        ht_test_draw(&fx.gl, r, &frame, ht_test_background, &img);
-        ht_image_free(&img);
-        const ht_trace *t = ht_renderer_trace(r);
-        assert_int_equal(t->count, HT_PASS_COUNT);
-        for (int i = 0; i < t->count; i++) {
-            assert_int_equal(t->entries[i].first_index, chain.first[expect[f]]);
-            assert_int_equal(t->entries[i].index_count, chain.index_count[expect[f]]);
-        }
+        draw_expect_level(r, &chain, &frame, expect[f]);
     }
     assert_int_equal(ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA], 0);
     ht_renderer_destroy(r);
@@ -247,15 +253,8 @@ static void chain_switches_with_the_distance(void **state) {
         if (level > peak) peak = level;
         last = level;
         if (f % 20 == 0) {
-            ht_image img;
-            ht_test_draw(&fx.gl, r, &frame, ht_test_background, &img);
-            ht_image_free(&img);
-            const ht_trace *t = ht_renderer_trace(r);
-            assert_int_equal(t->count, HT_PASS_COUNT);
-            for (int i = 0; i < t->count; i++) {
-                assert_int_equal(t->entries[i].index_count, ht_lod_chain_mesh(&chain, level)->index_count);
-                assert_int_equal(t->entries[i].first_index, chain.first[level]);
-            }
+            assert_int_equal(chain.index_count[level], ht_lod_chain_mesh(&chain, level)->index_count);
+            draw_expect_level(r, &chain, &frame, level);
         }
     }
     printf("chain: %d switches over %d frames, up to level %d, back at level %d; glBufferData %ld at the first "
