@@ -431,15 +431,19 @@ fuzz-seeds: $(HAIRGEN)
 
 # Each target for FUZZ_SECONDS; its last lines (runs, coverage, any crash)
 # go to $(FUZZ_BUILD)/TARGET.log, a summary line per target to stdout.
+# Each target a job of its own, JOBS at a time (-k: every target runs even if one fails).
+FUZZ_RUNS := $(FUZZ_TARGETS:%=$(FUZZ_BUILD)/runs/%)
 fuzz: fuzz-build fuzz-seeds
-	@fail=0; for t in $(FUZZ_TARGETS); do \
-	  mkdir -p $(FUZZ_BUILD)/corpus/$$t $(FUZZ_BUILD)/crashes/$$t; \
-	  if $(FUZZ_BUILD)/fuzz/$$t -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=2048 -timeout=10 -max_len=65536 \
-	       -print_final_stats=1 -artifact_prefix=$(FUZZ_BUILD)/crashes/$$t/ \
-	       $(FUZZ_BUILD)/corpus/$$t $(FUZZ_BUILD)/seeds/$$t > $(FUZZ_BUILD)/$$t.log 2>&1; then r=ok; \
-	  else r=FAILED; fail=1; fi; \
-	  echo "$$t: $$r, $$(grep -o 'stat::number_of_executed_units: *[0-9]*' $(FUZZ_BUILD)/$$t.log | grep -o '[0-9]*$$') runs in $(FUZZ_SECONDS) s, corpus $$(ls $(FUZZ_BUILD)/corpus/$$t | wc -l), $$(grep -o 'cov: [0-9]*' $(FUZZ_BUILD)/$$t.log | tail -1)"; \
-	done; rm -f /tmp/hairtier-fuzz-png-*.png; [ $$fail -eq 0 ]
+	@rm -rf $(FUZZ_BUILD)/runs; status=0; $(MAKE) --no-print-directory -k $(PARALLEL) $(FUZZ_RUNS) || status=1; \
+	  rm -f /tmp/hairtier-fuzz-png-*.png; exit $$status
+$(FUZZ_BUILD)/runs/%:
+	@mkdir -p $(dir $@) $(FUZZ_BUILD)/corpus/$* $(FUZZ_BUILD)/crashes/$*
+	@if $(FUZZ_BUILD)/fuzz/$* -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=2048 -timeout=10 -max_len=65536 \
+	     -print_final_stats=1 -artifact_prefix=$(FUZZ_BUILD)/crashes/$*/ \
+	     $(FUZZ_BUILD)/corpus/$* $(FUZZ_BUILD)/seeds/$* > $(FUZZ_BUILD)/$*.log 2>&1; then r=ok; \
+	else r=FAILED; fi; \
+	echo "$*: $$r, $$(grep -o 'stat::number_of_executed_units: *[0-9]*' $(FUZZ_BUILD)/$*.log | grep -o '[0-9]*$$') runs in $(FUZZ_SECONDS) s, corpus $$(ls $(FUZZ_BUILD)/corpus/$* | wc -l), $$(grep -o 'cov: [0-9]*' $(FUZZ_BUILD)/$*.log | tail -1)"; \
+	[ $$r = ok ] && touch $@
 
 fuzz-smoke:
 	$(MAKE) fuzz FUZZ_SECONDS=5
