@@ -15,6 +15,7 @@
 #include "metrics.h"
 #include "support_driver.h"
 #include "support_es.h"
+#include "support_render.h"
 #include "support_scratch.h"
 
 const char *const ht_test_es_scene_names[HT_TEST_ES_SCENES] = { "furball", "patches", "ratboy", "backlit" };
@@ -42,11 +43,7 @@ const char *ht_test_es_bundle(int i) {
         snprintf(material, sizeof material, "materials/%s.json", materials[i]);
         snprintf(scene, sizeof scene, "scenes/%s.json", ht_test_es_scene_names[i]);
         snprintf(dir, sizeof dir, "%s/%s", work, ht_test_es_scene_names[i]);
-        /* the Marschner bundle from make's fixtures when there (no test edits it) */
-        if (strcmp(materials[i], "brown-marschner") == 0 &&
-            ht_test_fixture_bundle(materials[i], ht_test_es_scene_names[i], bundles[i], sizeof bundles[i]))
-            return bundles[i];
-        if (ht_generate_bundle(material, scene, dir, NULL, err, sizeof err) != HT_OK) {
+        if (ht_test_bundle(material, ht_test_es_scene_names[i], scene, dir, sizeof dir, err, sizeof err) != HT_OK) {
             print_error("%s\n", err);
             return NULL;
         }

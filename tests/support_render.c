@@ -173,3 +173,18 @@ void ht_test_format_trace(const ht_trace *t, char *out, size_t size) {
                  e->first_index, e->index_count, e->gl_error);
     }
 }
+
+ht_result ht_test_bundle(const char *material_path, const char *scene, const char *scene_path, char *dir,
+                         size_t size, char *err, size_t err_size) {
+    const char *slash = strrchr(material_path, '/'), *name = slash ? slash + 1 : material_path;
+    const size_t name_length = strcspn(name, ".");
+    char fixture[1024], manifest[1100];
+    int n = snprintf(fixture, sizeof fixture, "%s/fixtures/%.*s/%s", ht_test_build_dir(), (int)name_length, name,
+                     scene);
+    snprintf(manifest, sizeof manifest, "%s/manifest.json", fixture);
+    if (n > 0 && (size_t)n < size && access(manifest, R_OK) == 0) {
+        memcpy(dir, fixture, (size_t)n + 1);
+        return HT_OK;
+    }
+    return ht_generate_bundle(material_path, scene_path, dir, NULL, err, err_size);
+}

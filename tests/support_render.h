@@ -38,6 +38,16 @@ int ht_test_scratch_gl_teardown(ht_test_scratch_gl *f);
 ht_result ht_test_furball_mesh(ht_mesh *out);
 /* The two lights (directional key, point fill), looked at from (0, 0.3, eye_z). */
 ht_frame_desc ht_test_furball_frame(float eye_z);
+/* The bundle of material_path (materials/NAME.json) for scenes/SCENE.json:
+   the one make builds once for the render tests to share (Makefile,
+   FIXTURE_BUNDLES, build/fixtures/NAME/SCENE: a Marschner material's bake
+   and fit cost about 2 s a bundle) where it is there, else generated from
+   scene_path (SCENE.json or a copy of it at another size or hair count,
+   which gives the same bundle but for its input_hash) into dir. On HT_OK
+   dir holds the bundle's path. Read only: a test that edits a bundle
+   copies it. */
+ht_result ht_test_bundle(const char *material_path, const char *scene, const char *scene_path, char *dir,
+                         size_t size, char *err, size_t err_size);
 /* A copy of the fixture's bundle at work/NAME, to break. */
 void ht_test_furball_copy_bundle(const ht_test_furball *f, const char *name, char *out, size_t size);
 

@@ -62,6 +62,17 @@ static uint32_t get_u32(const char *p) {
     return v;
 }
 
+int ht_test_furball_bundle(const char *dir, int side, int hairs, const char *options) {
+    char scene[512], args[2048], out[16384];
+    ht_test_scene_copy("scenes/furball.json", dir, "scene.json", side, hairs, false, scene, sizeof scene);
+    snprintf(args, sizeof args, "materials/dark-brown.json --scene %s %s -o %s/bundle", scene, options, dir);
+    if (ht_test_run_program("hairgen", args, out, sizeof out) != 0) {
+        fprintf(stderr, "%s", out);
+        return -1;
+    }
+    return 0;
+}
+
 void ht_test_scene_thin_strands(const char *dir, const char *name, int every) {
     cJSON *root = ht_test_read_json(dir, name);
     cJSON *file = cJSON_GetObjectItem(cJSON_GetObjectItem(root, "geometry"), "file");

@@ -92,16 +92,6 @@ const char *ht_test_build_dir(void) {
     return b ? b : "build";
 }
 
-bool ht_test_fixture_bundle(const char *material, const char *scene, char *out, size_t size) {
-    char dir[1024], manifest[1100];
-    int n = snprintf(dir, sizeof dir, "%s/fixtures/%s/%s", ht_test_build_dir(), material, scene);
-    if (n < 0 || (size_t)n >= size) return false;
-    snprintf(manifest, sizeof manifest, "%s/manifest.json", dir);
-    if (access(manifest, R_OK) != 0) return false;
-    memcpy(out, dir, (size_t)n + 1);
-    return true;
-}
-
 int ht_test_run_program(const char *program, const char *args, char *out, size_t size) {
     char cmd[4096];
     snprintf(cmd, sizeof cmd, "'%s/%s' %s 2>&1", ht_test_build_dir(), program, args);

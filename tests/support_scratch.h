@@ -31,12 +31,6 @@ char *ht_test_read_all(const char *path, size_t *size);
 bool ht_test_path_exists(const char *path);
 /* Where the programs under test were built: $HAIRTIER_BUILD, else "build". */
 const char *ht_test_build_dir(void);
-/* The bundle of materials/MATERIAL.json x scenes/SCENE.json that make
-   builds once for the render tests to share (Makefile, FIXTURE_BUNDLES: a
-   Marschner material's bake and fit cost about 2 s a bundle), into out:
-   true; false where it is absent (a test run by hand; out untouched),
-   and the test generates its own. Read only: a test that edits a bundle copies it. */
-bool ht_test_fixture_bundle(const char *material, const char *scene, char *out, size_t size);
 /* Runs build/PROGRAM ARGS (ARGS already quoted for the shell), stdout and
    stderr into out (NUL-terminated, truncated to size); fails the test
    unless it exits normally; returns its exit status. */

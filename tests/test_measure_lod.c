@@ -34,16 +34,8 @@ static char work[64], bundle[128];
 static int setup(void **state) {
     (void)state;
     if (!ht_test_scratch_create(work, sizeof work, "measure_lod")) return -1;
-    char scene[128];
-    ht_test_scene_copy("scenes/furball.json", work, "scene.json", 64, HAIRS, false, scene, sizeof scene);
     snprintf(bundle, sizeof bundle, "%s/bundle", work);
-    char args[512], out[16384];
-    snprintf(args, sizeof args, "materials/dark-brown.json --scene %s/scene.json --measure-lods -o %s", work, bundle);
-    if (ht_test_run_program("hairgen", args, out, sizeof out) != 0) {
-        fprintf(stderr, "%s", out);
-        return -1;
-    }
-    return 0;
+    return ht_test_furball_bundle(work, 64, HAIRS, "--measure-lods");
 }
 
 static int teardown(void **state) {

@@ -23,6 +23,7 @@
 #include "metrics.h"
 #include "support_osmesa.h"
 #include "support_scene.h"
+#include "support_render.h"
 #include "support_scratch.h"
 
 static char work[64];
@@ -170,10 +171,8 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
             /* What `hairgen MATERIAL --scene SCENE -o BUNDLE` writes. */
             char bundle[256];
             snprintf(bundle, sizeof bundle, "%s/sweep-bundle", work);
-            /* a Marschner bundle from make's fixtures when there: the same bundle at any size */
-            bool shared = material.shading.model == HT_MODEL_MARSCHNER &&
-                          ht_test_fixture_bundle(materials[mat], scene_names[sc], bundle, sizeof bundle);
-            if (!shared && ht_generate_bundle(material_path, scenes[sc].path, bundle, NULL, err, sizeof err) != HT_OK)
+            if (ht_test_bundle(material_path, scene_names[sc], scenes[sc].path, bundle, sizeof bundle, err,
+                               sizeof err) != HT_OK)
                 fail_msg("hairgen %s --scene %s: %s", material_path, scenes[sc].path, err);
             char names[2 * HT_TIER_COUNT][16];
             int count = ht_test_bundle_tiers(bundle, names, reference);

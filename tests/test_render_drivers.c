@@ -38,6 +38,7 @@
 #include "offscreen_backend.h"
 #include "support_driver.h"
 #include "support_scene.h"
+#include "support_render.h"
 #include "support_scratch.h"
 
 /* Rendered small, the fur balls and the ratboy's strands thinned: the
@@ -176,10 +177,8 @@ static int setup(void **state) {
         ht_test_scene_copy(scenes[i].scene, work, name, side(), ht_test_driver_hairs(HAIRS), false, path, sizeof path);
         ht_test_scene_thin_strands(work, name, STRAND_EVERY);
         snprintf(bundle_of[i], sizeof bundle_of[i], "%s/%s-bundle", work, scenes[i].name);
-        /* the Marschner bundle from make's fixtures when there: the same bundle for any size */
-        bool shared = strcmp(scenes[i].material, "materials/brown-marschner.json") == 0 &&
-                      ht_test_fixture_bundle("brown-marschner", scenes[i].name, bundle_of[i], sizeof bundle_of[i]);
-        if (!shared && ht_generate_bundle(scenes[i].material, path, bundle_of[i], NULL, err, sizeof err) != HT_OK) {
+        if (ht_test_bundle(scenes[i].material, scenes[i].name, path, bundle_of[i], sizeof bundle_of[i], err,
+                           sizeof err) != HT_OK) {
             fprintf(stderr, "setup: %s\n", err);
             return -1;
         }

@@ -206,9 +206,8 @@ static void test_render_marschner_tier_shares_the_flat_pass_list(void **state) {
     (void)state;
     char dir[200], err[1024];
     snprintf(dir, sizeof dir, "%s/marschner-bundle", fx.work);
-    if (!ht_test_fixture_bundle("brown-marschner", "furball", dir, sizeof dir))
-        assert_int_equal(ht_generate_bundle("materials/brown-marschner.json", "scenes/furball.json", dir, NULL, err,
-                                            sizeof err), HT_OK);
+    assert_int_equal(ht_test_bundle("materials/brown-marschner.json", "furball", "scenes/furball.json", dir, sizeof dir,
+                                    err, sizeof err), HT_OK);
     ht_renderer *flat = create((ht_renderer_desc){ .flat = true }, HT_OK);
     ht_image img;
     render(flat, &img);

@@ -28,20 +28,11 @@
 
 static char work[64];
 
-/* PROGRAM ARGS from the repository root: its exit status, output in out. */
 static int setup(void **state) {
     (void)state;
     if (!ht_test_scratch_create(work, sizeof work, "thin")) return -1;
     /* The fur ball scene at 256 x 256 with 3 000 hairs: a quarter is 64 x 64. */
-    char scene[128];
-    ht_test_scene_copy("scenes/furball.json", work, "scene.json", 256, 3000, false, scene, sizeof scene);
-    char args[512], out[4096];
-    snprintf(args, sizeof args, "materials/dark-brown.json --scene %s/scene.json -o %s/bundle -q", work, work);
-    if (ht_test_run_program("hairgen", args, out, sizeof out) != 0) {
-        fprintf(stderr, "%s", out);
-        return -1;
-    }
-    return 0;
+    return ht_test_furball_bundle(work, 256, 3000, "-q");
 }
 
 static int teardown(void **state) {

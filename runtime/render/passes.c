@@ -134,6 +134,7 @@ ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf) {
     const ht_index_chunk *chunks = r->chunk_count ? r->chunks : &whole;
     const uint32_t chunk_count = r->chunk_count ? r->chunk_count : 1;
     const ht_vertex *vertices = r->caps.has_vbo ? NULL : r->vertices;
+    const uint32_t range_end = r->draw_first + r->draw_count;
     ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, r->vbo);
     ht_gl_bind_buffer(gl, GL_ELEMENT_ARRAY_BUFFER, r->ibo);
     ht_renderer_set_arrays(r, vertices, true);
@@ -157,7 +158,6 @@ ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf) {
                 /* the chunk's part of the draw range */
                 const uint32_t lo = chunks[c].first_index > r->draw_first ? chunks[c].first_index : r->draw_first;
                 const uint32_t chunk_end = chunks[c].first_index + chunks[c].index_count;
-                const uint32_t range_end = r->draw_first + r->draw_count;
                 const uint32_t hi = chunk_end < range_end ? chunk_end : range_end;
                 if (lo >= hi) continue;
                 if (chunk_count > 1) ht_renderer_set_arrays_from(r, vertices, chunks[c].first_vertex, true);
