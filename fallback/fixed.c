@@ -7,7 +7,7 @@
    has them, client arrays where it has none).
 
    Per frame, by the LUT stage's rule (combiner.h): "cpu-dots" computes the
-   LUT coordinates and primary colours per vertex on the CPU
+   LUT coordinates and primary colours per vertex of the draw range on the CPU
    (fixed_coords.h) for the frame's lights and eye; "texture-matrix" makes
    the LUT unit's texture matrix (16 floats, infinite viewer: the view
    matrix's view direction; loaded by each sub-pass for its light), points the unit's texture coordinates at the
@@ -68,6 +68,7 @@ typedef struct light_slot {
     float color_key[4];                       /* lit (0/1), light colour rgb */
     bool coords_valid;                        /* coords hold coords_key's eye and light */
     float coords_key[8];                      /* eye, light vector, lit (0/1), point (0/1) */
+    uint32_t coords_range[2], colors_range[2];  /* the vertices they were made for (first, count) */
     GLuint coord_buffer, color_buffer;        /* where the device reads them (VBOs, when it has them) */
     float matrix[16];                         /* "texture-matrix": this frame's */
     bool frame_matrix;                        /* this frame's matrix is valid */
@@ -101,6 +102,7 @@ typedef struct fixed_state {
     int static_width;                         /* floats per vertex: 5 or 2 */
     GLuint vertex_buffer;
     uint64_t cpu_vertices;                    /* per-vertex CPU work so far */
+    uint32_t range[2];                        /* this frame's drawn vertices (tier.h): first, count */
     ht_log_fn log;
     void *log_user;
 } fixed_state;
@@ -415,6 +417,27 @@ static GLenum upload(fixed_state *s, GLuint *buffer, const void *data, size_t by
     return e;
 }
 
+/* Vertices range[0] .. + range[1] of an array of `width` floats a vertex
+   onto its buffer (sized in set_mesh): only what the frame made; the whole
+   array where the buffer is gone (a refused upload). */
+static void upload_range(fixed_state *s, GLuint *buffer, const float *data, int width, const char *then) {
+    const ht_gl *gl = s->gl;
+    const size_t vertex = (size_t)width * sizeof(float);
+    if (!*buffer) {
+        upload(s, buffer, data, (size_t)s->vertex_count * vertex, GL_DYNAMIC_DRAW, then);
+        return;
+    }
+    gl->BindBuffer(GL_ARRAY_BUFFER, *buffer);
+    gl->BufferSubData(GL_ARRAY_BUFFER, (GLintptr)(s->range[0] * vertex), (GLsizeiptr)(s->range[1] * vertex),
+                      data + (size_t)s->range[0] * (size_t)width);
+    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    GLenum e = gl->GetError();
+    if (e == GL_NO_ERROR) return;
+    ht_log_linef(s->log, s->log_user, "hairtier: fixed: glBufferSubData: %s: %s", ht_gl_error_name(e), then);
+    gl->DeleteBuffers(1, buffer);
+    *buffer = 0;
+}
+
 /* Until the first frame: unlit, inside the LUT. */
 static void unlit(float *coords, float *colors, size_t n) {
     for (size_t i = 0; coords && i < 3 * n; i++) coords[i] = 0.5f;
@@ -514,13 +537,16 @@ static void update_coords(fixed_state *s, light_slot *slot, const ht_tier_frame 
     const float key[8] = { f->eye[0], f->eye[1], f->eye[2], light ? light->vector[0] : 0.0f,
                            light ? light->vector[1] : 0.0f, light ? light->vector[2] : 0.0f, light ? 1.0f : 0.0f,
                            light && light->type == HT_LIGHT_POINT ? 1.0f : 0.0f };
-    if (slot->coords_valid && memcmp(key, slot->coords_key, sizeof key) == 0) return;
-    ht_fixed_soa_coords(&s->program, &s->soa, light, f->eye, slot->coords);
+    if (slot->coords_valid && memcmp(key, slot->coords_key, sizeof key) == 0 &&
+        memcmp(s->range, slot->coords_range, sizeof s->range) == 0)
+        return;
+    const ht_fixed_soa range = ht_fixed_soa_range(&s->soa, s->range[0], s->range[1]);
+    ht_fixed_soa_coords(&s->program, &range, light, f->eye, slot->coords + 3 * (size_t)s->range[0]);
     memcpy(slot->coords_key, key, sizeof key);
+    memcpy(slot->coords_range, s->range, sizeof s->range);
     slot->coords_valid = true;
-    s->cpu_vertices += s->vertex_count;
-    upload(s, &slot->coord_buffer, slot->coords, (size_t)s->vertex_count * 3 * sizeof(float), GL_DYNAMIC_DRAW,
-           "client arrays instead");
+    s->cpu_vertices += s->range[1];
+    upload_range(s, &slot->coord_buffer, slot->coords, 3, "client arrays instead");
 }
 
 /* A slot's primary colours: per vertex, but only when what they depend on
@@ -529,18 +555,20 @@ static void update_colors(fixed_state *s, light_slot *slot, const ht_tier_frame 
     const ht_light *light = slot_light(slot, f);
     const float key[4] = { light ? 1.0f : 0.0f, light ? light->color[0] : 0.0f, light ? light->color[1] : 0.0f,
                            light ? light->color[2] : 0.0f };
-    if (slot->colors_valid && memcmp(key, slot->color_key, sizeof key) == 0) return;
+    if (slot->colors_valid && memcmp(key, slot->color_key, sizeof key) == 0 &&
+        memcmp(s->range, slot->colors_range, sizeof s->range) == 0)
+        return;
     char err[256];
-    if (ht_fixed_coords_colors_of(&s->program, slot->light, s->vertices, s->vertex_count, f->lights, f->light_count,
-                                  slot->colors, err, sizeof err) != HT_OK) {
+    if (ht_fixed_coords_colors_of(&s->program, slot->light, s->vertices + s->range[0], s->range[1], f->lights,
+                                  f->light_count, slot->colors + 4 * (size_t)s->range[0], err, sizeof err) != HT_OK) {
         ht_log_linef(s->log, s->log_user, "hairtier: fixed: %s", err);
         return;
     }
     memcpy(slot->color_key, key, sizeof key);
+    memcpy(slot->colors_range, s->range, sizeof s->range);
     slot->colors_valid = true;
-    s->cpu_vertices += s->vertex_count;
-    upload(s, &slot->color_buffer, slot->colors, (size_t)s->vertex_count * 4 * sizeof(float), GL_DYNAMIC_DRAW,
-           "client arrays instead");
+    s->cpu_vertices += s->range[1];
+    upload_range(s, &slot->color_buffer, slot->colors, 4, "client arrays instead");
 }
 
 /* The "texture-matrix" rule for one slot: its matrix, or (a point light)
@@ -576,6 +604,8 @@ static void begin_frame(void *state, const ht_tier_frame *f) {
     fixed_state *s = state;
     s->opacity_cut = f->opacity_cut;
     if (!s->vertices) return;
+    s->range[0] = f->first_vertex < s->vertex_count ? f->first_vertex : 0;
+    s->range[1] = f->vertex_count <= s->vertex_count - s->range[0] ? f->vertex_count : s->vertex_count - s->range[0];
     for (int k = 0; k < s->slot_count; k++) {
         light_slot *slot = &s->slots[k];
         slot->frame_matrix = false;

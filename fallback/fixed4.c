@@ -46,6 +46,7 @@ typedef struct fixed4_state {
     GLuint coord_buffers[HT_FIXED4_MAX_LUTS];
     bool coords_valid;
     float coords_key[3 + 3 * HT_FIXED4_MAX_LIGHTS];
+    uint32_t coords_range[2];                 /* the vertices they were made for: first, count */
     uint64_t cpu_vertices;
     int scale;
     bool device_variant;   /* a local-viewer program drawn with the infinite viewer (ht_variant) */
@@ -222,31 +223,42 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
 
 /* The local-viewer rule's per-vertex work: only when the eye or a light
    direction moved since the coordinates were made. */
-static void update_local_coords(fixed4_state *s, const float eye[3]) {
+static void update_local_coords(fixed4_state *s, const ht_tier_frame *f) {
     float key[3 + 3 * HT_FIXED4_MAX_LIGHTS];
-    memcpy(key, eye, 3 * sizeof(float));
+    memcpy(key, f->eye, 3 * sizeof(float));
     memcpy(key + 3, s->light_dirs, sizeof s->light_dirs);
-    if (!s->have_mesh || (s->coords_valid && memcmp(key, s->coords_key, sizeof key) == 0)) return;
-    ht_fixed4_local_coords(&s->program, &s->soa, (const float(*)[3])s->light_dirs, eye, s->coords);
-    s->cpu_vertices += s->soa.count;
+    /* the draw range's vertices only (tier.h) */
+    const size_t n = s->soa.count;
+    const uint32_t range[2] = { f->first_vertex < n ? f->first_vertex : 0,
+                                f->first_vertex < n && f->vertex_count <= n - f->first_vertex ? f->vertex_count
+                                : (uint32_t)(n - (f->first_vertex < n ? f->first_vertex : 0)) };
+    if (!s->have_mesh || (s->coords_valid && memcmp(key, s->coords_key, sizeof key) == 0 &&
+                          memcmp(range, s->coords_range, sizeof range) == 0))
+        return;
+    const ht_fixed4_soa part = ht_fixed4_soa_range(&s->soa, range[0], range[1]);
+    float *coords[HT_FIXED4_MAX_LUTS];
+    for (int k = 0; k < HT_FIXED4_MAX_LUTS; k++) coords[k] = s->coords[k] ? s->coords[k] + 2 * (size_t)range[0] : NULL;
+    ht_fixed4_local_coords(&s->program, &part, (const float(*)[3])s->light_dirs, f->eye, coords);
+    s->cpu_vertices += range[1];
     const ht_gl *gl = s->gl;
     for (int k = 0; k < s->luts && s->coord_buffers[k]; k++) {
         gl->BindBuffer(GL_ARRAY_BUFFER, s->coord_buffers[k]);
-        gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(s->soa.count * 2 * sizeof(float)), s->coords[k],
-                       GL_DYNAMIC_DRAW);
+        gl->BufferSubData(GL_ARRAY_BUFFER, (GLintptr)(2 * (size_t)range[0] * sizeof(float)),
+                          (GLsizeiptr)(2 * (size_t)range[1] * sizeof(float)), coords[k]);
     }
     if (s->coord_buffers[0]) {
         gl->BindBuffer(GL_ARRAY_BUFFER, 0);
         /* set_arrays draws nothing until an upload succeeds */
         GLenum e = gl->GetError();
         if (e != GL_NO_ERROR) {
-            ht_log_linef(s->log, s->log_user, "hairtier: fixed4: glBufferData: %s: hair not drawn",
+            ht_log_linef(s->log, s->log_user, "hairtier: fixed4: glBufferSubData: %s: hair not drawn",
                          ht_gl_error_name(e));
             s->coords_valid = false;
             return;
         }
     }
     memcpy(s->coords_key, key, sizeof key);
+    memcpy(s->coords_range, range, sizeof range);
     s->coords_valid = true;
 }
 
@@ -264,7 +276,7 @@ static void begin_frame(void *state, const ht_tier_frame *f) {
     memcpy(s->view, f->view, sizeof s->view);
     /* the view matrix's third row is the unit direction from the target to the eye */
     const float view_dir[3] = { f->view[2], f->view[6], f->view[10] };
-    if (p->viewer == HT_FIXED4_VIEWER_LOCAL) update_local_coords(s, f->eye);
+    if (p->viewer == HT_FIXED4_VIEWER_LOCAL) update_local_coords(s, f);
     else
         for (int k = 0; k < s->luts; k++)
             ht_fixed4_texture_matrix(p, k, (const float(*)[3])s->light_dirs, view_dir, s->matrices[k]);

@@ -383,3 +383,15 @@ void ht_fixed4_local_coords(const ht_fixed4_program *p, const ht_fixed4_soa *soa
         }
     }
 }
+
+ht_fixed4_soa ht_fixed4_soa_range(const ht_fixed4_soa *soa, size_t first, size_t count) {
+    ht_fixed4_soa v = *soa;
+    float **pos[] = { &v.px, &v.py, &v.pz };
+    for (int j = 0; j < 3; j++)
+        if (*pos[j]) *pos[j] += first;
+    for (int k = 0; k < HT_FIXED4_MAX_LUTS; k++)
+        for (int j = 0; j < 3; j++)
+            if (v.v[k][j]) v.v[k][j] += first;
+    v.count = count;
+    return v;
+}

@@ -144,6 +144,9 @@ typedef struct ht_fixed4_soa {
 
 ht_result ht_fixed4_soa_make(const ht_fixed4_program *p, const ht_vertex *v, size_t count, ht_fixed4_soa *out);
 void ht_fixed4_soa_free(ht_fixed4_soa *soa);
+/* Vertices [first, first + count) of soa (within it), borrowing its
+   arrays: a draw range's per-frame work. */
+ht_fixed4_soa ht_fixed4_soa_range(const ht_fixed4_soa *soa, size_t first, size_t count);
 
 /* The local-viewer rule: coords[k] (2 floats per vertex) = LUT k's texture
    coordinates with V = normalize(eye - position) per vertex, the same

@@ -161,3 +161,13 @@ void ht_fixed_soa_coords(const ht_combiner_program *p, const ht_fixed_soa *s, co
     }
     free(scratch);
 }
+
+ht_fixed_soa ht_fixed_soa_range(const ht_fixed_soa *soa, size_t first, size_t count) {
+    ht_fixed_soa v = *soa;
+    float **all[] = { &v.px, &v.py, &v.pz, &v.a[0], &v.a[1], &v.a[2], &v.b[0], &v.b[1], &v.b[2],
+                      &v.c[0], &v.c[1], &v.c[2] };
+    for (size_t k = 0; k < sizeof all / sizeof all[0]; k++)
+        if (*all[k]) *all[k] += first;
+    v.count = count;
+    return v;
+}

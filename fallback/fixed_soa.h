@@ -29,6 +29,9 @@ typedef struct ht_fixed_soa {
 
 ht_result ht_fixed_soa_make(const ht_combiner_program *p, const ht_vertex *v, size_t count, ht_fixed_soa *out);
 void ht_fixed_soa_free(ht_fixed_soa *soa);
+/* Vertices [first, first + count) of soa (within it) as a soa of their
+   own, borrowing its arrays: a draw range's per-frame work. */
+ht_fixed_soa ht_fixed_soa_range(const ht_fixed_soa *soa, size_t first, size_t count);
 
 /* coords[3 * count]: the program's LUT coordinates for the light (NULL: no
    light) and the eye, the same answers as ht_fixed_coords_compute where a

@@ -7,11 +7,12 @@
    Create: the program (gl11.json) and the albedo, its rgb uploaded x
    albedo_scale (a 1x1 white texel, scale 1, when the bundle has none).
    Per mesh (set_mesh): the structure-of-arrays inputs and the colour array
-   (4 floats per vertex).
-   Per frame (begin_frame): the colours recomputed on the CPU only when the
-   eye, a light's type, vector or colour, or the light count changed since
-   they were made (the cache key); counted in ht_gl11_cpu_vertices; then,
-   where the device has VBOs, uploaded to a buffer object once (a steady
+   (4 floats per vertex), and its buffer object where the device has VBOs.
+   Per frame (begin_frame): the colours of the draw range's vertices
+   recomputed on the CPU only when the eye, a light's type, vector or
+   colour, the light count or the range changed since they were made (the
+   cache key); counted in ht_gl11_cpu_vertices; then, where the device has
+   VBOs, that range written into the buffer (glBufferSubData; a steady
    frame uploads nothing: NVIDIA copies client arrays across the bus at
    every draw), else left in client memory.
    Per pass: every pass points the colour array at the same data; the
@@ -44,6 +45,7 @@ typedef struct shade_key {
         float vector[3], color[3];
     } lights[HT_MAX_LIGHTS];
     float opacity; /* the width rule's (tier.h): every colour's alpha */
+    uint32_t first_vertex, vertex_count; /* the draw range's vertices (tier.h): only those are shaded */
 } shade_key;
 
 typedef struct gl11_state {
@@ -139,6 +141,18 @@ static ht_result create(const ht_tier_context *ctx, void **out, char *err, size_
     return HT_OK;
 }
 
+/* A refused upload is one line naming GL's error, and the buffer is
+   dropped: client arrays from then on. */
+static void check_upload(gl11_state *s, const char *call) {
+    const ht_gl *gl = s->gl;
+    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    GLenum e = gl->GetError();
+    if (e == GL_NO_ERROR) return;
+    ht_log_linef(s->log, s->log_user, "hairtier: gl11: %s: %s: client arrays instead", call, ht_gl_error_name(e));
+    gl->DeleteBuffers(1, &s->color_buffer);
+    s->color_buffer = 0;
+}
+
 static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     gl11_state *s = state;
     ht_gl11_soa soa;
@@ -155,24 +169,27 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     s->colors = colors;
     s->have_mesh = true;
     s->colors_valid = false;
+    /* the buffer sized once per mesh; frames write their range into it */
+    if (s->has_vbo) {
+        const ht_gl *gl = s->gl;
+        while (gl->GetError() != GL_NO_ERROR) {}
+        if (!s->color_buffer) gl->GenBuffers(1, &s->color_buffer);
+        gl->BindBuffer(GL_ARRAY_BUFFER, s->color_buffer);
+        gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(4 * s->soa.count * sizeof(float)), s->colors, GL_DYNAMIC_DRAW);
+        check_upload(s, "glBufferData");
+    }
     return HT_OK;
 }
 
-/* The colours just made, onto the device where it has VBOs. A refused
-   upload is one line naming GL's error, and the buffer is dropped: a
-   client array until the colours are next remade. */
-static void upload_colors(gl11_state *s) {
+/* The colours just made for vertices [first, first + count), onto the
+   device where it has a buffer for them. */
+static void upload_colors(gl11_state *s, size_t first, size_t count) {
     const ht_gl *gl = s->gl;
-    if (!s->has_vbo) return;
-    if (!s->color_buffer) gl->GenBuffers(1, &s->color_buffer);
+    if (!s->color_buffer || !count) return;
     gl->BindBuffer(GL_ARRAY_BUFFER, s->color_buffer);
-    gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(4 * s->soa.count * sizeof(float)), s->colors, GL_DYNAMIC_DRAW);
-    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
-    GLenum e = gl->GetError();
-    if (e == GL_NO_ERROR) return;
-    ht_log_linef(s->log, s->log_user, "hairtier: gl11: glBufferData: %s: client arrays instead", ht_gl_error_name(e));
-    gl->DeleteBuffers(1, &s->color_buffer);
-    s->color_buffer = 0;
+    gl->BufferSubData(GL_ARRAY_BUFFER, (GLintptr)(4 * first * sizeof(float)), (GLsizeiptr)(4 * count * sizeof(float)),
+                      s->colors + 4 * first);
+    check_upload(s, "glBufferSubData");
 }
 
 static void begin_frame(void *state, const ht_tier_frame *f) {
@@ -188,20 +205,27 @@ static void begin_frame(void *state, const ht_tier_frame *f) {
         memcpy(key.lights[l].color, f->lights[l].color, sizeof key.lights[l].color);
     }
     key.opacity = 1.0f - f->opacity_cut;
+    key.first_vertex = f->first_vertex < s->soa.count ? f->first_vertex : 0;
+    key.vertex_count = f->vertex_count <= s->soa.count - key.first_vertex ? f->vertex_count
+                                                                           : (uint32_t)(s->soa.count - key.first_vertex);
     if (s->colors_valid && memcmp(&key, &s->key, sizeof key) == 0) return;
-    ht_gl11_shade(&s->program, &s->soa, f->lights, key.light_count, f->eye, s->colors);
+    const size_t n = ht_gl11_shade_range(&s->program, &s->soa, key.first_vertex, key.vertex_count, f->lights,
+                                         key.light_count, f->eye, s->colors);
+    /* the vertices shaded: the range widened to whole blocks */
+    const size_t first = key.first_vertex / HT_GL11_BLOCK * HT_GL11_BLOCK;
     /* Desktop GL clamps array colours before interpolating them; llvmpipe's
        ES 1.1 interpolates them unclamped: clamped here, every driver draws
        the same (the colours are >= 0; alpha is 1). */
-    for (size_t i = 0; i < 4 * s->soa.count; i++)
-        if (s->colors[i] > 1.0f) s->colors[i] = 1.0f;
+    float *c = s->colors + 4 * first;
+    for (size_t i = 0; i < 4 * n; i++)
+        if (c[i] > 1.0f) c[i] = 1.0f;
     /* GL_MODULATE: the drawn alpha is the albedo's x the colour's */
-    for (size_t i = 0; key.opacity != 1.0f && i < s->soa.count; i++) s->colors[4 * i + 3] = key.opacity;
-    atomic_fetch_add_explicit(&cpu_vertices_total, (uint64_t)s->soa.count, memory_order_relaxed);
-    s->cpu_vertices += s->soa.count;
+    for (size_t i = 0; key.opacity != 1.0f && i < n; i++) c[4 * i + 3] = key.opacity;
+    atomic_fetch_add_explicit(&cpu_vertices_total, (uint64_t)n, memory_order_relaxed);
+    s->cpu_vertices += n;
     s->key = key;
     s->colors_valid = true;
-    upload_colors(s);
+    upload_colors(s, first, n);
 }
 
 static void bind_pass(void *state, ht_pass pass, int sub_pass) {

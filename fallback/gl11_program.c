@@ -415,3 +415,20 @@ void ht_gl11_shade(const ht_gl11_program *p, ht_gl11_soa *soa, const ht_light *l
     output_loop(soa->padded, a[HT_GL11_AO], a[HT_GL11_R], a[HT_GL11_G], a[HT_GL11_B], rgba,
                 (float)(1.0 / p->albedo_scale));
 }
+
+size_t ht_gl11_shade_range(const ht_gl11_program *p, ht_gl11_soa *soa, size_t first, size_t count,
+                           const ht_light *lights, int light_count, const float eye[3], float *rgba) {
+    if (first >= soa->count) first = count = 0;
+    if (count > soa->count - first) count = soa->count - first;
+    /* whole blocks: the loops run over multiples of HT_GL11_BLOCK */
+    const size_t lo = first / HT_GL11_BLOCK * HT_GL11_BLOCK;
+    size_t hi = (first + count + HT_GL11_BLOCK - 1) / HT_GL11_BLOCK * HT_GL11_BLOCK;
+    if (hi > soa->padded) hi = soa->padded;
+    if (hi <= lo) return 0;
+    ht_gl11_soa view = *soa;
+    for (int k = 0; k < HT_GL11_ARRAYS; k++) view.a[k] = soa->a[k] + lo;
+    view.padded = hi - lo;
+    view.count = (hi < soa->count ? hi : soa->count) - lo;
+    ht_gl11_shade(p, &view, lights, light_count, eye, rgba + 4 * lo);
+    return view.count;
+}

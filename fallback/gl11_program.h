@@ -101,5 +101,10 @@ void ht_gl11_soa_free(ht_gl11_soa *soa);
    model.c). Always finite for finite input. */
 void ht_gl11_shade(const ht_gl11_program *p, ht_gl11_soa *soa, const ht_light *lights, int light_count,
                    const float eye[3], float *rgba);
+/* The same for vertices [first, first + count) only (rgba indexed as for
+   the whole soa), widened to whole blocks of HT_GL11_BLOCK: a draw
+   range's per-frame work. Returns how many vertices it shaded. */
+size_t ht_gl11_shade_range(const ht_gl11_program *p, ht_gl11_soa *soa, size_t first, size_t count,
+                           const ht_light *lights, int light_count, const float eye[3], float *rgba);
 
 #endif

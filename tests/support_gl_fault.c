@@ -70,6 +70,7 @@
 #define ARGS_DeleteBuffers n, buffers
 #define ARGS_BindBuffer target, buffer
 #define ARGS_BufferData target, size, data, usage
+#define ARGS_BufferSubData target, offset, size, data
 #define ARGS_CreateShader type
 #define ARGS_ShaderSource shader, count, string, length
 #define ARGS_CompileShader shader
@@ -377,6 +378,19 @@ static void APIENTRY wrap_BufferData(GLenum target, GLsizeiptr size, const void 
     real_BufferData(target, size, data, usage);
 }
 
+/* Which tier draws: a program bound, or a combiner stage set up. */
+static void APIENTRY wrap_UseProgram(GLuint program) {
+    any_call();
+    if (program) st.programs_bound++;
+    real_UseProgram(program);
+}
+
+static void APIENTRY wrap_TexEnvi(GLenum target, GLenum pname, GLint param) {
+    any_call();
+    if (pname == GL_TEXTURE_ENV_MODE && param == GL_COMBINE) st.combiner_stages++;
+    real_TexEnvi(target, pname, param);
+}
+
 /* ---- the getproc ---- */
 
 typedef struct wrapper {
@@ -392,7 +406,7 @@ static const wrapper specials[] = {
     SPECIAL(CompileShader) SPECIAL(GetShaderiv) SPECIAL(GetShaderInfoLog) SPECIAL(LinkProgram)
     SPECIAL(GetProgramiv) SPECIAL(GetProgramInfoLog) SPECIAL(TexImage2D) SPECIAL(TexImage3D)
     SPECIAL(BufferData) SPECIAL(BindBuffer) SPECIAL(VertexPointer) SPECIAL(NormalPointer) SPECIAL(TexCoordPointer)
-    SPECIAL(ColorPointer) SPECIAL(VertexAttribPointer)
+    SPECIAL(ColorPointer) SPECIAL(VertexAttribPointer) SPECIAL(UseProgram) SPECIAL(TexEnvi)
 };
 #undef SPECIAL
 

@@ -31,7 +31,9 @@
    delete, or one never made here) is counted apart as a stray delete.
    Vertex arrays: every gl*Pointer call is counted, and counted apart when
    no buffer is bound to GL_ARRAY_BUFFER (the array is client memory, which
-   a discrete GPU copies across the bus at every draw).
+   a discrete GPU copies across the bus at every draw). Which tier draws:
+   glUseProgram of a program and glTexEnvi(GL_TEXTURE_ENV_MODE, GL_COMBINE)
+   are counted.
    The layer is process-global (one GL context at a time, as the tests). */
 #ifndef HT_SUPPORT_GL_FAULT_H
 #define HT_SUPPORT_GL_FAULT_H
@@ -70,6 +72,8 @@ typedef struct ht_fault_state {
     int stray_deletes;                         /* deletes of names not live, since ht_fault_arm */
     long array_pointers;                       /* gl*Pointer calls, since ht_fault_arm */
     long client_array_pointers;                /* those with no GL_ARRAY_BUFFER bound */
+    long programs_bound;                       /* glUseProgram of a program (not 0), since ht_fault_arm */
+    long combiner_stages;                      /* glTexEnvi(GL_TEXTURE_ENV_MODE, GL_COMBINE), since then */
 } ht_fault_state;
 
 /* Arms cls at its n-th call (n >= 1; HT_FAULT_NONE or n = 0: count only)

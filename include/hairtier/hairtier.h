@@ -398,9 +398,23 @@ HT_API ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh);
    buffer holding several meshes, e.g. every geometry LOD (lod.h's
    ht_lod_chain), switched without an upload. HT_ERR_INVALID_ARGUMENT with
    one log line for a range past the mesh or not of whole triangles (the
-   range in use stays). The fixed-function tiers' per-frame CPU work still
-   covers every vertex of the mesh. */
+   range in use stays). The fixed-function tiers' per-frame CPU work
+   covers the range's vertices (within a block of 768 indices at each end),
+   not the whole mesh's. */
 HT_API ht_result ht_renderer_set_draw_range(ht_renderer *r, uint32_t first_index, uint32_t index_count);
+/* Draws `tier` of the bundle from the next frame on, with the mesh and
+   draw range in place (no upload of the renderer's buffers): the tier's
+   backend (programs, textures, lookup tables) is made at its first use and
+   kept until ht_renderer_destroy, so switching back and forth costs nothing
+   after that. A tier with per-vertex data of its own (fixed4, fixed, gl11)
+   makes it from `mesh`, which must be the mesh set last, at its first use
+   after each ht_renderer_set_mesh (NULL is enough otherwise). The tier is
+   forced: no selection or fallback. HT_ERR_INVALID_ARGUMENT (a flat
+   renderer, a tier not in the bundle, another mesh), HT_ERR_UNSUPPORTED
+   (the device lacks what the tier needs), or the backend's own error, each
+   with one log line; the renderer keeps drawing the tier it had. lod.h's
+   ht_lod_chain_select_pair switches (level, tier) pairs with it. */
+HT_API ht_result ht_renderer_set_tier(ht_renderer *r, ht_tier tier, const ht_mesh *mesh);
 /* Draws the opaque mesh, then the hair in the four passes. The frame is
    checked first (finite camera with eye != target and up not parallel to
    the view, fov_y in (0,180), finite lights with colours in [0,4]); a bad

@@ -36,6 +36,32 @@
        int n = ht_lod_pick_best(px, 0, ht_lod_max_level(&full));   // keeps 0 while a strand is >= 1 px
        (void)n;
        ht_mesh_free(&full);
+
+   Usage, the (level, tier) pair per frame (a bundle measured by
+   hairgen --measure-lods):
+       ht_renderer *r;
+       if (ht_renderer_create(&(ht_renderer_desc){ .getproc = my_getproc, .bundle_dir = "out/furball" }, &r) != HT_OK)
+           return;
+       ht_mesh full;
+       ht_lod_chain chain;
+       if (ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 4000 }, &full) != HT_OK) return;
+       ht_mesh_sort_inside_out(&full);
+       if (ht_lod_chain_build(&full, &chain) != HT_OK) return;
+       ht_lod_cell cells[128];
+       ht_lod_rule rule = { .kind = HT_POLICY_ERROR, .value = 30, .cells = cells,
+                            .cell_count = ht_renderer_lod_cells(r, cells, 128),
+                            .size1_px = ht_projected_width_px(chain.width, 3.0, 40.0, 512) };
+       ht_camera cam = { .eye = { 0, 0, 3 }, .target = { 0, 0, 0 }, .up = { 0, 1, 0 }, .fov_y = 40 };
+       ht_result res;
+       for (int frame = 0; frame < 100; frame++) {
+           cam.eye[2] = 3.0f + 0.5f * (float)frame;     // dollying out
+           int level = ht_lod_chain_select_pair(&chain, r, &cam, 512, &rule, &res);
+           if (level < 0) break;                          // res says why
+           // chain.tier is the pair's tier; draw with ht_renderer_draw as always
+       }
+       ht_lod_chain_free(&chain);
+       ht_renderer_destroy(r);
+       ht_mesh_free(&full);
 */
 #ifndef HAIRTIER_LOD_H
 #define HAIRTIER_LOD_H
@@ -188,6 +214,9 @@ typedef struct ht_lod_chain {
     ht_mesh all;                   /* every level, one after the other */
     uint32_t first[HT_LOD_FILE_MAX_LEVELS], index_count[HT_LOD_FILE_MAX_LEVELS]; /* level l's range in all */
     const ht_renderer *uploaded;   /* the renderer holding `all`, NULL: none yet */
+    ht_tier tier;                  /* the pair's tier (ht_lod_chain_select_pair); HT_TIER_COUNT: none yet */
+    unsigned refused_tiers;        /* bit t: the renderer could not draw tier t; its cells are skipped */
+    double size;                   /* the measured size the pair was read at, 0: none yet */
 } ht_lod_chain;
 HT_API ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out);
 typedef struct ht_lod_file ht_lod_file;
@@ -195,6 +224,36 @@ HT_API ht_result ht_lod_chain_from_file(const ht_lod_file *file, ht_lod_chain *o
 HT_API int ht_lod_chain_select(ht_lod_chain *chain, ht_renderer *r, const ht_camera *camera, int viewport_h,
                                ht_result *result);
 HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);
+
+/* The (level, tier) pair per frame: the rule applied to this frame's
+   projected size with its hysteresis (best: ht_lod_chain_select, the tier
+   left as it is; error:DB: ht_lod_pick_error; frame:MS:
+   ht_lod_pick_frame), over the cells whose level the chain has. The size
+   is the strand's projected width at the eye's distance to the mesh's
+   centre over size1_px; the rule reads the cells at the measured size
+   nearest it, the one in use kept while it is within HT_LOD_HYSTERESIS
+   octaves of being the nearest (a size jittering across the midpoint of
+   two measured ones switches once). A level change moves the draw range as
+   ht_lod_chain_select does; a tier change is ht_renderer_set_tier on the
+   one uploaded `all`: the tier's backend is made at its first use (its
+   programs, textures, and for the fixed-function tiers their per-vertex
+   data of `all`), nothing is uploaded or made at later switches. A tier
+   the renderer cannot make is refused once (refused_tiers, logged) and the
+   rule picks again without it. Returns the level (chain->tier the tier),
+   or -1 with *result set: HT_ERR_INVALID_ARGUMENT for a rule without
+   cells (error, frame), size1_px or, for frame, reference_ms not > 0;
+   an upload's error; HT_ERR_NO_TIER when no cell's tier can be drawn. */
+typedef struct ht_lod_rule {
+    ht_policy_kind kind;      /* HT_POLICY_BEST, HT_POLICY_ERROR (value dB) or HT_POLICY_FRAME (value ms) */
+    double value;
+    const ht_lod_cell *cells; /* ht_renderer_lod_cells's */
+    int cell_count;
+    double size1_px;          /* a level-0 strand's projected width at the cells' size 1 (the scene's view) */
+    double reference_ms;      /* frame: the (level 0, reference tier) frame on this device, taken for
+                                 every size (the cells' costs are ratios of it) */
+} ht_lod_rule;
+HT_API int ht_lod_chain_select_pair(ht_lod_chain *chain, ht_renderer *r, const ht_camera *camera, int viewport_h,
+                                    const ht_lod_rule *rule, ht_result *result);
 HT_API void ht_lod_chain_free(ht_lod_chain *chain);
 
 /* Cards (lod_cards.c, docs/lod.md): clumps of strands replaced by one

@@ -89,6 +89,7 @@
     X(vbo, void, DeleteBuffers, (GLsizei n, const GLuint *buffers)) \
     X(vbo, void, BindBuffer, (GLenum target, GLuint buffer)) \
     X(vbo, void, BufferData, (GLenum target, GLsizeiptr size, const void *data, GLenum usage)) \
+    X(vbo, void, BufferSubData, (GLenum target, GLintptr offset, GLsizeiptr size, const void *data)) \
     X(shaders, GLuint, CreateShader, (GLenum type)) \
     X(shaders, void, ShaderSource, (GLuint shader, GLsizei count, const GLchar *const *string, const GLint *length)) \
     X(shaders, void, CompileShader, (GLuint shader)) \

@@ -1,7 +1,8 @@
 /* lod_chain.c — a mesh's levels switched per frame (lod.h,
-   ht_lod_chain): the best rule with its hysteresis, every level in one
-   uploaded mesh and a draw range each, through the public renderer API
-   only. */
+   ht_lod_chain): the best rule with its hysteresis, or a (level, tier)
+   pair by error:DB or frame:MS over measured cells; every level in one
+   uploaded mesh and a draw range each, a tier by ht_renderer_set_tier,
+   through the public renderer API only. */
 #include <math.h>
 #include <string.h>
 
@@ -43,6 +44,7 @@ ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out) {
     if (!out) return HT_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
     out->current = -1;
+    out->tier = HT_TIER_COUNT;
     if (!full || !full->component_count) return HT_ERR_INVALID_ARGUMENT;
     out->full = full;
     out->width = ht_mesh_mean_width(full);
@@ -67,6 +69,7 @@ ht_result ht_lod_chain_from_file(const ht_lod_file *f, ht_lod_chain *out) {
     if (!out) return HT_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
     out->current = -1;
+    out->tier = HT_TIER_COUNT;
     if (!f || f->level_count < 1 || f->level_count > HT_LOD_FILE_MAX_LEVELS ||
         f->levels[0].kind != HT_LOD_KIND_STRANDS)
         return HT_ERR_INVALID_ARGUMENT;
@@ -96,17 +99,16 @@ const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *c, int level) {
     return level ? &c->levels[level] : c->full;
 }
 
-int ht_lod_chain_select(ht_lod_chain *c, ht_renderer *r, const ht_camera *camera, int viewport_h, ht_result *result) {
-    if (result) *result = HT_OK;
-    if (!c || !c->full || !r || !camera) {
-        if (result) *result = HT_ERR_INVALID_ARGUMENT;
-        return -1;
-    }
+/* A level-0 strand's projected width at this camera (the eye's distance
+   to the mesh's centre). */
+static double strand_px(const ht_lod_chain *c, const ht_camera *camera, int viewport_h) {
     double d = 0;
     for (int k = 0; k < 3; k++) d += ((double)camera->eye[k] - c->full->center[k]) * (camera->eye[k] - c->full->center[k]);
-    const double px = ht_projected_width_px(c->width, sqrt(d), camera->fov_y, viewport_h);
-    const int level = ht_lod_pick_best(px, c->current, c->count - 1);
-    if (level == c->current && c->uploaded == r) return level;
+    return ht_projected_width_px(c->width, sqrt(d), camera->fov_y, viewport_h);
+}
+
+/* `all` on r (once), then level's range; *result and -1 on failure. */
+static int draw_level(ht_lod_chain *c, ht_renderer *r, int level, ht_result *result) {
     ht_result res = c->uploaded == r ? HT_OK : ht_renderer_set_mesh(r, &c->all);
     if (res == HT_OK) {
         c->uploaded = r;
@@ -120,10 +122,90 @@ int ht_lod_chain_select(ht_lod_chain *c, ht_renderer *r, const ht_camera *camera
     return level;
 }
 
+int ht_lod_chain_select(ht_lod_chain *c, ht_renderer *r, const ht_camera *camera, int viewport_h, ht_result *result) {
+    if (result) *result = HT_OK;
+    if (!c || !c->full || !r || !camera) {
+        if (result) *result = HT_ERR_INVALID_ARGUMENT;
+        return -1;
+    }
+    const int level = ht_lod_pick_best(strand_px(c, camera, viewport_h), c->current, c->count - 1);
+    if (level == c->current && c->uploaded == r) return level;
+    return draw_level(c, r, level, result);
+}
+
+#define MAX_CELLS 256
+
+/* The measured size the rule reads its cells at: the nearest to `size`
+   (in log2), but the one in use (held) while it is within
+   HT_LOD_HYSTERESIS octaves of being the nearest, so a size jittering
+   between two measured ones does not flip the pair. */
+static double measured_size(const ht_lod_cell *cells, int n, double size, double held) {
+    double nearest = 0, nearest_octaves = INFINITY;
+    bool has_held = false;
+    for (int i = 0; i < n; i++) {
+        if (!(cells[i].size > 0)) continue;
+        const double octaves = fabs(log2(cells[i].size / size));
+        if (octaves < nearest_octaves) nearest = cells[i].size, nearest_octaves = octaves;
+        has_held |= cells[i].size == held;
+    }
+    return has_held && fabs(log2(held / size)) <= nearest_octaves + HT_LOD_HYSTERESIS ? held : nearest;
+}
+
+int ht_lod_chain_select_pair(ht_lod_chain *c, ht_renderer *r, const ht_camera *camera, int viewport_h,
+                             const ht_lod_rule *rule, ht_result *result) {
+    if (!rule || rule->kind == HT_POLICY_BEST) return ht_lod_chain_select(c, r, camera, viewport_h, result);
+    if (result) *result = HT_OK;
+    const bool frame = rule->kind == HT_POLICY_FRAME;
+    if (!c || !c->full || !r || !camera || (!frame && rule->kind != HT_POLICY_ERROR) || !rule->cells ||
+        rule->cell_count <= 0 || !(rule->size1_px > 0) || (frame && !(rule->reference_ms > 0))) {
+        if (result) *result = HT_ERR_INVALID_ARGUMENT;
+        return -1;
+    }
+    const double px = strand_px(c, camera, viewport_h);
+    for (;;) {
+        /* the cells of the levels this chain has and the tiers not refused */
+        ht_lod_cell cells[MAX_CELLS];
+        int n = 0, held = -1;
+        for (int i = 0; i < rule->cell_count && n < MAX_CELLS; i++) {
+            const ht_lod_cell *cell = &rule->cells[i];
+            if (cell->lod < 0 || cell->lod >= c->count || (unsigned)cell->tier >= HT_TIER_COUNT ||
+                (c->refused_tiers >> cell->tier & 1u))
+                continue;
+            if (cell->lod == c->current && cell->tier == c->tier) held = n;
+            cells[n++] = *cell;
+        }
+        const double size = n ? measured_size(cells, n, px / rule->size1_px, c->size) : 0;
+        const int pick = frame ? ht_lod_pick_frame(cells, n, size, rule->value, rule->reference_ms, held)
+                               : ht_lod_pick_error(cells, n, size, rule->value, held);
+        if (pick < 0) {
+            if (result) *result = HT_ERR_NO_TIER;
+            return -1;
+        }
+        const int level = cells[pick].lod;
+        const ht_tier tier = cells[pick].tier;
+        c->size = size;
+        if (level == c->current && tier == c->tier && c->uploaded == r && ht_renderer_tier(r) == tier) return level;
+        /* the mesh first: the tier's per-vertex data is made of it */
+        ht_result res = c->uploaded == r ? HT_OK : ht_renderer_set_mesh(r, &c->all);
+        if (res == HT_OK) c->uploaded = r;
+        if (res == HT_OK && ht_renderer_tier(r) != tier) res = ht_renderer_set_tier(r, tier, &c->all);
+        if (res == HT_OK) {
+            c->tier = tier;
+            return draw_level(c, r, level, result);
+        }
+        if (c->uploaded != r || res == HT_ERR_OUT_OF_MEMORY) {
+            if (result) *result = res;
+            return -1;
+        }
+        c->refused_tiers |= 1u << tier; /* logged by the renderer; pick again without it */
+    }
+}
+
 void ht_lod_chain_free(ht_lod_chain *c) {
     if (!c) return;
     for (int l = 0; l < HT_LOD_FILE_MAX_LEVELS; l++) ht_mesh_free(&c->levels[l]);
     ht_mesh_free(&c->all);
     memset(c, 0, sizeof *c);
     c->current = -1;
+    c->tier = HT_TIER_COUNT;
 }

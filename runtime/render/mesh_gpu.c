@@ -19,11 +19,47 @@ void ht_renderer_release_mesh(ht_renderer *r) {
     free(r->vertices);
     free(r->indices);
     free(r->chunks);
+    free(r->span);
+    r->span = NULL;
+    r->span_count = 0;
     r->vertices = NULL;
     r->indices = NULL;
     r->chunks = NULL;
     r->chunk_count = 0;
     r->has_mesh = false;
+}
+
+/* Each block's least and largest vertex; NULL when memory is short (the
+   draws then report every vertex). */
+static uint32_t *make_span(const ht_mesh *m, uint32_t *count) {
+    *count = (m->index_count + HT_SPAN_INDICES - 1) / HT_SPAN_INDICES;
+    uint32_t *span = malloc(*count ? 2 * (size_t)*count * sizeof *span : 1);
+    for (uint32_t b = 0; span && b < *count; b++) {
+        uint32_t lo = UINT32_MAX, hi = 0;
+        const uint32_t end = (b + 1) * HT_SPAN_INDICES < m->index_count ? (b + 1) * HT_SPAN_INDICES : m->index_count;
+        for (uint32_t i = b * HT_SPAN_INDICES; i < end; i++) {
+            lo = m->indices[i] < lo ? m->indices[i] : lo;
+            hi = m->indices[i] > hi ? m->indices[i] : hi;
+        }
+        span[2 * b] = lo;
+        span[2 * b + 1] = hi;
+    }
+    return span;
+}
+
+void ht_renderer_draw_vertices(const ht_renderer *r, uint32_t *first_vertex, uint32_t *vertex_count) {
+    *first_vertex = 0;
+    *vertex_count = r->vertex_count;
+    if (!r->span || !r->draw_count) return;
+    uint32_t lo = UINT32_MAX, hi = 0;
+    const uint32_t last = (r->draw_first + r->draw_count - 1) / HT_SPAN_INDICES;
+    for (uint32_t b = r->draw_first / HT_SPAN_INDICES; b <= last && b < r->span_count; b++) {
+        lo = r->span[2 * b] < lo ? r->span[2 * b] : lo;
+        hi = r->span[2 * b + 1] > hi ? r->span[2 * b + 1] : hi;
+    }
+    if (lo > hi) return;
+    *first_vertex = lo;
+    *vertex_count = hi - lo + 1;
 }
 
 bool ht_renderer_short_indices(const ht_renderer *r) {
@@ -129,6 +165,8 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
     r->draw_first = 0;
     r->draw_count = mesh->index_count;
     r->has_mesh = true;
+    r->span = make_span(mesh, &r->span_count);
+    r->mesh_serial++;
     if (r->backend && r->backend->set_mesh) {
         ht_result res = r->backend->set_mesh(r->backend_state, mesh);
         if (res != HT_OK) {
@@ -138,6 +176,8 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
             return res;
         }
     }
+    /* the other tiers made so far get theirs at their next ht_renderer_set_tier */
+    if (r->backend) r->made[r->backend_index].mesh_serial = r->mesh_serial;
     return HT_OK;
 }
 

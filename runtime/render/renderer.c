@@ -31,6 +31,41 @@ static void copy_text(char *dst, size_t size, const char *src) {
 
 static int clamp_int(int v, int lo, int hi) { return v < lo ? lo : v > hi ? hi : v; }
 
+/* Creates bundle tier i's backend be (its variant by the policy, *variant
+   and variant_reason say which); err says why not. */
+static ht_result make_backend(ht_renderer *r, int i, const ht_tier_backend *be, ht_variant *variant,
+                              char *variant_reason, size_t reason_size, void **state, char *err, size_t err_size) {
+    *variant = ht_select_variant(&r->bundle.tiers[i], &r->policy, r->variant_request, variant_reason, reason_size);
+    ht_tier_context ctx = { .gl = &r->gl, .caps = &r->caps, .bundle = &r->bundle, .tier = &r->bundle.tiers[i],
+                            .log = r->log, .log_user = r->log_user, .device_variant = *variant == HT_VARIANT_DEVICE };
+    *state = NULL;
+    while (r->gl.GetError() != GL_NO_ERROR) {}
+    return be->create(&ctx, state, err, err_size);
+}
+
+/* A made backend draws from now on, and stays made (ht_renderer_set_tier). */
+static void adopt_backend(ht_renderer *r, int i, const ht_tier_backend *be, void *state) {
+    r->made[i].backend = be;
+    r->made[i].state = state;
+    r->made[i].mesh_serial = 0;
+    r->backend = be;
+    r->backend_state = state;
+    r->backend_index = i;
+    r->tier = r->bundle.tiers[i].tier;
+}
+
+/* Every backend made (the drawing one too): none draws. */
+static void destroy_backends(ht_renderer *r) {
+    for (int i = 0; i < HT_MANIFEST_MAX_TIERS; i++) {
+        if (r->made[i].backend && r->made[i].backend->destroy) r->made[i].backend->destroy(r->made[i].state);
+        r->made[i].backend = NULL;
+        r->made[i].state = NULL;
+    }
+    r->backend = NULL;
+    r->backend_state = NULL;
+    r->tier = HT_TIER_COUNT;
+}
+
 /* Selects a tier (requested tier, policy, timings, the tiers already
    failed) and creates its backend, falling to the next tier on failure. */
 static ht_result create_backend(ht_renderer *r) {
@@ -60,18 +95,11 @@ static ht_result create_backend(ht_renderer *r) {
             return HT_ERR_NO_TIER;
         }
         char variant_reason[HT_SELECT_REASON];
-        ht_variant variant = ht_select_variant(&r->bundle.tiers[sel.index], &r->policy, r->variant_request,
-                                               variant_reason, sizeof variant_reason);
-        ht_tier_context ctx = { .gl = &r->gl, .caps = &r->caps, .bundle = &r->bundle,
-                                .tier = &r->bundle.tiers[sel.index], .log = r->log, .log_user = r->log_user,
-                                .device_variant = variant == HT_VARIANT_DEVICE };
+        ht_variant variant;
         void *state = NULL;
-        while (r->gl.GetError() != GL_NO_ERROR) {}
-        res = be->create(&ctx, &state, err, sizeof err);
+        res = make_backend(r, sel.index, be, &variant, variant_reason, sizeof variant_reason, &state, err, sizeof err);
         if (res == HT_OK) {
-            r->backend = be;
-            r->backend_state = state;
-            r->tier = sel.tier;
+            adopt_backend(r, sel.index, be, state);
             copy_text(r->reason, sizeof r->reason, sel.reason);
             ht_log_linef(r->log, r->log_user, "hairtier: tier %s (%s)", ht_tier_name(r->tier), r->reason);
             if (be->device_variant)
@@ -281,7 +309,7 @@ ht_renderer_stats ht_renderer_get_stats(const ht_renderer *r) {
 
 void ht_renderer_destroy(ht_renderer *r) {
     if (!r) return;
-    if (r->backend && r->backend->destroy) r->backend->destroy(r->backend_state);
+    destroy_backends(r);
     ht_renderer_release_mesh(r);
     ht_renderer_release_opaque_es(r);
     free(r->extensions);
@@ -289,13 +317,6 @@ void ht_renderer_destroy(ht_renderer *r) {
 }
 
 /* ---- the frame:MS policy's timing ---- */
-
-static void destroy_backend(ht_renderer *r) {
-    if (r->backend && r->backend->destroy) r->backend->destroy(r->backend_state);
-    r->backend = NULL;
-    r->backend_state = NULL;
-    r->tier = HT_TIER_COUNT;
-}
 
 static double now_ms(void) {
     struct timespec ts;
@@ -309,21 +330,15 @@ static double time_tier_by_drawing(ht_renderer *r, int i, const ht_mesh *mesh, c
     const ht_manifest_tier *t = &r->bundle.tiers[i];
     const ht_tier_backend *be = ht_tier_backend_find(t->tier);
     char err[1024];
-    destroy_backend(r);
+    destroy_backends(r);
     char variant_reason[HT_SELECT_REASON];
-    ht_tier_context ctx = { .gl = &r->gl, .caps = &r->caps, .bundle = &r->bundle, .tier = t,
-                            .log = r->log, .log_user = r->log_user,
-                            .device_variant = ht_select_variant(t, &r->policy, r->variant_request, variant_reason,
-                                                                sizeof variant_reason) == HT_VARIANT_DEVICE };
+    ht_variant variant;
     void *state = NULL;
-    while (r->gl.GetError() != GL_NO_ERROR) {}
-    if (be->create(&ctx, &state, err, sizeof err) != HT_OK) {
+    if (make_backend(r, i, be, &variant, variant_reason, sizeof variant_reason, &state, err, sizeof err) != HT_OK) {
         ht_log_linef(r->log, r->log_user, "hairtier: timing %s: %s", t->name, err);
         return 0.0;
     }
-    r->backend = be;
-    r->backend_state = state;
-    r->tier = t->tier;
+    adopt_backend(r, i, be, state);
     if (ht_renderer_set_mesh(r, mesh) != HT_OK || ht_renderer_draw(r, frame) != HT_OK) return 0.0;
     r->gl.Finish();
     double start = now_ms();
@@ -360,11 +375,66 @@ ht_result ht_renderer_choose_by_frame_time(ht_renderer *r, const ht_mesh *mesh, 
                 r->frame_ms[i] = time_tier_by_drawing(r, i, mesh, frame);
         }
     }
-    destroy_backend(r);
+    destroy_backends(r);
     r->policy = (ht_policy){ HT_POLICY_FRAME, budget };
     ht_result res = create_backend(r);
     if (res == HT_OK) res = ht_renderer_set_mesh(r, mesh);
     return res;
+}
+
+/* ---- switching tiers ---- */
+
+ht_result ht_renderer_set_tier(ht_renderer *r, ht_tier tier, const ht_mesh *mesh) {
+    static const char what[] = "ht_renderer_set_tier";
+    if (!r) return HT_ERR_INVALID_ARGUMENT;
+    if (r->flat || !r->have_bundle) return ht_renderer_reject(r, what, "renderer", "flat: no tiers to switch");
+    int i = 0;
+    while (i < r->bundle.tier_count && r->bundle.tiers[i].tier != tier) i++;
+    if (i == r->bundle.tier_count) return ht_renderer_reject(r, what, "tier", "%s: not in the bundle", ht_tier_name(tier));
+    const ht_tier_backend *be = r->made[i].backend ? r->made[i].backend : ht_tier_backend_find(tier);
+    if (!be) return ht_renderer_reject(r, what, "tier", "%s: no backend in this runtime", ht_tier_name(tier));
+    const bool per_vertex = be->set_mesh && r->has_mesh && r->made[i].mesh_serial != r->mesh_serial;
+    if (per_vertex && (!mesh || mesh->vertex_count != r->vertex_count || mesh->index_count != r->index_count))
+        return ht_renderer_reject(r, what, "mesh", "the %s tier makes per-vertex data of the mesh set last: "
+                                  "give that mesh", ht_tier_name(tier));
+    if (per_vertex && r->chunk_count) {
+        ht_log_linef(r->log, r->log_user, "hairtier: %s: %s: the mesh is split into 16-bit chunks, which the "
+                     "tier's own vertex arrays are not", what, ht_tier_name(tier));
+        return HT_ERR_UNSUPPORTED;
+    }
+    if (!r->made[i].backend) {
+        char why[HT_SELECT_REASON], err[1024], variant_reason[HT_SELECT_REASON];
+        if (!ht_select_check_requirements(&r->caps, r->extensions, &r->bundle.tiers[i], why, sizeof why)) {
+            ht_log_linef(r->log, r->log_user, "hairtier: %s: %s: %s", what, ht_tier_name(tier), why);
+            return HT_ERR_UNSUPPORTED;
+        }
+        ht_variant variant;
+        void *state = NULL;
+        ht_result res = make_backend(r, i, be, &variant, variant_reason, sizeof variant_reason, &state, err, sizeof err);
+        if (res != HT_OK) {
+            ht_log_linef(r->log, r->log_user, "hairtier: %s: %s: %s", what, ht_tier_name(tier), err);
+            return res;
+        }
+        r->made[i].backend = be;
+        r->made[i].state = state;
+        r->made[i].mesh_serial = 0;
+        ht_log_linef(r->log, r->log_user, "hairtier: %s: made tier %s", what, ht_tier_name(tier));
+    }
+    if (per_vertex) {
+        ht_result res = be->set_mesh(r->made[i].state, mesh);
+        if (res != HT_OK) {
+            ht_log_linef(r->log, r->log_user, "hairtier: %s: %s tier: %s", what, ht_tier_name(tier),
+                         ht_result_string(res));
+            return res;
+        }
+        r->made[i].mesh_serial = r->mesh_serial;
+    }
+    r->backend = be;
+    r->backend_state = r->made[i].state;
+    r->backend_index = i;
+    r->tier = tier;
+    snprintf(r->reason, sizeof r->reason, "%s", what);
+    return HT_OK;
 }
 
 /* ---- drawing ---- */
@@ -399,6 +469,7 @@ ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
     tf.light_count = ht_renderer_plan_lights(r, f, lights);
     tf.lights = lights;
     tf.opacity_cut = r->opacity_cut;
+    ht_renderer_draw_vertices(r, &tf.first_vertex, &tf.vertex_count);
     while (r->gl.GetError() != GL_NO_ERROR) {}
     r->trace.count = 0;
 

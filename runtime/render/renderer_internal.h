@@ -32,12 +32,24 @@ struct ht_renderer {
     char reason[HT_SELECT_REASON];
     const ht_tier_backend *backend;   /* NULL in flat mode */
     void *backend_state;
+    int backend_index;                /* backend's bundle tier, an index into made */
+    /* Every tier's backend made so far (the drawing one among them), by
+       bundle tier: ht_renderer_set_tier switches between them; mesh_serial
+       says which ht_renderer_set_mesh a backend's per-vertex data is of. */
+    struct {
+        const ht_tier_backend *backend;
+        void *state;
+        uint32_t mesh_serial;
+    } made[HT_MANIFEST_MAX_TIERS];
+    uint32_t mesh_serial;             /* ht_renderer_set_mesh's successful calls */
     /* the hair mesh: buffers when the GL has them, else a private copy */
     GLuint vbo, ibo;
     ht_vertex *vertices;
     uint32_t *indices;
     uint32_t vertex_count, index_count;
     uint32_t draw_first, draw_count;  /* the indices the passes draw (ht_renderer_set_draw_range) */
+    uint32_t *span;                   /* per HT_SPAN_INDICES indices of the mesh: the least and the */
+    uint32_t span_count;              /* largest vertex they index (2 a block); NULL: unknown */
     bool has_mesh;
     GLenum index_type;                /* GL_UNSIGNED_INT; GL_UNSIGNED_SHORT on GL ES 2.0 without
                                          GL_OES_element_index_uint (mesh_gpu.c) */
@@ -74,6 +86,11 @@ int ht_renderer_plan_lights(ht_renderer *r, const ht_frame_desc *f, ht_light out
 
 /* mesh_gpu.c */
 void ht_renderer_release_mesh(ht_renderer *r);
+/* The vertices the draw range indexes, a superset within a block of
+   HT_SPAN_INDICES indices at each end (the fixed-function tiers' per-vertex
+   CPU work covers these only). */
+#define HT_SPAN_INDICES 768u
+void ht_renderer_draw_vertices(const ht_renderer *r, uint32_t *first_vertex, uint32_t *vertex_count);
 /* Whether meshes are drawn with 16-bit indices (the one rule: GL ES 2.0
    without GL_OES_element_index_uint), and a mesh's indices as 16 bits
    (malloc'd; NULL when out of memory). */

@@ -58,6 +58,10 @@ typedef struct ht_tier_frame {
        in [0, 1); 0 draws alpha as it is. Each backend scales its own final
        alpha (a uniform, a combiner constant, the colour array). */
     float opacity_cut;
+    /* The vertices this frame's draw range indexes (a superset, within
+       vertex_count of the mesh): per-vertex CPU work covers these only, a
+       chain's other levels none. */
+    uint32_t first_vertex, vertex_count;
 } ht_tier_frame;
 
 typedef struct ht_tier_backend {
