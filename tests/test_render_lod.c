@@ -3,7 +3,8 @@
    trace: only the draw range differs, and it is the LOD's whole index
    buffer), without a GL error, and still covers about as many pixels as
    full detail at a quarter of the size (the width rule on a real raster);
-   a chain of levels switches with the camera's distance, with hysteresis. */
+   a chain of levels switches with the camera's distance, with hysteresis,
+   and a chain of (level, tier) pairs with an error or a frame budget. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -27,6 +28,9 @@
 /* Hair pixels at each LOD against full detail, at SIZE (the fixture's fur
    ball is about 1/10 of the scene's projected size here). */
 #define PIXEL_BOUND 0.15
+/* The vertices a block of the renderer's 768-index span covers, at most
+   (a strand's rows: 6 indices for 2 new vertices). */
+#define HT_TEST_SPAN_VERTICES 768
 
 static ht_test_furball fx;
 
@@ -272,6 +276,120 @@ static void chain_switches_with_the_distance(void **state) {
     ht_lod_chain_free(&chain);
 }
 
+/* Synthetic measured cells, 4 pairs at each of 3 sizes, so the rules'
+   picks are known: error:30 takes (0, gl11) at size 1, (1, fixed) at 1/2,
+   (2, gl11) at 1/4; frame:7.5 ms over a 10 ms reference takes (0, gl11)
+   at 1 and keeps it at 1/2 (8 ms, within its 10 % margin), (1, fixed) at
+   1/4 (gl11 at level 0 is 9 ms there), and (0, gl11) again back at 1. */
+static const ht_lod_cell pair_cells[] = {
+    { 0, HT_TIER_FULL, 1, INFINITY, 1 },    { 0, HT_TIER_GL11, 1, 38, 0.7 },
+    { 1, HT_TIER_FIXED, 1, 28, 0.4 },       { 2, HT_TIER_GL11, 1, 25, 0.2 },
+    { 0, HT_TIER_FULL, 0.5, INFINITY, 1 },  { 0, HT_TIER_GL11, 0.5, 38, 0.8 },
+    { 1, HT_TIER_FIXED, 0.5, 32, 0.4 },     { 2, HT_TIER_GL11, 0.5, 27, 0.2 },
+    { 0, HT_TIER_FULL, 0.25, INFINITY, 1 }, { 0, HT_TIER_GL11, 0.25, 38, 0.9 },
+    { 1, HT_TIER_FIXED, 0.25, 34, 0.4 },    { 2, HT_TIER_GL11, 0.25, 31, 0.2 },
+};
+
+typedef struct pair { int level; ht_tier tier; } pair;
+
+/* One frame of a pair: the full-detail trace's four passes and state over
+   the level's range of the chain's one buffer (the inside-out order of
+   that level), and the GL calls of the pair's tier: a program bound only
+   by the full tier, combiner stages only by fixed, neither by gl11. */
+static void draw_pair(ht_renderer *r, const ht_lod_chain *chain, const ht_frame_desc *frame, const ht_trace *full,
+                      pair p) {
+    const long programs = ht_fault_state_get()->programs_bound, stages = ht_fault_state_get()->combiner_stages;
+    draw_expect_level(r, chain, frame, p.level);
+    const ht_trace *t = ht_renderer_trace(r);
+    for (int i = 0; i < t->count; i++) {
+        ht_trace_entry e = t->entries[i];
+        e.first_index = full->entries[i].first_index;
+        e.index_count = full->entries[i].index_count;
+        if (memcmp(&e, &full->entries[i], sizeof e) != 0) fail_msg("%s level %d: pass %d differs from full detail's",
+                                                                   ht_tier_name(p.tier), p.level, i);
+    }
+    assert_int_equal(ht_renderer_tier(r), p.tier);
+    const long drew_programs = ht_fault_state_get()->programs_bound - programs;
+    const long drew_stages = ht_fault_state_get()->combiner_stages - stages;
+    assert_true(p.tier == HT_TIER_FULL ? drew_programs > 0 : drew_programs == 0);
+    assert_true(p.tier == HT_TIER_FIXED ? drew_stages > 0 : drew_stages == 0);
+}
+
+/* The camera pulled from 3 to 14 units and back, jittering 3 % a frame,
+   under `rule`: each frame's pair is the one `expect` lists next (never
+   one back: a switch happens once across each boundary), every pair's
+   frame is drawn by its tier in the four passes, glBufferData is called
+   only where a tier is used for the first time (its backend's own
+   buffers; the chain's mesh is uploaded once), and the fixed-function
+   tiers' per-frame CPU work covers the level's vertices, not the buffer's. */
+static void pull_out_and_back(ht_lod_rule rule, const pair *expect, int expect_count) {
+    ht_lod_chain chain;
+    assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
+    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
+                                                                 .getproc = ht_test_fault_getproc },
+                                             fx.bundle_dir, HT_OK);
+    ht_trace full;
+    draw_lod(r, &fx.mesh, &full);
+    rule.cells = pair_cells;
+    rule.cell_count = (int)(sizeof pair_cells / sizeof pair_cells[0]);
+    rule.size1_px = ht_projected_width_px(chain.width, 3.0, ht_test_furball_frame(3.0f).camera.fov_y, 512);
+    const int steps = 30;
+    int at = 0;
+    unsigned used = 1u << HT_TIER_FULL;
+    ht_fault_arm(HT_FAULT_NONE, 0);
+    for (int f = 0; f < 2 * steps; f++) {
+        const double t = f < steps ? (double)f / (steps - 1) : (double)(2 * steps - 1 - f) / (steps - 1);
+        const float d = (float)((3.0 + 11.0 * t) * (1.0 + 0.03 * ((f % 3) - 1)));
+        const ht_frame_desc frame = ht_test_furball_frame(d);
+        const long uploads = ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA];
+        ht_result res;
+        const int level = ht_lod_chain_select_pair(&chain, r, &frame.camera, 512, &rule, &res);
+        assert_int_equal(res, HT_OK);
+        const pair now = { level, chain.tier };
+        const bool switched = f == 0 || now.level != expect[at].level || now.tier != expect[at].tier;
+        if (f > 0 && switched) at++;
+        if (at >= expect_count || now.level != expect[at].level || now.tier != expect[at].tier)
+            fail_msg("frame %d (distance %.2f): level %d %s, expected the pair after level %d %s", f, d, now.level,
+                     ht_tier_name(now.tier), expect[at > 0 ? at - 1 : 0].level,
+                     ht_tier_name(expect[at > 0 ? at - 1 : 0].tier));
+        const bool first_use = !(used >> now.tier & 1u);
+        used |= 1u << now.tier;
+        /* the first select uploads the chain's buffers (2); a tier's first use its own */
+        if (f > 0 && !first_use) assert_int_equal(ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA], uploads);
+        if (switched || f % 10 == 0) {
+            const long before = ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA];
+            const uint64_t cpu = ht_renderer_get_stats(r).cpu_vertices;
+            draw_pair(r, &chain, &frame, &full, now);
+            assert_int_equal(ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA], before);
+            const uint64_t made = ht_renderer_get_stats(r).cpu_vertices - cpu;
+            const uint32_t level_vertices = ht_lod_chain_mesh(&chain, level)->vertex_count;
+            /* fixed: two slots' coordinates and colours at most; the slack: a block at each end */
+            if (now.tier != HT_TIER_FULL)
+                assert_true(made <= 2 * (uint64_t)(level_vertices + 2 * HT_TEST_SPAN_VERTICES) &&
+                            made < chain.all.vertex_count);
+        }
+    }
+    printf("%s %.1f: %d pairs over %d frames (%d switches), back at level %d %s; every pair drawn by its tier\n",
+           rule.kind == HT_POLICY_ERROR ? "error" : "frame", rule.value, at + 1, 2 * steps, at, chain.current,
+           ht_tier_name(chain.tier));
+    assert_int_equal(at, expect_count - 1);
+    ht_renderer_destroy(r);
+    ht_lod_chain_free(&chain);
+}
+
+static void chain_pairs_follow_an_error_budget(void **state) {
+    (void)state;
+    const pair expect[] = { { 0, HT_TIER_GL11 }, { 1, HT_TIER_FIXED }, { 2, HT_TIER_GL11 },
+                            { 1, HT_TIER_FIXED }, { 0, HT_TIER_GL11 } };
+    pull_out_and_back((ht_lod_rule){ .kind = HT_POLICY_ERROR, .value = 30 }, expect, 5);
+}
+
+static void chain_pairs_follow_a_frame_budget(void **state) {
+    (void)state;
+    const pair expect[] = { { 0, HT_TIER_GL11 }, { 1, HT_TIER_FIXED }, { 0, HT_TIER_GL11 } };
+    pull_out_and_back((ht_lod_rule){ .kind = HT_POLICY_FRAME, .value = 7.5, .reference_ms = 10 }, expect, 3);
+}
+
 static void full_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_FULL); }
 static void vertex_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_VERTEX); }
 static void fixed_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_FIXED); }
@@ -293,6 +411,8 @@ int main(void) {
         cmocka_unit_test(cards_gl11),
         cmocka_unit_test(chain_switches_with_the_distance),
         cmocka_unit_test(stored_chain_reaches_the_cards),
+        cmocka_unit_test(chain_pairs_follow_an_error_budget),
+        cmocka_unit_test(chain_pairs_follow_a_frame_budget),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
