@@ -53,6 +53,7 @@ typedef struct options {
     int lod;              /* -1: auto (lod.h's best rule); else the level */
     double size;          /* the image's size / the scene's, (0, 4] */
     double distance;      /* 0: the scene's camera; else the eye this far from the target */
+    double distance_to;   /* --distance A:B: the eye dollied from A to B over the frames; 0: none */
     int samples;          /* 0: no multisampling; else the framebuffer's samples */
     int supersample;      /* 1; K: drawn K x K times larger, box-filtered down to the PNG */
     bool width_rule;      /* lod.h's width rule on the mesh drawn */
@@ -126,7 +127,9 @@ static const cli_program program = {
             "                  textured ribbons, docs/lod.md); with such a bundle --lod N draws its\n"
             "                  stored level N\n"
             "  --size F        draw F times the scene's image size, (0, 4] (default 1)\n"
-            "  --distance D    the eye D scene units from the target, along the scene's view (default: the scene's)\n"
+            "  --distance D    the eye D scene units from the target, along the scene's view (default: the scene's);\n"
+            "                  A:B dollies it from A to B over the frames, --lod auto re-picking the pair each frame\n"
+            "                  (prints lod_pair: frame=F lod=N tier=T at each switch)\n"
             "  --samples N     draw multisampled, N samples (2..32; a framebuffer object, GL 3.0), resolved before the PNG\n"
             "  --supersample K draw K x K times the pixels and box-filter them down (1..8; a reference)\n"
             "  --width-rule    strands under a pixel drawn a pixel wide, opacity scaled by the ratio (docs/lod.md);\n"
@@ -191,8 +194,14 @@ static const char *take(void *user, int key, const char *value) {
         char *end;
         const double x = strtod(value, &end);
         const bool size = key == KEY_SIZE;
-        if (!*value || *end || !(x > 0) || !(x <= (size ? 4.0 : 1e4)))
-            return size ? "--size: expected a number in (0, 4]" : "--distance: expected a number in (0, 10000]";
+        bool to_ok = true;
+        if (!size && *value && *end == ':') { /* A:B, a dolly */
+            o->distance_to = strtod(end + 1, &end);
+            to_ok = o->distance_to > 0 && o->distance_to <= 1e4;
+        }
+        if (!to_ok || !*value || *end || !(x > 0) || !(x <= (size ? 4.0 : 1e4)))
+            return size ? "--size: expected a number in (0, 4]"
+                        : "--distance: expected a number in (0, 10000], or A:B (a dolly over the frames)";
         *(size ? &o->size : &o->distance) = x;
         return NULL;
     }
@@ -420,6 +429,107 @@ static int use_stored_levels(const options *o, const ht_scene *s, const char *pa
     return 0;
 }
 
+/* --lod auto --distance A:B: the eye dollied from A to B over the frames,
+   the (level, tier) pair re-picked every frame by the policy (error:DB,
+   frame:MS with a bundle's measured cells; else best) through one
+   ht_lod_chain in one renderer; prints each switch and the mean frame. */
+static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, const char *stored,
+                 const ht_policy *policy, ht_frame_desc *frame, double *frame_ms) {
+    ht_lod_chain chain;
+    ht_lod_file ladder;
+    char err[512];
+    ht_result r;
+    if (stored) {
+        if (ht_lod_file_read(stored, &ladder, err, sizeof err) != HT_OK) {
+            fprintf(stderr, "hairview: %s\n", err);
+            return 1;
+        }
+        r = ht_lod_chain_from_file(&ladder, &chain);
+        ht_lod_file_free(&ladder);
+    } else {
+        r = ht_lod_chain_build(&v->hair, &chain);
+    }
+    if (r != HT_OK) {
+        fprintf(stderr, "hairview: %s: levels: %s\n", stored ? stored : o->view.scene, ht_result_string(r));
+        return 1;
+    }
+    static ht_lod_cell cells[256];
+    const int viewport_h = s->height / o->supersample;
+    ht_lod_rule rule = { .kind = HT_POLICY_BEST, .value = policy->value, .cells = cells,
+                         .size1_px = ht_projected_width_px(chain.width, scene_distance, s->camera.fov_y,
+                                                           (int)lround(viewport_h / o->size)) };
+    const bool pair = policy->kind == HT_POLICY_ERROR || policy->kind == HT_POLICY_FRAME;
+    rule.cell_count = pair && !o->flat ? ht_renderer_lod_cells(v->renderer, cells, 256) : 0;
+    int ref = -1;
+    for (int i = 0; i < rule.cell_count; i++)
+        if (cells[i].lod == 0 && isinf(cells[i].psnr)) ref = i;
+    if (rule.cell_count > 0 && ref >= 0) rule.kind = policy->kind;
+    if (rule.kind == HT_POLICY_FRAME && !(rule.reference_ms = reference_ms(o, v, s, frame, cells[ref].tier))) {
+        ht_lod_chain_free(&chain);
+        fprintf(stderr, "hairview: frame:MS: the reference pair (lod 0, %s) does not draw\n", ht_tier_name(cells[ref].tier));
+        return 1;
+    }
+    double dir[3], len = 0;
+    for (int k = 0; k < 3; k++) dir[k] = (double)s->camera.eye[k] - s->camera.target[k], len += dir[k] * dir[k];
+    len = sqrt(len);
+    ht_result fr = HT_OK;
+    int last_level = -1;
+    ht_tier last_tier = HT_TIER_COUNT;
+    double ms = 0;
+    for (int f = 0; f < o->view.frames && fr == HT_OK; f++) {
+        const double t = o->view.frames > 1 ? (double)f / (o->view.frames - 1) : 0;
+        const double d = o->distance + (o->distance_to - o->distance) * t;
+        for (int k = 0; k < 3; k++) s->camera.eye[k] = (float)(s->camera.target[k] + dir[k] / len * d);
+        frame->camera = s->camera;
+        const double t0 = now_ms();
+        const int level = ht_lod_chain_select_pair(&chain, v->renderer, &s->camera, viewport_h, &rule, &fr);
+        if (level < 0) break;
+        draw_frame(s, v, frame, &fr);
+        ms += now_ms() - t0;
+        if (level != last_level || ht_renderer_tier(v->renderer) != last_tier)
+            printf("lod_pair: frame=%d lod=%d tier=%s distance=%.3f size=%.3f\n", f, level,
+                   ht_tier_name(ht_renderer_tier(v->renderer)), d, chain.size);
+        last_level = level;
+        last_tier = ht_renderer_tier(v->renderer);
+    }
+    ht_lod_chain_free(&chain);
+    if (fr != HT_OK) return fail(fr);
+    printf("dolly: %d frames, %.3f to %.3f, rule %s, cpu_vertices=%llu\n", o->view.frames, o->distance,
+           o->distance_to, rule.kind == HT_POLICY_ERROR ? "error" : rule.kind == HT_POLICY_FRAME ? "frame" : "best",
+           (unsigned long long)ht_renderer_get_stats(v->renderer).cpu_vertices);
+    *frame_ms = ms / o->view.frames;
+    return 0;
+}
+
+/* One still camera: the level --lod asks for (or the stored level), the
+   width rule, the frames timed into *ms. */
+static int draw_still(const options *o, view *v, ht_scene *scene, double scene_distance, bool has_stored,
+                      const char *stored, const ht_policy *policy, ht_frame_desc *frame, double *ms) {
+    bool paired = false;
+    if (has_stored ? use_stored_levels(o, scene, stored, &v->hair)
+                   : choose_lod(o, scene, scene_distance, v, frame, policy, &paired))
+        return 1;
+    print_held();
+    if (o->width_rule && apply_width_rule(o, scene, v->renderer, &v->hair)) return 1;
+    ht_result r;
+    if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
+    print_held();
+
+    if (!o->flat && !paired && policy->kind == HT_POLICY_FRAME) {
+        if ((r = ht_renderer_choose_by_frame_time(v->renderer, &v->hair, frame, 0)) != HT_OK) return fail(r);
+        print_held();
+    }
+    ht_result fr = HT_OK;
+    draw_frame(scene, v, frame, &fr); /* warm-up: shader variants, texture uploads */
+    double t0 = now_ms();
+    for (int i = 0; i < o->view.frames; i++) draw_frame(scene, v, frame, &fr);
+    *ms = (now_ms() - t0) / o->view.frames;
+    if (fr != HT_OK) return fail(fr);
+    print_held();
+
+    return 0;
+}
+
 static int run(const options *o, view *v) {
     char err[1024];
     ht_scene scene;
@@ -468,26 +578,17 @@ static int run(const options *o, view *v) {
     ht_frame_desc frame = { .camera = scene.camera, .lights = scene.lights, .light_count = scene.light_count,
                             .aspect = (float)scene.width / (float)scene.height,
                             .opaque = v->head.index_count ? &v->head : NULL };
-    bool paired = false;
-    if (has_stored ? use_stored_levels(o, &scene, stored, &v->hair)
-                   : choose_lod(o, &scene, scene_distance, v, &frame, &policy, &paired))
+    double ms = 0;
+    if (o->distance_to > 0) {
+        if (o->lod >= 0 || o->cards || o->width_rule) {
+            fprintf(stderr, "hairview: --distance A:B: a dolly picks the level per frame (--lod auto), without "
+                            "--cards or --width-rule\n");
+            return 1;
+        }
+        if (dolly(o, v, &scene, scene_distance, has_stored ? stored : NULL, &policy, &frame, &ms)) return 1;
+    } else if (draw_still(o, v, &scene, scene_distance, has_stored, stored, &policy, &frame, &ms)) {
         return 1;
-    print_held();
-    if (o->width_rule && apply_width_rule(o, &scene, v->renderer, &v->hair)) return 1;
-    if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
-    print_held();
-
-    if (!o->flat && !paired && policy.kind == HT_POLICY_FRAME) {
-        if ((r = ht_renderer_choose_by_frame_time(v->renderer, &v->hair, &frame, 0)) != HT_OK) return fail(r);
-        print_held();
     }
-    ht_result fr = HT_OK;
-    draw_frame(&scene, v, &frame, &fr); /* warm-up: shader variants, texture uploads */
-    double t0 = now_ms();
-    for (int i = 0; i < o->view.frames; i++) draw_frame(&scene, v, &frame, &fr);
-    double ms = (now_ms() - t0) / o->view.frames;
-    if (fr != HT_OK) return fail(fr);
-    print_held();
 
     ht_image img;
     const int k = o->supersample, w = scene.width / k, h = scene.height / k;
