@@ -5,7 +5,8 @@
    each level's strand count the ladder's, finite errors and costs; the
    runtime reads them back (ht_renderer_lod_cells through hairview's --lod
    auto --policy error:DB and frame:MS, which pick the pair
-   ht_lod_pick_error / ht_lod_pick_frame pick and draw its tier); a bad
+   ht_lod_pick_error / ht_lod_pick_frame pick and draw its tier, and
+   re-picks it per frame while --distance A:B dollies the eye); a bad
    cell is refused with one line naming it. Small: 600 hairs at 64 x 64.
    Runs the programs (HAIRTIER_BUILD). */
 #include <setjmp.h>
@@ -124,6 +125,39 @@ static void hairview_picks_the_pair_the_rules_pick(void **state) {
     expect_pair("frame:0.001", &cells[cheapest]);
 }
 
+/* hairview --distance A:B dollies the eye from the scene's distance (size
+   1) to 4x it (size 1/4) over 8 frames with --lod auto --policy error:DB:
+   the first frame's pair is the rule's at size 1, every switch is printed
+   with its frame (increasing), and the PNG's tier is the last pair's. */
+static void hairview_repicks_the_pair_while_dollying(void **state) {
+    (void)state;
+    ht_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
+    const int n = cells_of(cells);
+    const int tiers = n / (3 * LEVELS), quarter = 2 * tiers * LEVELS;
+    const double db = floor(cells[quarter + 1].psnr) - 0.5;
+    const double scene_distance = 3.3508; /* |eye - target| of scenes/furball.json's camera */
+    char args[1024], out[16384], want[96];
+    snprintf(args, sizeof args, "--bundle %s --scene %s/scene.json --lod auto --policy error:%g --distance %g:%g "
+             "--frames 8 -o %s/d.png", bundle, work, db, scene_distance, 4 * scene_distance, work);
+    if (ht_test_run_program("hairview", args, out, sizeof out) != 0) fail_msg("hairview %s: %s", args, out);
+    const int first = ht_lod_pick_error(cells, n, 1.0, db, -1);
+    snprintf(want, sizeof want, "lod_pair: frame=0 lod=%d tier=%s ", cells[first].lod, ht_tier_name(cells[first].tier));
+    if (!strstr(out, want)) fail_msg("expected %s in:\n%s", want, out);
+    int last_frame = -1, switches = 0;
+    char tier[32] = "";
+    for (const char *at = strstr(out, "lod_pair: frame="); at; at = strstr(at + 1, "lod_pair: frame=")) {
+        int frame = -1, lod = -1;
+        assert_int_equal(sscanf(at, "lod_pair: frame=%d lod=%d tier=%31s", &frame, &lod, tier), 3);
+        assert_true(frame > last_frame && frame < 8 && lod >= 0 && lod < LEVELS);
+        last_frame = frame;
+        switches++;
+    }
+    printf("dolly under error:%g: %d pairs, the last %s\n", db, switches, tier);
+    snprintf(want, sizeof want, "\ntier=%s ", tier);
+    if (!strstr(out, want)) fail_msg("expected %s in:\n%s", want, out);
+    assert_non_null(strstr(out, "dolly: 8 frames"));
+}
+
 static void a_bad_cell_is_refused_naming_it(void **state) {
     (void)state;
     cJSON *root = ht_test_read_json(bundle, "manifest.json");
@@ -164,6 +198,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(manifest_holds_every_pair_at_three_sizes),
         cmocka_unit_test(hairview_picks_the_pair_the_rules_pick),
+        cmocka_unit_test(hairview_repicks_the_pair_while_dollying),
         cmocka_unit_test(a_bad_cell_is_refused_naming_it),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
