@@ -453,6 +453,7 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
         fprintf(stderr, "hairview: %s: levels: %s\n", stored ? stored : o->view.scene, ht_result_string(r));
         return 1;
     }
+    chain.width_rule = o->width_rule; /* per draw, on the level drawn (lod.h) */
     static ht_lod_cell cells[256];
     const int viewport_h = s->height / o->supersample;
     ht_lod_rule rule = { .kind = HT_POLICY_BEST, .value = policy->value, .cells = cells,
@@ -475,7 +476,7 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
     ht_result fr = HT_OK;
     int last_level = -1;
     ht_tier last_tier = HT_TIER_COUNT;
-    double ms = 0;
+    double ms = 0, last_widen = 1.0;
     for (int f = 0; f < o->view.frames && fr == HT_OK; f++) {
         const double t = o->view.frames > 1 ? (double)f / (o->view.frames - 1) : 0;
         const double d = o->distance + (o->distance_to - o->distance) * t;
@@ -489,6 +490,9 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
         if (level != last_level || ht_renderer_tier(v->renderer) != last_tier)
             printf("lod_pair: frame=%d lod=%d tier=%s distance=%.3f size=%.3f\n", f, level,
                    ht_tier_name(ht_renderer_tier(v->renderer)), d, chain.size);
+        if (chain.wide_renderer && chain.wide_factor != last_widen)
+            printf("width_rule: frame=%d widen=%.3f opacity=%.3f\n", f, chain.wide_factor, 1.0 / chain.wide_factor);
+        last_widen = chain.wide_renderer ? chain.wide_factor : 1.0;
         last_level = level;
         last_tier = ht_renderer_tier(v->renderer);
     }
@@ -580,9 +584,9 @@ static int run(const options *o, view *v) {
                             .opaque = v->head.index_count ? &v->head : NULL };
     double ms = 0;
     if (o->distance_to > 0) {
-        if (o->lod >= 0 || o->cards || o->width_rule) {
+        if (o->lod >= 0 || o->cards) {
             fprintf(stderr, "hairview: --distance A:B: a dolly picks the level per frame (--lod auto), without "
-                            "--cards or --width-rule\n");
+                            "--cards\n");
             return 1;
         }
         if (dolly(o, v, &scene, scene_distance, has_stored ? stored : NULL, &policy, &frame, &ms)) return 1;

@@ -390,6 +390,72 @@ static void chain_pairs_follow_a_frame_budget(void **state) {
     pull_out_and_back((ht_lod_rule){ .kind = HT_POLICY_FRAME, .value = 7.5, .reference_ms = 10 }, expect, 3);
 }
 
+/* The width rule per draw in the chain: pulled from 3 to 300 units and
+   back (512 pixels high), the coarsest level's strands go under a pixel
+   past about 30; from there each frame draws that level widened by the
+   rule's factor (its own mesh, the whole of it: the trace's range) with
+   every fragment blended (the passes' alpha reference 1: the opacity
+   scale is on), the drawn strand (level width x factor) never narrower
+   while the camera moves out;
+   an upload (2 glBufferData: vertices, indices) happens only when the
+   factor or the level changes, and back at 3 the chain draws `all`'s
+   level-0 range with the bundle's cutoff again. */
+static void chain_width_rule_per_draw(void **state) {
+    (void)state;
+    ht_lod_chain chain;
+    assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
+    chain.width_rule = true;
+    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
+                                                                 .getproc = ht_test_fault_getproc },
+                                             fx.bundle_dir, HT_OK);
+    const int steps = 24;
+    int changes = 0, widened_frames = 0;
+    double last_f = 1.0, last_drawn = 0;
+    int last_level = -1;
+    for (int f = 0; f < 2 * steps; f++) {
+        const double t = f < steps ? (double)f / (steps - 1) : (double)(2 * steps - 1 - f) / (steps - 1);
+        const ht_frame_desc frame = ht_test_furball_frame((float)(3.0 * pow(100.0, t)));
+        ht_fault_arm(HT_FAULT_NONE, 0);
+        ht_result res;
+        const int level = ht_lod_chain_select(&chain, r, &frame.camera, 512, &res);
+        assert_int_equal(res, HT_OK);
+        const double wf = chain.wide_renderer == r ? chain.wide_factor : 1.0;
+        const bool changed = f > 0 && (wf != last_f || (wf > 1.0 && level != last_level));
+        changes += changed;
+        assert_int_equal(ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA], f == 0 || changed ? 2 : 0);
+        /* the drawn strand (the level's width x the factor) only widens going out */
+        const double drawn = chain.level_width[level] * wf;
+        if (f < steps && f > 0) assert_true(drawn >= last_drawn * (1 - 1e-9));
+        last_drawn = drawn;
+        ht_image img;
+        ht_test_draw(&fx.gl, r, &frame, ht_test_background, &img);
+        ht_image_free(&img);
+        const ht_trace *tr = ht_renderer_trace(r);
+        assert_int_equal(tr->count, HT_PASS_COUNT);
+        for (int i = 0; i < tr->count; i++) {
+            assert_int_equal(tr->entries[i].gl_error, GL_NO_ERROR);
+            if (wf > 1.0) {
+                assert_true(tr->entries[i].alpha_ref == 1.0f);
+                assert_int_equal(tr->entries[i].first_index, 0);
+                assert_int_equal(tr->entries[i].index_count, chain.wide.index_count);
+            } else {
+                assert_true(tr->entries[i].alpha_ref < 1.0f);
+                assert_int_equal(tr->entries[i].first_index, chain.first[level]);
+            }
+        }
+        widened_frames += wf > 1.0;
+        last_f = wf;
+        last_level = level;
+    }
+    printf("width rule: %d of %d frames widened (up to level %d), %d uploads of a widened level or all\n",
+           widened_frames, 2 * steps, chain.count - 1, changes);
+    assert_true(widened_frames >= 8 && changes >= 2 && changes <= widened_frames + 4);
+    assert_int_equal(last_level, 0);
+    assert_true(last_f == 1.0);
+    ht_renderer_destroy(r);
+    ht_lod_chain_free(&chain);
+}
+
 static void full_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_FULL); }
 static void vertex_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_VERTEX); }
 static void fixed_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_FIXED); }
@@ -413,6 +479,7 @@ int main(void) {
         cmocka_unit_test(stored_chain_reaches_the_cards),
         cmocka_unit_test(chain_pairs_follow_an_error_budget),
         cmocka_unit_test(chain_pairs_follow_a_frame_budget),
+        cmocka_unit_test(chain_width_rule_per_draw),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -200,7 +200,19 @@ HT_API int ht_lod_pick_frame(const ht_lod_cell *cells, int count, double size, d
    (ht_renderer_set_draw_range: no upload). It returns the level drawn, or
    -1 with *result set when the upload fails (the renderer keeps the mesh
    it had). A renderer whose mesh the application replaced: set `uploaded`
-   to NULL so the next select uploads `all` again.
+   and `wide_renderer` to NULL so the next select uploads again.
+   width_rule (false unless the caller sets it, after build): the width
+   rule per draw on the level drawn, every frame: where its strands
+   (its mean ribbon width at the eye's distance to the centre) are under
+   a pixel, f = ht_width_rule_widen of it, the level widened by f
+   (ht_mesh_widen), sorted back to front from this frame's eye and
+   uploaded alone (ht_renderer_set_mesh: that level's vertices), the
+   opacity 1 / f (ht_renderer_set_opacity_scale); while level and f (a
+   quarter octave) stay, nothing more: the order is the one of the eye
+   that made it; a pixel or wider again: `all` is uploaded again and the
+   opacity is 1. Per draw, not per vertex: a strand's own width and depth
+   would need its ribbon's centre line in the vertex stage, which the
+   fixed-function tiers do not have (docs/lod.md).
    ht_lod_chain_from_file takes the levels a bundle stores instead (its
    lods.bin, hairgen --cards: the strand levels, then the cards, whose
    best-rule level is one past the last strand level's). */
@@ -217,6 +229,13 @@ typedef struct ht_lod_chain {
     ht_tier tier;                  /* the pair's tier (ht_lod_chain_select_pair); HT_TIER_COUNT: none yet */
     unsigned refused_tiers;        /* bit t: the renderer could not draw tier t; its cells are skipped */
     double size;                   /* the measured size the pair was read at, 0: none yet */
+    double level_width[HT_LOD_FILE_MAX_LEVELS]; /* each level's mean ribbon width */
+    /* The width rule per draw, when the caller sets width_rule (below). */
+    bool width_rule;
+    ht_mesh wide;                  /* the level drawn, widened by wide_factor, back to front */
+    const ht_renderer *wide_renderer; /* the renderer holding `wide`, NULL: none */
+    int wide_level;
+    double wide_factor;
 } ht_lod_chain;
 HT_API ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out);
 typedef struct ht_lod_file ht_lod_file;

@@ -62,6 +62,7 @@ ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out) {
     }
     ht_result r = concatenate(out);
     if (r != HT_OK) ht_lod_chain_free(out);
+    for (int l = 0; r == HT_OK && l < out->count; l++) out->level_width[l] = ht_mesh_mean_width(ht_lod_chain_mesh(out, l));
     return r;
 }
 
@@ -91,6 +92,7 @@ ht_result ht_lod_chain_from_file(const ht_lod_file *f, ht_lod_chain *out) {
     }
     out->full = &out->levels[0];
     out->width = ht_mesh_mean_width(out->full);
+    for (int l = 0; l < out->count; l++) out->level_width[l] = ht_mesh_mean_width(&out->levels[l]);
     return HT_OK;
 }
 
@@ -122,15 +124,62 @@ static int draw_level(ht_lod_chain *c, ht_renderer *r, int level, ht_result *res
     return level;
 }
 
+/* The mesh r holds of this chain: `all`, the widened level, or none. */
+static const ht_mesh *held_mesh(const ht_lod_chain *c, const ht_renderer *r) {
+    return c->uploaded == r ? &c->all : c->wide_renderer == r ? &c->wide : NULL;
+}
+
+/* The width rule on the level drawn (lod.h): its strands narrower than a
+   pixel, the level widened by f about each centre line, sorted back to
+   front from this eye and uploaded alone, the opacity 1 / f; the same f
+   and level again: nothing; a pixel or wider: `all` again, opacity 1. */
+static int draw_level_width_rule(ht_lod_chain *c, ht_renderer *r, int level, double px, const ht_camera *camera,
+                                 ht_result *result) {
+    const double f = c->width_rule ? ht_width_rule_widen(px * c->level_width[level] / c->width) : 1.0;
+    if (f <= 1.0) {
+        if (c->wide_renderer == r) {
+            ht_renderer_set_opacity_scale(r, 1.0f);
+            c->wide_renderer = NULL;
+            c->wide_factor = 1.0;
+        }
+        return draw_level(c, r, level, result);
+    }
+    if (c->wide_renderer == r && c->wide_level == level && c->wide_factor == f) {
+        c->current = level;
+        return level;
+    }
+    ht_mesh wide;
+    ht_result res = ht_mesh_widen(ht_lod_chain_mesh(c, level), f, &wide);
+    if (res == HT_OK) {
+        ht_mesh_sort_back_to_front(&wide, camera->eye);
+        res = ht_renderer_set_mesh(r, &wide);
+    }
+    if (res == HT_OK) res = ht_renderer_set_opacity_scale(r, (float)(1.0 / f));
+    if (res != HT_OK) {
+        ht_mesh_free(&wide);
+        if (result) *result = res;
+        return -1;
+    }
+    ht_mesh_free(&c->wide);
+    c->wide = wide;
+    c->wide_renderer = r;
+    c->wide_level = level;
+    c->wide_factor = f;
+    if (c->uploaded == r) c->uploaded = NULL; /* r holds the widened level now */
+    c->current = level;
+    return level;
+}
+
 int ht_lod_chain_select(ht_lod_chain *c, ht_renderer *r, const ht_camera *camera, int viewport_h, ht_result *result) {
     if (result) *result = HT_OK;
     if (!c || !c->full || !r || !camera) {
         if (result) *result = HT_ERR_INVALID_ARGUMENT;
         return -1;
     }
-    const int level = ht_lod_pick_best(strand_px(c, camera, viewport_h), c->current, c->count - 1);
-    if (level == c->current && c->uploaded == r) return level;
-    return draw_level(c, r, level, result);
+    const double px = strand_px(c, camera, viewport_h);
+    const int level = ht_lod_pick_best(px, c->current, c->count - 1);
+    if (level == c->current && c->uploaded == r && !c->width_rule) return level;
+    return draw_level_width_rule(c, r, level, px, camera, result);
 }
 
 #define MAX_CELLS 256
@@ -184,16 +233,18 @@ int ht_lod_chain_select_pair(ht_lod_chain *c, ht_renderer *r, const ht_camera *c
         const int level = cells[pick].lod;
         const ht_tier tier = cells[pick].tier;
         c->size = size;
-        if (level == c->current && tier == c->tier && c->uploaded == r && ht_renderer_tier(r) == tier) return level;
+        if (level == c->current && tier == c->tier && c->uploaded == r && ht_renderer_tier(r) == tier &&
+            !c->width_rule)
+            return level;
         /* the mesh first: the tier's per-vertex data is made of it */
-        ht_result res = c->uploaded == r ? HT_OK : ht_renderer_set_mesh(r, &c->all);
-        if (res == HT_OK) c->uploaded = r;
-        if (res == HT_OK && ht_renderer_tier(r) != tier) res = ht_renderer_set_tier(r, tier, &c->all);
+        ht_result res = held_mesh(c, r) ? HT_OK : ht_renderer_set_mesh(r, &c->all);
+        if (res == HT_OK && !held_mesh(c, r)) c->uploaded = r;
+        if (res == HT_OK && ht_renderer_tier(r) != tier) res = ht_renderer_set_tier(r, tier, held_mesh(c, r));
         if (res == HT_OK) {
             c->tier = tier;
-            return draw_level(c, r, level, result);
+            return draw_level_width_rule(c, r, level, px, camera, result);
         }
-        if (c->uploaded != r || res == HT_ERR_OUT_OF_MEMORY) {
+        if (!held_mesh(c, r) || res == HT_ERR_OUT_OF_MEMORY) {
             if (result) *result = res;
             return -1;
         }
@@ -205,6 +256,7 @@ void ht_lod_chain_free(ht_lod_chain *c) {
     if (!c) return;
     for (int l = 0; l < HT_LOD_FILE_MAX_LEVELS; l++) ht_mesh_free(&c->levels[l]);
     ht_mesh_free(&c->all);
+    ht_mesh_free(&c->wide);
     memset(c, 0, sizeof *c);
     c->current = -1;
     c->tier = HT_TIER_COUNT;
