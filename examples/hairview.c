@@ -484,12 +484,13 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
         frame->camera = s->camera;
         const double t0 = now_ms();
         const int level = ht_lod_chain_select_pair(&chain, v->renderer, &s->camera, viewport_h, &rule, &fr);
+        const double select_ms = now_ms() - t0;
         if (level < 0) break;
         draw_frame(s, v, frame, &fr);
         ms += now_ms() - t0;
         if (level != last_level || ht_renderer_tier(v->renderer) != last_tier)
-            printf("lod_pair: frame=%d lod=%d tier=%s distance=%.3f size=%.3f\n", f, level,
-                   ht_tier_name(ht_renderer_tier(v->renderer)), d, chain.size);
+            printf("lod_pair: frame=%d lod=%d tier=%s distance=%.3f size=%.3f select_ms=%.3f\n", f, level,
+                   ht_tier_name(ht_renderer_tier(v->renderer)), d, chain.size, select_ms);
         if (chain.wide_renderer && chain.wide_factor != last_widen)
             printf("width_rule: frame=%d widen=%.3f opacity=%.3f\n", f, chain.wide_factor, 1.0 / chain.wide_factor);
         last_widen = chain.wide_renderer ? chain.wide_factor : 1.0;

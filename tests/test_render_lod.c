@@ -319,7 +319,7 @@ static void draw_pair(ht_renderer *r, const ht_lod_chain *chain, const ht_frame_
    under `rule`: each frame's pair is the one `expect` lists next (never
    one back: a switch happens once across each boundary), every pair's
    frame is drawn by its tier in the four passes, glBufferData is called
-   only where a tier is used for the first time (its backend's own
+   and GL objects are made only where a tier is used for the first time (its backend's own
    buffers; the chain's mesh is uploaded once), and the fixed-function
    tiers' per-frame CPU work covers the level's vertices, not the buffer's. */
 static void pull_out_and_back(ht_lod_rule rule, const pair *expect, int expect_count) {
@@ -342,6 +342,8 @@ static void pull_out_and_back(ht_lod_rule rule, const pair *expect, int expect_c
         const float d = (float)((3.0 + 11.0 * t) * (1.0 + 0.03 * ((f % 3) - 1)));
         const ht_frame_desc frame = ht_test_furball_frame(d);
         const long uploads = ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA];
+        int objects = 0;
+        for (int k = 0; k < HT_FAULT_OBJECT_COUNT; k++) objects += ht_fault_state_get()->created[k];
         ht_result res;
         const int level = ht_lod_chain_select_pair(&chain, r, &frame.camera, 512, &rule, &res);
         assert_int_equal(res, HT_OK);
@@ -355,7 +357,12 @@ static void pull_out_and_back(ht_lod_rule rule, const pair *expect, int expect_c
         const bool first_use = !(used >> now.tier & 1u);
         used |= 1u << now.tier;
         /* the first select uploads the chain's buffers (2); a tier's first use its own */
-        if (f > 0 && !first_use) assert_int_equal(ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA], uploads);
+        int objects_after = 0;
+        for (int k = 0; k < HT_FAULT_OBJECT_COUNT; k++) objects_after += ht_fault_state_get()->created[k];
+        if (f > 0 && !first_use) {
+            assert_int_equal(ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA], uploads);
+            assert_int_equal(objects_after, objects); /* no texture, buffer, shader or program made */
+        }
         if (switched || f % 10 == 0) {
             const long before = ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA];
             const uint64_t cpu = ht_renderer_get_stats(r).cpu_vertices;
