@@ -176,7 +176,13 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
         if (!s->color_buffer) gl->GenBuffers(1, &s->color_buffer);
         gl->BindBuffer(GL_ARRAY_BUFFER, s->color_buffer);
         gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(4 * s->soa.count * sizeof(float)), s->colors, GL_DYNAMIC_DRAW);
-        check_upload(s, "glBufferData");
+        gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+        /* refused: the renderer drops the mesh with its one line (as fixed) */
+        const GLenum e = gl->GetError();
+        if (e != GL_NO_ERROR) {
+            s->have_mesh = false;
+            return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
+        }
     }
     return HT_OK;
 }

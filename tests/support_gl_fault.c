@@ -378,6 +378,17 @@ static void APIENTRY wrap_BufferData(GLenum target, GLsizeiptr size, const void 
     real_BufferData(target, size, data, usage);
 }
 
+/* An upload too: the same class, counted apart as well. */
+static void APIENTRY wrap_BufferSubData(GLenum target, GLintptr offset, GLsizeiptr size, const void *data) {
+    any_call();
+    st.buffer_sub_data++;
+    if (hit(HT_FAULT_BUFFER_DATA)) {
+        pending = GL_OUT_OF_MEMORY;
+        return;
+    }
+    real_BufferSubData(target, offset, size, data);
+}
+
 /* Which tier draws: a program bound, or a combiner stage set up. */
 static void APIENTRY wrap_UseProgram(GLuint program) {
     any_call();
@@ -406,7 +417,7 @@ static const wrapper specials[] = {
     SPECIAL(CompileShader) SPECIAL(GetShaderiv) SPECIAL(GetShaderInfoLog) SPECIAL(LinkProgram)
     SPECIAL(GetProgramiv) SPECIAL(GetProgramInfoLog) SPECIAL(TexImage2D) SPECIAL(TexImage3D)
     SPECIAL(BufferData) SPECIAL(BindBuffer) SPECIAL(VertexPointer) SPECIAL(NormalPointer) SPECIAL(TexCoordPointer)
-    SPECIAL(ColorPointer) SPECIAL(VertexAttribPointer) SPECIAL(UseProgram) SPECIAL(TexEnvi)
+    SPECIAL(ColorPointer) SPECIAL(VertexAttribPointer) SPECIAL(UseProgram) SPECIAL(TexEnvi) SPECIAL(BufferSubData)
 };
 #undef SPECIAL
 

@@ -20,7 +20,8 @@
                     HT_FAULT_LINK_LOG
        TEX_IMAGE    glTexImage2D or glTexImage3D is not forwarded (nothing
                     uploaded); the next glGetError says GL_OUT_OF_MEMORY
-       BUFFER_DATA  glBufferData is not forwarded; GL_OUT_OF_MEMORY
+       BUFFER_DATA  glBufferData or glBufferSubData (an upload either way)
+                    is not forwarded; GL_OUT_OF_MEMORY
        ANY_CALL     any entry point but glGetError is forwarded, then the
                     next glGetError says GL_OUT_OF_MEMORY
    An injected error is reported before the driver's own.
@@ -74,6 +75,7 @@ typedef struct ht_fault_state {
     long client_array_pointers;                /* those with no GL_ARRAY_BUFFER bound */
     long programs_bound;                       /* glUseProgram of a program (not 0), since ht_fault_arm */
     long combiner_stages;                      /* glTexEnvi(GL_TEXTURE_ENV_MODE, GL_COMBINE), since then */
+    long buffer_sub_data;                      /* the glBufferSubData among calls[HT_FAULT_BUFFER_DATA] */
 } ht_fault_state;
 
 /* Arms cls at its n-th call (n >= 1; HT_FAULT_NONE or n = 0: count only)

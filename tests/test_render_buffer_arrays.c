@@ -8,8 +8,8 @@
      points every vertex array at buffer memory and uploads nothing;
    - with the device profile's no_vbo, every array is client memory, still
      nothing uploaded, and the pixels are those of the VBO run, exactly;
-   - gl11: a moved eye uploads the recomputed colours once, and the frame
-     after it none again;
+   - gl11: a moved eye uploads the recomputed colours once (glBufferSubData
+     into the buffer set_mesh sized), and the frame after it none again;
    - an upload GL refuses (the fault layer's GL_OUT_OF_MEMORY) in a frame
      is one line naming the error, and that frame draws the same pixels
      from client arrays.
@@ -155,13 +155,13 @@ static void refused_upload_draws_from_client_arrays(ht_tier tier, const char *li
 static void test_fixed_refused_upload_draws_from_client_arrays(void **state) {
     (void)state;
     refused_upload_draws_from_client_arrays(HT_TIER_FIXED,
-                                            "hairtier: fixed: glBufferData: GL_OUT_OF_MEMORY: client arrays instead");
+                                            "hairtier: fixed: glBufferSubData: GL_OUT_OF_MEMORY: client arrays instead");
 }
 
 static void test_gl11_refused_upload_draws_from_client_arrays(void **state) {
     (void)state;
     refused_upload_draws_from_client_arrays(HT_TIER_GL11,
-                                            "hairtier: gl11: glBufferData: GL_OUT_OF_MEMORY: client arrays instead");
+                                            "hairtier: gl11: glBufferSubData: GL_OUT_OF_MEMORY: client arrays instead");
 }
 
 int main(void) {
