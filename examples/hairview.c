@@ -266,15 +266,9 @@ static double eye_distance(const ht_scene *s) {
     return sqrt(d);
 }
 
-/* The renderer again, strict on `tier` (the pair's), where it draws another. */
-static int retier(const options *o, view *v, ht_tier tier) {
-    if (ht_renderer_tier(v->renderer) == tier) return 0;
-    ht_renderer_destroy(v->renderer);
-    v->renderer = NULL;
-    ht_result r = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->view.bundle,
-                                                          .tier = tier, .strict = true, .log = log_line,
-                                                          .profile = o->profile },
-                                     &v->renderer);
+/* The renderer switched to `tier` (the pair's), made at its first use. */
+static int retier(view *v, ht_tier tier) {
+    ht_result r = ht_renderer_set_tier(v->renderer, tier, NULL);
     return r == HT_OK ? 0 : fail(r);
 }
 
@@ -324,7 +318,7 @@ static int auto_pair(const options *o, view *v, const ht_scene *s, const ht_fram
     if (policy->kind == HT_POLICY_FRAME) printf(" = %.3f ms of %.3f", cells[pick].cost * ms, policy->value);
     printf("\n");
     *level = cells[pick].lod;
-    return retier(o, v, cells[pick].tier);
+    return retier(v, cells[pick].tier);
 }
 
 /* Replaces the full mesh by the level --lod asks for (auto: the pair rule
