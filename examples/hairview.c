@@ -12,7 +12,10 @@
    mali400), on that device's API unless --api says otherwise.
    --lod picks the geometry level (lod.h; auto: full detail while a strand
    is at least a pixel wide) and prints `lod=N strands=K strand_px=W`
-   first; --size and --distance shrink the hair on screen; --samples
+   first; --size and --distance shrink the hair on screen (--distance A:B
+   dollies the eye over the frames through one ht_lod_chain, re-picking
+   the (level, tier) pair every frame and printing `lod_pair: frame=F ...`
+   at each switch); --samples
    multisamples (platform/offscreen_msaa.c); --supersample K draws K x K
    times the pixels and box-filters them down (a reference; docs/lod.md);
    --width-rule draws a strand under a pixel (at the pixels drawn) about a
