@@ -9,7 +9,9 @@
    Per frame (begin_frame): one texture matrix per LUT unit (16 floats from
    the lights and the infinite viewer) and, only when a light colour or the
    scale changed, the LUTs rebaked and reloaded (O(LUT texels)). Nothing is
-   proportional to the vertex count.
+   proportional to the vertex count, but under a local-viewer program: its
+   LUT coordinates of the draw range's vertices (tier.h), when the eye or a
+   light moved, written into their buffers with glBufferSubData.
    Per pass: GL lighting (Scheuermann) for the diffuse term into the
    primary colour; the prime-Z pass enables only the last unit (the
    albedo's alpha), with lighting off. */
