@@ -320,38 +320,53 @@ static int auto_pair(const options *o, view *v, const ht_scene *s, const ht_fram
 
 /* Replaces the full mesh by the level --lod asks for (auto: the pair rule
    above, else lod.h's best rule at the camera's distance to the target)
-   and prints what it drew; *paired: the pair rule chose the tier too. */
+   and prints what it drew; *paired: the pair rule chose the tier too.
+   ladder (NULL: none): the bundle's stored levels (lods.bin) for this
+   scene, every level drawn is the file's (--cards: its cards level). */
 static int choose_lod(const options *o, const ht_scene *s, double scene_distance, view *v, const ht_frame_desc *f,
-                      const ht_policy *policy, bool *paired) {
+                      const ht_policy *policy, const ht_lod_file *ladder, bool *paired) {
     ht_mesh *hair = &v->hair;
     const double d = eye_distance(s);
     const double px = ht_projected_width_px(ht_mesh_mean_width(hair), d, s->camera.fov_y, s->height / o->supersample);
-    const int max_level = ht_lod_max_level(hair);
+    const int max_level = ladder ? ladder->level_count - 1 : ht_lod_max_level(hair);
     int level = o->lod;
     *paired = false;
-    if (o->lod < 0) {
+    if (o->cards) {
+        for (level = 0; level <= max_level && ladder->levels[level].kind != HT_LOD_KIND_CARDS; level++) {}
+        if (level > max_level) {
+            fprintf(stderr, "hairview: --cards: %s/%s stores no cards (make the bundle with hairgen --cards)\n",
+                    o->view.bundle, HT_LOD_FILE_NAME);
+            return 1;
+        }
+    } else if (o->lod < 0) {
         if (auto_pair(o, v, s, f, policy, o->size * scene_distance / d, max_level, &level)) return 1;
         *paired = level >= 0;
         if (level < 0) level = ht_lod_pick_best(px, -1, max_level);
     }
     if (level > max_level) {
-        fprintf(stderr, "hairview: --lod: %d is past this scene's last level %d (%u strands)\n", level, max_level,
-                hair->component_count);
+        fprintf(stderr, "hairview: --lod: %d is past this scene's last level %d (%u strands%s)\n", level, max_level,
+                hair->component_count, ladder ? ", the levels lods.bin stores" : "");
         return 1;
     }
-    if (level > 0) {
+    if (ladder || level > 0) {
         ht_lod_desc desc;
         ht_mesh lod;
         ht_lod_level(level, &desc);
-        ht_result r = ht_mesh_build_lod(hair, &desc, &lod);
+        ht_result r = ladder ? ht_lod_file_level_mesh(ladder, level, &lod) : ht_mesh_build_lod(hair, &desc, &lod);
         if (r != HT_OK) {
-            fprintf(stderr, "hairview: %s: geometry: cannot build LOD %d: %s\n", o->view.scene, level, ht_result_string(r));
+            fprintf(stderr, "hairview: %s: geometry: cannot %s LOD %d: %s\n", o->view.scene, ladder ? "read" : "build",
+                    level, ht_result_string(r));
             return 1;
         }
         ht_mesh_free(hair);
         *hair = lod;
     }
-    printf("lod=%d strands=%u strand_px=%.3f\n", level, hair->component_count, px);
+    printf("lod=%d strands=%u strand_px=%.3f", level, hair->component_count, px);
+    if (ladder)
+        printf(" stored kind=%s param=%u components=%u",
+               ladder->levels[level].kind == HT_LOD_KIND_CARDS ? "cards" : "strands", ladder->levels[level].param,
+               hair->component_count);
+    printf("\n");
     return 0;
 }
 
@@ -377,46 +392,37 @@ static int apply_width_rule(const options *o, const ht_scene *s, ht_renderer *r,
     return 0;
 }
 
-/* A bundle that stores its levels (lods.bin, hairgen --cards: its
-   textures are an atlas, so the scene's own mesh would sample the wrong
-   texels): every level drawn is the file's. --cards: the cards level;
-   --lod N: level N; auto: the best rule over all of them (the cards one
-   past the last strand level). */
-static int use_stored_levels(const options *o, const ht_scene *s, const char *path, ht_mesh *hair) {
-    char err[512];
-    ht_lod_file ladder;
-    if (ht_lod_file_read(path, &ladder, err, sizeof err) != HT_OK) {
+/* The bundle's stored levels (lods.bin), when it has them and they are
+   this scene's (their level 0 is the scene's mesh): *has set. A stored
+   ladder of another scene is left for the levels built at run time, but
+   one holding cards is refused (the bundle's textures are their atlas,
+   which the scene's own mesh would sample wrongly). */
+static int read_stored_levels(const options *o, const ht_mesh *hair, ht_lod_file *ladder, bool *has) {
+    char path[4200], err[512];
+    snprintf(path, sizeof path, "%s/%s", o->view.bundle, HT_LOD_FILE_NAME);
+    *has = false;
+    if (access(path, F_OK) != 0) {
+        if (!o->cards) return 0;
+        fprintf(stderr, "hairview: --cards: %s: absent (make the bundle with hairgen --cards)\n", path);
+        return 1;
+    }
+    if (ht_lod_file_read(path, ladder, err, sizeof err) != HT_OK) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
-    ht_mesh full;
-    ht_result r = ht_lod_file_level_mesh(&ladder, 0, &full);
-    const double px = r == HT_OK ? ht_projected_width_px(ht_mesh_mean_width(&full), eye_distance(s), s->camera.fov_y,
-                                                         s->height / o->supersample)
-                                 : 0;
-    ht_mesh_free(&full);
-    int level = o->lod < 0 ? ht_lod_pick_best(px, -1, ladder.level_count - 1) : o->lod;
-    if (o->cards)
-        for (level = 0; level < ladder.level_count && ladder.levels[level].kind != HT_LOD_KIND_CARDS; level++) {}
-    if (r == HT_OK && level >= ladder.level_count) {
-        fprintf(stderr, "hairview: %s: %s: no level %d (%d stored)\n", path, o->cards ? "--cards" : "--lod", level,
-                ladder.level_count);
-        ht_lod_file_free(&ladder);
+    if (ht_lod_file_matches(ladder, hair)) {
+        *has = true;
+        return 0;
+    }
+    bool cards = false;
+    for (int l = 0; l < ladder->level_count; l++) cards = cards || ladder->levels[l].kind == HT_LOD_KIND_CARDS;
+    ht_lod_file_free(ladder);
+    if (cards || o->cards) {
+        fprintf(stderr, "hairview: %s: its level 0 is not %s's mesh: these cards are another scene's\n", path,
+                o->view.scene);
         return 1;
     }
-    ht_mesh mesh;
-    if (r == HT_OK) r = ht_lod_file_level_mesh(&ladder, level, &mesh);
-    if (r != HT_OK) {
-        fprintf(stderr, "hairview: %s: level %d: %s\n", path, level, ht_result_string(r));
-        ht_lod_file_free(&ladder);
-        return 1;
-    }
-    printf("lod=%d kind=%s param=%u components=%u strand_px=%.3f\n", level,
-           ladder.levels[level].kind == HT_LOD_KIND_CARDS ? "cards" : "strands", ladder.levels[level].param,
-           mesh.component_count, px);
-    ht_lod_file_free(&ladder);
-    ht_mesh_free(hair);
-    *hair = mesh;
+    printf("stored_levels: %s is another scene's; levels built from %s\n", path, o->view.scene);
     return 0;
 }
 
@@ -458,20 +464,16 @@ static int run(const options *o, view *v) {
     ht_policy policy = { HT_POLICY_BEST, 0 };
     if (ht_policy_parse(policy_text && policy_text[0] ? policy_text : NULL, &policy, err, sizeof err) != HT_OK)
         policy.kind = HT_POLICY_BEST; /* the renderer has refused it already */
-    char stored[4200];
-    snprintf(stored, sizeof stored, "%s/%s", o->view.bundle, HT_LOD_FILE_NAME);
-    const bool has_stored = access(stored, F_OK) == 0;
-    if (o->cards && !has_stored) {
-        fprintf(stderr, "hairview: --cards: %s: absent (make the bundle with hairgen --cards)\n", stored);
-        return 1;
-    }
+    ht_lod_file ladder;
+    bool has_stored = false;
+    if (read_stored_levels(o, &v->hair, &ladder, &has_stored)) return 1;
     ht_frame_desc frame = { .camera = scene.camera, .lights = scene.lights, .light_count = scene.light_count,
                             .aspect = (float)scene.width / (float)scene.height,
                             .opaque = v->head.index_count ? &v->head : NULL };
     bool paired = false;
-    if (has_stored ? use_stored_levels(o, &scene, stored, &v->hair)
-                   : choose_lod(o, &scene, scene_distance, v, &frame, &policy, &paired))
-        return 1;
+    const int chosen = choose_lod(o, &scene, scene_distance, v, &frame, &policy, has_stored ? &ladder : NULL, &paired);
+    if (has_stored) ht_lod_file_free(&ladder);
+    if (chosen) return 1;
     print_held();
     if (o->width_rule && apply_width_rule(o, &scene, v->renderer, &v->hair)) return 1;
     if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);

@@ -96,6 +96,7 @@ static void *worker(void *arg) {
                                                          .scene_size = b->scene_size,
                                                          .out_dir = j->dir,
                                                          .skip_unchanged = !d->force,
+                                                         .store_lods = d->store_lods,
                                                          .depfile_names = d->depfile || d->depfile_per_bundle,
                                                          .summary = summary,
                                                          .threads = b->bundle_threads },

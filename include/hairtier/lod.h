@@ -130,6 +130,9 @@ HT_API void ht_mesh_sort_back_to_front(ht_mesh *mesh, const float eye[3]);
 typedef struct ht_renderer ht_renderer;
 HT_API ht_result ht_renderer_set_opacity_scale(ht_renderer *r, float scale);
 
+/* A stored level's geometry (lods.bin, a measured cell): strands or cards. */
+typedef enum ht_lod_kind { HT_LOD_KIND_STRANDS = 0, HT_LOD_KIND_CARDS = 1 } ht_lod_kind;
+
 /* One measured (LOD, tier) pair at a projected size (hairgen --measure's
    cells): PSNR against (LOD 0, top tier) at that size and the frame cost
    as a ratio of it. */
@@ -139,6 +142,7 @@ typedef struct ht_lod_cell {
     double size;   /* projected size / the scene's, e.g. 1, 0.5, 0.25 */
     double psnr;   /* dB; INFINITY for the reference itself */
     double cost;   /* frame time / the reference's */
+    ht_lod_kind kind; /* strands, or the stored cards level (lod: its index in lods.bin) */
 } ht_lod_cell;
 
 /* The `error:DB` rule: among the cells measured at the size nearest `size`
@@ -247,8 +251,8 @@ typedef struct ht_cards {
 HT_API ht_result ht_mesh_build_cards(const ht_mesh *full, const ht_cards_desc *desc, ht_cards *out);
 HT_API void ht_cards_free(ht_cards *cards);
 
-/* A stored ladder (docs/bundle.md, "lods.bin"; hairgen --cards writes
-   one with the cards): levels over one vertex and index buffer, each a
+/* A stored ladder (docs/bundle.md, "lods.bin"; hairgen --scene S writes
+   the scene's strand levels, hairgen --cards the strand levels and cards): levels over one vertex and index buffer, each a
    range of it, read with every count, range, index and float checked, so
    a hostile file is refused with one line "NAME: FIELD: what is wrong"
    and nothing allocated. Little-endian:
@@ -261,7 +265,6 @@ HT_API void ht_cards_free(ht_cards *cards);
      first_index, u32 index_count, f32 sort_key); nothing after. */
 #define HT_LOD_FILE_NAME "lods.bin"
 #define HT_LOD_FILE_MAX_VERTICES (64u << 20)
-typedef enum ht_lod_kind { HT_LOD_KIND_STRANDS = 0, HT_LOD_KIND_CARDS = 1 } ht_lod_kind;
 typedef struct ht_lod_range {
     ht_lod_kind kind;
     uint32_t param;
@@ -282,6 +285,11 @@ HT_API ht_result ht_lod_file_encode(const ht_lod_file *f, unsigned char **data, 
 /* Level `level` as a mesh of its own (copies; for a renderer of its own). */
 HT_API ht_result ht_lod_file_level_mesh(const ht_lod_file *f, int level, ht_mesh *out);
 HT_API void ht_lod_file_free(ht_lod_file *f);
+/* Whether the file's level 0 is `full` (a scene's mesh as
+   ht_scene_build_meshes leaves it): the same strands, triangles and
+   vertex positions, so its levels are that scene's (uv may differ: a
+   cards bundle maps them into its atlas). */
+HT_API bool ht_lod_file_matches(const ht_lod_file *f, const ht_mesh *full);
 
 /* The bundle's measured cells (hairgen --measure-lods: every tier at every
    LOD and size, against (LOD 0, the bundle's first tier)), at most max

@@ -242,3 +242,17 @@ void ht_lod_file_free(ht_lod_file *f) {
     ht_mesh_free(&f->mesh);
     memset(f, 0, sizeof *f);
 }
+
+bool ht_lod_file_matches(const ht_lod_file *f, const ht_mesh *full) {
+    if (!f || !full || f->level_count < 1 || f->levels[0].kind != HT_LOD_KIND_STRANDS) return false;
+    const ht_lod_range *r = &f->levels[0];
+    const ht_mesh *m = &f->mesh;
+    if (r->index_count != full->index_count || r->component_count != full->component_count) return false;
+    for (uint32_t i = 0; i < full->index_count; i++) {
+        const uint32_t a = m->indices[r->first_index + i], b = full->indices[i];
+        if (b >= full->vertex_count || memcmp(m->vertices[a].position, full->vertices[b].position,
+                                              sizeof full->vertices[b].position) != 0)
+            return false;
+    }
+    return true;
+}

@@ -1,0 +1,108 @@
+/* lods_store.c — a bundle's stored levels, lods.bin (lods_store.h). */
+#include "lods_store.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bundle_sums.h"
+#include "errfmt.h"
+#include "file_open.h"
+#include "manifest.h"
+#include "mesh_internal.h"
+
+ht_result ht_lods_ladder(const ht_lod_chain *chain, const ht_mesh *cards, uint32_t strands_per_card,
+                         ht_lod_file *out) {
+    memset(out, 0, sizeof *out);
+    static const ht_mesh none = { 0 };
+    if (!cards) cards = &none;
+    const ht_mesh *all = &chain->all;
+    ht_result r = ht_mesh_alloc(&out->mesh, (uint64_t)all->vertex_count + cards->vertex_count,
+                                (uint64_t)all->index_count + cards->index_count,
+                                (uint64_t)all->component_count + cards->component_count);
+    if (r != HT_OK) return r;
+    ht_mesh *m = &out->mesh;
+    memcpy(m->center, all->center, sizeof m->center);
+    memcpy(m->vertices, all->vertices, sizeof *m->vertices * all->vertex_count);
+    if (cards->vertex_count)
+        memcpy(m->vertices + all->vertex_count, cards->vertices, sizeof *m->vertices * cards->vertex_count);
+    memcpy(m->indices, all->indices, sizeof *m->indices * all->index_count);
+    for (uint32_t i = 0; i < cards->index_count; i++) m->indices[all->index_count + i] = cards->indices[i] + all->vertex_count;
+    memcpy(m->components, all->components, sizeof *m->components * all->component_count);
+    for (uint32_t c = 0; c < cards->component_count; c++) {
+        m->components[all->component_count + c] = cards->components[c];
+        m->components[all->component_count + c].first_index += all->index_count;
+    }
+    uint32_t component = 0;
+    for (int l = 0; l < chain->count; l++) {
+        const uint32_t n = ht_lod_chain_mesh(chain, l)->component_count;
+        out->levels[l] = (ht_lod_range){ HT_LOD_KIND_STRANDS, 1u << l, chain->first[l], chain->index_count[l], component, n };
+        component += n;
+    }
+    out->level_count = chain->count;
+    if (cards->component_count)
+        out->levels[out->level_count++] = (ht_lod_range){ HT_LOD_KIND_CARDS, strands_per_card, all->index_count,
+                                                          cards->index_count, all->component_count,
+                                                          cards->component_count };
+    return HT_OK;
+}
+
+bool ht_lods_manifest_add(cJSON *manifest, const void *lods, size_t size) {
+    cJSON *sums = cJSON_GetObjectItemCaseSensitive(manifest, HT_MANIFEST_KEY_FILE_SUMS);
+    if (cJSON_IsObject(sums) && !ht_bundle_sums_set(sums, HT_LOD_FILE_NAME, lods, size)) return false;
+    cJSON_DeleteItemFromObjectCaseSensitive(manifest, "lod_file");
+    return cJSON_AddStringToObject(manifest, "lod_file", HT_LOD_FILE_NAME) != NULL;
+}
+
+static ht_result write_file(const char *dir, const char *name, const void *data, size_t size, char *err,
+                            size_t err_size) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "wb");
+    const bool ok = f && fwrite(data, 1, size, f) == size;
+    const bool closed = f && fclose(f) == 0;
+    return ok && closed ? HT_OK : ht_fail(err, err_size, HT_ERR_IO, "%s: %s", path, strerror(errno));
+}
+
+/* dir's manifest with lods.bin listed (ht_lods_manifest_add). */
+static ht_result add_to_manifest(const char *dir, const void *lods, size_t size, char *err, size_t err_size) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", dir, HT_MANIFEST_FILE);
+    char *text = ht_file_read_text(path, HT_FILE_MAX_JSON, err, err_size);
+    if (!text) return HT_ERR_IO;
+    cJSON *root = cJSON_Parse(text);
+    free(text);
+    char *out = root && ht_lods_manifest_add(root, lods, size) ? cJSON_Print(root) : NULL;
+    cJSON_Delete(root);
+    if (!out) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: lod_file: out of memory", path);
+    FILE *f = fopen(path, "wb");
+    const bool ok = f && fputs(out, f) >= 0 && fputc('\n', f) != EOF;
+    const bool closed = f && fclose(f) == 0;
+    const ht_result r = ok && closed ? HT_OK : ht_fail(err, err_size, HT_ERR_IO, "%s: %s", path, strerror(errno));
+    cJSON_free(out);
+    return r;
+}
+
+ht_result ht_lods_store(const char *dir, const ht_scene *scene, const char *scene_path, char *err, size_t err_size) {
+    ht_mesh hair = { 0 };
+    ht_lod_chain chain = { 0 };
+    ht_lod_file ladder = { 0 };
+    unsigned char *bytes = NULL;
+    size_t size = 0;
+    char why[1024];
+    ht_result r = ht_scene_build_meshes(scene, scene_path ? scene_path : "<scene>", &hair, NULL, why, sizeof why);
+    if (r != HT_OK) ht_set_error(err, err_size, "%s: %s", HT_LOD_FILE_NAME, why);
+    if (r == HT_OK && (r = ht_lod_chain_build(&hair, &chain)) != HT_OK)
+        ht_fail(err, err_size, r, "%s/%s: the strand levels: %s", dir, HT_LOD_FILE_NAME, ht_result_string(r));
+    if (r == HT_OK && (r = ht_lods_ladder(&chain, NULL, 0, &ladder)) == HT_OK &&
+        (r = ht_lod_file_encode(&ladder, &bytes, &size)) != HT_OK)
+        ht_fail(err, err_size, r, "%s/%s: cannot encode the levels (%s)", dir, HT_LOD_FILE_NAME, ht_result_string(r));
+    if (r == HT_OK) r = write_file(dir, HT_LOD_FILE_NAME, bytes, size, err, err_size);
+    if (r == HT_OK) r = add_to_manifest(dir, bytes, size, err, err_size);
+    free(bytes);
+    ht_lod_file_free(&ladder);
+    ht_lod_chain_free(&chain);
+    ht_mesh_free(&hair);
+    return r;
+}
