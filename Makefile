@@ -272,11 +272,12 @@ RUN_TEST = HAIRTIER_BUILD=$(BUILD) tests/run_test.sh
 
 # Bundles several render tests share, MATERIAL/SCENE (tests/support_scratch.h,
 # ht_test_fixture_bundle): a Marschner material's bake and fit cost about 2 s
-# a bundle, built once here instead of once per test run.
+# a bundle, built once here instead of once per test run. No stored levels
+# (--no-lods): no test drawing them needs them.
 FIXTURE_BUNDLES := $(addprefix $(BUILD)/fixtures/brown-marschner/,backlit furball patches ratboy)
 $(BUILD)/fixtures/%: $(HAIRGEN) $(wildcard materials/*.json scenes/*.json)
 	@rm -rf $@ && mkdir -p $(dir $@)
-	@$(HAIRGEN) -q materials/$(notdir $(patsubst %/,%,$(dir $*))).json --scene scenes/$(notdir $*).json -o $@
+	@$(HAIRGEN) -q materials/$(notdir $(patsubst %/,%,$(dir $*))).json --scene scenes/$(notdir $*).json --no-lods -o $@
 
 $(foreach t,$(PROGRAM_TESTS),$(eval $(TEST_RESULTS)/$(t).llvmpipe $(TEST_RESULTS)/$(t).softpipe \
   $(TEST_RESULTS)/$(t).egl: $(HAIRGEN) $(PROGRAMS)))
