@@ -70,6 +70,28 @@ static void round_trip(void **state) {
     ht_mesh_free(&full);
 }
 
+/* ht_lod_file_matches: its level 0 is the mesh it was made from, not one
+   with a vertex moved nor another fur ball. */
+static void matches_only_its_own_mesh(void **state) {
+    (void)state;
+    ht_mesh full, other;
+    ht_lod_chain chain;
+    ht_lod_file f;
+    make_ladder(&full, &chain, &f);
+    assert_true(ht_lod_file_matches(&f, &full));
+    full.vertices[full.vertex_count / 2].position[1] += 1e-3f;
+    assert_false(ht_lod_file_matches(&f, &full));
+    full.vertices[full.vertex_count / 2].position[1] -= 1e-3f;
+    full.vertices[full.vertex_count / 2].uv[0] += 0.25f; /* a cards atlas moves uv only */
+    assert_true(ht_lod_file_matches(&f, &full));
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 299, .joints = 6 }, &other), HT_OK);
+    ht_mesh_sort_inside_out(&other);
+    assert_false(ht_lod_file_matches(&f, &other));
+    ht_mesh_free(&other);
+    ht_lod_chain_free(&chain);
+    ht_mesh_free(&full);
+}
+
 static void put32(unsigned char *p, uint32_t v) {
     for (int i = 0; i < 4; i++) p[i] = (unsigned char)(v >> (8 * i));
 }
@@ -144,6 +166,7 @@ static void hostile_files_refused(void **state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(round_trip),
+        cmocka_unit_test(matches_only_its_own_mesh),
         cmocka_unit_test(hostile_files_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
