@@ -348,13 +348,15 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
                 hair->component_count, ladder ? ", the levels lods.bin stores" : "");
         return 1;
     }
-    if (ladder || level > 0) {
+    /* a plain bundle's level 0 is not stored: the scene's mesh is it */
+    const bool stored = ladder && ladder->levels[level].kind != HT_LOD_KIND_SCENE;
+    if (stored || (!ladder && level > 0)) {
         ht_lod_desc desc;
         ht_mesh lod;
         ht_lod_level(level, &desc);
-        ht_result r = ladder ? ht_lod_file_level_mesh(ladder, level, &lod) : ht_mesh_build_lod(hair, &desc, &lod);
+        ht_result r = stored ? ht_lod_file_level_mesh(ladder, level, &lod) : ht_mesh_build_lod(hair, &desc, &lod);
         if (r != HT_OK) {
-            fprintf(stderr, "hairview: %s: geometry: cannot %s LOD %d: %s\n", o->view.scene, ladder ? "read" : "build",
+            fprintf(stderr, "hairview: %s: geometry: cannot %s LOD %d: %s\n", o->view.scene, stored ? "read" : "build",
                     level, ht_result_string(r));
             return 1;
         }
@@ -364,7 +366,10 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
     printf("lod=%d strands=%u strand_px=%.3f", level, hair->component_count, px);
     if (ladder)
         printf(" stored kind=%s param=%u components=%u",
-               ladder->levels[level].kind == HT_LOD_KIND_CARDS ? "cards" : "strands", ladder->levels[level].param,
+               ladder->levels[level].kind == HT_LOD_KIND_CARDS ? "cards"
+               : stored                                        ? "strands"
+                                                               : "scene",
+               ladder->levels[level].param,
                hair->component_count);
     printf("\n");
     return 0;

@@ -256,7 +256,7 @@ ht_result ht_cards_bundle_write_mesh(const char *bundle_dir, const ht_mesh *hair
         place_material(&albedo, &cards.albedo);
         if (detail.pixels) place_material(&detail, &cards.detail);
         strand_uv(&chain.all, albedo.width, albedo.height, atlas_size, atlas_size);
-        if ((r = ht_lods_ladder(&chain, &cards.mesh, strands_per_card, &ladder)) != HT_OK)
+        if ((r = ht_lods_ladder(&chain, true, &cards.mesh, strands_per_card, &ladder)) != HT_OK)
             ht_fail(err, err_size, r, "%s: the ladder: %s", out_dir, ht_result_string(r));
     }
     if (r == HT_OK) {

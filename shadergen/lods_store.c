@@ -12,39 +12,47 @@
 #include "manifest.h"
 #include "mesh_internal.h"
 
-ht_result ht_lods_ladder(const ht_lod_chain *chain, const ht_mesh *cards, uint32_t strands_per_card,
+ht_result ht_lods_ladder(const ht_lod_chain *chain, bool store_level0, const ht_mesh *cards, uint32_t strands_per_card,
                          ht_lod_file *out) {
     memset(out, 0, sizeof *out);
     static const ht_mesh none = { 0 };
     if (!cards) cards = &none;
-    const ht_mesh *all = &chain->all;
-    ht_result r = ht_mesh_alloc(&out->mesh, (uint64_t)all->vertex_count + cards->vertex_count,
-                                (uint64_t)all->index_count + cards->index_count,
-                                (uint64_t)all->component_count + cards->component_count);
+    const ht_mesh *all = &chain->all, *full = chain->full;
+    /* Level 0 is the first full->vertex_count vertices, chain->index_count[0]
+       indices and full->component_count components of all. */
+    const uint32_t skip_v = store_level0 ? 0 : full->vertex_count, skip_i = store_level0 ? 0 : chain->index_count[0];
+    const uint32_t skip_c = store_level0 ? 0 : full->component_count;
+    const uint32_t nv = all->vertex_count - skip_v, ni = all->index_count - skip_i, nc = all->component_count - skip_c;
+    ht_result r = ht_mesh_alloc(&out->mesh, (uint64_t)nv + cards->vertex_count, (uint64_t)ni + cards->index_count,
+                                (uint64_t)nc + cards->component_count);
     if (r != HT_OK) return r;
     ht_mesh *m = &out->mesh;
     memcpy(m->center, all->center, sizeof m->center);
-    memcpy(m->vertices, all->vertices, sizeof *m->vertices * all->vertex_count);
-    if (cards->vertex_count)
-        memcpy(m->vertices + all->vertex_count, cards->vertices, sizeof *m->vertices * cards->vertex_count);
-    memcpy(m->indices, all->indices, sizeof *m->indices * all->index_count);
-    for (uint32_t i = 0; i < cards->index_count; i++) m->indices[all->index_count + i] = cards->indices[i] + all->vertex_count;
-    memcpy(m->components, all->components, sizeof *m->components * all->component_count);
+    memcpy(m->vertices, all->vertices + skip_v, sizeof *m->vertices * nv);
+    if (cards->vertex_count) memcpy(m->vertices + nv, cards->vertices, sizeof *m->vertices * cards->vertex_count);
+    for (uint32_t i = 0; i < ni; i++) m->indices[i] = all->indices[skip_i + i] - skip_v;
+    for (uint32_t i = 0; i < cards->index_count; i++) m->indices[ni + i] = cards->indices[i] + nv;
+    for (uint32_t c = 0; c < nc; c++) {
+        m->components[c] = all->components[skip_c + c];
+        m->components[c].first_index -= skip_i;
+    }
     for (uint32_t c = 0; c < cards->component_count; c++) {
-        m->components[all->component_count + c] = cards->components[c];
-        m->components[all->component_count + c].first_index += all->index_count;
+        m->components[nc + c] = cards->components[c];
+        m->components[nc + c].first_index += ni;
     }
     uint32_t component = 0;
     for (int l = 0; l < chain->count; l++) {
         const uint32_t n = ht_lod_chain_mesh(chain, l)->component_count;
-        out->levels[l] = (ht_lod_range){ HT_LOD_KIND_STRANDS, 1u << l, chain->first[l], chain->index_count[l], component, n };
-        component += n;
+        out->levels[l] = l || store_level0 ? (ht_lod_range){ HT_LOD_KIND_STRANDS, 1u << l, chain->first[l] - skip_i,
+                                                             chain->index_count[l], component, n }
+                                           : (ht_lod_range){ HT_LOD_KIND_SCENE, 1, 0, 0, 0, 0 };
+        component += l || store_level0 ? n : 0;
     }
     out->level_count = chain->count;
     if (cards->component_count)
-        out->levels[out->level_count++] = (ht_lod_range){ HT_LOD_KIND_CARDS, strands_per_card, all->index_count,
-                                                          cards->index_count, all->component_count,
-                                                          cards->component_count };
+        out->levels[out->level_count++] = (ht_lod_range){ HT_LOD_KIND_CARDS, strands_per_card, ni, cards->index_count,
+                                                          nc, cards->component_count };
+    ht_lod_file_set_scene(out, full);
     return HT_OK;
 }
 
@@ -95,7 +103,7 @@ ht_result ht_lods_store(const char *dir, const ht_scene *scene, const char *scen
     if (r != HT_OK) ht_set_error(err, err_size, "%s: %s", HT_LOD_FILE_NAME, why);
     if (r == HT_OK && (r = ht_lod_chain_build(&hair, &chain)) != HT_OK)
         ht_fail(err, err_size, r, "%s/%s: the strand levels: %s", dir, HT_LOD_FILE_NAME, ht_result_string(r));
-    if (r == HT_OK && (r = ht_lods_ladder(&chain, NULL, 0, &ladder)) == HT_OK &&
+    if (r == HT_OK && (r = ht_lods_ladder(&chain, false, NULL, 0, &ladder)) == HT_OK &&
         (r = ht_lod_file_encode(&ladder, &bytes, &size)) != HT_OK)
         ht_fail(err, err_size, r, "%s/%s: cannot encode the levels (%s)", dir, HT_LOD_FILE_NAME, ht_result_string(r));
     if (r == HT_OK) r = write_file(dir, HT_LOD_FILE_NAME, bytes, size, err, err_size);

@@ -19,8 +19,10 @@
 
 /* Every strand level of chain (ht_lod_chain_build's), then, when cards is
    not NULL, the cards (one component a card, strands_per_card their
-   param), in one buffer. */
-ht_result ht_lods_ladder(const ht_lod_chain *chain, const ht_mesh *cards, uint32_t strands_per_card,
+   param), in one buffer, with the scene's fingerprint (chain->full's).
+   store_level0 false: level 0 is not stored (HT_LOD_KIND_SCENE: the
+   reader has the scene's mesh; 66-80 % of a shipped scene's bytes). */
+ht_result ht_lods_ladder(const ht_lod_chain *chain, bool store_level0, const ht_mesh *cards, uint32_t strands_per_card,
                          ht_lod_file *out);
 
 /* manifest's file_sums gain lods.bin's bytes and the top level

@@ -154,9 +154,12 @@ static ht_result stored_levels(const char *dir, lod_levels *levels, char *err, s
         return ht_fail(err, err_size, HT_ERR_PARSE, "measure: lods: %s", why);
     ht_result r = HT_OK;
     if (ht_lod_file_matches(&f, &levels->mesh[0])) {
-        ht_mesh_free(&levels->mesh[0]);
         for (int l = 0; l < f.level_count && r == HT_OK; l++) {
-            r = ht_lod_file_level_mesh(&f, l, &levels->mesh[l]);
+            /* level 0 not stored (a plain bundle's): mesh[0], the scene's, is it */
+            if (f.levels[l].kind != HT_LOD_KIND_SCENE) {
+                ht_mesh_free(&levels->mesh[l]);
+                r = ht_lod_file_level_mesh(&f, l, &levels->mesh[l]);
+            }
             levels->cards[l] = f.levels[l].kind == HT_LOD_KIND_CARDS;
             levels->count = l + 1;
         }

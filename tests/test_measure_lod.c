@@ -1,7 +1,7 @@
 /* test_measure_lod — a bundle's stored levels and their measured cells.
    Plain hairgen --scene stores the scene's strand levels (lods.bin,
-   listed in file_sums): the ladder ht_mesh_build_lod builds, level 0 the
-   scene's mesh; --no-lods stores none; hairview draws a stored level, and
+   listed in file_sums): the ladder ht_mesh_build_lod builds, level 0 not
+   stored (the scene's mesh); --no-lods stores none; hairview draws a stored level, and
    builds the levels of another scene. --measure-lods (ht_measure_lods_run)
    on a cards bundle writes the manifest's "lods": every (stored level,
    tier) pair, the cards too, at 1, 1/2 and 1/4 of the scene's size,
@@ -87,14 +87,19 @@ static void plain_hairgen_stores_the_strand_levels(void **state) {
     assert_int_equal(ht_lod_max_level(&mesh) + 1, STRAND_LEVELS);
     assert_true(ht_lod_file_matches(&f, &mesh));
     for (int l = 0; l < f.level_count; l++) {
-        ht_mesh stored, built = { 0 };
+        ht_mesh stored, built;
         ht_lod_desc d;
         ht_lod_level(l, &d);
-        assert_int_equal(f.levels[l].kind, HT_LOD_KIND_STRANDS);
         assert_int_equal(f.levels[l].param, 1u << l);
+        if (l == 0) { /* the scene's mesh: not stored */
+            assert_int_equal(f.levels[0].kind, HT_LOD_KIND_SCENE);
+            assert_int_equal(f.levels[0].index_count, 0);
+            continue;
+        }
+        assert_int_equal(f.levels[l].kind, HT_LOD_KIND_STRANDS);
         assert_int_equal(ht_lod_file_level_mesh(&f, l, &stored), HT_OK);
-        if (l) assert_int_equal(ht_mesh_build_lod(&mesh, &d, &built), HT_OK);
-        const ht_mesh *want = l ? &built : &mesh; /* level 0: the scene's mesh itself */
+        assert_int_equal(ht_mesh_build_lod(&mesh, &d, &built), HT_OK);
+        const ht_mesh *want = &built;
         assert_int_equal(stored.vertex_count, want->vertex_count);
         assert_int_equal(stored.index_count, want->index_count);
         assert_int_equal(stored.component_count, want->component_count);
