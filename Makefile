@@ -408,7 +408,7 @@ fuzz-seeds: $(HAIRGEN)
 	  $(FUZZ_BUILD)/seeds/fuzz_manifest $(FUZZ_BUILD)/seeds/fuzz_combiner $(FUZZ_BUILD)/seeds/fuzz_png \
 	  $(FUZZ_BUILD)/seeds/fuzz_json $(FUZZ_BUILD)/seeds/fuzz_fixed4 $(FUZZ_BUILD)/seeds/fuzz_gl11 \
 	  $(FUZZ_BUILD)/seeds/fuzz_strands_tfx $(FUZZ_BUILD)/seeds/fuzz_strands_hair
-	@$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json -o $(FUZZ_BUILD)/seed-bundle >/dev/null
+	@$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json --no-lods -o $(FUZZ_BUILD)/seed-bundle >/dev/null
 	@$(HAIRGEN) materials/kajiya-kay.json -o $(FUZZ_BUILD)/seed-bundle-kk >/dev/null
 	@cp materials/*.json $(FUZZ_BUILD)/seeds/fuzz_material/
 	@cp scenes/*.json $(FUZZ_BUILD)/seeds/fuzz_scene/
@@ -429,6 +429,8 @@ fuzz-seeds: $(HAIRGEN)
 	@$(HAIRGEN) --cards $(FUZZ_BUILD)/seed-bundle --scene scenes/patches.json --strands-per-card 8 \
 	  -o $(FUZZ_BUILD)/seed-cards >/dev/null
 	@cp $(FUZZ_BUILD)/seed-cards/lods.bin $(FUZZ_BUILD)/seeds/fuzz_lod_file/a.bin
+	@$(HAIRGEN) materials/dark-brown.json --scene scenes/patches.json -o $(FUZZ_BUILD)/seed-bundle-patches >/dev/null
+	@cp $(FUZZ_BUILD)/seed-bundle-patches/lods.bin $(FUZZ_BUILD)/seeds/fuzz_lod_file/b.bin
 
 # Each target for FUZZ_SECONDS; its last lines (runs, coverage, any crash)
 # go to $(FUZZ_BUILD)/TARGET.log, a summary line per target to stdout.
