@@ -85,7 +85,8 @@ static ht_result add_to_manifest(const char *dir, const void *lods, size_t size,
     cJSON_Delete(root);
     if (!out) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: lod_file: out of memory", path);
     FILE *f = fopen(path, "wb");
-    const bool ok = f && fputs(out, f) >= 0 && fputc('\n', f) != EOF;
+    /* as the generator writes it: cJSON_Print's text, no newline after */
+    const bool ok = f && fputs(out, f) >= 0;
     const bool closed = f && fclose(f) == 0;
     const ht_result r = ok && closed ? HT_OK : ht_fail(err, err_size, HT_ERR_IO, "%s: %s", path, strerror(errno));
     cJSON_free(out);
