@@ -93,25 +93,58 @@ static ht_result add_to_manifest(const char *dir, const void *lods, size_t size,
     return r;
 }
 
-ht_result ht_lods_store(const char *dir, const ht_scene *scene, const char *scene_path, char *err, size_t err_size) {
+/* lods.bin's bytes for the scene: the strand levels past 0. */
+static ht_result encode_levels(const ht_scene *scene, const char *scene_path, unsigned char **bytes, size_t *size,
+                               char *err, size_t err_size) {
     ht_mesh hair = { 0 };
     ht_lod_chain chain = { 0 };
     ht_lod_file ladder = { 0 };
-    unsigned char *bytes = NULL;
-    size_t size = 0;
     char why[1024];
     ht_result r = ht_scene_build_meshes(scene, scene_path ? scene_path : "<scene>", &hair, NULL, why, sizeof why);
     if (r != HT_OK) ht_set_error(err, err_size, "%s: %s", HT_LOD_FILE_NAME, why);
     if (r == HT_OK && (r = ht_lod_chain_build(&hair, &chain)) != HT_OK)
-        ht_fail(err, err_size, r, "%s/%s: the strand levels: %s", dir, HT_LOD_FILE_NAME, ht_result_string(r));
+        ht_fail(err, err_size, r, "%s: the strand levels: %s", HT_LOD_FILE_NAME, ht_result_string(r));
     if (r == HT_OK && (r = ht_lods_ladder(&chain, false, NULL, 0, &ladder)) == HT_OK &&
-        (r = ht_lod_file_encode(&ladder, &bytes, &size)) != HT_OK)
-        ht_fail(err, err_size, r, "%s/%s: cannot encode the levels (%s)", dir, HT_LOD_FILE_NAME, ht_result_string(r));
-    if (r == HT_OK) r = write_file(dir, HT_LOD_FILE_NAME, bytes, size, err, err_size);
-    if (r == HT_OK) r = add_to_manifest(dir, bytes, size, err, err_size);
-    free(bytes);
+        (r = ht_lod_file_encode(&ladder, bytes, size)) != HT_OK)
+        ht_fail(err, err_size, r, "%s: cannot encode the levels (%s)", HT_LOD_FILE_NAME, ht_result_string(r));
     ht_lod_file_free(&ladder);
     ht_lod_chain_free(&chain);
     ht_mesh_free(&hair);
+    return r;
+}
+
+void ht_lods_cache_init(ht_lods_cache *c) {
+    memset(c, 0, sizeof *c);
+    pthread_mutex_init(&c->lock, NULL);
+}
+
+void ht_lods_cache_free(ht_lods_cache *c) {
+    pthread_mutex_destroy(&c->lock);
+    free(c->bytes);
+    memset(c, 0, sizeof *c);
+}
+
+ht_result ht_lods_store(const char *dir, const ht_scene *scene, const char *scene_path, ht_lods_cache *cache,
+                        char *err, size_t err_size) {
+    unsigned char *own = NULL;
+    const unsigned char *bytes = NULL;
+    size_t size = 0;
+    ht_result r;
+    if (cache) {
+        pthread_mutex_lock(&cache->lock);
+        if (!cache->made)
+            cache->result = encode_levels(scene, scene_path, &cache->bytes, &cache->size, cache->err, sizeof cache->err);
+        cache->made = true;
+        pthread_mutex_unlock(&cache->lock);
+        if ((r = cache->result) != HT_OK) ht_set_error(err, err_size, "%s", cache->err);
+        bytes = cache->bytes;
+        size = cache->size;
+    } else {
+        r = encode_levels(scene, scene_path, &own, &size, err, err_size);
+        bytes = own;
+    }
+    if (r == HT_OK) r = write_file(dir, HT_LOD_FILE_NAME, bytes, size, err, err_size);
+    if (r == HT_OK) r = add_to_manifest(dir, bytes, size, err, err_size);
+    free(own);
     return r;
 }
