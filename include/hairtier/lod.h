@@ -182,7 +182,9 @@ HT_API int ht_lod_pick_frame(const ht_lod_cell *cells, int count, double size, d
    to NULL so the next select uploads `all` again.
    ht_lod_chain_from_file takes the levels a bundle stores instead (its
    lods.bin, hairgen --cards: the strand levels, then the cards, whose
-   best-rule level is one past the last strand level's). */
+   best-rule level is one past the last strand level's);
+   ht_lod_chain_from_scene_file those of a plain hairgen --scene bundle,
+   whose level 0 is the scene's mesh, not stored. */
 typedef struct ht_renderer ht_renderer;
 typedef struct ht_lod_chain {
     const ht_mesh *full;
