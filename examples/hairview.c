@@ -297,10 +297,10 @@ static double reference_ms(const options *o, const view *v, const ht_scene *s, c
    made to draw its tier; else (-1) the best rule decides the level. */
 static int auto_pair(const options *o, view *v, const ht_scene *s, const ht_frame_desc *f, const ht_policy *policy,
                      double size, int max_level, int *level) {
-    ht_lod_cell cells[128];
+    ht_lod_cell cells[160]; /* the manifest holds at most 144 (3 sizes x 8 stored levels x 6 tiers) */
     *level = -1;
     const bool rule = policy->kind == HT_POLICY_ERROR || policy->kind == HT_POLICY_FRAME;
-    const int n = rule && !o->flat ? ht_renderer_lod_cells(v->renderer, cells, 128) : 0;
+    const int n = rule && !o->flat ? ht_renderer_lod_cells(v->renderer, cells, 160) : 0;
     int ref = -1;
     for (int i = 0; i < n; i++)
         if (cells[i].lod == 0 && isinf(cells[i].psnr)) ref = i;

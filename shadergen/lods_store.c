@@ -59,8 +59,8 @@ ht_result ht_lods_ladder(const ht_lod_chain *chain, bool store_level0, const ht_
 bool ht_lods_manifest_add(cJSON *manifest, const void *lods, size_t size) {
     cJSON *sums = cJSON_GetObjectItemCaseSensitive(manifest, HT_MANIFEST_KEY_FILE_SUMS);
     if (cJSON_IsObject(sums) && !ht_bundle_sums_set(sums, HT_LOD_FILE_NAME, lods, size)) return false;
-    cJSON_DeleteItemFromObjectCaseSensitive(manifest, "lod_file");
-    return cJSON_AddStringToObject(manifest, "lod_file", HT_LOD_FILE_NAME) != NULL;
+    cJSON_DeleteItemFromObjectCaseSensitive(manifest, HT_MANIFEST_KEY_LOD_FILE);
+    return cJSON_AddStringToObject(manifest, HT_MANIFEST_KEY_LOD_FILE, HT_LOD_FILE_NAME) != NULL;
 }
 
 static ht_result write_file(const char *dir, const char *name, const void *data, size_t size, char *err,
@@ -83,7 +83,7 @@ static ht_result add_to_manifest(const char *dir, const void *lods, size_t size,
     free(text);
     char *out = root && ht_lods_manifest_add(root, lods, size) ? cJSON_Print(root) : NULL;
     cJSON_Delete(root);
-    if (!out) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: lod_file: out of memory", path);
+    if (!out) return ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: " HT_MANIFEST_KEY_LOD_FILE ": out of memory", path);
     FILE *f = fopen(path, "wb");
     /* as the generator writes it: cJSON_Print's text, no newline after */
     const bool ok = f && fputs(out, f) >= 0;

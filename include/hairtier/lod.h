@@ -138,12 +138,11 @@ typedef enum ht_lod_kind { HT_LOD_KIND_STRANDS = 0, HT_LOD_KIND_CARDS = 1, HT_LO
    cells): PSNR against (LOD 0, top tier) at that size and the frame cost
    as a ratio of it. */
 typedef struct ht_lod_cell {
-    int lod;
+    int lod;       /* the level; a bundle's stored cards: their index in lods.bin */
     ht_tier tier;
     double size;   /* projected size / the scene's, e.g. 1, 0.5, 0.25 */
     double psnr;   /* dB; INFINITY for the reference itself */
     double cost;   /* frame time / the reference's */
-    ht_lod_kind kind; /* strands, or the stored cards level (lod: its index in lods.bin) */
 } ht_lod_cell;
 
 /* The `error:DB` rule: among the cells measured at the size nearest `size`

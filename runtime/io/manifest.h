@@ -117,6 +117,7 @@ _Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader r
 #define HT_MANIFEST_KEY_SIZE "size"
 #define HT_MANIFEST_KEY_POP_PSNR_DB "pop_psnr_db"
 #define HT_MANIFEST_KEY_LOD_KIND "kind"
+#define HT_MANIFEST_KEY_LOD_FILE "lod_file" /* a bundle storing levels: "lods.bin" (the runtime does not read it) */
 #define HT_MANIFEST_MAX_LOD_CELLS 144 /* 3 sizes x 8 stored levels x 6 tiers */
 /* Limits of a measured object's numbers. */
 #define HT_MANIFEST_MAX_PSNR_DB 1000.0

@@ -12,8 +12,7 @@ int ht_renderer_lod_cells(const ht_renderer *r, ht_lod_cell *out, int max) {
         const ht_tier tier = ht_tier_from_name(l->cells[i].tier);
         if (tier == HT_TIER_COUNT) continue; /* a tier this runtime does not know */
         out[n++] = (ht_lod_cell){ .lod = l->cells[i].level, .tier = tier, .size = l->cells[i].size,
-                                  .psnr = l->cells[i].psnr_db, .cost = l->cells[i].cost_ratio,
-                                  .kind = l->cells[i].cards ? HT_LOD_KIND_CARDS : HT_LOD_KIND_STRANDS };
+                                  .psnr = l->cells[i].psnr_db, .cost = l->cells[i].cost_ratio };
     }
     return n;
 }
