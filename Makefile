@@ -272,11 +272,12 @@ RUN_TEST = HAIRTIER_BUILD=$(BUILD) tests/run_test.sh
 
 # Bundles several render tests share, MATERIAL/SCENE (tests/support_scratch.h,
 # ht_test_fixture_bundle): a Marschner material's bake and fit cost about 2 s
-# a bundle, built once here instead of once per test run.
+# a bundle, built once here instead of once per test run. No stored levels
+# (--no-lods): no test drawing them needs them.
 FIXTURE_BUNDLES := $(addprefix $(BUILD)/fixtures/brown-marschner/,backlit furball patches ratboy)
 $(BUILD)/fixtures/%: $(HAIRGEN) $(wildcard materials/*.json scenes/*.json)
 	@rm -rf $@ && mkdir -p $(dir $@)
-	@$(HAIRGEN) -q materials/$(notdir $(patsubst %/,%,$(dir $*))).json --scene scenes/$(notdir $*).json -o $@
+	@$(HAIRGEN) -q materials/$(notdir $(patsubst %/,%,$(dir $*))).json --scene scenes/$(notdir $*).json --no-lods -o $@
 
 $(foreach t,$(PROGRAM_TESTS),$(eval $(TEST_RESULTS)/$(t).llvmpipe $(TEST_RESULTS)/$(t).softpipe \
   $(TEST_RESULTS)/$(t).egl: $(HAIRGEN) $(PROGRAMS)))
@@ -407,7 +408,7 @@ fuzz-seeds: $(HAIRGEN)
 	  $(FUZZ_BUILD)/seeds/fuzz_manifest $(FUZZ_BUILD)/seeds/fuzz_combiner $(FUZZ_BUILD)/seeds/fuzz_png \
 	  $(FUZZ_BUILD)/seeds/fuzz_json $(FUZZ_BUILD)/seeds/fuzz_fixed4 $(FUZZ_BUILD)/seeds/fuzz_gl11 \
 	  $(FUZZ_BUILD)/seeds/fuzz_strands_tfx $(FUZZ_BUILD)/seeds/fuzz_strands_hair
-	@$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json -o $(FUZZ_BUILD)/seed-bundle >/dev/null
+	@$(HAIRGEN) materials/dark-brown.json --scene scenes/furball.json --no-lods -o $(FUZZ_BUILD)/seed-bundle >/dev/null
 	@$(HAIRGEN) materials/kajiya-kay.json -o $(FUZZ_BUILD)/seed-bundle-kk >/dev/null
 	@cp materials/*.json $(FUZZ_BUILD)/seeds/fuzz_material/
 	@cp scenes/*.json $(FUZZ_BUILD)/seeds/fuzz_scene/
@@ -428,6 +429,8 @@ fuzz-seeds: $(HAIRGEN)
 	@$(HAIRGEN) --cards $(FUZZ_BUILD)/seed-bundle --scene scenes/patches.json --strands-per-card 8 \
 	  -o $(FUZZ_BUILD)/seed-cards >/dev/null
 	@cp $(FUZZ_BUILD)/seed-cards/lods.bin $(FUZZ_BUILD)/seeds/fuzz_lod_file/a.bin
+	@$(HAIRGEN) materials/dark-brown.json --scene scenes/patches.json -o $(FUZZ_BUILD)/seed-bundle-patches >/dev/null
+	@cp $(FUZZ_BUILD)/seed-bundle-patches/lods.bin $(FUZZ_BUILD)/seeds/fuzz_lod_file/b.bin
 
 # Each target for FUZZ_SECONDS; its last lines (runs, coverage, any crash)
 # go to $(FUZZ_BUILD)/TARGET.log, a summary line per target to stdout.

@@ -303,10 +303,10 @@ static double reference_ms(const options *o, const view *v, const ht_scene *s, c
    made to draw its tier; else (-1) the best rule decides the level. */
 static int auto_pair(const options *o, view *v, const ht_scene *s, const ht_frame_desc *f, const ht_policy *policy,
                      double size, int max_level, int *level) {
-    ht_lod_cell cells[128];
+    ht_lod_cell cells[160]; /* the manifest holds at most 144 (3 sizes x 8 stored levels x 6 tiers) */
     *level = -1;
     const bool rule = policy->kind == HT_POLICY_ERROR || policy->kind == HT_POLICY_FRAME;
-    const int n = rule && !o->flat ? ht_renderer_lod_cells(v->renderer, cells, 128) : 0;
+    const int n = rule && !o->flat ? ht_renderer_lod_cells(v->renderer, cells, 160) : 0;
     int ref = -1;
     for (int i = 0; i < n; i++)
         if (cells[i].lod == 0 && isinf(cells[i].psnr)) ref = i;
@@ -326,38 +326,58 @@ static int auto_pair(const options *o, view *v, const ht_scene *s, const ht_fram
 
 /* Replaces the full mesh by the level --lod asks for (auto: the pair rule
    above, else lod.h's best rule at the camera's distance to the target)
-   and prints what it drew; *paired: the pair rule chose the tier too. */
+   and prints what it drew; *paired: the pair rule chose the tier too.
+   ladder (NULL: none): the bundle's stored levels (lods.bin) for this
+   scene, every level drawn is the file's (--cards: its cards level). */
 static int choose_lod(const options *o, const ht_scene *s, double scene_distance, view *v, const ht_frame_desc *f,
-                      const ht_policy *policy, bool *paired) {
+                      const ht_policy *policy, const ht_lod_file *ladder, bool *paired) {
     ht_mesh *hair = &v->hair;
     const double d = eye_distance(s);
     const double px = ht_projected_width_px(ht_mesh_mean_width(hair), d, s->camera.fov_y, s->height / o->supersample);
-    const int max_level = ht_lod_max_level(hair);
+    const int max_level = ladder ? ladder->level_count - 1 : ht_lod_max_level(hair);
     int level = o->lod;
     *paired = false;
-    if (o->lod < 0) {
+    if (o->cards) {
+        for (level = 0; level <= max_level && ladder->levels[level].kind != HT_LOD_KIND_CARDS; level++) {}
+        if (level > max_level) {
+            fprintf(stderr, "hairview: --cards: %s/%s stores no cards (make the bundle with hairgen --cards)\n",
+                    o->view.bundle, HT_LOD_FILE_NAME);
+            return 1;
+        }
+    } else if (o->lod < 0) {
         if (auto_pair(o, v, s, f, policy, o->size * scene_distance / d, max_level, &level)) return 1;
         *paired = level >= 0;
         if (level < 0) level = ht_lod_pick_best(px, -1, max_level);
     }
     if (level > max_level) {
-        fprintf(stderr, "hairview: --lod: %d is past this scene's last level %d (%u strands)\n", level, max_level,
-                hair->component_count);
+        fprintf(stderr, "hairview: --lod: %d is past this scene's last level %d (%u strands%s)\n", level, max_level,
+                hair->component_count, ladder ? ", the levels lods.bin stores" : "");
         return 1;
     }
-    if (level > 0) {
+    /* a plain bundle's level 0 is not stored: the scene's mesh is it */
+    const bool stored = ladder && ladder->levels[level].kind != HT_LOD_KIND_SCENE;
+    if (stored || (!ladder && level > 0)) {
         ht_lod_desc desc;
         ht_mesh lod;
         ht_lod_level(level, &desc);
-        ht_result r = ht_mesh_build_lod(hair, &desc, &lod);
+        ht_result r = stored ? ht_lod_file_level_mesh(ladder, level, &lod) : ht_mesh_build_lod(hair, &desc, &lod);
         if (r != HT_OK) {
-            fprintf(stderr, "hairview: %s: geometry: cannot build LOD %d: %s\n", o->view.scene, level, ht_result_string(r));
+            fprintf(stderr, "hairview: %s: geometry: cannot %s LOD %d: %s\n", o->view.scene, stored ? "read" : "build",
+                    level, ht_result_string(r));
             return 1;
         }
         ht_mesh_free(hair);
         *hair = lod;
     }
-    printf("lod=%d strands=%u strand_px=%.3f\n", level, hair->component_count, px);
+    printf("lod=%d strands=%u strand_px=%.3f", level, hair->component_count, px);
+    if (ladder)
+        printf(" stored kind=%s param=%u components=%u",
+               ladder->levels[level].kind == HT_LOD_KIND_CARDS ? "cards"
+               : stored                                        ? "strands"
+                                                               : "scene",
+               ladder->levels[level].param,
+               hair->component_count);
+    printf("\n");
     return 0;
 }
 
@@ -383,46 +403,37 @@ static int apply_width_rule(const options *o, const ht_scene *s, ht_renderer *r,
     return 0;
 }
 
-/* A bundle that stores its levels (lods.bin, hairgen --cards: its
-   textures are an atlas, so the scene's own mesh would sample the wrong
-   texels): every level drawn is the file's. --cards: the cards level;
-   --lod N: level N; auto: the best rule over all of them (the cards one
-   past the last strand level). */
-static int use_stored_levels(const options *o, const ht_scene *s, const char *path, ht_mesh *hair) {
-    char err[512];
-    ht_lod_file ladder;
-    if (ht_lod_file_read(path, &ladder, err, sizeof err) != HT_OK) {
+/* The bundle's stored levels (lods.bin), when it has them and they are
+   this scene's (their level 0 is the scene's mesh): *has set. A stored
+   ladder of another scene is left for the levels built at run time, but
+   one holding cards is refused (the bundle's textures are their atlas,
+   which the scene's own mesh would sample wrongly). */
+static int read_stored_levels(const options *o, const ht_mesh *hair, ht_lod_file *ladder, bool *has) {
+    char path[4200], err[512];
+    snprintf(path, sizeof path, "%s/%s", o->view.bundle, HT_LOD_FILE_NAME);
+    *has = false;
+    if (access(path, F_OK) != 0) {
+        if (!o->cards) return 0;
+        fprintf(stderr, "hairview: --cards: %s: absent (make the bundle with hairgen --cards)\n", path);
+        return 1;
+    }
+    if (ht_lod_file_read(path, ladder, err, sizeof err) != HT_OK) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
-    ht_mesh full;
-    ht_result r = ht_lod_file_level_mesh(&ladder, 0, &full);
-    const double px = r == HT_OK ? ht_projected_width_px(ht_mesh_mean_width(&full), eye_distance(s), s->camera.fov_y,
-                                                         s->height / o->supersample)
-                                 : 0;
-    ht_mesh_free(&full);
-    int level = o->lod < 0 ? ht_lod_pick_best(px, -1, ladder.level_count - 1) : o->lod;
-    if (o->cards)
-        for (level = 0; level < ladder.level_count && ladder.levels[level].kind != HT_LOD_KIND_CARDS; level++) {}
-    if (r == HT_OK && level >= ladder.level_count) {
-        fprintf(stderr, "hairview: %s: %s: no level %d (%d stored)\n", path, o->cards ? "--cards" : "--lod", level,
-                ladder.level_count);
-        ht_lod_file_free(&ladder);
+    if (ht_lod_file_matches(ladder, hair)) {
+        *has = true;
+        return 0;
+    }
+    bool cards = false;
+    for (int l = 0; l < ladder->level_count; l++) cards = cards || ladder->levels[l].kind == HT_LOD_KIND_CARDS;
+    ht_lod_file_free(ladder);
+    if (cards || o->cards) {
+        fprintf(stderr, "hairview: %s: its level 0 is not %s's mesh: these cards are another scene's\n", path,
+                o->view.scene);
         return 1;
     }
-    ht_mesh mesh;
-    if (r == HT_OK) r = ht_lod_file_level_mesh(&ladder, level, &mesh);
-    if (r != HT_OK) {
-        fprintf(stderr, "hairview: %s: level %d: %s\n", path, level, ht_result_string(r));
-        ht_lod_file_free(&ladder);
-        return 1;
-    }
-    printf("lod=%d kind=%s param=%u components=%u strand_px=%.3f\n", level,
-           ladder.levels[level].kind == HT_LOD_KIND_CARDS ? "cards" : "strands", ladder.levels[level].param,
-           mesh.component_count, px);
-    ht_lod_file_free(&ladder);
-    ht_mesh_free(hair);
-    *hair = mesh;
+    printf("stored_levels: %s is another scene's; levels built from %s\n", path, o->view.scene);
     return 0;
 }
 
@@ -430,24 +441,12 @@ static int use_stored_levels(const options *o, const ht_scene *s, const char *pa
    the (level, tier) pair re-picked every frame by the policy (error:DB,
    frame:MS with a bundle's measured cells; else best) through one
    ht_lod_chain in one renderer; prints each switch and the mean frame. */
-static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, const char *stored,
+static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, const ht_lod_file *ladder,
                  const ht_policy *policy, ht_frame_desc *frame, double *frame_ms) {
     ht_lod_chain chain;
-    ht_lod_file ladder;
-    char err[512];
-    ht_result r;
-    if (stored) {
-        if (ht_lod_file_read(stored, &ladder, err, sizeof err) != HT_OK) {
-            fprintf(stderr, "hairview: %s\n", err);
-            return 1;
-        }
-        r = ht_lod_chain_from_file(&ladder, &chain);
-        ht_lod_file_free(&ladder);
-    } else {
-        r = ht_lod_chain_build(&v->hair, &chain);
-    }
+    ht_result r = ladder ? ht_lod_chain_from_scene_file(ladder, &v->hair, &chain) : ht_lod_chain_build(&v->hair, &chain);
     if (r != HT_OK) {
-        fprintf(stderr, "hairview: %s: levels: %s\n", stored ? stored : o->view.scene, ht_result_string(r));
+        fprintf(stderr, "hairview: %s: levels: %s\n", ladder ? o->view.bundle : o->view.scene, ht_result_string(r));
         return 1;
     }
     chain.width_rule = o->width_rule; /* per draw, on the level drawn (lod.h) */
@@ -505,12 +504,10 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
 
 /* One still camera: the level --lod asks for (or the stored level), the
    width rule, the frames timed into *ms. */
-static int draw_still(const options *o, view *v, ht_scene *scene, double scene_distance, bool has_stored,
-                      const char *stored, const ht_policy *policy, ht_frame_desc *frame, double *ms) {
+static int draw_still(const options *o, view *v, ht_scene *scene, double scene_distance, const ht_lod_file *ladder,
+                      const ht_policy *policy, ht_frame_desc *frame, double *ms) {
     bool paired = false;
-    if (has_stored ? use_stored_levels(o, scene, stored, &v->hair)
-                   : choose_lod(o, scene, scene_distance, v, frame, policy, &paired))
-        return 1;
+    if (choose_lod(o, scene, scene_distance, v, frame, policy, ladder, &paired)) return 1;
     print_held();
     if (o->width_rule && apply_width_rule(o, scene, v->renderer, &v->hair)) return 1;
     ht_result r;
@@ -570,27 +567,23 @@ static int run(const options *o, view *v) {
     ht_policy policy = { HT_POLICY_BEST, 0 };
     if (ht_policy_parse(policy_text && policy_text[0] ? policy_text : NULL, &policy, err, sizeof err) != HT_OK)
         policy.kind = HT_POLICY_BEST; /* the renderer has refused it already */
-    char stored[4200];
-    snprintf(stored, sizeof stored, "%s/%s", o->view.bundle, HT_LOD_FILE_NAME);
-    const bool has_stored = access(stored, F_OK) == 0;
-    if (o->cards && !has_stored) {
-        fprintf(stderr, "hairview: --cards: %s: absent (make the bundle with hairgen --cards)\n", stored);
-        return 1;
-    }
+    ht_lod_file ladder;
+    bool has_stored = false;
+    if (read_stored_levels(o, &v->hair, &ladder, &has_stored)) return 1;
     ht_frame_desc frame = { .camera = scene.camera, .lights = scene.lights, .light_count = scene.light_count,
                             .aspect = (float)scene.width / (float)scene.height,
                             .opaque = v->head.index_count ? &v->head : NULL };
     double ms = 0;
-    if (o->distance_to > 0) {
-        if (o->lod >= 0 || o->cards) {
-            fprintf(stderr, "hairview: --distance A:B: a dolly picks the level per frame (--lod auto), without "
-                            "--cards\n");
-            return 1;
-        }
-        if (dolly(o, v, &scene, scene_distance, has_stored ? stored : NULL, &policy, &frame, &ms)) return 1;
-    } else if (draw_still(o, v, &scene, scene_distance, has_stored, stored, &policy, &frame, &ms)) {
+    if (o->distance_to > 0 && (o->lod >= 0 || o->cards)) {
+        fprintf(stderr, "hairview: --distance A:B: a dolly picks the level per frame (--lod auto), without --cards\n");
+        if (has_stored) ht_lod_file_free(&ladder);
         return 1;
     }
+    const int drawn = o->distance_to > 0
+                          ? dolly(o, v, &scene, scene_distance, has_stored ? &ladder : NULL, &policy, &frame, &ms)
+                          : draw_still(o, v, &scene, scene_distance, has_stored ? &ladder : NULL, &policy, &frame, &ms);
+    if (has_stored) ht_lod_file_free(&ladder);
+    if (drawn) return 1;
 
     ht_image img;
     const int k = o->supersample, w = scene.width / k, h = scene.height / k;

@@ -18,6 +18,7 @@
 #include "file_atomic.h"
 #include "file_open.h"
 #include "hairgen_internal.h"
+#include "lods_store.h"
 
 #define MAX_JOBS 256
 
@@ -38,6 +39,7 @@ typedef struct batch_run {
     ht_batch_result counts;
     double start_ms;
     int bundle_threads;           /* what each material's build may use (build.h) */
+    ht_lods_cache lods;           /* the scene's lods.bin, made once (desc->store_lods) */
 } batch_run;
 
 static double now_ms(void) {
@@ -96,6 +98,8 @@ static void *worker(void *arg) {
                                                          .scene_size = b->scene_size,
                                                          .out_dir = j->dir,
                                                          .skip_unchanged = !d->force,
+                                                         .store_lods = d->store_lods,
+                                                         .lods_cache = &b->lods,
                                                          .depfile_names = d->depfile || d->depfile_per_bundle,
                                                          .summary = summary,
                                                          .threads = b->bundle_threads },
@@ -253,6 +257,7 @@ ht_result ht_generate_batch(const ht_batch_desc *d, ht_batch_result *result, cha
         pthread_t tids[MAX_JOBS];
         int started = 0;
         pthread_mutex_init(&b.lock, NULL);
+        ht_lods_cache_init(&b.lods);
         /* The calling thread is one of the workers. */
         for (int t = 1; t < threads; t++) {
             if (pthread_create(&tids[started], NULL, worker, &b) != 0) break;
@@ -261,6 +266,7 @@ ht_result ht_generate_batch(const ht_batch_desc *d, ht_batch_result *result, cha
         worker(&b);
         for (int t = 0; t < started; t++) pthread_join(tids[t], NULL);
         pthread_mutex_destroy(&b.lock);
+        ht_lods_cache_free(&b.lods);
 
         r = write_depfiles(d, b.jobs, err, err_size);
         if (result) *result = b.counts;

@@ -17,6 +17,7 @@
 #include "bundle_sums.h"
 #include "errfmt.h"
 #include "file_open.h"
+#include "lods_store.h"
 #include "mesh_internal.h"
 #include <hairtier/image.h>
 #include <hairtier/lod.h>
@@ -166,12 +167,12 @@ static ht_result write_manifest(const char *from, const char *to, int w, int h, 
         }
     }
     cJSON *sums = cJSON_GetObjectItemCaseSensitive(root, "file_sums");
-    for (int i = 0; r == HT_OK && i < file_count; i++)
-        if (cJSON_IsObject(sums) && !ht_bundle_sums_set(sums, files[i].name, files[i].data, files[i].size))
+    for (int i = 0; r == HT_OK && i < file_count; i++) {
+        const bool lods = !strcmp(files[i].name, HT_LOD_FILE_NAME);
+        if (lods ? !ht_lods_manifest_add(root, files[i].data, files[i].size)
+                 : cJSON_IsObject(sums) && !ht_bundle_sums_set(sums, files[i].name, files[i].data, files[i].size))
             r = ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: file_sums: out of memory", path);
-    cJSON_DeleteItemFromObjectCaseSensitive(root, "lod_file");
-    if (r == HT_OK && !cJSON_AddStringToObject(root, "lod_file", HT_LOD_FILE_NAME))
-        r = ht_fail(err, err_size, HT_ERR_OUT_OF_MEMORY, "%s: lod_file: out of memory", path);
+    }
     char *out = r == HT_OK ? cJSON_Print(root) : NULL;
     cJSON_Delete(root);
     if (r != HT_OK) return r;
@@ -221,39 +222,6 @@ static void strand_uv(ht_mesh *m, int mw, int mh, int W, int H) {
     }
 }
 
-/* The ladder: every strand level of the chain, then the cards, in one
-   buffer (lod.h's ht_lod_file). */
-static ht_result make_ladder(const ht_lod_chain *chain, const ht_mesh *cards, uint32_t strands_per_card,
-                             ht_lod_file *out) {
-    memset(out, 0, sizeof *out);
-    const ht_mesh *all = &chain->all;
-    ht_result r = ht_mesh_alloc(&out->mesh, (uint64_t)all->vertex_count + cards->vertex_count,
-                                (uint64_t)all->index_count + cards->index_count,
-                                (uint64_t)all->component_count + cards->component_count);
-    if (r != HT_OK) return r;
-    ht_mesh *m = &out->mesh;
-    memcpy(m->center, all->center, sizeof m->center);
-    memcpy(m->vertices, all->vertices, sizeof *m->vertices * all->vertex_count);
-    memcpy(m->vertices + all->vertex_count, cards->vertices, sizeof *m->vertices * cards->vertex_count);
-    memcpy(m->indices, all->indices, sizeof *m->indices * all->index_count);
-    for (uint32_t i = 0; i < cards->index_count; i++) m->indices[all->index_count + i] = cards->indices[i] + all->vertex_count;
-    memcpy(m->components, all->components, sizeof *m->components * all->component_count);
-    for (uint32_t c = 0; c < cards->component_count; c++) {
-        m->components[all->component_count + c] = cards->components[c];
-        m->components[all->component_count + c].first_index += all->index_count;
-    }
-    uint32_t component = 0;
-    for (int l = 0; l < chain->count; l++) {
-        const uint32_t n = ht_lod_chain_mesh(chain, l)->component_count;
-        out->levels[l] = (ht_lod_range){ HT_LOD_KIND_STRANDS, 1u << l, chain->first[l], chain->index_count[l], component, n };
-        component += n;
-    }
-    out->levels[chain->count] = (ht_lod_range){ HT_LOD_KIND_CARDS, strands_per_card, all->index_count,
-                                                cards->index_count, all->component_count, cards->component_count };
-    out->level_count = chain->count + 1;
-    return HT_OK;
-}
-
 ht_result ht_cards_bundle_write_mesh(const char *bundle_dir, const ht_mesh *hair, uint32_t strands_per_card,
                                      int atlas_size, const char *out_dir, FILE *summary, char *err, size_t err_size) {
     ht_image albedo = { 0 }, detail = { 0 };
@@ -288,7 +256,7 @@ ht_result ht_cards_bundle_write_mesh(const char *bundle_dir, const ht_mesh *hair
         place_material(&albedo, &cards.albedo);
         if (detail.pixels) place_material(&detail, &cards.detail);
         strand_uv(&chain.all, albedo.width, albedo.height, atlas_size, atlas_size);
-        if ((r = make_ladder(&chain, &cards.mesh, strands_per_card, &ladder)) != HT_OK)
+        if ((r = ht_lods_ladder(&chain, true, &cards.mesh, strands_per_card, &ladder)) != HT_OK)
             ht_fail(err, err_size, r, "%s: the ladder: %s", out_dir, ht_result_string(r));
     }
     if (r == HT_OK) {

@@ -27,6 +27,7 @@
 #include "file_atomic.h"
 #include "file_open.h"
 #include "json_check.h"
+#include "lods_store.h"
 #include "hairgen_internal.h"
 #include "manifest.h"
 #include "marschner_fit.h"
@@ -836,6 +837,8 @@ static ht_result bundle_make(const ht_bundle_request *rq, ht_bundle_report *rep,
         ht_gen_trace("%s: generated", out_dir);
         r = write_bundle(tmp, &g, err, err_size);
         ht_gen_trace("%s: written", out_dir);
+        if (r == HT_OK && rq->store_lods && rq->scene_path && !rq->header_path)
+            r = ht_lods_store(tmp, scene, rq->scene_path, rq->lods_cache, err, err_size);
         if (r == HT_OK && rq->step) r = rq->step(rq->step_user, tmp, scene, err, err_size);
         /* The temporary directory is removed below: name the bundle's own
            path for the file that failed (a full disk, a step), not the

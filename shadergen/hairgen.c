@@ -25,13 +25,13 @@
 #define HUGE_HEAP_POPULATE_MIB 8
 
 static const char synopsis[] =
-    "usage: hairgen MATERIAL.json [--scene SCENE.json] -o DIR [-MD | -MF FILE] [-q]\n"
+    "usage: hairgen MATERIAL.json [--scene SCENE.json [--no-lods]] -o DIR [-MD | -MF FILE] [-q]\n"
     "       hairgen MATERIAL.json [--scene SCENE.json] [--measure | --measure-lods] -o DIR\n"
     "       hairgen MATERIAL.json [--scene SCENE.json] [-o DIR] --emit-header OUT.h\n"
     "               [--header-symbol NAME]\n"
     "       hairgen -o OUTDIR MATERIAL.json... [--scene SCENE.json] [-j N] [--force]\n"
     "               [-MD | -MF FILE] [-q]\n"
-    "       hairgen --cards BUNDLE --scene SCENE.json [--strands-per-card N] -o DIR\n";
+    "       hairgen --cards BUNDLE --scene SCENE.json [--strands-per-card N] [--measure-lods] -o DIR\n";
 
 static const char help[] =
     "\n"
@@ -54,7 +54,9 @@ static const char help[] =
     "still run. A depfile lists the inputs and hairgen itself; a file name make\n"
     "and ninja cannot both read is refused. See docs/robustness.md.\n"
     "\n"
-    "  --scene FILE          the scene every material is planned for\n"
+    "  --scene FILE          the scene every material is planned for; its strand levels are\n"
+    "                        stored in each bundle's lods.bin (docs/lod.md)\n"
+    "  --no-lods             no lods.bin: the runtime builds the levels from the scene\n"
     "  -o DIR                the bundle (one material) or the folder of bundles (a batch)\n"
     "  --batch               bundles in DIR/NAME even for one material (for globs)\n"
     "  -j N                  threads (default: every online core)\n"
@@ -66,7 +68,8 @@ static const char help[] =
     "                        EGL), compare each with the reference tier and write the\n"
     "                        numbers into its manifest (HAIRGEN_OSMESA, HAIRGEN_EGL name\n"
     "                        other libraries; HAIRTIER_CONTEXT=osmesa|egl forces one)\n"
-    "  --measure-lods        --measure, then every tier at every geometry LOD of the scene\n"
+    "  --measure-lods        --measure, then every tier at every geometry LOD of the scene (the\n"
+    "                        bundle's stored ones: lods.bin, a --cards bundle's cards too)\n"
     "                        at 1, 1/2 and 1/4 of its size against (LOD 0, first tier):\n"
     "                        cost, error, the pop between levels, into the manifest's\n"
     "                        \"lods\" (docs/lod.md)\n"
@@ -75,7 +78,8 @@ static const char help[] =
     "  --cards BUNDLE        write DIR: BUNDLE with every geometry level of the scene stored in\n"
     "                        DIR/lods.bin, the strand levels and cards (clumps of N strands,\n"
     "                        default 32, as textured ribbons), its textures one atlas of the\n"
-    "                        material's and the cards' (hairview --cards, --lod N; docs/lod.md)\n"
+    "                        material's and the cards' (hairview --cards, --lod N; docs/lod.md);\n"
+    "                        with --measure-lods, every stored level, cards too, measured\n"
     "  --emit-header OUT.h   write the bundle as one C header (beside DIR, or instead of it)\n"
     "  --header-symbol NAME  the header's C name (default: from the material's name)\n"
     "  --help, --version     this text; the version and the bundle generator version\n";
@@ -83,13 +87,13 @@ static const char help[] =
 typedef struct options {
     const char *scene, *out_dir, *depfile, *jobs, *header, *symbol, *cards, *strands_per_card;
     int lod_samples;
-    int batch, force, quiet, depfile_per_bundle, measure, measure_lods;
+    int batch, force, quiet, depfile_per_bundle, measure, measure_lods, no_lods;
     const char **materials;
     int material_count;
 } options;
 
 enum { KEY_SCENE = CLI_LONG_ONLY, KEY_EMIT_HEADER, KEY_HEADER_SYMBOL, KEY_MEASURE, KEY_MEASURE_LODS, KEY_BATCH, KEY_FORCE, KEY_MD,
-       KEY_MF, KEY_LOD_SAMPLES, KEY_CARDS, KEY_STRANDS_PER_CARD };
+       KEY_MF, KEY_LOD_SAMPLES, KEY_CARDS, KEY_STRANDS_PER_CARD, KEY_NO_LODS };
 static const struct option long_options[] = {
     { "scene", required_argument, NULL, KEY_SCENE },
     { "emit-header", required_argument, NULL, KEY_EMIT_HEADER },
@@ -103,6 +107,7 @@ static const struct option long_options[] = {
     { "MF", required_argument, NULL, KEY_MF },
     { "cards", required_argument, NULL, KEY_CARDS },
     { "strands-per-card", required_argument, NULL, KEY_STRANDS_PER_CARD },
+    { "no-lods", no_argument, NULL, KEY_NO_LODS },
     { 0 },
 };
 
@@ -152,6 +157,7 @@ static const char *take(void *user, int key, const char *value) {
     case KEY_FORCE: o->force = 1; return NULL;
     case 'q': o->quiet = 1; return NULL;
     case KEY_MD: o->depfile_per_bundle = 1; return NULL;
+    case KEY_NO_LODS: o->no_lods = 1; return NULL;
     case KEY_CARDS: return once(&o->cards, value, "--cards");
     case KEY_STRANDS_PER_CARD: return once(&o->strands_per_card, value, "--strands-per-card");
     default: return cli_unexpected(value);
@@ -187,6 +193,7 @@ static int run_measure_or_header(const options *o, const char *material) {
         ht_bundle_report report;
         r = ht_bundle_make(&(ht_bundle_request){ .material_path = material, .scene_path = o->scene,
                                                  .out_dir = o->out_dir, .summary = summary,
+                                                 .store_lods = !o->no_lods,
                                                  .step = o->measure ? ht_measure_step : NULL, .step_user = &job,
                                                  .header_path = o->header, .header_symbol = o->symbol },
                            &report, err, sizeof err);
@@ -213,12 +220,23 @@ static int run_cards(const options *o) {
         if (end == o->strands_per_card || *end || n < 1 || n > 65536)
             return cli_usage_error(&program, "--strands-per-card: expected 1..65536");
     }
-    if (!o->scene || !o->out_dir || o->material_count || o->measure || o->header || o->batch)
+    if (!o->scene || !o->out_dir || o->material_count || (o->measure && !o->measure_lods) || o->header || o->batch)
         return cli_usage_error(&program, "--cards: needs --scene and -o, and no material, --measure or --emit-header");
     char err[2048] = "";
-    if (ht_cards_bundle_write(o->cards, o->scene, (uint32_t)n, HT_CARDS_ATLAS_SIZE, o->out_dir, o->quiet ? NULL : stdout, err,
-                              sizeof err) != HT_OK) {
-        fprintf(stderr, "hairgen: %s\n", err);
+    ht_result r = ht_cards_bundle_write(o->cards, o->scene, (uint32_t)n, HT_CARDS_ATLAS_SIZE, o->out_dir,
+                                        o->quiet ? NULL : stdout, err, sizeof err);
+    /* --measure-lods: the stored levels, cards included, into DIR's manifest. */
+    ht_measure_lods *lods = r == HT_OK && o->measure_lods ? malloc(sizeof *lods) : NULL;
+    if (r == HT_OK && o->measure_lods) {
+        ht_scene scene;
+        r = lods ? ht_scene_load(o->scene, &scene, err, sizeof err) : HT_ERR_OUT_OF_MEMORY;
+        if (r == HT_OK) r = ht_measure_lods_run(o->out_dir, &scene, o->scene, o->lod_samples, lods, err, sizeof err);
+        if (r == HT_OK) r = ht_measure_lods_write(o->out_dir, lods, err, sizeof err);
+        if (r == HT_OK && !o->quiet) ht_measure_lods_print(stdout, lods);
+    }
+    free(lods);
+    if (r != HT_OK) {
+        fprintf(stderr, "hairgen: %s\n", err[0] ? err : ht_result_string(r));
         return 1;
     }
     return 0;
@@ -297,6 +315,7 @@ int main(int argc, char **argv) {
         .progress = single || o.quiet ? NULL : stdout,
         .summary = single && !o.quiet ? stdout : NULL,
         .errors = stderr,
+        .store_lods = !o.no_lods,
     };
     char err[2048] = "";
     ht_batch_result result;

@@ -90,6 +90,9 @@ typedef struct ht_bundle_request {
     const char *header_symbol;   /* NULL: from the material name */
     int threads;                 /* threads one bundle's build may use (build.h); 0: every
                                     online core */
+    bool store_lods;             /* a scene file's strand levels into lods.bin (lods_store.h),
+                                    written before the step; not with header_path */
+    struct ht_lods_cache *lods_cache; /* NULL: made for this bundle; else a batch's, shared */
     bool depfile_names;          /* a depfile will list the inputs: refuse, before any
                                     work, a name make and ninja cannot both read (depfile.h) */
 } ht_bundle_request;

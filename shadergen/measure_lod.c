@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <cJSON.h>
 
@@ -17,6 +18,15 @@
 #include "offscreen.h"
 
 static const double sizes[HT_MEASURE_LOD_SIZES] = { 1.0, 0.5, 0.25 };
+
+/* The levels measured: the bundle's stored ones (lods.bin, when its level
+   0 is the scene's mesh: the strand levels and any cards), else the
+   ladder built from the scene's mesh. */
+typedef struct lod_levels {
+    ht_mesh mesh[HT_LOD_FILE_MAX_LEVELS];
+    bool cards[HT_LOD_FILE_MAX_LEVELS];
+    int count;
+} lod_levels;
 
 /* One level at one size: set the mesh, one warm-up and the timed frames;
    its last frame copied into rgba. */
@@ -42,17 +52,17 @@ static ht_result draw_level(offscreen *o, ht_renderer *r, const ht_scene *s, con
    the first tier, drawn by that tier's call, which sets base and base_ms)
    and the tier's level before. */
 static ht_result measure_tier(offscreen *o, ht_renderer *r, const ht_scene *s, const ht_frame_desc *f,
-                              const char *tier, double size, const ht_mesh *levels, int level_count, bool first,
+                              const char *tier, double size, const lod_levels *levels, bool first,
                               unsigned char *base, double *base_ms, unsigned char *prev, unsigned char *cur,
                               ht_measure_lods *out, char *err, size_t err_size) {
     const size_t bytes = (size_t)s->width * (size_t)s->height * 4;
     char why[1024];
-    for (int l = 0; l < level_count; l++) {
+    for (int l = 0; l < levels->count; l++) {
         if (out->count >= HT_MANIFEST_MAX_LOD_CELLS)
             return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: lods: more than %d cells",
                            HT_MANIFEST_MAX_LOD_CELLS);
         ht_measure_lod_cell *c = &out->cells[out->count];
-        ht_result res = draw_level(o, r, s, f, &levels[l], cur, &c->frame_ms);
+        ht_result res = draw_level(o, r, s, f, &levels->mesh[l], cur, &c->frame_ms);
         if (res != HT_OK)
             return ht_fail(err, err_size, res, "measure: lods: %s level %d at size %g: %s", tier, l, size,
                            ht_result_string(res));
@@ -62,7 +72,8 @@ static ht_result measure_tier(offscreen *o, ht_renderer *r, const ht_scene *s, c
         }
         c->level = l;
         snprintf(c->tier, sizeof c->tier, "%s", tier);
-        c->strands = levels[l].component_count;
+        c->strands = levels->mesh[l].component_count;
+        c->cards = levels->cards[l];
         c->size = size;
         c->cost_ratio = *base_ms > 0 ? c->frame_ms / *base_ms : 1.0;
         res = ht_metrics_compare(&(ht_metrics_desc){ .reference = base, .test = cur, .width = s->width,
@@ -86,7 +97,7 @@ static ht_result measure_tier(offscreen *o, ht_renderer *r, const ht_scene *s, c
 
 /* Every tier at every level at one size into out->cells. */
 static ht_result measure_size(const char *dir, const ht_manifest *bundle, const ht_scene *scene, double size,
-                              const ht_mesh *levels, int level_count, const ht_mesh *head, ht_measure_lods *out,
+                              const lod_levels *levels, const ht_mesh *head, ht_measure_lods *out,
                               char *err, size_t err_size) {
     ht_scene s = *scene;
     s.width = (int)fmax(16, lround(scene->width * size));
@@ -119,7 +130,7 @@ static ht_result measure_size(const char *dir, const ht_manifest *bundle, const 
             }
             continue;
         }
-        res = measure_tier(o, r, &s, &f, tier->name, size, levels, level_count, t == 0, base, &base_ms, prev, cur,
+        res = measure_tier(o, r, &s, &f, tier->name, size, levels, t == 0, base, &base_ms, prev, cur,
                            out, err, err_size);
         ht_renderer_destroy(r);
     }
@@ -132,6 +143,32 @@ static ht_result measure_size(const char *dir, const ht_manifest *bundle, const 
     return res;
 }
 
+/* dir/lods.bin's levels into levels (count 0: none, or another scene's:
+   mesh[0], the scene's own, is kept). */
+static ht_result stored_levels(const char *dir, lod_levels *levels, char *err, size_t err_size) {
+    char path[4096], why[512];
+    snprintf(path, sizeof path, "%s/%s", dir, HT_LOD_FILE_NAME);
+    if (access(path, F_OK) != 0) return HT_OK;
+    ht_lod_file f;
+    if (ht_lod_file_read(path, &f, why, sizeof why) != HT_OK)
+        return ht_fail(err, err_size, HT_ERR_PARSE, "measure: lods: %s", why);
+    ht_result r = HT_OK;
+    if (ht_lod_file_matches(&f, &levels->mesh[0])) {
+        for (int l = 0; l < f.level_count && r == HT_OK; l++) {
+            /* level 0 not stored (a plain bundle's): mesh[0], the scene's, is it */
+            if (f.levels[l].kind != HT_LOD_KIND_SCENE) {
+                ht_mesh_free(&levels->mesh[l]);
+                r = ht_lod_file_level_mesh(&f, l, &levels->mesh[l]);
+            }
+            levels->cards[l] = f.levels[l].kind == HT_LOD_KIND_CARDS;
+            levels->count = l + 1;
+        }
+        if (r != HT_OK) ht_set_error(err, err_size, "measure: lods: %s: %s", path, ht_result_string(r));
+    }
+    ht_lod_file_free(&f);
+    return r;
+}
+
 ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file, int samples,
                               ht_measure_lods *out, char *err, size_t err_size) {
     if (err && err_size) err[0] = '\0';
@@ -141,27 +178,33 @@ ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char
                        samples, HT_MANIFEST_MAX_LOD_SAMPLES);
     out->samples = samples;
     ht_manifest *bundle = malloc(sizeof *bundle);
-    ht_mesh levels[HT_LOD_LEVELS] = { 0 }, head = { 0 };
+    lod_levels *levels = calloc(1, sizeof *levels);
+    ht_mesh head = { 0 };
     char why[1024];
-    ht_result r = bundle ? ht_manifest_load(dir, bundle, why, sizeof why) : HT_ERR_OUT_OF_MEMORY;
+    ht_result r = bundle && levels ? ht_manifest_load(dir, bundle, why, sizeof why) : HT_ERR_OUT_OF_MEMORY;
     if (r != HT_OK) {
-        ht_set_error(err, err_size, "measure: lods: %s", bundle ? why : "out of memory");
+        ht_set_error(err, err_size, "measure: lods: %s", bundle && levels ? why : "out of memory");
         free(bundle);
+        free(levels);
         return r;
     }
-    r = ht_scene_build_meshes(scene, scene_file ? scene_file : "<scene>", &levels[0], &head, why, sizeof why);
+    r = ht_scene_build_meshes(scene, scene_file ? scene_file : "<scene>", &levels->mesh[0], &head, why, sizeof why);
     if (r != HT_OK) ht_set_error(err, err_size, "measure: lods: %s", why);
-    const int level_count = r == HT_OK ? ht_lod_max_level(&levels[0]) + 1 : 0;
-    for (int l = 1; l < level_count && r == HT_OK; l++) {
-        ht_lod_desc d;
-        ht_lod_level(l, &d);
-        r = ht_mesh_build_lod(&levels[0], &d, &levels[l]);
-        if (r != HT_OK) ht_set_error(err, err_size, "measure: lods: level %d: %s", l, ht_result_string(r));
+    if (r == HT_OK) r = stored_levels(dir, levels, err, err_size);
+    if (r == HT_OK && !levels->count) {
+        levels->count = ht_lod_max_level(&levels->mesh[0]) + 1;
+        for (int l = 1; l < levels->count && r == HT_OK; l++) {
+            ht_lod_desc d;
+            ht_lod_level(l, &d);
+            r = ht_mesh_build_lod(&levels->mesh[0], &d, &levels->mesh[l]);
+            if (r != HT_OK) ht_set_error(err, err_size, "measure: lods: level %d: %s", l, ht_result_string(r));
+        }
     }
     snprintf(out->tier, sizeof out->tier, "%s", bundle->tiers[0].name);
     for (int i = 0; i < HT_MEASURE_LOD_SIZES && r == HT_OK; i++)
-        r = measure_size(dir, bundle, scene, sizes[i], levels, level_count, &head, out, err, err_size);
-    for (int l = 0; l < HT_LOD_LEVELS; l++) ht_mesh_free(&levels[l]);
+        r = measure_size(dir, bundle, scene, sizes[i], levels, &head, out, err, err_size);
+    for (int l = 0; l < HT_LOD_FILE_MAX_LEVELS; l++) ht_mesh_free(&levels->mesh[l]);
+    free(levels);
     ht_mesh_free(&head);
     free(bundle);
     if (r != HT_OK) out->count = 0;
@@ -181,6 +224,7 @@ static cJSON *lods_object(const ht_measure_lods *m) {
         const ht_measure_lod_cell *c = &m->cells[i];
         cJSON *j = cJSON_CreateObject();
         cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_LEVEL, c->level);
+        if (c->cards) cJSON_AddStringToObject(j, HT_MANIFEST_KEY_LOD_KIND, "cards");
         cJSON_AddStringToObject(j, HT_MANIFEST_KEY_LOD_TIER, c->tier);
         cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_STRANDS, c->strands);
         cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_SIZE, c->size);

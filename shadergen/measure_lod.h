@@ -11,6 +11,7 @@
 #ifndef HT_MEASURE_LOD_H
 #define HT_MEASURE_LOD_H
 
+#include <stdbool.h>
 #include <stdio.h>
 
 #include <hairtier/hairtier.h>
@@ -24,7 +25,8 @@
 typedef struct ht_measure_lod_cell {
     int level;
     char tier[16];           /* the tier drawn */
-    uint32_t strands;
+    uint32_t strands;        /* the level's components: strands, or cards */
+    bool cards;              /* a stored cards level (lods.bin) */
     double size;
     ht_metrics whole;        /* against (LOD 0, the first tier) at this size */
     double frame_ms, cost_ratio;

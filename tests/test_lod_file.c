@@ -15,8 +15,9 @@
 #include <cmocka.h>
 
 #include <hairtier/lod.h>
+#include "lods_store.h"
 
-#define LEVELS_AT 36 /* the header's bytes: magic, 4 counts, the centre */
+#define LEVELS_AT 56 /* the header's bytes: magic, 4 counts, the centre, the scene's 3 counts and hash */
 #define LEVEL_BYTES 24
 
 /* A chain of a 300-hair fur ball as a ladder file (strand levels). */
@@ -33,6 +34,7 @@ static void make_ladder(ht_mesh *full, ht_lod_chain *chain, ht_lod_file *f) {
         f->levels[l] = (ht_lod_range){ HT_LOD_KIND_STRANDS, 1u << l, chain->first[l], chain->index_count[l], component, n };
         component += n;
     }
+    ht_lod_file_set_scene(f, full);
 }
 
 static void round_trip(void **state) {
@@ -65,6 +67,69 @@ static void round_trip(void **state) {
     }
     printf("%d levels, %zu bytes\n", back.level_count, size);
     ht_lod_file_free(&back);
+    free(data);
+    ht_lod_chain_free(&chain);
+    ht_mesh_free(&full);
+}
+
+/* ht_lod_file_matches: its level 0 is the mesh it was made from, not one
+   with a vertex moved nor another fur ball. */
+static void matches_only_its_own_mesh(void **state) {
+    (void)state;
+    ht_mesh full, other;
+    ht_lod_chain chain;
+    ht_lod_file f;
+    make_ladder(&full, &chain, &f);
+    assert_true(ht_lod_file_matches(&f, &full));
+    full.vertices[full.vertex_count / 2].position[1] += 1e-3f;
+    assert_false(ht_lod_file_matches(&f, &full));
+    full.vertices[full.vertex_count / 2].position[1] -= 1e-3f;
+    full.vertices[full.vertex_count / 2].uv[0] += 0.25f; /* a cards atlas moves uv only */
+    assert_true(ht_lod_file_matches(&f, &full));
+    assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 299, .joints = 6 }, &other), HT_OK);
+    ht_mesh_sort_inside_out(&other);
+    assert_false(ht_lod_file_matches(&f, &other));
+    ht_mesh_free(&other);
+    ht_lod_chain_free(&chain);
+    ht_mesh_free(&full);
+}
+
+/* A plain bundle's ladder (lods_store.h): level 0 not stored but the
+   scene's mesh (SCENE), the other levels as the chain's; written and read
+   back, its chain from the scene's mesh is ht_lod_chain_build's buffer
+   byte for byte; another mesh is refused, and so is taking level 0 out. */
+static void scene_level_round_trip(void **state) {
+    (void)state;
+    ht_mesh full;
+    ht_lod_chain chain, back_chain;
+    ht_lod_file stored, unused, back;
+    make_ladder(&full, &chain, &unused);
+    assert_int_equal(ht_lods_ladder(&chain, false, NULL, 0, &stored), HT_OK);
+    assert_int_equal(stored.levels[0].kind, HT_LOD_KIND_SCENE);
+    assert_int_equal(stored.mesh.vertex_count, chain.all.vertex_count - full.vertex_count);
+    unsigned char *data;
+    size_t size;
+    char err[256] = "";
+    assert_int_equal(ht_lod_file_encode(&stored, &data, &size), HT_OK);
+    if (ht_lod_file_parse(data, size, "lods.bin", &back, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    ht_mesh m;
+    assert_int_equal(ht_lod_file_level_mesh(&back, 0, &m), HT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(ht_lod_chain_from_file(&back, &back_chain), HT_ERR_INVALID_ARGUMENT);
+    assert_int_equal(ht_lod_chain_from_scene_file(&back, &full, &back_chain), HT_OK);
+    assert_int_equal(back_chain.count, chain.count);
+    assert_memory_equal(back_chain.first, chain.first, sizeof chain.first);
+    assert_memory_equal(back_chain.index_count, chain.index_count, sizeof chain.index_count);
+    assert_int_equal(back_chain.all.vertex_count, chain.all.vertex_count);
+    assert_memory_equal(back_chain.all.vertices, chain.all.vertices, sizeof *chain.all.vertices * chain.all.vertex_count);
+    assert_memory_equal(back_chain.all.indices, chain.all.indices, sizeof *chain.all.indices * chain.all.index_count);
+    assert_memory_equal(back_chain.all.components, chain.all.components,
+                        sizeof *chain.all.components * chain.all.component_count);
+    printf("%d levels, level 0 the scene's: %zu bytes\n", back.level_count, size);
+    ht_lod_chain_free(&back_chain);
+    full.vertices[0].position[0] += 1e-3f;
+    assert_int_equal(ht_lod_chain_from_scene_file(&back, &full, &back_chain), HT_ERR_INVALID_ARGUMENT);
+    ht_lod_file_free(&back);
+    ht_lod_file_free(&stored);
     free(data);
     ht_lod_chain_free(&chain);
     ht_mesh_free(&full);
@@ -117,7 +182,9 @@ static void hostile_files_refused(void **state) {
     expect_refused(data, size, 12, 0xffffffffu, size, "counts");                       /* vertices */
     expect_refused(data, size, 16, f.mesh.index_count + 3, size, "size");              /* indices */
     expect_refused(data, size, 24, 0x7fc00000u, size, "center");                       /* NaN */
-    expect_refused(data, size, LEVELS_AT, 2, size, "levels[0].kind");
+    expect_refused(data, size, LEVELS_AT, 3, size, "levels[0].kind");
+    expect_refused(data, size, LEVELS_AT, 2, size, "levels[0]: the scene's mesh");          /* with a range */
+    expect_refused(data, size, LEVELS_AT + LEVEL_BYTES, 2, size, "levels[1]: the scene's mesh");
     expect_refused(data, size, LEVELS_AT + 12, f.mesh.index_count + 3, size, "levels[0]: index range");
     expect_refused(data, size, LEVELS_AT + 8, 1, size, "levels[0]: index range");                 /* not whole triangles */
     expect_refused(data, size, LEVELS_AT + 20, f.mesh.component_count + 1, size, "levels[0]: component range");
@@ -144,6 +211,8 @@ static void hostile_files_refused(void **state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(round_trip),
+        cmocka_unit_test(matches_only_its_own_mesh),
+        cmocka_unit_test(scene_level_round_trip),
         cmocka_unit_test(hostile_files_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,14 +1,20 @@
-/* test_measure_lod — hairgen --measure-lods writes the manifest's "lods":
-   every (LOD level, tier) pair of the scene at 1, 1/2 and 1/4 of its
-   size, against (level 0, the bundle's first tier): that pair identical to
+/* test_measure_lod — a bundle's stored levels and their measured cells.
+   Plain hairgen --scene stores the scene's strand levels (lods.bin,
+   listed in file_sums): the ladder ht_mesh_build_lod builds, level 0 not
+   stored (the scene's mesh); --no-lods stores none; hairview draws a stored level, and
+   builds the levels of another scene. --measure-lods (ht_measure_lods_run)
+   on a cards bundle writes the manifest's "lods": every (stored level,
+   tier) pair, the cards too, at 1, 1/2 and 1/4 of the scene's size,
+   against (level 0, the bundle's first tier): that pair identical to
    itself (PSNR and pop null, cost 1), every other tier's level 0 finite,
-   each level's strand count the ladder's, finite errors and costs; the
-   runtime reads them back (ht_renderer_lod_cells through hairview's --lod
-   auto --policy error:DB and frame:MS, which pick the pair
-   ht_lod_pick_error / ht_lod_pick_frame pick and draw its tier, and
-   re-picks it per frame while --distance A:B dollies the eye); a bad
-   cell is refused with one line naming it. Small: 600 hairs at 64 x 64.
-   Runs the programs (HAIRTIER_BUILD). */
+   each level's strand (or card) count the ladder's, finite errors and
+   costs; the runtime reads them back (ht_renderer_lod_cells through
+   hairview's --lod auto --policy error:DB and frame:MS, which pick the
+   pair ht_lod_pick_error / ht_lod_pick_frame pick and draw its tier and
+   level, the cards where a budget only they meet, and re-pick it per
+   frame while --distance A:B dollies the eye); a bad cell is refused
+   with one line naming it. Small: 600 hairs at 64 x 64, cards of 16 in a
+   512 atlas. Runs the programs (HAIRTIER_BUILD). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -23,25 +29,124 @@
 #include <unistd.h>
 
 #include <hairtier/lod.h>
+#include "cards_bundle.h"
 #include "manifest.h"
+#include "measure_lod.h"
 #include "support_scene.h"
 #include "support_scratch.h"
 
-#define HAIRS 600 /* 38 at level 4, above HT_LOD_MIN_STRANDS: five levels */
-#define LEVELS 5
+#define HAIRS 600 /* 38 at level 4, above HT_LOD_MIN_STRANDS: five strand levels */
+#define STRAND_LEVELS 5
+#define LEVELS (STRAND_LEVELS + 1) /* and the cards */
+#define CARDS_STRANDS 16
+#define CARDS_ATLAS 512
 
-static char work[64], bundle[128];
+static char work[64], bundle[128], cards[128], scene_path[128];
+static ht_mesh mesh;
+static uint32_t card_count;
 
+/* The plain bundle (hairgen, its stored strand levels), then a cards
+   bundle of it measured as hairgen --cards --measure-lods measures
+   (its atlas smaller than hairgen's 1024, for time). */
 static int setup(void **state) {
     (void)state;
     if (!ht_test_scratch_create(work, sizeof work, "measure_lod")) return -1;
     snprintf(bundle, sizeof bundle, "%s/bundle", work);
-    return ht_test_furball_bundle(work, 64, HAIRS, "--measure-lods");
+    snprintf(cards, sizeof cards, "%s/cards", work);
+    snprintf(scene_path, sizeof scene_path, "%s/scene.json", work);
+    if (ht_test_furball_bundle(work, 64, HAIRS, "--measure") != 0) return -1;
+    char err[1024];
+    ht_scene scene;
+    ht_measure_lods *lods = malloc(sizeof *lods);
+    ht_result r = lods ? ht_scene_load(scene_path, &scene, err, sizeof err) : HT_ERR_OUT_OF_MEMORY;
+    if (r == HT_OK) r = ht_scene_build_meshes(&scene, scene_path, &mesh, NULL, err, sizeof err);
+    if (r == HT_OK) r = ht_cards_bundle_write_mesh(bundle, &mesh, CARDS_STRANDS, CARDS_ATLAS, cards, NULL, err, sizeof err);
+    if (r == HT_OK) r = ht_measure_lods_run(cards, &scene, scene_path, 0, lods, err, sizeof err);
+    if (r == HT_OK) r = ht_measure_lods_write(cards, lods, err, sizeof err);
+    for (int i = 0; r == HT_OK && i < lods->count; i++)
+        if (lods->cells[i].cards) card_count = lods->cells[i].strands;
+    free(lods);
+    if (r != HT_OK) fprintf(stderr, "%s\n", err);
+    return r == HT_OK ? 0 : -1;
 }
 
 static int teardown(void **state) {
     (void)state;
+    ht_mesh_free(&mesh);
     return ht_test_scratch_remove(work);
+}
+
+/* lods.bin of a plain bundle: every strand level of the scene's ladder,
+   vertex for vertex, listed in file_sums; --no-lods: none. */
+static void plain_hairgen_stores_the_strand_levels(void **state) {
+    (void)state;
+    char path[256], err[1024];
+    snprintf(path, sizeof path, "%s/%s", bundle, HT_LOD_FILE_NAME);
+    ht_lod_file f;
+    if (ht_lod_file_read(path, &f, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    assert_int_equal(f.level_count, STRAND_LEVELS);
+    assert_int_equal(ht_lod_max_level(&mesh) + 1, STRAND_LEVELS);
+    assert_true(ht_lod_file_matches(&f, &mesh));
+    for (int l = 0; l < f.level_count; l++) {
+        ht_mesh stored, built;
+        ht_lod_desc d;
+        ht_lod_level(l, &d);
+        assert_int_equal(f.levels[l].param, 1u << l);
+        if (l == 0) { /* the scene's mesh: not stored */
+            assert_int_equal(f.levels[0].kind, HT_LOD_KIND_SCENE);
+            assert_int_equal(f.levels[0].index_count, 0);
+            continue;
+        }
+        assert_int_equal(f.levels[l].kind, HT_LOD_KIND_STRANDS);
+        assert_int_equal(ht_lod_file_level_mesh(&f, l, &stored), HT_OK);
+        assert_int_equal(ht_mesh_build_lod(&mesh, &d, &built), HT_OK);
+        const ht_mesh *want = &built;
+        assert_int_equal(stored.vertex_count, want->vertex_count);
+        assert_int_equal(stored.index_count, want->index_count);
+        assert_int_equal(stored.component_count, want->component_count);
+        assert_memory_equal(stored.vertices, want->vertices, sizeof *want->vertices * want->vertex_count);
+        assert_memory_equal(stored.indices, want->indices, sizeof *want->indices * want->index_count);
+        ht_mesh_free(&stored);
+        ht_mesh_free(&built);
+    }
+    ht_lod_file_free(&f);
+    /* the manifest names it and lists its size */
+    size_t size = 0;
+    free(ht_test_read_all(path, &size));
+    cJSON *root = ht_test_read_json(bundle, "manifest.json");
+    assert_string_equal(cJSON_GetStringValue(cJSON_GetObjectItem(root, "lod_file")), HT_LOD_FILE_NAME);
+    const cJSON *sum = cJSON_GetObjectItem(cJSON_GetObjectItem(root, "file_sums"), HT_LOD_FILE_NAME);
+    assert_non_null(sum);
+    assert_true(cJSON_GetNumberValue(cJSON_GetObjectItem(sum, "size")) == (double)size);
+    cJSON_Delete(root);
+    /* --no-lods: neither */
+    char args[512], out[4096];
+    snprintf(args, sizeof args, "materials/dark-brown.json --scene %s --no-lods -q -o %s/none", scene_path, work);
+    if (ht_test_run_program("hairgen", args, out, sizeof out) != 0) fail_msg("hairgen %s: %s", args, out);
+    snprintf(path, sizeof path, "%s/none/%s", work, HT_LOD_FILE_NAME);
+    assert_false(ht_test_path_exists(path));
+    snprintf(path, sizeof path, "%s/none", work);
+    root = ht_test_read_json(path, "manifest.json");
+    assert_null(cJSON_GetObjectItem(root, "lod_file"));
+    assert_null(cJSON_GetObjectItem(cJSON_GetObjectItem(root, "file_sums"), HT_LOD_FILE_NAME));
+    cJSON_Delete(root);
+}
+
+/* hairview draws the stored level; with another scene (fewer hairs) it
+   says so and builds that scene's level. */
+static void hairview_draws_the_stored_levels(void **state) {
+    (void)state;
+    char args[1024], out[8192];
+    snprintf(args, sizeof args, "--bundle %s --scene %s --lod 2 --frames 1 -o %s/s.png", bundle, scene_path, work);
+    if (ht_test_run_program("hairview", args, out, sizeof out) != 0) fail_msg("hairview %s: %s", args, out);
+    if (!strstr(out, "lod=2 strands=150 ") || !strstr(out, "stored kind=strands param=4 "))
+        fail_msg("expected the stored level 2 in:\n%s", out);
+    char other[256];
+    ht_test_scene_copy("scenes/furball.json", work, "other.json", 64, HAIRS / 2, false, other, sizeof other);
+    snprintf(args, sizeof args, "--bundle %s --scene %s --lod 2 --frames 1 -o %s/o.png", bundle, other, work);
+    if (ht_test_run_program("hairview", args, out, sizeof out) != 0) fail_msg("hairview %s: %s", args, out);
+    if (!strstr(out, "is another scene's") || !strstr(out, "lod=2 strands=75 strand_px") || strstr(out, "stored kind"))
+        fail_msg("expected level 2 built from %s in:\n%s", other, out);
 }
 
 static void manifest_holds_every_pair_at_three_sizes(void **state) {
@@ -49,8 +154,9 @@ static void manifest_holds_every_pair_at_three_sizes(void **state) {
     ht_manifest *m = malloc(sizeof *m);
     char err[1024];
     assert_non_null(m);
-    if (ht_manifest_load(bundle, m, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    if (ht_manifest_load(cards, m, err, sizeof err) != HT_OK) fail_msg("%s", err);
     assert_string_equal(m->lods.tier, m->tiers[0].name);
+    assert_true(card_count >= HAIRS / CARDS_STRANDS / 2 && card_count <= HAIRS / CARDS_STRANDS);
     /* llvmpipe runs every tier of the bundle: size, then tier, then level */
     const int tiers = m->tier_count;
     assert_true(tiers >= 5);
@@ -62,7 +168,8 @@ static void manifest_holds_every_pair_at_three_sizes(void **state) {
         assert_int_equal(c->level, i % LEVELS);
         assert_string_equal(c->tier, m->tiers[t].name);
         assert_true(c->size == sizes[i / (LEVELS * tiers)]);
-        assert_int_equal(c->strands, (HAIRS + (1u << c->level) - 1) >> c->level);
+        assert_int_equal(c->cards, c->level == STRAND_LEVELS);
+        assert_int_equal(c->strands, c->cards ? card_count : (HAIRS + (1u << c->level) - 1) >> c->level);
         if (c->level == 0 && t == 0) {
             assert_true(isinf(c->psnr_db) && isinf(c->pop_psnr_db) && c->cost_ratio == 1.0);
             continue;
@@ -80,7 +187,7 @@ static int cells_of(ht_lod_cell *cells) {
     ht_manifest *m = malloc(sizeof *m);
     char err[1024];
     assert_non_null(m);
-    if (ht_manifest_load(bundle, m, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    if (ht_manifest_load(cards, m, err, sizeof err) != HT_OK) fail_msg("%s", err);
     const int n = m->lods.cell_count;
     for (int i = 0; i < n; i++)
         cells[i] = (ht_lod_cell){ m->lods.cells[i].level, ht_tier_from_name(m->lods.cells[i].tier),
@@ -93,11 +200,14 @@ static int cells_of(ht_lod_cell *cells) {
 static void expect_pair(const char *policy, const ht_lod_cell *pick) {
     char args[1024], out[8192], want[64];
     snprintf(args, sizeof args, "--bundle %s --scene %s/scene.json --size 0.25 --lod auto --policy %s --frames 1 -o %s/e.png",
-             bundle, work, policy, work);
+             cards, work, policy, work);
     if (ht_test_run_program("hairview", args, out, sizeof out) != 0) fail_msg("hairview %s: %s", args, out);
     snprintf(want, sizeof want, "lod_pair: lod=%d tier=%s ", pick->lod, ht_tier_name(pick->tier));
     if (!strstr(out, want)) fail_msg("expected %s in:\n%s", want, out);
     snprintf(want, sizeof want, "lod=%d ", pick->lod);
+    if (!strstr(out, want)) fail_msg("expected %s in:\n%s", want, out);
+    /* the cards bundle stores every level: the cards past the strand levels */
+    snprintf(want, sizeof want, " stored kind=%s ", pick->lod == STRAND_LEVELS ? "cards" : "strands");
     if (!strstr(out, want)) fail_msg("expected %s in:\n%s", want, out);
     snprintf(want, sizeof want, "\ntier=%s ", ht_tier_name(pick->tier));
     if (!strstr(out, want)) fail_msg("expected %s in:\n%s", want, out);
@@ -158,28 +268,62 @@ static void hairview_repicks_the_pair_while_dollying(void **state) {
     assert_non_null(strstr(out, "dolly: 8 frames"));
 }
 
+/* The cards' cells made the only ones to meet a budget (their cost and
+   PSNR edited in the manifest, the others costlier): error:DB and
+   frame:MS pick the cards, and hairview draws the stored cards level. */
+static void a_budget_only_cards_meet_picks_them(void **state) {
+    (void)state;
+    cJSON *root = ht_test_read_json(cards, "manifest.json");
+    const cJSON *cell;
+    cJSON_ArrayForEach(cell, cJSON_GetObjectItem(cJSON_GetObjectItem(root, "lods"), "cells")) {
+        const bool is_cards = cJSON_IsString(cJSON_GetObjectItem(cell, "kind"));
+        if (cJSON_IsNull(cJSON_GetObjectItem(cell, "psnr_db"))) continue;
+        cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)cell, "cost_ratio", cJSON_CreateNumber(is_cards ? 0.01 : 0.5));
+        if (is_cards) cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)cell, "psnr_db", cJSON_CreateNumber(99));
+    }
+    char *json = cJSON_Print(root);
+    ht_test_write_file(cards, "manifest.json", json);
+    cJSON_free(json);
+    cJSON_Delete(root);
+    ht_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
+    const int n = cells_of(cells);
+    const int pick = ht_lod_pick_error(cells, n, 0.25, 90, -1), cheapest = ht_lod_pick_frame(cells, n, 0.25, 0.001, 1, -1);
+    assert_true(pick >= 0 && cells[pick].lod == STRAND_LEVELS);
+    assert_true(cheapest >= 0 && cells[cheapest].lod == STRAND_LEVELS);
+    expect_pair("error:90", &cells[pick]);
+    expect_pair("frame:0.001", &cells[cheapest]);
+}
+
 static void a_bad_cell_is_refused_naming_it(void **state) {
     (void)state;
-    cJSON *root = ht_test_read_json(bundle, "manifest.json");
+    cJSON *root = ht_test_read_json(cards, "manifest.json");
     cJSON *cell = cJSON_GetArrayItem(cJSON_GetObjectItem(cJSON_GetObjectItem(root, "lods"), "cells"), 2);
     cJSON_ReplaceItemInObjectCaseSensitive(cell, "level", cJSON_CreateNumber(9));
     char *json = cJSON_Print(root);
     ht_manifest *m = malloc(sizeof *m);
     char err[1024] = "";
-    assert_int_equal(ht_manifest_parse(json, bundle, "manifest.json", m, err, sizeof err), HT_ERR_PARSE);
+    assert_int_equal(ht_manifest_parse(json, cards, "manifest.json", m, err, sizeof err), HT_ERR_PARSE);
     assert_non_null(strstr(err, "lods.cells[2].level"));
     assert_null(strchr(err, '\n'));
+    /* a kind neither strands nor cards */
+    cJSON_ReplaceItemInObjectCaseSensitive(cell, "level", cJSON_CreateNumber(1));
+    cJSON_AddStringToObject(cell, "kind", "ribbons");
+    free(json);
+    json = cJSON_Print(root);
+    assert_int_equal(ht_manifest_parse(json, cards, "manifest.json", m, err, sizeof err), HT_ERR_PARSE);
+    assert_non_null(strstr(err, "lods.cells[2].kind"));
+    cJSON_DeleteItemFromObjectCaseSensitive(cell, "kind");
     /* the frames' samples: 2..32 when present */
     cJSON_ReplaceItemInObjectCaseSensitive(cell, "level", cJSON_CreateNumber(1));
     cJSON_AddNumberToObject(cJSON_GetObjectItem(root, "lods"), "samples", 1);
     free(json);
     json = cJSON_Print(root);
-    assert_int_equal(ht_manifest_parse(json, bundle, "manifest.json", m, err, sizeof err), HT_ERR_PARSE);
+    assert_int_equal(ht_manifest_parse(json, cards, "manifest.json", m, err, sizeof err), HT_ERR_PARSE);
     assert_non_null(strstr(err, "lods.samples"));
     cJSON_ReplaceItemInObjectCaseSensitive(cJSON_GetObjectItem(root, "lods"), "samples", cJSON_CreateNumber(4));
     free(json);
     json = cJSON_Print(root);
-    assert_int_equal(ht_manifest_parse(json, bundle, "manifest.json", m, err, sizeof err), HT_OK);
+    assert_int_equal(ht_manifest_parse(json, cards, "manifest.json", m, err, sizeof err), HT_OK);
     assert_int_equal(m->lods.samples, 4);
     /* hairgen refuses a sample count it cannot draw, writing nothing */
     char args[512], out[4096];
@@ -196,10 +340,13 @@ static void a_bad_cell_is_refused_naming_it(void **state) {
 
 int main(void) {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(plain_hairgen_stores_the_strand_levels),
+        cmocka_unit_test(hairview_draws_the_stored_levels),
         cmocka_unit_test(manifest_holds_every_pair_at_three_sizes),
         cmocka_unit_test(hairview_picks_the_pair_the_rules_pick),
         cmocka_unit_test(hairview_repicks_the_pair_while_dollying),
         cmocka_unit_test(a_bad_cell_is_refused_naming_it),
+        cmocka_unit_test(a_budget_only_cards_meet_picks_them),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

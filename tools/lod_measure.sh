@@ -32,7 +32,7 @@ for size in ${SIZES:-1 0.5 0.25}; do
       img=$d/s${size}_${t}_l$l.png
       out=$("$B/hairview" --bundle "$b" --scene "$sc" --tier "$t" --strict --lod "$l" --size "$size" \
             --frames "${FRAMES:-2}" ${EXTRA:-} -o "$img" 2>/dev/null) || { echo "size $size lod $l tier $t: none"; continue; }
-      ms=$(echo "$out" | sed -n 's/frame_ms=//p'); px=$(echo "$out" | sed -n 's/.*strand_px=//p')
+      ms=$(echo "$out" | sed -n 's/frame_ms=//p'); px=$(echo "$out" | sed -n 's/.*strand_px=\([0-9.]*\).*/\1/p')
       [ -n "$ref_ms" ] || ref_ms=$ms
       cost=$(awk -v a="$ms" -v r="$ref_ms" 'BEGIN { printf "%.3f", a / r }')
       m=$("$B/png_metrics" "$d/s${size}_${ref}_l0.png" "$img" | cut -d' ' -f1-4)

@@ -243,6 +243,9 @@ typedef struct ht_batch_desc {
     FILE *progress;               /* NULL: quiet; else one line per material, with time and ETA */
     FILE *summary;                /* NULL: none; else each bundle's tier table */
     FILE *errors;                 /* one line per material that failed; NULL: stderr */
+    bool store_lods;              /* true: with a scene file, each bundle stores the scene's
+                                     strand levels in lods.bin (what hairgen does unless
+                                     --no-lods; docs/bundle.md); false: none */
 } ht_batch_desc;
 
 typedef struct ht_batch_result {

@@ -156,11 +156,15 @@ HT_API void ht_mesh_sort_back_to_front(ht_mesh *mesh, const float eye[3]);
 typedef struct ht_renderer ht_renderer;
 HT_API ht_result ht_renderer_set_opacity_scale(ht_renderer *r, float scale);
 
+/* A stored level's geometry (lods.bin, a measured cell): strands or cards;
+   SCENE: level 0 not stored, the scene's own mesh (a plain bundle's). */
+typedef enum ht_lod_kind { HT_LOD_KIND_STRANDS = 0, HT_LOD_KIND_CARDS = 1, HT_LOD_KIND_SCENE = 2 } ht_lod_kind;
+
 /* One measured (LOD, tier) pair at a projected size (hairgen --measure's
    cells): PSNR against (LOD 0, top tier) at that size and the frame cost
    as a ratio of it. */
 typedef struct ht_lod_cell {
-    int lod;
+    int lod;       /* the level; a bundle's stored cards: their index in lods.bin */
     ht_tier tier;
     double size;   /* projected size / the scene's, e.g. 1, 0.5, 0.25 */
     double psnr;   /* dB; INFINITY for the reference itself */
@@ -215,7 +219,9 @@ HT_API int ht_lod_pick_frame(const ht_lod_cell *cells, int count, double size, d
    fixed-function tiers do not have (docs/lod.md).
    ht_lod_chain_from_file takes the levels a bundle stores instead (its
    lods.bin, hairgen --cards: the strand levels, then the cards, whose
-   best-rule level is one past the last strand level's). */
+   best-rule level is one past the last strand level's);
+   ht_lod_chain_from_scene_file those of a plain hairgen --scene bundle,
+   whose level 0 is the scene's mesh, not stored. */
 typedef struct ht_renderer ht_renderer;
 typedef struct ht_lod_chain {
     const ht_mesh *full;
@@ -240,6 +246,12 @@ typedef struct ht_lod_chain {
 HT_API ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out);
 typedef struct ht_lod_file ht_lod_file;
 HT_API ht_result ht_lod_chain_from_file(const ht_lod_file *file, ht_lod_chain *out);
+/* The same for a file whose level 0 is the scene's mesh (SCENE, a plain
+   bundle's): full (borrowed, as ht_lod_chain_build's) is level 0, the
+   file's levels follow it; HT_ERR_INVALID_ARGUMENT unless
+   ht_lod_file_matches(file, full). A file storing its level 0 is
+   ht_lod_chain_from_file's (full unused). */
+HT_API ht_result ht_lod_chain_from_scene_file(const ht_lod_file *file, const ht_mesh *full, ht_lod_chain *out);
 HT_API int ht_lod_chain_select(ht_lod_chain *chain, ht_renderer *r, const ht_camera *camera, int viewport_h,
                                ht_result *result);
 HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);
@@ -325,21 +337,23 @@ typedef struct ht_cards {
 HT_API ht_result ht_mesh_build_cards(const ht_mesh *full, const ht_cards_desc *desc, ht_cards *out);
 HT_API void ht_cards_free(ht_cards *cards);
 
-/* A stored ladder (docs/bundle.md, "lods.bin"; hairgen --cards writes
-   one with the cards): levels over one vertex and index buffer, each a
+/* A stored ladder (docs/bundle.md, "lods.bin"; hairgen --scene S writes
+   the scene's strand levels, hairgen --cards the strand levels and cards): levels over one vertex and index buffer, each a
    range of it, read with every count, range, index and float checked, so
    a hostile file is refused with one line "NAME: FIELD: what is wrong"
    and nothing allocated. Little-endian:
-     "HTLODS1\n", u32 levels (1..HT_LOD_FILE_MAX_LEVELS), u32 vertices,
-     u32 indices, u32 components, f32 center[3];
-     per level: u32 kind (0 strands, 1 cards), u32 param (the strand
+     "HTLODS2\n", u32 levels (1..HT_LOD_FILE_MAX_LEVELS), u32 vertices,
+     u32 indices, u32 components, f32 center[3], the scene's mesh the
+     levels were made from: u32 vertices, indices, components, u64 hash
+     (ht_lod_file_set_scene);
+     per level: u32 kind (0 strands, 1 cards, 2 the scene's mesh: level 0
+     only, not stored, param 1 and every range 0), u32 param (the strand
      stride, or strands per card), u32 first_index, index_count,
      first_component, component_count;
      vertices (ht_vertex: 12 f32 each), indices (u32), components (u32
      first_index, u32 index_count, f32 sort_key); nothing after. */
 #define HT_LOD_FILE_NAME "lods.bin"
 #define HT_LOD_FILE_MAX_VERTICES (64u << 20)
-typedef enum ht_lod_kind { HT_LOD_KIND_STRANDS = 0, HT_LOD_KIND_CARDS = 1 } ht_lod_kind;
 typedef struct ht_lod_range {
     ht_lod_kind kind;
     uint32_t param;
@@ -347,9 +361,11 @@ typedef struct ht_lod_range {
     uint32_t first_component, component_count; /* its components in mesh */
 } ht_lod_range;
 typedef struct ht_lod_file {
-    ht_mesh mesh;                               /* every level, one after the other */
+    ht_mesh mesh;                               /* every stored level, one after the other */
     ht_lod_range levels[HT_LOD_FILE_MAX_LEVELS];
     int level_count;
+    uint32_t scene_vertices, scene_indices, scene_components; /* the mesh the levels were made from */
+    uint64_t scene_hash;                        /* FNV-1a 64 of its positions and indices */
 } ht_lod_file;
 HT_API ht_result ht_lod_file_parse(const void *data, size_t size, const char *name, ht_lod_file *out, char *err,
                                    size_t err_size);
@@ -357,9 +373,17 @@ HT_API ht_result ht_lod_file_read(const char *path, ht_lod_file *out, char *err,
 /* The file's bytes (malloc'd), HT_ERR_INVALID_ARGUMENT for a ladder the
    parser would refuse. */
 HT_API ht_result ht_lod_file_encode(const ht_lod_file *f, unsigned char **data, size_t *size);
-/* Level `level` as a mesh of its own (copies; for a renderer of its own). */
+/* Level `level` as a mesh of its own (copies; for a renderer of its own);
+   HT_ERR_INVALID_ARGUMENT for a SCENE level (the caller's mesh is it). */
 HT_API ht_result ht_lod_file_level_mesh(const ht_lod_file *f, int level, ht_mesh *out);
 HT_API void ht_lod_file_free(ht_lod_file *f);
+/* Whether the levels were made from `full` (a scene's mesh as
+   ht_scene_build_meshes leaves it): the same counts and the same hash of
+   its vertex positions and indices, so they are that scene's (uv may
+   differ: a cards bundle maps them into its atlas). set_scene records
+   full's in f, for the writer. */
+HT_API bool ht_lod_file_matches(const ht_lod_file *f, const ht_mesh *full);
+HT_API void ht_lod_file_set_scene(ht_lod_file *f, const ht_mesh *full);
 
 /* The bundle's measured cells (hairgen --measure-lods: every tier at every
    LOD and size, against (LOD 0, the bundle's first tier)), at most max

@@ -10,9 +10,9 @@
 #include "mesh_internal.h"
 #include <hairtier/lod.h>
 
-static const char magic[8] = { 'H', 'T', 'L', 'O', 'D', 'S', '1', '\n' };
+static const char magic[8] = { 'H', 'T', 'L', 'O', 'D', 'S', '2', '\n' };
 
-#define HEADER_BYTES (8 + 4 * 4 + 3 * 4)
+#define HEADER_BYTES (8 + 4 * 4 + 3 * 4 + 3 * 4 + 8)
 #define LEVEL_BYTES (6 * 4)
 #define VERTEX_FLOATS 12
 #define COMPONENT_BYTES 12
@@ -72,8 +72,13 @@ static const char *check_ladder(const ht_lod_file *f, uint32_t *at, const char *
     for (int l = 0; l < f->level_count; l++) {
         const ht_lod_range *r = &f->levels[l];
         *at = (uint32_t)l;
-        *what = "kind neither strands nor cards";
-        if (r->kind != HT_LOD_KIND_STRANDS && r->kind != HT_LOD_KIND_CARDS) return "levels";
+        *what = "kind neither strands, cards nor the scene's mesh";
+        if (r->kind != HT_LOD_KIND_STRANDS && r->kind != HT_LOD_KIND_CARDS && r->kind != HT_LOD_KIND_SCENE)
+            return "levels";
+        *what = "the scene's mesh (not stored) is level 0 only, stride 1, no range";
+        if (r->kind == HT_LOD_KIND_SCENE &&
+            (l || r->param != 1 || r->first_index || r->index_count || r->first_component || r->component_count))
+            return "levels";
         *what = "index range past the indices or not whole triangles";
         if (r->first_index % 3 || r->index_count % 3 || r->first_index > m->index_count ||
             r->index_count > m->index_count - r->first_index)
@@ -109,6 +114,8 @@ ht_result ht_lod_file_parse(const void *data, size_t size, const char *name, ht_
     const uint32_t levels = get_u32(&r), vertices = get_u32(&r), indices = get_u32(&r), components = get_u32(&r);
     float center[3];
     for (int k = 0; k < 3; k++) center[k] = get_f32(&r);
+    const uint32_t scene_vertices = get_u32(&r), scene_indices = get_u32(&r), scene_components = get_u32(&r);
+    const uint32_t hash_lo = get_u32(&r), hash_hi = get_u32(&r);
     if (levels < 1 || levels > HT_LOD_FILE_MAX_LEVELS)
         return ht_fail(err, err_size, HT_ERR_PARSE, "%s: levels: %u, expected 1..%d", name, levels, HT_LOD_FILE_MAX_LEVELS);
     if (vertices > HT_LOD_FILE_MAX_VERTICES || indices / 3 > HT_LOD_FILE_MAX_VERTICES ||
@@ -123,15 +130,22 @@ ht_result ht_lod_file_parse(const void *data, size_t size, const char *name, ht_
     for (uint32_t l = 0; l < levels; l++) {
         ht_lod_range *lv = &out->levels[l];
         const uint32_t kind = get_u32(&r);
-        lv->kind = kind == 1 ? HT_LOD_KIND_CARDS : HT_LOD_KIND_STRANDS;
+        lv->kind = kind == 2 ? HT_LOD_KIND_SCENE : kind == 1 ? HT_LOD_KIND_CARDS : HT_LOD_KIND_STRANDS;
         lv->param = get_u32(&r);
         lv->first_index = get_u32(&r);
         lv->index_count = get_u32(&r);
         lv->first_component = get_u32(&r);
         lv->component_count = get_u32(&r);
-        if (kind > 1) return ht_fail(err, err_size, HT_ERR_PARSE, "%s: levels[%u].kind: %u, expected 0 or 1", name, l, kind);
+        if (kind > 2) {
+            memset(out, 0, sizeof *out);
+            return ht_fail(err, err_size, HT_ERR_PARSE, "%s: levels[%u].kind: %u, expected 0, 1 or 2", name, l, kind);
+        }
     }
     out->level_count = (int)levels;
+    out->scene_vertices = scene_vertices;
+    out->scene_indices = scene_indices;
+    out->scene_components = scene_components;
+    out->scene_hash = (uint64_t)hash_hi << 32 | hash_lo;
     ht_result res = ht_mesh_alloc(&out->mesh, vertices, indices, components);
     if (res != HT_OK) {
         memset(out, 0, sizeof *out);
@@ -190,6 +204,11 @@ ht_result ht_lod_file_encode(const ht_lod_file *f, unsigned char **data, size_t 
     put_u32(&p, m->index_count);
     put_u32(&p, m->component_count);
     for (int k = 0; k < 3; k++) put_f32(&p, m->center[k]);
+    put_u32(&p, f->scene_vertices);
+    put_u32(&p, f->scene_indices);
+    put_u32(&p, f->scene_components);
+    put_u32(&p, (uint32_t)f->scene_hash);
+    put_u32(&p, (uint32_t)(f->scene_hash >> 32));
     for (int l = 0; l < f->level_count; l++) {
         const ht_lod_range *r = &f->levels[l];
         const uint32_t fields[6] = { (uint32_t)r->kind, r->param, r->first_index, r->index_count, r->first_component,
@@ -215,7 +234,8 @@ ht_result ht_lod_file_encode(const ht_lod_file *f, unsigned char **data, size_t 
 ht_result ht_lod_file_level_mesh(const ht_lod_file *f, int level, ht_mesh *out) {
     if (!out) return HT_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
-    if (!f || level < 0 || level >= f->level_count) return HT_ERR_INVALID_ARGUMENT;
+    if (!f || level < 0 || level >= f->level_count || f->levels[level].kind == HT_LOD_KIND_SCENE)
+        return HT_ERR_INVALID_ARGUMENT;
     const ht_lod_range *r = &f->levels[level];
     const ht_mesh *m = &f->mesh;
     uint32_t lo = UINT32_MAX, hi = 0;
@@ -241,4 +261,30 @@ void ht_lod_file_free(ht_lod_file *f) {
     if (!f) return;
     ht_mesh_free(&f->mesh);
     memset(f, 0, sizeof *f);
+}
+
+/* FNV-1a 64 over a mesh's vertex positions (their bits, little-endian)
+   and indices: what a stored ladder was made from. */
+static uint64_t scene_hash(const ht_mesh *m) {
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (uint64_t k = 0; k < 3ull * m->vertex_count + m->index_count; k++) {
+        uint32_t u;
+        if (k < 3ull * m->vertex_count) memcpy(&u, &m->vertices[k / 3].position[k % 3], sizeof u);
+        else u = m->indices[k - 3ull * m->vertex_count];
+        for (int b = 0; b < 4; b++) h = (h ^ ((u >> (8 * b)) & 0xff)) * 0x100000001b3ull;
+    }
+    return h;
+}
+
+void ht_lod_file_set_scene(ht_lod_file *f, const ht_mesh *full) {
+    f->scene_vertices = full->vertex_count;
+    f->scene_indices = full->index_count;
+    f->scene_components = full->component_count;
+    f->scene_hash = scene_hash(full);
+}
+
+bool ht_lod_file_matches(const ht_lod_file *f, const ht_mesh *full) {
+    return f && full && f->level_count >= 1 && f->scene_vertices == full->vertex_count &&
+           f->scene_indices == full->index_count && f->scene_components == full->component_count &&
+           f->scene_hash == scene_hash(full);
 }

@@ -30,7 +30,7 @@
 /* The generator version a bundle records: hairgen writes it, the runtime
    refuses any other ("regenerate with ..."), input_hash covers it. Bump it
    with any change to what a bundle holds. */
-#define HT_MANIFEST_GENERATOR "hairgen 6"
+#define HT_MANIFEST_GENERATOR "hairgen 7"
 #define HT_MANIFEST_FILE "manifest.json"
 /* Texture sizes the runtime reads: per side, 3D depth (slices), and texels
    in all (the PNG reader's cap, so a listed texture is never one it refuses).
@@ -116,7 +116,9 @@ _Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader r
 #define HT_MANIFEST_KEY_STRANDS "strands"
 #define HT_MANIFEST_KEY_SIZE "size"
 #define HT_MANIFEST_KEY_POP_PSNR_DB "pop_psnr_db"
-#define HT_MANIFEST_MAX_LOD_CELLS 96 /* 3 sizes x 5 levels x 6 tiers, and room */
+#define HT_MANIFEST_KEY_LOD_KIND "kind"
+#define HT_MANIFEST_KEY_LOD_FILE "lod_file" /* a bundle storing levels: "lods.bin" (the runtime does not read it) */
+#define HT_MANIFEST_MAX_LOD_CELLS 144 /* 3 sizes x 8 stored levels x 6 tiers */
 /* Limits of a measured object's numbers. */
 #define HT_MANIFEST_MAX_PSNR_DB 1000.0
 #define HT_MANIFEST_MAX_DELTA_E 1000.0
@@ -192,7 +194,8 @@ typedef struct ht_manifest_tier {
 /* One cell of "lods": psnr_db and pop_psnr_db INFINITY for null (level 0,
    identical to itself; no level before). */
 typedef struct ht_manifest_lod_cell {
-    int level;                     /* 0..HT_LOD_LEVELS - 1 */
+    int level;                     /* 0..HT_LOD_FILE_MAX_LEVELS - 1: a stored level's index */
+    int cards;                     /* "kind": "cards" (a cards level); absent or "strands": 0 */
     char tier[16];                 /* the tier drawn; a cell without "tier": the lods' */
     uint32_t strands;
     double size;                   /* (0, 4]: projected size / the scene's */

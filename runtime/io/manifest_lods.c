@@ -28,10 +28,12 @@ static ht_result psnr(const ht_jctx *c, const cJSON *cell, const char *path, con
 static ht_result parse_cell(const ht_jctx *c, const cJSON *cell, const char *path, const char *lods_tier,
                             ht_manifest_lod_cell *out) {
     static const char *const known[] = { K(LEVEL), K(LOD_TIER), K(STRANDS), K(SIZE), K(PSNR_DB), K(SSIM),
-                                         K(DELTA_E00_MEAN), K(COST_RATIO), K(POP_PSNR_DB), NULL };
+                                         K(DELTA_E00_MEAN), K(COST_RATIO), K(POP_PSNR_DB), K(LOD_KIND), NULL };
     int64_t strands = 0;
     ht_result r = ht_json_keys(c, cell, path, known);
-    if (r == HT_OK) r = ht_json_int32(c, cell, path, K(LEVEL), NULL, 0, HT_LOD_LEVELS - 1, &out->level);
+    if (r == HT_OK) r = ht_json_int32(c, cell, path, K(LEVEL), NULL, 0, HT_LOD_FILE_MAX_LEVELS - 1, &out->level);
+    static const char *const kinds[] = { "strands", "cards", NULL };
+    if (r == HT_OK) r = ht_json_enum(c, cell, path, K(LOD_KIND), 0, kinds, &out->cards);
     /* A cell of the one-tier format has no "tier": the lods' own. */
     const size_t n = strnlen(lods_tier, sizeof out->tier - 1);
     memcpy(out->tier, lods_tier, n);

@@ -96,6 +96,23 @@ ht_result ht_lod_chain_from_file(const ht_lod_file *f, ht_lod_chain *out) {
     return HT_OK;
 }
 
+ht_result ht_lod_chain_from_scene_file(const ht_lod_file *f, const ht_mesh *full, ht_lod_chain *out) {
+    if (!out) return HT_ERR_INVALID_ARGUMENT;
+    if (f && f->level_count >= 1 && f->levels[0].kind != HT_LOD_KIND_SCENE) return ht_lod_chain_from_file(f, out);
+    memset(out, 0, sizeof *out);
+    out->current = -1;
+    if (!f || !full || f->level_count < 1 || !ht_lod_file_matches(f, full)) return HT_ERR_INVALID_ARGUMENT;
+    out->full = full;
+    out->width = ht_mesh_mean_width(full);
+    out->count = 1;
+    ht_result r = HT_OK;
+    for (int l = 1; l < f->level_count && r == HT_OK; l++)
+        if ((r = ht_lod_file_level_mesh(f, l, &out->levels[l])) == HT_OK) out->count = l + 1;
+    if (r == HT_OK) r = concatenate(out);
+    if (r != HT_OK) ht_lod_chain_free(out);
+    return r;
+}
+
 const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *c, int level) {
     if (!c || level < 0 || level >= c->count) return NULL;
     return level ? &c->levels[level] : c->full;
