@@ -248,7 +248,7 @@ static void hairview_repicks_the_pair_while_dollying(void **state) {
     const double scene_distance = 3.3508; /* |eye - target| of scenes/furball.json's camera */
     char args[1024], out[16384], want[96];
     snprintf(args, sizeof args, "--bundle %s --scene %s/scene.json --lod auto --policy error:%g --distance %g:%g "
-             "--frames 8 -o %s/d.png", bundle, work, db, scene_distance, 4 * scene_distance, work);
+             "--frames 8 -o %s/d.png", cards, work, db, scene_distance, 4 * scene_distance, work);
     if (ht_test_run_program("hairview", args, out, sizeof out) != 0) fail_msg("hairview %s: %s", args, out);
     const int first = ht_lod_pick_error(cells, n, 1.0, db, -1);
     snprintf(want, sizeof want, "lod_pair: frame=0 lod=%d tier=%s ", cells[first].lod, ht_tier_name(cells[first].tier));

@@ -101,6 +101,7 @@ ht_result ht_lod_chain_from_scene_file(const ht_lod_file *f, const ht_mesh *full
     if (f && f->level_count >= 1 && f->levels[0].kind != HT_LOD_KIND_SCENE) return ht_lod_chain_from_file(f, out);
     memset(out, 0, sizeof *out);
     out->current = -1;
+    out->tier = HT_TIER_COUNT;
     if (!f || !full || f->level_count < 1 || !ht_lod_file_matches(f, full)) return HT_ERR_INVALID_ARGUMENT;
     out->full = full;
     out->width = ht_mesh_mean_width(full);
@@ -110,6 +111,7 @@ ht_result ht_lod_chain_from_scene_file(const ht_lod_file *f, const ht_mesh *full
         if ((r = ht_lod_file_level_mesh(f, l, &out->levels[l])) == HT_OK) out->count = l + 1;
     if (r == HT_OK) r = concatenate(out);
     if (r != HT_OK) ht_lod_chain_free(out);
+    for (int l = 0; r == HT_OK && l < out->count; l++) out->level_width[l] = ht_mesh_mean_width(ht_lod_chain_mesh(out, l));
     return r;
 }
 
