@@ -472,6 +472,10 @@ static int run(const options *o, view *v) {
     char stored[4200];
     snprintf(stored, sizeof stored, "%s/%s", o->view.bundle, HT_LOD_FILE_NAME);
     const bool has_stored = access(stored, F_OK) == 0;
+    if (o->soft && has_stored) {
+        fprintf(stderr, "hairview: --soft: %s: the bundle stores its levels, which are not soft\n", stored);
+        return 1;
+    }
     if (o->cards && !has_stored) {
         fprintf(stderr, "hairview: --cards: %s: absent (make the bundle with hairgen --cards)\n", stored);
         return 1;

@@ -87,9 +87,11 @@ HT_API int ht_lod_max_level(const ht_mesh *mesh);
 
 /* Builds the LOD of a mesh made by one of the builders (or any mesh whose
    components each index a run of rows of two vertices as they do).
-   A soft desc's ribbons come out soften times wider than the area rule's.
-   HT_ERR_INVALID_ARGUMENT for a mesh of another layout or a desc out of
-   range (soften NaN, negative, in (0, 1) or above HT_LOD_MAX_SOFTEN), HT_ERR_OUT_OF_MEMORY; on failure *out is zeroed. */
+   A soft desc's ribbons come out soften times wider than the area rule's
+   (their drawn area soften times the mesh's). HT_ERR_INVALID_ARGUMENT for
+   a mesh of another layout or a desc out of range (soften NaN, negative,
+   in (0, 1) or above HT_LOD_MAX_SOFTEN), HT_ERR_OUT_OF_MEMORY; on failure
+   *out is zeroed. */
 HT_API ht_result ht_mesh_build_lod(const ht_mesh *full, const ht_lod_desc *desc, ht_mesh *out);
 
 /* rank[c] = the position of component c in the stratified order (0 first):
@@ -124,8 +126,9 @@ HT_API int ht_lod_pick_best(double strand_px, int current, int max_level);
 HT_API double ht_width_rule_widen(double strand_px);
 
 /* Every ribbon of a mesh (a builder's layout, as ht_mesh_build_lod takes)
-   `factor` times as wide about its centre line, [1, 1024]; every strand and
-   row kept, the order kept. HT_ERR_INVALID_ARGUMENT, HT_ERR_OUT_OF_MEMORY;
+   `factor` times as wide about its centre line, [1, 1024] (refitted so the
+   drawn area is factor times the mesh's: twisted quads grow faster than
+   their width); every strand and row kept, the order kept. HT_ERR_INVALID_ARGUMENT, HT_ERR_OUT_OF_MEMORY;
    on failure *out is zeroed. */
 HT_API ht_result ht_mesh_widen(const ht_mesh *mesh, double factor, ht_mesh *out);
 
