@@ -89,7 +89,7 @@ static void test_png_metrics_parts_split_the_error(void **state) {
     assert_int_equal(run("a.png c.png --parts", out, sizeof out), 0);
     assert_non_null(strstr(out, "\nparts: mean_diff=+0.0039,+0.0039,+0.0039 "));
     for (int r = 1; r <= 8; r *= 2) {
-        char part[16];
+        char part[32];
         double low = 0, high = 0;
         snprintf(part, sizeof part, " r%d:low=", r);
         const char *at = strstr(out, part);
