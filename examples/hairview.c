@@ -4,7 +4,7 @@
    build/hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]
                   [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]
                   [--lod auto|N | --cards] [--size F] [--distance D] [--samples N] [--supersample K]
-                  [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]
+                  [--width-rule] [--soft] [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]
                   [--device-profile NAME] -o OUT.png
 
    --api gles1|gles2|gles3 draws on a GL ES context (EGL); --device-profile NAME
@@ -60,6 +60,7 @@ typedef struct options {
     int samples;          /* 0: no multisampling; else the framebuffer's samples */
     int supersample;      /* 1; K: drawn K x K times larger, box-filtered down to the PNG */
     bool width_rule;      /* lod.h's width rule on the mesh drawn */
+    bool soft;            /* --lod N draws the soft level (lod.h's ht_lod_soft_level) */
     bool cards;           /* the bundle's stored cards (hairgen --cards) instead of the strands */
 } options;
 
@@ -90,7 +91,7 @@ static int fail(ht_result r) {
 }
 
 enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT, KEY_PROFILE, KEY_LOD, KEY_SIZE, KEY_DISTANCE, KEY_SAMPLES,
-       KEY_SUPERSAMPLE, KEY_WIDTH_RULE, KEY_CARDS };
+       KEY_SUPERSAMPLE, KEY_WIDTH_RULE, KEY_CARDS, KEY_SOFT };
 static const struct option long_options[] = {
     VIEW_ARGS_LONG_OPTIONS,
     { "tier", required_argument, NULL, KEY_TIER },
@@ -105,6 +106,7 @@ static const struct option long_options[] = {
     { "samples", required_argument, NULL, KEY_SAMPLES },
     { "supersample", required_argument, NULL, KEY_SUPERSAMPLE },
     { "width-rule", no_argument, NULL, KEY_WIDTH_RULE },
+    { "soft", no_argument, NULL, KEY_SOFT },
     { 0 },
 };
 
@@ -113,7 +115,7 @@ static const cli_program program = {
     .synopsis = "usage: hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]\n"
                 "                [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]\n"
                 "                [--lod auto|N | --cards] [--size F] [--distance D] [--samples N] [--supersample K]\n"
-                "                [--width-rule]\n"
+                "                [--width-rule] [--soft]\n"
                 "                [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]\n"
                 "                [--device-profile NAME] -o OUT.png\n",
     .help = "Renders SCENE with the bundle's tier that the device runs best (or --tier, --policy) and writes\n"
@@ -137,6 +139,8 @@ static const cli_program program = {
             "  --supersample K draw K x K times the pixels and box-filter them down (1..8; a reference)\n"
             "  --width-rule    strands under a pixel drawn a pixel wide, opacity scaled by the ratio (docs/lod.md);\n"
             "                  prints width_rule=F opacity=S\n"
+            "  --soft          a level past 0 drawn soft: its ribbons 3x wider at 1/3 the opacity, sorted\n"
+            "                  back to front (docs/lod.md); prints soften=S opacity=A\n"
             "  --context K     osmesa or egl (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl)\n"
             "  --egl-device N  draw on EGL device N (implies --context egl)\n"
             "  --api A         gl (default), gles1, gles2 or gles3 (GL ES through EGL; ES 1.1 runs the\n                  fixed-function tiers only)\n"
@@ -168,6 +172,7 @@ static const char *take(void *user, int key, const char *value) {
     case KEY_STRICT: o->strict = true; return NULL;
     case KEY_FLAT: o->flat = true; return NULL;
     case KEY_WIDTH_RULE: o->width_rule = true; return NULL;
+    case KEY_SOFT: o->soft = true; return NULL;
     case KEY_PROFILE: {
         char err[200];
         if (ht_device_profile_parse(value, &o->profile, err, sizeof err) == HT_OK) return NULL;
@@ -359,7 +364,7 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
     if (stored || (!ladder && level > 0)) {
         ht_lod_desc desc;
         ht_mesh lod;
-        ht_lod_level(level, &desc);
+        (o->soft ? ht_lod_soft_level : ht_lod_level)(level, &desc);
         ht_result r = stored ? ht_lod_file_level_mesh(ladder, level, &lod) : ht_mesh_build_lod(hair, &desc, &lod);
         if (r != HT_OK) {
             fprintf(stderr, "hairview: %s: geometry: cannot %s LOD %d: %s\n", o->view.scene, stored ? "read" : "build",
@@ -368,6 +373,12 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
         }
         ht_mesh_free(hair);
         *hair = lod;
+        if (desc.soften > 1) {
+            /* lod.h: a soft level's translucent ribbons compose far to near. */
+            ht_mesh_sort_back_to_front(hair, s->camera.eye);
+            if ((r = ht_renderer_set_opacity_scale(v->renderer, ht_lod_opacity(&desc))) != HT_OK) return fail(r);
+            printf("soften=%.3f opacity=%.3f\n", desc.soften, ht_lod_opacity(&desc));
+        }
     }
     printf("lod=%d strands=%u strand_px=%.3f", level, hair->component_count, px);
     if (ladder)
@@ -570,12 +581,23 @@ static int run(const options *o, view *v) {
     ht_lod_file ladder;
     bool has_stored = false;
     if (read_stored_levels(o, &v->hair, &ladder, &has_stored)) return 1;
+    if (o->soft && has_stored) { /* stored levels are not soft: a plain bundle's are built again, soft */
+        const bool cards = ladder.levels[0].kind != HT_LOD_KIND_SCENE;
+        ht_lod_file_free(&ladder);
+        has_stored = false;
+        if (cards) {
+            fprintf(stderr, "hairview: --soft: %s/%s: a cards bundle's stored levels are not soft\n", o->view.bundle,
+                    HT_LOD_FILE_NAME);
+            return 1;
+        }
+    }
     ht_frame_desc frame = { .camera = scene.camera, .lights = scene.lights, .light_count = scene.light_count,
                             .aspect = (float)scene.width / (float)scene.height,
                             .opaque = v->head.index_count ? &v->head : NULL };
     double ms = 0;
-    if (o->distance_to > 0 && (o->lod >= 0 || o->cards)) {
-        fprintf(stderr, "hairview: --distance A:B: a dolly picks the level per frame (--lod auto), without --cards\n");
+    if (o->distance_to > 0 && (o->lod >= 0 || o->cards || o->soft)) {
+        fprintf(stderr, "hairview: --distance A:B: a dolly picks the level per frame (--lod auto), without --cards "
+                        "or --soft\n");
         if (has_stored) ht_lod_file_free(&ladder);
         return 1;
     }

@@ -1,7 +1,9 @@
 /* test_png_metrics — build/png_metrics, the comparison tools/device_nvidia.sh
    runs on a device: identical images print PSNR inf, a difference of one
    level in every channel of every pixel prints 10 log10(255²) = 48.13 dB
-   and a FLIP mean above 0,
+   and a FLIP mean above 0; --parts puts that one level all in the mean and
+   the low (blurred) part, none in the high part, and identical images
+   nowhere;
    and a size mismatch, a missing or broken file or a wrong argument count
    is one line and a non-zero exit. */
 #include <setjmp.h>
@@ -10,6 +12,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -61,7 +64,7 @@ static int run(const char *args, char *out, size_t size) {
 
 static void test_png_metrics_prints_inf_for_identical_and_48_db_for_one_level(void **state) {
     (void)state;
-    char out[1024];
+    char out[2048];
     write_png("a.png", 40, 30, 0);
     write_png("b.png", 40, 30, 0);
     write_png("c.png", 40, 30, 1);
@@ -72,6 +75,22 @@ static void test_png_metrics_prints_inf_for_identical_and_48_db_for_one_level(vo
     assert_true(strncmp(out, "psnr_db=48.13 ", 14) == 0);
     assert_non_null(strstr(out, "max_diff=1\n"));
     assert_null(strstr(out, " flip_mean=0.00000 "));
+
+    /* --parts: the one level is all mean and low part, none of it high */
+    assert_int_equal(run("--parts a.png b.png", out, sizeof out), 0);
+    assert_non_null(strstr(out, "\nparts: mean_diff=+0.0000,+0.0000,+0.0000 ink_ratio=1.000 covered_ratio=1.000 "
+                                "gain=1.000 gain_psnr_db=inf r1:low=inf,high=inf,smooth="));
+    assert_int_equal(run("a.png c.png --parts", out, sizeof out), 0);
+    assert_non_null(strstr(out, "\nparts: mean_diff=+0.0039,+0.0039,+0.0039 "));
+    for (int r = 1; r <= 8; r *= 2) {
+        char part[32];
+        double low = 0, high = 0;
+        snprintf(part, sizeof part, " r%d:low=", r);
+        const char *at = strstr(out, part);
+        assert_non_null(at);
+        assert_int_equal(sscanf(at + strlen(part), "%lf,high=%lf", &low, &high), 2);
+        assert_true(fabs(low - 48.13) < 0.01 && high > 200); /* high: only rounding left */
+    }
 }
 
 static void test_png_metrics_refuses_bad_input_in_one_line(void **state) {
@@ -87,7 +106,7 @@ static void test_png_metrics_refuses_bad_input_in_one_line(void **state) {
     assert_int_equal(run("broken.png a.png", out, sizeof out), 1);
     assert_true(strncmp(out, "png_metrics: ", 13) == 0 && strstr(out, "broken.png") && !strchr(out, '\n')[1]);
     assert_int_equal(run("a.png", out, sizeof out), 2);
-    assert_string_equal(out, "png_metrics: two PNGs required\nusage: png_metrics REFERENCE.png TEST.png\n");
+    assert_string_equal(out, "png_metrics: two PNGs required\nusage: png_metrics [--parts] REFERENCE.png TEST.png\n");
 }
 
 int main(void) {

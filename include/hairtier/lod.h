@@ -77,6 +77,8 @@ extern "C" {
 typedef struct ht_lod_desc {
     uint32_t strand_stride; /* 0 or 1: every strand; k: the first ceil(n / k) of the order */
     float max_turn_deg;     /* 0: every row; else rows turning less than this go, [0, 90] */
+    float soften;           /* 0 or 1: none; s in (1, HT_LOD_MAX_SOFTEN]: every ribbon s times wider
+                               again after the area rule, drawn at opacity ht_lod_opacity (a soft level) */
 } ht_lod_desc;
 
 /* The shipped ladder, level 0 (full) to HT_LOD_LEVELS - 1: stride 2^level,
@@ -87,6 +89,22 @@ typedef struct ht_lod_desc {
 #define HT_LOD_FILE_MAX_LEVELS 8
 HT_API void ht_lod_level(int level, ht_lod_desc *out);
 
+/* Soft levels (docs/lod.md, "Why the levels lose"): a level's error
+   against full detail is mostly each kept strand's own pixel-scale
+   pattern, which full detail does not share; the same ribbons HT_LOD_SOFTEN
+   times wider at 1 / HT_LOD_SOFTEN the opacity keep the ink (width x
+   opacity) and draw the local mean instead. ht_lod_soft_level is
+   ht_lod_level with soften HT_LOD_SOFTEN from level 1 on (level 0 stays
+   full detail). A soft level is drawn as the width rule's strands are:
+   sorted back to front (ht_mesh_sort_back_to_front) and with
+   ht_renderer_set_opacity_scale(r, ht_lod_opacity(&desc)). */
+#define HT_LOD_SOFTEN 3.0f
+#define HT_LOD_MAX_SOFTEN 16.0f
+HT_API void ht_lod_soft_level(int level, ht_lod_desc *out);
+/* The opacity scale a level is drawn with: 1 / soften, 1 for a level that
+   is not soft (or a NULL desc). */
+HT_API float ht_lod_opacity(const ht_lod_desc *desc);
+
 /* The coarsest level worth building for a mesh: the ladder stops before
    fewer than HT_LOD_MIN_STRANDS strands would remain (a few very wide
    ribbons stop looking like hair; patches' 144 strips end at level 2). */
@@ -95,8 +113,11 @@ HT_API int ht_lod_max_level(const ht_mesh *mesh);
 
 /* Builds the LOD of a mesh made by one of the builders (or any mesh whose
    components each index a run of rows of two vertices as they do).
-   HT_ERR_INVALID_ARGUMENT for a mesh of another layout or a desc out of
-   range, HT_ERR_OUT_OF_MEMORY; on failure *out is zeroed. */
+   A soft desc's ribbons come out soften times wider than the area rule's
+   (their drawn area soften times the mesh's). HT_ERR_INVALID_ARGUMENT for
+   a mesh of another layout or a desc out of range (soften NaN, negative,
+   in (0, 1) or above HT_LOD_MAX_SOFTEN), HT_ERR_OUT_OF_MEMORY; on failure
+   *out is zeroed. */
 HT_API ht_result ht_mesh_build_lod(const ht_mesh *full, const ht_lod_desc *desc, ht_mesh *out);
 
 /* rank[c] = the position of component c in the stratified order (0 first):
@@ -131,8 +152,9 @@ HT_API int ht_lod_pick_best(double strand_px, int current, int max_level);
 HT_API double ht_width_rule_widen(double strand_px);
 
 /* Every ribbon of a mesh (a builder's layout, as ht_mesh_build_lod takes)
-   `factor` times as wide about its centre line, [1, 1024]; every strand and
-   row kept, the order kept. HT_ERR_INVALID_ARGUMENT, HT_ERR_OUT_OF_MEMORY;
+   `factor` times as wide about its centre line, [1, 1024] (refitted so the
+   drawn area is factor times the mesh's: twisted quads grow faster than
+   their width); every strand and row kept, the order kept. HT_ERR_INVALID_ARGUMENT, HT_ERR_OUT_OF_MEMORY;
    on failure *out is zeroed. */
 HT_API ht_result ht_mesh_widen(const ht_mesh *mesh, double factor, ht_mesh *out);
 

@@ -10,14 +10,16 @@
    direction from r to r + 1 differ by less than max_turn_deg; a kept row's
    tangent is the mean of the kept segments meeting there (root: the first,
    tip: the last), unit and root to tip; normal, uv and ao are the row's
-   own. Components keep the full mesh's order (its inside-out sort). */
+   own. Components keep the full mesh's order (its inside-out sort). A soft
+   level (lod.h) is the same LOD widened again by its soften factor, which
+   its caller's opacity scale takes back. */
 #include <stdlib.h>
 #include <string.h>
 
 #include "lod_internal.h"
 
 #define MAX_TURN_DEG 90.0f
-#define WIDTH_ROUNDS 4 /* refits of the width to the area */
+#define WIDTH_ROUNDS 8 /* refits of the width to the area */
 #define MAX_WIDEN 1024.0 /* lod.h's bound on the width rule's factor */
 
 void ht_lod_level(int level, ht_lod_desc *out) {
@@ -28,7 +30,18 @@ void ht_lod_level(int level, ht_lod_desc *out) {
     /* 4 degrees a level, at most 8: on the fur ball at a quarter size 8
        alone costs 33 dB PSNR against full detail, 16 alone 25 dB. */
     out->max_turn_deg = level < 2 ? 4.0f * (float)level : 8.0f;
+    out->soften = 0.0f;
 }
+
+void ht_lod_soft_level(int level, ht_lod_desc *out) {
+    if (!out) return;
+    ht_lod_level(level, out);
+    out->soften = out->strand_stride > 1 ? HT_LOD_SOFTEN : 0.0f;
+}
+
+static bool soft(const ht_lod_desc *desc) { return desc->soften > 1.0f; }
+
+float ht_lod_opacity(const ht_lod_desc *desc) { return desc && soft(desc) ? 1.0f / desc->soften : 1.0f; }
 
 int ht_lod_max_level(const ht_mesh *mesh) {
     int level = 0;
@@ -209,17 +222,18 @@ static ht_result build_lod(const ht_mesh *full, const ht_lod_desc *desc, double 
     if (r != HT_OK) goto done;
     memcpy(out->center, full->center, sizeof out->center);
 
-    /* Twisted quads grow faster than their width: refit it to the drawn
+    /* The width rule's or a soft level's factor on top (lod.h): the drawn
+       area grows by it, and the opacity the caller sets shrinks by it.
+       Twisted quads grow faster than their width: refit it to the drawn
        triangles' area (a few rounds converge well within 1%). */
+    const double target = area_all * extra;
+    widen *= extra;
     for (int round = 0; round < WIDTH_ROUNDS; round++) {
         write_lod(full, runs, rows, cos_turn, keep, widen, out);
         const double drawn = mesh_area(out);
-        if (!(drawn > 0) || fabs(drawn / area_all - 1) < 0.002) break;
-        widen *= area_all / drawn;
+        if (!(drawn > 0) || fabs(drawn / target - 1) < 0.002) break;
+        widen *= target / drawn;
     }
-    /* The width rule's factor on top (lod.h): the drawn area grows by it,
-       and the opacity the caller sets shrinks by it. */
-    if (extra > 1) write_lod(full, runs, rows, cos_turn, keep, widen * extra, out);
 done:
     free(runs);
     free(rank);
@@ -229,7 +243,11 @@ done:
 }
 
 ht_result ht_mesh_build_lod(const ht_mesh *full, const ht_lod_desc *desc, ht_mesh *out) {
-    return build_lod(full, desc, 1.0, out);
+    if (desc && !(desc->soften == 0.0f || (desc->soften >= 1.0f && desc->soften <= HT_LOD_MAX_SOFTEN))) {
+        if (out) memset(out, 0, sizeof *out);
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    return build_lod(full, desc, desc && soft(desc) ? desc->soften : 1.0, out);
 }
 
 ht_result ht_mesh_widen(const ht_mesh *mesh, double factor, ht_mesh *out) {
