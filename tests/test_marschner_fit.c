@@ -206,8 +206,10 @@ static void same_as_the_manifest(const ht_marschner_fit *a) {
                             b.shading.primary.shift, b.shading.secondary.exponent, b.shading.secondary.shift,
                             b.shading.transmission.centre, b.shading.transmission.sharpness,
                             b.shading.transmission.azimuth };
+    /* a fixture older than hairgen differs too: make rebuilds it, a hand-run test does not */
     for (size_t i = 0; i < sizeof got / sizeof *got; i++)
-        if (!same_number(got[i], want[i])) fail_msg("fit number %zu: %.17g, manifest %.17g", i, got[i], want[i]);
+        if (!same_number(got[i], want[i]))
+            fail_msg("fit number %zu: %.17g, %s/manifest.json %.17g", i, got[i], backlit_bundle, want[i]);
     const double *colours[4][2] = { { a->shading.diffuse_color, b.shading.diffuse_color },
                                     { a->shading.primary.color, b.shading.primary.color },
                                     { a->shading.secondary.color, b.shading.secondary.color },
@@ -215,7 +217,8 @@ static void same_as_the_manifest(const ht_marschner_fit *a) {
     for (int i = 0; i < 4; i++)
         for (int c = 0; c < 3; c++)
             if (!same_number(colours[i][0][c], colours[i][1][c]))
-                fail_msg("fit colour %d.%d: %.17g, manifest %.17g", i, c, colours[i][0][c], colours[i][1][c]);
+                fail_msg("fit colour %d.%d: %.17g, %s/manifest.json %.17g", i, c, colours[i][0][c], backlit_bundle,
+                         colours[i][1][c]);
 }
 
 static void fit_is_a_valid_deterministic_scheuermann_material_within_its_measured_error(void **state) {
