@@ -332,10 +332,29 @@ static double whole_error(const double *y, const double x[PARAMS], factor_cache 
     return solve_colours(y, x, NULL, fc);
 }
 
+/* The last points a search evaluated and their errors: a golden section's
+   new point is often its previous one to the bit (about a quarter of
+   them), and an objective is a function of x alone. */
+enum { RECENT = 4 };
+typedef struct recent_points {
+    double x[RECENT][PARAMS], err[RECENT];
+    int count;
+} recent_points;
+
+static double error_at(objective err_of, const double *y, const double x[PARAMS], factor_cache *f,
+                       recent_points *r) {
+    for (int i = 0; i < r->count && i < RECENT; i++)
+        if (memcmp(r->x[i], x, sizeof r->x[i]) == 0) return r->err[i];
+    const int slot = r->count++ % RECENT;
+    memcpy(r->x[slot], x, sizeof r->x[slot]);
+    return r->err[slot] = err_of(y, x, f);
+}
+
 /* Golden section on each parameter of [first, last] in turn, from best. */
 static double coordinate_search(objective err_of, const double *y, int first, int last, int rounds, double best[PARAMS],
                                 double best_err, factor_cache *f) {
     const double g = (sqrt(5) - 1) / 2;
+    recent_points recent = { .count = 0 };
     for (int round = 0; round < rounds; round++)
         for (int p = first; p <= last; p++) {
             double a = lo[p], b = hi[p], x[PARAMS];
@@ -343,14 +362,14 @@ static double coordinate_search(objective err_of, const double *y, int first, in
             for (int it = 0; it < 12; it++) { /* the bracket shrinks to 0.3 % */
                 double c = b - g * (b - a), d = a + g * (b - a);
                 x[p] = c;
-                double ec = err_of(y, x, f);
+                double ec = error_at(err_of, y, x, f, &recent);
                 x[p] = d;
-                double ed = err_of(y, x, f);
+                double ed = error_at(err_of, y, x, f, &recent);
                 if (ec < ed) b = d;
                 else a = c;
             }
             x[p] = (a + b) / 2;
-            double e = err_of(y, x, f);
+            double e = error_at(err_of, y, x, f, &recent);
             if (e < best_err) best_err = e, memcpy(best, x, sizeof x);
         }
     return best_err;

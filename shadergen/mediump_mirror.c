@@ -2,6 +2,7 @@
 #include "mediump_mirror.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,12 +14,17 @@ double ht_mp_round_half(double x) {
     const double a = fabs(x);
     /* 65504 has an odd last bit, so the tie at 65520 rounds up to 2^16: Inf */
     if (a >= 65520.0) return copysign(INFINITY, x);
-    int e;
-    frexp(a, &e);                /* a = f 2^e, f in [0.5, 1) */
-    int q = e - 11;              /* 11 significant bits */
-    if (q < -24) q = -24;        /* subnormals: a fixed quantum of 2^-24 */
-    const double r = nearbyint(ldexp(a, -q)); /* ties to even (default mode) */
-    return copysign(ldexp(r, q), x);
+    uint64_t bits;
+    memcpy(&bits, &a, sizeof bits);
+    int q = (int)(bits >> 52) - 1022 - 11; /* frexp's exponent less 11 significant bits */
+    if (q < -24) q = -24;                  /* subnormals: a fixed quantum of 2^-24 */
+    /* a + 2^(q+52) has the quantum 2^q as its last bit: the sum rounds a to
+       it, ties to even (the default mode, as nearbyint did), and the
+       subtraction is exact; the same numbers as frexp, ldexp and nearbyint */
+    const uint64_t big_bits = (uint64_t)(q + 52 + 1023) << 52;
+    double big;
+    memcpy(&big, &big_bits, sizeof big);
+    return copysign((a + big) - big, x);
 }
 
 typedef struct ref {

@@ -165,18 +165,21 @@ static void write_material(const ht_probe_material *p, const char *path) {
     fclose(f);
 }
 
-/* One light of the probe light's type and colour (the fixed tier's LUT
-   carries the scene's light colours above 1). */
-static void write_scene(const char *path, const ht_light *light) {
+/* The probe lights' types and colours (the fixed tier's LUT carries the
+   scene's light colours above 1). */
+static void write_scene(const char *path, const ht_light *lights, int count) {
     FILE *f = fopen(path, "w");
     assert_non_null(f);
-    const bool point = light->type == HT_LIGHT_POINT;
     fprintf(f, "{ \"format\": \"hairtier-scene/1\", \"resolution\": [%d, %d],\n"
-               "  \"camera\": {\"eye\": [0, 0, %g], \"target\": [0, 0, 0], \"fov_y\": %g},\n"
-               "  \"lights\": [{\"type\": \"%s\", \"%s\": [0, 0, 1], \"color\": [%.9g, %.9g, %.9g]}],\n"
-               "  \"geometry\": {\"type\": \"furball\"} }\n",
-            SIZE, SIZE, EYE_Z, FOV_Y, point ? "point" : "directional", point ? "position" : "direction",
-            (double)light->color[0], (double)light->color[1], (double)light->color[2]);
+               "  \"camera\": {\"eye\": [0, 0, %g], \"target\": [0, 0, 0], \"fov_y\": %g},\n  \"lights\": [",
+            SIZE, SIZE, EYE_Z, FOV_Y);
+    for (int i = 0; i < count; i++) {
+        const bool point = lights[i].type == HT_LIGHT_POINT;
+        fprintf(f, "%s{\"type\": \"%s\", \"%s\": [0, 0, 1], \"color\": [%.9g, %.9g, %.9g]}", i ? ", " : "",
+                point ? "point" : "directional", point ? "position" : "direction", (double)lights[i].color[0],
+                (double)lights[i].color[1], (double)lights[i].color[2]);
+    }
+    fprintf(f, "],\n  \"geometry\": {\"type\": \"furball\"} }\n");
     fclose(f);
 }
 
@@ -190,11 +193,19 @@ void ht_probe_make_bundle(const char *work, const ht_probe_material *p, const ht
 
 void ht_probe_make_bundle_from_file(const char *work, const char *name, const char *material_path,
                                     const ht_light *light, char *dir, size_t dir_size, ht_material *material) {
-    const char *type = ht_probe_light_type(light);
-    char scene[256], err[2048];
-    snprintf(scene, sizeof scene, "%s/scene-%s.json", work, type);
-    snprintf(dir, dir_size, "%s/probe-%s-%s", work, name, type);
-    write_scene(scene, light);
+    ht_probe_make_bundle_lights(work, name, material_path, light, 1, dir, dir_size, material);
+}
+
+void ht_probe_make_bundle_lights(const char *work, const char *name, const char *material_path,
+                                 const ht_light *lights, int count, char *dir, size_t dir_size,
+                                 ht_material *material) {
+    char types[64] = "", scene[256], err[2048];
+    for (int i = 0; i < count; i++)
+        snprintf(types + strlen(types), sizeof types - strlen(types), "%s%s", i ? "-" : "",
+                 ht_probe_light_type(&lights[i]));
+    snprintf(scene, sizeof scene, "%s/scene-%s.json", work, types);
+    snprintf(dir, dir_size, "%s/probe-%s-%s", work, name, types);
+    write_scene(scene, lights, count);
     if (ht_generate_bundle(material_path, scene, dir, NULL, err, sizeof err) != HT_OK)
         fail_msg("hairgen %s: %s", name, err);
     assert_int_equal(ht_material_load(material_path, material, err, sizeof err), HT_OK);
@@ -220,11 +231,20 @@ int ht_probe_to_byte(double v) { return (int)lround(fmin(1.0, fmax(0.0, v)) * 25
 
 void ht_probe_oracle(const ht_shading *m, const ht_surface *s, const ht_light *light, const double P[3],
                      int expected[3]) {
-    ht_light_ray ray = { .L = { light->vector[0], light->vector[1], light->vector[2] },
-                         .color = { light->color[0], light->color[1], light->color[2] } };
-    if (light->type == HT_LIGHT_POINT)
-        for (int k = 0; k < 3; k++) ray.L[k] -= P[k];
+    ht_probe_oracle_lights(m, s, light, 1, P, expected);
+}
+
+void ht_probe_oracle_lights(const ht_shading *m, const ht_surface *s, const ht_light *lights, int count,
+                            const double P[3], int expected[3]) {
+    ht_light_ray rays[HT_MAX_LIGHTS];
+    assert_true(count >= 1 && count <= HT_MAX_LIGHTS);
+    for (int i = 0; i < count; i++) {
+        rays[i] = (ht_light_ray){ .L = { lights[i].vector[0], lights[i].vector[1], lights[i].vector[2] },
+                                  .color = { lights[i].color[0], lights[i].color[1], lights[i].color[2] } };
+        if (lights[i].type == HT_LIGHT_POINT)
+            for (int k = 0; k < 3; k++) rays[i].L[k] -= P[k];
+    }
     double rgb[3];
-    ht_model_shade_d(m, s, &ray, 1, rgb);
+    ht_model_shade_d(m, s, rays, count, rgb);
     for (int k = 0; k < 3; k++) expected[k] = ht_probe_to_byte(rgb[k]);
 }

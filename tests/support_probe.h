@@ -86,6 +86,12 @@ void ht_probe_make_bundle(const char *work, const ht_probe_material *p, const ht
 /* The same for a material file of any model (a Marschner one). */
 void ht_probe_make_bundle_from_file(const char *work, const char *name, const char *material_path,
                                     const ht_light *light, char *dir, size_t dir_size, ht_material *material);
+/* The same with a scene of count lights of lights' types, in order (the
+   runtime shades lights[i] as the bundle's light i), into
+   work/probe-NAME-TYPE-TYPE... */
+void ht_probe_make_bundle_lights(const char *work, const char *name, const char *material_path,
+                                 const ht_light *lights, int count, char *dir, size_t dir_size,
+                                 ht_material *material);
 
 /* The first channel_count channels of img's texel at uv, in [0,1]. */
 void ht_probe_texel(const ht_image *img, const double uv[2], int channel_count, double out[]);
@@ -96,6 +102,9 @@ ht_surface ht_probe_surface(const ht_probe_cell *c, const double P[3]);
    8 bits per channel: what the framebuffer should hold. */
 void ht_probe_oracle(const ht_shading *m, const ht_surface *s, const ht_light *light, const double P[3],
                      int expected[3]);
+/* The same under count lights, summed before the clamp. */
+void ht_probe_oracle_lights(const ht_shading *m, const ht_surface *s, const ht_light *lights, int count,
+                            const double P[3], int expected[3]);
 /* v clamped to [0,1], rounded to 8 bits. */
 int ht_probe_to_byte(double v);
 
