@@ -6,7 +6,8 @@
    runtime reads them back (ht_renderer_lod_cells through hairview's --lod
    auto --policy error:DB and frame:MS, which pick the pair
    ht_lod_pick_error / ht_lod_pick_frame pick and draw its tier); a bad
-   cell is refused with one line naming it. Small: 600 hairs at 64 x 64.
+   cell is refused with one line naming it. Small: 600 hairs of 8 joints
+   at 64 x 64.
    Runs the programs (HAIRTIER_BUILD). */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -28,6 +29,7 @@
 
 #define HAIRS 600 /* 38 at level 4, above HT_LOD_MIN_STRANDS: five levels */
 #define LEVELS 5
+#define JOINTS 8  /* not the scene's 16: every tier's 75 cells of frames, half the vertices */
 
 static char work[64], bundle[128];
 
@@ -35,7 +37,7 @@ static int setup(void **state) {
     (void)state;
     if (!ht_test_scratch_create(work, sizeof work, "measure_lod")) return -1;
     snprintf(bundle, sizeof bundle, "%s/bundle", work);
-    return ht_test_furball_bundle(work, 64, HAIRS, "--measure-lods");
+    return ht_test_furball_bundle(work, 64, HAIRS, JOINTS, "--measure-lods");
 }
 
 static int teardown(void **state) {
