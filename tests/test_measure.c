@@ -37,7 +37,7 @@ static const char small_scene[] =
     " \"lights\": [{\"type\": \"directional\", \"direction\": [0.6, 0.8, 0.7], \"color\": [1, 0.97, 0.92]},\n"
     "            {\"type\": \"directional\", \"direction\": [-0.7, 0.2, -0.6], \"color\": [0.35, 0.4, 0.5]}],\n"
     " \"background\": [0.08, 0.08, 0.1],\n"
-    " \"geometry\": {\"type\": \"furball\", \"hairs\": 300, \"joints\": 8, \"length\": 0.12, \"width\": 0.03, \"seed\": 7}}\n";
+    " \"geometry\": {\"type\": \"furball\", \"hairs\": 100, \"joints\": 8, \"length\": 0.12, \"width\": 0.03, \"seed\": 7}}\n";
 
 static char work[64], scene[128], measured[128], plain[128];
 
@@ -177,7 +177,7 @@ static void test_hairgen_prints_the_measured_table(void **state) {
    fixture (brown-marschner x furball: its bake and fit cost 2 s, the
    measuring 1 s), measured as hairgen measures it (ht_measure_step, the
    table of ht_measure_print that hairgen prints) on its own scene at 96²
-   and 300 hairs. */
+   and 100 hairs. */
 static void test_hairgen_names_marschner_as_the_reference_of_a_marschner_bundle(void **state) {
     (void)state;
     char fixture[256], dir[256], err[2048] = "";
@@ -190,7 +190,7 @@ static void test_hairgen_names_marschner_as_the_reference_of_a_marschner_bundle(
     ht_scene furball;
     if (ht_scene_load("scenes/furball.json", &furball, err, sizeof err) != HT_OK) fail_msg("%s", err);
     furball.width = furball.height = 96;
-    furball.furball.hairs = 300;
+    furball.furball.hairs = 100;
     ht_measure_job job = { .scene_path = "scenes/furball.json", .out_dir = dir };
     if (ht_measure_step(&job, dir, &furball, err, sizeof err) != HT_OK) fail_msg("%s", err);
     const ht_manifest *m = load(dir);
@@ -536,7 +536,7 @@ static void test_an_output_path_too_long_to_measure_is_refused(void **state) {
 
 /* The step hairgen --measure runs (ht_measure_step), given the scene the
    bundle was planned for: without a scene file that must be the built-in
-   one (512², ht_scene_default); it is measured here at 96² and 300 of
+   one (512², ht_scene_default); it is measured here at 96² and 100 of
    its 2000 hairs (the same scene, camera and lights: 2000 hairs of 16
    joints through every tier's seven frames cost 11 s). */
 static bool planned_for_built_in;
@@ -552,7 +552,7 @@ static ht_result measure_built_in_smaller(void *job, const char *dir, const ht_s
                            memcmp(&scene->furball, &built_in.furball, sizeof built_in.furball) == 0;
     ht_scene smaller = *scene;
     smaller.width = smaller.height = 96;
-    smaller.furball.hairs = 300;
+    smaller.furball.hairs = 100;
     return ht_measure_step(job, dir, &smaller, err, err_size);
 }
 
