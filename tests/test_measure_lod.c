@@ -6,7 +6,7 @@
    runtime reads them back (ht_renderer_lod_cells through hairview's --lod
    auto --policy error:DB and frame:MS, which pick the pair
    ht_lod_pick_error / ht_lod_pick_frame pick and draw its tier); a bad
-   cell is refused with one line naming it. Small: 600 hairs of 8 joints
+   cell is refused with one line naming it. Small: 600 hairs of 4 joints
    at 64 x 64.
    Runs the programs (HAIRTIER_BUILD). */
 #include <setjmp.h>
@@ -29,7 +29,7 @@
 
 #define HAIRS 600 /* 38 at level 4, above HT_LOD_MIN_STRANDS: five levels */
 #define LEVELS 5
-#define JOINTS 8  /* not the scene's 16: every tier's 75 cells of frames, half the vertices */
+#define JOINTS 4  /* not the scene's 16: every tier's 75 cells of frames, a quarter of the vertices */
 
 static char work[64], bundle[128];
 
