@@ -200,8 +200,8 @@ static void test_batch_writes_one_bundle_per_material_with_a_progress_line_each(
     assert_int_equal(count_lines(err, "hairgen:"), 1);
     free(err);
     /* one material with --batch goes in DIR/NAME too */
-    assert_int_equal(run_hairgen("--batch -o one blond.json -q"), 0);
-    assert_true(scratch_exists("one/blond/manifest.json"));
+    assert_int_equal(run_hairgen("--batch -o one kk.json -q"), 0);
+    assert_true(scratch_exists("one/kk/manifest.json"));
     /* two materials of one file name would be one bundle: refused first */
     char sub[512];
     snprintf(sub, sizeof sub, "%s/sub", work);
@@ -236,7 +236,7 @@ static void test_batch_bytes_do_not_depend_on_thread_count(void **state) {
 
 static void test_unchanged_inputs_are_skipped_and_force_regenerates(void **state) {
     (void)state;
-    copy_material("blond", "blond.json");
+    copy_material("kajiya-kay", "blond.json"); /* the cheapest to generate: any material serves */
     copy_material("kajiya-kay", "kk.json");
     assert_int_equal(run_hairgen("-o skip blond.json kk.json -q"), 0);
     ino_t blond = manifest_inode("skip/blond"), kk = manifest_inode("skip/kk");
