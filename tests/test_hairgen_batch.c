@@ -441,11 +441,11 @@ static void test_make_rebuilds_exactly_when_a_listed_input_changes(void **state)
     assert_int_equal(make_question(), 0);
     set_mtime("unrelated.txt", now - 60);
     assert_int_equal(make_question(), 0);
+    /* make -q answers from the times and the depfile the build wrote: no
+       rebuild is needed between the questions (the times are put back). */
     for (int i = 0; i < 4; i++) { /* a new hairgen too */
         set_mtime(inputs[i], now - 60);
         if (make_question() != 1) fail_msg("make does not rebuild when %s changes", inputs[i]);
-        make_build();
-        set_mtime("bundle/manifest.json", now - 600);
         set_mtime(inputs[i], now - 3600);
         assert_int_equal(make_question(), 0);
     }

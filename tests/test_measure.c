@@ -162,6 +162,17 @@ static void test_hairgen_prints_the_measured_table(void **state) {
     free(out);
 }
 
+/* The table hairgen prints for a result (ht_measure_print); free() it. */
+static char *printed_table(const ht_measure_result *result) {
+    char *text = NULL;
+    size_t size = 0;
+    FILE *f = open_memstream(&text, &size);
+    assert_non_null(f);
+    ht_measure_print(f, result);
+    assert_int_equal(fclose(f), 0);
+    return text;
+}
+
 /* A Marschner bundle is measured against its marschner tier, and the
    printed table says so (not "against full"). The bundle is the shared
    fixture (brown-marschner x furball: its bake and fit cost 2 s, the
@@ -186,12 +197,7 @@ static void test_hairgen_names_marschner_as_the_reference_of_a_marschner_bundle(
     const ht_manifest *m = load(dir);
     assert_int_equal(m->tiers[0].tier, HT_TIER_MARSCHNER);
     assert_true(isinf(m->tiers[0].measured.psnr_db)); /* the reference against itself */
-    char *out = NULL;
-    size_t size = 0;
-    FILE *f = open_memstream(&out, &size);
-    assert_non_null(f);
-    ht_measure_print(f, &job.result);
-    assert_int_equal(fclose(f), 0);
+    char *out = printed_table(&job.result);
     if (!strstr(out, "; whole frame against marschner; ") || !strstr(out, "cost = ms / marschner's ms") ||
         strstr(out, "against full") || !strstr(out, "\nmarschner "))
         fail_msg("the table does not name marschner as its reference:\n%s", out);
@@ -552,12 +558,7 @@ static void test_without_a_scene_the_built_in_one_is_measured(void **state) {
         assert_true(m->tiers[i].measured.present);
         assert_string_equal(m->tiers[i].measured.scene, HT_MEASURE_BUILT_IN_SCENE);
     }
-    char *text = NULL;
-    size_t size = 0;
-    FILE *out = open_memstream(&text, &size);
-    assert_non_null(out);
-    ht_measure_print(out, &job.result);
-    assert_int_equal(fclose(out), 0);
+    char *text = printed_table(&job.result);
     if (!strstr(text, "measured: scene built-in (96x96)")) fail_msg("the table:\n%s", text);
     free(text);
 }
