@@ -174,9 +174,10 @@ static void assert_same_bundle(const char *a, const char *b) {
 
 static void test_batch_writes_one_bundle_per_material_with_a_progress_line_each(void **state) {
     (void)state;
-    copy_material("blond", "blond.json");
+    /* three files of the cheapest material to generate: the lines are what is checked */
+    copy_material("kajiya-kay", "blond.json");
     copy_material("kajiya-kay", "kk.json");
-    copy_material("dark-brown", "dark.json");
+    copy_material("kajiya-kay", "dark.json");
     assert_int_equal(run_hairgen("-o many blond.json kk.json dark.json --scene no-such-scene.json -q"), 1);
     assert_false(scratch_exists("many"));
     copy_scene("furball", "furball.json");
@@ -206,7 +207,7 @@ static void test_batch_writes_one_bundle_per_material_with_a_progress_line_each(
     char sub[512];
     snprintf(sub, sizeof sub, "%s/sub", work);
     assert_int_equal(mkdir(sub, 0755), 0);
-    copy_material("blond", "sub/blond.json");
+    copy_material("kajiya-kay", "sub/blond.json");
     assert_int_equal(run_hairgen("-o clash blond.json sub/blond.json"), 1);
     err = scratch_text("err.txt");
     assert_non_null(strstr(err, "both would be bundle clash/blond"));
@@ -225,11 +226,9 @@ static void test_batch_bytes_do_not_depend_on_thread_count(void **state) {
     assert_int_equal(run_hairgen("kk.json --scene patches.json -o single-kk -q"), 0);
     assert_same_bundle("j1/kk", "single-kk");
     /* One material spreads its own jobs over the threads (build.c): the
-       same bytes on one thread, on three, and with materials side by side,
-       threads left to each (-j 6, two materials: three each). */
-    assert_int_equal(run_hairgen("blond.json --scene patches.json -o single-blond-j3 -j3 -q"), 0);
+       same bytes on one thread and with materials side by side, three
+       threads left to each (-j 6, two materials). */
     assert_int_equal(run_hairgen("-o j6 -j6 blond.json hc.json --scene patches.json -q"), 0);
-    assert_same_bundle("j1/blond", "single-blond-j3");
     assert_same_bundle("j1/blond", "j6/blond");
     assert_same_bundle("j1/hc", "j6/hc");
 }
