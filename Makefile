@@ -289,7 +289,7 @@ $(TEST_RESULTS)/%.softpipe: $(BUILD)/tests/% | $(TEST_RESULTS)/.dir $(FIXTURE_BU
 $(TEST_RESULTS)/%.egl: $(BUILD)/tests/% | $(TEST_RESULTS)/.dir $(FIXTURE_BUNDLES)
 	@$(RUN_TEST) $@ llvmpipe egl $<
 $(TEST_RESULTS)/%.script: tests/%.sh all | $(TEST_RESULTS)/.dir
-	@BUILD=$(BUILD) CC="$(CC)" SAN="$(SAN)" $(RUN_TEST) $@ llvmpipe osmesa sh $<
+	@BUILD=$(BUILD) CC="$(CC)" SAN="$(SAN)" LD_GOLD="$(LD_GOLD)" $(RUN_TEST) $@ llvmpipe osmesa sh $<
 $(TEST_RESULTS)/.dir:
 	@mkdir -p $(dir $@) && touch $@
 

@@ -62,9 +62,17 @@ static uint32_t get_u32(const char *p) {
     return v;
 }
 
-int ht_test_furball_bundle(const char *dir, int side, int hairs, const char *options) {
+int ht_test_furball_bundle(const char *dir, int side, int hairs, int joints, const char *options) {
     char scene[512], args[2048], out[16384];
     ht_test_scene_copy("scenes/furball.json", dir, "scene.json", side, hairs, false, scene, sizeof scene);
+    if (joints > 0) {
+        cJSON *root = ht_test_read_json(dir, "scene.json");
+        cJSON_ReplaceItemInObjectCaseSensitive(cJSON_GetObjectItem(root, "geometry"), "joints", cJSON_CreateNumber(joints));
+        char *text = cJSON_Print(root);
+        cJSON_Delete(root);
+        ht_test_write_file(dir, "scene.json", text);
+        cJSON_free(text);
+    }
     snprintf(args, sizeof args, "materials/dark-brown.json --scene %s %s -o %s/bundle", scene, options, dir);
     if (ht_test_run_program("hairgen", args, out, sizeof out) != 0) {
         fprintf(stderr, "%s", out);

@@ -29,10 +29,10 @@ void ht_test_keep_strand_file(struct cJSON *root, const char *shipped_scene);
 const char *ht_test_scene_copy(const char *shipped_scene, const char *dir, const char *name, int side, int hairs,
                                bool no_head, char *out, size_t out_size);
 /* For a group setup: the fur-ball scene copied to DIR/scene.json (side²,
-   `hairs` hairs) and `build/hairgen materials/dark-brown.json --scene
-   DIR/scene.json OPTIONS -o DIR/bundle` run; 0, or -1 with hairgen's
-   output on stderr. */
-int ht_test_furball_bundle(const char *dir, int side, int hairs, const char *options);
+   `hairs` hairs of `joints` joints, 0: as shipped) and `build/hairgen
+   materials/dark-brown.json --scene DIR/scene.json OPTIONS -o DIR/bundle`
+   run; 0, or -1 with hairgen's output on stderr. */
+int ht_test_furball_bundle(const char *dir, int side, int hairs, int joints, const char *options);
 /* The scene copy DIR/NAME, if it draws a TressFX strand file, made to draw
    every `every`-th strand of it instead: the positions of those strands
    written to DIR/NAME.tfx (the rest of that file is not drawn). */

@@ -150,7 +150,7 @@ static void test_bundle_failure_keeps_the_previous_bundle(void **state) {
     snprintf(material, sizeof material, "%s/broken.json", work);
     snprintf(dir, sizeof dir, "%s/kept", work);
     snprintf(manifest, sizeof manifest, "%s/manifest.json", dir);
-    generate("materials/blond.json", NULL, dir);
+    generate("materials/kajiya-kay.json", NULL, dir);
     size_t before_size = 0, after_size = 0;
     char *before = ht_test_read_all(manifest, &before_size);
     write_text(material, "{ \"format\": \"hairtier-material/1\", \"name\": \"m\", ");
@@ -168,7 +168,7 @@ static void test_bundle_replaces_an_existing_bundle(void **state) {
     (void)state;
     char dir[256];
     snprintf(dir, sizeof dir, "%s/replaced", work);
-    generate("materials/blond.json", NULL, dir);
+    generate("materials/kajiya-kay.json", NULL, dir);
     generate("materials/dark-brown.json", NULL, dir);
     cJSON *m = load_manifest(dir);
     assert_string_equal(cJSON_GetObjectItem(m, "material")->valuestring, "dark-brown");
@@ -184,7 +184,7 @@ static void test_bundle_input_hash_follows_the_inputs(void **state) {
     snprintf(c, sizeof c, "%s/hash-c", work);
     generate("materials/dark-brown.json", "scenes/furball.json", a);
     generate("materials/dark-brown.json", "scenes/patches.json", b);
-    generate("materials/blond.json", "scenes/furball.json", c);
+    generate("materials/kajiya-kay.json", "scenes/furball.json", c);
     cJSON *ma = load_manifest(a), *mb = load_manifest(b), *mc = load_manifest(c);
     const char *ha = cJSON_GetObjectItem(ma, "input_hash")->valuestring;
     assert_string_not_equal(ha, cJSON_GetObjectItem(mb, "input_hash")->valuestring);
@@ -222,7 +222,7 @@ static void test_bundle_path_with_trailing_slash_is_the_same_bundle(void **state
     char dir[256], slashed[260];
     snprintf(dir, sizeof dir, "%s/slashed", work);
     snprintf(slashed, sizeof slashed, "%s//", dir);
-    generate("materials/blond.json", NULL, slashed);
+    generate("materials/kajiya-kay.json", NULL, slashed);
     generate("materials/dark-brown.json", NULL, slashed); /* replaces, no temporary inside */
     cJSON *m = load_manifest(dir);
     assert_string_equal(cJSON_GetObjectItem(m, "material")->valuestring, "dark-brown");
@@ -239,7 +239,7 @@ static void test_bundle_is_readable_per_the_umask(void **state) {
     char dir[256];
     snprintf(dir, sizeof dir, "%s/modes", work);
     mode_t old = umask(022);
-    generate("materials/blond.json", NULL, dir);
+    generate("materials/kajiya-kay.json", NULL, dir);
     umask(old);
     struct stat st;
     assert_int_equal(stat(dir, &st), 0);

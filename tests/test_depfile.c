@@ -101,11 +101,13 @@ static void check_make_reads(const char *name) {
                                ht_test_read_file(work, "make.txt"));
 }
 
-/* ninja records the depfile's names (deps = gcc): the material, exactly. */
+/* ninja records the depfile's names (deps = gcc): the material, exactly.
+   The depfile is the one hairgen wrote for make (check_make_reads), put
+   back by the rule's command: the same bytes, without a second run. */
 static void check_ninja_reads(const char *name) {
-    ht_test_write_file(work, "build.ninja", "rule gen\n  command = sh run.sh\n  depfile = bundle.d\n"
+    ht_test_write_file(work, "build.ninja", "rule gen\n  command = cp hairgen.d bundle.d\n  depfile = bundle.d\n"
                                             "  deps = gcc\nbuild bundle/manifest.json: gen\n");
-    run_in_work("rm -rf bundle bundle.d .ninja_deps .ninja_log");
+    assert_int_equal(run_in_work("mv bundle.d hairgen.d && rm -rf bundle .ninja_deps .ninja_log"), 0);
     if (run_in_work("ninja >ninja.txt 2>&1") != 0)
         fail_msg("%s: ninja failed: %s", name, ht_test_read_file(work, "ninja.txt"));
     assert_int_equal(run_in_work("ninja -t deps bundle/manifest.json >deps.txt 2>&1"), 0);
