@@ -270,10 +270,14 @@ RUNS      := $(if $(SAN),$(filter-out %.softpipe,$(ALL_RUNS)),$(ALL_RUNS))
 TEST_RUNS := $(addprefix $(TEST_RESULTS)/,$(filter $(RUNS),$(SLOW_RUNS)) $(filter-out $(SLOW_RUNS),$(RUNS)))
 RUN_TEST = HAIRTIER_BUILD=$(BUILD) tests/run_test.sh
 
-# Bundles several render tests share, MATERIAL/SCENE (tests/support_scratch.h,
-# ht_test_fixture_bundle): a Marschner material's bake and fit cost about 2 s
-# a bundle, built once here instead of once per test run.
-FIXTURE_BUNDLES := $(addprefix $(BUILD)/fixtures/brown-marschner/,backlit furball patches ratboy)
+# Bundles several render tests share, MATERIAL/SCENE (tests/support_render.h,
+# ht_test_bundle): a Marschner material's bake and fit cost about 2 s a
+# bundle, the others about 0.15 s, built once here instead of once per test
+# run (dark-brown x furball: the fur-ball fixture of fifteen tests, each on
+# one to three drivers).
+FIXTURE_BUNDLES := $(addprefix $(BUILD)/fixtures/brown-marschner/,backlit furball patches ratboy) \
+  $(addprefix $(BUILD)/fixtures/dark-brown/,furball patches ratboy) \
+  $(addprefix $(BUILD)/fixtures/blond/,furball patches) $(addprefix $(BUILD)/fixtures/kajiya-kay/,furball ratboy)
 $(BUILD)/fixtures/%: $(HAIRGEN) $(wildcard materials/*.json scenes/*.json)
 	@rm -rf $@ && mkdir -p $(dir $@)
 	@$(HAIRGEN) -q materials/$(notdir $(patsubst %/,%,$(dir $*))).json --scene scenes/$(notdir $*).json -o $@
