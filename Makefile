@@ -253,13 +253,15 @@ TEST_RESULTS := $(BUILD)/test-results
 TEST_SCRIPTS := tests/install_test.sh tests/header_examples.sh
 # Tests that run the programs (HAIRTIER_BUILD) wait for them.
 PROGRAM_TESTS := $(notdir $(basename $(shell grep -l 'HAIRTIER_BUILD\|ht_test_build_dir' $(TEST_SRC))))
-# The slowest runs first (most CPU first), so the last ones to end are short.
-SLOW_RUNS := test_render_accuracy.llvmpipe test_render_drivers.llvmpipe test_marschner_lut.llvmpipe \
-             test_render_marschner.llvmpipe test_render_es2.llvmpipe test_render_es3.llvmpipe test_render_es1.llvmpipe \
-             test_render_faults.llvmpipe test_measure.llvmpipe \
-             test_render_scenes.softpipe test_render_scenes.llvmpipe test_render_marschner.softpipe \
-             test_render_drivers.softpipe test_model_marschner.llvmpipe test_render_passes.softpipe \
-             test_render_fixed.softpipe test_marschner_fit.llvmpipe
+# The slowest runs first (most CPU first, docs/performance.md "Test suite
+# time"), so the last ones to end are short.
+SLOW_RUNS := test_render_accuracy.llvmpipe test_render_marschner.llvmpipe test_measure.llvmpipe \
+             test_render_drivers.llvmpipe test_thin_strands.llvmpipe test_marschner_lut.llvmpipe \
+             test_render_scenes.llvmpipe install_test.script test_render_faults.llvmpipe \
+             test_hairgen_batch.llvmpipe test_marschner_fit.llvmpipe test_render_marschner.softpipe \
+             test_emit_glsl.llvmpipe test_mediump.llvmpipe test_render_es1.llvmpipe test_measure_lod.llvmpipe \
+             test_render_es3.llvmpipe test_render_fixed.softpipe test_model_marschner.llvmpipe \
+             test_render_es2.llvmpipe test_render_passes.softpipe
 ALL_RUNS  := $(notdir $(TESTS:%=%.llvmpipe)) $(SOFTPIPE_TESTS:%=%.softpipe) $(EGL_TESTS:%=%.egl) \
              $(notdir $(TEST_SCRIPTS:%.sh=%.script))
 $(foreach r,$(filter-out $(ALL_RUNS),$(SLOW_RUNS)),$(error SLOW_RUNS: no run $(r)))
@@ -270,11 +272,15 @@ RUNS      := $(if $(SAN),$(filter-out %.softpipe,$(ALL_RUNS)),$(ALL_RUNS))
 TEST_RUNS := $(addprefix $(TEST_RESULTS)/,$(filter $(RUNS),$(SLOW_RUNS)) $(filter-out $(SLOW_RUNS),$(RUNS)))
 RUN_TEST = HAIRTIER_BUILD=$(BUILD) tests/run_test.sh
 
-# Bundles several render tests share, MATERIAL/SCENE (tests/support_scratch.h,
-# ht_test_fixture_bundle): a Marschner material's bake and fit cost about 2 s
-# a bundle, built once here instead of once per test run. No stored levels
-# (--no-lods): no test drawing them needs them.
-FIXTURE_BUNDLES := $(addprefix $(BUILD)/fixtures/brown-marschner/,backlit furball patches ratboy)
+# Bundles several render tests share, MATERIAL/SCENE (tests/support_render.h,
+# ht_test_bundle): a Marschner material's bake and fit cost about 2 s a
+# bundle, the others about 0.15 s, built once here instead of once per test
+# run (dark-brown x furball: the fur-ball fixture of fifteen tests, each on
+# one to three drivers). No stored levels (--no-lods): no test drawing them
+# needs them.
+FIXTURE_BUNDLES := $(addprefix $(BUILD)/fixtures/brown-marschner/,backlit furball patches ratboy) \
+  $(addprefix $(BUILD)/fixtures/dark-brown/,furball patches ratboy) \
+  $(addprefix $(BUILD)/fixtures/blond/,furball patches) $(addprefix $(BUILD)/fixtures/kajiya-kay/,furball ratboy)
 $(BUILD)/fixtures/%: $(HAIRGEN) $(wildcard materials/*.json scenes/*.json)
 	@rm -rf $@ && mkdir -p $(dir $@)
 	@$(HAIRGEN) -q materials/$(notdir $(patsubst %/,%,$(dir $*))).json --scene scenes/$(notdir $*).json --no-lods -o $@

@@ -40,8 +40,8 @@ bool ht_test_furball_setup(ht_test_furball *f, const char *name, int size) {
     if (!ht_test_scratch_create(f->work, sizeof f->work, name)) return false;
     snprintf(f->bundle_dir, sizeof f->bundle_dir, "%s/bundle", f->work);
     char err[1024];
-    if (ht_generate_bundle("materials/dark-brown.json", "scenes/furball.json", f->bundle_dir, NULL, err,
-                           sizeof err) != HT_OK) {
+    if (ht_test_bundle("materials/dark-brown.json", "furball", "scenes/furball.json", f->bundle_dir,
+                       sizeof f->bundle_dir, err, sizeof err) != HT_OK) {
         fprintf(stderr, "setup: %s\n", err);
         return false;
     }

@@ -17,7 +17,7 @@
 
 typedef struct ht_test_furball {
     char work[64];          /* scratch directory */
-    char bundle_dir[128];   /* work/bundle: materials/dark-brown.json x scenes/furball.json */
+    char bundle_dir[128];   /* materials/dark-brown.json x scenes/furball.json (ht_test_bundle: make's fixture, else work/bundle); read only */
     ht_test_gl gl;          /* size x size, current */
     ht_mesh mesh;           /* 400 hairs (support_driver.h: fewer on softpipe), sorted inside out */
 } ht_test_furball;

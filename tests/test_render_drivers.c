@@ -46,7 +46,7 @@
    shipped size is test_render_scenes' job. */
 #define SIZE 64
 #define HAIRS 250
-#define STRAND_EVERY 4
+#define STRAND_EVERY 16
 #define MIN_PSNR_DB 40.0
 
 typedef struct scene_case {

@@ -297,13 +297,20 @@ static char fill_dir[192];
 static int setup(void **state) {
     (void)state;
     if (!ht_test_furball_setup(&fx, "fixed", SIZE)) return -1;
+    /* the shared bundles are read only: these tests edit copies */
+    char own[sizeof fx.bundle_dir];
+    ht_test_furball_copy_bundle(&fx, "dark-brown", own, sizeof own);
+    snprintf(fx.bundle_dir, sizeof fx.bundle_dir, "%s", own);
     if (!keep_only_fixed_below_vertex(fx.bundle_dir)) return -1;
-    snprintf(fill_dir, sizeof fill_dir, "%s/blond", fx.work);
-    char err[1024];
-    if (ht_generate_bundle("materials/blond.json", "scenes/furball.json", fill_dir, NULL, err, sizeof err) != HT_OK) {
+    char err[1024], blond[192];
+    snprintf(blond, sizeof blond, "%s/blond-shared", fx.work);
+    if (ht_test_bundle("materials/blond.json", "furball", "scenes/furball.json", blond, sizeof blond, err,
+                       sizeof err) != HT_OK) {
         fprintf(stderr, "setup: %s\n", err);
         return -1;
     }
+    snprintf(fill_dir, sizeof fill_dir, "%s/blond", fx.work);
+    ht_test_copy_dir(blond, fill_dir);
     if (!keep_only_fixed_below_vertex(fill_dir)) return -1;
     void *p = ht_test_getproc("glActiveTexture");
     memcpy(&active_texture, &p, sizeof p);

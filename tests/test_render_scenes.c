@@ -1,8 +1,8 @@
 /* test_render_scenes — what `make demo` shows: every shipped scene rendered
    with each tier forced is hair, not a blank or garbage frame (the fur
-   ball by the real programs, build/hairgen then build/hairview; the other
-   scenes by the same library calls in this process, which is what the
-   programs run for them too): enough pixels differ from
+   ball's bundle by build/hairgen and its best tier by build/hairview, as
+   `make demo` runs them; every other frame by the same library calls in
+   this process, which is what the programs run too): enough pixels differ from
    the background, the hair is not one flat colour, it has highlights well
    above its median, no pixel is the magenta of a failed shader,
    and the three tiers agree with each other within a measured bound.
@@ -27,6 +27,7 @@
 #include <hairtier/hairgen.h>
 #include <hairtier/image.h>
 #include "support_driver.h"
+#include "support_render.h"
 #include "support_scene.h"
 #include "support_scratch.h"
 
@@ -129,27 +130,31 @@ static const char *scene_for_driver(const char *scene_path, char *out, size_t ou
                               ht_test_driver_hairs(SOFTPIPE_HAIRS), false, out, out_size);
 }
 
-/* The bundle at work/bundle and each tier's frame: through the programs
-   (build/hairgen, build/hairview --tier T --strict --frames 1, its PNG
-   read back) when through_programs, else the same calls in this process
-   (ht_generate_bundle; support_scene.h's ht_test_view_draw, one frame
-   instead of hairview's warm-up and timed one). */
-static int draw_tiers(const char *material, const char *scene_path, bool through_programs, ht_image img[HT_TIER_COUNT],
-                      char names[HT_TIER_COUNT][16]) {
+/* The bundle of material x scenes/SCENE.json (scene_path: it or a copy)
+   and each tier's frame: through the programs when through_programs
+   (build/hairgen into work/bundle; build/hairview --tier T --strict
+   --frames 1 for the bundle's best tier, its PNG read back: what `make
+   demo` draws), else, and for the other tiers, the same calls in this
+   process (ht_test_bundle: make's fixture of the pair, the bundle of any
+   copy of the scene; support_scene.h's ht_test_view_draw, one frame
+   instead of hairview's warm-up and timed one, which is where hairview's
+   time goes: its --tier only forces the tier those calls force). */
+static int draw_tiers(const char *material, const char *scene, const char *scene_path, bool through_programs,
+                      ht_image img[HT_TIER_COUNT], char names[HT_TIER_COUNT][16]) {
     char err[2048], bundle[256], cmd[4096], png[256];
     snprintf(bundle, sizeof bundle, "%s/bundle", work);
     if (through_programs) {
         snprintf(cmd, sizeof cmd, "%s/hairgen %s --scene %s -o %s >/dev/null", ht_test_build_dir(), material,
                  scene_path, bundle);
         ht_test_run_command(cmd);
-    } else if (ht_generate_bundle(material, scene_path, bundle, NULL, err, sizeof err) != HT_OK) {
+    } else if (ht_test_bundle(material, scene, scene_path, bundle, sizeof bundle, err, sizeof err) != HT_OK) {
         fail_msg("hairgen %s --scene %s: %s", material, scene_path, err);
     }
     const int count = ht_test_bundle_tiers(bundle, names, "full");
     ht_test_view_scene view = { 0 };
-    if (!through_programs) ht_test_view_scene_load(scene_path, &view);
+    if (!through_programs || count > 1) ht_test_view_scene_load(scene_path, &view);
     for (int t = 0; t < count; t++) {
-        if (!through_programs) {
+        if (!through_programs || t > 0) {
             ht_test_view_draw(&gl, bundle, &view, names[t], false, &img[t]);
             continue;
         }
@@ -166,15 +171,15 @@ static int draw_tiers(const char *material, const char *scene_path, bool through
 /* min_hair: the least fraction of the frame that is not background;
    compare_tiers: hold every tier to the bounds on its difference from full
    (the shipped demo frames). */
-static void render_every_tier(const char *material, const char *shipped_scene, double min_hair, bool compare_tiers,
-                              bool through_programs) {
+static void render_every_tier(const char *material, const char *scene_name, const char *shipped_scene,
+                              double min_hair, bool compare_tiers, bool through_programs) {
     char err[2048], scene_copy[256];
     const char *scene_path = scene_for_driver(shipped_scene, scene_copy, sizeof scene_copy);
     ht_scene scene;
     assert_int_equal(ht_scene_load(scene_path, &scene, err, sizeof err), HT_OK);
     char names[HT_TIER_COUNT][16];
     ht_image img[HT_TIER_COUNT];
-    const int count = draw_tiers(material, scene_path, through_programs, img, names);
+    const int count = draw_tiers(material, scene_name, scene_path, through_programs, img, names);
     for (int t = 0; t < count; t++) {
         assert_int_equal(img[t].width, scene.width);
         assert_int_equal(img[t].height, scene.height);
@@ -197,8 +202,11 @@ static void render_every_tier(const char *material, const char *shipped_scene, d
     for (int t = 0; t < count; t++) ht_image_free(&img[t]);
 }
 
-static void check_scene(const char *material, const char *shipped_scene, bool through_programs) {
-    render_every_tier(material, shipped_scene, 0.05, true, through_programs);
+/* scenes/SCENE.json */
+static void check_scene(const char *material, const char *scene, bool through_programs) {
+    char shipped_scene[64];
+    snprintf(shipped_scene, sizeof shipped_scene, "scenes/%s.json", scene);
+    render_every_tier(material, scene, shipped_scene, 0.05, true, through_programs);
 }
 
 static void test_furball_scene_renders_hair_in_every_tier(void **state) {
@@ -206,25 +214,25 @@ static void test_furball_scene_renders_hair_in_every_tier(void **state) {
     /* The programs themselves on llvmpipe, as `make demo` runs them; the
        softpipe run draws in this process (the driver's part is the
        drawing, and it draws one frame where hairview draws two). */
-    check_scene("materials/dark-brown.json", "scenes/furball.json", !on_softpipe());
+    check_scene("materials/dark-brown.json", "furball", !on_softpipe());
 }
 
 static void test_patches_scene_renders_hair_in_every_tier(void **state) {
     (void)state;
     HT_TEST_DRIVER_INDEPENDENT();
-    check_scene("materials/dark-brown.json", "scenes/patches.json", false);
+    check_scene("materials/dark-brown.json", "patches", false);
 }
 
 static void test_blond_patches_render_hair_in_every_tier(void **state) {
     (void)state;
     HT_TEST_DRIVER_INDEPENDENT();
-    check_scene("materials/blond.json", "scenes/patches.json", false);
+    check_scene("materials/blond.json", "patches", false);
 }
 
 static void test_ratboy_scene_renders_hair_in_every_tier(void **state) {
     (void)state;
     HT_TEST_DRIVER_INDEPENDENT();
-    check_scene("materials/dark-brown.json", "scenes/ratboy.json", false);
+    check_scene("materials/dark-brown.json", "ratboy", false);
 }
 
 /* The mohawk without its head: every pixel not background is hair, so the
@@ -237,7 +245,7 @@ static void test_ratboy_hair_alone_covers_the_crest_in_every_tier(void **state) 
     (void)state;
     HT_TEST_DRIVER_INDEPENDENT();
     char path[256];
-    render_every_tier("materials/dark-brown.json",
+    render_every_tier("materials/dark-brown.json", "ratboy",
                       ht_test_scene_copy("scenes/ratboy.json", work, "ratboy-hair.json",
                                          on_softpipe() ? SOFTPIPE_SIZE : 0, 0, true, path, sizeof path),
                       0.10, false, false);
