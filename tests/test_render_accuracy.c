@@ -177,8 +177,11 @@ static void test_every_tier_keeps_its_measured_accuracy_on_every_shipped_pair(vo
             char names[2 * HT_TIER_COUNT][16];
             int count = ht_test_bundle_tiers(bundle, names, reference);
             for (int t = 0, n = count; shipped && t < n; t++)
-                if (strcmp(names[t], "fixed4") == 0 || strcmp(names[t], "fixed") == 0)
-                    snprintf(names[count++], 16, "%.6s-device", names[t]);
+                if (strcmp(names[t], "fixed4") == 0 || strcmp(names[t], "fixed") == 0) {
+                    char *device = names[count++];
+                    strcpy(device, names[t]);
+                    strcat(device, "-device");
+                }
             ht_image full = { 0 };
             for (int t = 0; t < count; t++) {
                 ht_image img;
