@@ -7,6 +7,12 @@ set -u
 result=$1 driver=$2 context=$3
 shift 3
 name=$(basename "$result")
+# llvmpipe's LLVM optimisation passes off: the same images (every tier of the
+# shipped scenes compared byte for byte, docs/performance.md), shader compiles
+# in half the time. Mesa's shader cache in the build folder: a fresh clone
+# starts cold, as a fresh machine does, and later runs share it.
+: "${GALLIVM_PERF:=nopt}" "${MESA_SHADER_CACHE_DIR:=$(cd "${HAIRTIER_BUILD:-build}" && pwd)/mesa-shader-cache}"
+export GALLIVM_PERF MESA_SHADER_CACHE_DIR
 start=$(date +%s%N)
 if GALLIUM_DRIVER=$driver HAIRTIER_CONTEXT=$context EGL_PLATFORM=surfaceless "$@" >"$result.log" 2>&1; then
   status=pass
