@@ -215,17 +215,22 @@ bench() {
         fi
         cat "$WORK/bench-$h.txt" >>"$LOG"
     done
-    # (LOD, tier) pairs beside full detail, and the pair error:30 picks among them.
+    # (LOD, tier) pairs beside full detail, and the pair error:30 picks among
+    # them: plain levels, then soft ones (lod.h's ht_lod_soft_level).
     for h in $BENCH_LOD_HAIRS; do
         for sz in $BENCH_LOD_SIZES; do
-            echo "== bench_frame --lods --samples 4 --hairs $h --size $sz (NVIDIA)" >>"$LOG"
-            if "$DEV/bin/bench_frame" --context egl --lods --samples 4 --no-orbit --hairs "$h" --size "$sz" --frames 9 \
-                >"$WORK/bench-lods-$h-$sz.txt" 2>&1; then
-                { echo '```'; cat "$WORK/bench-lods-$h-$sz.txt"; echo '```'; echo; } >>"$WORK/bench.md"
-            else
-                echo "bench_frame --lods --hairs $h --size $sz failed: $(tail -1 "$WORK/bench-lods-$h-$sz.txt")" >>"$WORK/bench.md"
-            fi
-            cat "$WORK/bench-lods-$h-$sz.txt" >>"$LOG"
+            for soft in "" --soft; do
+                name="bench-lods$soft-$h-$sz"
+                echo "== bench_frame --lods $soft --samples 4 --hairs $h --size $sz (NVIDIA)" >>"$LOG"
+                # shellcheck disable=SC2086 # $soft: no option or one word
+                if "$DEV/bin/bench_frame" --context egl --lods $soft --samples 4 --no-orbit --hairs "$h" --size "$sz" \
+                    --frames 9 >"$WORK/$name.txt" 2>&1; then
+                    { echo '```'; cat "$WORK/$name.txt"; echo '```'; echo; } >>"$WORK/bench.md"
+                else
+                    echo "bench_frame --lods $soft --hairs $h --size $sz failed: $(tail -1 "$WORK/$name.txt")" >>"$WORK/bench.md"
+                fi
+                cat "$WORK/$name.txt" >>"$LOG"
+            done
         done
     done
     # The ES tiers against the ES geometry floor (fixed tiers run on ES 1.1
