@@ -206,6 +206,9 @@ static void test_es3_no_fragment_highp_takes_mediump_or_refuses_with_reason(void
     /* With highp the highp texts stay first. */
     if (!ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES3, HT_TIER_AUTO, NULL, &d)) fail_msg("%s", d.log);
     assert_non_null(strstr(d.log, "full-es3.frag (ESSL 3.00, fragment highp)"));
+    /* and the reason the fixed-function tiers are not there */
+    assert_non_null(strstr(d.log, "skipped fixed4, fixed, gl11: fixed function: GL ES 2.0 and later have none "
+                                  "(desktop GL or GL ES 1.1 runs it)\n"));
     ht_test_es_draw_free(&d);
 
     /* The same bundle without its mediump entry. */
