@@ -18,8 +18,8 @@
 #include "support_render.h"
 #include "support_scratch.h"
 
-const char *const ht_test_es_scene_names[HT_TEST_ES_SCENES] = { "furball", "patches", "ratboy", "backlit" };
-static const char *const materials[HT_TEST_ES_SCENES] = { "dark-brown", "dark-brown", "dark-brown", "brown-marschner" };
+const char *const ht_test_es_scene_names[HT_TEST_ES_SCENES] = { "furball", "backlit", "patches", "ratboy" };
+static const char *const materials[HT_TEST_ES_SCENES] = { "dark-brown", "brown-marschner", "dark-brown", "dark-brown" };
 
 static char work[64];
 static char bundles[HT_TEST_ES_SCENES][128];
@@ -193,6 +193,10 @@ void ht_test_es_scenes_match_desktop(offscreen_api api, const ht_device_profile 
         ht_tier tiers[4];
         int n = tiers_to_draw(bundle, api, tiers);
         assert_true(n >= 3); /* two tiers at least, then auto */
+        /* Auto on the first scene only: it picks by the device and the
+           manifest, never the scene, and draws the text its forced tier
+           drew (a second compile of it). */
+        if (s > 0) n--;
         /* Auto on desktop GL draws the top tier (ES 1.x: the top fixed-function
            tier, when the device runs it): its forced draw stands for it. */
         ht_test_es_draw top = { 0 };

@@ -44,8 +44,14 @@ void ht_test_es_draw_free(ht_test_es_draw *d);
 /* Whole-frame PSNR of two draws. */
 double ht_test_es_psnr(const ht_test_es_draw *a, const ht_test_es_draw *b);
 
-/* The shipped scenes and their bundles (generated once per process). */
+/* The shipped scenes and their bundles (generated once per process). The
+   first HT_TEST_ES_TEXT_SCENES carry every distinct GLSL text: dark-brown's
+   furball, patches and ratboy bundles emit byte-identical .vert/.frag (the
+   scene changes uniforms and LUT contents only), brown-marschner's backlit
+   adds the marschner tier and its own full and vertex texts. */
 #define HT_TEST_ES_SCENES 4
+#define HT_TEST_ES_TEXT_SCENES 2
+enum { HT_TEST_ES_FURBALL, HT_TEST_ES_BACKLIT, HT_TEST_ES_PATCHES, HT_TEST_ES_RATBOY };
 extern const char *const ht_test_es_scene_names[HT_TEST_ES_SCENES];
 const char *ht_test_es_bundle(int scene);
 void ht_test_es_cleanup(void);
@@ -57,7 +63,7 @@ int ht_test_es_teardown(void **state);
 void ht_test_es_assert_same_passes(const ht_test_es_draw *desk, const ht_test_es_draw *es);
 
 /* Every scene, each tier of its bundle that api runs (ES 1.x: fixed4, fixed,
-   gl11; ES 2.0+: the GLSL tiers) forced and auto: api against desktop GL
+   gl11; ES 2.0+: the GLSL tiers) forced, and auto on the first scene: api against desktop GL
    at HT_TEST_ES_MIN_PSNR_DB, the same tier drawn on both, the same passes;
    prints one line per draw (scene, tier, dB). Fails the cmocka test. The
    first `scenes` of ht_test_es_scene_names (HT_TEST_ES_SCENES: all). */

@@ -1,9 +1,10 @@
 /* test_render_es2 — hairtier on a real GL ES 2.0 context: Mesa's llvmpipe
    restricted by MESA_GLES_VERSION_OVERRIDE=2.0 (set before the first
    context: Mesa reads it once per process), so the driver itself reports
-   "OpenGL ES 2.0" and ESSL 1.00 and refuses ES 3 programs. Every shipped
-   scene with each GLSL tier forced and auto matches the same tier on
-   desktop GL (support_es.h), drawn with the ESSL 1.00 texts. */
+   "OpenGL ES 2.0" and ESSL 1.00 and refuses ES 3 programs. The scenes
+   that carry every distinct GLSL text (fur ball, backlit:
+   HT_TEST_ES_TEXT_SCENES) with each GLSL tier forced and auto match the
+   same tier on desktop GL (support_es.h), drawn with the ESSL 1.00 texts. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -31,7 +32,7 @@ static void test_es2_context_is_es2_and_draws_the_essl100_text(void **state) {
 
 static void test_es2_every_scene_and_glsl_tier_matches_desktop_gl(void **state) {
     (void)state;
-    ht_test_es_scenes_match_desktop(OFFSCREEN_API_GLES2, NULL, HT_TEST_ES_SCENES);
+    ht_test_es_scenes_match_desktop(OFFSCREEN_API_GLES2, NULL, HT_TEST_ES_TEXT_SCENES);
 }
 
 int main(void) {

@@ -1,9 +1,11 @@
 /* test_render_es3 — hairtier on a real GL ES 3.x context (EGL,
-   EGL_OPENGL_ES_API, client version 3: llvmpipe's OpenGL ES 3.2): every
-   shipped scene with each GLSL tier forced and auto matches the same tier
-   on desktop GL (support_es.h); the four passes record the same state as
+   EGL_OPENGL_ES_API, client version 3: llvmpipe's OpenGL ES 3.2): the
+   scenes that carry every distinct GLSL text (fur ball, backlit) with each
+   tier forced and auto match the same tier on desktop GL (support_es.h);
+   the patches (the head's ES program) record the same passes and pixels as
    on desktop GL; the application's GL state comes back after a frame; a
-   device without fragment highp gets a mediump text or the highp one is
+   device without fragment highp gets a mediump text (matching desktop GL's
+   full tier) or the highp one is
    refused with its reason; mismatched profiles are refused with one line
    (ES 1.1 has its own test: test_render_es1). On softpipe (support_driver.h) the fur ball's full tier
    only. */
@@ -23,8 +25,10 @@
 #include "support_es.h"
 #include "support_scratch.h"
 
+/* softpipe's case: on llvmpipe the scenes case below draws the same. */
 static void test_es3_furball_full_matches_desktop_gl(void **state) {
     (void)state;
+    if (!ht_test_driver_cases_only()) skip();
     const char *bundle = ht_test_es_bundle(0);
     assert_non_null(bundle);
     ht_test_es_draw desk, es;
@@ -42,7 +46,8 @@ static void test_es3_furball_full_matches_desktop_gl(void **state) {
 static void test_es3_every_scene_and_glsl_tier_matches_desktop_gl(void **state) {
     (void)state;
     HT_TEST_DRIVER_INDEPENDENT(); /* the case above draws on softpipe */
-    ht_test_es_scenes_match_desktop(OFFSCREEN_API_GLES3, NULL, HT_TEST_ES_SCENES);
+    /* furball full first: the case above's check on llvmpipe */
+    ht_test_es_scenes_match_desktop(OFFSCREEN_API_GLES3, NULL, HT_TEST_ES_TEXT_SCENES);
 }
 
 /* Same passes, same fixed state, same ranges: the alpha test is the ES
@@ -50,7 +55,7 @@ static void test_es3_every_scene_and_glsl_tier_matches_desktop_gl(void **state) 
 static void test_es3_passes_record_the_desktop_state(void **state) {
     (void)state;
     HT_TEST_DRIVER_INDEPENDENT();
-    const char *bundle = ht_test_es_bundle(1);
+    const char *bundle = ht_test_es_bundle(HT_TEST_ES_PATCHES);
     assert_non_null(bundle);
     static const ht_tier tiers[] = { HT_TIER_FULL, HT_TIER_VERTEX };
     for (size_t i = 0; i < 2; i++) {
@@ -59,6 +64,11 @@ static void test_es3_passes_record_the_desktop_state(void **state) {
         assert_true(ht_test_es_draw_scene(bundle, "patches", OFFSCREEN_API_GLES3, tiers[i], NULL, &es));
         assert_int_equal(es.trace.count, 4);
         ht_test_es_assert_same_passes(&desk, &es);
+        /* The scenes case draws the first HT_TEST_ES_TEXT_SCENES only: the
+           head's GL ES program is compared here. */
+        double db = ht_test_es_psnr(&desk, &es);
+        printf("patches %s: ES 3 %.2f dB against desktop GL\n", ht_tier_name(tiers[i]), db);
+        assert_true(db >= HT_TEST_ES_MIN_PSNR_DB);
         ht_test_es_draw_free(&desk);
         ht_test_es_draw_free(&es);
     }
@@ -167,36 +177,47 @@ static void test_es3_application_state_survives_a_frame(void **state) {
     offscreen_close(gl);
 }
 
-/* A device without fragment highp: full through the bundle's all-mediump
-   ES 2.0 text (a material with a transmission lobe too); with that entry removed from the manifest, the highp text
-   refused with the reason and the vertex tier's mediump text drawn. */
+/* A device without fragment highp: auto skips the marschner tier (no
+   mediump text) and draws full through the bundle's all-mediump ES 2.0
+   text, the same picture as desktop GL's full tier (brown-marschner's full
+   tier has a transmission lobe: the larger mediump text, which stands for
+   dark-brown's too: one compile, the costly one on llvmpipe); with that
+   entry removed from the manifest, the highp text refused with the reason
+   and the vertex tier's mediump text drawn. */
 static void test_es3_no_fragment_highp_takes_mediump_or_refuses_with_reason(void **state) {
     (void)state;
     HT_TEST_DRIVER_INDEPENDENT();
-    const char *bundle = ht_test_es_bundle(0);
+    const char *bundle = ht_test_es_bundle(HT_TEST_ES_FURBALL);
     assert_non_null(bundle);
     ht_device_profile mali;
     char err[256];
     assert_int_equal(ht_device_profile_parse("mali400", &mali, err, sizeof err), HT_OK);
-    ht_test_es_draw d;
-    if (!ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES3, HT_TIER_AUTO, &mali, &d)) fail_msg("%s", d.log);
+    ht_test_es_draw d, desk;
+    const char *backlit = ht_test_es_bundle(HT_TEST_ES_BACKLIT);
+    assert_non_null(backlit);
+    if (!ht_test_es_draw_scene(backlit, "backlit", OFFSCREEN_API_GLES3, HT_TIER_AUTO, &mali, &d)) fail_msg("%s", d.log);
     assert_non_null(strstr(d.log, "device GL ES 2.0, ESSL 1.00, fragment mediump only"));
+    assert_non_null(strstr(d.log, "skipped marschner: marschner-es2.frag needs fragment highp"));
     assert_int_equal(d.tier, HT_TIER_FULL);
     assert_non_null(strstr(d.log, "full-es2-mediump.frag (ESSL 1.00, fragment mediump)"));
-    ht_test_es_draw_free(&d);
-    /* brown-marschner's full tier has a transmission lobe: it has a mediump text too. */
-    if (!ht_test_es_draw_scene(ht_test_es_bundle(3), "backlit", OFFSCREEN_API_GLES3, HT_TIER_FULL, &mali, &d))
-        fail_msg("%s", d.log);
-    assert_non_null(strstr(d.log, "full-es2-mediump.frag (ESSL 1.00, fragment mediump)"));
+    assert_true(ht_test_es_draw_scene(backlit, "backlit", OFFSCREEN_API_GL, HT_TIER_FULL, NULL, &desk));
+    const double db = ht_test_es_psnr(&desk, &d);
+    printf("backlit full, mediump text: %.2f dB against desktop GL\n", db);
+    assert_true(db >= HT_TEST_ES_MIN_PSNR_DB);
+    ht_test_es_draw_free(&desk);
     ht_test_es_draw_free(&d);
     /* With highp the highp texts stay first. */
     if (!ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES3, HT_TIER_AUTO, NULL, &d)) fail_msg("%s", d.log);
     assert_non_null(strstr(d.log, "full-es3.frag (ESSL 3.00, fragment highp)"));
+    /* and the reason the fixed-function tiers are not there */
+    assert_non_null(strstr(d.log, "skipped fixed4, fixed, gl11: fixed function: GL ES 2.0 and later have none "
+                                  "(desktop GL or GL ES 1.1 runs it)\n"));
     ht_test_es_draw_free(&d);
 
     /* The same bundle without its mediump entry. */
-    char copy[160];
-    snprintf(copy, sizeof copy, "%s-highp-only", bundle);
+    char work[64], copy[160];
+    assert_true(ht_test_scratch_create(work, sizeof work, "es3-highp-only"));
+    snprintf(copy, sizeof copy, "%s/furball", work);
     ht_test_copy_dir(bundle, copy);
     cJSON *root = ht_test_read_json(copy, "manifest.json");
     cJSON *full = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "tiers"), 0);
@@ -219,6 +240,7 @@ static void test_es3_no_fragment_highp_takes_mediump_or_refuses_with_reason(void
     assert_false(ht_test_es_draw_scene(copy, "furball", OFFSCREEN_API_GLES3, HT_TIER_FULL, &mali, &d));
     assert_non_null(strstr(d.log, "needs fragment highp"));
     ht_test_es_draw_free(&d);
+    ht_test_scratch_remove(work);
 }
 
 /* VideoCore IV (vc4) has no 32-bit indices: the mesh goes up as 16-bit
