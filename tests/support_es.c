@@ -227,5 +227,6 @@ void ht_test_es_scenes_match_desktop(offscreen_api api, const ht_device_profile 
             else ht_test_es_draw_free(&desk);
             ht_test_es_draw_free(&es);
         }
+        if (tiers[n - 1] != HT_TIER_AUTO) ht_test_es_draw_free(&top); /* else freed as auto's desk */
     }
 }
