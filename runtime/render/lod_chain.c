@@ -40,37 +40,50 @@ static ht_result concatenate(ht_lod_chain *c) {
     return HT_OK;
 }
 
+/* An empty chain: no level drawn yet, no tier chosen. */
+static void chain_init(ht_lod_chain *c) {
+    memset(c, 0, sizeof *c);
+    c->current = -1;
+    c->tier = HT_TIER_COUNT;
+}
+
+/* Each level's mean ribbon width (the width rule's per-draw factor). */
+static void measure_widths(ht_lod_chain *c) {
+    for (int l = 0; l < c->count; l++) c->level_width[l] = ht_mesh_mean_width(ht_lod_chain_mesh(c, l));
+}
+
+/* The levels built so far (r: how building them went) into one buffer, or
+   the chain freed. */
+static ht_result finish(ht_lod_chain *c, ht_result r) {
+    if (r == HT_OK) r = concatenate(c);
+    if (r != HT_OK) {
+        ht_lod_chain_free(c);
+        return r;
+    }
+    measure_widths(c);
+    return HT_OK;
+}
+
 ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out) {
     if (!out) return HT_ERR_INVALID_ARGUMENT;
-    memset(out, 0, sizeof *out);
-    out->current = -1;
-    out->tier = HT_TIER_COUNT;
+    chain_init(out);
     if (!full || !full->component_count) return HT_ERR_INVALID_ARGUMENT;
     out->full = full;
     out->width = ht_mesh_mean_width(full);
     out->count = 1;
     const int max = ht_lod_max_level(full);
-    for (int l = 1; l <= max; l++) {
+    ht_result r = HT_OK;
+    for (int l = 1; l <= max && r == HT_OK; l++) {
         ht_lod_desc d;
         ht_lod_level(l, &d);
-        ht_result r = ht_mesh_build_lod(full, &d, &out->levels[l]);
-        if (r != HT_OK) {
-            ht_lod_chain_free(out);
-            return r;
-        }
-        out->count++;
+        if ((r = ht_mesh_build_lod(full, &d, &out->levels[l])) == HT_OK) out->count++;
     }
-    ht_result r = concatenate(out);
-    if (r != HT_OK) ht_lod_chain_free(out);
-    for (int l = 0; r == HT_OK && l < out->count; l++) out->level_width[l] = ht_mesh_mean_width(ht_lod_chain_mesh(out, l));
-    return r;
+    return finish(out, r);
 }
 
 ht_result ht_lod_chain_from_file(const ht_lod_file *f, ht_lod_chain *out) {
     if (!out) return HT_ERR_INVALID_ARGUMENT;
-    memset(out, 0, sizeof *out);
-    out->current = -1;
-    out->tier = HT_TIER_COUNT;
+    chain_init(out);
     if (!f || f->level_count < 1 || f->level_count > HT_LOD_FILE_MAX_LEVELS ||
         f->levels[0].kind != HT_LOD_KIND_STRANDS)
         return HT_ERR_INVALID_ARGUMENT;
@@ -92,16 +105,14 @@ ht_result ht_lod_chain_from_file(const ht_lod_file *f, ht_lod_chain *out) {
     }
     out->full = &out->levels[0];
     out->width = ht_mesh_mean_width(out->full);
-    for (int l = 0; l < out->count; l++) out->level_width[l] = ht_mesh_mean_width(&out->levels[l]);
+    measure_widths(out);
     return HT_OK;
 }
 
 ht_result ht_lod_chain_from_scene_file(const ht_lod_file *f, const ht_mesh *full, ht_lod_chain *out) {
     if (!out) return HT_ERR_INVALID_ARGUMENT;
     if (f && f->level_count >= 1 && f->levels[0].kind != HT_LOD_KIND_SCENE) return ht_lod_chain_from_file(f, out);
-    memset(out, 0, sizeof *out);
-    out->current = -1;
-    out->tier = HT_TIER_COUNT;
+    chain_init(out);
     if (!f || !full || f->level_count < 1 || !ht_lod_file_matches(f, full)) return HT_ERR_INVALID_ARGUMENT;
     out->full = full;
     out->width = ht_mesh_mean_width(full);
@@ -109,10 +120,7 @@ ht_result ht_lod_chain_from_scene_file(const ht_lod_file *f, const ht_mesh *full
     ht_result r = HT_OK;
     for (int l = 1; l < f->level_count && r == HT_OK; l++)
         if ((r = ht_lod_file_level_mesh(f, l, &out->levels[l])) == HT_OK) out->count = l + 1;
-    if (r == HT_OK) r = concatenate(out);
-    if (r != HT_OK) ht_lod_chain_free(out);
-    for (int l = 0; r == HT_OK && l < out->count; l++) out->level_width[l] = ht_mesh_mean_width(ht_lod_chain_mesh(out, l));
-    return r;
+    return finish(out, r);
 }
 
 const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *c, int level) {
