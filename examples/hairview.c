@@ -302,20 +302,30 @@ static double reference_ms(const options *o, const view *v, const ht_scene *s, c
     return ms;
 }
 
+/* A bundle's measured (level, tier) cells (hairgen --measure-lods) when the
+   policy picks pairs (error:DB, frame:MS) and the hair is shaded; *ref the
+   reference pair's (level 0, its PSNR infinite). 0: none, or no reference. */
+#define MAX_CELLS 256
+static int pair_cells(const options *o, const view *v, const ht_policy *policy, ht_lod_cell *cells, int *ref) {
+    const bool pair = policy->kind == HT_POLICY_ERROR || policy->kind == HT_POLICY_FRAME;
+    const int n = pair && !o->flat ? ht_renderer_lod_cells(v->renderer, cells, MAX_CELLS) : 0;
+    *ref = -1;
+    for (int i = 0; i < n; i++)
+        if (cells[i].lod == 0 && isinf(cells[i].psnr)) *ref = i;
+    return *ref >= 0 ? n : 0;
+}
+
 /* --lod auto with error:DB or frame:MS and a bundle measured with
    --measure-lods: the (LOD, tier) pair the rule picks at this projected
    size (the scene's times --size, over --distance's change), the renderer
    made to draw its tier; else (-1) the best rule decides the level. */
 static int auto_pair(const options *o, view *v, const ht_scene *s, const ht_frame_desc *f, const ht_policy *policy,
                      double size, int max_level, int *level) {
-    ht_lod_cell cells[160]; /* the manifest holds at most 144 (3 sizes x 8 stored levels x 6 tiers) */
+    static ht_lod_cell cells[MAX_CELLS];
+    int ref;
     *level = -1;
-    const bool rule = policy->kind == HT_POLICY_ERROR || policy->kind == HT_POLICY_FRAME;
-    const int n = rule && !o->flat ? ht_renderer_lod_cells(v->renderer, cells, 160) : 0;
-    int ref = -1;
-    for (int i = 0; i < n; i++)
-        if (cells[i].lod == 0 && isinf(cells[i].psnr)) ref = i;
-    if (n == 0 || ref < 0) return 0;
+    const int n = pair_cells(o, v, policy, cells, &ref);
+    if (n == 0) return 0;
     double ms = 0;
     if (policy->kind == HT_POLICY_FRAME && !(ms = reference_ms(o, v, s, f, cells[ref].tier))) return 0;
     const int pick = policy->kind == HT_POLICY_ERROR ? ht_lod_pick_error(cells, n, size, policy->value, -1)
@@ -461,17 +471,14 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
         return 1;
     }
     chain.width_rule = o->width_rule; /* per draw, on the level drawn (lod.h) */
-    static ht_lod_cell cells[256];
+    static ht_lod_cell cells[MAX_CELLS];
     const int viewport_h = s->height / o->supersample;
     ht_lod_rule rule = { .kind = HT_POLICY_BEST, .value = policy->value, .cells = cells,
                          .size1_px = ht_projected_width_px(chain.width, scene_distance, s->camera.fov_y,
                                                            (int)lround(viewport_h / o->size)) };
-    const bool pair = policy->kind == HT_POLICY_ERROR || policy->kind == HT_POLICY_FRAME;
-    rule.cell_count = pair && !o->flat ? ht_renderer_lod_cells(v->renderer, cells, 256) : 0;
-    int ref = -1;
-    for (int i = 0; i < rule.cell_count; i++)
-        if (cells[i].lod == 0 && isinf(cells[i].psnr)) ref = i;
-    if (rule.cell_count > 0 && ref >= 0) rule.kind = policy->kind;
+    int ref;
+    rule.cell_count = pair_cells(o, v, policy, cells, &ref);
+    if (rule.cell_count > 0) rule.kind = policy->kind;
     if (rule.kind == HT_POLICY_FRAME && !(rule.reference_ms = reference_ms(o, v, s, frame, cells[ref].tier))) {
         ht_lod_chain_free(&chain);
         fprintf(stderr, "hairview: frame:MS: the reference pair (lod 0, %s) does not draw\n", ht_tier_name(cells[ref].tier));
