@@ -31,6 +31,7 @@
 #include <string.h>
 
 #include "compare/crop.h"
+#include "compare/grid_levels.h"
 #include "compare/heatmap.h"
 #include "compare/report.h"
 #include "compare/report_dir.h"
@@ -192,41 +193,42 @@ static void print_table(const report *r) {
                r->tiers[o.b].name);
 }
 
-/* The LOD x tier grid (report.h): every level of the scene's hair drawn
-   by every tier that ran, at the measured size nearest REPORT_LOD_SIZE,
-   against (level 0, the reference tier). Only for a bundle with "lods". */
-static ht_result build_lod_grid(const options *o, const char *tmp, const tier_scene *ts, report *rep, char *err,
-                                size_t err_size) {
+/* The LOD x tier grid (report.h): every level lv holds (the bundle's
+   stored ones, cards too, else those built from the scene) drawn by every
+   tier that ran, at the measured size nearest REPORT_LOD_SIZE, against
+   (level 0, the reference tier). For a bundle that stores this scene's
+   levels or was measured with --measure-lods. */
+static ht_result build_lod_grid(const options *o, const char *tmp, const tier_scene *ts, const grid_levels *lv,
+                                report *rep, char *err, size_t err_size) {
     report_lod_grid *g = &rep->lods;
-    if (rep->measured_lods.cell_count == 0 || rep->reference < 0) return HT_OK;
+    if ((rep->measured_lods.cell_count == 0 && !lv->stored) || rep->reference < 0) return HT_OK;
     g->size = report_lod_size(&rep->measured_lods);
+    g->source = lv->stored ? REPORT_LOD_STORED : lv->other_scene ? REPORT_LOD_BUILT_OTHER_SCENE : REPORT_LOD_BUILT;
     tier_scene small = *ts;
     small.scene.width = (int)fmax(16, lround(ts->scene.width * g->size));
     small.scene.height = (int)fmax(16, lround(ts->scene.height * g->size));
     g->width = small.scene.width;
     g->height = small.scene.height;
-    g->levels = ht_lod_max_level(&ts->hair) + 1;
-    if (g->levels > REPORT_LOD_MAX_LEVELS) g->levels = REPORT_LOD_MAX_LEVELS;
+    g->levels = lv->count < REPORT_LOD_MAX_LEVELS ? lv->count : REPORT_LOD_MAX_LEVELS;
     const int w = g->width, h = g->height;
     tier_frame frames[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS];
     memset(frames, 0, sizeof frames);
     ht_result r = HT_OK;
     for (int l = 0; l < g->levels && r == HT_OK; l++) {
-        ht_mesh lod = { 0 };
-        if (l > 0) {
-            ht_lod_desc d;
-            ht_lod_level(l, &d);
-            if ((r = ht_mesh_build_lod(&ts->hair, &d, &lod)) != HT_OK) {
-                snprintf(err, err_size, "%s: geometry: cannot build LOD %d: %s", rep->scene, l, ht_result_string(r));
-                break;
-            }
-            small.hair = lod;
+        bool borrowed = false;
+        if ((r = grid_levels_mesh(lv, &ts->hair, l, &small.hair, &borrowed)) != HT_OK) {
+            snprintf(err, err_size, "%s: geometry: cannot %s LOD %d: %s", lv->stored ? rep->bundle : rep->scene,
+                     lv->stored ? "read" : "build", l, ht_result_string(r));
+            break;
         }
         g->strands[l] = small.hair.component_count;
+        g->cards[l] = lv->cards[l];
+        g->strands_per_card[l] = lv->cards[l] ? lv->param[l] : 0;
         for (int t = 0; t < rep->tier_count && r == HT_OK; t++) {
             report_lod_cell *c = &g->cells[l][t];
             if (!rep->tiers[t].ran) continue;
-            fprintf(stderr, "haircompare: rendering level %d with %s at %gx\n", l, rep->tiers[t].name, g->size);
+            fprintf(stderr, "haircompare: rendering %s %d with %s at %gx\n", lv->cards[l] ? "cards, level" : "level", l,
+                    rep->tiers[t].name, g->size);
             tier_render(o->view.bundle, &small, rep->tiers[t].tier, o->view.frames, &frames[l][t]);
             if (!(c->ran = frames[l][t].ran)) continue;
             c->frame_ms = frames[l][t].frame_ms;
@@ -238,8 +240,7 @@ static ht_result build_lod_grid(const options *o, const char *tmp, const tier_sc
             r = write_frame(path, frames[l][t].rgba, w, h, &img, err, err_size);
             ht_image_free(&img);
         }
-        ht_mesh_free(&lod);
-        small.hair = ts->hair;
+        if (!borrowed) ht_mesh_free(&small.hair);
     }
     const tier_frame *ref = &frames[0][rep->reference];
     for (int l = 0; l < g->levels && r == HT_OK; l++)
@@ -258,8 +259,48 @@ static ht_result build_lod_grid(const options *o, const char *tmp, const tier_sc
     return r;
 }
 
+/* A bundle storing its own level 0 (hairgen --cards: the scene's strands
+   with their uv moved into the atlas) draws it in every tier's image: the
+   scene's own mesh would sample the atlas as the material's texture. */
+static ht_result use_stored_level0(const char *bundle, const grid_levels *lv, tier_scene *ts, char *err,
+                                   size_t err_size) {
+    if (!lv->stored || lv->file.levels[0].kind == HT_LOD_KIND_SCENE) return HT_OK;
+    ht_mesh level0;
+    bool borrowed;
+    ht_result r = grid_levels_mesh(lv, &ts->hair, 0, &level0, &borrowed);
+    if (r != HT_OK) {
+        snprintf(err, err_size, "%s/%s: level 0: %s", bundle, HT_LOD_FILE_NAME, ht_result_string(r));
+        return r;
+    }
+    ht_mesh_free(&ts->hair);
+    ts->hair = level0;
+    return HT_OK;
+}
+
+/* The grid on stdout: each (level, tier) cell's PSNR and cost, and the
+   bundle's beside them when it has them. */
+static void print_lod_grid(const report *r) {
+    const report_lod_grid *g = &r->lods;
+    if (!g->levels) return;
+    printf("lods: %s at %g of the scene's size, against (level 0, %s)\n",
+           g->source == REPORT_LOD_STORED ? "the bundle's stored levels" : "levels built from the scene", g->size,
+           report_reference_name(r));
+    printf("%-5s %-7s %8s %-7s %7s %6s %10s %11s\n", "level", "kind", "strands", "tier", "psnr_db", "cost",
+           "bundle_db", "bundle_cost");
+    for (int l = 0; l < g->levels; l++)
+        for (int t = 0; t < r->tier_count; t++) {
+            const report_lod_cell *c = &g->cells[l][t];
+            if (!c->ran) continue;
+            printf("%-5d %-7s %8u %-7s %7.2f %6.3f", l, g->cards[l] ? "cards" : "strands", g->strands[l],
+                   r->tiers[t].name, c->whole.psnr_db, c->cost_ratio);
+            if (c->measured) printf(" %10.2f %11.3f", c->measured_psnr_db, c->measured_cost_ratio);
+            printf("\n");
+        }
+}
+
 /* Renders, measures and writes every file into tmp; 0 or 1. */
-static int build(const options *o, const char *tmp, const tier_scene *ts, report *rep, char *err, size_t err_size) {
+static int build(const options *o, const char *tmp, const tier_scene *ts, const grid_levels *lv, report *rep, char *err,
+                 size_t err_size) {
     tier_frame frames[REPORT_MAX_TIERS] = { 0 };
     ht_image images[REPORT_MAX_TIERS] = { 0 }, heats[REPORT_MAX_TIERS] = { 0 };
     int rc = 1;
@@ -299,7 +340,7 @@ static int build(const options *o, const char *tmp, const tier_scene *ts, report
                                               &heats[t], err, err_size) != HT_OK)
             goto done;
     if (ref >= 0 && write_crops(o, tmp, rep, bg, images, heats, err, err_size) != HT_OK) goto done;
-    if (build_lod_grid(o, tmp, ts, rep, err, err_size) != HT_OK) goto done;
+    if (build_lod_grid(o, tmp, ts, lv, rep, err, err_size) != HT_OK) goto done;
 
     char path[4300];
     snprintf(path, sizeof path, "%s/index.html", tmp);
@@ -335,9 +376,14 @@ int main(int argc, char **argv) {
     rep.scene = o.view.scene;
     rep.frames = o.view.frames;
     tier_scene ts = { 0 };
+    grid_levels lv = { 0 };
     if (report_read_bundle(&rep, o.view.bundle, err, sizeof err) != HT_OK ||
-        tier_scene_load(o.view.scene, &ts, err, sizeof err) != HT_OK) {
+        tier_scene_load(o.view.scene, &ts, err, sizeof err) != HT_OK ||
+        grid_levels_open(o.view.bundle, o.view.scene, &ts.hair, &lv, err, sizeof err) != HT_OK ||
+        use_stored_level0(o.view.bundle, &lv, &ts, err, sizeof err) != HT_OK) {
         fprintf(stderr, "haircompare: %s\n", err);
+        grid_levels_close(&lv);
+        tier_scene_free(&ts);
         report_free(&rep);
         return 1;
     }
@@ -347,7 +393,7 @@ int main(int argc, char **argv) {
         fprintf(stderr, "haircompare: %s\n", err);
         rc = 1;
     } else {
-        rc = build(&o, tmp, &ts, &rep, err, sizeof err);
+        rc = build(&o, tmp, &ts, &lv, &rep, err, sizeof err);
         if (rc == 0 && report_dir_publish(tmp, o.out, err, sizeof err) != HT_OK) rc = 1;
         if (rc != 0) {
             report_dir_remove(tmp);
@@ -361,9 +407,11 @@ int main(int argc, char **argv) {
             fprintf(stderr, "haircompare: %s (nothing written)\n", err);
         } else {
             print_table(&rep);
+            print_lod_grid(&rep);
             printf("haircompare: wrote %s/index.html\n", o.out);
         }
     }
+    grid_levels_close(&lv);
     tier_scene_free(&ts);
     report_free(&rep);
     return rc;

@@ -28,6 +28,7 @@
 #include "metric_order.h"
 #include "flip.h"
 #include "manifest.h"
+#include <hairtier/lod.h>
 #include "metrics.h"
 
 #define REPORT_MAX_TIERS 8
@@ -70,14 +71,17 @@ typedef struct report_tier {
     char crop[64], heatmap_crop[64]; /* the zoomed crops of those two, "" when absent */
 } report_tier;
 
-/* The LOD x tier grid (report_lod.c), for a bundle measured with hairgen
-   --measure-lods: every geometry level (rows) drawn by every tier that ran
-   (columns) at REPORT_LOD_SIZE of the scene's size, each against (level 0,
-   the reference tier) at that size, beside the manifest's numbers for the
-   cell. Images at their pixel size: six tiers of a 512-pixel scene are
-   6 x 128 px, well inside the 1400 px window. */
+/* The LOD x tier grid (report_lod.c), for a bundle that stores levels
+   (lods.bin of this scene: hairgen --scene, --cards) or was measured with
+   hairgen --measure-lods: every geometry level (rows: the bundle's stored
+   ones, cards included, else the ladder built from the scene) drawn by
+   every tier that ran at REPORT_LOD_SIZE of the scene's size, each
+   against (level 0, the reference tier) at that size, beside the
+   manifest's numbers for the cell when it has them. Each row's cells
+   wrap (flex-wrap) so the grid fits the 1400 px window at any scene size;
+   a 512-pixel scene's six tiers of 128 px sit in one line. */
 #define REPORT_LOD_SIZE 0.25
-#define REPORT_LOD_MAX_LEVELS 5
+#define REPORT_LOD_MAX_LEVELS HT_LOD_FILE_MAX_LEVELS
 typedef struct report_lod_cell {
     bool ran;
     char image[64];                /* file beside index.html */
@@ -87,11 +91,23 @@ typedef struct report_lod_cell {
     double measured_psnr_db, measured_cost_ratio;
 } report_lod_cell;
 
+/* Where the grid's levels came from. */
+typedef enum report_lod_source {
+    REPORT_LOD_STORED,             /* the bundle's lods.bin, made from this scene's mesh */
+    REPORT_LOD_BUILT,              /* built from the scene (lod.h's ladder): the bundle stores none */
+    REPORT_LOD_BUILT_OTHER_SCENE,  /* built from the scene: the bundle's lods.bin is another scene's */
+} report_lod_source;
+
 typedef struct report_lod_grid {
-    int levels;                    /* 0: no grid (the bundle has no "lods") */
+    int levels;                    /* 0: no grid */
+    report_lod_source source;
     double size;                   /* of the scene's: the measured size nearest REPORT_LOD_SIZE */
     int width, height;             /* of every grid image */
-    uint32_t strands[REPORT_LOD_MAX_LEVELS];
+    uint32_t strands[REPORT_LOD_MAX_LEVELS]; /* the level's components: strands, or cards */
+    bool cards[REPORT_LOD_MAX_LEVELS];       /* a cards level (lods.bin's kind) */
+    uint32_t strands_per_card[REPORT_LOD_MAX_LEVELS]; /* its param, for a cards level */
+    int measured_cells;            /* the manifest's cells shown beside the grid's */
+    int other_cells;               /* its cells at this size that match no row (other geometry) */
     report_lod_cell cells[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS]; /* [level][the report's tier] */
 } report_lod_grid;
 
@@ -175,10 +191,13 @@ void report_write_needs(FILE *f, const report *r);
 /* The grid's size for these measured cells: the measured size nearest
    REPORT_LOD_SIZE; 0 when there are none. */
 double report_lod_size(const ht_manifest_lods *m);
-/* Fills each grid cell's measured numbers from r->measured_lods. */
+/* Fills each grid cell's measured numbers from r->measured_lods: the
+   cells at the grid's size whose level, kind (cards or strands), tier and
+   strand (card) count are the row's; the rest at that size are counted in
+   other_cells (measured on other geometry: another scene's levels). */
 void report_lod_attach_measured(report *r);
-/* The section: a table, levels down, tiers across. Nothing when
-   r->lods.levels is 0. */
+/* The section: which levels and reference, then a row of cells a level
+   (its tiers across, wrapping). Nothing when r->lods.levels is 0. */
 void report_write_lod_grid(FILE *f, const report *r);
 /* The whole page. 0, or -1 when the stream reports an error. */
 int report_write_page(FILE *f, const report *r);
