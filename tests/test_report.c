@@ -1,6 +1,8 @@
 /* test_report — haircompare's report pieces without a browser or GL
    (examples/compare/): HTML escaping, the table's contents beside the
-   bundle's measured numbers, the reference every label names, the plot's
+   bundle's measured numbers, the level x tier grid (stored levels and
+   cards, the manifest's cells beside its own or a sentence saying it has
+   none, where its levels came from), the reference every label names, the plot's
    axes, point coordinates and labels, the heatmap colours, the highlight
    crops, the manifest's lists and measured objects, and the report
    directory written whole or not at all. The page in a real browser (it
@@ -689,21 +691,28 @@ static void test_report_dir_is_written_whole_and_replaces_only_a_report(void **s
 
 /* ---- the LOD x tier grid ---- */
 
-/* sample_report's tiers with a two-level grid at a quarter size and the
-   manifest's cells for some of them. */
+/* sample_report's tiers with a grid at a quarter size of two strand levels
+   and cards (the bundle's stored levels), and the manifest's cells for
+   some of them. */
 static void sample_lod_report(report *r) {
     sample_report(r);
-    r->measured_lods.cell_count = 3;
-    r->measured_lods.cells[0] = (ht_manifest_lod_cell){ .level = 1, .tier = "vertex", .size = 0.25, .psnr_db = 31.25,
-                                                        .cost_ratio = 0.375 };
-    r->measured_lods.cells[1] = (ht_manifest_lod_cell){ .level = 1, .tier = "vertex", .size = 1.0, .psnr_db = 20,
-                                                        .cost_ratio = 0.5 };
-    r->measured_lods.cells[2] = (ht_manifest_lod_cell){ .level = 0, .tier = "full", .size = 0.5, .psnr_db = INFINITY,
-                                                        .cost_ratio = 1 };
-    r->lods = (report_lod_grid){ .levels = 2, .size = report_lod_size(&r->measured_lods), .width = 16, .height = 16,
-                                 .strands = { 400, 200 } };
+    r->measured_lods.cell_count = 5;
+    r->measured_lods.cells[0] = (ht_manifest_lod_cell){ .level = 1, .tier = "vertex", .strands = 200, .size = 0.25,
+                                                        .psnr_db = 31.25, .cost_ratio = 0.375 };
+    r->measured_lods.cells[1] = (ht_manifest_lod_cell){ .level = 1, .tier = "vertex", .strands = 200, .size = 1.0,
+                                                        .psnr_db = 20, .cost_ratio = 0.5 };
+    r->measured_lods.cells[2] = (ht_manifest_lod_cell){ .level = 0, .tier = "full", .strands = 400, .size = 0.5,
+                                                        .psnr_db = INFINITY, .cost_ratio = 1 };
+    r->measured_lods.cells[3] = (ht_manifest_lod_cell){ .level = 2, .cards = 1, .tier = "gl11", .strands = 25,
+                                                        .size = 0.25, .psnr_db = 24.75, .cost_ratio = 0.0625 };
+    /* measured on another ladder: level 1 of 150 strands */
+    r->measured_lods.cells[4] = (ht_manifest_lod_cell){ .level = 1, .tier = "full", .strands = 150, .size = 0.25,
+                                                        .psnr_db = 29, .cost_ratio = 0.5 };
+    r->lods = (report_lod_grid){ .levels = 3, .source = REPORT_LOD_STORED, .size = report_lod_size(&r->measured_lods),
+                                 .width = 16, .height = 16, .strands = { 400, 200, 25 },
+                                 .cards = { false, false, true }, .strands_per_card = { 0, 0, 16 } };
     const int ran[3] = { 0, 1, 3 }; /* full, vertex, gl11: fixed did not run */
-    for (int l = 0; l < 2; l++)
+    for (int l = 0; l < 3; l++)
         for (int i = 0; i < 3; i++) {
             report_lod_cell *c = &r->lods.cells[l][ran[i]];
             c->ran = true;
@@ -715,36 +724,86 @@ static void sample_lod_report(report *r) {
     report_lod_attach_measured(r);
 }
 
+static char *page_of(const report *r) {
+    capture c;
+    assert_int_equal(report_write_page(capture_open(&c), r), 0);
+    return capture_close(&c);
+}
+
 static void test_lod_grid_shows_every_level_by_every_tier_that_ran(void **state) {
     (void)state;
     report r;
     sample_lod_report(&r);
-    /* 0.25 measured: the quarter size, and its cell only */
+    /* 0.25 measured: the quarter size, and its cells of the rows' geometry only */
     assert_true(r.lods.size == 0.25);
     assert_true(r.lods.cells[1][1].measured && r.lods.cells[1][1].measured_psnr_db == 31.25);
+    assert_true(r.lods.cells[2][3].measured && r.lods.cells[2][3].measured_cost_ratio == 0.0625);
     assert_false(r.lods.cells[0][0].measured);
-    capture c;
-    assert_int_equal(report_write_page(capture_open(&c), &r), 0);
-    char *html = capture_close(&c);
+    assert_false(r.lods.cells[1][0].measured); /* 150 strands: not this row's level 1 */
+    assert_int_equal(r.lods.measured_cells, 2);
+    assert_int_equal(r.lods.other_cells, 1);
+    char *html = page_of(&r);
     expect_in(html, "<h2>Geometry levels &#215; tiers at 0.25 of the scene&#8217;s size</h2>");
-    expect_in(html, "<thead><tr><th>level</th><th>full</th><th>vertex</th><th>gl11</th></tr></thead>");
-    expect_in(html, "<tr><th scope=\"row\">1<br><span>200 strands</span></th>");
-    for (int l = 0; l < 2; l++)
+    expect_in(html, "Levels: <b>the bundle&#8217;s stored levels</b> (<code>lods.bin</code>, made from this "
+                    "scene&#8217;s mesh): 2 strand levels and 1 of cards");
+    expect_in(html, "against (level 0, <b>full</b>) at this size");
+    expect_in(html, "<div class=\"lodhead\">level 1<br><span>200 strands</span></div>");
+    expect_in(html, "<div class=\"lodhead\">cards<br><span>level 2: 25 cards of 16 strands</span></div>");
+    for (int l = 0; l < 3; l++)
         for (const char *const *t = (const char *const[]){ "full", "vertex", "gl11", NULL }; *t; t++) {
-            char tag[128];
-            snprintf(tag, sizeof tag, "<img src=\"lod%d-%s.png\" width=\"16\" height=\"16\"", l, *t);
+            char tag[160];
+            snprintf(tag, sizeof tag, "<img src=\"lod%d-%s.png\" width=\"16\" height=\"16\" alt=\"%s %d, %s\">", l, *t,
+                     l == 2 ? "cards, level" : "level", l, *t);
             assert_int_equal(count_of(html, tag), 1);
         }
     assert_null(strstr(html, "lod0-fixed"));
-    expect_in(html, "&#8734; dB, 1.00&#215;");
-    expect_in(html, "32.0 dB, 0.50&#215;<br><span>[31.2 dB, 0.38&#215;]</span>");
-    /* 12 images above, 6 grid cells */
-    assert_int_equal(count_of(html, "<img "), 11);
+    expect_in(html, "&#8734; dB, 1.00&#215;<br><span class=\"measured\">bundle: not measured</span>");
+    expect_in(html, "32.0 dB, 0.50&#215;<br><span class=\"measured\">bundle 31.2 dB, 0.38&#215;</span>");
+    expect_in(html, "34.0 dB, 0.50&#215;<br><span class=\"measured\">bundle 24.8 dB, 0.06&#215;</span>");
+    expect_in(html, "1 of its measured cells at this size are of other geometry");
+    /* sample_report's 5 images above, 9 grid cells; every row wraps rather than scroll */
+    assert_int_equal(count_of(html, "<img "), 14);
+    assert_int_equal(count_of(html, "<div class=\"lodrow\">"), 3);
+    expect_in(html, ".lodrow{display:flex;flex-wrap:wrap;");
     free(html);
-    /* A bundle without "lods": no grid. */
+    report_free(&r);
+}
+
+/* Without the manifest's cells the grid shows this run's numbers alone
+   and says the bundle has none; levels built from the scene say so. */
+static void test_lod_grid_without_measured_cells_says_so_and_where_its_levels_came_from(void **state) {
+    (void)state;
+    report r;
+    sample_lod_report(&r);
+    r.measured_lods.cell_count = 0;
+    r.lods.size = report_lod_size(&r.measured_lods);
+    assert_true(r.lods.size == REPORT_LOD_SIZE);
+    for (int l = 0; l < 3; l++)
+        for (int t = 0; t < REPORT_MAX_TIERS; t++) r.lods.cells[l][t].measured = false;
+    report_lod_attach_measured(&r);
+    assert_int_equal(r.lods.measured_cells, 0);
+    assert_int_equal(r.lods.other_cells, 0);
+    char *html = page_of(&r);
+    expect_in(html, "The bundle has no measured numbers for these cells (<code>hairgen --measure-lods</code>");
+    assert_null(strstr(html, "class=\"measured\">bundle"));
+    assert_null(strstr(html, "other geometry"));
+    expect_in(html, "32.0 dB, 0.50&#215;</p></figure>");
+    free(html);
+    /* built from the scene: the bundle stores none, or another scene's */
+    r.lods.levels = 2;
+    r.lods.source = REPORT_LOD_BUILT;
+    html = page_of(&r);
+    expect_in(html, "Levels: <b>built from the scene</b> (levels 0 to 1 of <code>lod.h</code>&#8217;s ladder): "
+                    "the bundle stores none.");
+    assert_null(strstr(html, "cards"));
+    free(html);
+    r.lods.source = REPORT_LOD_BUILT_OTHER_SCENE;
+    html = page_of(&r);
+    expect_in(html, "the bundle&#8217;s <code>lods.bin</code> was made from another scene&#8217;s mesh.");
+    free(html);
+    /* no grid at all */
     r.lods.levels = 0;
-    assert_int_equal(report_write_page(capture_open(&c), &r), 0);
-    html = capture_close(&c);
+    html = page_of(&r);
     assert_null(strstr(html, "Geometry levels"));
     free(html);
     report_free(&r);
@@ -754,6 +813,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_escape_writes_every_markup_character_as_a_reference),
         cmocka_unit_test(test_lod_grid_shows_every_level_by_every_tier_that_ran),
+        cmocka_unit_test(test_lod_grid_without_measured_cells_says_so_and_where_its_levels_came_from),
         cmocka_unit_test(test_table_has_a_row_per_tier_with_its_numbers_needs_and_drops),
         cmocka_unit_test(test_table_says_whether_psnr_and_flip_rank_tiers_alike),
         cmocka_unit_test(test_table_shows_the_bundles_measured_numbers_beside_its_own),

@@ -3,11 +3,16 @@
    whole by a second run; a Marschner bundle's report naming marschner as
    its reference, with each tier's 4x crop of marschner's brightest
    highlight; the bundle's measured numbers on the page, or a sentence
-   saying it has none; and every bad input (no bundle, a bundle no tier
-   can draw, a bad scene, an output it must not or cannot write, bad
+   saying it has none; a cards bundle's level x tier grid drawn from its
+   stored levels (lods.bin), the cards row in every tier, the manifest's
+   cell numbers beside each cell's own, its tier images its stored level
+   0 (as the material's bundle draws the scene); and every bad input (no
+   bundle, a bundle no tier can draw, a bad scene, a hostile lods.bin or
+   another scene's cards, an output it must not or cannot write, bad
    options) one line on stderr, a non-zero exit, and no report and no
    temporary directory left. The page in a browser is `make report-check`. */
 #include <dirent.h>
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -24,10 +29,52 @@
 
 #include <hairtier/hairgen.h>
 #include <hairtier/image.h>
+#include <hairtier/lod.h>
+#include <hairtier/scene.h>
+#include "cards_bundle.h"
 #include "support_render.h"
 #include "support_scratch.h"
 
 static char work[64], bundle[128], marschner_bundle[128], scene[128];
+/* A cards bundle (few cards, a 128 atlas of a 32-texel material) for
+   cards_scene, and the material's own bundle it was made from. */
+static char small_bundle[128], cards_bundle[128], cards_scene[128];
+#define CARDS_STRANDS 16
+
+/* dark-brown with 32-texel textures, so its cards fit a 128 atlas (the
+   bake is per atlas texel: cheap); a 64 x 64 fur ball of 200 hairs. */
+static ht_result make_cards_bundle(char *err, size_t err_size) {
+    snprintf(small_bundle, sizeof small_bundle, "%s/small-bundle", work);
+    snprintf(cards_bundle, sizeof cards_bundle, "%s/cards-bundle", work);
+    snprintf(cards_scene, sizeof cards_scene, "%s/cards-scene.json", work);
+    ht_test_write_file(work, "small.json",
+        "{\"format\": \"hairtier-material/1\", \"name\": \"small\", \"model\": \"scheuermann\",\n"
+        " \"diffuse\": {\"color\": [0.23, 0.14, 0.08], \"wrap\": 0.25},\n"
+        " \"primary\": {\"color\": [1.0, 0.95, 0.9], \"exponent\": 80, \"shift\": -0.1},\n"
+        " \"secondary\": {\"color\": [0.55, 0.40, 0.28], \"exponent\": 24, \"shift\": 0.15},\n"
+        " \"textures\": {\"base\": {\"procedural\": \"stretched-noise\", \"size\": 32, \"seed\": 1},\n"
+        "              \"alpha\": {\"procedural\": \"strand-alpha\", \"size\": 32, \"seed\": 2},\n"
+        "              \"shift\": {\"procedural\": \"noise\", \"size\": 32, \"seed\": 3},\n"
+        "              \"sparkle\": {\"procedural\": \"sparkle\", \"size\": 32, \"seed\": 4}},\n"
+        " \"alpha\": {\"opaque_cutoff\": 0.98}}\n");
+    ht_test_write_file(work, "cards-scene.json",
+        "{\"format\": \"hairtier-scene/1\", \"resolution\": [64, 64],\n"
+        " \"camera\": {\"eye\": [0, 0.3, 2.4], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 40},\n"
+        " \"lights\": [{\"type\": \"directional\", \"direction\": [0.6, 0.8, 0.7], \"color\": [1, 1, 1]}],\n"
+        " \"background\": [0.1, 0.2, 0.3],\n"
+        " \"geometry\": {\"type\": \"furball\", \"hairs\": 200, \"joints\": 6, \"length\": 0.25, \"width\": 0.03}}\n");
+    char material[128];
+    snprintf(material, sizeof material, "%s/small.json", work);
+    ht_scene s;
+    ht_mesh hair = { 0 };
+    ht_result r = ht_generate_bundle(material, cards_scene, small_bundle, NULL, err, err_size);
+    if (r == HT_OK) r = ht_scene_load(cards_scene, &s, err, err_size);
+    if (r == HT_OK) r = ht_scene_build_meshes(&s, cards_scene, &hair, NULL, err, err_size);
+    if (r == HT_OK)
+        r = ht_cards_bundle_write_mesh(small_bundle, &hair, CARDS_STRANDS, 128, cards_bundle, NULL, err, err_size);
+    ht_mesh_free(&hair);
+    return r;
+}
 
 static int setup(void **state) {
     (void)state;
@@ -48,9 +95,10 @@ static int setup(void **state) {
        scene has; read only. */
     return ht_generate_bundle("materials/dark-brown.json", scene, bundle, NULL, err, sizeof err) == HT_OK &&
                    ht_test_bundle("materials/brown-marschner.json", "furball", "scenes/furball.json",
-                                  marschner_bundle, sizeof marschner_bundle, err, sizeof err) == HT_OK
+                                  marschner_bundle, sizeof marschner_bundle, err, sizeof err) == HT_OK &&
+                   make_cards_bundle(err, sizeof err) == HT_OK
                ? 0
-               : -1;
+               : (fprintf(stderr, "%s\n", err), -1);
 }
 
 static int teardown(void **state) {
@@ -237,6 +285,128 @@ static void test_report_shows_the_bundles_measured_numbers(void **state) {
     assert_null(strstr(html, "has no measured numbers"));
 }
 
+/* Whether the PNG at dir/name has more than one colour. */
+static bool varied_png(const char *dir, const char *name) {
+    ht_image img = { 0 };
+    read_png(dir, name, &img);
+    bool varied = false;
+    for (size_t i = 3; i < (size_t)img.width * img.height * 3 && !varied; i++) varied = img.pixels[i] != img.pixels[i % 3];
+    ht_image_free(&img);
+    return varied;
+}
+
+/* One manifest "lods" cell, as hairgen --measure-lods writes it. */
+static cJSON *lod_cell(int level, bool cards, const char *tier, uint32_t strands, double size, double psnr_db,
+                       double cost) {
+    cJSON *c = cJSON_CreateObject();
+    cJSON_AddNumberToObject(c, "level", level);
+    if (cards) cJSON_AddStringToObject(c, "kind", "cards");
+    cJSON_AddStringToObject(c, "tier", tier);
+    cJSON_AddNumberToObject(c, "strands", strands);
+    cJSON_AddNumberToObject(c, "size", size);
+    if (isinf(psnr_db)) cJSON_AddNullToObject(c, "psnr_db");
+    else cJSON_AddNumberToObject(c, "psnr_db", psnr_db);
+    cJSON_AddNumberToObject(c, "ssim", 0.8);
+    cJSON_AddNumberToObject(c, "delta_e00_mean", 2);
+    cJSON_AddNumberToObject(c, "cost_ratio", cost);
+    cJSON_AddNullToObject(c, "pop_psnr_db");
+    return c;
+}
+
+/* The text of the grid cell whose image is alt ALT (to its </figure>). */
+static char *grid_cell(const char *html, const char *alt) {
+    char tag[128];
+    snprintf(tag, sizeof tag, "alt=\"%s\">", alt);
+    const char *at = strstr(html, tag);
+    if (!at) fail_msg("no grid cell %s in:\n%.3000s", tag, strstr(html, "<h2>Geometry") ? strstr(html, "<h2>Geometry") : html);
+    const char *end = strstr(at, "</figure>");
+    assert_non_null(end);
+    return strndup(at, (size_t)(end - at));
+}
+
+/* A cards bundle (hairgen --cards): the grid draws its stored levels, the
+   cards a row of their own in every tier, each cell with the manifest's
+   numbers for that (level, tier, size) beside its own where the manifest
+   has them (a cell of other geometry left out and counted); every tier's
+   image is its stored level 0, drawn as the material's own bundle draws
+   the scene (the scene's mesh would sample the atlas as the material's
+   texture). */
+static void test_cards_bundle_grid_draws_its_stored_levels_with_the_measured_cells(void **state) {
+    (void)state;
+    char path[512], e[512], measured[256], report[256], plain_report[256], args[1024], out[16384], err[16384];
+    snprintf(path, sizeof path, "%s/%s", cards_bundle, HT_LOD_FILE_NAME);
+    ht_lod_file f;
+    if (ht_lod_file_read(path, &f, e, sizeof e) != HT_OK) fail_msg("%s", e);
+    const int cards = f.level_count - 1;
+    assert_true(cards >= 2);
+    assert_int_equal(f.levels[cards].kind, HT_LOD_KIND_CARDS);
+    const uint32_t card_count = f.levels[cards].component_count, hairs = f.levels[0].component_count;
+    ht_lod_file_free(&f);
+
+    snprintf(measured, sizeof measured, "%s/measured-cards", work);
+    ht_test_copy_dir(cards_bundle, measured);
+    cJSON *root = ht_test_read_json(measured, "manifest.json");
+    cJSON *lods = cJSON_AddObjectToObject(root, "lods"), *cells = cJSON_AddArrayToObject(lods, "cells");
+    cJSON_AddStringToObject(lods, "tier", "full");
+    cJSON_AddItemToArray(cells, lod_cell(0, false, "full", hairs, 0.25, INFINITY, 1));
+    cJSON_AddItemToArray(cells, lod_cell(cards, true, "gl11", card_count, 0.25, 23.3, 0.25));
+    cJSON_AddItemToArray(cells, lod_cell(1, false, "full", 7, 0.25, 30, 0.5));       /* another ladder's level 1 */
+    cJSON_AddItemToArray(cells, lod_cell(cards, true, "full", card_count, 1, 21.1, 0.5)); /* not the grid's size */
+    char *text = cJSON_Print(root);
+    ht_test_write_file(measured, "manifest.json", text);
+    free(text);
+    cJSON_Delete(root);
+
+    snprintf(report, sizeof report, "%s/cards-report", work);
+    snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames 1 -o '%s'", measured, cards_scene, report);
+    if (run(args, out, sizeof out, err, sizeof err) != 0) fail_msg("haircompare %s:\n%s", args, err);
+    char *html = ht_test_read_file(report, "index.html");
+    expect_in(html, "Levels: <b>the bundle&#8217;s stored levels</b>");
+    char want[256];
+    snprintf(want, sizeof want, "<div class=\"lodhead\">cards<br><span>level %d: %u cards of %d strands</span></div>",
+             cards, card_count, CARDS_STRANDS);
+    expect_in(html, want);
+    static const char *const tiers[] = { "full", "vertex", "fixed4", "fixed", "gl11" };
+    for (int t = 0; t < 5; t++) {
+        char name[64], alt[64];
+        snprintf(name, sizeof name, "lod%d-%s.png", cards, tiers[t]);
+        if (!varied_png(report, name)) fail_msg("%s/%s is one colour", report, name);
+        snprintf(alt, sizeof alt, "cards, level %d, %s", cards, tiers[t]);
+        char *cell = grid_cell(html, alt);
+        /* gl11's cards cell was measured; the others have only this run's numbers */
+        if (t == 4) expect_in(cell, "<span class=\"measured\">bundle 23.3 dB, 0.25&#215;</span>");
+        else expect_in(cell, "<span class=\"measured\">bundle: not measured</span>");
+        free(cell);
+    }
+    char *cell = grid_cell(html, "level 0, full");
+    expect_in(cell, "&#8734; dB, 1.00&#215;<br><span class=\"measured\">bundle &#8734; dB, 1.00&#215;</span>");
+    free(cell);
+    expect_in(html, "1 of its measured cells at this size are of other geometry");
+    expect_in(out, "lods: the bundle's stored levels at 0.25 of the scene's size, against (level 0, full)");
+    snprintf(want, sizeof want, "%-5d %-7s %8u %-7s", cards, "cards", card_count, "gl11");
+    expect_in(out, want);
+
+    /* its tiers draw stored level 0 as the material's bundle draws the scene */
+    snprintf(plain_report, sizeof plain_report, "%s/small-report", work);
+    snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames 1 -o '%s'", small_bundle, cards_scene, plain_report);
+    if (run(args, out, sizeof out, err, sizeof err) != 0) fail_msg("haircompare %s:\n%s", args, err);
+    assert_null(strstr(ht_test_read_file(plain_report, "index.html"), "Geometry levels")); /* nothing stored or measured */
+    for (int t = 0; t < 5; t++) {
+        char name[64];
+        snprintf(name, sizeof name, "%s.png", tiers[t]);
+        ht_image a = { 0 }, b = { 0 };
+        read_png(report, name, &a);
+        read_png(plain_report, name, &b);
+        assert_true(a.width == b.width && a.height == b.height);
+        int worst = 0;
+        for (size_t i = 0; i < (size_t)a.width * a.height * 3; i++)
+            worst = abs(a.pixels[i] - b.pixels[i]) > worst ? abs(a.pixels[i] - b.pixels[i]) : worst;
+        if (worst > 2) fail_msg("%s: the cards bundle's differs by %d from the material's bundle's", name, worst);
+        ht_image_free(&a);
+        ht_image_free(&b);
+    }
+}
+
 /* Exit status, one line on stderr starting "haircompare: " and naming
    `mentions`, and no report at `report`. */
 static void expect_fails(const char *args, int status, const char *mentions, const char *report) {
@@ -271,6 +441,15 @@ static void test_bad_input_is_one_line_and_writes_nothing(void **state) {
     snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames 1 -o '%s'", bad, scene, report);
     expect_fails(args, 1, "no tier ran: ", report);
 
+    /* a hostile lods.bin, and cards made from another scene's mesh */
+    snprintf(bad, sizeof bad, "%s/bad-lods", work);
+    ht_test_copy_dir(cards_bundle, bad);
+    ht_test_write_file(bad, HT_LOD_FILE_NAME, "HTLODS2\n\x07");
+    snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames 1 -o '%s'", bad, cards_scene, report);
+    expect_fails(args, 1, "bad-lods/" HT_LOD_FILE_NAME ": ", report);
+    snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames 1 -o '%s'", cards_bundle, scene, report);
+    expect_fails(args, 1, "these cards are another scene's", report);
+
     /* outputs it cannot or must not write */
     ht_test_write_file(work, "a-file", "x");
     snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames 1 -o '%s/a-file/report'", bundle, scene, work);
@@ -299,6 +478,7 @@ int main(void) {
         cmocka_unit_test(test_report_has_every_tier_image_and_heatmap_and_is_replaced_whole),
         cmocka_unit_test(test_marschner_report_names_its_reference_and_crops_its_highlight),
         cmocka_unit_test(test_report_shows_the_bundles_measured_numbers),
+        cmocka_unit_test(test_cards_bundle_grid_draws_its_stored_levels_with_the_measured_cells),
         cmocka_unit_test(test_bad_input_is_one_line_and_writes_nothing),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
