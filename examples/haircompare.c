@@ -14,9 +14,13 @@
    table row: frame ms, cost ratio to the reference, PSNR, SSIM, ΔE00 mean
    and p95 (shadergen/metrics.h) beside the bundle's measured numbers, and
    the features the manifest says the tier drops; then an SVG plot of
-   error against cost. A bundle measured with hairgen --measure-lods gets
-   a grid too: every geometry LOD by every tier at a quarter size, each
-   against (LOD 0, the reference), beside the manifest's numbers. Why not grow tier_sheet: its one PNG is the quick
+   error against cost. A bundle storing this scene's levels (lods.bin:
+   hairgen --scene, --cards) or measured with hairgen --measure-lods gets
+   a grid too: every geometry LOD (the stored ones, cards too, else those
+   built from the scene: compare/grid_levels.h) by every tier at a quarter
+   size, each against (LOD 0, the reference), beside the manifest's
+   numbers for the cell where it has them. A cards bundle's tier images
+   draw its stored level 0. Why not grow tier_sheet: its one PNG is the quick
    look on a terminal and in docs; a report is a directory written whole
    (temporary sibling, renamed at the end) with a table and plot that a PNG
    cannot carry. Both share the rendering (tier_render.c).
@@ -62,7 +66,9 @@ static const cli_program program = {
             CLI_STR(REPORT_HEAT_MAX) " white, cubehelix), " CLI_STR(REPORT_CROP_SCALE) "x enlarged crops of the reference's brightest\n"
             "highlight, a table (frame ms, cost ratio to the reference, PSNR, SSIM, dE00 mean and p95, FLIP mean and p95,\n"
             "beside the bundle's measured numbers; needs, features dropped) and a plot of error\n"
-            "against cost. Frame ms: median of N frames (default 5, at most " CLI_STR(MAX_FRAMES) ") after a warm-up, each ended by\n"
+            "against cost; for a bundle storing levels (lods.bin, cards too) or measured with --measure-lods, every\n"
+            "level by every tier at a quarter size beside the manifest's numbers for the cell.\n"
+            "Frame ms: median of N frames (default 5, at most " CLI_STR(MAX_FRAMES) ") after a warm-up, each ended by\n"
             "glFinish. The report is written whole or not at all; an existing REPORT_DIR is replaced\n"
             "only when it is empty or an earlier report. --context, --egl-device: the GL context,\n"
             "as hairview's (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl).\n",
