@@ -41,28 +41,29 @@ static char work[64], bundle[128], marschner_bundle[128], scene[128];
 static char small_bundle[128], cards_bundle[128], cards_scene[128];
 #define CARDS_STRANDS 16
 
+/* root written to DIR/NAME, then deleted. */
+static void write_json(const char *dir, const char *name, cJSON *root) {
+    char *text = cJSON_Print(root);
+    ht_test_write_file(dir, name, text);
+    free(text);
+    cJSON_Delete(root);
+}
+
 /* dark-brown with 32-texel textures, so its cards fit a 128 atlas (the
-   bake is per atlas texel: cheap); a 64 x 64 fur ball of 200 hairs. */
+   bake is per atlas texel: cheap), for the fur ball of scene.json at
+   64 x 64 with 200 hairs. */
 static ht_result make_cards_bundle(char *err, size_t err_size) {
     snprintf(small_bundle, sizeof small_bundle, "%s/small-bundle", work);
     snprintf(cards_bundle, sizeof cards_bundle, "%s/cards-bundle", work);
     snprintf(cards_scene, sizeof cards_scene, "%s/cards-scene.json", work);
-    ht_test_write_file(work, "small.json",
-        "{\"format\": \"hairtier-material/1\", \"name\": \"small\", \"model\": \"scheuermann\",\n"
-        " \"diffuse\": {\"color\": [0.23, 0.14, 0.08], \"wrap\": 0.25},\n"
-        " \"primary\": {\"color\": [1.0, 0.95, 0.9], \"exponent\": 80, \"shift\": -0.1},\n"
-        " \"secondary\": {\"color\": [0.55, 0.40, 0.28], \"exponent\": 24, \"shift\": 0.15},\n"
-        " \"textures\": {\"base\": {\"procedural\": \"stretched-noise\", \"size\": 32, \"seed\": 1},\n"
-        "              \"alpha\": {\"procedural\": \"strand-alpha\", \"size\": 32, \"seed\": 2},\n"
-        "              \"shift\": {\"procedural\": \"noise\", \"size\": 32, \"seed\": 3},\n"
-        "              \"sparkle\": {\"procedural\": \"sparkle\", \"size\": 32, \"seed\": 4}},\n"
-        " \"alpha\": {\"opaque_cutoff\": 0.98}}\n");
-    ht_test_write_file(work, "cards-scene.json",
-        "{\"format\": \"hairtier-scene/1\", \"resolution\": [64, 64],\n"
-        " \"camera\": {\"eye\": [0, 0.3, 2.4], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 40},\n"
-        " \"lights\": [{\"type\": \"directional\", \"direction\": [0.6, 0.8, 0.7], \"color\": [1, 1, 1]}],\n"
-        " \"background\": [0.1, 0.2, 0.3],\n"
-        " \"geometry\": {\"type\": \"furball\", \"hairs\": 200, \"joints\": 6, \"length\": 0.25, \"width\": 0.03}}\n");
+    cJSON *root = ht_test_read_json("materials", "dark-brown.json"), *texture;
+    cJSON_ArrayForEach(texture, cJSON_GetObjectItem(root, "textures"))
+        cJSON_ReplaceItemInObject(texture, "size", cJSON_CreateNumber(32));
+    write_json(work, "small.json", root);
+    root = ht_test_read_json(work, "scene.json");
+    cJSON_ReplaceItemInObject(root, "resolution", cJSON_Parse("[64, 64]"));
+    cJSON_ReplaceItemInObject(cJSON_GetObjectItem(root, "geometry"), "hairs", cJSON_CreateNumber(200));
+    write_json(work, "cards-scene.json", root);
     char material[128];
     snprintf(material, sizeof material, "%s/small.json", work);
     ht_scene s;
@@ -263,10 +264,7 @@ static void test_report_shows_the_bundles_measured_numbers(void **state) {
         cJSON_AddItemToObject(tier, "measured", cJSON_Parse(object));
         i++;
     }
-    char *text = cJSON_Print(root);
-    ht_test_write_file(measured, "manifest.json", text);
-    free(text);
-    cJSON_Delete(root);
+    write_json(measured, "manifest.json", root);
     snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames 1 -o '%s'", measured, scene, report);
     if (run(args, out, sizeof out, err, sizeof err) != 0) fail_msg("haircompare %s:\n%s", args, err);
     char *html = ht_test_read_file(report, "index.html");
@@ -352,10 +350,7 @@ static void test_cards_bundle_grid_draws_its_stored_levels_with_the_measured_cel
     cJSON_AddItemToArray(cells, lod_cell(cards, true, "gl11", card_count, 0.25, 23.3, 0.25));
     cJSON_AddItemToArray(cells, lod_cell(1, false, "full", 7, 0.25, 30, 0.5));       /* another ladder's level 1 */
     cJSON_AddItemToArray(cells, lod_cell(cards, true, "full", card_count, 1, 21.1, 0.5)); /* not the grid's size */
-    char *text = cJSON_Print(root);
-    ht_test_write_file(measured, "manifest.json", text);
-    free(text);
-    cJSON_Delete(root);
+    write_json(measured, "manifest.json", root);
 
     snprintf(report, sizeof report, "%s/cards-report", work);
     snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames 1 -o '%s'", measured, cards_scene, report);
