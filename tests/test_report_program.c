@@ -436,11 +436,23 @@ static void test_bad_input_is_one_line_and_writes_nothing(void **state) {
     snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames 1 -o '%s'", bad, scene, report);
     expect_fails(args, 1, "no tier ran: ", report);
 
-    /* a hostile lods.bin, and cards made from another scene's mesh */
+    /* a hostile lods.bin (a header alone; the real file cut in half), and
+       cards made from another scene's mesh */
     snprintf(bad, sizeof bad, "%s/bad-lods", work);
     ht_test_copy_dir(cards_bundle, bad);
     ht_test_write_file(bad, HT_LOD_FILE_NAME, "HTLODS2\n\x07");
     snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames 1 -o '%s'", bad, cards_scene, report);
+    expect_fails(args, 1, "bad-lods/" HT_LOD_FILE_NAME ": ", report);
+    size_t size = 0;
+    snprintf(path, sizeof path, "%s/%s", cards_bundle, HT_LOD_FILE_NAME);
+    char *bytes = ht_test_read_all(path, &size);
+    assert_non_null(bytes);
+    snprintf(path, sizeof path, "%s/%s", bad, HT_LOD_FILE_NAME);
+    FILE *half = fopen(path, "wb");
+    assert_non_null(half);
+    assert_int_equal(fwrite(bytes, 1, size / 2, half), size / 2);
+    assert_int_equal(fclose(half), 0);
+    free(bytes);
     expect_fails(args, 1, "bad-lods/" HT_LOD_FILE_NAME ": ", report);
     snprintf(args, sizeof args, "--bundle '%s' --scene '%s' --frames 1 -o '%s'", cards_bundle, scene, report);
     expect_fails(args, 1, "these cards are another scene's", report);
