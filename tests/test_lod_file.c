@@ -22,6 +22,7 @@
 #include "lod_quant.h"
 #include "manifest.h"
 #include "lods_store.h"
+#include "support_lod_bound.h"
 
 #define LEVELS_AT 108 /* the header's bytes: magic, 5 counts, the centre, the scene's 3 counts and hash, 2 boxes */
 #define LEVEL_BYTES 24
@@ -52,50 +53,11 @@ static void make_ladder(ht_mesh *full, ht_lod_chain *chain, ht_lod_file *f) {
     ht_lod_file_set_scene(f, full);
 }
 
-static double angle(const float a[3], const float b[3]) {
-    const double c[3] = { (double)a[1] * b[2] - (double)a[2] * b[1], (double)a[2] * b[0] - (double)a[0] * b[2],
-                          (double)a[0] * b[1] - (double)a[1] * b[0] };
-    return atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
-                 (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2]);
-}
-
-static double unit_error(const float a[3]) {
-    return fabs(sqrt((double)a[0] * a[0] + (double)a[1] * a[1] + (double)a[2] * a[2]) - 1);
-}
-
-/* got's n vertices are want's within lod.h's bounds (the boxes: those of
-   the file's `all` vertices): positions, uv and ao within half a step,
-   normals and tangents unit and within HT_LOD_FILE_DIRECTION_ERROR. */
 static void assert_within_bound(const ht_vertex *got, const ht_vertex *want, uint32_t n, const ht_vertex *all,
                                 uint32_t all_count) {
-    float lo[6], hi[6];
-    for (int k = 0; k < 6; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
-    for (uint32_t v = 0; v < all_count; v++) {
-        const float x[6] = { all[v].position[0], all[v].position[1], all[v].position[2], all[v].uv[0], all[v].uv[1],
-                             all[v].ao };
-        for (int k = 0; k < 6; k++) lo[k] = fminf(lo[k], x[k]), hi[k] = fmaxf(hi[k], x[k]);
-    }
-    double worst_pos = 0, worst_tex = 0, worst_dir = 0, worst_unit = 0;
-    for (uint32_t v = 0; v < n; v++) {
-        const float g[6] = { got[v].position[0], got[v].position[1], got[v].position[2], got[v].uv[0], got[v].uv[1],
-                             got[v].ao };
-        const float w[6] = { want[v].position[0], want[v].position[1], want[v].position[2], want[v].uv[0],
-                             want[v].uv[1], want[v].ao };
-        for (int k = 0; k < 6; k++) {
-            const double extent = hi[k] > lo[k] ? hi[k] - lo[k] : 1;
-            const double step = extent * (k < 3 ? HT_LOD_FILE_POSITION_ERROR : HT_LOD_FILE_ATTRIBUTE_ERROR);
-            const double err = fabs((double)g[k] - w[k]), ulp = fabs(w[k]) * FLT_EPSILON;
-            if (err > step * 1.0001 + ulp) fail_msg("vertex %u axis %d: %g off, the bound is %g", v, k, err, step);
-            if (k < 3) worst_pos = fmax(worst_pos, err / extent);
-            else worst_tex = fmax(worst_tex, err / extent);
-        }
-        worst_dir = fmax(worst_dir, fmax(angle(got[v].normal, want[v].normal), angle(got[v].tangent, want[v].tangent)));
-        worst_unit = fmax(worst_unit, fmax(unit_error(got[v].normal), unit_error(got[v].tangent)));
-    }
-    printf("%u vertices: position %.3g, uv/ao %.3g of the box, directions %.3g rad, |n| - 1 %.2g\n", n, worst_pos,
-           worst_tex, worst_dir, worst_unit);
-    assert_true(worst_dir <= HT_LOD_FILE_DIRECTION_ERROR);
-    assert_true(worst_unit <= 4 * FLT_EPSILON);
+    char why[256];
+    if (!ht_test_lod_within_bound(got, want, n, all, all_count, why, sizeof why)) fail_msg("%s", why);
+    printf("%s\n", why);
 }
 
 /* A strips level's tangents still run root to tip: along the next row. */
@@ -211,14 +173,19 @@ static void directions_within_bound(void **state) {
         unsigned char bytes[HT_LOD_QUANT_VERTEX_BYTES];
         ht_lod_vertex_encode(&v, &box, &box, bytes);
         ht_lod_vertex_decode(bytes, &box, &box, &back);
-        worst = fmax(worst, fmax(angle(v.normal, back.normal), angle(v.tangent, back.tangent)));
-        assert_true(unit_error(back.normal) <= 4 * FLT_EPSILON && unit_error(back.tangent) <= 4 * FLT_EPSILON);
+        char why[256];
+        if (!ht_test_lod_within_bound(&back, &v, 1, &v, 1, why, sizeof why)) fail_msg("direction %d: %s", i, why);
+        const float *a = v.normal, *b = back.normal;
+        const double c[3] = { (double)a[1] * b[2] - (double)a[2] * b[1], (double)a[2] * b[0] - (double)a[0] * b[2],
+                              (double)a[0] * b[1] - (double)a[1] * b[0] };
+        worst = fmax(worst, atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
+                                  (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2]));
     }
     for (uint32_t q = 0; q < 65536; q += 257) {
         const uint16_t pair[2] = { (uint16_t)q, (uint16_t)(65535 - q) };
         float n[3];
         ht_lod_oct_decode(pair, n);
-        assert_true(unit_error(n) <= 4 * FLT_EPSILON);
+        assert_true(fabs(sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]) - 1) <= 4 * FLT_EPSILON);
     }
     printf("directions: worst %.3g rad, bound %.3g\n", worst, HT_LOD_FILE_DIRECTION_ERROR);
     assert_true(worst <= HT_LOD_FILE_DIRECTION_ERROR);
@@ -391,6 +358,10 @@ static void hostile_files_refused(void **state) {
     expect_refused(data, size, components_at + 4, 0, size, "components[0].index_count: 0");
     expect_refused(data, size, components_at, v0 - 10, size, "components[0].first_vertex");
     expect_refused(data, size, components_at, 0xfffffffeu, size, "components[0].first_vertex");
+    /* level 0's ribbon at vertex 0 moved two on: vertices 0 and 1 unused */
+    size_t at_vertex0 = components_at;
+    while (get32(data + at_vertex0) != 0) at_vertex0 += 12;
+    expect_refused(data, size, at_vertex0, 2, size, "levels[0].vertex_count: 3600, its indices reach 3598");
     expect_refused(data, size, components_at + 8, 0xff800000u, size, "components[0]: index range past the indices, or sort key");
     /* A file that is not there: one line naming it. */
     ht_lod_file g;

@@ -59,6 +59,19 @@ static uint64_t file_bytes(uint64_t levels, uint64_t vertices, uint64_t stored_i
            components * COMPONENT_BYTES;
 }
 
+/* The run of vertices a level's indices reach: how many, *lo the first
+   (0 for none). */
+static uint32_t index_span(const ht_mesh *m, const ht_lod_range *r, uint32_t *lo) {
+    uint32_t hi = 0;
+    *lo = UINT32_MAX;
+    for (uint32_t i = r->first_index; i < r->first_index + r->index_count; i++) {
+        *lo = m->indices[i] < *lo ? m->indices[i] : *lo;
+        hi = m->indices[i] > hi ? m->indices[i] : hi;
+    }
+    if (!r->index_count) *lo = hi = 0;
+    return r->index_count ? hi - *lo + 1 : 0;
+}
+
 /* The six indices of a strip's segment q: rows of two vertices from a0. */
 static void strip_segment(uint32_t *out, uint32_t a0) {
     const uint32_t a1 = a0 + 1, b0 = a0 + 2, b1 = a0 + 3;
@@ -303,6 +316,16 @@ ht_result ht_lod_file_parse(const void *data, size_t size, const char *name, ht_
             return refuse(out, err, err_size, "%s: levels[%u]: %s", name, l, what);
         if (field) return refuse(out, err, err_size, "%s: components[%u].%s: %s", name, at, field, what);
     }
+    /* a level's vertices are those its indices reach, no more (what the
+       writer stores, and all it can store again) */
+    for (uint32_t l = 0; l < levels; l++) {
+        const ht_lod_range *lv = &out->levels[l];
+        uint32_t lo;
+        const uint32_t reached = index_span(m, lv, &lo);
+        if (reached != span[l].vertex_count || (reached && lo != span[l].first_vertex))
+            return refuse(out, err, err_size, "%s: levels[%u].vertex_count: %u, its indices reach %u of them", name, l,
+                          span[l].vertex_count, reached);
+    }
     uint32_t at = 0;
     const char *what = "", *bad = check_ladder(out, &at, &what);
     if (bad) return refuse(out, err, err_size, "%s: %s[%u]: %s", name, bad, at, what);
@@ -331,13 +354,9 @@ static bool level_spans(const ht_lod_file *f, level_span span[HT_LOD_FILE_MAX_LE
     for (int l = 0; l < f->level_count; l++) {
         const ht_lod_range *r = &f->levels[l];
         if (r->first_index != index || r->first_component != component) return false;
-        uint32_t lo = UINT32_MAX, hi = 0;
-        for (uint32_t i = r->first_index; i < r->first_index + r->index_count; i++) {
-            lo = m->indices[i] < lo ? m->indices[i] : lo;
-            hi = m->indices[i] > hi ? m->indices[i] : hi;
-        }
-        if (r->index_count && lo != vertex) return false;
-        span[l] = (level_span){ 0, vertex, r->index_count ? hi - lo + 1 : 0 };
+        uint32_t lo;
+        span[l] = (level_span){ 0, vertex, index_span(m, r, &lo) };
+        if (span[l].vertex_count && lo != vertex) return false;
         /* strips when every component is one ribbon, their indices one
            after the other */
         uint32_t at_i = index;
@@ -424,13 +443,8 @@ ht_result ht_lod_file_level_mesh(const ht_lod_file *f, int level, ht_mesh *out) 
         return HT_ERR_INVALID_ARGUMENT;
     const ht_lod_range *r = &f->levels[level];
     const ht_mesh *m = &f->mesh;
-    uint32_t lo = UINT32_MAX, hi = 0;
-    for (uint32_t i = r->first_index; i < r->first_index + r->index_count; i++) {
-        lo = m->indices[i] < lo ? m->indices[i] : lo;
-        hi = m->indices[i] > hi ? m->indices[i] : hi;
-    }
-    if (!r->index_count) lo = hi = 0;
-    const uint32_t vertices = r->index_count ? hi - lo + 1 : 0;
+    uint32_t lo;
+    const uint32_t vertices = index_span(m, r, &lo);
     ht_result res = ht_mesh_alloc(out, vertices, r->index_count, r->component_count);
     if (res != HT_OK) return res;
     memcpy(out->center, m->center, sizeof out->center);
