@@ -7,7 +7,7 @@
 
 #include <hairtier/lod.h>
 
-static double angle(const float a[3], const float b[3]) {
+double ht_test_angle(const float a[3], const float b[3]) {
     const double c[3] = { (double)a[1] * b[2] - (double)a[2] * b[1], (double)a[2] * b[0] - (double)a[0] * b[2],
                           (double)a[0] * b[1] - (double)a[1] * b[0] };
     return atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
@@ -47,7 +47,7 @@ bool ht_test_lod_within_bound(const ht_vertex *got, const ht_vertex *want, uint3
             if (k < 3) worst_pos = fmax(worst_pos, err / extent);
             else worst_tex = fmax(worst_tex, err / extent);
         }
-        const double dir = fmax(angle(got[v].normal, want[v].normal), angle(got[v].tangent, want[v].tangent));
+        const double dir = fmax(ht_test_angle(got[v].normal, want[v].normal), ht_test_angle(got[v].tangent, want[v].tangent));
         const double unit = fmax(unit_error(got[v].normal), unit_error(got[v].tangent));
         if (dir > HT_LOD_FILE_DIRECTION_ERROR || unit > 4 * FLT_EPSILON) {
             snprintf(why, why_size, "vertex %u: normal or tangent %g rad off, |n| - 1 %g", v, dir, unit);

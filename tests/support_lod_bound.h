@@ -17,4 +17,7 @@
 bool ht_test_lod_within_bound(const ht_vertex *got, const ht_vertex *want, uint32_t n, const ht_vertex *all,
                               uint32_t all_count, char *why, size_t why_size);
 
+/* The angle between two directions, radians (atan2: exact near 0). */
+double ht_test_angle(const float a[3], const float b[3]);
+
 #endif

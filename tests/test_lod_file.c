@@ -60,6 +60,12 @@ static void assert_within_bound(const ht_vertex *got, const ht_vertex *want, uin
     printf("%s\n", why);
 }
 
+/* The file's bytes with no index stored. */
+static size_t bytes_without_indices(const ht_lod_file *f) {
+    return LEVELS_AT + LEVEL_BYTES * (size_t)f->level_count + VERTEX_BYTES * (size_t)f->mesh.vertex_count +
+           12 * (size_t)f->mesh.component_count;
+}
+
 /* A strips level's tangents still run root to tip: along the next row. */
 static void assert_root_to_tip(const ht_mesh *m) {
     for (uint32_t c = 0; c < m->component_count; c++) {
@@ -91,9 +97,7 @@ static void round_trip(void **state) {
     assert_memory_equal(back.mesh.indices, f.mesh.indices, sizeof *f.mesh.indices * f.mesh.index_count);
     assert_memory_equal(back.mesh.components, f.mesh.components, sizeof *f.mesh.components * f.mesh.component_count);
     /* Every level is ribbons: no index stored, 22 bytes a vertex. */
-    const size_t implied = LEVELS_AT + LEVEL_BYTES * (size_t)f.level_count + VERTEX_BYTES * (size_t)f.mesh.vertex_count +
-                           12 * (size_t)f.mesh.component_count;
-    assert_int_equal(size, implied);
+    assert_int_equal(size, bytes_without_indices(&f));
     const double smaller = (double)HTLODS2_BYTES(&f.mesh, (unsigned)f.level_count) / (double)size;
     if (!(smaller >= SMALLER_THAN_HTLODS2)) fail_msg("%zu bytes, only %.3fx fewer than HTLODS2", size, smaller);
     /* Each level, taken out on its own, is the chain's level. */
@@ -133,9 +137,7 @@ static void explicit_indices_round_trip(void **state) {
     size_t size;
     char err[256] = "";
     assert_int_equal(ht_lod_file_encode(&f, &data, &size), HT_OK);
-    const size_t implied = LEVELS_AT + LEVEL_BYTES * (size_t)f.level_count + VERTEX_BYTES * (size_t)f.mesh.vertex_count +
-                           12 * (size_t)f.mesh.component_count;
-    assert_int_equal(size, implied + 4 * (size_t)f.levels[1].index_count);
+    assert_int_equal(size, bytes_without_indices(&f) + 4 * (size_t)f.levels[1].index_count);
     if (ht_lod_file_parse(data, size, "lods.bin", &back, err, sizeof err) != HT_OK) fail_msg("%s", err);
     assert_memory_equal(back.levels, f.levels, sizeof f.levels);
     assert_memory_equal(back.mesh.indices, f.mesh.indices, sizeof *f.mesh.indices * f.mesh.index_count);
@@ -175,11 +177,7 @@ static void directions_within_bound(void **state) {
         ht_lod_vertex_decode(bytes, &box, &box, &back);
         char why[256];
         if (!ht_test_lod_within_bound(&back, &v, 1, &v, 1, why, sizeof why)) fail_msg("direction %d: %s", i, why);
-        const float *a = v.normal, *b = back.normal;
-        const double c[3] = { (double)a[1] * b[2] - (double)a[2] * b[1], (double)a[2] * b[0] - (double)a[0] * b[2],
-                              (double)a[0] * b[1] - (double)a[1] * b[0] };
-        worst = fmax(worst, atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
-                                  (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2]));
+        worst = fmax(worst, ht_test_angle(v.normal, back.normal));
     }
     for (uint32_t q = 0; q < 65536; q += 257) {
         const uint16_t pair[2] = { (uint16_t)q, (uint16_t)(65535 - q) };
