@@ -361,21 +361,42 @@ HT_API void ht_cards_free(ht_cards *cards);
 
 /* A stored ladder (docs/bundle.md, "lods.bin"; hairgen --scene S writes
    the scene's strand levels, hairgen --cards the strand levels and cards): levels over one vertex and index buffer, each a
-   range of it, read with every count, range, index and float checked, so
+   range of it, read with every count, range, index and box checked, so
    a hostile file is refused with one line "NAME: FIELD: what is wrong"
-   and nothing allocated. Little-endian:
-     "HTLODS2\n", u32 levels (1..HT_LOD_FILE_MAX_LEVELS), u32 vertices,
-     u32 indices, u32 components, f32 center[3], the scene's mesh the
-     levels were made from: u32 vertices, indices, components, u64 hash
-     (ht_lod_file_set_scene);
+   and nothing allocated. The levels follow each other in every buffer
+   (level l's vertices, indices and components after level l - 1's).
+   Little-endian:
+     "HTLODS3\n" (an older HTLODS is refused: "regenerate with hairgen N"),
+     u32 levels (1..HT_LOD_FILE_MAX_LEVELS), u32 vertices, u32 indices,
+     u32 stored indices, u32 components, f32 center[3], the scene's mesh
+     the levels were made from: u32 vertices, indices, components, u64 hash
+     (ht_lod_file_set_scene); the position box and the (u, v, ao) box,
+     each f32 min[3], f32 extent[3] (finite, extent > 0);
      per level: u32 kind (0 strands, 1 cards, 2 the scene's mesh: level 0
-     only, not stored, param 1 and every range 0), u32 param (the strand
-     stride, or strands per card), u32 first_index, index_count,
-     first_component, component_count;
-     vertices (ht_vertex: 12 f32 each), indices (u32), components (u32
-     first_index, u32 index_count, f32 sort_key); nothing after. */
+     only, not stored, param 1 and every count 0), u32 param (the strand
+     stride, or strands per card), u32 strips (1: its indices are not
+     stored: each component is a ribbon of index_count / 6 + 1 rows of two
+     vertices, the next ones, drawn as the builders draw them; 0: stored),
+     u32 vertex_count, index_count, component_count;
+     vertices, 22 bytes each: u64 holding the position's three 21-bit
+     steps of the position box (x in bits 0..20), the normal and the
+     tangent as octahedral u16 pairs, u, v, ao as u16 steps of their box;
+     the stored indices (u32, each from its level's first vertex);
+     components (u32 first_index, u32 index_count, f32 sort_key); nothing
+     after.
+   Read back, a vertex is within HT_LOD_FILE_POSITION_ERROR x the box's
+   extent on each axis (u, v and ao: HT_LOD_FILE_ATTRIBUTE_ERROR x theirs)
+   and its normal and tangent are unit vectors within
+   HT_LOD_FILE_DIRECTION_ERROR radians of the written ones (float rounding
+   on top); indices, components and ranges are exact. */
 #define HT_LOD_FILE_NAME "lods.bin"
 #define HT_LOD_FILE_MAX_VERTICES (64u << 20)
+#define HT_LOD_FILE_POSITION_BITS 21
+#define HT_LOD_FILE_POSITION_ERROR (0.5 / ((1u << HT_LOD_FILE_POSITION_BITS) - 1)) /* half a step */
+#define HT_LOD_FILE_ATTRIBUTE_ERROR (0.5 / 65535)
+/* half an octahedral step (1 / 65535) through the map's largest stretch,
+   sqrt(18) at a face's centre */
+#define HT_LOD_FILE_DIRECTION_ERROR 6.5e-5
 typedef struct ht_lod_range {
     ht_lod_kind kind;
     uint32_t param;
@@ -393,7 +414,8 @@ HT_API ht_result ht_lod_file_parse(const void *data, size_t size, const char *na
                                    size_t err_size);
 HT_API ht_result ht_lod_file_read(const char *path, ht_lod_file *out, char *err, size_t err_size);
 /* The file's bytes (malloc'd), HT_ERR_INVALID_ARGUMENT for a ladder the
-   parser would refuse. */
+   parser would refuse or the layout cannot hold (levels not one after
+   the other in the buffers, a box not finite). */
 HT_API ht_result ht_lod_file_encode(const ht_lod_file *f, unsigned char **data, size_t *size);
 /* Level `level` as a mesh of its own (copies; for a renderer of its own);
    HT_ERR_INVALID_ARGUMENT for a SCENE level (the caller's mesh is it). */

@@ -30,7 +30,7 @@
 /* The generator version a bundle records: hairgen writes it, the runtime
    refuses any other ("regenerate with ..."), input_hash covers it. Bump it
    with any change to what a bundle holds. */
-#define HT_MANIFEST_GENERATOR "hairgen 7"
+#define HT_MANIFEST_GENERATOR "hairgen 8"
 #define HT_MANIFEST_FILE "manifest.json"
 /* Texture sizes the runtime reads: per side, 3D depth (slices), and texels
    in all (the PNG reader's cap, so a listed texture is never one it refuses).
