@@ -192,7 +192,8 @@ static int cells_of(ht_lod_cell *cells) {
     const int n = m->lods.cell_count;
     for (int i = 0; i < n; i++)
         cells[i] = (ht_lod_cell){ m->lods.cells[i].level, ht_tier_from_name(m->lods.cells[i].tier),
-                                  m->lods.cells[i].size, m->lods.cells[i].psnr_db, m->lods.cells[i].cost_ratio };
+                                  m->lods.cells[i].size, m->lods.cells[i].psnr_db, m->lods.cells[i].cost_ratio,
+                                  m->lods.cells[i].soften };
     free(m);
     return n;
 }

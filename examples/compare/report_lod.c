@@ -18,7 +18,8 @@ void report_lod_attach_measured(report *r) {
     const ht_manifest_lods *m = &r->measured_lods;
     for (int i = 0; i < m->cell_count; i++) {
         const ht_manifest_lod_cell *c = &m->cells[i];
-        if (c->size != r->lods.size || c->level >= r->lods.levels) continue;
+        /* the grid draws the plain levels; a soft cell is another pair */
+        if (c->size != r->lods.size || c->level >= r->lods.levels || c->soften > 1) continue;
         for (int t = 0; t < r->tier_count; t++) {
             if (strcmp(r->tiers[t].name, c->tier) != 0) continue;
             report_lod_cell *g = &r->lods.cells[c->level][t];
