@@ -281,6 +281,25 @@ static void hairview_repicks_the_pair_while_dollying(void **state) {
     assert_non_null(strstr(out, "dolly: 8 frames"));
 }
 
+/* The manifest's soft cells (soft) or cards' cells made the only ones to
+   meet a budget: their PSNR 99 and cost 0.01, every other cell's 0.5
+   (the reference's kept). */
+static void only_these_meet(bool soft) {
+    cJSON *root = ht_test_read_json(cards, "manifest.json");
+    const cJSON *cell;
+    cJSON_ArrayForEach(cell, cJSON_GetObjectItem(cJSON_GetObjectItem(root, "lods"), "cells")) {
+        const bool these = soft ? cJSON_IsNumber(cJSON_GetObjectItem(cell, "soften"))
+                                : cJSON_IsString(cJSON_GetObjectItem(cell, "kind"));
+        if (cJSON_IsNull(cJSON_GetObjectItem(cell, "psnr_db"))) continue;
+        cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)cell, "cost_ratio", cJSON_CreateNumber(these ? 0.01 : 0.5));
+        if (these) cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)cell, "psnr_db", cJSON_CreateNumber(99));
+    }
+    char *json = cJSON_Print(root);
+    ht_test_write_file(cards, "manifest.json", json);
+    cJSON_free(json);
+    cJSON_Delete(root);
+}
+
 /* The soft cells made the only ones to meet a budget (their PSNR edited
    in the manifest, all other cells costlier): error:DB picks a soft
    cell, which hairview draws soft (lod_pair ... soft, soften=3), and the
@@ -290,18 +309,7 @@ static void a_budget_only_soft_cells_meet_picks_them(void **state) {
     char path[192], err[512], *saved = NULL;
     snprintf(path, sizeof path, "%s/manifest.json", cards);
     if (ht_json_read_file(path, &saved, err, sizeof err) != HT_OK) fail_msg("%s", err);
-    cJSON *root = cJSON_Parse(saved);
-    const cJSON *cell;
-    cJSON_ArrayForEach(cell, cJSON_GetObjectItem(cJSON_GetObjectItem(root, "lods"), "cells")) {
-        const bool soft = cJSON_IsNumber(cJSON_GetObjectItem(cell, "soften"));
-        if (cJSON_IsNull(cJSON_GetObjectItem(cell, "psnr_db"))) continue;
-        cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)cell, "cost_ratio", cJSON_CreateNumber(soft ? 0.02 : 0.5));
-        if (soft) cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)cell, "psnr_db", cJSON_CreateNumber(99));
-    }
-    char *json = cJSON_Print(root);
-    ht_test_write_file(cards, "manifest.json", json);
-    cJSON_free(json);
-    cJSON_Delete(root);
+    only_these_meet(true);
     ht_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
     const int n = cells_of(cells);
     const int pick = ht_lod_pick_error(cells, n, 0.25, 90, -1);
@@ -323,18 +331,7 @@ static void a_budget_only_soft_cells_meet_picks_them(void **state) {
    frame:MS pick the cards, and hairview draws the stored cards level. */
 static void a_budget_only_cards_meet_picks_them(void **state) {
     (void)state;
-    cJSON *root = ht_test_read_json(cards, "manifest.json");
-    const cJSON *cell;
-    cJSON_ArrayForEach(cell, cJSON_GetObjectItem(cJSON_GetObjectItem(root, "lods"), "cells")) {
-        const bool is_cards = cJSON_IsString(cJSON_GetObjectItem(cell, "kind"));
-        if (cJSON_IsNull(cJSON_GetObjectItem(cell, "psnr_db"))) continue;
-        cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)cell, "cost_ratio", cJSON_CreateNumber(is_cards ? 0.01 : 0.5));
-        if (is_cards) cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)cell, "psnr_db", cJSON_CreateNumber(99));
-    }
-    char *json = cJSON_Print(root);
-    ht_test_write_file(cards, "manifest.json", json);
-    cJSON_free(json);
-    cJSON_Delete(root);
+    only_these_meet(false);
     ht_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
     const int n = cells_of(cells);
     const int pick = ht_lod_pick_error(cells, n, 0.25, 90, -1), cheapest = ht_lod_pick_frame(cells, n, 0.25, 0.001, 1, -1);

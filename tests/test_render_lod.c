@@ -43,6 +43,13 @@ static int teardown(void **state) {
     return ht_test_furball_teardown(&fx);
 }
 
+/* A full-tier renderer on the GL fault layer, which counts its uploads. */
+static ht_renderer *fault_counted_renderer(void) {
+    return ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
+                                                       .getproc = ht_test_fault_getproc },
+                                   fx.bundle_dir, HT_OK);
+}
+
 /* glBufferData calls since ht_fault_arm (the class counts glBufferSubData too). */
 static long buffer_data_calls(void) {
     return ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA] - ht_fault_state_get()->buffer_sub_data;
@@ -184,14 +191,20 @@ static void cards_same_passes(ht_tier tier) {
     ht_mesh_free(&level0);
 }
 
-/* One frame of the chain's renderer: the four passes, each drawing the
-   chain's level `level` range. */
-static void draw_expect_level(ht_renderer *r, const ht_lod_chain *chain, const ht_frame_desc *frame, int level) {
+/* One frame drawn; its trace, the four passes. */
+static const ht_trace *draw_traced(ht_renderer *r, const ht_frame_desc *frame) {
     ht_image img;
     ht_test_draw(&fx.gl, r, frame, ht_test_background, &img);
     ht_image_free(&img);
     const ht_trace *t = ht_renderer_trace(r);
     assert_int_equal(t->count, HT_PASS_COUNT);
+    return t;
+}
+
+/* One frame of the chain's renderer: the four passes, each drawing the
+   chain's level `level` range. */
+static void draw_expect_level(ht_renderer *r, const ht_lod_chain *chain, const ht_frame_desc *frame, int level) {
+    const ht_trace *t = draw_traced(r, frame);
     for (int i = 0; i < t->count; i++) {
         assert_int_equal(t->entries[i].first_index, chain->first[level]);
         assert_int_equal(t->entries[i].index_count, chain->index_count[level]);
@@ -237,9 +250,7 @@ static void chain_switches_with_the_distance(void **state) {
     ht_lod_chain chain;
     assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
     assert_int_equal(chain.count, 4); /* 400 hairs: levels 0..3 */
-    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
-                                                                 .getproc = ht_test_fault_getproc },
-                                             fx.bundle_dir, HT_OK);
+    ht_renderer *r = fault_counted_renderer();
     int switches = 0, last = -1, peak = 0, steps = 120;
     long uploads_at_first = -1;
     for (int f = 0; f < 2 * steps; f++) {
@@ -330,9 +341,7 @@ static void draw_pair(ht_renderer *r, const ht_lod_chain *chain, const ht_frame_
 static void pull_out_and_back(ht_lod_rule rule, const pair *expect, int expect_count) {
     ht_lod_chain chain;
     assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
-    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
-                                                                 .getproc = ht_test_fault_getproc },
-                                             fx.bundle_dir, HT_OK);
+    ht_renderer *r = fault_counted_renderer();
     ht_trace full;
     draw_lod(r, &fx.mesh, &full);
     rule.cells = pair_cells;
@@ -417,9 +426,7 @@ static void chain_width_rule_per_draw(void **state) {
     ht_lod_chain chain;
     assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
     chain.width_rule = true;
-    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
-                                                                 .getproc = ht_test_fault_getproc },
-                                             fx.bundle_dir, HT_OK);
+    ht_renderer *r = fault_counted_renderer();
     const int steps = 24;
     int changes = 0, widened_frames = 0;
     double last_f = 1.0, last_drawn = 0;
@@ -439,11 +446,7 @@ static void chain_width_rule_per_draw(void **state) {
         const double drawn = chain.level_width[level] * wf;
         if (f < steps && f > 0) assert_true(drawn >= last_drawn * (1 - 1e-9));
         last_drawn = drawn;
-        ht_image img;
-        ht_test_draw(&fx.gl, r, &frame, ht_test_background, &img);
-        ht_image_free(&img);
-        const ht_trace *tr = ht_renderer_trace(r);
-        assert_int_equal(tr->count, HT_PASS_COUNT);
+        const ht_trace *tr = draw_traced(r, &frame);
         for (int i = 0; i < tr->count; i++) {
             assert_int_equal(tr->entries[i].gl_error, GL_NO_ERROR);
             if (wf > 1.0) {
@@ -527,11 +530,7 @@ static void soft_step(ht_lod_chain *chain, ht_renderer *r, const ht_lod_rule *ru
     assert_int_equal(res, HT_OK);
     assert_true((chain->soften > 1) == soft);
     assert_int_equal(buffer_data_calls(), uploads);
-    ht_image img;
-    ht_test_draw(&fx.gl, r, frame, ht_test_background, &img);
-    ht_image_free(&img);
-    const ht_trace *tr = ht_renderer_trace(r);
-    assert_int_equal(tr->count, HT_PASS_COUNT);
+    const ht_trace *tr = draw_traced(r, frame);
     for (int i = 0; i < tr->count; i++) {
         const ht_trace_entry *e = &tr->entries[i];
         assert_int_equal(e->gl_error, GL_NO_ERROR);
@@ -562,9 +561,7 @@ static void chain_picks_a_soft_cell(void **state) {
     (void)state;
     ht_lod_chain chain;
     assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
-    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
-                                                                 .getproc = ht_test_fault_getproc },
-                                             fx.bundle_dir, HT_OK);
+    ht_renderer *r = fault_counted_renderer();
     const ht_lod_rule rule = soft_rule(&chain, 512);
     ht_frame_desc f = orbit_frame(6.0f, 0);
     soft_step(&chain, r, &rule, 512, &f, 2, true, 1.0f / 3, 4); /* the first select: all, then the soft level */
@@ -601,9 +598,7 @@ static void chain_soft_hysteresis_and_width_rule(void **state) {
     for (int start = 0; start < 2; start++) {
         ht_lod_chain chain;
         assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
-        ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
-                                                                     .getproc = ht_test_fault_getproc },
-                                                 fx.bundle_dir, HT_OK);
+        ht_renderer *r = fault_counted_renderer();
         const ht_lod_rule rule = soft_rule(&chain, 512);
         const bool soft = start == 0; /* 0: begins near, soft; 1: far, plain 1 */
         for (int k = 0; k < 6; k++) {
@@ -616,9 +611,7 @@ static void chain_soft_hysteresis_and_width_rule(void **state) {
     ht_lod_chain chain;
     assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
     chain.width_rule = true;
-    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
-                                                                 .getproc = ht_test_fault_getproc },
-                                             fx.bundle_dir, HT_OK);
+    ht_renderer *r = fault_counted_renderer();
     const ht_lod_rule rule = soft_rule(&chain, 16);
     const ht_frame_desc f = ht_test_furball_frame(near);
     const double px = ht_projected_width_px(chain.width, near, f.camera.fov_y, 16);
