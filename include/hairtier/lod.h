@@ -47,9 +47,9 @@
        if (ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 4000 }, &full) != HT_OK) return;
        ht_mesh_sort_inside_out(&full);
        if (ht_lod_chain_build(&full, &chain) != HT_OK) return;
-       ht_lod_cell cells[128];
+       static ht_lod_cell cells[HT_LOD_MAX_CELLS];   // plain and soft (ht_lod_cell.soften) pairs
        ht_lod_rule rule = { .kind = HT_POLICY_ERROR, .value = 30, .cells = cells,
-                            .cell_count = ht_renderer_lod_cells(r, cells, 128),
+                            .cell_count = ht_renderer_lod_cells(r, cells, HT_LOD_MAX_CELLS),
                             .size1_px = ht_projected_width_px(chain.width, 3.0, 40.0, 512) };
        ht_camera cam = { .eye = { 0, 0, 3 }, .target = { 0, 0, 0 }, .up = { 0, 1, 0 }, .fov_y = 40 };
        ht_result res;
@@ -57,7 +57,7 @@
            cam.eye[2] = 3.0f + 0.5f * (float)frame;     // dollying out
            int level = ht_lod_chain_select_pair(&chain, r, &cam, 512, &rule, &res);
            if (level < 0) break;                          // res says why
-           // chain.tier is the pair's tier; draw with ht_renderer_draw as always
+           // chain.tier is the pair's tier, chain.soften > 1 a soft pair; draw with ht_renderer_draw as always
        }
        ht_lod_chain_free(&chain);
        ht_renderer_destroy(r);
