@@ -60,7 +60,7 @@ typedef struct options {
     int samples;          /* 0: no multisampling; else the framebuffer's samples */
     int supersample;      /* 1; K: drawn K x K times larger, box-filtered down to the PNG */
     bool width_rule;      /* lod.h's width rule on the mesh drawn */
-    bool soft;            /* --lod N draws the soft level (lod.h's ht_lod_soft_level) */
+    bool soft;            /* --lod N draws the level soft (lod.h: widened by HT_LOD_SOFTEN, back to front) */
     bool cards;           /* the bundle's stored cards (hairgen --cards) instead of the strands */
 } options;
 
@@ -305,10 +305,9 @@ static double reference_ms(const options *o, const view *v, const ht_scene *s, c
 /* A bundle's measured (level, tier) cells (hairgen --measure-lods) when the
    policy picks pairs (error:DB, frame:MS) and the hair is shaded; *ref the
    reference pair's (level 0, its PSNR infinite). 0: none, or no reference. */
-#define MAX_CELLS 256
 static int pair_cells(const options *o, const view *v, const ht_policy *policy, ht_lod_cell *cells, int *ref) {
     const bool pair = policy->kind == HT_POLICY_ERROR || policy->kind == HT_POLICY_FRAME;
-    const int n = pair && !o->flat ? ht_renderer_lod_cells(v->renderer, cells, MAX_CELLS) : 0;
+    const int n = pair && !o->flat ? ht_renderer_lod_cells(v->renderer, cells, HT_LOD_MAX_CELLS) : 0;
     *ref = -1;
     for (int i = 0; i < n; i++)
         if (cells[i].lod == 0 && isinf(cells[i].psnr)) *ref = i;
@@ -318,10 +317,11 @@ static int pair_cells(const options *o, const view *v, const ht_policy *policy, 
 /* --lod auto with error:DB or frame:MS and a bundle measured with
    --measure-lods: the (LOD, tier) pair the rule picks at this projected
    size (the scene's times --size, over --distance's change), the renderer
-   made to draw its tier; else (-1) the best rule decides the level. */
+   made to draw its tier, *soften its soft cell's (0: plain); else (-1)
+   the best rule decides the level. */
 static int auto_pair(const options *o, view *v, const ht_scene *s, const ht_frame_desc *f, const ht_policy *policy,
-                     double size, int max_level, int *level) {
-    static ht_lod_cell cells[MAX_CELLS];
+                     double size, int max_level, int *level, float *soften) {
+    static ht_lod_cell cells[HT_LOD_MAX_CELLS];
     int ref;
     *level = -1;
     const int n = pair_cells(o, v, policy, cells, &ref);
@@ -334,8 +334,9 @@ static int auto_pair(const options *o, view *v, const ht_scene *s, const ht_fram
     printf("lod_pair: lod=%d tier=%s at size %.3f: %.2f dB, cost %.3fx (lod 0, %s)", cells[pick].lod,
            ht_tier_name(cells[pick].tier), size, cells[pick].psnr, cells[pick].cost, ht_tier_name(cells[ref].tier));
     if (policy->kind == HT_POLICY_FRAME) printf(" = %.3f ms of %.3f", cells[pick].cost * ms, policy->value);
-    printf("\n");
+    printf("%s\n", cells[pick].soften > 1 ? " soft" : "");
     *level = cells[pick].lod;
+    *soften = cells[pick].soften > 1 ? cells[pick].soften : 0.0f;
     return retier(v, cells[pick].tier);
 }
 
@@ -345,13 +346,15 @@ static int auto_pair(const options *o, view *v, const ht_scene *s, const ht_fram
    ladder (NULL: none): the bundle's stored levels (lods.bin) for this
    scene, every level drawn is the file's (--cards: its cards level). */
 static int choose_lod(const options *o, const ht_scene *s, double scene_distance, view *v, const ht_frame_desc *f,
-                      const ht_policy *policy, const ht_lod_file *ladder, bool *paired) {
+                      const ht_policy *policy, const ht_lod_file *ladder, bool *paired, float *opacity) {
     ht_mesh *hair = &v->hair;
     const double d = eye_distance(s);
     const double px = ht_projected_width_px(ht_mesh_mean_width(hair), d, s->camera.fov_y, s->height / o->supersample);
     const int max_level = ladder ? ladder->level_count - 1 : ht_lod_max_level(hair);
     int level = o->lod;
+    float soften = o->soft ? HT_LOD_SOFTEN : 0.0f;
     *paired = false;
+    *opacity = 1.0f;
     if (o->cards) {
         for (level = 0; level <= max_level && ladder->levels[level].kind != HT_LOD_KIND_CARDS; level++) {}
         if (level > max_level) {
@@ -360,7 +363,7 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
             return 1;
         }
     } else if (o->lod < 0) {
-        if (auto_pair(o, v, s, f, policy, o->size * scene_distance / d, max_level, &level)) return 1;
+        if (auto_pair(o, v, s, f, policy, o->size * scene_distance / d, max_level, &level, &soften)) return 1;
         *paired = level >= 0;
         if (level < 0) level = ht_lod_pick_best(px, -1, max_level);
     }
@@ -371,10 +374,15 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
     }
     /* a plain bundle's level 0 is not stored: the scene's mesh is it */
     const bool stored = ladder && ladder->levels[level].kind != HT_LOD_KIND_SCENE;
+    if (soften > 1 && ladder && ladder->levels[level].kind == HT_LOD_KIND_CARDS) {
+        fprintf(stderr, "hairview: --soft: %s/%s: level %d is cards, which are never soft\n", o->view.bundle,
+                HT_LOD_FILE_NAME, level);
+        return 1;
+    }
     if (stored || (!ladder && level > 0)) {
         ht_lod_desc desc;
         ht_mesh lod;
-        (o->soft ? ht_lod_soft_level : ht_lod_level)(level, &desc);
+        ht_lod_level(level, &desc);
         ht_result r = stored ? ht_lod_file_level_mesh(ladder, level, &lod) : ht_mesh_build_lod(hair, &desc, &lod);
         if (r != HT_OK) {
             fprintf(stderr, "hairview: %s: geometry: cannot %s LOD %d: %s\n", o->view.scene, stored ? "read" : "build",
@@ -383,12 +391,20 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
         }
         ht_mesh_free(hair);
         *hair = lod;
-        if (desc.soften > 1) {
-            /* lod.h: a soft level's translucent ribbons compose far to near. */
-            ht_mesh_sort_back_to_front(hair, s->camera.eye);
-            if ((r = ht_renderer_set_opacity_scale(v->renderer, ht_lod_opacity(&desc))) != HT_OK) return fail(r);
-            printf("soften=%.3f opacity=%.3f\n", desc.soften, ht_lod_opacity(&desc));
+    }
+    if (soften > 1 && level > 0) {
+        /* lod.h: the plain level widened, its translucent ribbons far to near */
+        ht_mesh soft;
+        ht_result r = ht_mesh_widen_back_to_front(hair, soften, s->camera.eye, &soft);
+        if (r != HT_OK) {
+            fprintf(stderr, "hairview: %s: geometry: LOD %d soft: %s\n", o->view.scene, level, ht_result_string(r));
+            return 1;
         }
+        ht_mesh_free(hair);
+        *hair = soft;
+        *opacity = 1.0f / soften;
+        if ((r = ht_renderer_set_opacity_scale(v->renderer, *opacity)) != HT_OK) return fail(r);
+        printf("soften=%.3f opacity=%.3f\n", soften, 1.0 / soften);
     }
     printf("lod=%d strands=%u strand_px=%.3f", level, hair->component_count, px);
     if (ladder)
@@ -402,25 +418,24 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
     return 0;
 }
 
-/* --width-rule on the mesh choose_lod left: its strands' width at the
-   pixels drawn (a supersampled frame's too), widened to about a pixel,
-   the opacity scaled by the inverse. */
-static int apply_width_rule(const options *o, const ht_scene *s, ht_renderer *r, ht_mesh *hair) {
+/* --width-rule on the mesh choose_lod left (drawn at `opacity`): its
+   strands' width at the pixels drawn (a supersampled frame's too), widened
+   to about a pixel, the opacity scaled by the inverse. */
+static int apply_width_rule(const options *o, const ht_scene *s, ht_renderer *r, ht_mesh *hair, float opacity) {
     const double px = ht_projected_width_px(ht_mesh_mean_width(hair), eye_distance(s), s->camera.fov_y, s->height);
     const double f = ht_width_rule_widen(px);
     if (f > 1.0) {
         ht_mesh wide;
-        ht_result res = ht_mesh_widen(hair, f, &wide);
+        ht_result res = ht_mesh_widen_back_to_front(hair, f, s->camera.eye, &wide);
         if (res != HT_OK) {
             fprintf(stderr, "hairview: %s: geometry: --width-rule: %s\n", o->view.scene, ht_result_string(res));
             return 1;
         }
         ht_mesh_free(hair);
         *hair = wide;
-        ht_mesh_sort_back_to_front(hair, s->camera.eye);
-        if ((res = ht_renderer_set_opacity_scale(r, (float)(1.0 / f))) != HT_OK) return fail(res);
+        if ((res = ht_renderer_set_opacity_scale(r, (float)(opacity / f))) != HT_OK) return fail(res);
     }
-    printf("width_rule=%.3f opacity=%.3f\n", f, 1.0 / f);
+    printf("width_rule=%.3f opacity=%.3f\n", f, opacity / f);
     return 0;
 }
 
@@ -471,7 +486,7 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
         return 1;
     }
     chain.width_rule = o->width_rule; /* per draw, on the level drawn (lod.h) */
-    static ht_lod_cell cells[MAX_CELLS];
+    static ht_lod_cell cells[HT_LOD_MAX_CELLS];
     const int viewport_h = s->height / o->supersample;
     ht_lod_rule rule = { .kind = HT_POLICY_BEST, .value = policy->value, .cells = cells,
                          .size1_px = ht_projected_width_px(chain.width, scene_distance, s->camera.fov_y,
@@ -490,6 +505,7 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
     ht_result fr = HT_OK;
     int last_level = -1;
     ht_tier last_tier = HT_TIER_COUNT;
+    float last_soften = -1.0f;
     double ms = 0, last_widen = 1.0;
     for (int f = 0; f < o->view.frames && fr == HT_OK; f++) {
         const double t = o->view.frames > 1 ? (double)f / (o->view.frames - 1) : 0;
@@ -502,12 +518,16 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
         if (level < 0) break;
         draw_frame(s, v, frame, &fr);
         ms += now_ms() - t0;
-        if (level != last_level || ht_renderer_tier(v->renderer) != last_tier)
-            printf("lod_pair: frame=%d lod=%d tier=%s distance=%.3f size=%.3f select_ms=%.3f\n", f, level,
-                   ht_tier_name(ht_renderer_tier(v->renderer)), d, chain.size, select_ms);
-        if (chain.wide_renderer && chain.wide_factor != last_widen)
-            printf("width_rule: frame=%d widen=%.3f opacity=%.3f\n", f, chain.wide_factor, 1.0 / chain.wide_factor);
-        last_widen = chain.wide_renderer ? chain.wide_factor : 1.0;
+        if (level != last_level || ht_renderer_tier(v->renderer) != last_tier || chain.soften != last_soften)
+            printf("lod_pair: frame=%d lod=%d tier=%s distance=%.3f size=%.3f select_ms=%.3f%s\n", f, level,
+                   ht_tier_name(ht_renderer_tier(v->renderer)), d, chain.size, select_ms,
+                   chain.soften > 1 ? " soft" : "");
+        /* the width rule's own factor: what is drawn over the soft level's */
+        const double widen = chain.wide_renderer ? chain.wide_factor / chain.wide_soften : 1.0;
+        if (widen != last_widen)
+            printf("width_rule: frame=%d widen=%.3f opacity=%.3f\n", f, widen, 1.0 / chain.wide_factor);
+        last_widen = widen;
+        last_soften = chain.soften;
         last_level = level;
         last_tier = ht_renderer_tier(v->renderer);
     }
@@ -525,9 +545,10 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
 static int draw_still(const options *o, view *v, ht_scene *scene, double scene_distance, const ht_lod_file *ladder,
                       const ht_policy *policy, ht_frame_desc *frame, double *ms) {
     bool paired = false;
-    if (choose_lod(o, scene, scene_distance, v, frame, policy, ladder, &paired)) return 1;
+    float opacity = 1.0f;
+    if (choose_lod(o, scene, scene_distance, v, frame, policy, ladder, &paired, &opacity)) return 1;
     print_held();
-    if (o->width_rule && apply_width_rule(o, scene, v->renderer, &v->hair)) return 1;
+    if (o->width_rule && apply_width_rule(o, scene, v->renderer, &v->hair, opacity)) return 1;
     ht_result r;
     if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
     print_held();
@@ -588,16 +609,6 @@ static int run(const options *o, view *v) {
     ht_lod_file ladder;
     bool has_stored = false;
     if (read_stored_levels(o, &v->hair, &ladder, &has_stored)) return 1;
-    if (o->soft && has_stored) { /* stored levels are not soft: a plain bundle's are built again, soft */
-        const bool cards = ladder.levels[0].kind != HT_LOD_KIND_SCENE;
-        ht_lod_file_free(&ladder);
-        has_stored = false;
-        if (cards) {
-            fprintf(stderr, "hairview: --soft: %s/%s: a cards bundle's stored levels are not soft\n", o->view.bundle,
-                    HT_LOD_FILE_NAME);
-            return 1;
-        }
-    }
     ht_frame_desc frame = { .camera = scene.camera, .lights = scene.lights, .light_count = scene.light_count,
                             .aspect = (float)scene.width / (float)scene.height,
                             .opaque = v->head.index_count ? &v->head : NULL };

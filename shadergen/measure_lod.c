@@ -26,13 +26,18 @@ typedef struct lod_levels {
     ht_mesh mesh[HT_LOD_FILE_MAX_LEVELS];
     bool cards[HT_LOD_FILE_MAX_LEVELS];
     int count;
+    /* soft[l]: strand level l >= 1 soft as the runtime derives it
+       (ht_mesh_widen_back_to_front by HT_LOD_SOFTEN from the scene's eye);
+       empty for level 0 and cards */
+    ht_mesh soft[HT_LOD_FILE_MAX_LEVELS];
 } lod_levels;
 
-/* One level at one size: set the mesh, one warm-up and the timed frames;
-   its last frame copied into rgba. */
+/* One level at one size: set the mesh and opacity scale, one warm-up and
+   the timed frames; its last frame copied into rgba. */
 static ht_result draw_level(offscreen *o, ht_renderer *r, const ht_scene *s, const ht_frame_desc *f,
-                            const ht_mesh *mesh, unsigned char *rgba, double *ms) {
+                            const ht_mesh *mesh, float opacity, unsigned char *rgba, double *ms) {
     ht_result res = ht_renderer_set_mesh(r, mesh);
+    if (res == HT_OK) res = ht_renderer_set_opacity_scale(r, opacity);
     double t[HT_MEASURE_LOD_TIMED_FRAMES];
     for (int k = 0; k <= HT_MEASURE_LOD_TIMED_FRAMES && res == HT_OK; k++) {
         const double t0 = ht_measure_clock_ms();
@@ -42,57 +47,82 @@ static ht_result draw_level(offscreen *o, ht_renderer *r, const ht_scene *s, con
         o->gl.Finish();
         if (k > 0) t[k - 1] = ht_measure_clock_ms() - t0;
     }
+    ht_renderer_set_opacity_scale(r, 1.0f);
     if (res != HT_OK) return res;
     memcpy(rgba, offscreen_read(o), (size_t)o->width * (size_t)o->height * 4);
     *ms = ht_measure_median(t, HT_MEASURE_LOD_TIMED_FRAMES);
     return HT_OK;
 }
 
-/* One tier's levels at one size into out->cells: against base (LOD 0 of
-   the first tier, drawn by that tier's call, which sets base and base_ms)
-   and the tier's level before. */
-static ht_result measure_tier(offscreen *o, ht_renderer *r, const ht_scene *s, const ht_frame_desc *f,
-                              const char *tier, double size, const lod_levels *levels, bool first,
-                              unsigned char *base, double *base_ms, unsigned char *prev, unsigned char *cur,
-                              ht_measure_lods *out, char *err, size_t err_size) {
+/* Where a tier's cells are measured against: base (LOD 0 of the first
+   tier, drawn by that tier's call, which sets base and base_ms), and the
+   tier's level before (prev; zero: its level 0, the soft levels' start). */
+typedef struct lod_images {
+    unsigned char *base, *prev, *cur, *zero;
+    double base_ms;
+} lod_images;
+
+/* One (level, tier) cell, plain or soft (soften > 1), at one size. */
+static ht_result measure_cell(offscreen *o, ht_renderer *r, const ht_scene *s, const ht_frame_desc *f,
+                              const char *tier, double size, const ht_mesh *mesh, int level, float soften, bool cards,
+                              bool reference, lod_images *im, ht_measure_lods *out, char *err, size_t err_size) {
     const size_t bytes = (size_t)s->width * (size_t)s->height * 4;
     char why[1024];
-    for (int l = 0; l < levels->count; l++) {
-        if (out->count >= HT_MANIFEST_MAX_LOD_CELLS)
-            return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: lods: more than %d cells",
-                           HT_MANIFEST_MAX_LOD_CELLS);
-        ht_measure_lod_cell *c = &out->cells[out->count];
-        ht_result res = draw_level(o, r, s, f, &levels->mesh[l], cur, &c->frame_ms);
-        if (res != HT_OK)
-            return ht_fail(err, err_size, res, "measure: lods: %s level %d at size %g: %s", tier, l, size,
-                           ht_result_string(res));
-        if (first && l == 0) {
-            memcpy(base, cur, bytes);
-            *base_ms = c->frame_ms;
-        }
-        c->level = l;
-        snprintf(c->tier, sizeof c->tier, "%s", tier);
-        c->strands = levels->mesh[l].component_count;
-        c->cards = levels->cards[l];
-        c->size = size;
-        c->cost_ratio = *base_ms > 0 ? c->frame_ms / *base_ms : 1.0;
-        res = ht_metrics_compare(&(ht_metrics_desc){ .reference = base, .test = cur, .width = s->width,
-                                                     .height = s->height },
-                                 &c->whole, NULL, why, sizeof why);
-        ht_metrics pop = { .psnr_db = INFINITY };
-        if (res == HT_OK && l > 0)
-            res = ht_metrics_compare(&(ht_metrics_desc){ .reference = prev, .test = cur, .width = s->width,
-                                                         .height = s->height },
-                                     &pop, NULL, why, sizeof why);
-        if (res != HT_OK)
-            return ht_fail(err, err_size, res, "measure: lods: %s level %d at size %g: %s", tier, l, size, why);
-        /* The reference pair is itself exactly, whatever a redraw gives. */
-        if (first && l == 0) c->whole.psnr_db = INFINITY;
-        c->pop_psnr_db = pop.psnr_db;
-        memcpy(prev, cur, bytes);
-        out->count++;
+    if (out->count >= HT_MANIFEST_MAX_LOD_CELLS)
+        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: lods: more than %d cells",
+                       HT_MANIFEST_MAX_LOD_CELLS);
+    ht_measure_lod_cell *c = &out->cells[out->count];
+    const char *soft = soften > 1 ? " soft" : "";
+    ht_result res = draw_level(o, r, s, f, mesh, soften > 1 ? 1.0f / soften : 1.0f, im->cur, &c->frame_ms);
+    if (res != HT_OK)
+        return ht_fail(err, err_size, res, "measure: lods: %s level %d%s at size %g: %s", tier, level, soft, size,
+                       ht_result_string(res));
+    if (reference) {
+        memcpy(im->base, im->cur, bytes);
+        im->base_ms = c->frame_ms;
     }
+    c->level = level;
+    snprintf(c->tier, sizeof c->tier, "%s", tier);
+    c->strands = mesh->component_count;
+    c->cards = cards;
+    c->soften = soften > 1 ? soften : 0.0f;
+    c->size = size;
+    c->cost_ratio = im->base_ms > 0 ? c->frame_ms / im->base_ms : 1.0;
+    res = ht_metrics_compare(&(ht_metrics_desc){ .reference = im->base, .test = im->cur, .width = s->width,
+                                                 .height = s->height },
+                             &c->whole, NULL, why, sizeof why);
+    ht_metrics pop = { .psnr_db = INFINITY };
+    if (res == HT_OK && level > 0)
+        res = ht_metrics_compare(&(ht_metrics_desc){ .reference = im->prev, .test = im->cur, .width = s->width,
+                                                     .height = s->height },
+                                 &pop, NULL, why, sizeof why);
+    if (res != HT_OK)
+        return ht_fail(err, err_size, res, "measure: lods: %s level %d%s at size %g: %s", tier, level, soft, size, why);
+    /* The reference pair is itself exactly, whatever a redraw gives. */
+    if (reference) c->whole.psnr_db = INFINITY;
+    c->pop_psnr_db = pop.psnr_db;
+    memcpy(im->prev, im->cur, bytes);
+    if (level == 0) memcpy(im->zero, im->cur, bytes);
+    out->count++;
     return HT_OK;
+}
+
+/* One tier's levels at one size into out->cells: the plain ones, then the
+   soft ones (each soft level's pop against the tier's soft level before;
+   soft level 1's against level 0, which is never soft). */
+static ht_result measure_tier(offscreen *o, ht_renderer *r, const ht_scene *s, const ht_frame_desc *f,
+                              const char *tier, double size, const lod_levels *levels, bool first, lod_images *im,
+                              ht_measure_lods *out, char *err, size_t err_size) {
+    ht_result res = HT_OK;
+    for (int l = 0; l < levels->count && res == HT_OK; l++)
+        res = measure_cell(o, r, s, f, tier, size, &levels->mesh[l], l, 0.0f, levels->cards[l], first && l == 0, im,
+                           out, err, err_size);
+    if (res == HT_OK) memcpy(im->prev, im->zero, (size_t)s->width * (size_t)s->height * 4);
+    for (int l = 1; l < levels->count && res == HT_OK; l++)
+        if (levels->soft[l].component_count)
+            res = measure_cell(o, r, s, f, tier, size, &levels->soft[l], l, HT_LOD_SOFTEN, false, false, im, out, err,
+                               err_size);
+    return res;
 }
 
 /* Every tier at every level at one size into out->cells. */
@@ -108,11 +138,10 @@ static ht_result measure_size(const char *dir, const ht_manifest *bundle, const 
                                   why, sizeof why);
     if (!o) return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: lods: %s", why);
     const size_t bytes = (size_t)s.width * (size_t)s.height * 4;
-    unsigned char *base = malloc(bytes), *prev = malloc(bytes), *cur = malloc(bytes);
-    ht_result res = base && prev && cur ? HT_OK : HT_ERR_OUT_OF_MEMORY;
+    lod_images im = { .base = malloc(bytes), .prev = malloc(bytes), .cur = malloc(bytes), .zero = malloc(bytes) };
+    ht_result res = im.base && im.prev && im.cur && im.zero ? HT_OK : HT_ERR_OUT_OF_MEMORY;
     const ht_frame_desc f = { .camera = s.camera, .lights = s.lights, .light_count = s.light_count,
                               .aspect = (float)s.width / (float)s.height, .opaque = head->index_count ? head : NULL };
-    double base_ms = 0;
     for (int t = 0; t < bundle->tier_count && res == HT_OK; t++) {
         const ht_manifest_tier *tier = &bundle->tiers[t];
         ht_renderer *r = NULL;
@@ -130,15 +159,15 @@ static ht_result measure_size(const char *dir, const ht_manifest *bundle, const 
             }
             continue;
         }
-        res = measure_tier(o, r, &s, &f, tier->name, size, levels, t == 0, base, &base_ms, prev, cur,
-                           out, err, err_size);
+        res = measure_tier(o, r, &s, &f, tier->name, size, levels, t == 0, &im, out, err, err_size);
         ht_renderer_destroy(r);
     }
-    if (res == HT_OK && base_ms <= 0 && !out->count)
+    if (res == HT_OK && im.base_ms <= 0 && !out->count)
         res = ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: lods: no tier drew at size %g", size);
-    free(base);
-    free(prev);
-    free(cur);
+    free(im.base);
+    free(im.prev);
+    free(im.cur);
+    free(im.zero);
     offscreen_close(o);
     return res;
 }
@@ -200,10 +229,17 @@ ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char
             if (r != HT_OK) ht_set_error(err, err_size, "measure: lods: level %d: %s", l, ht_result_string(r));
         }
     }
+    for (int l = 1; l < levels->count && r == HT_OK; l++)
+        if (!levels->cards[l] &&
+            (r = ht_mesh_widen_back_to_front(&levels->mesh[l], HT_LOD_SOFTEN, scene->camera.eye, &levels->soft[l])) != HT_OK)
+            ht_set_error(err, err_size, "measure: lods: level %d soft: %s", l, ht_result_string(r));
     snprintf(out->tier, sizeof out->tier, "%s", bundle->tiers[0].name);
     for (int i = 0; i < HT_MEASURE_LOD_SIZES && r == HT_OK; i++)
         r = measure_size(dir, bundle, scene, sizes[i], levels, &head, out, err, err_size);
-    for (int l = 0; l < HT_LOD_FILE_MAX_LEVELS; l++) ht_mesh_free(&levels->mesh[l]);
+    for (int l = 0; l < HT_LOD_FILE_MAX_LEVELS; l++) {
+        ht_mesh_free(&levels->mesh[l]);
+        ht_mesh_free(&levels->soft[l]);
+    }
     free(levels);
     ht_mesh_free(&head);
     free(bundle);
@@ -225,6 +261,7 @@ static cJSON *lods_object(const ht_measure_lods *m) {
         cJSON *j = cJSON_CreateObject();
         cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_LEVEL, c->level);
         if (c->cards) cJSON_AddStringToObject(j, HT_MANIFEST_KEY_LOD_KIND, "cards");
+        if (c->soften > 1) cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_SOFTEN, c->soften);
         cJSON_AddStringToObject(j, HT_MANIFEST_KEY_LOD_TIER, c->tier);
         cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_STRANDS, c->strands);
         cJSON_AddNumberToObject(j, HT_MANIFEST_KEY_SIZE, c->size);
@@ -280,7 +317,8 @@ void ht_measure_lods_print(FILE *out, const ht_measure_lods *m) {
             "de00", "pop_db");
     for (int i = 0; i < m->count; i++) {
         const ht_measure_lod_cell *c = &m->cells[i];
-        fprintf(out, "%5.2f %5d %-10s %8u %9.3f %7.2f %9.4f %9.3f %9.2f\n", c->size, c->level, c->tier, c->strands,
-                c->cost_ratio, c->whole.psnr_db, c->whole.ssim, c->whole.delta_e00_mean, c->pop_psnr_db);
+        fprintf(out, "%5.2f %5d %-10s %8u %9.3f %7.2f %9.4f %9.3f %9.2f%s\n", c->size, c->level, c->tier, c->strands,
+                c->cost_ratio, c->whole.psnr_db, c->whole.ssim, c->whole.delta_e00_mean, c->pop_psnr_db,
+                c->soften > 1 ? " soft" : "");
     }
 }

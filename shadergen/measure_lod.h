@@ -1,7 +1,9 @@
 /* measure_lod.h — hairgen --measure-lods: every tier of the bundle drawn
    at every geometry LOD of the scene (include/hairtier/lod.h's ladder, up
    to ht_lod_max_level) at HT_MEASURE_LOD_SIZES projected sizes (the image
-   scaled: 1, 1/2, 1/4), each (LOD, tier) cell against (LOD 0, the bundle's
+   scaled: 1, 1/2, 1/4), and every strand level past 0 soft (lod.h's
+   ht_lod_cell.soften: ht_mesh_widen_back_to_front by HT_LOD_SOFTEN, as the
+   runtime derives it, at opacity 1 / HT_LOD_SOFTEN), each (LOD, tier) cell against (LOD 0, the bundle's
    first tier) at the same size (PSNR, SSIM, ΔE00 mean, cost as a ratio of
    that pair's median frame) and against the tier's level before (the
    pop), written into the manifest's "lods" object (manifest.h), which
@@ -27,6 +29,7 @@ typedef struct ht_measure_lod_cell {
     char tier[16];           /* the tier drawn */
     uint32_t strands;        /* the level's components: strands, or cards */
     bool cards;              /* a stored cards level (lods.bin) */
+    float soften;            /* 0: plain; HT_LOD_SOFTEN: the level soft (lod.h) */
     double size;
     ht_metrics whole;        /* against (LOD 0, the first tier) at this size */
     double frame_ms, cost_ratio;

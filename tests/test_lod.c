@@ -252,10 +252,10 @@ static void best_keeps_full_detail_to_a_pixel_with_hysteresis(void **state) {
 static void error_budget_picks_cheapest_pair_with_hysteresis(void **state) {
     (void)state;
     const ht_lod_cell cells[] = {
-        { 0, HT_TIER_FULL, 0.5, INFINITY, 1.00 }, { 1, HT_TIER_FULL, 0.5, 34, 0.55 },
-        { 2, HT_TIER_FULL, 0.5, 30.5, 0.30 },     { 2, HT_TIER_FIXED, 0.5, 29, 0.20 },
-        { 0, HT_TIER_FULL, 1.0, INFINITY, 1.00 }, { 1, HT_TIER_FULL, 1.0, 27, 0.55 },
-        { 3, HT_TIER_FULL, 0.5, 30.8, 0.28 },
+        { 0, HT_TIER_FULL, 0.5, INFINITY, 1.00, 0 }, { 1, HT_TIER_FULL, 0.5, 34, 0.55, 0 },
+        { 2, HT_TIER_FULL, 0.5, 30.5, 0.30, 0 },     { 2, HT_TIER_FIXED, 0.5, 29, 0.20, 0 },
+        { 0, HT_TIER_FULL, 1.0, INFINITY, 1.00, 0 }, { 1, HT_TIER_FULL, 1.0, 27, 0.55, 0 },
+        { 3, HT_TIER_FULL, 0.5, 30.8, 0.28, 0 },
     };
     const int n = (int)(sizeof cells / sizeof cells[0]);
     assert_int_equal(ht_lod_pick_error(cells, n, 0.5, 30, -1), 6);  /* cheapest at >= 30 dB */
@@ -276,10 +276,10 @@ static void error_budget_picks_cheapest_pair_with_hysteresis(void **state) {
 static void error_budget_composes_lod_and_tier(void **state) {
     (void)state;
     const ht_lod_cell cells[] = {
-        { 0, HT_TIER_FULL, 0.25, INFINITY, 1.00 }, { 1, HT_TIER_FULL, 0.25, 31, 0.50 },
-        { 2, HT_TIER_FULL, 0.25, 29, 0.25 },       { 0, HT_TIER_FIXED4, 0.25, 33, 0.60 },
-        { 1, HT_TIER_FIXED4, 0.25, 30.2, 0.30 },   { 2, HT_TIER_FIXED4, 0.25, 28, 0.15 },
-        { 1, HT_TIER_GL11, 0.25, 26, 0.20 },
+        { 0, HT_TIER_FULL, 0.25, INFINITY, 1.00, 0 }, { 1, HT_TIER_FULL, 0.25, 31, 0.50, 0 },
+        { 2, HT_TIER_FULL, 0.25, 29, 0.25, 0 },       { 0, HT_TIER_FIXED4, 0.25, 33, 0.60, 0 },
+        { 1, HT_TIER_FIXED4, 0.25, 30.2, 0.30, 0 },   { 2, HT_TIER_FIXED4, 0.25, 28, 0.15, 0 },
+        { 1, HT_TIER_GL11, 0.25, 26, 0.20, 0 },
     };
     const int n = (int)(sizeof cells / sizeof cells[0]);
     assert_int_equal(ht_lod_pick_error(cells, n, 0.25, 30, -1), 4); /* (1, fixed4): 0.30x at 30.2 dB */
@@ -294,10 +294,10 @@ static void error_budget_composes_lod_and_tier(void **state) {
 static void frame_budget_picks_most_accurate_pair_with_hysteresis(void **state) {
     (void)state;
     const ht_lod_cell cells[] = {
-        { 0, HT_TIER_FULL, 0.5, INFINITY, 1.00 }, { 1, HT_TIER_FULL, 0.5, 31, 0.50 },
-        { 2, HT_TIER_FULL, 0.5, 29, 0.25 },       { 1, HT_TIER_FIXED4, 0.5, 30.5, 0.30 },
-        { 2, HT_TIER_FIXED4, 0.5, 28, 0.15 },     { 0, HT_TIER_FULL, 1.0, INFINITY, 1.00 },
-        { 1, HT_TIER_FULL, 1.0, 27, 0.45 },
+        { 0, HT_TIER_FULL, 0.5, INFINITY, 1.00, 0 }, { 1, HT_TIER_FULL, 0.5, 31, 0.50, 0 },
+        { 2, HT_TIER_FULL, 0.5, 29, 0.25, 0 },       { 1, HT_TIER_FIXED4, 0.5, 30.5, 0.30, 0 },
+        { 2, HT_TIER_FIXED4, 0.5, 28, 0.15, 0 },     { 0, HT_TIER_FULL, 1.0, INFINITY, 1.00, 0 },
+        { 1, HT_TIER_FULL, 1.0, 27, 0.45, 0 },
     };
     const int n = (int)(sizeof cells / sizeof cells[0]);
     assert_int_equal(ht_lod_pick_frame(cells, n, 0.5, 20, 10, -1), 0);  /* everything fits: full detail */
@@ -324,6 +324,32 @@ static void frame_budget_picks_most_accurate_pair_with_hysteresis(void **state) 
     assert_true(switches <= 1);
     assert_int_equal(ht_lod_pick_frame(cells, n, 0.5, 5, 0, -1), -1);
     assert_int_equal(ht_lod_pick_frame(cells, 0, 0.5, 5, 10, -1), -1);
+}
+
+/* Soft and plain of one (level, tier) are two pairs: a soft cell the
+   cheapest at the budget is picked; held, each keeps its own hysteresis
+   (a held soft level 1 is not taken for plain level 1, which would be a
+   switch); the frame rule too. */
+static void soft_and_plain_pairs_with_hysteresis(void **state) {
+    (void)state;
+    const ht_lod_cell cells[] = {
+        { 0, HT_TIER_GL11, 0.5, INFINITY, 1.00, 0 }, { 2, HT_TIER_GL11, 0.5, 27.8, 0.14, 0 },
+        { 2, HT_TIER_GL11, 0.5, 30.4, 0.24, 3 },     { 1, HT_TIER_GL11, 0.5, 30.9, 0.30, 0 },
+        { 1, HT_TIER_GL11, 0.5, 31.6, 0.45, 3 },
+    };
+    const int n = (int)(sizeof cells / sizeof cells[0]);
+    assert_true(ht_lod_cell_same_pair(&cells[1], &cells[1]) && !ht_lod_cell_same_pair(&cells[1], &cells[2]));
+    assert_int_equal(ht_lod_pick_error(cells, n, 0.5, 30, -1), 2); /* (2 soft, gl11): 0.24x at 30.4 dB */
+    assert_int_equal(ht_lod_pick_error(cells, n, 0.5, 31, -1), 4); /* (1 soft): the only one at 31 */
+    /* held plain 1: soft 2 is cheaper but 30.4 < 31, the margin: stays */
+    assert_int_equal(ht_lod_pick_error(cells, n, 0.5, 30, 3), 3);
+    /* held soft 1 stays soft 1 (plain 1 meets 30 too, but is not it) */
+    assert_int_equal(ht_lod_pick_error(cells, n, 0.5, 30, 4), 4);
+    /* frame: 2.8 ms of a 10 ms reference: soft 2 the most accurate within; plain 1
+       held at 3 ms stays (within 10 %, soft 2 not 1 dB better); soft 1 held at 4.5 ms goes */
+    assert_int_equal(ht_lod_pick_frame(cells, n, 0.5, 2.8, 10, -1), 2);
+    assert_int_equal(ht_lod_pick_frame(cells, n, 0.5, 2.8, 10, 3), 3);
+    assert_int_equal(ht_lod_pick_frame(cells, n, 0.5, 2.8, 10, 4), 2);
 }
 
 /* The width rule's factor: a pixel wide or up to a quarter octave more. */
@@ -369,6 +395,7 @@ int main(void) {
         cmocka_unit_test(error_budget_picks_cheapest_pair_with_hysteresis),
         cmocka_unit_test(error_budget_composes_lod_and_tier),
         cmocka_unit_test(frame_budget_picks_most_accurate_pair_with_hysteresis),
+        cmocka_unit_test(soft_and_plain_pairs_with_hysteresis),
         cmocka_unit_test(width_rule_reaches_a_pixel),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -5,7 +5,7 @@
    stored (the scene's mesh); --no-lods stores none; hairview draws a stored level, and
    builds the levels of another scene. --measure-lods (ht_measure_lods_run)
    on a cards bundle writes the manifest's "lods": every (stored level,
-   tier) pair, the cards too, at 1, 1/2 and 1/4 of the scene's size,
+   tier) pair, the cards too, and every strand level past 0 soft, at 1, 1/2 and 1/4 of the scene's size,
    against (level 0, the bundle's first tier): that pair identical to
    itself (PSNR and pop null, cost 1), every other tier's level 0 finite,
    each level's strand (or card) count the ladder's, finite errors and
@@ -13,7 +13,8 @@
    hairview's --lod auto --policy error:DB and frame:MS, which pick the
    pair ht_lod_pick_error / ht_lod_pick_frame pick and draw its tier and
    level, the cards where a budget only they meet, and re-pick it per
-   frame while --distance A:B dollies the eye); a bad cell is refused
+   frame while --distance A:B dollies the eye; a soft cell where a budget
+   only soft cells meet, drawn soft); a bad cell is refused
    with one line naming it. Small: 600 hairs of 4 joints at 64 x 64, cards of 16 in a
    512 atlas. Runs the programs (HAIRTIER_BUILD). */
 #include <setjmp.h>
@@ -31,6 +32,7 @@
 
 #include <hairtier/lod.h>
 #include "cards_bundle.h"
+#include "json_check.h"
 #include "manifest.h"
 #include "measure_lod.h"
 #include "support_lod_bound.h"
@@ -40,6 +42,8 @@
 #define HAIRS 600 /* 38 at level 4, above HT_LOD_MIN_STRANDS: five strand levels */
 #define STRAND_LEVELS 5
 #define LEVELS (STRAND_LEVELS + 1) /* and the cards */
+#define SOFT_LEVELS (STRAND_LEVELS - 1) /* strand levels 1..4 soft */
+#define BLOCK (LEVELS + SOFT_LEVELS)    /* a (size, tier)'s cells: the plain levels, then the soft ones */
 #define CARDS_STRANDS 16
 #define CARDS_ATLAS 512
 #define JOINTS 4  /* not the scene's 16: every cell's frames a quarter of the vertices */
@@ -173,15 +177,17 @@ static void manifest_holds_every_pair_at_three_sizes(void **state) {
     /* llvmpipe runs every tier of the bundle: size, then tier, then level */
     const int tiers = m->tier_count;
     assert_true(tiers >= 5);
-    assert_int_equal(m->lods.cell_count, 3 * tiers * LEVELS);
+    assert_int_equal(m->lods.cell_count, 3 * tiers * BLOCK);
     const double sizes[3] = { 1, 0.5, 0.25 };
     for (int i = 0; i < m->lods.cell_count; i++) {
         const ht_manifest_lod_cell *c = &m->lods.cells[i];
-        const int t = i / LEVELS % tiers;
-        assert_int_equal(c->level, i % LEVELS);
+        const int t = i / BLOCK % tiers, j = i % BLOCK;
+        const bool soft = j >= LEVELS;
+        assert_int_equal(c->level, soft ? j - LEVELS + 1 : j);
+        assert_true(c->soften == (soft ? HT_LOD_SOFTEN : 0.0f));
         assert_string_equal(c->tier, m->tiers[t].name);
-        assert_true(c->size == sizes[i / (LEVELS * tiers)]);
-        assert_int_equal(c->cards, c->level == STRAND_LEVELS);
+        assert_true(c->size == sizes[i / (BLOCK * tiers)]);
+        assert_int_equal(c->cards, !soft && c->level == STRAND_LEVELS);
         assert_int_equal(c->strands, c->cards ? card_count : (HAIRS + (1u << c->level) - 1) >> c->level);
         if (c->level == 0 && t == 0) {
             assert_true(isinf(c->psnr_db) && isinf(c->pop_psnr_db) && c->cost_ratio == 1.0);
@@ -204,7 +210,8 @@ static int cells_of(ht_lod_cell *cells) {
     const int n = m->lods.cell_count;
     for (int i = 0; i < n; i++)
         cells[i] = (ht_lod_cell){ m->lods.cells[i].level, ht_tier_from_name(m->lods.cells[i].tier),
-                                  m->lods.cells[i].size, m->lods.cells[i].psnr_db, m->lods.cells[i].cost_ratio };
+                                  m->lods.cells[i].size, m->lods.cells[i].psnr_db, m->lods.cells[i].cost_ratio,
+                                  m->lods.cells[i].soften };
     free(m);
     return n;
 }
@@ -217,6 +224,11 @@ static void expect_pair(const char *policy, const ht_lod_cell *pick) {
     if (ht_test_run_program("hairview", args, out, sizeof out) != 0) fail_msg("hairview %s: %s", args, out);
     snprintf(want, sizeof want, "lod_pair: lod=%d tier=%s ", pick->lod, ht_tier_name(pick->tier));
     if (!strstr(out, want)) fail_msg("expected %s in:\n%s", want, out);
+    /* a soft pick says so, and draws the stored level widened at a third the opacity */
+    const char *line = strstr(out, want), *soft = strstr(line, " soft\n"), *end = strchr(line, '\n');
+    if ((soft && soft < end) != (pick->soften > 1)) fail_msg("expected the pick %ssoft in:\n%s", pick->soften > 1 ? "" : "not ", out);
+    if ((strstr(out, "soften=3.000 opacity=0.333\n") != NULL) != (pick->soften > 1))
+        fail_msg("expected %ssoften=3.000 in:\n%s", pick->soften > 1 ? "" : "no ", out);
     snprintf(want, sizeof want, "lod=%d ", pick->lod);
     if (!strstr(out, want)) fail_msg("expected %s in:\n%s", want, out);
     /* the cards bundle stores every level: the cards past the strand levels */
@@ -232,7 +244,7 @@ static void hairview_picks_the_pair_the_rules_pick(void **state) {
     const int n = cells_of(cells);
     /* error: a budget (level 1, first tier) at a quarter size meets; the
        rule picks the cheapest pair of any tier meeting it */
-    const int tiers = n / (3 * LEVELS), quarter = 2 * tiers * LEVELS;
+    const int tiers = n / (3 * BLOCK), quarter = 2 * tiers * BLOCK;
     const double db = floor(cells[quarter + 1].psnr) - 0.5;
     const int pick = ht_lod_pick_error(cells, n, 0.25, db, -1);
     assert_true(pick >= quarter && cells[pick].psnr >= db && cells[pick].cost <= cells[quarter + 1].cost);
@@ -256,7 +268,7 @@ static void hairview_repicks_the_pair_while_dollying(void **state) {
     (void)state;
     ht_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
     const int n = cells_of(cells);
-    const int tiers = n / (3 * LEVELS), quarter = 2 * tiers * LEVELS;
+    const int tiers = n / (3 * BLOCK), quarter = 2 * tiers * BLOCK;
     const double db = floor(cells[quarter + 1].psnr) - 0.5;
     const double scene_distance = 3.3508; /* |eye - target| of scenes/furball.json's camera */
     char args[1024], out[16384], want[96];
@@ -281,23 +293,57 @@ static void hairview_repicks_the_pair_while_dollying(void **state) {
     assert_non_null(strstr(out, "dolly: 8 frames"));
 }
 
-/* The cards' cells made the only ones to meet a budget (their cost and
-   PSNR edited in the manifest, the others costlier): error:DB and
-   frame:MS pick the cards, and hairview draws the stored cards level. */
-static void a_budget_only_cards_meet_picks_them(void **state) {
-    (void)state;
+/* The manifest's soft cells (soft) or cards' cells made the only ones to
+   meet a budget: their PSNR 99 and cost 0.01, every other cell's 0.5
+   (the reference's kept). */
+static void only_these_meet(bool soft) {
     cJSON *root = ht_test_read_json(cards, "manifest.json");
     const cJSON *cell;
     cJSON_ArrayForEach(cell, cJSON_GetObjectItem(cJSON_GetObjectItem(root, "lods"), "cells")) {
-        const bool is_cards = cJSON_IsString(cJSON_GetObjectItem(cell, "kind"));
+        const bool these = soft ? cJSON_IsNumber(cJSON_GetObjectItem(cell, "soften"))
+                                : cJSON_IsString(cJSON_GetObjectItem(cell, "kind"));
         if (cJSON_IsNull(cJSON_GetObjectItem(cell, "psnr_db"))) continue;
-        cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)cell, "cost_ratio", cJSON_CreateNumber(is_cards ? 0.01 : 0.5));
-        if (is_cards) cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)cell, "psnr_db", cJSON_CreateNumber(99));
+        cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)cell, "cost_ratio", cJSON_CreateNumber(these ? 0.01 : 0.5));
+        if (these) cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)cell, "psnr_db", cJSON_CreateNumber(99));
     }
     char *json = cJSON_Print(root);
     ht_test_write_file(cards, "manifest.json", json);
     cJSON_free(json);
     cJSON_Delete(root);
+}
+
+/* The soft cells made the only ones to meet a budget (their PSNR edited
+   in the manifest, all other cells costlier): error:DB picks a soft
+   cell, which hairview draws soft (lod_pair ... soft, soften=3), and the
+   dolly's pairs are soft ones; the manifest is put back after. */
+static void a_budget_only_soft_cells_meet_picks_them(void **state) {
+    (void)state;
+    char path[192], err[512], *saved = NULL;
+    snprintf(path, sizeof path, "%s/manifest.json", cards);
+    if (ht_json_read_file(path, &saved, err, sizeof err) != HT_OK) fail_msg("%s", err);
+    only_these_meet(true);
+    ht_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
+    const int n = cells_of(cells);
+    const int pick = ht_lod_pick_error(cells, n, 0.25, 90, -1);
+    assert_true(pick >= 0 && cells[pick].soften == HT_LOD_SOFTEN && cells[pick].lod >= 1);
+    expect_pair("error:90", &cells[pick]);
+    char args[1024], out[16384];
+    snprintf(args, sizeof args, "--bundle %s --scene %s/scene.json --lod auto --policy error:90 --distance 3.3508:13.4 "
+             "--frames 4 -o %s/ds.png", cards, work, work);
+    if (ht_test_run_program("hairview", args, out, sizeof out) != 0) fail_msg("hairview %s: %s", args, out);
+    const char *first = strstr(out, "lod_pair: frame=0 ");
+    assert_non_null(first);
+    if (!strstr(first, " soft\n") || strstr(first, " soft\n") > strchr(first, '\n')) fail_msg("expected a soft pair in:\n%s", out);
+    ht_test_write_file(cards, "manifest.json", saved);
+    free(saved);
+}
+
+/* The cards' cells made the only ones to meet a budget (their cost and
+   PSNR edited in the manifest, the others costlier): error:DB and
+   frame:MS pick the cards, and hairview draws the stored cards level. */
+static void a_budget_only_cards_meet_picks_them(void **state) {
+    (void)state;
+    only_these_meet(false);
     ht_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
     const int n = cells_of(cells);
     const int pick = ht_lod_pick_error(cells, n, 0.25, 90, -1), cheapest = ht_lod_pick_frame(cells, n, 0.25, 0.001, 1, -1);
@@ -326,6 +372,30 @@ static void a_bad_cell_is_refused_naming_it(void **state) {
     assert_int_equal(ht_manifest_parse(json, cards, "manifest.json", m, err, sizeof err), HT_ERR_PARSE);
     assert_non_null(strstr(err, "lods.cells[2].kind"));
     cJSON_DeleteItemFromObjectCaseSensitive(cell, "kind");
+    /* soften: (1, 16] on a strand level past 0 (cell 2: level 2, cell 0: level 0, cell LEVELS - 1: the cards) */
+    const struct { int cell; double soften; } bad[] = { { 2, 0.5 }, { 2, 1 }, { 2, 17 }, { 0, 3 }, { LEVELS - 1, 3 } };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        cJSON *c = cJSON_GetArrayItem(cJSON_GetObjectItem(cJSON_GetObjectItem(root, "lods"), "cells"), bad[k].cell);
+        cJSON_AddNumberToObject(c, "soften", bad[k].soften);
+        free(json);
+        json = cJSON_Print(root);
+        assert_int_equal(ht_manifest_parse(json, cards, "manifest.json", m, err, sizeof err), HT_ERR_PARSE);
+        char field[64];
+        snprintf(field, sizeof field, "lods.cells[%d].soften", bad[k].cell);
+        if (!strstr(err, field) || strchr(err, '\n')) fail_msg("soften %g on cell %d: %s", bad[k].soften, bad[k].cell, err);
+        cJSON_DeleteItemFromObjectCaseSensitive(c, "soften");
+    }
+    cJSON_AddStringToObject(cell, "soften", "3");
+    free(json);
+    json = cJSON_Print(root);
+    assert_int_equal(ht_manifest_parse(json, cards, "manifest.json", m, err, sizeof err), HT_ERR_PARSE);
+    assert_non_null(strstr(err, "lods.cells[2].soften"));
+    cJSON_ReplaceItemInObjectCaseSensitive(cell, "soften", cJSON_CreateNumber(3));
+    free(json);
+    json = cJSON_Print(root);
+    assert_int_equal(ht_manifest_parse(json, cards, "manifest.json", m, err, sizeof err), HT_OK);
+    assert_true(m->lods.cells[2].soften == 3.0f);
+    cJSON_DeleteItemFromObjectCaseSensitive(cell, "soften");
     /* the frames' samples: 2..32 when present */
     cJSON_ReplaceItemInObjectCaseSensitive(cell, "level", cJSON_CreateNumber(1));
     cJSON_AddNumberToObject(cJSON_GetObjectItem(root, "lods"), "samples", 1);
@@ -359,6 +429,7 @@ int main(void) {
         cmocka_unit_test(hairview_picks_the_pair_the_rules_pick),
         cmocka_unit_test(hairview_repicks_the_pair_while_dollying),
         cmocka_unit_test(a_bad_cell_is_refused_naming_it),
+        cmocka_unit_test(a_budget_only_soft_cells_meet_picks_them),
         cmocka_unit_test(a_budget_only_cards_meet_picks_them),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

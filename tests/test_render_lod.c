@@ -43,6 +43,13 @@ static int teardown(void **state) {
     return ht_test_furball_teardown(&fx);
 }
 
+/* A full-tier renderer on the GL fault layer, which counts its uploads. */
+static ht_renderer *fault_counted_renderer(void) {
+    return ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
+                                                       .getproc = ht_test_fault_getproc },
+                                   fx.bundle_dir, HT_OK);
+}
+
 /* glBufferData calls since ht_fault_arm (the class counts glBufferSubData too). */
 static long buffer_data_calls(void) {
     return ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA] - ht_fault_state_get()->buffer_sub_data;
@@ -184,14 +191,20 @@ static void cards_same_passes(ht_tier tier) {
     ht_mesh_free(&level0);
 }
 
-/* One frame of the chain's renderer: the four passes, each drawing the
-   chain's level `level` range. */
-static void draw_expect_level(ht_renderer *r, const ht_lod_chain *chain, const ht_frame_desc *frame, int level) {
+/* One frame drawn; its trace, the four passes. */
+static const ht_trace *draw_traced(ht_renderer *r, const ht_frame_desc *frame) {
     ht_image img;
     ht_test_draw(&fx.gl, r, frame, ht_test_background, &img);
     ht_image_free(&img);
     const ht_trace *t = ht_renderer_trace(r);
     assert_int_equal(t->count, HT_PASS_COUNT);
+    return t;
+}
+
+/* One frame of the chain's renderer: the four passes, each drawing the
+   chain's level `level` range. */
+static void draw_expect_level(ht_renderer *r, const ht_lod_chain *chain, const ht_frame_desc *frame, int level) {
+    const ht_trace *t = draw_traced(r, frame);
     for (int i = 0; i < t->count; i++) {
         assert_int_equal(t->entries[i].first_index, chain->first[level]);
         assert_int_equal(t->entries[i].index_count, chain->index_count[level]);
@@ -237,9 +250,7 @@ static void chain_switches_with_the_distance(void **state) {
     ht_lod_chain chain;
     assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
     assert_int_equal(chain.count, 4); /* 400 hairs: levels 0..3 */
-    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
-                                                                 .getproc = ht_test_fault_getproc },
-                                             fx.bundle_dir, HT_OK);
+    ht_renderer *r = fault_counted_renderer();
     int switches = 0, last = -1, peak = 0, steps = 120;
     long uploads_at_first = -1;
     for (int f = 0; f < 2 * steps; f++) {
@@ -287,12 +298,12 @@ static void chain_switches_with_the_distance(void **state) {
    at 1 and keeps it at 1/2 (8 ms, within its 10 % margin), (1, fixed) at
    1/4 (gl11 at level 0 is 9 ms there), and (0, gl11) again back at 1. */
 static const ht_lod_cell pair_cells[] = {
-    { 0, HT_TIER_FULL, 1, INFINITY, 1 },    { 0, HT_TIER_GL11, 1, 38, 0.7 },
-    { 1, HT_TIER_FIXED, 1, 28, 0.4 },       { 2, HT_TIER_GL11, 1, 25, 0.2 },
-    { 0, HT_TIER_FULL, 0.5, INFINITY, 1 },  { 0, HT_TIER_GL11, 0.5, 38, 0.8 },
-    { 1, HT_TIER_FIXED, 0.5, 32, 0.4 },     { 2, HT_TIER_GL11, 0.5, 27, 0.2 },
-    { 0, HT_TIER_FULL, 0.25, INFINITY, 1 }, { 0, HT_TIER_GL11, 0.25, 38, 0.9 },
-    { 1, HT_TIER_FIXED, 0.25, 34, 0.4 },    { 2, HT_TIER_GL11, 0.25, 31, 0.2 },
+    { 0, HT_TIER_FULL, 1, INFINITY, 1, 0 },    { 0, HT_TIER_GL11, 1, 38, 0.7, 0 },
+    { 1, HT_TIER_FIXED, 1, 28, 0.4, 0 },       { 2, HT_TIER_GL11, 1, 25, 0.2, 0 },
+    { 0, HT_TIER_FULL, 0.5, INFINITY, 1, 0 },  { 0, HT_TIER_GL11, 0.5, 38, 0.8, 0 },
+    { 1, HT_TIER_FIXED, 0.5, 32, 0.4, 0 },     { 2, HT_TIER_GL11, 0.5, 27, 0.2, 0 },
+    { 0, HT_TIER_FULL, 0.25, INFINITY, 1, 0 }, { 0, HT_TIER_GL11, 0.25, 38, 0.9, 0 },
+    { 1, HT_TIER_FIXED, 0.25, 34, 0.4, 0 },    { 2, HT_TIER_GL11, 0.25, 31, 0.2, 0 },
 };
 
 typedef struct pair { int level; ht_tier tier; } pair;
@@ -330,9 +341,7 @@ static void draw_pair(ht_renderer *r, const ht_lod_chain *chain, const ht_frame_
 static void pull_out_and_back(ht_lod_rule rule, const pair *expect, int expect_count) {
     ht_lod_chain chain;
     assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
-    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
-                                                                 .getproc = ht_test_fault_getproc },
-                                             fx.bundle_dir, HT_OK);
+    ht_renderer *r = fault_counted_renderer();
     ht_trace full;
     draw_lod(r, &fx.mesh, &full);
     rule.cells = pair_cells;
@@ -417,9 +426,7 @@ static void chain_width_rule_per_draw(void **state) {
     ht_lod_chain chain;
     assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
     chain.width_rule = true;
-    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true,
-                                                                 .getproc = ht_test_fault_getproc },
-                                             fx.bundle_dir, HT_OK);
+    ht_renderer *r = fault_counted_renderer();
     const int steps = 24;
     int changes = 0, widened_frames = 0;
     double last_f = 1.0, last_drawn = 0;
@@ -439,11 +446,7 @@ static void chain_width_rule_per_draw(void **state) {
         const double drawn = chain.level_width[level] * wf;
         if (f < steps && f > 0) assert_true(drawn >= last_drawn * (1 - 1e-9));
         last_drawn = drawn;
-        ht_image img;
-        ht_test_draw(&fx.gl, r, &frame, ht_test_background, &img);
-        ht_image_free(&img);
-        const ht_trace *tr = ht_renderer_trace(r);
-        assert_int_equal(tr->count, HT_PASS_COUNT);
+        const ht_trace *tr = draw_traced(r, &frame);
         for (int i = 0; i < tr->count; i++) {
             assert_int_equal(tr->entries[i].gl_error, GL_NO_ERROR);
             if (wf > 1.0) {
@@ -464,6 +467,160 @@ static void chain_width_rule_per_draw(void **state) {
     assert_true(widened_frames >= 8 && changes >= 2 && changes <= widened_frames + 4);
     assert_int_equal(last_level, 0);
     assert_true(last_f == 1.0);
+    ht_renderer_destroy(r);
+    ht_lod_chain_free(&chain);
+}
+
+/* Soft cells beside plain ones (full tier, so the uploads counted are
+   the chain's): error:30 takes (0) at size 1; at 1/2 (2 soft) at 0.24x,
+   the cheapest at 30 dB, where a chain holding (1) keeps it (soft 2 is
+   cheaper but not by the 1 dB margin); at 1/4 (1) at 0.30x, where a chain
+   holding (2 soft) keeps it (30.3 dB, (1) 30.8 is not 1 dB clear). */
+static const ht_lod_cell soft_cells[] = {
+    { 0, HT_TIER_FULL, 1, INFINITY, 1, 0 },    { 1, HT_TIER_FULL, 1, 29, 0.5, 0 },
+    { 2, HT_TIER_FULL, 1, 28, 0.4, 3 },
+    { 0, HT_TIER_FULL, 0.5, INFINITY, 1, 0 },  { 1, HT_TIER_FULL, 0.5, 30.9, 0.30, 0 },
+    { 2, HT_TIER_FULL, 0.5, 27.8, 0.14, 0 },   { 2, HT_TIER_FULL, 0.5, 30.4, 0.24, 3 },
+    { 1, HT_TIER_FULL, 0.5, 31.6, 0.45, 3 },
+    { 0, HT_TIER_FULL, 0.25, INFINITY, 1, 0 }, { 1, HT_TIER_FULL, 0.25, 30.8, 0.30, 0 },
+    { 2, HT_TIER_FULL, 0.25, 28.5, 0.14, 0 },  { 2, HT_TIER_FULL, 0.25, 30.3, 0.35, 3 },
+    { 1, HT_TIER_FULL, 0.25, 32, 0.45, 3 },
+};
+
+static ht_lod_rule soft_rule(const ht_lod_chain *chain, int viewport_h) {
+    return (ht_lod_rule){ .kind = HT_POLICY_ERROR, .value = 30, .cells = soft_cells,
+                          .cell_count = (int)(sizeof soft_cells / sizeof soft_cells[0]),
+                          .size1_px = ht_projected_width_px(chain->width, 3.0,
+                                                            ht_test_furball_frame(3.0f).camera.fov_y, viewport_h) };
+}
+
+/* The camera d from the target, turned deg about the vertical. */
+static ht_frame_desc orbit_frame(float d, double deg) {
+    ht_frame_desc f = ht_test_furball_frame(d);
+    const double a = deg * M_PI / 180.0;
+    f.camera.eye[0] = (float)(d * sin(a));
+    f.camera.eye[2] = (float)(d * cos(a));
+    return f;
+}
+
+/* m's components in the order drawn, farthest centroid from eye first. */
+static void assert_back_to_front(const ht_mesh *m, const float eye[3]) {
+    double last = INFINITY;
+    for (uint32_t c = 0; c < m->component_count; c++) {
+        const ht_component *k = &m->components[c];
+        double sum[3] = { 0, 0, 0 }, d2 = 0;
+        for (uint32_t i = 0; i < k->index_count; i++)
+            for (int j = 0; j < 3; j++) sum[j] += m->vertices[m->indices[k->first_index + i]].position[j];
+        for (int j = 0; j < 3; j++) d2 += (sum[j] / k->index_count - eye[j]) * (sum[j] / k->index_count - eye[j]);
+        if (sqrt(d2) > last + 1e-4) fail_msg("component %u: %.5f from the eye, after one %.5f", c, sqrt(d2), last);
+        last = sqrt(d2);
+    }
+}
+
+/* One select and frame: the pair, the uploads it made, and the trace's
+   four passes drawing either the soft level alone (every fragment
+   blended: alpha reference 1; the opacity scale `opacity`; the whole
+   drawn-alone mesh, back to front from the eye of its order) or `all`'s range of
+   the level at opacity 1 and the bundle's cutoff. */
+static void soft_step(ht_lod_chain *chain, ht_renderer *r, const ht_lod_rule *rule, int viewport_h,
+                      const ht_frame_desc *frame, int level, bool soft, float opacity, long uploads) {
+    ht_fault_arm(HT_FAULT_NONE, 0);
+    ht_result res;
+    assert_int_equal(ht_lod_chain_select_pair(chain, r, &frame->camera, viewport_h, rule, &res), level);
+    assert_int_equal(res, HT_OK);
+    assert_true((chain->soften > 1) == soft);
+    assert_int_equal(buffer_data_calls(), uploads);
+    const ht_trace *tr = draw_traced(r, frame);
+    for (int i = 0; i < tr->count; i++) {
+        const ht_trace_entry *e = &tr->entries[i];
+        assert_int_equal(e->gl_error, GL_NO_ERROR);
+        assert_float_equal(e->opacity_scale, soft ? opacity : 1.0f, 1e-6);
+        if (soft) {
+            assert_true(e->alpha_ref == 1.0f);
+            assert_int_equal(e->first_index, 0);
+            assert_int_equal(e->index_count, chain->wide.index_count);
+        } else {
+            assert_true(e->alpha_ref < 1.0f);
+            assert_int_equal(e->first_index, chain->first[level]);
+            assert_int_equal(e->index_count, chain->index_count[level]);
+        }
+    }
+    if (soft) {
+        assert_int_equal(chain->wide_level, level);
+        assert_int_equal(chain->wide.component_count, ht_lod_chain_mesh(chain, level)->component_count);
+        assert_back_to_front(&chain->wide, chain->wide_eye); /* the eye of its order: this one or one near */
+    }
+}
+
+/* A soft cell the cheapest at the budget: the chain draws the level soft
+   (3x wider: its mean width; opacity 1/3; back to front from this eye,
+   uploaded alone: 2 glBufferData after `all`'s 2), nothing more while the eye turns less
+   than HT_LOD_RESORT_DEG, sorted and uploaded again past it, and back to
+   plain level 0 (all uploaded again, opacity 1) close up. */
+static void chain_picks_a_soft_cell(void **state) {
+    (void)state;
+    ht_lod_chain chain;
+    assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
+    ht_renderer *r = fault_counted_renderer();
+    const ht_lod_rule rule = soft_rule(&chain, 512);
+    ht_frame_desc f = orbit_frame(6.0f, 0);
+    soft_step(&chain, r, &rule, 512, &f, 2, true, 1.0f / 3, 4); /* the first select: all, then the soft level */
+    assert_memory_equal(chain.wide_eye, f.camera.eye, sizeof chain.wide_eye);
+    const double width = ht_mesh_mean_width(&chain.wide) / chain.level_width[2];
+    assert_true(width > 2.9 && width < 3.1);
+    soft_step(&chain, r, &rule, 512, &f, 2, true, 1.0f / 3, 0); /* the same eye: nothing */
+    f = orbit_frame(6.0f, 3);
+    soft_step(&chain, r, &rule, 512, &f, 2, true, 1.0f / 3, 0); /* 3 degrees: the order kept */
+    const ht_frame_desc turned = orbit_frame(6.0f, 8);
+    ht_result res;
+    ht_fault_arm(HT_FAULT_NONE, 0);
+    assert_int_equal(ht_lod_chain_select_pair(&chain, r, &turned.camera, 512, &rule, &res), 2);
+    assert_int_equal(buffer_data_calls(), 2); /* 8 degrees: sorted again for this eye */
+    assert_memory_equal(chain.wide_eye, turned.camera.eye, sizeof chain.wide_eye);
+    assert_back_to_front(&chain.wide, turned.camera.eye);
+    f = orbit_frame(3.0f, 8);
+    soft_step(&chain, r, &rule, 512, &f, 0, false, 1, 2); /* plain again: all, opacity 1 */
+    printf("soft: level 2 soft at 1/2 (width %.2fx the plain level's, opacity 1/3), re-sorted past %.0f degrees, "
+           "plain level 0 at 1\n", width, HT_LOD_RESORT_DEG);
+    ht_renderer_destroy(r);
+    ht_lod_chain_free(&chain);
+}
+
+/* Hysteresis across the soft/plain boundary: fresh chains pick (2 soft)
+   at 1/2 and (1) at 1/4; a chain holding either keeps it at the other
+   size, so a camera jumping between the two every frame switches never
+   after its first pair (and uploads nothing more). With the width rule
+   on a 16-pixel viewport the soft strand is under a pixel: drawn widened
+   by 3 f at opacity 1 / (3 f). */
+static void chain_soft_hysteresis_and_width_rule(void **state) {
+    (void)state;
+    const float near = 6.0f, far = 12.0f;
+    for (int start = 0; start < 2; start++) {
+        ht_lod_chain chain;
+        assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
+        ht_renderer *r = fault_counted_renderer();
+        const ht_lod_rule rule = soft_rule(&chain, 512);
+        const bool soft = start == 0; /* 0: begins near, soft; 1: far, plain 1 */
+        for (int k = 0; k < 6; k++) {
+            const ht_frame_desc f = ht_test_furball_frame((k + start) % 2 ? far : near);
+            soft_step(&chain, r, &rule, 512, &f, soft ? 2 : 1, soft, 1.0f / 3, k == 0 ? (soft ? 4 : 2) : 0);
+        }
+        ht_renderer_destroy(r);
+        ht_lod_chain_free(&chain);
+    }
+    ht_lod_chain chain;
+    assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
+    chain.width_rule = true;
+    ht_renderer *r = fault_counted_renderer();
+    const ht_lod_rule rule = soft_rule(&chain, 16);
+    const ht_frame_desc f = ht_test_furball_frame(near);
+    const double px = ht_projected_width_px(chain.width, near, f.camera.fov_y, 16);
+    const double w = ht_width_rule_widen(px * 3 * chain.level_width[2] / chain.width);
+    assert_true(w > 1);
+    soft_step(&chain, r, &rule, 16, &f, 2, true, (float)(1 / (3 * w)), 4);
+    assert_true(chain.wide_factor == 3 * w);
+    printf("soft hysteresis: each start keeps its pair over 6 frames; width rule on soft level 2: f = %.3f, "
+           "opacity %.4f\n", w, 1 / (3 * w));
     ht_renderer_destroy(r);
     ht_lod_chain_free(&chain);
 }
@@ -492,6 +649,8 @@ int main(void) {
         cmocka_unit_test(chain_pairs_follow_an_error_budget),
         cmocka_unit_test(chain_pairs_follow_a_frame_budget),
         cmocka_unit_test(chain_width_rule_per_draw),
+        cmocka_unit_test(chain_picks_a_soft_cell),
+        cmocka_unit_test(chain_soft_hysteresis_and_width_rule),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -20,7 +20,8 @@ void report_lod_attach_measured(report *r) {
     g->measured_cells = g->other_cells = 0;
     for (int i = 0; i < m->cell_count; i++) {
         const ht_manifest_lod_cell *c = &m->cells[i];
-        if (c->size != g->size) continue;
+        /* the grid draws the plain levels; a soft cell is another pair */
+        if (c->size != g->size || c->soften > 1) continue;
         int t = 0;
         while (t < r->tier_count && strcmp(r->tiers[t].name, c->tier) != 0) t++;
         const int l = c->level;

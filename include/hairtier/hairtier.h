@@ -277,6 +277,7 @@ typedef struct ht_trace_entry {
     bool alpha_test;
     unsigned alpha_func;       /* GL_GEQUAL / GL_LESS */
     float alpha_ref;
+    float opacity_scale;       /* the hair's alpha scale the pass drew with (ht_renderer_set_opacity_scale) */
     uint32_t first_index, index_count;
     unsigned gl_error;         /* glGetError() after the draw */
 } ht_trace_entry;

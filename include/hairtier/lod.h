@@ -47,9 +47,9 @@
        if (ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 4000 }, &full) != HT_OK) return;
        ht_mesh_sort_inside_out(&full);
        if (ht_lod_chain_build(&full, &chain) != HT_OK) return;
-       ht_lod_cell cells[128];
+       static ht_lod_cell cells[HT_LOD_MAX_CELLS];   // plain and soft (ht_lod_cell.soften) pairs
        ht_lod_rule rule = { .kind = HT_POLICY_ERROR, .value = 30, .cells = cells,
-                            .cell_count = ht_renderer_lod_cells(r, cells, 128),
+                            .cell_count = ht_renderer_lod_cells(r, cells, HT_LOD_MAX_CELLS),
                             .size1_px = ht_projected_width_px(chain.width, 3.0, 40.0, 512) };
        ht_camera cam = { .eye = { 0, 0, 3 }, .target = { 0, 0, 0 }, .up = { 0, 1, 0 }, .fov_y = 40 };
        ht_result res;
@@ -57,7 +57,7 @@
            cam.eye[2] = 3.0f + 0.5f * (float)frame;     // dollying out
            int level = ht_lod_chain_select_pair(&chain, r, &cam, 512, &rule, &res);
            if (level < 0) break;                          // res says why
-           // chain.tier is the pair's tier; draw with ht_renderer_draw as always
+           // chain.tier is the pair's tier, chain.soften > 1 a soft pair; draw with ht_renderer_draw as always
        }
        ht_lod_chain_free(&chain);
        ht_renderer_destroy(r);
@@ -156,6 +156,7 @@ HT_API double ht_width_rule_widen(double strand_px);
    drawn area is factor times the mesh's: twisted quads grow faster than
    their width); every strand and row kept, the order kept. HT_ERR_INVALID_ARGUMENT, HT_ERR_OUT_OF_MEMORY;
    on failure *out is zeroed. */
+#define HT_LOD_MAX_WIDEN 1024.0
 HT_API ht_result ht_mesh_widen(const ht_mesh *mesh, double factor, ht_mesh *out);
 
 /* The width rule's strands are translucent (opacity 1 / f): their
@@ -165,6 +166,9 @@ HT_API ht_result ht_mesh_widen(const ht_mesh *mesh, double factor, ht_mesh *out)
    that distance). Once per camera position; the opaque cutoff sends every
    scaled fragment to the blended passes (ht_renderer_set_opacity_scale). */
 HT_API void ht_mesh_sort_back_to_front(ht_mesh *mesh, const float eye[3]);
+/* ht_mesh_widen by factor, then ht_mesh_sort_back_to_front from eye: the
+   mesh the width rule and a soft level draw (at opacity 1 / factor). */
+HT_API ht_result ht_mesh_widen_back_to_front(const ht_mesh *mesh, double factor, const float eye[3], ht_mesh *out);
 
 /* Scales the hair's drawn alpha by scale in every pass of every tier (a
    uniform in the GLSL texts, the last combiner stage's constant in fixed4,
@@ -191,7 +195,13 @@ typedef struct ht_lod_cell {
     double size;   /* projected size / the scene's, e.g. 1, 0.5, 0.25 */
     double psnr;   /* dB; INFINITY for the reference itself */
     double cost;   /* frame time / the reference's */
+    float soften;  /* 0: the plain level; s in (1, HT_LOD_MAX_SOFTEN]: the strand level lod >= 1 soft,
+                      ht_mesh_widen_back_to_front of it by s, drawn at opacity 1 / s (a pair of its own) */
 } ht_lod_cell;
+/* Whether two cells hold one pair: level, tier and softness (plain, or the same soften). */
+HT_API bool ht_lod_cell_same_pair(const ht_lod_cell *a, const ht_lod_cell *b);
+/* The most cells a bundle measures: 3 sizes x (8 stored levels + 7 soft) x 6 tiers. */
+#define HT_LOD_MAX_CELLS 288
 
 /* The `error:DB` rule: among the cells measured at the size nearest `size`
    (in log2), the cheapest whose PSNR is at least db; none: the most
@@ -238,7 +248,9 @@ HT_API int ht_lod_pick_frame(const ht_lod_cell *cells, int count, double size, d
    that made it; a pixel or wider again: `all` is uploaded again and the
    opacity is 1. Per draw, not per vertex: a strand's own width and depth
    would need its ribbon's centre line in the vertex stage, which the
-   fixed-function tiers do not have (docs/lod.md).
+   fixed-function tiers do not have (docs/lod.md). While the level and f
+   stay, the order is sorted again only past HT_LOD_RESORT_DEG /
+   HT_LOD_RESORT_DISTANCE (below).
    ht_lod_chain_from_file takes the levels a bundle stores instead (its
    lods.bin, hairgen --cards: the strand levels, then the cards, whose
    best-rule level is one past the last strand level's);
@@ -258,13 +270,23 @@ typedef struct ht_lod_chain {
     unsigned refused_tiers;        /* bit t: the renderer could not draw tier t; its cells are skipped */
     double size;                   /* the measured size the pair was read at, 0: none yet */
     double level_width[HT_LOD_FILE_MAX_LEVELS]; /* each level's mean ribbon width */
+    float soften;                  /* the pair's: 0 plain, else its soft cell's soften (select_pair) */
     /* The width rule per draw, when the caller sets width_rule (below). */
     bool width_rule;
+    /* A level drawn alone (a soft pair, the width rule): widened, back to front. */
     ht_mesh wide;                  /* the level drawn, widened by wide_factor, back to front */
     const ht_renderer *wide_renderer; /* the renderer holding `wide`, NULL: none */
     int wide_level;
-    double wide_factor;
+    double wide_factor;            /* wide_soften x the width rule's f; the opacity is its inverse */
+    double wide_soften;            /* the soft pair's soften, 1: plain */
+    float wide_eye[3];             /* the eye wide's order is of */
 } ht_lod_chain;
+/* A level drawn alone is sorted again (and uploaded: its vertices and
+   indices) only when the eye's direction from the mesh's centre has
+   turned by more than HT_LOD_RESORT_DEG since its order was made, or its
+   distance changed by more than HT_LOD_RESORT_DISTANCE times (docs/lod.md). */
+#define HT_LOD_RESORT_DEG 5.0
+#define HT_LOD_RESORT_DISTANCE 2.0
 HT_API ht_result ht_lod_chain_build(const ht_mesh *full, ht_lod_chain *out);
 typedef struct ht_lod_file ht_lod_file;
 HT_API ht_result ht_lod_chain_from_file(const ht_lod_file *file, ht_lod_chain *out);
@@ -292,7 +314,16 @@ HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);
    programs, textures, and for the fixed-function tiers their per-vertex
    data of `all`), nothing is uploaded or made at later switches. A tier
    the renderer cannot make is refused once (refused_tiers, logged) and the
-   rule picks again without it. Returns the level (chain->tier the tier),
+   rule picks again without it. A soft cell (soften s > 1, a strand level
+   >= 1: hairgen --measure-lods measures them) is a pair of its own: its
+   level is derived when picked, ht_mesh_widen_back_to_front of the plain
+   level by s x f (f: the width rule's on the soft strand, level width x
+   s, 1 without width_rule), from this frame's eye, uploaded alone as the
+   width rule's level is, with ht_renderer_set_opacity_scale(1 / (s x f));
+   it is sorted again only past HT_LOD_RESORT_DEG / _DISTANCE; a switch
+   to a plain pair uploads `all` again and sets the opacity back to 1
+   (chain->soften: the pair's, 0 plain). Hysteresis as for plain pairs:
+   soft and plain of one (level, tier) are two pairs. Returns the level (chain->tier the tier),
    or -1 with *result set: HT_ERR_INVALID_ARGUMENT for a rule without
    cells (error, frame), size1_px or, for frame, reference_ms not > 0;
    an upload's error; HT_ERR_NO_TIER when no cell's tier can be drawn. */

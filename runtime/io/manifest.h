@@ -19,6 +19,7 @@
 #include <stddef.h>
 
 #include <hairtier/hairtier.h>
+#include <hairtier/lod.h>
 #include "bundle_source.h"
 #include <hairtier/image.h>
 #include <hairtier/ht_limits.h>
@@ -118,7 +119,9 @@ _Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader r
 #define HT_MANIFEST_KEY_POP_PSNR_DB "pop_psnr_db"
 #define HT_MANIFEST_KEY_LOD_KIND "kind"
 #define HT_MANIFEST_KEY_LOD_FILE "lod_file" /* a bundle storing levels: "lods.bin" (the runtime does not read it) */
-#define HT_MANIFEST_MAX_LOD_CELLS 144 /* 3 sizes x 8 stored levels x 6 tiers */
+/* optional: the level drawn soft (lod.h's ht_lod_cell.soften), (1, 16]; a strand level >= 1 only */
+#define HT_MANIFEST_KEY_SOFTEN "soften"
+#define HT_MANIFEST_MAX_LOD_CELLS HT_LOD_MAX_CELLS
 /* Limits of a measured object's numbers. */
 #define HT_MANIFEST_MAX_PSNR_DB 1000.0
 #define HT_MANIFEST_MAX_DELTA_E 1000.0
@@ -196,6 +199,7 @@ typedef struct ht_manifest_tier {
 typedef struct ht_manifest_lod_cell {
     int level;                     /* 0..HT_LOD_FILE_MAX_LEVELS - 1: a stored level's index */
     int cards;                     /* "kind": "cards" (a cards level); absent or "strands": 0 */
+    float soften;                  /* "soften": the level drawn soft; absent: 0 (plain) */
     char tier[16];                 /* the tier drawn; a cell without "tier": the lods' */
     uint32_t strands;
     double size;                   /* (0, 4]: projected size / the scene's */

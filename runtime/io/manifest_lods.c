@@ -25,10 +25,24 @@ static ht_result psnr(const ht_jctx *c, const cJSON *cell, const char *path, con
     return ht_json_number(c, cell, path, key, NULL, HT_JRANGE(0, HT_MANIFEST_MAX_PSNR_DB), out);
 }
 
+/* "soften" (optional): a strand level past 0 drawn soft (lod.h); level 0
+   is full detail and cards are not soft. */
+static ht_result soften(const ht_jctx *c, const cJSON *cell, const char *path, ht_manifest_lod_cell *out) {
+    out->soften = 0.0f;
+    if (!cJSON_GetObjectItemCaseSensitive(cell, K(SOFTEN))) return HT_OK;
+    char field[HT_JSON_PATH_MAX];
+    ht_json_path_key(field, path, K(SOFTEN));
+    ht_result r = ht_json_float(c, cell, path, K(SOFTEN), NULL, HT_JRANGE_LO_OPEN(1, HT_LOD_MAX_SOFTEN), &out->soften);
+    if (r == HT_OK && out->level == 0) return ht_json_fail(c, field, "level 0 (full detail) is never soft");
+    if (r == HT_OK && out->cards) return ht_json_fail(c, field, "a cards level is not soft");
+    return r;
+}
+
 static ht_result parse_cell(const ht_jctx *c, const cJSON *cell, const char *path, const char *lods_tier,
                             ht_manifest_lod_cell *out) {
     static const char *const known[] = { K(LEVEL), K(LOD_TIER), K(STRANDS), K(SIZE), K(PSNR_DB), K(SSIM),
-                                         K(DELTA_E00_MEAN), K(COST_RATIO), K(POP_PSNR_DB), K(LOD_KIND), NULL };
+                                         K(DELTA_E00_MEAN), K(COST_RATIO), K(POP_PSNR_DB), K(LOD_KIND),
+                                         K(SOFTEN), NULL };
     int64_t strands = 0;
     ht_result r = ht_json_keys(c, cell, path, known);
     if (r == HT_OK) r = ht_json_int32(c, cell, path, K(LEVEL), NULL, 0, HT_LOD_FILE_MAX_LEVELS - 1, &out->level);
@@ -51,6 +65,7 @@ static ht_result parse_cell(const ht_jctx *c, const cJSON *cell, const char *pat
         r = ht_json_number(c, cell, path, K(COST_RATIO), NULL, HT_JRANGE_LO_OPEN(0, HT_MANIFEST_MAX_COST_RATIO),
                            &out->cost_ratio);
     if (r == HT_OK) r = psnr(c, cell, path, K(POP_PSNR_DB), &out->pop_psnr_db);
+    if (r == HT_OK) r = soften(c, cell, path, out);
     out->strands = (uint32_t)strands;
     return r;
 }

@@ -20,7 +20,6 @@
 
 #define MAX_TURN_DEG 90.0f
 #define WIDTH_ROUNDS 8 /* refits of the width to the area */
-#define MAX_WIDEN 1024.0 /* lod.h's bound on the width rule's factor */
 
 void ht_lod_level(int level, ht_lod_desc *out) {
     if (!out) return;
@@ -189,7 +188,7 @@ static ht_result build_lod(const ht_mesh *full, const ht_lod_desc *desc, double 
     if (!out) return HT_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
     if (!full || !desc || !full->vertices || !full->indices || !full->components || full->component_count == 0 ||
-        !(desc->max_turn_deg >= 0 && desc->max_turn_deg <= MAX_TURN_DEG) || !(extra >= 1 && extra <= MAX_WIDEN))
+        !(desc->max_turn_deg >= 0 && desc->max_turn_deg <= MAX_TURN_DEG) || !(extra >= 1 && extra <= HT_LOD_MAX_WIDEN))
         return HT_ERR_INVALID_ARGUMENT;
     const uint32_t n = full->component_count, stride = desc->strand_stride ? desc->strand_stride : 1;
     const uint32_t kept = n / stride + (n % stride != 0);

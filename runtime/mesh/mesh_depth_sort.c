@@ -2,6 +2,7 @@
    the width rule (lod.h): its strands are translucent, and blending
    translucent strands composes their coverage only far to near. */
 #include <math.h>
+#include <string.h>
 
 #include <hairtier/lod.h>
 
@@ -26,4 +27,14 @@ void ht_mesh_sort_back_to_front(ht_mesh *mesh, const float eye[3]) {
         comp->sort_key = (float)-sqrt(d2);
     }
     ht_mesh_sort_inside_out(mesh);
+}
+
+ht_result ht_mesh_widen_back_to_front(const ht_mesh *mesh, double factor, const float eye[3], ht_mesh *out) {
+    if (!eye) {
+        if (out) memset(out, 0, sizeof *out);
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    ht_result r = ht_mesh_widen(mesh, factor, out);
+    if (r == HT_OK) ht_mesh_sort_back_to_front(out, eye);
+    return r;
 }

@@ -156,32 +156,57 @@ static const ht_mesh *held_mesh(const ht_lod_chain *c, const ht_renderer *r) {
     return c->uploaded == r ? &c->all : c->wide_renderer == r ? &c->wide : NULL;
 }
 
-/* The width rule on the level drawn (lod.h): its strands narrower than a
-   pixel, the level widened by f about each centre line, sorted back to
-   front from this eye and uploaded alone, the opacity 1 / f; the same f
-   and level again: nothing; a pixel or wider: `all` again, opacity 1. */
-static int draw_level_width_rule(ht_lod_chain *c, ht_renderer *r, int level, double px, const ht_camera *camera,
-                                 ht_result *result) {
-    const double f = c->width_rule ? ht_width_rule_widen(px * c->level_width[level] / c->width) : 1.0;
-    if (f <= 1.0) {
+/* Whether the order the drawn-alone mesh was sorted in (from wide_eye)
+   still serves eye: its direction from the centre turned by at most
+   HT_LOD_RESORT_DEG and its distance within HT_LOD_RESORT_DISTANCE times. */
+static bool order_serves(const ht_lod_chain *c, const float eye[3]) {
+    double was = 0, now = 0, dot = 0;
+    for (int k = 0; k < 3; k++) {
+        const double a = (double)c->wide_eye[k] - c->full->center[k], b = (double)eye[k] - c->full->center[k];
+        was += a * a, now += b * b, dot += a * b;
+    }
+    was = sqrt(was), now = sqrt(now);
+    if (!(was > 0 && now > 0)) return was == now;
+    return now <= was * HT_LOD_RESORT_DISTANCE && was <= now * HT_LOD_RESORT_DISTANCE &&
+           dot / (was * now) >= cos(HT_LOD_RESORT_DEG * M_PI / 180.0);
+}
+
+/* The level drawn alone (lod.h): widened by soften (a soft pair; 1:
+   plain) times the width rule's f, sorted back to front from this eye,
+   uploaded alone, the opacity 1 / (soften x f); the same level and factor
+   again: nothing unless the eye moved past the order's reach (sorted
+   again and uploaded); factor 1: `all` again, opacity 1. */
+static int draw_level_width_rule(ht_lod_chain *c, ht_renderer *r, int level, float soften, double px,
+                                 const ht_camera *camera, ht_result *result) {
+    const double s = soften > 1.0f ? soften : 1.0;
+    const double f = c->width_rule ? ht_width_rule_widen(px * s * c->level_width[level] / c->width) : 1.0;
+    const double factor = fmin(s * f, HT_LOD_MAX_WIDEN);
+    if (factor <= 1.0) {
         if (c->wide_renderer == r) {
             ht_renderer_set_opacity_scale(r, 1.0f);
             c->wide_renderer = NULL;
             c->wide_factor = 1.0;
         }
+        c->soften = 0.0f;
         return draw_level(c, r, level, result);
     }
-    if (c->wide_renderer == r && c->wide_level == level && c->wide_factor == f) {
+    ht_result res = HT_OK;
+    if (c->wide_renderer == r && c->wide_level == level && c->wide_factor == factor && c->wide_soften == s) {
+        if (!order_serves(c, camera->eye)) {
+            ht_mesh_sort_back_to_front(&c->wide, camera->eye);
+            if ((res = ht_renderer_set_mesh(r, &c->wide)) != HT_OK) {
+                if (result) *result = res;
+                return -1;
+            }
+            memcpy(c->wide_eye, camera->eye, sizeof c->wide_eye);
+        }
         c->current = level;
         return level;
     }
     ht_mesh wide;
-    ht_result res = ht_mesh_widen(ht_lod_chain_mesh(c, level), f, &wide);
-    if (res == HT_OK) {
-        ht_mesh_sort_back_to_front(&wide, camera->eye);
-        res = ht_renderer_set_mesh(r, &wide);
-    }
-    if (res == HT_OK) res = ht_renderer_set_opacity_scale(r, (float)(1.0 / f));
+    res = ht_mesh_widen_back_to_front(ht_lod_chain_mesh(c, level), factor, camera->eye, &wide);
+    if (res == HT_OK) res = ht_renderer_set_mesh(r, &wide);
+    if (res == HT_OK) res = ht_renderer_set_opacity_scale(r, (float)(1.0 / factor));
     if (res != HT_OK) {
         ht_mesh_free(&wide);
         if (result) *result = res;
@@ -191,8 +216,11 @@ static int draw_level_width_rule(ht_lod_chain *c, ht_renderer *r, int level, dou
     c->wide = wide;
     c->wide_renderer = r;
     c->wide_level = level;
-    c->wide_factor = f;
+    c->wide_factor = factor;
+    c->wide_soften = s;
+    memcpy(c->wide_eye, camera->eye, sizeof c->wide_eye);
     if (c->uploaded == r) c->uploaded = NULL; /* r holds the widened level now */
+    c->soften = s > 1.0 ? soften : 0.0f;
     c->current = level;
     return level;
 }
@@ -206,10 +234,9 @@ int ht_lod_chain_select(ht_lod_chain *c, ht_renderer *r, const ht_camera *camera
     const double px = strand_px(c, camera, viewport_h);
     const int level = ht_lod_pick_best(px, c->current, c->count - 1);
     if (level == c->current && c->uploaded == r && !c->width_rule) return level;
-    return draw_level_width_rule(c, r, level, px, camera, result);
+    return draw_level_width_rule(c, r, level, 0.0f, px, camera, result);
 }
 
-#define MAX_CELLS 256
 
 /* The measured size the rule reads its cells at: the nearest to `size`
    (in log2), but the one in use (held) while it is within
@@ -240,14 +267,16 @@ int ht_lod_chain_select_pair(ht_lod_chain *c, ht_renderer *r, const ht_camera *c
     const double px = strand_px(c, camera, viewport_h);
     for (;;) {
         /* the cells of the levels this chain has and the tiers not refused */
-        ht_lod_cell cells[MAX_CELLS];
+        ht_lod_cell cells[HT_LOD_MAX_CELLS];
         int n = 0, held = -1;
-        for (int i = 0; i < rule->cell_count && n < MAX_CELLS; i++) {
+        for (int i = 0; i < rule->cell_count && n < HT_LOD_MAX_CELLS; i++) {
             const ht_lod_cell *cell = &rule->cells[i];
+            const bool soft = cell->soften > 1.0f;
             if (cell->lod < 0 || cell->lod >= c->count || (unsigned)cell->tier >= HT_TIER_COUNT ||
-                (c->refused_tiers >> cell->tier & 1u))
+                (c->refused_tiers >> cell->tier & 1u) || (soft && (cell->lod == 0 || !(cell->soften <= HT_LOD_MAX_SOFTEN))))
                 continue;
-            if (cell->lod == c->current && cell->tier == c->tier) held = n;
+            if (ht_lod_cell_same_pair(cell, &(ht_lod_cell){ .lod = c->current, .tier = c->tier, .soften = c->soften }))
+                held = n;
             cells[n++] = *cell;
         }
         const double size = n ? measured_size(cells, n, px / rule->size1_px, c->size) : 0;
@@ -259,9 +288,10 @@ int ht_lod_chain_select_pair(ht_lod_chain *c, ht_renderer *r, const ht_camera *c
         }
         const int level = cells[pick].lod;
         const ht_tier tier = cells[pick].tier;
+        const float soften = cells[pick].soften > 1.0f ? cells[pick].soften : 0.0f;
         c->size = size;
         if (level == c->current && tier == c->tier && c->uploaded == r && ht_renderer_tier(r) == tier &&
-            !c->width_rule)
+            !c->width_rule && soften == 0.0f)
             return level;
         /* the mesh first: the tier's per-vertex data is made of it */
         ht_result res = held_mesh(c, r) ? HT_OK : ht_renderer_set_mesh(r, &c->all);
@@ -269,7 +299,7 @@ int ht_lod_chain_select_pair(ht_lod_chain *c, ht_renderer *r, const ht_camera *c
         if (res == HT_OK && ht_renderer_tier(r) != tier) res = ht_renderer_set_tier(r, tier, held_mesh(c, r));
         if (res == HT_OK) {
             c->tier = tier;
-            return draw_level_width_rule(c, r, level, px, camera, result);
+            return draw_level_width_rule(c, r, level, soften, px, camera, result);
         }
         if (!held_mesh(c, r) || res == HT_ERR_OUT_OF_MEMORY) {
             if (result) *result = res;

@@ -93,6 +93,7 @@ static void record_state(ht_renderer *r, ht_trace_entry *e) {
     gl->GetBooleanv(GL_COLOR_WRITEMASK, b);
     e->color_write = b[0] || b[1] || b[2] || b[3];
     e->blend = gl->IsEnabled(GL_BLEND) == GL_TRUE;
+    e->opacity_scale = 1.0f - r->opacity_cut;
     if (ht_caps_es_programs(&r->caps)) {
         /* The ES texts' discard, which the rule above set. */
         GLenum func;

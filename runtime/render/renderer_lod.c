@@ -12,7 +12,8 @@ int ht_renderer_lod_cells(const ht_renderer *r, ht_lod_cell *out, int max) {
         const ht_tier tier = ht_tier_from_name(l->cells[i].tier);
         if (tier == HT_TIER_COUNT) continue; /* a tier this runtime does not know */
         out[n++] = (ht_lod_cell){ .lod = l->cells[i].level, .tier = tier, .size = l->cells[i].size,
-                                  .psnr = l->cells[i].psnr_db, .cost = l->cells[i].cost_ratio };
+                                  .psnr = l->cells[i].psnr_db, .cost = l->cells[i].cost_ratio,
+                                  .soften = l->cells[i].soften };
     }
     return n;
 }

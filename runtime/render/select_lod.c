@@ -14,7 +14,7 @@ double ht_projected_width_px(double width, double distance, double fov_y_deg, in
 double ht_width_rule_widen(double strand_px) {
     if (!(strand_px > 0) || strand_px >= 1.0 || !isfinite(strand_px)) return 1.0;
     const double quarters = ceil(4.0 * -log2(strand_px) - 1e-9);
-    return fmin(exp2(quarters / 4.0), 1024.0);
+    return fmin(exp2(quarters / 4.0), HT_LOD_MAX_WIDEN);
 }
 
 int ht_lod_pick_best(double strand_px, int current, int max_level) {
@@ -32,6 +32,11 @@ int ht_lod_pick_best(double strand_px, int current, int max_level) {
     return ideal > lo && ideal <= hi ? current : target;
 }
 
+bool ht_lod_cell_same_pair(const ht_lod_cell *a, const ht_lod_cell *b) {
+    return a->lod == b->lod && a->tier == b->tier && (a->soften > 1.0f) == (b->soften > 1.0f) &&
+           (a->soften <= 1.0f || a->soften == b->soften);
+}
+
 static double size_distance(double a, double b) { return fabs(log2(a) - log2(b)); }
 
 /* The measured size nearest `size` (in log2): the rules compare cells there only. */
@@ -42,12 +47,12 @@ static double nearest_size(const ht_lod_cell *cells, int count, double size) {
     return nearest;
 }
 
-/* The cell at `size` holding the same pair as cells[current]; -1: none. */
+/* The cell at `size` holding the same pair as cells[current] (level, tier
+   and soft or plain); -1: none. */
 static int held_pair(const ht_lod_cell *cells, int count, double size, int current) {
     if (current < 0 || current >= count) return -1;
     for (int i = 0; i < count; i++)
-        if (cells[i].size == size && cells[i].lod == cells[current].lod && cells[i].tier == cells[current].tier)
-            return i;
+        if (cells[i].size == size && ht_lod_cell_same_pair(&cells[i], &cells[current])) return i;
     return -1;
 }
 
