@@ -369,6 +369,8 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
                 hair->component_count, ladder ? ", the levels lods.bin stores" : "");
         return 1;
     }
+    /* counted before a soft level's sort makes every segment a component */
+    uint32_t strands = hair->component_count;
     /* a plain bundle's level 0 is not stored: the scene's mesh is it */
     const bool stored = ladder && ladder->levels[level].kind != HT_LOD_KIND_SCENE;
     if (stored || (!ladder && level > 0)) {
@@ -383,6 +385,7 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
         }
         ht_mesh_free(hair);
         *hair = lod;
+        strands = hair->component_count;
         if (desc.soften > 1) {
             /* lod.h: a soft level's translucent ribbons compose far to near. */
             ht_mesh_sort_back_to_front(hair, s->camera.eye);
@@ -390,14 +393,13 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
             printf("soften=%.3f opacity=%.3f\n", desc.soften, ht_lod_opacity(&desc));
         }
     }
-    printf("lod=%d strands=%u strand_px=%.3f", level, hair->component_count, px);
+    printf("lod=%d strands=%u strand_px=%.3f", level, strands, px);
     if (ladder)
         printf(" stored kind=%s param=%u components=%u",
                ladder->levels[level].kind == HT_LOD_KIND_CARDS ? "cards"
                : stored                                        ? "strands"
                                                                : "scene",
-               ladder->levels[level].param,
-               hair->component_count);
+               ladder->levels[level].param, strands);
     printf("\n");
     return 0;
 }

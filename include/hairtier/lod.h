@@ -160,10 +160,13 @@ HT_API ht_result ht_mesh_widen(const ht_mesh *mesh, double factor, ht_mesh *out)
 
 /* The width rule's strands are translucent (opacity 1 / f): their
    coverage composes only when they are blended far to near, so the
-   widened mesh is drawn in this order instead of inside out: components
-   by their centroid's distance from eye, farthest first (sort_key = minus
-   that distance). Once per camera position; the opaque cutoff sends every
-   scaled fragment to the blended passes (ht_renderer_set_opacity_scale). */
+   widened mesh is drawn in this order instead of inside out: segments
+   (a builder's 6 indices between two rows; a component of another count
+   whole) by their centroid's distance from eye, farthest first. Each
+   becomes a component (sort_key = minus that distance): a strand's
+   segments lie at different depths among other strands'. Once per camera
+   position; the opaque cutoff sends every scaled fragment to the blended
+   passes (ht_renderer_set_opacity_scale). */
 HT_API void ht_mesh_sort_back_to_front(ht_mesh *mesh, const float eye[3]);
 
 /* Scales the hair's drawn alpha by scale in every pass of every tier (a
