@@ -304,14 +304,16 @@ static double reference_ms(const options *o, const view *v, const ht_scene *s, c
 
 /* A bundle's measured (level, tier) cells (hairgen --measure-lods) when the
    policy picks pairs (error:DB, frame:MS) and the hair is shaded; *ref the
-   reference pair's (level 0, its PSNR infinite). 0: none, or no reference. */
+   reference pair's (level 0, its PSNR infinite; against the supersampled
+   truth none is: the first level-0 cell, the first tier's). 0: none, or no
+   reference. */
 #define MAX_CELLS 256
 static int pair_cells(const options *o, const view *v, const ht_policy *policy, ht_lod_cell *cells, int *ref) {
     const bool pair = policy->kind == HT_POLICY_ERROR || policy->kind == HT_POLICY_FRAME;
     const int n = pair && !o->flat ? ht_renderer_lod_cells(v->renderer, cells, MAX_CELLS) : 0;
     *ref = -1;
     for (int i = 0; i < n; i++)
-        if (cells[i].lod == 0 && isinf(cells[i].psnr)) *ref = i;
+        if (cells[i].lod == 0 && (isinf(cells[i].psnr) || *ref < 0)) *ref = i;
     return *ref >= 0 ? n : 0;
 }
 
@@ -409,17 +411,16 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
    the opacity scaled by the inverse. */
 static int apply_width_rule(const options *o, const ht_scene *s, ht_renderer *r, ht_mesh *hair) {
     const double px = ht_projected_width_px(ht_mesh_mean_width(hair), eye_distance(s), s->camera.fov_y, s->height);
-    const double f = ht_width_rule_widen(px);
+    double f = 1.0;
+    ht_mesh wide;
+    ht_result res = ht_mesh_width_rule(hair, px, s->camera.eye, &wide, &f);
+    if (res != HT_OK) {
+        fprintf(stderr, "hairview: %s: geometry: --width-rule: %s\n", o->view.scene, ht_result_string(res));
+        return 1;
+    }
     if (f > 1.0) {
-        ht_mesh wide;
-        ht_result res = ht_mesh_widen(hair, f, &wide);
-        if (res != HT_OK) {
-            fprintf(stderr, "hairview: %s: geometry: --width-rule: %s\n", o->view.scene, ht_result_string(res));
-            return 1;
-        }
         ht_mesh_free(hair);
         *hair = wide;
-        ht_mesh_sort_back_to_front(hair, s->camera.eye);
         if ((res = ht_renderer_set_opacity_scale(r, (float)(1.0 / f))) != HT_OK) return fail(res);
     }
     printf("width_rule=%.3f opacity=%.3f\n", f, 1.0 / f);

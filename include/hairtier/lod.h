@@ -169,6 +169,14 @@ HT_API ht_result ht_mesh_widen(const ht_mesh *mesh, double factor, ht_mesh *out)
    passes (ht_renderer_set_opacity_scale). */
 HT_API void ht_mesh_sort_back_to_front(ht_mesh *mesh, const float eye[3]);
 
+/* The width rule on one mesh for one eye: *factor = ht_width_rule_widen
+   (strand_px); above 1, *out is ht_mesh_widen(mesh, factor) sorted back
+   to front from eye, to be drawn at opacity 1 / factor; at 1, *out is
+   zeroed (draw mesh itself at opacity 1). HT_ERR_INVALID_ARGUMENT,
+   HT_ERR_OUT_OF_MEMORY (then *out zeroed). */
+HT_API ht_result ht_mesh_width_rule(const ht_mesh *mesh, double strand_px, const float eye[3], ht_mesh *out,
+                                    double *factor);
+
 /* Scales the hair's drawn alpha by scale in every pass of every tier (a
    uniform in the GLSL texts, the last combiner stage's constant in fixed4,
    the vertex tier and fixed, the colour array in gl11); (0, 1], 1 (the
