@@ -490,6 +490,27 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
     double dir[3], len = 0;
     for (int k = 0; k < 3; k++) dir[k] = (double)s->camera.eye[k] - s->camera.target[k], len += dir[k] * dir[k];
     len = sqrt(len);
+    /* frame:MS: the reference pair timed again with the eye where the hair
+       is at each measured size (chain size = --size x scene distance /
+       distance), as each size's cells are ratios of their own reference */
+    static ht_lod_reference_frame frames[8];
+    const ht_camera start = s->camera;
+    for (int i = 0; rule.kind == HT_POLICY_FRAME && i < rule.cell_count && rule.reference_frame_count < 8; i++) {
+        bool known = false;
+        for (int j = 0; j < rule.reference_frame_count; j++) known |= frames[j].size == cells[i].size;
+        if (known || !(cells[i].size > 0)) continue;
+        const double d = o->size * scene_distance / cells[i].size;
+        for (int k = 0; k < 3; k++) s->camera.eye[k] = (float)(s->camera.target[k] + dir[k] / len * d);
+        frame->camera = s->camera;
+        frames[rule.reference_frame_count] = (ht_lod_reference_frame){ cells[i].size,
+                                                                        reference_ms(o, v, s, frame, cells[ref].tier) };
+        printf("frame_reference: size=%.3f distance=%.3f ms=%.3f\n", cells[i].size, d,
+               frames[rule.reference_frame_count].ms);
+        rule.reference_frame_count++;
+    }
+    rule.reference_frames = frames;
+    s->camera = start;
+    frame->camera = start;
     ht_result fr = HT_OK;
     int last_level = -1;
     ht_tier last_tier = HT_TIER_COUNT;

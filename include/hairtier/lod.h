@@ -307,6 +307,12 @@ HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);
    or -1 with *result set: HT_ERR_INVALID_ARGUMENT for a rule without
    cells (error, frame), size1_px or, for frame, reference_ms not > 0;
    an upload's error; HT_ERR_NO_TIER when no cell's tier can be drawn. */
+/* frame:MS's reference frame at one measured size (ht_lod_rule). */
+typedef struct ht_lod_reference_frame {
+    double size; /* a cells' size, e.g. 1, 0.5, 0.25 */
+    double ms;   /* the (level 0, reference tier) frame with the hair at that size, on this device */
+} ht_lod_reference_frame;
+
 typedef struct ht_lod_rule {
     ht_policy_kind kind;      /* HT_POLICY_BEST, HT_POLICY_ERROR (value dB) or HT_POLICY_FRAME (value ms) */
     double value;
@@ -314,8 +320,14 @@ typedef struct ht_lod_rule {
     int cell_count;
     double size1_px;          /* a level-0 strand's projected width at the cells' size 1 (the scene's view) */
     double reference_ms;      /* frame: the (level 0, reference tier) frame on this device, taken for
-                                 every size (the cells' costs are ratios of it) */
+                                 every size not in reference_frames (the cells' costs are ratios of it) */
+    const ht_lod_reference_frame *reference_frames; /* frame, optional: that frame timed at each measured
+                                 size, as each size's cells' costs are ratios of their own size's reference */
+    int reference_frame_count;
 } ht_lod_rule;
+/* The reference frame the frame rule uses at a measured size: the rule's
+   reference_frames entry of that size, else reference_ms. */
+HT_API double ht_lod_rule_reference_ms(const ht_lod_rule *rule, double size);
 HT_API int ht_lod_chain_select_pair(ht_lod_chain *chain, ht_renderer *r, const ht_camera *camera, int viewport_h,
                                     const ht_lod_rule *rule, ht_result *result);
 HT_API void ht_lod_chain_free(ht_lod_chain *chain);
