@@ -43,10 +43,8 @@ static ht_result draw_level(offscreen *o, ht_renderer *r, const ht_scene *s, con
                             const ht_mesh *mesh, bool width_rule, unsigned char *rgba, double *ms) {
     ht_mesh wide = { 0 };
     double factor = 1.0;
-    ht_result res = width_rule ? ht_mesh_width_rule(mesh, ht_projected_width_px(ht_mesh_mean_width(mesh), eye_distance(s),
-                                                                               s->camera.fov_y, s->height),
-                                                    s->camera.eye, &wide, &factor)
-                               : HT_OK;
+    const double px = ht_projected_width_px(ht_mesh_mean_width(mesh), eye_distance(s), s->camera.fov_y, s->height);
+    ht_result res = width_rule ? ht_mesh_width_rule(mesh, px, s->camera.eye, &wide, &factor) : HT_OK;
     if (res == HT_OK) res = ht_renderer_set_mesh(r, factor > 1.0 ? &wide : mesh);
     if (res == HT_OK) res = ht_renderer_set_opacity_scale(r, (float)(1.0 / factor));
     ht_mesh_free(&wide);

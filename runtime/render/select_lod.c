@@ -82,8 +82,10 @@ static bool better(const ht_lod_cell *a, const ht_lod_cell *b) {
 
 double ht_lod_rule_reference_ms(const ht_lod_rule *rule, double size) {
     if (!rule) return 0;
-    for (int i = 0; rule->reference_frames && i < rule->reference_frame_count; i++)
-        if (rule->reference_frames[i].size == size && rule->reference_frames[i].ms > 0) return rule->reference_frames[i].ms;
+    for (int i = 0; rule->reference_frames && i < rule->reference_frame_count; i++) {
+        const ht_lod_reference_frame *f = &rule->reference_frames[i];
+        if (f->size == size && f->ms > 0) return f->ms;
+    }
     return rule->reference_ms;
 }
 
