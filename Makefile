@@ -286,7 +286,7 @@ $(BUILD)/fixtures/%: $(HAIRGEN) $(wildcard materials/*.json scenes/*.json)
 	@$(HAIRGEN) -q materials/$(notdir $(patsubst %/,%,$(dir $*))).json --scene scenes/$(notdir $*).json --no-lods -o $@
 
 $(foreach t,$(PROGRAM_TESTS),$(eval $(TEST_RESULTS)/$(t).llvmpipe $(TEST_RESULTS)/$(t).softpipe \
-  $(TEST_RESULTS)/$(t).egl: $(HAIRGEN) $(PROGRAMS)))
+  $(TEST_RESULTS)/$(t).egl: $(HAIRGEN) $(PROGRAMS) $(BUILD)/densegroom))
 $(TEST_RESULTS)/%.llvmpipe: $(BUILD)/tests/% | $(TEST_RESULTS)/.dir $(FIXTURE_BUNDLES)
 	@$(RUN_TEST) $@ llvmpipe osmesa $<
 # On softpipe only the cases whose outcome is the driver's (tests/support_driver.h).

@@ -29,8 +29,9 @@
    tier, then levels 1 and 2 of the mesh (lod.h's ladder) in full, fixed4
    and gl11, each against full detail's image, and names the pair
    error:30 would pick among them (the cheapest at >= 30 dB); --soft draws
-   those levels soft (lod.h); --samples N draws every contender
-   multisampled. */
+   those levels soft (lod.h), --width-rule with the width rule where their
+   strands are under a pixel (full detail stays the plain reference);
+   --samples N draws every contender multisampled. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -57,7 +58,7 @@
 static int WIDTH = 512, HEIGHT = 512, FRAMES = 9, HAIRS = 10000;
 #define MAX_HAIRS 1000000
 
-static bool HAIRS_GIVEN = false, ORBIT = true, LODS = false, SOFT = false;
+static bool HAIRS_GIVEN = false, ORBIT = true, LODS = false, SOFT = false, WIDTH_RULE = false;
 static int SAMPLES = 0;
 static offscreen_kind CONTEXT = OFFSCREEN_AUTO;
 static int EGL_DEVICE = -1;
@@ -362,13 +363,27 @@ static int run(const char *work) {
     _Static_assert(TIERS + 1 <= MAX_CONTENDERS, "MAX_CONTENDERS");
     const run_desc *runs = LODS ? lod_runs : tier_runs;
     ht_mesh lods[3] = { { 0 } }; /* [1], [2]: the levels --lods draws */
-    float opacity = 1.0f;        /* theirs: ht_lod_opacity */
+    float opacity[3] = { 1.0f, 1.0f, 1.0f }; /* theirs: ht_lod_opacity, or the width rule's */
     for (int l = 1; LODS && l < 3 && l <= ht_lod_max_level(&mesh); l++) {
         ht_lod_desc d;
         (SOFT ? ht_lod_soft_level : ht_lod_level)(l, &d);
         if (ht_mesh_build_lod(&mesh, &d, &lods[l]) != HT_OK) fprintf(stderr, "bench_frame: LOD %d: not built\n", l);
         else if (d.soften > 1) ht_mesh_sort_back_to_front(&lods[l], scene.camera.eye); /* lod.h's soft levels */
-        opacity = ht_lod_opacity(&d);
+        opacity[l] = ht_lod_opacity(&d);
+        double f = 1.0, eye = 0;
+        for (int k = 0; k < 3; k++) eye += pow((double)scene.camera.eye[k] - scene.camera.target[k], 2);
+        ht_mesh wide;
+        if (WIDTH_RULE && lods[l].vertices &&
+            ht_mesh_width_rule(&lods[l], ht_projected_width_px(ht_mesh_mean_width(&lods[l]), sqrt(eye),
+                                                               scene.camera.fov_y, HEIGHT),
+                               scene.camera.eye, &wide, &f) == HT_OK &&
+            f > 1.0) {
+            /* as ht_lod_chain draws a level under a pixel with width_rule set */
+            ht_mesh_free(&lods[l]);
+            lods[l] = wide;
+            opacity[l] = (float)(1.0 / f);
+            printf("level %d: width rule %.3f, opacity %.3f\n", l, f, 1.0 / f);
+        }
     }
     contender c[TIERS + 1] = { { .name = "geometry floor", .tier = "floor", .context = gl,
                                  .renderer = create(dir, HT_TIER_AUTO, true, HT_VARIANT_EXACT, &mesh) } };
@@ -379,7 +394,7 @@ static int run(const char *work) {
             const ht_mesh *m = runs[k].lod == 0 ? &mesh : lods[runs[k].lod].vertices ? &lods[runs[k].lod] : NULL;
             c[k + 1] = (contender){ .name = runs[k].name, .tier = runs[k].name, .context = gl,
                                     .renderer = t == HT_TIER_COUNT ? NULL : create(dir, t, false, runs[k].variant, m) };
-            if (c[k + 1].renderer && runs[k].lod > 0 && ht_renderer_set_opacity_scale(c[k + 1].renderer, opacity) != HT_OK) {
+            if (c[k + 1].renderer && runs[k].lod > 0 && ht_renderer_set_opacity_scale(c[k + 1].renderer, opacity[runs[k].lod]) != HT_OK) {
                 ht_renderer_destroy(c[k + 1].renderer);
                 c[k + 1].renderer = NULL;
             }
@@ -438,7 +453,7 @@ close_context:
 }
 
 enum { KEY_HAIRS = CLI_LONG_ONLY, KEY_FRAMES, KEY_SCENE, KEY_CSV, KEY_SERIES, KEY_EGL_DEVICE, KEY_CONTEXT, KEY_API,
-       KEY_NO_ORBIT, KEY_SIZE, KEY_LODS, KEY_SAMPLES, KEY_SOFT };
+       KEY_NO_ORBIT, KEY_SIZE, KEY_LODS, KEY_SAMPLES, KEY_SOFT, KEY_WIDTH_RULE };
 static const struct option long_options[] = {
     { "hairs", required_argument, NULL, KEY_HAIRS },
     { "frames", required_argument, NULL, KEY_FRAMES },
@@ -452,6 +467,7 @@ static const struct option long_options[] = {
     { "size", required_argument, NULL, KEY_SIZE },
     { "lods", no_argument, NULL, KEY_LODS },
     { "soft", no_argument, NULL, KEY_SOFT },
+    { "width-rule", no_argument, NULL, KEY_WIDTH_RULE },
     { "samples", required_argument, NULL, KEY_SAMPLES },
     { 0 },
 };
@@ -460,7 +476,7 @@ static const cli_program program = {
     .name = "bench_frame",
     .synopsis = "usage: bench_frame [--scene SCENE.json] [--hairs N] [--size S] [--frames F] [--no-orbit]\n"
                 "                   [--csv FILE [--series NAME]] [--context osmesa|egl] [--egl-device N]\n"
-                "                   [--api gl|gles1|gles2|gles3] [--lods [--soft]] [--samples N]\n",
+                "                   [--api gl|gles1|gles2|gles3] [--lods [--soft] [--width-rule]] [--samples N]\n",
     .help = "Times every tier of dark-brown against the geometry floor on one context, frames round-robin:\n"
             "median frame ms, the ratios to the floor and to full, PSNR against full and the per-vertex CPU\n"
             "work, with the camera still and orbiting (--no-orbit skips that).\n"
@@ -476,6 +492,9 @@ static const cli_program program = {
             "                 fixed4 and gl11 (docs/lod.md), and the pair error:30 picks among them\n"
             "  --soft         with --lods, levels 1 and 2 soft (lod.h: 3x wider at 1/3 the opacity,\n"
             "                 sorted back to front for the scene's eye)\n"
+            "  --width-rule   with --lods, a level whose strands are under a pixel drawn as the runtime's\n"
+            "                 width rule draws it (lod.h: about a pixel wide, opacity scaled); full\n"
+            "                 detail, the reference, as it is\n"
             "  --samples N    a multisampled framebuffer, 2..32 samples (GL 3.0)\n",
     .long_options = long_options,
 };
@@ -518,6 +537,7 @@ static const char *take(void *user, int key, const char *value) {
     case KEY_NO_ORBIT: ORBIT = false; return NULL;
     case KEY_LODS: LODS = true; return NULL;
     case KEY_SOFT: SOFT = true; return NULL;
+    case KEY_WIDTH_RULE: WIDTH_RULE = true; return NULL;
     case KEY_SAMPLES: return number("--samples", value, 2, 32, &SAMPLES);
     case KEY_SIZE:
         if ((why = number("--size", value, 16, 4096, &size))) return why;

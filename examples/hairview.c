@@ -304,13 +304,15 @@ static double reference_ms(const options *o, const view *v, const ht_scene *s, c
 
 /* A bundle's measured (level, tier) cells (hairgen --measure-lods) when the
    policy picks pairs (error:DB, frame:MS) and the hair is shaded; *ref the
-   reference pair's (level 0, its PSNR infinite). 0: none, or no reference. */
+   reference pair's (level 0, its PSNR infinite; against the supersampled
+   truth none is: the first level-0 cell, the first tier's). 0: none, or no
+   reference. */
 static int pair_cells(const options *o, const view *v, const ht_policy *policy, ht_lod_cell *cells, int *ref) {
     const bool pair = policy->kind == HT_POLICY_ERROR || policy->kind == HT_POLICY_FRAME;
     const int n = pair && !o->flat ? ht_renderer_lod_cells(v->renderer, cells, HT_LOD_MAX_CELLS) : 0;
     *ref = -1;
     for (int i = 0; i < n; i++)
-        if (cells[i].lod == 0 && isinf(cells[i].psnr)) *ref = i;
+        if (cells[i].lod == 0 && (isinf(cells[i].psnr) || *ref < 0)) *ref = i;
     return *ref >= 0 ? n : 0;
 }
 
@@ -372,6 +374,8 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
                 hair->component_count, ladder ? ", the levels lods.bin stores" : "");
         return 1;
     }
+    /* counted before a soft level's sort makes every segment a component */
+    uint32_t strands = hair->component_count;
     /* a plain bundle's level 0 is not stored: the scene's mesh is it */
     const bool stored = ladder && ladder->levels[level].kind != HT_LOD_KIND_SCENE;
     if (soften > 1 && ladder && ladder->levels[level].kind == HT_LOD_KIND_CARDS) {
@@ -391,6 +395,7 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
         }
         ht_mesh_free(hair);
         *hair = lod;
+        strands = hair->component_count;
     }
     if (soften > 1 && level > 0) {
         /* lod.h: the plain level widened, its translucent ribbons far to near */
@@ -406,14 +411,13 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
         if ((r = ht_renderer_set_opacity_scale(v->renderer, *opacity)) != HT_OK) return fail(r);
         printf("soften=%.3f opacity=%.3f\n", soften, 1.0 / soften);
     }
-    printf("lod=%d strands=%u strand_px=%.3f", level, hair->component_count, px);
+    printf("lod=%d strands=%u strand_px=%.3f", level, strands, px);
     if (ladder)
         printf(" stored kind=%s param=%u components=%u",
                ladder->levels[level].kind == HT_LOD_KIND_CARDS ? "cards"
                : stored                                        ? "strands"
                                                                : "scene",
-               ladder->levels[level].param,
-               hair->component_count);
+               ladder->levels[level].param, strands);
     printf("\n");
     return 0;
 }
@@ -423,14 +427,14 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
    to about a pixel, the opacity scaled by the inverse. */
 static int apply_width_rule(const options *o, const ht_scene *s, ht_renderer *r, ht_mesh *hair, float opacity) {
     const double px = ht_projected_width_px(ht_mesh_mean_width(hair), eye_distance(s), s->camera.fov_y, s->height);
-    const double f = ht_width_rule_widen(px);
+    double f = 1.0;
+    ht_mesh wide;
+    ht_result res = ht_mesh_width_rule(hair, px, s->camera.eye, &wide, &f);
+    if (res != HT_OK) {
+        fprintf(stderr, "hairview: %s: geometry: --width-rule: %s\n", o->view.scene, ht_result_string(res));
+        return 1;
+    }
     if (f > 1.0) {
-        ht_mesh wide;
-        ht_result res = ht_mesh_widen_back_to_front(hair, f, s->camera.eye, &wide);
-        if (res != HT_OK) {
-            fprintf(stderr, "hairview: %s: geometry: --width-rule: %s\n", o->view.scene, ht_result_string(res));
-            return 1;
-        }
         ht_mesh_free(hair);
         *hair = wide;
         if ((res = ht_renderer_set_opacity_scale(r, (float)(opacity / f))) != HT_OK) return fail(res);
@@ -502,6 +506,27 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
     double dir[3], len = 0;
     for (int k = 0; k < 3; k++) dir[k] = (double)s->camera.eye[k] - s->camera.target[k], len += dir[k] * dir[k];
     len = sqrt(len);
+    /* frame:MS: the reference pair timed again with the eye where the hair
+       is at each measured size (chain size = --size x scene distance /
+       distance), as each size's cells are ratios of their own reference */
+    static ht_lod_reference_frame frames[8];
+    const ht_camera start = s->camera;
+    for (int i = 0; rule.kind == HT_POLICY_FRAME && i < rule.cell_count && rule.reference_frame_count < 8; i++) {
+        bool known = false;
+        for (int j = 0; j < rule.reference_frame_count; j++) known |= frames[j].size == cells[i].size;
+        if (known || !(cells[i].size > 0)) continue;
+        const double d = o->size * scene_distance / cells[i].size;
+        for (int k = 0; k < 3; k++) s->camera.eye[k] = (float)(s->camera.target[k] + dir[k] / len * d);
+        frame->camera = s->camera;
+        frames[rule.reference_frame_count] = (ht_lod_reference_frame){ cells[i].size,
+                                                                        reference_ms(o, v, s, frame, cells[ref].tier) };
+        printf("frame_reference: size=%.3f distance=%.3f ms=%.3f\n", cells[i].size, d,
+               frames[rule.reference_frame_count].ms);
+        rule.reference_frame_count++;
+    }
+    rule.reference_frames = frames;
+    s->camera = start;
+    frame->camera = start;
     ht_result fr = HT_OK;
     int last_level = -1;
     ht_tier last_tier = HT_TIER_COUNT;

@@ -98,6 +98,7 @@ typedef struct ht_measure_job {
     const char *out_dir;
     bool lods;               /* also the geometry LODs (measure_lod.h: --measure-lods) */
     int lod_samples;         /* 0: their frames one sample a pixel; else multisampled (--lod-samples) */
+    ht_lod_reference lod_reference; /* what the cells are against (--lod-reference) */
     ht_measure_result result;
     ht_measure_lods lods_result;
 } ht_measure_job;

@@ -32,12 +32,26 @@ typedef struct lod_levels {
     ht_mesh soft[HT_LOD_FILE_MAX_LEVELS];
 } lod_levels;
 
-/* One level at one size: set the mesh and opacity scale, one warm-up and
-   the timed frames; its last frame copied into rgba. */
+/* The eye's distance to the target: the width rule's strand width. */
+static double eye_distance(const ht_scene *s) {
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) d2 += pow((double)s->camera.eye[k] - s->camera.target[k], 2);
+    return sqrt(d2);
+}
+
+/* One level at one size, drawn at opacity (with width_rule, as the chain
+   draws it: widened, back to front, opacity scaled, when its strands are
+   under a pixel), one warm-up and the timed frames; its last frame copied
+   into rgba. */
 static ht_result draw_level(offscreen *o, ht_renderer *r, const ht_scene *s, const ht_frame_desc *f,
-                            const ht_mesh *mesh, float opacity, unsigned char *rgba, double *ms) {
-    ht_result res = ht_renderer_set_mesh(r, mesh);
-    if (res == HT_OK) res = ht_renderer_set_opacity_scale(r, opacity);
+                            const ht_mesh *mesh, float opacity, bool width_rule, unsigned char *rgba, double *ms) {
+    ht_mesh wide = { 0 };
+    double factor = 1.0;
+    const double px = ht_projected_width_px(ht_mesh_mean_width(mesh), eye_distance(s), s->camera.fov_y, s->height);
+    ht_result res = width_rule ? ht_mesh_width_rule(mesh, px, s->camera.eye, &wide, &factor) : HT_OK;
+    if (res == HT_OK) res = ht_renderer_set_mesh(r, factor > 1.0 ? &wide : mesh);
+    if (res == HT_OK) res = ht_renderer_set_opacity_scale(r, (float)(opacity / factor));
+    ht_mesh_free(&wide);
     double t[HT_MEASURE_LOD_TIMED_FRAMES];
     for (int k = 0; k <= HT_MEASURE_LOD_TIMED_FRAMES && res == HT_OK; k++) {
         const double t0 = ht_measure_clock_ms();
@@ -54,9 +68,10 @@ static ht_result draw_level(offscreen *o, ht_renderer *r, const ht_scene *s, con
     return HT_OK;
 }
 
-/* Where a tier's cells are measured against: base (LOD 0 of the first
-   tier, drawn by that tier's call, which sets base and base_ms), and the
-   tier's level before (prev; zero: its level 0, the soft levels' start). */
+/* Where a tier's cells are measured against: base (against samples LOD 0
+   of the first tier, drawn by that tier's call; against the supersampled
+   truth that; the first tier's LOD 0 sets base_ms), and the tier's level
+   before (prev; zero: its level 0, the soft levels' start). */
 typedef struct lod_images {
     unsigned char *base, *prev, *cur, *zero;
     double base_ms;
@@ -67,18 +82,19 @@ static ht_result measure_cell(offscreen *o, ht_renderer *r, const ht_scene *s, c
                               const char *tier, double size, const ht_mesh *mesh, int level, float soften, bool cards,
                               bool reference, lod_images *im, ht_measure_lods *out, char *err, size_t err_size) {
     const size_t bytes = (size_t)s->width * (size_t)s->height * 4;
+    const bool truth = out->reference == HT_LOD_REFERENCE_SUPERSAMPLE;
     char why[1024];
     if (out->count >= HT_MANIFEST_MAX_LOD_CELLS)
         return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: lods: more than %d cells",
                        HT_MANIFEST_MAX_LOD_CELLS);
     ht_measure_lod_cell *c = &out->cells[out->count];
     const char *soft = soften > 1 ? " soft" : "";
-    ht_result res = draw_level(o, r, s, f, mesh, soften > 1 ? 1.0f / soften : 1.0f, im->cur, &c->frame_ms);
+    ht_result res = draw_level(o, r, s, f, mesh, soften > 1 ? 1.0f / soften : 1.0f, truth, im->cur, &c->frame_ms);
     if (res != HT_OK)
         return ht_fail(err, err_size, res, "measure: lods: %s level %d%s at size %g: %s", tier, level, soft, size,
                        ht_result_string(res));
     if (reference) {
-        memcpy(im->base, im->cur, bytes);
+        if (!truth) memcpy(im->base, im->cur, bytes);
         im->base_ms = c->frame_ms;
     }
     c->level = level;
@@ -99,7 +115,7 @@ static ht_result measure_cell(offscreen *o, ht_renderer *r, const ht_scene *s, c
     if (res != HT_OK)
         return ht_fail(err, err_size, res, "measure: lods: %s level %d%s at size %g: %s", tier, level, soft, size, why);
     /* The reference pair is itself exactly, whatever a redraw gives. */
-    if (reference) c->whole.psnr_db = INFINITY;
+    if (reference && !truth) c->whole.psnr_db = INFINITY;
     c->pop_psnr_db = pop.psnr_db;
     memcpy(im->prev, im->cur, bytes);
     if (level == 0) memcpy(im->zero, im->cur, bytes);
@@ -125,6 +141,50 @@ static ht_result measure_tier(offscreen *o, ht_renderer *r, const ht_scene *s, c
     return res;
 }
 
+/* The supersampled truth at one size into rgba: LOD 0 in the first tier at
+   SUPERSAMPLE x SUPERSAMPLE the pixels, one sample each, box-filtered
+   down (hairview --supersample 4). */
+#define SUPERSAMPLE 4
+static ht_result draw_truth(const char *dir, const ht_manifest *bundle, const ht_scene *s, const ht_frame_desc *f,
+                            const ht_mesh *mesh, unsigned char *rgba, char *err, size_t err_size) {
+    const int w = s->width * SUPERSAMPLE, h = s->height * SUPERSAMPLE;
+    char why[1024];
+    offscreen *o = offscreen_open(&(offscreen_desc){ .width = w, .height = h, .egl_device = -1 }, why, sizeof why);
+    if (!o) return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: lods: the supersampled reference: %s", why);
+    ht_renderer *r = NULL;
+    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = dir,
+                                                            .tier = bundle->tiers[0].tier, .strict = true,
+                                                            .policy = "best", .log = NULL },
+                                       &r);
+    if (res == HT_OK) res = ht_renderer_set_mesh(r, mesh);
+    if (res == HT_OK) {
+        o->gl.Viewport(0, 0, w, h);
+        o->gl.ClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
+        o->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        res = ht_renderer_draw(r, f);
+        o->gl.Finish();
+    }
+    if (res == HT_OK) {
+        const unsigned char *big = offscreen_read(o);
+        for (int y = 0; y < s->height; y++)
+            for (int x = 0; x < s->width; x++)
+                for (int c = 0; c < 4; c++) {
+                    unsigned sum = 0;
+                    for (int j = 0; j < SUPERSAMPLE; j++)
+                        for (int i = 0; i < SUPERSAMPLE; i++)
+                            sum += big[((size_t)(y * SUPERSAMPLE + j) * w + (size_t)(x * SUPERSAMPLE + i)) * 4 + c];
+                    rgba[((size_t)y * s->width + x) * 4 + c] =
+                        (unsigned char)((sum + SUPERSAMPLE * SUPERSAMPLE / 2) / (SUPERSAMPLE * SUPERSAMPLE));
+                }
+    } else {
+        ht_set_error(err, err_size, "measure: lods: the supersampled reference (%s) at %dx%d: %s", bundle->tiers[0].name,
+                     w, h, ht_result_string(res));
+    }
+    ht_renderer_destroy(r);
+    offscreen_close(o);
+    return res;
+}
+
 /* Every tier at every level at one size into out->cells. */
 static ht_result measure_size(const char *dir, const ht_manifest *bundle, const ht_scene *scene, double size,
                               const lod_levels *levels, const ht_mesh *head, ht_measure_lods *out,
@@ -133,15 +193,24 @@ static ht_result measure_size(const char *dir, const ht_manifest *bundle, const 
     s.width = (int)fmax(16, lround(scene->width * size));
     s.height = (int)fmax(16, lround(scene->height * size));
     char why[1024];
-    offscreen *o = offscreen_open(&(offscreen_desc){ .width = s.width, .height = s.height, .egl_device = -1,
-                                                     .samples = out->samples },
-                                  why, sizeof why);
-    if (!o) return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: lods: %s", why);
     const size_t bytes = (size_t)s.width * (size_t)s.height * 4;
     lod_images im = { .base = malloc(bytes), .prev = malloc(bytes), .cur = malloc(bytes), .zero = malloc(bytes) };
     ht_result res = im.base && im.prev && im.cur && im.zero ? HT_OK : HT_ERR_OUT_OF_MEMORY;
     const ht_frame_desc f = { .camera = s.camera, .lights = s.lights, .light_count = s.light_count,
                               .aspect = (float)s.width / (float)s.height, .opaque = head->index_count ? head : NULL };
+    if (res == HT_OK && out->reference == HT_LOD_REFERENCE_SUPERSAMPLE)
+        res = draw_truth(dir, bundle, &s, &f, &levels->mesh[0], im.base, err, err_size);
+    offscreen *o = res == HT_OK ? offscreen_open(&(offscreen_desc){ .width = s.width, .height = s.height,
+                                                                    .egl_device = -1, .samples = out->samples },
+                                                 why, sizeof why)
+                                : NULL;
+    if (!o) {
+        free(im.base);
+        free(im.prev);
+        free(im.cur);
+        free(im.zero);
+        return res != HT_OK ? res : ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: lods: %s", why);
+    }
     for (int t = 0; t < bundle->tier_count && res == HT_OK; t++) {
         const ht_manifest_tier *tier = &bundle->tiers[t];
         ht_renderer *r = NULL;
@@ -199,13 +268,14 @@ static ht_result stored_levels(const char *dir, lod_levels *levels, char *err, s
 }
 
 ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file, int samples,
-                              ht_measure_lods *out, char *err, size_t err_size) {
+                              ht_lod_reference reference, ht_measure_lods *out, char *err, size_t err_size) {
     if (err && err_size) err[0] = '\0';
     memset(out, 0, sizeof *out);
     if (samples != 0 && (samples < 2 || samples > HT_MANIFEST_MAX_LOD_SAMPLES))
         return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: lods: --lod-samples: %d, expected 2..%d",
                        samples, HT_MANIFEST_MAX_LOD_SAMPLES);
     out->samples = samples;
+    out->reference = reference;
     ht_manifest *bundle = malloc(sizeof *bundle);
     lod_levels *levels = calloc(1, sizeof *levels);
     ht_mesh head = { 0 };
@@ -256,6 +326,8 @@ static cJSON *lods_object(const ht_measure_lods *m) {
     cJSON *o = cJSON_CreateObject(), *cells = cJSON_CreateArray();
     cJSON_AddStringToObject(o, HT_MANIFEST_KEY_LOD_TIER, m->tier);
     if (m->samples) cJSON_AddNumberToObject(o, HT_MANIFEST_KEY_SAMPLES, m->samples);
+    if (m->reference == HT_LOD_REFERENCE_SUPERSAMPLE)
+        cJSON_AddStringToObject(o, HT_MANIFEST_KEY_LOD_REFERENCE, "supersample");
     for (int i = 0; i < m->count; i++) {
         const ht_measure_lod_cell *c = &m->cells[i];
         cJSON *j = cJSON_CreateObject();
@@ -313,6 +385,8 @@ void ht_measure_lods_print(FILE *out, const ht_measure_lods *m) {
             m->tier);
     if (m->skipped[0]) fprintf(out, "lods: not run on this context: %s\n", m->skipped);
     if (m->samples) fprintf(out, "lods: every frame with %d samples a pixel\n", m->samples);
+    if (m->reference == HT_LOD_REFERENCE_SUPERSAMPLE)
+        fprintf(out, "lods: against level 0 supersampled 4x4 (the truth), every cell drawn with the width rule\n");
     fprintf(out, "%5s %5s %-10s %8s %9s %7s %9s %9s %9s\n", "size", "level", "tier", "strands", "cost", "psnr_db", "ssim",
             "de00", "pop_db");
     for (int i = 0; i < m->count; i++) {

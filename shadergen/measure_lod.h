@@ -40,15 +40,20 @@ typedef struct ht_measure_lods {
     char tier[16];           /* the reference tier: the bundle's first */
     char skipped[128];       /* tiers this context could not run, space-separated */
     int samples;             /* 0: one a pixel; else the frames' multisampling */
+    ht_lod_reference reference; /* SUPERSAMPLE: against the 16x truth, cells drawn with the width rule */
     ht_measure_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
     int count;
 } ht_measure_lods;
 
 /* Draws and measures (needs an offscreen context: OSMesa, else EGL). */
 /* samples: 0, one a pixel; 2..32, every frame multisampled (the manifest
-   records it). */
+   records it). reference: HT_LOD_REFERENCE_SAMPLES, every cell against
+   (LOD 0, first tier) drawn as the cells are; _SUPERSAMPLE, against that
+   pair drawn at 4 x 4 the pixels and box-filtered (the 16x truth), every
+   cell drawn with the width rule (lod.h) as ht_lod_chain draws with
+   width_rule set (the manifest records it). */
 ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file, int samples,
-                              ht_measure_lods *out, char *err, size_t err_size);
+                              ht_lod_reference reference, ht_measure_lods *out, char *err, size_t err_size);
 /* Replaces the "lods" object of dir/manifest.json (whole or not at all),
    after checking the runtime reads the result. */
 ht_result ht_measure_lods_write(const char *dir, const ht_measure_lods *m, char *err, size_t err_size);

@@ -322,6 +322,11 @@ static void frame_budget_picks_most_accurate_pair_with_hysteresis(void **state) 
         cur = next;
     }
     assert_true(switches <= 1);
+    /* the reference frame of a rule: its size's, else the one for every size */
+    const ht_lod_reference_frame frames[] = { { 0.5, 4 }, { 0.25, 0 } };
+    const ht_lod_rule rule = { .reference_ms = 10, .reference_frames = frames, .reference_frame_count = 2 };
+    assert_true(ht_lod_rule_reference_ms(&rule, 0.5) == 4 && ht_lod_rule_reference_ms(&rule, 1) == 10);
+    assert_true(ht_lod_rule_reference_ms(&rule, 0.25) == 10); /* not timed there */
     assert_int_equal(ht_lod_pick_frame(cells, n, 0.5, 5, 0, -1), -1);
     assert_int_equal(ht_lod_pick_frame(cells, 0, 0.5, 5, 10, -1), -1);
 }

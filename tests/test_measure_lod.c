@@ -68,7 +68,7 @@ static int setup(void **state) {
     ht_result r = lods ? ht_scene_load(scene_path, &scene, err, sizeof err) : HT_ERR_OUT_OF_MEMORY;
     if (r == HT_OK) r = ht_scene_build_meshes(&scene, scene_path, &mesh, NULL, err, sizeof err);
     if (r == HT_OK) r = ht_cards_bundle_write_mesh(bundle, &mesh, CARDS_STRANDS, CARDS_ATLAS, cards, NULL, err, sizeof err);
-    if (r == HT_OK) r = ht_measure_lods_run(cards, &scene, scene_path, 0, lods, err, sizeof err);
+    if (r == HT_OK) r = ht_measure_lods_run(cards, &scene, scene_path, 0, HT_LOD_REFERENCE_SAMPLES, lods, err, sizeof err);
     if (r == HT_OK) r = ht_measure_lods_write(cards, lods, err, sizeof err);
     for (int i = 0; r == HT_OK && i < lods->count; i++)
         if (lods->cells[i].cards) card_count = lods->cells[i].strands;
@@ -421,6 +421,65 @@ static void a_bad_cell_is_refused_naming_it(void **state) {
     cJSON_Delete(root);
 }
 
+/* hairgen --lod-reference supersample: the cells against (level 0, first
+   tier) drawn at 4 x 4 the pixels and box-filtered, the 16x truth, each
+   cell drawn with the width rule (this fur ball's strands are 0.06-0.23
+   px): the manifest says so, the reference pair is finite against the
+   truth, and a cell is the PSNR hairview measures for that drawing
+   (--lod 1 --width-rule --samples 4 against --supersample 4). A bad value
+   is refused, by hairgen and by the manifest reader. */
+static void supersample_reference_measures_the_width_rule_against_the_truth(void **state) {
+    (void)state;
+    char args[1024], out[4096], truth[160];
+    snprintf(truth, sizeof truth, "%s/truth", work);
+    snprintf(args, sizeof args, "-q materials/dark-brown.json --scene %s --no-lods --lod-samples 4 --lod-reference "
+             "supersample -o %s", scene_path, truth);
+    if (ht_test_run_program("hairgen", args, out, sizeof out) != 0) fail_msg("hairgen: %s", out);
+    cJSON *root = ht_test_read_json(truth, "manifest.json");
+    const cJSON *lods = cJSON_GetObjectItem(root, "lods");
+    assert_string_equal(cJSON_GetStringValue(cJSON_GetObjectItem(lods, "reference")), "supersample");
+    double cell = NAN, reference = NAN;
+    const cJSON *c;
+    cJSON_ArrayForEach(c, cJSON_GetObjectItem(lods, "cells")) {
+        if (strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(c, "tier")), "full") ||
+            cJSON_GetNumberValue(cJSON_GetObjectItem(c, "size")) != 1.0)
+            continue;
+        const int level = (int)cJSON_GetNumberValue(cJSON_GetObjectItem(c, "level"));
+        if (level == 0) reference = cJSON_GetNumberValue(cJSON_GetObjectItem(c, "psnr_db"));
+        if (level == 1) cell = cJSON_GetNumberValue(cJSON_GetObjectItem(c, "psnr_db"));
+    }
+    static const char *const draws[][2] = { { "truth", "--supersample 4" },
+                                            { "rule1", "--lod 1 --width-rule --samples 4" } };
+    for (int i = 0; i < 2; i++) {
+        snprintf(args, sizeof args, "--bundle %s --scene %s --tier full --strict --frames 1 %s -o %s/%s.png", truth,
+                 scene_path, draws[i][1], work, draws[i][0]);
+        if (ht_test_run_program("hairview", args, out, sizeof out) != 0) fail_msg("hairview: %s", out);
+    }
+    snprintf(args, sizeof args, "%s/truth.png %s/rule1.png", work, work);
+    assert_int_equal(ht_test_run_program("png_metrics", args, out, sizeof out), 0);
+    double viewed = 0;
+    assert_int_equal(sscanf(out, "psnr_db=%lf", &viewed), 1);
+    printf("against the truth at size 1: level 0 %.2f dB, level 1 %.2f dB (hairview: %.2f)\n", reference, cell, viewed);
+    assert_true(isfinite(reference)); /* not the reference pair itself (null) */
+    assert_true(fabs(cell - viewed) < 0.05);
+    /* refused: by the reader, naming the field; by hairgen, writing nothing */
+    cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)lods, "reference", cJSON_CreateString("exact"));
+    char *json = cJSON_Print(root), err[1024];
+    ht_manifest *m = malloc(sizeof *m);
+    assert_non_null(m);
+    assert_int_equal(ht_manifest_parse(json, truth, "manifest.json", m, err, sizeof err), HT_ERR_PARSE);
+    assert_non_null(strstr(err, "lods.reference"));
+    free(m);
+    free(json);
+    cJSON_Delete(root);
+    snprintf(args, sizeof args, "materials/dark-brown.json --scene %s --lod-reference exact -o %s/never2", scene_path,
+             work);
+    assert_true(ht_test_run_program("hairgen", args, out, sizeof out) != 0);
+    assert_non_null(strstr(out, "--lod-reference"));
+    snprintf(truth, sizeof truth, "%s/never2", work);
+    assert_int_not_equal(access(truth, F_OK), 0);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(plain_hairgen_stores_the_strand_levels),
@@ -431,6 +490,7 @@ int main(void) {
         cmocka_unit_test(a_bad_cell_is_refused_naming_it),
         cmocka_unit_test(a_budget_only_soft_cells_meet_picks_them),
         cmocka_unit_test(a_budget_only_cards_meet_picks_them),
+        cmocka_unit_test(supersample_reference_measures_the_width_rule_against_the_truth),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -411,6 +411,19 @@ static void chain_pairs_follow_a_frame_budget(void **state) {
     pull_out_and_back((ht_lod_rule){ .kind = HT_POLICY_FRAME, .value = 7.5, .reference_ms = 10 }, expect, 3);
 }
 
+/* frame:7.5 with the reference frame timed per size: 10 ms at 1 and 1/2,
+   6 ms at 1/4 (less hair on screen): at 1/4 full detail fits (6 ms) and
+   is the most accurate, where one 10 ms reference for every size keeps
+   (1, fixed) there (the case above). */
+static void chain_frame_budget_reads_each_sizes_reference(void **state) {
+    (void)state;
+    static const ht_lod_reference_frame frames[] = { { 1, 10 }, { 0.5, 10 }, { 0.25, 6 } };
+    const pair expect[] = { { 0, HT_TIER_GL11 }, { 0, HT_TIER_FULL }, { 1, HT_TIER_FIXED }, { 0, HT_TIER_GL11 } };
+    pull_out_and_back((ht_lod_rule){ .kind = HT_POLICY_FRAME, .value = 7.5, .reference_ms = 10,
+                                     .reference_frames = frames, .reference_frame_count = 3 },
+                      expect, 4);
+}
+
 /* The width rule per draw in the chain: pulled from 3 to 300 units and
    back (512 pixels high), the coarsest level's strands go under a pixel
    past about 30; from there each frame draws that level widened by the
@@ -648,6 +661,7 @@ int main(void) {
         cmocka_unit_test(stored_chain_reaches_the_cards),
         cmocka_unit_test(chain_pairs_follow_an_error_budget),
         cmocka_unit_test(chain_pairs_follow_a_frame_budget),
+        cmocka_unit_test(chain_frame_budget_reads_each_sizes_reference),
         cmocka_unit_test(chain_width_rule_per_draw),
         cmocka_unit_test(chain_picks_a_soft_cell),
         cmocka_unit_test(chain_soft_hysteresis_and_width_rule),

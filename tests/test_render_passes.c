@@ -89,9 +89,16 @@ static void check_pass_state(const ht_trace_entry *e, float cutoff) {
         break;
     case HT_PASS_BACK:
     case HT_PASS_FRONT:
-        assert_true(e->cull);
-        assert_int_equal(e->cull_face, e->pass == HT_PASS_BACK ? GL_FRONT : GL_BACK);
-        assert_int_equal(e->depth_write, e->pass == HT_PASS_FRONT);
+        if (cutoff == 1.0f) {
+            /* scaled: both faces blend in the back pass, in the mesh's order; none in the front */
+            assert_int_equal(e->cull, e->pass == HT_PASS_FRONT);
+            if (e->cull) assert_int_equal(e->cull_face, GL_FRONT_AND_BACK);
+            assert_false(e->depth_write);
+        } else {
+            assert_true(e->cull);
+            assert_int_equal(e->cull_face, e->pass == HT_PASS_BACK ? GL_FRONT : GL_BACK);
+            assert_int_equal(e->depth_write, e->pass == HT_PASS_FRONT);
+        }
         assert_int_equal(e->depth_func, GL_LESS);
         assert_true(e->color_write);
         assert_true(e->blend);

@@ -162,12 +162,44 @@ static void soft_level_is_1_db_closer_to_full_detail(void **state) {
     }
 }
 
+/* docs/lod.md, the dense groom: 12 000 strands of 8 points at 64 x 64
+   (about 0.05 px a strand, hundreds of strands a pixel), where 4 samples
+   are mostly sampling noise. Drawn with the width rule, ribbons about a
+   pixel wide at a twentieth of the opacity blend over each other, so only
+   the right order composes them: the full detail with the rule is at
+   least 3 dB closer to the 16x supersampled truth than without it (about
+   27.5 -> 31.8 dB). Strands sorted whole by their centroid (a strand's
+   tip lies over other strands' roots) or the blended passes split by
+   facing (far front faces over near back faces) leave it under the 3 dB
+   (27.1 dB with both, 30.0 with the split alone). */
+static void width_rule_composes_a_dense_groom_in_order(void **state) {
+    (void)state;
+    char args[1024], out[4096];
+    snprintf(args, sizeof args, "--strands 12000 --points 8 -o %s/dense.hair --scene %s/dense.json", work, work);
+    if (ht_test_run_program("densegroom", args, out, sizeof out) != 0) fail_msg("densegroom: %s", out);
+    snprintf(args, sizeof args, "-q materials/dark-brown.json --scene %s/dense.json --no-lods -o %s/dense-bundle", work,
+             work);
+    if (ht_test_run_program("hairgen", args, out, sizeof out) != 0) fail_msg("hairgen: %s", out);
+    static const char *const runs[][2] = { { "dense_truth", "--supersample 4" },
+                                           { "dense_four", "--samples 4" },
+                                           { "dense_rule", "--samples 4 --width-rule" } };
+    for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++) {
+        snprintf(args, sizeof args, "--bundle %s/dense-bundle --scene %s/dense.json --size 0.125 --frames 1 --strict "
+                 "--tier full %s -o %s/%s.png", work, work, runs[i][1], work, runs[i][0]);
+        if (ht_test_run_program("hairview", args, out, sizeof out) != 0) fail_msg("hairview %s: %s", runs[i][1], out);
+    }
+    const double four = psnr_against("dense_truth", "dense_four"), rule = psnr_against("dense_truth", "dense_rule");
+    printf("dense groom against 16x supersampled: 4 samples %.2f dB, with the width rule %.2f dB\n", four, rule);
+    assert_true(rule >= four + 3.0);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(multisampling_is_3_db_closer_to_supersampled),
         cmocka_unit_test(auto_lod_widens_thin_strands_to_a_pixel),
         cmocka_unit_test(width_rule_is_3_db_closer_in_every_tier),
         cmocka_unit_test(soft_level_is_1_db_closer_to_full_detail),
+        cmocka_unit_test(width_rule_composes_a_dense_groom_in_order),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -19,7 +19,8 @@
 #       against NVIDIA's desktop GL image of the same tier; a tier sheet.
 #       bench: bench_frame on the fur ball at 8 000, 200 000 and 1 000 000
 #       hairs (512x512), its --lods pairs (4 samples) at 8 000 and
-#       1 000 000 hairs at 256 and 128, and on ES 1.1, 2.0 and 3.x at 8 000
+#       1 000 000 hairs at 256 and 128, the dense groom's with --width-rule
+#       at 256 and 128, and on ES 1.1, 2.0 and 3.x at 8 000
 #       and 200 000. Writes to $OUT (default out/device):
 #       summary.md (the tables), run.log (everything printed) and
 #       images.tar.gz (every PNG, the references too): three files, within
@@ -67,6 +68,8 @@ prepare() {
     rm -rf "${DEV:?}/bin" "${DEV:?}/lib" "${DEV:?}/ref" "${DEV:?}/bundles"
     mkdir -p "$DEV/bin" "$DEV/lib" "$DEV/gl" "$DEV/ref" "$DEV/bundles"
     cp build/hairview build/bench_frame build/tier_sheet build/png_metrics "$DEV/bin/"
+    # the dense groom (docs/lod.md): its scene names the .hair beside it
+    mkdir -p "$DEV/dense" && cp build/gen/dense.json build/gen/dense.hair "$DEV/dense/"
     # Every library ldd names except glibc's own and glvnd's (from the
     # packages below, or the device's): the device image has neither this
     # Debian's cJSON nor necessarily its libpng.
@@ -232,6 +235,19 @@ bench() {
                 cat "$WORK/$name.txt" >>"$LOG"
             done
         done
+    done
+    # The dense groom's pairs, levels under a pixel drawn with the width rule
+    # as the runtime ships them, against plain full detail (docs/lod.md).
+    for sz in $BENCH_LOD_SIZES; do
+        name="bench-lods-dense-$sz"
+        echo "== bench_frame --scene dense.json --lods --width-rule --samples 4 --size $sz (NVIDIA)" >>"$LOG"
+        if "$DEV/bin/bench_frame" --context egl --scene "$DEV/dense/dense.json" --lods --width-rule --samples 4 \
+            --no-orbit --size "$sz" --frames 9 >"$WORK/$name.txt" 2>&1; then
+            { echo '```'; cat "$WORK/$name.txt"; echo '```'; echo; } >>"$WORK/bench.md"
+        else
+            echo "bench_frame --lods --width-rule dense $sz failed: $(tail -1 "$WORK/$name.txt")" >>"$WORK/bench.md"
+        fi
+        cat "$WORK/$name.txt" >>"$LOG"
     done
     # The ES tiers against the ES geometry floor (fixed tiers run on ES 1.1
     # only, the shader tiers on ES 2.0/3.x only).

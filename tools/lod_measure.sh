@@ -11,7 +11,10 @@
 #   environment: SIZES ("1 0.5 0.25"), LEVELS ("0 1 2 3 4"), TIERS ("full";
 #                e.g. "full vertex fixed4 fixed gl11"), FRAMES (2), DB (30),
 #                EXTRA (more hairview options for every image, the reference
-#                too, e.g. "--samples 4" or "--width-rule")
+#                too, e.g. "--samples 4" or "--width-rule"), REF (when set, the
+#                reference is drawn apart, full detail in the first of TIERS with
+#                these options instead of EXTRA, e.g. "--supersample 4": the
+#                16x truth; image s<S>_ref.png)
 # One line a cell: "size S lod N tier T strand_px W ms M cost C psnr_db=...
 # ssim=... de00_mean=... de00_p95=... adjacent_psnr_db=..."; a level past
 # the scene's last (hairview refuses it) prints "none". Then a line a size:
@@ -27,6 +30,12 @@ cells=$d/cells.txt
 : >"$cells"
 for size in ${SIZES:-1 0.5 0.25}; do
   ref_ms=""
+  refimg=$d/s${size}_${ref}_l0.png
+  if [ -n "${REF:-}" ]; then
+    refimg=$d/s${size}_ref.png
+    "$B/hairview" --bundle "$b" --scene "$sc" --tier "$ref" --strict --lod 0 --size "$size" --frames 1 $REF \
+      -o "$refimg" >/dev/null 2>&1 || { echo "size $size: the reference failed"; continue; }
+  fi
   for t in $TIERS; do
     for l in ${LEVELS:-0 1 2 3 4}; do
       img=$d/s${size}_${t}_l$l.png
@@ -35,7 +44,7 @@ for size in ${SIZES:-1 0.5 0.25}; do
       ms=$(echo "$out" | sed -n 's/frame_ms=//p'); px=$(echo "$out" | sed -n 's/.*strand_px=\([0-9.]*\).*/\1/p')
       [ -n "$ref_ms" ] || ref_ms=$ms
       cost=$(awk -v a="$ms" -v r="$ref_ms" 'BEGIN { printf "%.3f", a / r }')
-      m=$("$B/png_metrics" "$d/s${size}_${ref}_l0.png" "$img" | cut -d' ' -f1-4)
+      m=$("$B/png_metrics" "$refimg" "$img" | cut -d' ' -f1-4)
       prev=""
       [ "$l" -gt 0 ] && [ -f "$d/s${size}_${t}_l$((l - 1)).png" ] &&
         prev=$("$B/png_metrics" "$d/s${size}_${t}_l$((l - 1)).png" "$img" | sed 's/ .*//')

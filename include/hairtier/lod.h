@@ -161,14 +161,25 @@ HT_API ht_result ht_mesh_widen(const ht_mesh *mesh, double factor, ht_mesh *out)
 
 /* The width rule's strands are translucent (opacity 1 / f): their
    coverage composes only when they are blended far to near, so the
-   widened mesh is drawn in this order instead of inside out: components
-   by their centroid's distance from eye, farthest first (sort_key = minus
-   that distance). Once per camera position; the opaque cutoff sends every
-   scaled fragment to the blended passes (ht_renderer_set_opacity_scale). */
+   widened mesh is drawn in this order instead of inside out: segments
+   (a builder's 6 indices between two rows; a component of another count
+   whole) by their centroid's distance from eye, farthest first. Each
+   becomes a component (sort_key = minus that distance): a strand's
+   segments lie at different depths among other strands'. Once per camera
+   position; the opaque cutoff sends every scaled fragment to the blended
+   passes (ht_renderer_set_opacity_scale). */
 HT_API void ht_mesh_sort_back_to_front(ht_mesh *mesh, const float eye[3]);
 /* ht_mesh_widen by factor, then ht_mesh_sort_back_to_front from eye: the
    mesh the width rule and a soft level draw (at opacity 1 / factor). */
 HT_API ht_result ht_mesh_widen_back_to_front(const ht_mesh *mesh, double factor, const float eye[3], ht_mesh *out);
+
+/* The width rule on one mesh for one eye: *factor = ht_width_rule_widen
+   (strand_px); above 1, *out is ht_mesh_widen(mesh, factor) sorted back
+   to front from eye, to be drawn at opacity 1 / factor; at 1, *out is
+   zeroed (draw mesh itself at opacity 1). HT_ERR_INVALID_ARGUMENT,
+   HT_ERR_OUT_OF_MEMORY (then *out zeroed). */
+HT_API ht_result ht_mesh_width_rule(const ht_mesh *mesh, double strand_px, const float eye[3], ht_mesh *out,
+                                    double *factor);
 
 /* Scales the hair's drawn alpha by scale in every pass of every tier (a
    uniform in the GLSL texts, the last combiner stage's constant in fixed4,
@@ -327,6 +338,12 @@ HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);
    or -1 with *result set: HT_ERR_INVALID_ARGUMENT for a rule without
    cells (error, frame), size1_px or, for frame, reference_ms not > 0;
    an upload's error; HT_ERR_NO_TIER when no cell's tier can be drawn. */
+/* frame:MS's reference frame at one measured size (ht_lod_rule). */
+typedef struct ht_lod_reference_frame {
+    double size; /* a cells' size, e.g. 1, 0.5, 0.25 */
+    double ms;   /* the (level 0, reference tier) frame with the hair at that size, on this device */
+} ht_lod_reference_frame;
+
 typedef struct ht_lod_rule {
     ht_policy_kind kind;      /* HT_POLICY_BEST, HT_POLICY_ERROR (value dB) or HT_POLICY_FRAME (value ms) */
     double value;
@@ -334,8 +351,14 @@ typedef struct ht_lod_rule {
     int cell_count;
     double size1_px;          /* a level-0 strand's projected width at the cells' size 1 (the scene's view) */
     double reference_ms;      /* frame: the (level 0, reference tier) frame on this device, taken for
-                                 every size (the cells' costs are ratios of it) */
+                                 every size not in reference_frames (the cells' costs are ratios of it) */
+    const ht_lod_reference_frame *reference_frames; /* frame, optional: that frame timed at each measured
+                                 size, as each size's cells' costs are ratios of their own size's reference */
+    int reference_frame_count;
 } ht_lod_rule;
+/* The reference frame the frame rule uses at a measured size: the rule's
+   reference_frames entry of that size, else reference_ms. */
+HT_API double ht_lod_rule_reference_ms(const ht_lod_rule *rule, double size);
 HT_API int ht_lod_chain_select_pair(ht_lod_chain *chain, ht_renderer *r, const ht_camera *camera, int viewport_h,
                                     const ht_lod_rule *rule, ht_result *result);
 HT_API void ht_lod_chain_free(ht_lod_chain *chain);

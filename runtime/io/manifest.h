@@ -113,6 +113,11 @@ _Static_assert(HT_LIMIT_TEXTURE_PIXELS == HT_IMAGE_MAX_PIXELS, "the PNG reader r
 #define HT_MANIFEST_KEY_CELLS "cells"
 #define HT_MANIFEST_KEY_SAMPLES "samples"     /* optional: the LOD frames' multisampling */
 #define HT_MANIFEST_MAX_LOD_SAMPLES 32
+/* optional: what the cells are against. "samples" (the default): LOD 0 of
+   the first tier drawn as the cells are; "supersample": LOD 0 of the first
+   tier at 4 x 4 the pixels, box-filtered (the 16x truth), every cell drawn
+   with the width rule (hairgen --lod-reference) */
+#define HT_MANIFEST_KEY_LOD_REFERENCE "reference"
 #define HT_MANIFEST_KEY_LEVEL "level"
 #define HT_MANIFEST_KEY_STRANDS "strands"
 #define HT_MANIFEST_KEY_SIZE "size"
@@ -194,6 +199,10 @@ typedef struct ht_manifest_tier {
     ht_manifest_measured measured_device; /* optional: the device-only variant's */
 } ht_manifest_tier;
 
+/* The "lods" reference (HT_MANIFEST_KEY_LOD_REFERENCE), in its names' order. */
+typedef enum ht_lod_reference { HT_LOD_REFERENCE_SAMPLES, HT_LOD_REFERENCE_SUPERSAMPLE } ht_lod_reference;
+#define HT_LOD_REFERENCE_NAMES { "samples", "supersample", NULL }
+
 /* One cell of "lods": psnr_db and pop_psnr_db INFINITY for null (level 0,
    identical to itself; no level before). */
 typedef struct ht_manifest_lod_cell {
@@ -209,6 +218,7 @@ typedef struct ht_manifest_lod_cell {
 typedef struct ht_manifest_lods {
     char tier[16];                 /* "" when the manifest has no "lods" */
     int samples;                   /* 0: one sample a pixel; else the frames' (hairgen --lod-samples) */
+    ht_lod_reference reference;    /* "reference": what the cells are against */
     ht_manifest_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
     int cell_count;
 } ht_manifest_lods;

@@ -71,7 +71,8 @@ static ht_result parse_cell(const ht_jctx *c, const cJSON *cell, const char *pat
 }
 
 ht_result ht_manifest_parse_lods(const ht_jctx *c, const cJSON *root, ht_manifest_lods *out) {
-    static const char *const known[] = { K(LOD_TIER), K(CELLS), K(SCENE), K(DRIVER), K(SAMPLES), NULL };
+    static const char *const known[] = { K(LOD_TIER), K(CELLS), K(SCENE), K(DRIVER), K(SAMPLES), K(LOD_REFERENCE), NULL };
+    static const char *const references[] = HT_LOD_REFERENCE_NAMES;
     memset(out, 0, sizeof *out);
     const cJSON *lods, *cells;
     int count = 0;
@@ -84,6 +85,10 @@ ht_result ht_manifest_parse_lods(const ht_jctx *c, const cJSON *root, ht_manifes
     if (cJSON_GetObjectItemCaseSensitive(lods, K(SAMPLES)) &&
         (r = ht_json_int32(c, lods, K(LODS), K(SAMPLES), NULL, 2, HT_MANIFEST_MAX_LOD_SAMPLES, &out->samples)) != HT_OK)
         return r;
+    int reference = HT_LOD_REFERENCE_SAMPLES;
+    if ((r = ht_json_enum(c, lods, K(LODS), K(LOD_REFERENCE), HT_LOD_REFERENCE_SAMPLES, references, &reference)) != HT_OK)
+        return r;
+    out->reference = (ht_lod_reference)reference;
     for (const cJSON *cell = cells->child; cell && r == HT_OK; cell = cell->next) {
         char path[HT_JSON_PATH_MAX];
         ht_json_path_index(path, K(LODS) "." K(CELLS), out->cell_count);

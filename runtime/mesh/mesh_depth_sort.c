@@ -1,31 +1,66 @@
-/* mesh_depth_sort.c — components ordered back to front from an eye, for
-   the width rule (lod.h): its strands are translucent, and blending
-   translucent strands composes their coverage only far to near. */
+/* mesh_depth_sort.c — a mesh's segments ordered back to front from an eye,
+   for the width rule and soft levels (lod.h): their strands are
+   translucent, and blending translucent strands composes their coverage
+   only far to near. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <hairtier/lod.h>
 
+/* minus the distance from eye to the centroid of n indices' vertices */
+static float back_to_front_key(const ht_mesh *mesh, uint32_t first, uint32_t n, const float eye[3]) {
+    double sum[3] = { 0, 0, 0 };
+    uint32_t used = 0;
+    for (uint32_t i = 0; i < n && (uint64_t)first + i < mesh->index_count; i++) {
+        const uint32_t v = mesh->indices[first + i];
+        if (v >= mesh->vertex_count) continue;
+        for (int k = 0; k < 3; k++) sum[k] += mesh->vertices[v].position[k];
+        used++;
+    }
+    double d2 = 0;
+    for (int k = 0; k < 3 && used; k++) {
+        const double x = sum[k] / used - eye[k];
+        d2 += x * x;
+    }
+    return (float)-sqrt(d2);
+}
+
+/* A strand's segments lie at different depths and cross other strands'
+   (a dense groom's tips lie over other strands' roots), so the unit
+   ordered is a segment, the builders' 6 indices between two rows; a
+   component whose index count is not a multiple of 6 stays one unit. */
 void ht_mesh_sort_back_to_front(ht_mesh *mesh, const float eye[3]) {
     if (!mesh || !mesh->components || !mesh->indices || !mesh->vertices || !eye) return;
+    uint64_t units = 0;
     for (uint32_t c = 0; c < mesh->component_count; c++) {
-        ht_component *comp = &mesh->components[c];
-        double sum[3] = { 0, 0, 0 };
-        uint32_t n = 0;
-        for (uint32_t i = 0; i < comp->index_count && (uint64_t)comp->first_index + i < mesh->index_count; i++) {
-            const uint32_t v = mesh->indices[comp->first_index + i];
-            if (v >= mesh->vertex_count) continue;
-            for (int k = 0; k < 3; k++) sum[k] += mesh->vertices[v].position[k];
-            n++;
-        }
-        double d2 = 0;
-        for (int k = 0; k < 3 && n; k++) {
-            const double x = sum[k] / n - eye[k];
-            d2 += x * x;
-        }
-        /* ascending keys draw first: the farthest centroid first */
-        comp->sort_key = (float)-sqrt(d2);
+        const uint32_t n = mesh->components[c].index_count;
+        units += n && n % 6 == 0 ? n / 6 : 1;
     }
+    ht_component *split = units <= UINT32_MAX ? malloc(sizeof *split * (size_t)(units ? units : 1)) : NULL;
+    if (split) {
+        uint32_t u = 0;
+        for (uint32_t c = 0; c < mesh->component_count; c++) {
+            const ht_component *comp = &mesh->components[c];
+            const uint32_t step = comp->index_count && comp->index_count % 6 == 0 ? 6 : comp->index_count;
+            uint32_t i = 0;
+            do {
+                split[u++] = (ht_component){ comp->first_index + i, step,
+                                             back_to_front_key(mesh, comp->first_index + i, step, eye) };
+                i += step;
+            } while (i < comp->index_count);
+        }
+        free(mesh->components);
+        mesh->components = split;
+        mesh->component_count = u;
+    } else {
+        /* out of memory for the segments: whole components, by their centroid */
+        for (uint32_t c = 0; c < mesh->component_count; c++) {
+            ht_component *comp = &mesh->components[c];
+            comp->sort_key = back_to_front_key(mesh, comp->first_index, comp->index_count, eye);
+        }
+    }
+    /* ascending keys draw first: the farthest first */
     ht_mesh_sort_inside_out(mesh);
 }
 

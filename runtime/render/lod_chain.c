@@ -280,7 +280,7 @@ int ht_lod_chain_select_pair(ht_lod_chain *c, ht_renderer *r, const ht_camera *c
             cells[n++] = *cell;
         }
         const double size = n ? measured_size(cells, n, px / rule->size1_px, c->size) : 0;
-        const int pick = frame ? ht_lod_pick_frame(cells, n, size, rule->value, rule->reference_ms, held)
+        const int pick = frame ? ht_lod_pick_frame(cells, n, size, rule->value, ht_lod_rule_reference_ms(rule, size), held)
                                : ht_lod_pick_error(cells, n, size, rule->value, held);
         if (pick < 0) {
             if (result) *result = HT_ERR_NO_TIER;

@@ -35,6 +35,13 @@ static void set_es_alpha(const ht_renderer *r, ht_pass pass) {
     if (u_pass >= 0) gl->Uniform1f(u_pass, func == GL_GEQUAL ? 1.0f : 0.0f);
 }
 
+/* Under an opacity scale (the width rule, soft levels: lod.h) every
+   fragment blends and the caller sorted the mesh back to front, so the
+   back pass draws both faces in that order and the front pass nothing:
+   split by facing, the far strands' front faces were blended over the near
+   strands' back faces (the dense groom lost 16 % of its ink). */
+static bool blend_in_mesh_order(const ht_renderer *r) { return r->opacity_cut > 0.0f; }
+
 /* The fixed state of each pass; the numbers are Scheuermann's scheme. */
 static void set_pass_state(ht_renderer *r, ht_pass pass) {
     const ht_gl *gl = &r->gl;
@@ -66,7 +73,11 @@ static void set_pass_state(ht_renderer *r, ht_pass pass) {
     case HT_PASS_FRONT:
         gl->Enable(GL_CULL_FACE);
         gl->CullFace(pass == HT_PASS_BACK ? GL_FRONT : GL_BACK);
-        gl->DepthMask(pass == HT_PASS_FRONT ? GL_TRUE : GL_FALSE);
+        if (blend_in_mesh_order(r)) {
+            if (pass == HT_PASS_BACK) gl->Disable(GL_CULL_FACE);
+            else gl->CullFace(GL_FRONT_AND_BACK);
+        }
+        gl->DepthMask(pass == HT_PASS_FRONT && !blend_in_mesh_order(r) ? GL_TRUE : GL_FALSE);
         gl->DepthFunc(GL_LESS);
         gl->ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         gl->Enable(GL_BLEND);
@@ -153,8 +164,9 @@ ht_result ht_renderer_draw_passes(ht_renderer *r, const ht_tier_frame *tf) {
             if (ht_caps_es_programs(&r->caps)) set_es_alpha(r, pass);
             ht_trace_entry e = { .pass = pass, .sub_pass = sub };
             if (r->record_trace) record_state(r, &e);
-            bool draw = flat_ok && (!r->backend || !r->backend->set_arrays ||
-                                    r->backend->set_arrays(r->backend_state, pass, sub));
+            /* the front pass culls every face there: its vertices are not sent */
+            bool draw = flat_ok && !(pass == HT_PASS_FRONT && blend_in_mesh_order(r)) &&
+                        (!r->backend || !r->backend->set_arrays || r->backend->set_arrays(r->backend_state, pass, sub));
             for (uint32_t c = 0; c < chunk_count; c++) {
                 /* the chunk's part of the draw range */
                 const uint32_t lo = chunks[c].first_index > r->draw_first ? chunks[c].first_index : r->draw_first;

@@ -85,6 +85,15 @@ static bool better(const ht_lod_cell *a, const ht_lod_cell *b) {
     return a->psnr > b->psnr || (a->psnr == b->psnr && a->cost < b->cost);
 }
 
+double ht_lod_rule_reference_ms(const ht_lod_rule *rule, double size) {
+    if (!rule) return 0;
+    for (int i = 0; rule->reference_frames && i < rule->reference_frame_count; i++) {
+        const ht_lod_reference_frame *f = &rule->reference_frames[i];
+        if (f->size == size && f->ms > 0) return f->ms;
+    }
+    return rule->reference_ms;
+}
+
 int ht_lod_pick_frame(const ht_lod_cell *cells, int count, double size, double budget_ms, double reference_ms,
                       int current) {
     if (!cells || count <= 0 || !(size > 0) || !(reference_ms > 0) || !(budget_ms > 0)) return -1;
