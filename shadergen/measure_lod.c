@@ -77,9 +77,11 @@ typedef struct lod_images {
     double base_ms;
 } lod_images;
 
-/* One (level, tier) cell, plain or soft (soften > 1), at one size. */
+/* One (level, tier) cell, plain or soft (soften > 1), at one size; strands
+   the plain level's (a soft mesh's components are its sorted segments). */
 static ht_result measure_cell(offscreen *o, ht_renderer *r, const ht_scene *s, const ht_frame_desc *f,
-                              const char *tier, double size, const ht_mesh *mesh, int level, float soften, bool cards,
+                              const char *tier, double size, const ht_mesh *mesh, uint32_t strands, int level,
+                              float soften, bool cards,
                               bool reference, lod_images *im, ht_measure_lods *out, char *err, size_t err_size) {
     const size_t bytes = (size_t)s->width * (size_t)s->height * 4;
     const bool truth = out->reference == HT_LOD_REFERENCE_SUPERSAMPLE;
@@ -99,7 +101,7 @@ static ht_result measure_cell(offscreen *o, ht_renderer *r, const ht_scene *s, c
     }
     c->level = level;
     snprintf(c->tier, sizeof c->tier, "%s", tier);
-    c->strands = mesh->component_count;
+    c->strands = strands;
     c->cards = cards;
     c->soften = soften > 1 ? soften : 0.0f;
     c->size = size;
@@ -131,13 +133,13 @@ static ht_result measure_tier(offscreen *o, ht_renderer *r, const ht_scene *s, c
                               ht_measure_lods *out, char *err, size_t err_size) {
     ht_result res = HT_OK;
     for (int l = 0; l < levels->count && res == HT_OK; l++)
-        res = measure_cell(o, r, s, f, tier, size, &levels->mesh[l], l, 0.0f, levels->cards[l], first && l == 0, im,
-                           out, err, err_size);
+        res = measure_cell(o, r, s, f, tier, size, &levels->mesh[l], levels->mesh[l].component_count, l, 0.0f,
+                           levels->cards[l], first && l == 0, im, out, err, err_size);
     if (res == HT_OK) memcpy(im->prev, im->zero, (size_t)s->width * (size_t)s->height * 4);
     for (int l = 1; l < levels->count && res == HT_OK; l++)
         if (levels->soft[l].component_count)
-            res = measure_cell(o, r, s, f, tier, size, &levels->soft[l], l, HT_LOD_SOFTEN, false, false, im, out, err,
-                               err_size);
+            res = measure_cell(o, r, s, f, tier, size, &levels->soft[l], levels->mesh[l].component_count, l,
+                               HT_LOD_SOFTEN, false, false, im, out, err, err_size);
     return res;
 }
 

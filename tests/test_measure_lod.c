@@ -442,7 +442,7 @@ static void supersample_reference_measures_the_width_rule_against_the_truth(void
     const cJSON *c;
     cJSON_ArrayForEach(c, cJSON_GetObjectItem(lods, "cells")) {
         if (strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(c, "tier")), "full") ||
-            cJSON_GetNumberValue(cJSON_GetObjectItem(c, "size")) != 1.0)
+            cJSON_GetNumberValue(cJSON_GetObjectItem(c, "size")) != 1.0 || cJSON_GetObjectItem(c, "soften"))
             continue;
         const int level = (int)cJSON_GetNumberValue(cJSON_GetObjectItem(c, "level"));
         if (level == 0) reference = cJSON_GetNumberValue(cJSON_GetObjectItem(c, "psnr_db"));
