@@ -15,7 +15,7 @@
 
 void ht_pass_alpha_rule(const ht_renderer *r, ht_pass pass, GLenum *func, float *ref) {
     /* The width rule's scaled strands all blend (lod.h says why). */
-    *ref = r->opacity_cut > 0.0f ? 1.0f : r->have_bundle ? r->bundle.opaque_cutoff : DEFAULT_CUTOFF;
+    *ref = r->opacity_cut > 0.0f || ht_renderer_width_rule_active(r) ? 1.0f : r->have_bundle ? r->bundle.opaque_cutoff : DEFAULT_CUTOFF;
     *func = pass == HT_PASS_PRIME_Z || pass == HT_PASS_OPAQUE ? GL_GEQUAL : GL_LESS;
 }
 
