@@ -179,8 +179,8 @@ typedef struct ht_renderer ht_renderer;
 HT_API ht_result ht_renderer_set_opacity_scale(ht_renderer *r, float scale);
 
 /* The width rule per vertex (docs/lod.md): on, each vertex of the tiers
-   whose programs can (full and marschner; the vertex tier's GL ES texts)
-   widens its ribbon about the centre line to a pixel at its own distance
+   that can (the programs of full and marschner and the vertex tier's GL
+   ES texts; gl11 on the CPU with its per-vertex colours) widens its ribbon about the centre line to a pixel at its own distance
    and scales its alpha by (its width / its drawn width): tapered tips and
    near and far strands each get their own factor, no widened mesh and no
    upload per size. Takes effect at the next ht_renderer_set_mesh, which

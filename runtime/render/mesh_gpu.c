@@ -88,8 +88,9 @@ uint16_t *ht_renderer_indices16(const uint32_t *indices, uint32_t count) {
 }
 
 bool ht_renderer_width_rule_active(const ht_renderer *r) {
-    return r->width_vertex && r->has_sides && r->backend && r->backend->vertex_width_rule &&
-           r->backend->vertex_width_rule(r->backend_state);
+    /* a_side feeds programs; a tier without them (gl11) widens from its own copy */
+    return r->width_vertex && r->backend && r->backend->vertex_width_rule &&
+           r->backend->vertex_width_rule(r->backend_state) && (r->has_sides || !r->backend->generic_attributes);
 }
 
 /* The width rule per vertex's a_side array (ht_lod_sides), for a mesh

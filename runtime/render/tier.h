@@ -92,9 +92,10 @@ typedef struct ht_tier_backend {
     void (*destroy)(void *state);
     /* Optional: vertices whose data the CPU computed so far (NULL: none). */
     uint64_t (*cpu_vertices)(void *state);
-    /* Optional: true when this state's programs widen each vertex to a
-       pixel and scale its alpha themselves (the width rule per vertex,
-       docs/lod.md; NULL: they cannot, the rule stays per draw). */
+    /* Optional: true when this state widens each vertex to a pixel and
+       scales its alpha itself (the width rule per vertex, docs/lod.md:
+       its programs from a_side, or, without generic attributes, on the
+       CPU from set_mesh's mesh; NULL: it cannot, the rule stays per draw). */
     bool (*vertex_width_rule)(void *state);
     /* Optional: true when this state runs the device-only variant (NULL:
        the tier has none). */
