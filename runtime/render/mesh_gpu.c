@@ -88,9 +88,8 @@ uint16_t *ht_renderer_indices16(const uint32_t *indices, uint32_t count) {
 }
 
 bool ht_renderer_width_rule_active(const ht_renderer *r) {
-    /* a_side feeds programs; a tier without them (gl11) widens from its own copy */
-    return r->width_vertex && r->backend && r->backend->vertex_width_rule &&
-           r->backend->vertex_width_rule(r->backend_state) && (r->has_sides || !r->backend->generic_attributes);
+    return r->width_vertex && r->has_sides && r->backend && r->backend->vertex_width_rule &&
+           r->backend->vertex_width_rule(r->backend_state);
 }
 
 /* The width rule per vertex's a_side array (ht_lod_sides), for a mesh
@@ -208,7 +207,8 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
     r->draw_count = mesh->index_count;
     r->has_mesh = true;
     r->span = make_span(mesh, &r->span_count);
-    if (r->width_vertex && r->gl.has_shaders && !r->chunk_count) r->has_sides = upload_sides(r, mesh);
+    /* a_side feeds programs; without them (gl11) a tier widens from its own copy */
+    if (r->width_vertex && !r->chunk_count) r->has_sides = !r->gl.has_shaders || upload_sides(r, mesh);
     r->mesh_serial++;
     if (r->backend && r->backend->set_mesh) {
         ht_result res = r->backend->set_mesh(r->backend_state, mesh);

@@ -31,7 +31,8 @@ struct ht_renderer {
     bool width_vertex;                /* the width rule per vertex asked for (ht_renderer_set_width_rule) */
     GLuint side_vbo;                  /* the mesh's a_side per vertex (shader_interface.h), made while */
     float (*sides)[3];                /* width_vertex is on: a buffer, or this copy without buffers */
-    bool has_sides;
+    bool has_sides;                   /* the mesh was set with width_vertex on (and a_side made, where
+                                         programs may read it) */
     ht_tier tier;                     /* HT_TIER_COUNT in flat mode */
     char reason[HT_SELECT_REASON];
     const ht_tier_backend *backend;   /* NULL in flat mode */
