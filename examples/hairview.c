@@ -415,9 +415,12 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
 /* --width-rule on the mesh choose_lod left: its strands' width at the
    pixels drawn (a supersampled frame's too), widened to about a pixel,
    the opacity scaled by the inverse. */
+static double mean_strand_px(const ht_scene *s, const ht_mesh *hair) {
+    return ht_projected_width_px(ht_mesh_mean_width(hair), eye_distance(s), s->camera.fov_y, s->height);
+}
+
 static int apply_width_rule(const options *o, const ht_scene *s, ht_renderer *r, ht_mesh *hair) {
-    const double px = ht_projected_width_px(ht_mesh_mean_width(hair), eye_distance(s), s->camera.fov_y, s->height);
-    const double f = ht_width_rule_widen(px);
+    const double f = ht_width_rule_widen(mean_strand_px(s, hair));
     if (f > 1.0) {
         ht_mesh wide;
         ht_result res = ht_mesh_widen(hair, f, &wide);
@@ -539,9 +542,12 @@ static int draw_still(const options *o, view *v, ht_scene *scene, double scene_d
     print_held();
     ht_result r;
     if (o->width_rule == WIDTH_RULE_VERTEX) {
-        /* translucent strands compose far to near (lod.h) */
+        /* translucent strands compose far to near (lod.h), once most are
+           (the mean strand under a pixel): the centroid order misplaces
+           near, long, opaque ones, which the inside-out order does not */
         ht_renderer_set_width_rule(v->renderer, true);
-        ht_mesh_sort_back_to_front(&v->hair, scene->camera.eye);
+        if (ht_width_rule_widen(mean_strand_px(scene, &v->hair)) > 1.0)
+            ht_mesh_sort_back_to_front(&v->hair, scene->camera.eye);
     } else if (o->width_rule && apply_width_rule(o, scene, v->renderer, &v->hair)) {
         return 1;
     }

@@ -203,7 +203,7 @@ static void test_render_opacity_scale_blends_every_strand_in_every_tier(void **s
 /* The width rule per vertex (lod.h): full and gl11 (its CPU colours) do
    it, the desktop vertex, fixed4 and fixed tiers cannot (the caller keeps
    it per draw) and say so. Where it is on: the same four passes with the
-   reference at 1, more pixels touched (the thin tips and far strands
+   material's reference (0.98: lod.h's HT_WIDTH_RULE_VERTEX_REF), more pixels touched (the thin tips and far strands
    widened to 1.5 px) and the ink kept within a quarter (their alpha scaled
    by the ratio): a tier that widened without scaling would gain ink with
    the pixels, one that did neither would touch no more pixels. */
@@ -228,7 +228,7 @@ static void test_render_width_rule_per_vertex_where_the_tier_can(void **state) {
         printf("%s: per vertex %d, hair pixels %d -> %d, ink x %.3f\n", ht_tier_name(tiers[i].tier),
                tiers[i].per_vertex, pixels[0], pixels[1], ratio);
         if (tiers[i].per_vertex) {
-            check_trace(ht_renderer_trace(r), 1.0f);
+            check_trace(ht_renderer_trace(r), HT_WIDTH_RULE_VERTEX_REF);
             assert_true(pixels[1] > pixels[0] * 1.05);
             assert_true(ratio > 0.75 && ratio < 1.25);
         } else {

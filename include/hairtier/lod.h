@@ -191,11 +191,17 @@ HT_API void ht_renderer_set_width_rule(ht_renderer *r, bool per_vertex);
    still misses pixel centres; 1.5 was the closest to the supersampled
    fur ball at 1/8 to 1/2 of its size (docs/lod.md). */
 #define HT_WIDTH_RULE_VERTEX_PX 1.5
+/* The passes' alpha reference while it is on: the material's cutoff, at
+   least this. Most strands are not scaled and keep their opaque pass
+   (reference 1 sent every fragment under it to the blended passes, whose
+   order misplaces near, long strands: 0.4 dB lost on a close fur ball); a
+   scaled fragment still drawn opaque was scaled by at least this, within
+   2 % of its coverage. */
+#define HT_WIDTH_RULE_VERTEX_REF 0.98f
 /* Whether the next frame applies it per vertex: asked for, the tier drawing
    now can, and the mesh was set with it. false: the caller applies the
    rule per draw (ht_width_rule_widen, ht_mesh_widen, the opacity scale),
-   as the fixed-function tiers need. The passes' alpha reference is 1 while
-   it is on (as with an opacity scale below 1). */
+   as the fixed-function tiers need. */
 HT_API bool ht_renderer_width_rule_per_vertex(const ht_renderer *r);
 
 /* A stored level's geometry (lods.bin, a measured cell): strands or cards;
