@@ -70,6 +70,7 @@ typedef struct gl11_state {
     float (*sides)[3];        /* each vertex's offset from its row's centre (ht_lod_sides) */
     float (*wide)[3];         /* the width rule's positions (NULL until it is first on) */
     GLuint wide_buffer;       /* them on the device (0: client memory) */
+    bool wide_refused;        /* the device refused that buffer once: client memory from then on */
     bool wide_valid;          /* this frame draws them */
     bool have_mesh;
     bool colors_valid;
@@ -244,7 +245,7 @@ static bool widen_range(gl11_state *s, const shade_key *key, size_t first, size_
         s->wide[i][2] = pz[i] + side[2] * (f - 1.0f);
         s->colors[4 * i + 3] /= f;
     }
-    if (s->has_vbo && n) {
+    if (s->has_vbo && !s->wide_refused && n) {
         const ht_gl *gl = s->gl;
         const bool fresh = !s->wide_buffer;
         if (fresh) gl->GenBuffers(1, &s->wide_buffer);
@@ -260,7 +261,7 @@ static bool widen_range(gl11_state *s, const shade_key *key, size_t first, size_
                          ht_gl_error_name(e));
             gl->DeleteBuffers(1, &s->wide_buffer);
             s->wide_buffer = 0;
-            s->has_vbo = false;
+            s->wide_refused = true;
         }
     }
     return true;
