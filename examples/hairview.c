@@ -552,18 +552,19 @@ static int draw_still(const options *o, view *v, ht_scene *scene, double scene_d
         return 1;
     }
     if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
-    if (o->width_rule == WIDTH_RULE_VERTEX && ht_renderer_width_rule_per_vertex(v->renderer)) {
-        printf("width_rule=vertex\n");
-    } else if (o->width_rule == WIDTH_RULE_VERTEX) { /* this tier cannot: per draw */
-        ht_renderer_set_width_rule(v->renderer, false);
-        if (apply_width_rule(o, scene, v->renderer, &v->hair)) return 1;
-        if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
-    }
     print_held();
 
     if (!o->flat && !paired && policy->kind == HT_POLICY_FRAME) {
         if ((r = ht_renderer_choose_by_frame_time(v->renderer, &v->hair, frame, 0)) != HT_OK) return fail(r);
         print_held();
+    }
+    /* per vertex where the tier drawing now can, else per draw */
+    if (o->width_rule == WIDTH_RULE_VERTEX && ht_renderer_width_rule_per_vertex(v->renderer)) {
+        printf("width_rule=vertex\n");
+    } else if (o->width_rule == WIDTH_RULE_VERTEX) {
+        ht_renderer_set_width_rule(v->renderer, false);
+        if (apply_width_rule(o, scene, v->renderer, &v->hair)) return 1;
+        if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
     }
     ht_result fr = HT_OK;
     draw_frame(scene, v, frame, &fr); /* warm-up: shader variants, texture uploads */
