@@ -4,7 +4,7 @@
    build/hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]
                   [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]
                   [--lod auto|N | --cards] [--size F] [--distance D] [--samples N] [--supersample K]
-                  [--width-rule] [--soft] [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]
+                  [--width-rule[=vertex|draw]] [--soft] [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]
                   [--device-profile NAME] -o OUT.png
 
    --api gles1|gles2|gles3 draws on a GL ES context (EGL); --device-profile NAME
@@ -19,7 +19,8 @@
    multisamples (platform/offscreen_msaa.c); --supersample K draws K x K
    times the pixels and box-filters them down (a reference; docs/lod.md);
    --width-rule draws a strand under a pixel (at the pixels drawn) about a
-   pixel wide with its opacity scaled by the ratio, blended far to near (lod.h).
+   pixel wide with its opacity scaled by the ratio, blended far to near (lod.h):
+   per vertex where the tier can, else (and with =draw) per draw.
    --context picks how the GL context is made (platform/offscreen.h; default
    HAIRTIER_CONTEXT, else osmesa where libOSMesa loads, else egl);
    --egl-device N draws on EGL device N (EGL_EXT_platform_device) and implies
