@@ -143,7 +143,7 @@ static const cli_program program = {
             "  --samples N     draw multisampled, N samples (2..32; a framebuffer object, GL 3.0), resolved before the PNG\n"
             "  --supersample K draw K x K times the pixels and box-filter them down (1..8; a reference)\n"
             "  --width-rule[=vertex|draw]  strands under a pixel drawn a pixel wide, opacity scaled by the ratio\n"
-            "                  (docs/lod.md): per vertex where the tier's programs can (full, marschner, vertex on\n"
+            "                  (docs/lod.md): per vertex where the tier can (full, marschner, gl11, vertex on\n"
             "                  GL ES; prints width_rule=vertex), else or with =draw one factor for the mesh's mean\n"
             "                  width (prints width_rule=F opacity=S); the --distance dolly applies it per draw\n"
             "  --soft          a level past 0 drawn soft: its ribbons 3x wider at 1/3 the opacity, sorted\n"
