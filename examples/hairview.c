@@ -4,7 +4,7 @@
    build/hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]
                   [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]
                   [--lod auto|N | --cards] [--size F] [--distance D] [--samples N] [--supersample K]
-                  [--width-rule] [--soft] [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]
+                  [--width-rule[=vertex|draw]] [--soft] [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]
                   [--device-profile NAME] -o OUT.png
 
    --api gles1|gles2|gles3 draws on a GL ES context (EGL); --device-profile NAME
@@ -19,7 +19,8 @@
    multisamples (platform/offscreen_msaa.c); --supersample K draws K x K
    times the pixels and box-filters them down (a reference; docs/lod.md);
    --width-rule draws a strand under a pixel (at the pixels drawn) about a
-   pixel wide with its opacity scaled by the ratio, blended far to near (lod.h).
+   pixel wide with its opacity scaled by the ratio, blended far to near (lod.h):
+   per vertex where the tier can, else (and with =draw) per draw.
    --context picks how the GL context is made (platform/offscreen.h; default
    HAIRTIER_CONTEXT, else osmesa where libOSMesa loads, else egl);
    --egl-device N draws on EGL device N (EGL_EXT_platform_device) and implies
@@ -59,7 +60,7 @@ typedef struct options {
     double distance_to;   /* --distance A:B: the eye dollied from A to B over the frames; 0: none */
     int samples;          /* 0: no multisampling; else the framebuffer's samples */
     int supersample;      /* 1; K: drawn K x K times larger, box-filtered down to the PNG */
-    bool width_rule;      /* lod.h's width rule on the mesh drawn */
+    int width_rule;       /* lod.h's width rule on the mesh drawn: WIDTH_RULE_* */
     bool soft;            /* --lod N draws the level soft (lod.h: widened by HT_LOD_SOFTEN, back to front) */
     bool cards;           /* the bundle's stored cards (hairgen --cards) instead of the strands */
 } options;
@@ -92,6 +93,10 @@ static int fail(ht_result r) {
 
 enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT, KEY_PROFILE, KEY_LOD, KEY_SIZE, KEY_DISTANCE, KEY_SAMPLES,
        KEY_SUPERSAMPLE, KEY_WIDTH_RULE, KEY_CARDS, KEY_SOFT };
+/* --width-rule: per vertex where the tier's programs can, else per draw;
+   --width-rule=draw: per draw in every tier. */
+enum { WIDTH_RULE_OFF, WIDTH_RULE_VERTEX, WIDTH_RULE_DRAW };
+
 static const struct option long_options[] = {
     VIEW_ARGS_LONG_OPTIONS,
     { "tier", required_argument, NULL, KEY_TIER },
@@ -105,7 +110,7 @@ static const struct option long_options[] = {
     { "distance", required_argument, NULL, KEY_DISTANCE },
     { "samples", required_argument, NULL, KEY_SAMPLES },
     { "supersample", required_argument, NULL, KEY_SUPERSAMPLE },
-    { "width-rule", no_argument, NULL, KEY_WIDTH_RULE },
+    { "width-rule", optional_argument, NULL, KEY_WIDTH_RULE },
     { "soft", no_argument, NULL, KEY_SOFT },
     { 0 },
 };
@@ -115,7 +120,7 @@ static const cli_program program = {
     .synopsis = "usage: hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]\n"
                 "                [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]\n"
                 "                [--lod auto|N | --cards] [--size F] [--distance D] [--samples N] [--supersample K]\n"
-                "                [--width-rule] [--soft]\n"
+                "                [--width-rule[=vertex|draw]] [--soft]\n"
                 "                [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]\n"
                 "                [--device-profile NAME] -o OUT.png\n",
     .help = "Renders SCENE with the bundle's tier that the device runs best (or --tier, --policy) and writes\n"
@@ -137,8 +142,10 @@ static const cli_program program = {
             "                  (prints lod_pair: frame=F lod=N tier=T at each switch)\n"
             "  --samples N     draw multisampled, N samples (2..32; a framebuffer object, GL 3.0), resolved before the PNG\n"
             "  --supersample K draw K x K times the pixels and box-filter them down (1..8; a reference)\n"
-            "  --width-rule    strands under a pixel drawn a pixel wide, opacity scaled by the ratio (docs/lod.md);\n"
-            "                  prints width_rule=F opacity=S\n"
+            "  --width-rule[=vertex|draw]  strands under a pixel drawn a pixel wide, opacity scaled by the ratio\n"
+            "                  (docs/lod.md): per vertex where the tier can (full, marschner, gl11, vertex on\n"
+            "                  GL ES; prints width_rule=vertex), else or with =draw one factor for the mesh's mean\n"
+            "                  width (prints width_rule=F opacity=S); the --distance dolly applies it per draw\n"
             "  --soft          a level past 0 drawn soft: its ribbons 3x wider at 1/3 the opacity, sorted\n"
             "                  back to front (docs/lod.md); prints soften=S opacity=A\n"
             "  --context K     osmesa or egl (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl)\n"
@@ -171,7 +178,11 @@ static const char *take(void *user, int key, const char *value) {
     }
     case KEY_STRICT: o->strict = true; return NULL;
     case KEY_FLAT: o->flat = true; return NULL;
-    case KEY_WIDTH_RULE: o->width_rule = true; return NULL;
+    case KEY_WIDTH_RULE:
+        o->width_rule = !value || !strcmp(value, "vertex") ? WIDTH_RULE_VERTEX
+                        : !strcmp(value, "draw")          ? WIDTH_RULE_DRAW
+                                                          : WIDTH_RULE_OFF;
+        return o->width_rule == WIDTH_RULE_OFF ? "--width-rule: expected vertex or draw" : NULL;
     case KEY_SOFT: o->soft = true; return NULL;
     case KEY_PROFILE: {
         char err[200];
@@ -422,14 +433,17 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
     return 0;
 }
 
-/* --width-rule on the mesh choose_lod left (drawn at `opacity`): its
-   strands' width at the pixels drawn (a supersampled frame's too), widened
-   to about a pixel, the opacity scaled by the inverse. */
+/* The mean strand's width in pixels drawn (a supersampled frame's too). */
+static double mean_strand_px(const ht_scene *s, const ht_mesh *hair) {
+    return ht_projected_width_px(ht_mesh_mean_width(hair), eye_distance(s), s->camera.fov_y, s->height);
+}
+
+/* --width-rule=draw on the mesh choose_lod left (drawn at `opacity`): its
+   mean strand widened to about a pixel, the opacity scaled by the inverse. */
 static int apply_width_rule(const options *o, const ht_scene *s, ht_renderer *r, ht_mesh *hair, float opacity) {
-    const double px = ht_projected_width_px(ht_mesh_mean_width(hair), eye_distance(s), s->camera.fov_y, s->height);
     double f = 1.0;
     ht_mesh wide;
-    ht_result res = ht_mesh_width_rule(hair, px, s->camera.eye, &wide, &f);
+    ht_result res = ht_mesh_width_rule(hair, mean_strand_px(s, hair), s->camera.eye, &wide, &f);
     if (res != HT_OK) {
         fprintf(stderr, "hairview: %s: geometry: --width-rule: %s\n", o->view.scene, ht_result_string(res));
         return 1;
@@ -489,7 +503,7 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
         fprintf(stderr, "hairview: %s: levels: %s\n", ladder ? o->view.bundle : o->view.scene, ht_result_string(r));
         return 1;
     }
-    chain.width_rule = o->width_rule; /* per draw, on the level drawn (lod.h) */
+    chain.width_rule = o->width_rule != WIDTH_RULE_OFF; /* per draw, on the level drawn (lod.h) */
     static ht_lod_cell cells[HT_LOD_MAX_CELLS];
     const int viewport_h = s->height / o->supersample;
     ht_lod_rule rule = { .kind = HT_POLICY_BEST, .value = policy->value, .cells = cells,
@@ -573,14 +587,31 @@ static int draw_still(const options *o, view *v, ht_scene *scene, double scene_d
     float opacity = 1.0f;
     if (choose_lod(o, scene, scene_distance, v, frame, policy, ladder, &paired, &opacity)) return 1;
     print_held();
-    if (o->width_rule && apply_width_rule(o, scene, v->renderer, &v->hair, opacity)) return 1;
     ht_result r;
+    if (o->width_rule == WIDTH_RULE_VERTEX) {
+        /* translucent strands compose far to near (lod.h), once most are
+           (the mean strand under a pixel): the centroid order misplaces
+           near, long, opaque ones, which the inside-out order does not */
+        ht_renderer_set_width_rule(v->renderer, true);
+        if (ht_width_rule_widen(mean_strand_px(scene, &v->hair)) > 1.0)
+            ht_mesh_sort_back_to_front(&v->hair, scene->camera.eye);
+    } else if (o->width_rule && apply_width_rule(o, scene, v->renderer, &v->hair, opacity)) {
+        return 1;
+    }
     if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
     print_held();
 
     if (!o->flat && !paired && policy->kind == HT_POLICY_FRAME) {
         if ((r = ht_renderer_choose_by_frame_time(v->renderer, &v->hair, frame, 0)) != HT_OK) return fail(r);
         print_held();
+    }
+    /* per vertex where the tier drawing now can, else per draw */
+    if (o->width_rule == WIDTH_RULE_VERTEX && ht_renderer_width_rule_per_vertex(v->renderer)) {
+        printf("width_rule=vertex\n");
+    } else if (o->width_rule == WIDTH_RULE_VERTEX) {
+        ht_renderer_set_width_rule(v->renderer, false);
+        if (apply_width_rule(o, scene, v->renderer, &v->hair, opacity)) return 1;
+        if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
     }
     ht_result fr = HT_OK;
     draw_frame(scene, v, frame, &fr); /* warm-up: shader variants, texture uploads */

@@ -17,7 +17,14 @@
    every draw), else left in client memory.
    Per pass: every pass points the colour array at the same data; the
    prime-Z pass draws the albedo's alpha with a constant white colour (no
-   array), the others albedo x colour. */
+   array), the others albedo x colour.
+   The width rule per vertex (tier.h's width_rule), on the CPU as the
+   colours are: each vertex of the range widened about its row's centre to
+   the least drawn width at its own clip w, its colour's alpha x 1 / f, into
+   a position array of the tier's own that every pass draws (the Z-prime
+   pass then with the colour array too, so a scaled fragment fails its
+   alpha test as it does the opaque pass's); remade with the colours, and
+   when the eye's clip w row changes. */
 #include <math.h>
 #include <stdatomic.h>
 #include <stdio.h>
@@ -27,6 +34,7 @@
 #include "errfmt.h"
 #include "gl11.h"
 #include "gl11_program.h"
+#include "lod_internal.h"
 #include "gl_error.h"
 #include "tier_program.h"
 #include "gl_texture.h"
@@ -46,6 +54,8 @@ typedef struct shade_key {
     } lights[HT_MAX_LIGHTS];
     float opacity; /* the width rule's (tier.h): every colour's alpha */
     uint32_t first_vertex, vertex_count; /* the draw range's vertices (tier.h): only those are shaded */
+    float width_rule;    /* tier.h's; 0: off, and clip_w unused (zero) */
+    float clip_w[4];     /* projection x view's last row: a vertex's clip w */
 } shade_key;
 
 typedef struct gl11_state {
@@ -57,6 +67,11 @@ typedef struct gl11_state {
     ht_gl11_soa soa;
     float *colors;            /* 4 x soa.padded */
     GLuint color_buffer;      /* the colours on the device (0: client memory) */
+    float (*sides)[3];        /* each vertex's offset from its row's centre (ht_lod_sides) */
+    float (*wide)[3];         /* the width rule's positions (NULL until it is first on) */
+    GLuint wide_buffer;       /* them on the device (0: client memory) */
+    bool wide_refused;        /* the device refused that buffer once: client memory from then on */
+    bool wide_valid;          /* this frame draws them */
     bool have_mesh;
     bool colors_valid;
     shade_key key;
@@ -70,6 +85,9 @@ static void destroy(void *state) {
     if (!s) return;
     if (s->albedo) s->gl->DeleteTextures(1, &s->albedo);
     if (s->color_buffer) s->gl->DeleteBuffers(1, &s->color_buffer);
+    if (s->wide_buffer) s->gl->DeleteBuffers(1, &s->wide_buffer);
+    free(s->sides);
+    free(s->wide);
     ht_gl11_soa_free(&s->soa);
     free(s->colors);
     free(s);
@@ -159,14 +177,24 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     if (ht_gl11_soa_make(&s->program, mesh->vertices, mesh->vertex_count, &soa) != HT_OK)
         return HT_ERR_OUT_OF_MEMORY;
     float *colors = calloc(4 * soa.padded, sizeof(float));
-    if (!colors) {
+    float(*sides)[3] = malloc(mesh->vertex_count ? mesh->vertex_count * sizeof *sides : 1);
+    if (!colors || !sides) {
+        free(colors);
+        free(sides);
         ht_gl11_soa_free(&soa);
         return HT_ERR_OUT_OF_MEMORY;
     }
+    ht_lod_sides(mesh, sides);
     ht_gl11_soa_free(&s->soa);
     free(s->colors);
+    free(s->sides);
+    free(s->wide);
+    s->wide = NULL;
+    if (s->wide_buffer) s->gl->DeleteBuffers(1, &s->wide_buffer);
+    s->wide_buffer = 0;
     s->soa = soa;
     s->colors = colors;
+    s->sides = sides;
     s->have_mesh = true;
     s->colors_valid = false;
     /* the buffer sized once per mesh; frames write their range into it */
@@ -198,6 +226,47 @@ static void upload_colors(gl11_state *s, size_t first, size_t count) {
     check_upload(s, "glBufferSubData");
 }
 
+/* The width rule per vertex for vertices [first, first + n): the widened
+   positions and each colour's alpha x 1 / f (shader_interface.h's rule,
+   here on the CPU); onto the device where it has buffers (sized for the
+   whole mesh at the first use). false when memory is short: per draw. */
+static bool widen_range(gl11_state *s, const shade_key *key, size_t first, size_t n) {
+    if (!s->wide && !(s->wide = malloc(s->soa.count ? s->soa.count * sizeof *s->wide : 1))) return false;
+    if (first + n > s->soa.count) n = first < s->soa.count ? s->soa.count - first : 0;
+    const float *px = s->soa.a[HT_GL11_PX], *py = s->soa.a[HT_GL11_PX + 1], *pz = s->soa.a[HT_GL11_PX + 2];
+    for (size_t i = first; i < first + n; i++) {
+        const float *side = s->sides[i];
+        const float half = sqrtf(side[0] * side[0] + side[1] * side[1] + side[2] * side[2]);
+        const float w = key->clip_w[0] * px[i] + key->clip_w[1] * py[i] + key->clip_w[2] * pz[i] + key->clip_w[3];
+        float f = half > 0.0f ? w * key->width_rule / (2.0f * half) : 1.0f;
+        f = f > 1.0f ? (f < 1024.0f ? f : 1024.0f) : 1.0f;
+        s->wide[i][0] = px[i] + side[0] * (f - 1.0f);
+        s->wide[i][1] = py[i] + side[1] * (f - 1.0f);
+        s->wide[i][2] = pz[i] + side[2] * (f - 1.0f);
+        s->colors[4 * i + 3] /= f;
+    }
+    if (s->has_vbo && !s->wide_refused && n) {
+        const ht_gl *gl = s->gl;
+        const bool fresh = !s->wide_buffer;
+        if (fresh) gl->GenBuffers(1, &s->wide_buffer);
+        gl->BindBuffer(GL_ARRAY_BUFFER, s->wide_buffer);
+        if (fresh)
+            gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(s->soa.count * sizeof *s->wide), NULL, GL_DYNAMIC_DRAW);
+        gl->BufferSubData(GL_ARRAY_BUFFER, (GLintptr)(first * sizeof *s->wide), (GLsizeiptr)(n * sizeof *s->wide),
+                          s->wide + first);
+        gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+        const GLenum e = gl->GetError();
+        if (e != GL_NO_ERROR) {
+            ht_log_linef(s->log, s->log_user, "hairtier: gl11: the width rule's positions: %s: client arrays instead",
+                         ht_gl_error_name(e));
+            gl->DeleteBuffers(1, &s->wide_buffer);
+            s->wide_buffer = 0;
+            s->wide_refused = true;
+        }
+    }
+    return true;
+}
+
 static void begin_frame(void *state, const ht_tier_frame *f) {
     gl11_state *s = state;
     if (!s->have_mesh) return;
@@ -214,6 +283,11 @@ static void begin_frame(void *state, const ht_tier_frame *f) {
     key.first_vertex = f->first_vertex < s->soa.count ? f->first_vertex : 0;
     key.vertex_count = f->vertex_count <= s->soa.count - key.first_vertex ? f->vertex_count
                                                                            : (uint32_t)(s->soa.count - key.first_vertex);
+    if (f->width_rule > 0.0f) {
+        key.width_rule = f->width_rule;
+        for (int c = 0; c < 4; c++)
+            for (int k = 0; k < 4; k++) key.clip_w[c] += f->projection[k * 4 + 3] * f->view[c * 4 + k];
+    }
     if (s->colors_valid && memcmp(&key, &s->key, sizeof key) == 0) return;
     const size_t n = ht_gl11_shade_range(&s->program, &s->soa, key.first_vertex, key.vertex_count, f->lights,
                                          key.light_count, f->eye, s->colors);
@@ -227,6 +301,7 @@ static void begin_frame(void *state, const ht_tier_frame *f) {
         if (c[i] > 1.0f) c[i] = 1.0f;
     /* GL_MODULATE: the drawn alpha is the albedo's x the colour's */
     for (size_t i = 0; key.opacity != 1.0f && i < n; i++) c[4 * i + 3] = key.opacity;
+    s->wide_valid = key.width_rule > 0.0f && widen_range(s, &key, first, n);
     atomic_fetch_add_explicit(&cpu_vertices_total, (uint64_t)n, memory_order_relaxed);
     s->cpu_vertices += n;
     s->key = key;
@@ -250,7 +325,13 @@ static bool set_arrays(void *state, ht_pass pass, int sub_pass) {
     gl11_state *s = state;
     const ht_gl *gl = s->gl;
     if (!s->have_mesh || !s->colors_valid) return false;
-    if (pass == HT_PASS_PRIME_Z) {
+    if (s->wide_valid) {
+        const GLuint bound = ht_gl_array_buffer_binding(gl);
+        ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, s->wide_buffer);
+        gl->VertexPointer(3, GL_FLOAT, 0, s->wide_buffer ? NULL : s->wide);
+        ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, bound);
+    }
+    if (pass == HT_PASS_PRIME_Z && !s->wide_valid) {
         /* alpha only: white x the albedo's alpha (x the width rule's) */
         gl->DisableClientState(GL_COLOR_ARRAY);
         gl->Color4f(1, 1, 1, s->key.opacity);
@@ -275,6 +356,9 @@ static void end_frame(void *state) {
     gl->Color4f(1, 1, 1, 1);
 }
 
+/* The rule per vertex needs only the mesh's positions and sides: always. */
+static bool vertex_width_rule(void *state) { return ((const gl11_state *)state)->have_mesh; }
+
 static uint64_t cpu_vertices(void *state) { return ((const gl11_state *)state)->cpu_vertices; }
 
 const ht_tier_backend ht_tier_gl11_backend = {
@@ -287,4 +371,5 @@ const ht_tier_backend ht_tier_gl11_backend = {
     .end_frame = end_frame,
     .destroy = destroy,
     .cpu_vertices = cpu_vertices,
+    .vertex_width_rule = vertex_width_rule,
 };

@@ -188,6 +188,13 @@ static void end_frame(void *state) {
     else ht_fixed4_stages_unbind(&s->stages);
 }
 
+/* Only the ES texts: the desktop combiner stages have no per-vertex alpha
+   to spare (the primary colour's carries ao), so there the rule is per draw. */
+static bool vertex_width_rule(void *state) {
+    const vertex_state *s = state;
+    return s->es && s->main.u_width_rule >= 0;
+}
+
 const ht_tier_backend ht_tier_vertex_backend = {
     .tier = HT_TIER_VERTEX,
     .generic_attributes = true,
@@ -197,4 +204,5 @@ const ht_tier_backend ht_tier_vertex_backend = {
     .set_arrays = set_arrays,
     .end_frame = end_frame,
     .destroy = destroy,
+    .vertex_width_rule = vertex_width_rule,
 };

@@ -77,6 +77,9 @@ static char *lighting_vertex(const ht_plan *plan, const ht_fixed4_program *p, bo
         ht_strbuf_addf(&sb, "uniform mat4 %s;\n", HT_ES_U_MVP);
         for (int k = 0; k < luts; k++) ht_strbuf_addf(&sb, "varying vec2 v_lut%d;\n", k);
         ht_strbuf_add(&sb, "varying vec2 v_uv;\nvarying vec4 v_color; /* the primary colour: diffuse, ao in alpha */\n");
+        /* The width rule per vertex needs a fragment stage to scale alpha:
+           the ES texts have one, the desktop combiner stages take it per draw. */
+        ht_glsl_width_rule_inputs(&sb);
     }
     ht_glsl_light_uniforms(&sb, plan, &in);
     /* ESSL: a uniform both stages declare needs one precision, the fragment's. */
@@ -94,7 +97,8 @@ static char *lighting_vertex(const ht_plan *plan, const ht_fixed4_program *p, bo
 
     ht_strbuf_add(&sb, "void main() {\n");
     if (es) {
-        ht_strbuf_addf(&sb, "    gl_Position = %s * vec4(%s, 1.0);\n", HT_ES_U_MVP, HT_ES_ATTR_POSITION);
+        ht_glsl_width_rule_position(&sb, HT_ES_ATTR_POSITION, HT_ES_U_MVP);
+        ht_glsl_width_rule_transform(&sb, true);
     } else {
         ht_strbuf_add(&sb, "    /* ftransform(): depth bit-identical to every pass of every tier. */\n");
         ht_strbuf_add(&sb, "    gl_Position = ftransform();\n");

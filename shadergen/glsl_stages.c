@@ -17,6 +17,38 @@ void ht_glsl_varyings(ht_strbuf *sb, const ht_plan *plan, const ht_glsl_vertex_l
     if (plan->ao) ht_strbuf_addf(sb, "varying %sfloat v_ao;\n", cp);
 }
 
+void ht_glsl_width_rule_inputs(ht_strbuf *sb) {
+    ht_strbuf_addf(sb, "attribute vec3 %s; /* the offset from the ribbon's centre line */\n", HT_ATTR_SIDE);
+    ht_strbuf_addf(sb, "uniform float %s; /* the width rule per vertex: the least drawn width at w = 1; 0: off */\n",
+                   HT_U_WIDTH_RULE);
+    ht_strbuf_addf(sb, "varying float %s; /* its own width / its drawn width */\n", HT_V_WIDTH_ALPHA);
+}
+
+void ht_glsl_width_rule_position(ht_strbuf *sb, const char *position, const char *mvp) {
+    ht_strbuf_addf(sb, "    vec4 position = vec4(%s, 1.0);\n", position);
+    ht_strbuf_addf(sb, "    %s = 1.0;\n", HT_V_WIDTH_ALPHA);
+    ht_strbuf_add(sb, "    /* The width rule per vertex (docs/lod.md): a ribbon narrower here is drawn\n"
+                      "       that wide (about a pixel) about its centre line, its alpha scaled by the ratio. */\n");
+    ht_strbuf_addf(sb, "    float half_width = length(%s);\n", HT_ATTR_SIDE);
+    ht_strbuf_addf(sb, "    if (%s > 0.0 && half_width > 0.0) {\n", HT_U_WIDTH_RULE);
+    ht_strbuf_addf(sb, "        float widen = clamp((%s * position).w * %s / (2.0 * half_width), 1.0, 1024.0);\n", mvp,
+                   HT_U_WIDTH_RULE);
+    ht_strbuf_addf(sb, "        position.xyz += %s * (widen - 1.0);\n", HT_ATTR_SIDE);
+    ht_strbuf_addf(sb, "        %s = 1.0 / widen;\n", HT_V_WIDTH_ALPHA);
+    ht_strbuf_add(sb, "    }\n");
+}
+
+void ht_glsl_width_rule_transform(ht_strbuf *sb, bool es) {
+    if (es) {
+        ht_strbuf_addf(sb, "    gl_Position = %s * position;\n", HT_ES_U_MVP);
+        return;
+    }
+    ht_strbuf_add(sb, "    /* ftransform(): depth bit-identical to every pass of every tier (with the\n"
+                      "       width rule the hair's passes share this program's invariant transform). */\n");
+    ht_strbuf_addf(sb, "    gl_Position = %s > 0.0 ? gl_ModelViewProjectionMatrix * position : ftransform();\n",
+                   HT_U_WIDTH_RULE);
+}
+
 char *ht_glsl_main_vertex(const ht_plan *plan, const ht_glsl_vertex_layout *l, bool es) {
     ht_strbuf sb;
     ht_strbuf_init(&sb);
@@ -26,6 +58,7 @@ char *ht_glsl_main_vertex(const ht_plan *plan, const ht_glsl_vertex_layout *l, b
         ht_strbuf_addf(&sb, "uniform mat4 %s;\n", HT_ES_U_MVP);
         ht_strbuf_addf(&sb, "attribute vec3 %s;\n", HT_ES_ATTR_POSITION);
     } else {
+        ht_strbuf_add(&sb, "invariant gl_Position;\n");
         ht_strbuf_add(&sb, "/* Generic attributes, not texture coordinates: a device may have only\n"
                            "   one coordinate set (shader_interface.h). */\n");
     }
@@ -35,17 +68,17 @@ char *ht_glsl_main_vertex(const ht_plan *plan, const ht_glsl_vertex_layout *l, b
         if (l->uv) ht_strbuf_addf(&sb, "attribute vec2 %s;\n", HT_ES_ATTR_UV);
     }
     if (plan->ao) ht_strbuf_addf(&sb, "attribute float %s;\n", HT_ATTR_AO);
+    ht_glsl_width_rule_inputs(&sb);
     ht_glsl_varyings(&sb, plan, l, "", "");
     ht_strbuf_add(&sb, "\nvoid main() {\n");
+    ht_glsl_width_rule_position(&sb, es ? HT_ES_ATTR_POSITION : "gl_Vertex.xyz",
+                                es ? HT_ES_U_MVP : "gl_ModelViewProjectionMatrix");
+    ht_glsl_width_rule_transform(&sb, es);
+    ht_strbuf_add(&sb, "    v_position = position.xyz; /* the model matrix is identity */\n");
     if (es) {
-        ht_strbuf_addf(&sb, "    gl_Position = %s * vec4(%s, 1.0);\n", HT_ES_U_MVP, HT_ES_ATTR_POSITION);
-        ht_strbuf_addf(&sb, "    v_position = %s; /* the model matrix is identity */\n", HT_ES_ATTR_POSITION);
         if (l->normal) ht_strbuf_addf(&sb, "    v_normal = %s;\n", HT_ES_ATTR_NORMAL);
         if (l->uv) ht_strbuf_addf(&sb, "    v_uv = %s;\n", HT_ES_ATTR_UV);
     } else {
-        ht_strbuf_add(&sb, "    /* ftransform(): depth bit-identical to every pass of every tier. */\n");
-        ht_strbuf_add(&sb, "    gl_Position = ftransform();\n");
-        ht_strbuf_add(&sb, "    v_position = gl_Vertex.xyz; /* the model matrix is identity */\n");
         if (l->normal) ht_strbuf_add(&sb, "    v_normal = gl_Normal;\n");
         if (l->uv) ht_strbuf_add(&sb, "    v_uv = gl_MultiTexCoord0.xy;\n");
     }
@@ -57,10 +90,11 @@ char *ht_glsl_main_vertex(const ht_plan *plan, const ht_glsl_vertex_layout *l, b
 
 void ht_glsl_opacity_uniform(ht_strbuf *sb) {
     ht_strbuf_addf(sb, "uniform float %s; /* the width rule: alpha x (1 - this) */\n", HT_U_OPACITY_CUT);
+    ht_strbuf_addf(sb, "varying float %s; /* the width rule per vertex: alpha x this */\n", HT_V_WIDTH_ALPHA);
 }
 
 void ht_glsl_alpha_output(ht_strbuf *sb, const char *rgb, const char *alpha, bool es_discard) {
-    ht_strbuf_addf(sb, "    float drawn_alpha = %s * (1.0 - %s);\n", alpha, HT_U_OPACITY_CUT);
+    ht_strbuf_addf(sb, "    float drawn_alpha = %s * (1.0 - %s) * %s;\n", alpha, HT_U_OPACITY_CUT, HT_V_WIDTH_ALPHA);
     if (es_discard)
         ht_strbuf_addf(sb, "    if ((drawn_alpha >= %s) != (%s > 0.5)) discard;\n", HT_ES_U_ALPHA_REF,
                        HT_ES_U_ALPHA_PASS_OPAQUE);
@@ -76,10 +110,14 @@ char *ht_glsl_prime_stage(const ht_plan *plan, ht_glsl_banner_fn banner, bool fr
     if (fragment && plan->alpha) ht_strbuf_addf(&sb, "uniform sampler2D %s; /* a = alpha */\n", HT_U_ALBEDO);
     if (plan->alpha) ht_strbuf_add(&sb, "varying vec2 v_uv;\n");
     if (fragment) ht_glsl_opacity_uniform(&sb);
+    else {
+        ht_strbuf_add(&sb, "invariant gl_Position;\n");
+        ht_glsl_width_rule_inputs(&sb);
+    }
     ht_strbuf_add(&sb, "\nvoid main() {\n");
     if (!fragment) {
-        ht_strbuf_add(&sb, "    /* ftransform(): depth bit-identical to every pass of every tier. */\n");
-        ht_strbuf_add(&sb, "    gl_Position = ftransform();\n");
+        ht_glsl_width_rule_position(&sb, "gl_Vertex.xyz", "gl_ModelViewProjectionMatrix");
+        ht_glsl_width_rule_transform(&sb, false);
         if (plan->alpha) ht_strbuf_add(&sb, "    v_uv = gl_MultiTexCoord0.xy;\n");
     } else {
         char alpha[64];

@@ -27,14 +27,22 @@ void ht_glsl_varyings(ht_strbuf *sb, const ht_plan *plan, const ht_glsl_vertex_l
 /* The main vertex stage (malloc'd): GLSL 1.20 with ftransform(), or ESSL
    1.00 with the MVP uniform and generic attributes. */
 char *ht_glsl_main_vertex(const ht_plan *plan, const ht_glsl_vertex_layout *l, bool es);
-/* The Z-prime stage (malloc'd): position only, and the albedo's alpha for
-   the alpha test when the plan has alpha. */
-/* The width rule's uniform (shader_interface.h) and a fragment stage's
-   last lines: alpha scaled by it, ES's discard against the pass's rule on
+/* The width rule per vertex (shader_interface.h) in a vertex stage: its
+   declarations (a_side, u_width_rule, v_width_alpha); main's first lines,
+   `vec4 position` (position widened, v_width_alpha set) from the vertex
+   position expression and the MVP expression; and gl_Position from it
+   (ES: the MVP uniform; desktop: ftransform() while the rule is off). */
+void ht_glsl_width_rule_inputs(ht_strbuf *sb);
+void ht_glsl_width_rule_position(ht_strbuf *sb, const char *position, const char *mvp);
+void ht_glsl_width_rule_transform(ht_strbuf *sb, bool es);
+/* The width rule's uniform and varying (shader_interface.h) and a
+   fragment stage's last lines: alpha scaled by both, ES's discard against the pass's rule on
    that drawn alpha, gl_FragColor = vec4(rgb, drawn alpha). */
 void ht_glsl_opacity_uniform(ht_strbuf *sb);
 void ht_glsl_alpha_output(ht_strbuf *sb, const char *rgb, const char *alpha, bool es_discard);
 
+/* The Z-prime stage (malloc'd): position only, and the albedo's alpha for
+   the alpha test when the plan has alpha. */
 char *ht_glsl_prime_stage(const ht_plan *plan, ht_glsl_banner_fn banner, bool fragment);
 
 /* The ESSL 3.00 text (malloc'd) of an ESSL 1.00 one: "#version 300 es",

@@ -132,8 +132,15 @@ static void check_output(const ht_plan *p, const emitted *e) {
             snprintf(first, sizeof first, "#version %d%s\n", x->glsl_version, x->glsl_version >= 300 ? " es" : "");
             assert_true(strncmp(x->text, first, strlen(first)) == 0);
             if (x->stage == HT_STAGE_VERTEX && !x->es) {
-                assert_int_equal(count_of(x->text, "gl_Position = ftransform();"), 1);
-                assert_int_equal(count_of(x->text, "gl_Position"), 1);
+                /* GLSL 1.20 (full's pairs) widens per vertex when the rule is on, ftransform()
+                   while it is off; the vertex tier's 1.10 texts feed combiner stages: never */
+                const bool widens = x->glsl_version >= 120;
+                assert_int_equal(strstr(x->text, HT_U_WIDTH_RULE) != NULL, widens);
+                assert_int_equal(count_of(x->text, widens ? "gl_Position = " HT_U_WIDTH_RULE
+                                                            " > 0.0 ? gl_ModelViewProjectionMatrix * position : ftransform();"
+                                                          : "gl_Position = ftransform();"),
+                                 1);
+                assert_int_equal(count_of(x->text, "gl_Position"), widens ? 2 : 1); /* and invariant gl_Position; */
                 /* Only uv is a texture coordinate: a device may have one set. */
                 assert_null(strstr(x->text, "gl_MultiTexCoord1"));
                 assert_null(strstr(x->text, "gl_MultiTexCoord2"));
@@ -386,7 +393,7 @@ static void test_prime_shaders_sample_nothing_without_alpha(void **state) {
     const char *pv = text_of(&e.full, "full-prime.vert")->text, *pf = text_of(&e.full, "full-prime.frag")->text;
     assert_null(strstr(pf, "sampler"));
     assert_null(strstr(pf, "texture2D"));
-    assert_null(strstr(pv, "varying"));
+    assert_null(strstr(pv, "v_uv"));
     assert_non_null(strstr(pf, "gl_FragColor = vec4(vec3(1.0), drawn_alpha);"));
     free_both(&e);
 
@@ -493,7 +500,8 @@ static void test_es_fragment_discards_against_the_alpha_uniforms(void **state) {
     assert_non_null(strstr(es, "uniform mediump float u_alpha_pass_opaque;"));
     assert_non_null(strstr(es, "#ifdef GL_FRAGMENT_PRECISION_HIGH"));
     const char *esv = text_of(&e.full, "full-es2.vert")->text;
-    assert_non_null(strstr(esv, "gl_Position = u_mvp * vec4(a_position, 1.0);"));
+    assert_non_null(strstr(esv, "vec4 position = vec4(a_position, 1.0);"));
+    assert_non_null(strstr(esv, "gl_Position = u_mvp * position;"));
     assert_null(strstr(esv, "gl_Vertex"));
     assert_null(strstr(esv, "ftransform"));
     /* ESSL 3.00: the same text through the one conversion rule. */
@@ -534,6 +542,36 @@ static void test_every_fragment_text_takes_the_width_rules_opacity(void **state)
     const char *vertex[] = { "vertex-es2.frag", "vertex-es3.frag" };
     for (size_t i = 0; i < 2; i++)
         assert_non_null(strstr(text_of(&e.vertex, vertex[i])->text, "(1.0 - " HT_U_OPACITY_CUT ")"));
+    free_both(&e);
+}
+
+/* The width rule per vertex (shader_interface.h): every vertex stage a
+   fragment stage of the hair is paired with widens by a_side and writes
+   v_width_alpha, and every fragment text multiplies its alpha by it; the
+   vertex tier's desktop stages (combiner stages after them: no varying to
+   scale alpha with) do neither. */
+static void test_every_pair_takes_the_width_rule_per_vertex(void **state) {
+    (void)state;
+    ht_material m = dark_brown_like();
+    ht_plan p = plan_of(&m, 2, 0);
+    emitted e;
+    emit_both(&p, &e);
+    const ht_tier_output *tiers[] = { &e.full, &e.vertex };
+    for (int t = 0; t < 2; t++)
+        for (int i = 0; i < tiers[t]->text_count; i++) {
+            const ht_out_text *x = &tiers[t]->texts[i];
+            const bool combiner_fed = tiers[t] == &e.vertex && !x->es;
+            if (x->stage == HT_STAGE_NONE) continue;
+            if (x->stage == HT_STAGE_FRAGMENT) {
+                assert_non_null(strstr(x->text, "* " HT_V_WIDTH_ALPHA ";"));
+            } else if (combiner_fed) {
+                assert_null(strstr(x->text, HT_V_WIDTH_ALPHA));
+            } else {
+                assert_non_null(strstr(x->text, "position.xyz += " HT_ATTR_SIDE " * (widen - 1.0);"));
+                assert_non_null(strstr(x->text, HT_V_WIDTH_ALPHA " = 1.0 / widen;"));
+                assert_non_null(strstr(x->text, "clamp("));
+            }
+        }
     free_both(&e);
 }
 
@@ -671,6 +709,7 @@ int main(void) {
         cmocka_unit_test(test_extreme_exponents_and_shifts_validate_and_stay_guarded),
         cmocka_unit_test(test_es_fragment_discards_against_the_alpha_uniforms),
         cmocka_unit_test(test_every_fragment_text_takes_the_width_rules_opacity),
+        cmocka_unit_test(test_every_pair_takes_the_width_rule_per_vertex),
         cmocka_unit_test(test_mediump_fragment_is_the_mirrored_table),
         cmocka_unit_test(test_vertex_tier_drops_shift_and_sparkle_with_reasons),
         cmocka_unit_test(test_float_literals_read_back_exactly_and_validate),

@@ -207,6 +207,46 @@ static void test_render_opacity_scale_blends_every_strand_in_every_tier(void **s
     }
 }
 
+/* The width rule per vertex (lod.h): full and gl11 (its CPU colours) do
+   it, the desktop vertex, fixed4 and fixed tiers cannot (the caller keeps
+   it per draw) and say so. Where it is on: the same four passes with the
+   material's reference (0.98: lod.h's HT_WIDTH_RULE_VERTEX_REF), more pixels touched (the thin tips and far strands
+   widened to 1.5 px) and the ink kept within a quarter (their alpha scaled
+   by the ratio): a tier that widened without scaling would gain ink with
+   the pixels, one that did neither would touch no more pixels. */
+static void test_render_width_rule_per_vertex_where_the_tier_can(void **state) {
+    (void)state;
+    const struct { ht_tier tier; bool per_vertex; } tiers[] = {
+        { HT_TIER_FULL, true }, { HT_TIER_GL11, true }, { HT_TIER_VERTEX, false },
+        { HT_TIER_FIXED4, false }, { HT_TIER_FIXED, false },
+    };
+    for (size_t i = 0; i < sizeof tiers / sizeof tiers[0]; i++) {
+        ht_renderer *r = create((ht_renderer_desc){ .tier = tiers[i].tier, .strict = true }, HT_OK);
+        ht_image off, on;
+        render(r, &off);
+        assert_false(ht_renderer_width_rule_per_vertex(r));
+        ht_renderer_set_width_rule(r, true);
+        assert_false(ht_renderer_width_rule_per_vertex(r)); /* from the next ht_renderer_set_mesh on */
+        assert_int_equal(ht_renderer_set_mesh(r, &fx.mesh), HT_OK);
+        assert_int_equal(ht_renderer_width_rule_per_vertex(r), tiers[i].per_vertex);
+        render(r, &on);
+        const double ratio = ink(&on) / ink(&off);
+        const int pixels[2] = { stats(&off).changed, stats(&on).changed };
+        printf("%s: per vertex %d, hair pixels %d -> %d, ink x %.3f\n", ht_tier_name(tiers[i].tier),
+               tiers[i].per_vertex, pixels[0], pixels[1], ratio);
+        if (tiers[i].per_vertex) {
+            check_trace(ht_renderer_trace(r), HT_WIDTH_RULE_VERTEX_REF);
+            assert_true(pixels[1] > pixels[0] * 1.05);
+            assert_true(ratio > 0.75 && ratio < 1.25);
+        } else {
+            assert_int_equal(pixels[1], pixels[0]);
+        }
+        ht_image_free(&off);
+        ht_image_free(&on);
+        ht_renderer_destroy(r);
+    }
+}
+
 /* A Marschner material's bundle: its tier draws the same passes, same
    state, same ranges as flat mode on the same mesh. */
 static void test_render_marschner_tier_shares_the_flat_pass_list(void **state) {
@@ -506,6 +546,7 @@ int main(int argc, char **argv) {
         cmocka_unit_test(test_render_glsl_tiers_share_the_flat_pass_list),
         cmocka_unit_test(test_render_marschner_tier_shares_the_flat_pass_list),
         cmocka_unit_test(test_render_opacity_scale_blends_every_strand_in_every_tier),
+        cmocka_unit_test(test_render_width_rule_per_vertex_where_the_tier_can),
         cmocka_unit_test(test_render_depth_equal_pass_colours_opaque_texels),
         cmocka_unit_test(test_render_broken_full_shader_drops_to_vertex),
         cmocka_unit_test(test_render_missing_shader_file_drops_to_vertex),

@@ -193,6 +193,32 @@ HT_API ht_result ht_mesh_width_rule(const ht_mesh *mesh, double strand_px, const
 typedef struct ht_renderer ht_renderer;
 HT_API ht_result ht_renderer_set_opacity_scale(ht_renderer *r, float scale);
 
+/* The width rule per vertex (docs/lod.md): on, each vertex of the tiers
+   that can (the programs of full and marschner and the vertex tier's GL
+   ES texts; gl11 on the CPU with its per-vertex colours) widens its ribbon about the centre line to a pixel at its own distance
+   and scales its alpha by (its width / its drawn width): tapered tips and
+   near and far strands each get their own factor, no widened mesh and no
+   upload per size. Takes effect at the next ht_renderer_set_mesh, which
+   then uploads each vertex's offset from its row's centre (12 bytes a
+   vertex; none for a mesh split into 16-bit chunks). Off by default. */
+HT_API void ht_renderer_set_width_rule(ht_renderer *r, bool per_vertex);
+/* The width a vertex is drawn at least (pixels): a ribbon a pixel wide
+   still misses pixel centres; 1.5 was the closest to the supersampled
+   fur ball at 1/8 to 1/2 of its size (docs/lod.md). */
+#define HT_WIDTH_RULE_VERTEX_PX 1.5
+/* The passes' alpha reference while it is on: the material's cutoff, at
+   least this. Most strands are not scaled and keep their opaque pass
+   (reference 1 sent every fragment under it to the blended passes, whose
+   order misplaces near, long strands: 0.4 dB lost on a close fur ball); a
+   scaled fragment still drawn opaque was scaled by at least this, within
+   2 % of its coverage. */
+#define HT_WIDTH_RULE_VERTEX_REF 0.98f
+/* Whether the next frame applies it per vertex: asked for, the tier drawing
+   now can, and the mesh was set with it. false: the caller applies the
+   rule per draw (ht_width_rule_widen, ht_mesh_widen, the opacity scale),
+   as the fixed-function tiers need. */
+HT_API bool ht_renderer_width_rule_per_vertex(const ht_renderer *r);
+
 /* A stored level's geometry (lods.bin, a measured cell): strands or cards;
    SCENE: level 0 not stored, the scene's own mesh (a plain bundle's). */
 typedef enum ht_lod_kind { HT_LOD_KIND_STRANDS = 0, HT_LOD_KIND_CARDS = 1, HT_LOD_KIND_SCENE = 2 } ht_lod_kind;

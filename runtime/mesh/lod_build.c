@@ -72,6 +72,23 @@ ht_result ht_lod_runs(const ht_mesh *m, ht_lod_run *runs) {
     return HT_OK;
 }
 
+void ht_lod_sides(const ht_mesh *m, float (*sides)[3]) {
+    memset(sides, 0, (size_t)m->vertex_count * sizeof *sides);
+    for (uint32_t c = 0; c < m->component_count; c++) {
+        ht_mesh one = *m;
+        one.components = &m->components[c];
+        one.component_count = 1;
+        ht_lod_run run;
+        if (ht_lod_runs(&one, &run) != HT_OK) continue;
+        for (uint32_t v = run.first_vertex; v + 1 < run.first_vertex + 2 * run.rows; v += 2)
+            for (int k = 0; k < 3; k++) {
+                const float half = 0.5f * (m->vertices[v].position[k] - m->vertices[v + 1].position[k]);
+                sides[v][k] = half;
+                sides[v + 1][k] = -half;
+            }
+    }
+}
+
 static void centre(const ht_mesh *m, const ht_lod_run *run, uint32_t row, double out[3]) {
     const ht_vertex *a = &m->vertices[run->first_vertex + 2 * row];
     for (int k = 0; k < 3; k++) out[k] = 0.5 * ((double)a[0].position[k] + a[1].position[k]);

@@ -18,6 +18,12 @@ typedef struct ht_lod_run {
    from an even offset of its first vertex, as the builders write. */
 ht_result ht_lod_runs(const ht_mesh *m, ht_lod_run *runs);
 
+/* The width rule per vertex (docs/lod.md): sides[v] = the offset of vertex
+   v from its row's centre, half the row's width vector, for every vertex
+   of a component laid out as ht_lod_runs takes; zero for the vertices of
+   any other component (a shader then leaves them as they are). */
+void ht_lod_sides(const ht_mesh *m, float (*sides)[3]);
+
 /* The components sorted along the Z-order curve of their key points
    (lod_order.c): curve[i] = the component at curve position i. Runs of
    neighbours on it are the strata of the LOD order and the clumps of

@@ -108,6 +108,7 @@ ht_result ht_glsl_program_build(const ht_tier_context *ctx, const char *vert, co
        prime pass) ignores the binding. */
     gl->BindAttribLocation(prog, HT_ATTR_TANGENT_LOCATION, HT_ATTR_TANGENT);
     gl->BindAttribLocation(prog, HT_ATTR_AO_LOCATION, HT_ATTR_AO);
+    gl->BindAttribLocation(prog, HT_ATTR_SIDE_LOCATION, HT_ATTR_SIDE);
     if (ctx->caps->es) {
         gl->BindAttribLocation(prog, HT_ES_ATTR_POSITION_LOCATION, HT_ES_ATTR_POSITION);
         gl->BindAttribLocation(prog, HT_ES_ATTR_NORMAL_LOCATION, HT_ES_ATTR_NORMAL);
@@ -138,6 +139,7 @@ ht_result ht_glsl_program_build(const ht_tier_context *ctx, const char *vert, co
     out->u_lut_scale = gl->GetUniformLocation(prog, HT_U_LUT_SCALE);
     out->u_mvp = gl->GetUniformLocation(prog, HT_ES_U_MVP);
     out->u_opacity_cut = gl->GetUniformLocation(prog, HT_U_OPACITY_CUT);
+    out->u_width_rule = gl->GetUniformLocation(prog, HT_U_WIDTH_RULE);
     /* Samplers are fixed for the program's life: bind them to units once. */
     gl->UseProgram(prog);
     for (int i = 0; i < ctx->tier->sampler_count; i++) {
@@ -196,6 +198,7 @@ void ht_glsl_program_set_frame(const ht_gl *gl, const ht_glsl_program *p, const 
     if (p->u_light_color >= 0) gl->Uniform3fv(p->u_light_color, n, colors);
     if (p->u_lut_scale >= 0) gl->Uniform1f(p->u_lut_scale, lut_scale);
     if (p->u_opacity_cut >= 0) gl->Uniform1f(p->u_opacity_cut, f->opacity_cut);
+    if (p->u_width_rule >= 0) gl->Uniform1f(p->u_width_rule, f->width_rule);
     if (p->u_mvp >= 0) {
         /* What the fixed-function transform computes: projection x view
            (column-major; the model matrix is identity). */

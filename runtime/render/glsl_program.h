@@ -19,6 +19,7 @@ typedef struct ht_glsl_program {
     GLint u_eye, u_light_vector, u_light_color, u_lut_scale; /* -1: not used by the program */
     GLint u_mvp;                                             /* ES texts: projection x view */
     GLint u_opacity_cut;                                     /* the width rule (-1: a text without it) */
+    GLint u_width_rule;                                      /* the width rule per vertex (-1: a text without it) */
 } ht_glsl_program;
 
 /* On a GL ES context: the tier's ES target selection chose

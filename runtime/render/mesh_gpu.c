@@ -9,13 +9,18 @@
 #include "errfmt.h"
 #include "caps.h"
 #include "index_chunks.h"
+#include "lod_internal.h"
 #include "renderer_internal.h"
 #include "shader_interface.h"
 
 void ht_renderer_release_mesh(ht_renderer *r) {
     if (r->vbo) r->gl.DeleteBuffers(1, &r->vbo);
     if (r->ibo) r->gl.DeleteBuffers(1, &r->ibo);
-    r->vbo = r->ibo = 0;
+    if (r->side_vbo) r->gl.DeleteBuffers(1, &r->side_vbo);
+    r->vbo = r->ibo = r->side_vbo = 0;
+    free(r->sides);
+    r->sides = NULL;
+    r->has_sides = false;
     free(r->vertices);
     free(r->indices);
     free(r->chunks);
@@ -80,6 +85,42 @@ uint16_t *ht_renderer_indices16(const uint32_t *indices, uint32_t count) {
     uint16_t *out = malloc(count ? (size_t)count * sizeof *out : 1);
     for (uint32_t i = 0; out && i < count; i++) out[i] = (uint16_t)indices[i];
     return out;
+}
+
+bool ht_renderer_width_rule_active(const ht_renderer *r) {
+    return r->width_vertex && r->has_sides && r->backend && r->backend->vertex_width_rule &&
+           r->backend->vertex_width_rule(r->backend_state);
+}
+
+/* The width rule per vertex's a_side array (ht_lod_sides), for a mesh
+   uploaded whole (a split mesh's chunks reorder its vertices: none, the
+   rule stays per draw). A buffer where the GL has them; false when memory
+   or the GL refuses (logged; the mesh is drawn without). */
+static bool upload_sides(ht_renderer *r, const ht_mesh *mesh) {
+    float(*sides)[3] = malloc(mesh->vertex_count ? (size_t)mesh->vertex_count * sizeof *sides : 1);
+    if (!sides) {
+        ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: the width rule per vertex: out of memory "
+                     "for %u vertices; per draw", mesh->vertex_count);
+        return false;
+    }
+    ht_lod_sides(mesh, sides);
+    if (!r->caps.has_vbo) {
+        r->sides = sides;
+        return true;
+    }
+    while (r->gl.GetError() != GL_NO_ERROR) {}
+    r->gl.GenBuffers(1, &r->side_vbo);
+    r->gl.BindBuffer(GL_ARRAY_BUFFER, r->side_vbo);
+    r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)mesh->vertex_count * sizeof *sides), sides, GL_STATIC_DRAW);
+    r->gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+    free(sides);
+    const GLenum e = r->gl.GetError();
+    if (e == GL_NO_ERROR) return true;
+    ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: the width rule per vertex: glBufferData: %s; "
+                 "per draw", ht_gl_error_name(e));
+    r->gl.DeleteBuffers(1, &r->side_vbo);
+    r->side_vbo = 0;
+    return false;
 }
 
 ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
@@ -166,6 +207,8 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
     r->draw_count = mesh->index_count;
     r->has_mesh = true;
     r->span = make_span(mesh, &r->span_count);
+    /* a_side feeds programs; without them (gl11) a tier widens from its own copy */
+    if (r->width_vertex && !r->chunk_count) r->has_sides = !r->gl.has_shaders || upload_sides(r, mesh);
     r->mesh_serial++;
     if (r->backend && r->backend->set_mesh) {
         ht_result res = r->backend->set_mesh(r->backend_state, mesh);
@@ -203,6 +246,20 @@ static const void *array_at(const ht_vertex *base, uint32_t first, size_t offset
     return base ? (const void *)((const char *)base + offset) : (const void *)(uintptr_t)offset;
 }
 
+/* The width rule per vertex's offsets from vertex first on, at their
+   generic location (set only while it is active: otherwise the programs
+   read the attribute's current value and u_width_rule is 0). */
+static void set_side_array(ht_renderer *r, uint32_t first) {
+    if (!ht_renderer_width_rule_active(r)) return;
+    const ht_gl *gl = &r->gl;
+    const size_t offset = (size_t)first * sizeof *r->sides;
+    if (r->side_vbo) ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, r->side_vbo);
+    gl->VertexAttribPointer(HT_ATTR_SIDE_LOCATION, 3, GL_FLOAT, GL_FALSE, 0,
+                            r->side_vbo ? (const void *)(uintptr_t)offset : (const void *)(r->sides + first));
+    gl->EnableVertexAttribArray(HT_ATTR_SIDE_LOCATION);
+    if (r->side_vbo) ht_gl_bind_buffer(gl, GL_ARRAY_BUFFER, r->vbo);
+}
+
 /* Arrays of ht_vertex: base is NULL with a bound VBO, else the data. The
    hair gets uv as texture coordinate set 0 and, for a backend that asks
    (generic_attributes), tangent and ao as generic attributes
@@ -226,6 +283,7 @@ static void set_es_arrays(ht_renderer *r, const ht_vertex *base, uint32_t first,
                                 array_at(base, first, arrays[i].offset));
         gl->EnableVertexAttribArray(arrays[i].location);
     }
+    if (hair_attributes) set_side_array(r, first);
 }
 
 void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_attributes) {
@@ -254,6 +312,7 @@ void ht_renderer_set_arrays_from(ht_renderer *r, const ht_vertex *base, uint32_t
         gl->VertexAttribPointer(HT_ATTR_AO_LOCATION, 1, GL_FLOAT, GL_FALSE, stride,
                                 array_at(base, first, offsetof(ht_vertex, ao)));
         gl->EnableVertexAttribArray(HT_ATTR_AO_LOCATION);
+        set_side_array(r, first);
     }
 }
 
@@ -264,11 +323,13 @@ void ht_renderer_clear_arrays(ht_renderer *r) {
     const ht_gl *gl = &r->gl;
     if (ht_caps_es_programs(&r->caps)) {
         static const GLuint locations[] = { HT_ES_ATTR_POSITION_LOCATION, HT_ES_ATTR_NORMAL_LOCATION,
-                                            HT_ES_ATTR_UV_LOCATION, HT_ATTR_TANGENT_LOCATION, HT_ATTR_AO_LOCATION };
+                                            HT_ES_ATTR_UV_LOCATION, HT_ATTR_TANGENT_LOCATION, HT_ATTR_AO_LOCATION,
+                                            HT_ATTR_SIDE_LOCATION };
         for (size_t i = 0; i < sizeof locations / sizeof locations[0]; i++) gl->DisableVertexAttribArray(locations[i]);
         return;
     }
     if (r->backend && r->backend->generic_attributes) {
+        gl->DisableVertexAttribArray(HT_ATTR_SIDE_LOCATION);
         gl->DisableVertexAttribArray(HT_ATTR_AO_LOCATION);
         gl->DisableVertexAttribArray(HT_ATTR_TANGENT_LOCATION);
     }

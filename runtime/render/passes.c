@@ -10,12 +10,20 @@
 #include "index_chunks.h"
 #include "renderer_internal.h"
 #include "shader_interface.h"
+#include <hairtier/lod.h>
 
 #define DEFAULT_CUTOFF 0.98f
 
 void ht_pass_alpha_rule(const ht_renderer *r, ht_pass pass, GLenum *func, float *ref) {
-    /* The width rule's scaled strands all blend (lod.h says why). */
-    *ref = r->opacity_cut > 0.0f ? 1.0f : r->have_bundle ? r->bundle.opaque_cutoff : DEFAULT_CUTOFF;
+    /* The width rule's scaled strands all blend (lod.h says why). Per
+       vertex most strands are not scaled: the reference stays the
+       material's, at least HT_WIDTH_RULE_VERTEX_REF, so a fragment drawn
+       opaque lost at most 1 - that of its scale. */
+    const float cutoff = r->have_bundle ? r->bundle.opaque_cutoff : DEFAULT_CUTOFF;
+    *ref = r->opacity_cut > 0.0f                 ? 1.0f
+         : !ht_renderer_width_rule_active(r)     ? cutoff
+         : cutoff > HT_WIDTH_RULE_VERTEX_REF     ? cutoff
+                                                 : HT_WIDTH_RULE_VERTEX_REF;
     *func = pass == HT_PASS_PRIME_Z || pass == HT_PASS_OPAQUE ? GL_GEQUAL : GL_LESS;
 }
 

@@ -15,6 +15,7 @@
 #include "caps.h"
 #include "errfmt.h"
 #include "renderer_internal.h"
+#include <hairtier/lod.h>
 
 static void log_stderr(void *user, const char *line) {
     (void)user;
@@ -469,6 +470,13 @@ ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
     tf.light_count = ht_renderer_plan_lights(r, f, lights);
     tf.lights = lights;
     tf.opacity_cut = r->opacity_cut;
+    if (ht_renderer_width_rule_active(r)) {
+        GLint vp[4] = { 0 };
+        r->gl.GetIntegerv(GL_VIEWPORT, vp);
+        /* the drawn width's world length at clip w = 1 (shader_interface.h) */
+        if (vp[3] > 0 && tf.projection[5] > 0.0f)
+            tf.width_rule = (float)HT_WIDTH_RULE_VERTEX_PX * 2.0f / (tf.projection[5] * (float)vp[3]);
+    }
     ht_renderer_draw_vertices(r, &tf.first_vertex, &tf.vertex_count);
     while (r->gl.GetError() != GL_NO_ERROR) {}
     r->trace.count = 0;

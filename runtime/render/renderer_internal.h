@@ -28,6 +28,11 @@ struct ht_renderer {
     bool flat;
     float flat_color[3];
     float opacity_cut;                /* the width rule: hair alpha x (1 - this); ht_renderer_set_opacity_scale */
+    bool width_vertex;                /* the width rule per vertex asked for (ht_renderer_set_width_rule) */
+    GLuint side_vbo;                  /* the mesh's a_side per vertex (shader_interface.h), made while */
+    float (*sides)[3];                /* width_vertex is on: a buffer, or this copy without buffers */
+    bool has_sides;                   /* the mesh was set with width_vertex on (and a_side made, where
+                                         programs may read it) */
     ht_tier tier;                     /* HT_TIER_COUNT in flat mode */
     char reason[HT_SELECT_REASON];
     const ht_tier_backend *backend;   /* NULL in flat mode */
@@ -106,6 +111,9 @@ void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_att
 /* The same from vertex first on (a chunk of a split mesh). */
 void ht_renderer_set_arrays_from(ht_renderer *r, const ht_vertex *base, uint32_t first, bool hair_attributes);
 void ht_renderer_clear_arrays(ht_renderer *r);
+/* Whether this frame's hair is widened per vertex: asked for, the drawing
+   tier's programs do it, and the mesh has its sides. */
+bool ht_renderer_width_rule_active(const ht_renderer *r);
 
 /* gl_state.c: save (HT_ERR_GL with one line and nothing changed when an
    attribute stack is full), baseline, restore. */

@@ -18,6 +18,12 @@ int ht_renderer_lod_cells(const ht_renderer *r, ht_lod_cell *out, int max) {
     return n;
 }
 
+void ht_renderer_set_width_rule(ht_renderer *r, bool per_vertex) {
+    if (r) r->width_vertex = per_vertex;
+}
+
+bool ht_renderer_width_rule_per_vertex(const ht_renderer *r) { return r && ht_renderer_width_rule_active(r); }
+
 ht_result ht_renderer_set_opacity_scale(ht_renderer *r, float scale) {
     if (!r || !(scale > 0.0f && scale <= 1.0f)) return HT_ERR_INVALID_ARGUMENT;
     r->opacity_cut = 1.0f - scale;

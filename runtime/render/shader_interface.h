@@ -18,6 +18,12 @@
 #define HT_ATTR_AO               "a_ao"        /* float */
 #define HT_ATTR_TANGENT_LOCATION 6
 #define HT_ATTR_AO_LOCATION      7
+/* The width rule per vertex (docs/lod.md): the vertex's offset from its
+   ribbon's centre line (half the row's width vector, mesh_gpu.c makes it
+   from the row's two vertices; zero for a mesh not of ribbons). 5 aliases
+   only the fog coordinate, which no hair pass reads. */
+#define HT_ATTR_SIDE             "a_side"      /* vec3 */
+#define HT_ATTR_SIDE_LOCATION    5
 
 /* ESSL 1.00 has no built-in attributes; its variants read these too. */
 #define HT_ES_ATTR_POSITION "a_position"
@@ -47,6 +53,15 @@
    alpha scaled by (1 - this); 0, GLSL's initial value, draws it as it is.
    Every fragment text (and the GLSL Z-prime) multiplies its alpha by it. */
 #define HT_U_OPACITY_CUT    "u_opacity_cut"  /* float */
+/* The width rule per vertex: the world length the least drawn width
+   (lod.h's HT_WIDTH_RULE_VERTEX_PX pixels) spans at clip w = 1,
+   px x 2 / (projection[1][1] x viewport height); 0, GLSL's initial value,
+   is off. On, each vertex whose ribbon is narrower than that at its own
+   clip w moves off its centre line by f = w u / (2 |a_side|) (clamped to
+   [1, 1024]) and hands 1 / f to the fragment stage in this varying, which
+   every fragment text multiplies its alpha by, as by 1 - u_opacity_cut. */
+#define HT_U_WIDTH_RULE     "u_width_rule"   /* float, vertex stages */
+#define HT_V_WIDTH_ALPHA    "v_width_alpha"  /* varying float */
 
 /* Samplers: names the manifest lists with their unit. */
 #define HT_U_ALBEDO         "u_albedo"       /* rgb = base, a = alpha */

@@ -58,6 +58,10 @@ typedef struct ht_tier_frame {
        in [0, 1); 0 draws alpha as it is. Each backend scales its own final
        alpha (a uniform, a combiner constant, the colour array). */
     float opacity_cut;
+    /* The width rule per vertex (shader_interface.h's u_width_rule): the
+       world length a pixel spans at clip w = 1; 0: off. Set only for a
+       backend whose vertex_width_rule says yes. */
+    float width_rule;
     /* The vertices this frame's draw range indexes (a superset, within
        vertex_count of the mesh): per-vertex CPU work covers these only, a
        chain's other levels none. */
@@ -88,6 +92,11 @@ typedef struct ht_tier_backend {
     void (*destroy)(void *state);
     /* Optional: vertices whose data the CPU computed so far (NULL: none). */
     uint64_t (*cpu_vertices)(void *state);
+    /* Optional: true when this state widens each vertex to a pixel and
+       scales its alpha itself (the width rule per vertex, docs/lod.md:
+       its programs from a_side, or, without generic attributes, on the
+       CPU from set_mesh's mesh; NULL: it cannot, the rule stays per draw). */
+    bool (*vertex_width_rule)(void *state);
     /* Optional: true when this state runs the device-only variant (NULL:
        the tier has none). */
     bool (*device_variant)(void *state);

@@ -121,6 +121,12 @@ static void bind_pass(void *state, ht_pass pass, int sub_pass) {
     s->gl->UseProgram(pass == HT_PASS_PRIME_Z ? s->prime.id : s->main.id);
 }
 
+/* Both programs widen alike, or the Z-prime's depth is not the colour passes'. */
+static bool vertex_width_rule(void *state) {
+    const full_state *s = state;
+    return s->main.u_width_rule >= 0 && s->prime.u_width_rule >= 0;
+}
+
 static void end_frame(void *state) {
     full_state *s = state;
     const ht_gl *gl = s->gl;
@@ -140,6 +146,7 @@ const ht_tier_backend ht_tier_glsl_full_backend = {
     .bind_pass = bind_pass,
     .end_frame = end_frame,
     .destroy = destroy,
+    .vertex_width_rule = vertex_width_rule,
 };
 
 /* Nothing here depends on the shading: the marschner tier's program reads
@@ -152,4 +159,5 @@ const ht_tier_backend ht_tier_glsl_marschner_backend = {
     .bind_pass = bind_pass,
     .end_frame = end_frame,
     .destroy = destroy,
+    .vertex_width_rule = vertex_width_rule,
 };
