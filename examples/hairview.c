@@ -593,8 +593,10 @@ static int draw_still(const options *o, view *v, ht_scene *scene, double scene_d
            (the mean strand under a pixel): the centroid order misplaces
            near, long, opaque ones, which the inside-out order does not */
         ht_renderer_set_width_rule(v->renderer, true);
-        if (ht_width_rule_widen(mean_strand_px(scene, &v->hair)) > 1.0)
+        if (ht_width_rule_widen(mean_strand_px(scene, &v->hair)) > 1.0) {
             ht_mesh_sort_back_to_front(&v->hair, scene->camera.eye);
+            ht_renderer_set_back_to_front(v->renderer, true);
+        }
     } else if (o->width_rule && apply_width_rule(o, scene, v->renderer, &v->hair, opacity)) {
         return 1;
     }

@@ -426,7 +426,7 @@ static void a_bad_cell_is_refused_naming_it(void **state) {
    cell drawn with the width rule (this fur ball's strands are 0.06-0.23
    px): the manifest says so, the reference pair is finite against the
    truth, and a cell is the PSNR hairview measures for that drawing
-   (--lod 1 --width-rule --samples 4 against --supersample 4). A bad value
+   (--lod 1 --width-rule=draw --samples 4 against --supersample 4). A bad value
    is refused, by hairgen and by the manifest reader. */
 static void supersample_reference_measures_the_width_rule_against_the_truth(void **state) {
     (void)state;
@@ -449,7 +449,7 @@ static void supersample_reference_measures_the_width_rule_against_the_truth(void
         if (level == 1) cell = cJSON_GetNumberValue(cJSON_GetObjectItem(c, "psnr_db"));
     }
     static const char *const draws[][2] = { { "truth", "--supersample 4" },
-                                            { "rule1", "--lod 1 --width-rule --samples 4" } };
+                                            { "rule1", "--lod 1 --width-rule=draw --samples 4" } };
     for (int i = 0; i < 2; i++) {
         snprintf(args, sizeof args, "--bundle %s --scene %s --tier full --strict --frames 1 %s -o %s/%s.png", truth,
                  scene_path, draws[i][1], work, draws[i][0]);

@@ -66,7 +66,10 @@ static void render(ht_renderer *r, ht_image *img) {
 static ht_test_pixel_stats stats(const ht_image *img) { return ht_test_pixel_stats_of(img, ht_test_background); }
 
 /* Scheuermann's passes as DESIGN.md lists them. */
-static void check_pass_state(const ht_trace_entry *e, float cutoff) {
+/* in_order: the blended passes as under an opacity scale or
+   ht_renderer_set_back_to_front (both faces in the back pass, in the
+   mesh's order; none in the front), else split by facing. */
+static void check_pass_state(const ht_trace_entry *e, float cutoff, bool in_order) {
     assert_true(e->alpha_test);
     assert_float_equal(e->alpha_ref, cutoff, 1e-6f);
     assert_int_equal(e->gl_error, GL_NO_ERROR);
@@ -89,8 +92,7 @@ static void check_pass_state(const ht_trace_entry *e, float cutoff) {
         break;
     case HT_PASS_BACK:
     case HT_PASS_FRONT:
-        if (cutoff == 1.0f) {
-            /* scaled: both faces blend in the back pass, in the mesh's order; none in the front */
+        if (in_order) {
             assert_int_equal(e->cull, e->pass == HT_PASS_FRONT);
             if (e->cull) assert_int_equal(e->cull_face, GL_FRONT_AND_BACK);
             assert_false(e->depth_write);
@@ -109,14 +111,14 @@ static void check_pass_state(const ht_trace_entry *e, float cutoff) {
     }
 }
 
-static void check_trace(const ht_trace *t, float cutoff) {
+static void check_trace(const ht_trace *t, float cutoff, bool in_order) {
     assert_int_equal(t->count, HT_PASS_COUNT);
     for (int i = 0; i < t->count; i++) {
         assert_int_equal(t->entries[i].pass, i);
         assert_int_equal(t->entries[i].sub_pass, 0);
         assert_int_equal(t->entries[i].first_index, 0);
         assert_int_equal(t->entries[i].index_count, fx.mesh.index_count);
-        check_pass_state(&t->entries[i], cutoff);
+        check_pass_state(&t->entries[i], cutoff, in_order);
     }
 }
 
@@ -134,7 +136,7 @@ static void test_render_flat_mode_draws_the_four_passes_in_order(void **state) {
     ht_renderer *r = create((ht_renderer_desc){ .flat = true, .flat_color = { 0.9f, 0.8f, 0.1f } }, HT_OK);
     ht_image img;
     render(r, &img);
-    check_trace(ht_renderer_trace(r), 0.98f);
+    check_trace(ht_renderer_trace(r), 0.98f, false);
     /* Flat colour has alpha 1: every hair pixel comes from the depth-EQUAL pass. */
     ht_test_pixel_stats s = stats(&img);
     assert_true(s.changed > SIZE * SIZE / 20);
@@ -149,7 +151,7 @@ static void expect_flat_pass_list(const ht_renderer *flat, ht_renderer *r, ht_ti
     ht_image img;
     assert_int_equal(ht_renderer_tier(r), tier);
     render(r, &img);
-    check_trace(ht_renderer_trace(r), 0.98f);
+    check_trace(ht_renderer_trace(r), 0.98f, false);
     if (!same_pass_list(ht_renderer_trace(flat), ht_renderer_trace(r)))
         fail_msg("%s tier's pass list differs from flat mode's", ht_tier_name(tier));
     ht_test_pixel_stats s = stats(&img);
@@ -197,7 +199,7 @@ static void test_render_opacity_scale_blends_every_strand_in_every_tier(void **s
         render(r, &whole);
         assert_int_equal(ht_renderer_set_opacity_scale(r, 0.5f), HT_OK);
         render(r, &half);
-        check_trace(ht_renderer_trace(r), 1.0f);
+        check_trace(ht_renderer_trace(r), 1.0f, true);
         const double ratio = ink(&half) / ink(&whole);
         printf("%s: ink at opacity 0.5 / at 1: %.3f\n", ht_tier_name(tiers[i]), ratio);
         assert_true(ratio > 0.3 && ratio < 0.7);
@@ -235,9 +237,19 @@ static void test_render_width_rule_per_vertex_where_the_tier_can(void **state) {
         printf("%s: per vertex %d, hair pixels %d -> %d, ink x %.3f\n", ht_tier_name(tiers[i].tier),
                tiers[i].per_vertex, pixels[0], pixels[1], ratio);
         if (tiers[i].per_vertex) {
-            check_trace(ht_renderer_trace(r), HT_WIDTH_RULE_VERTEX_REF);
+            check_trace(ht_renderer_trace(r), HT_WIDTH_RULE_VERTEX_REF, false);
             assert_true(pixels[1] > pixels[0] * 1.05);
             assert_true(ratio > 0.75 && ratio < 1.25);
+            /* the mesh said to be back to front: one blended pass in its order */
+            ht_image sorted;
+            ht_renderer_set_back_to_front(r, true);
+            render(r, &sorted);
+            check_trace(ht_renderer_trace(r), HT_WIDTH_RULE_VERTEX_REF, true);
+            ht_image_free(&sorted);
+            ht_renderer_set_back_to_front(r, false);
+            render(r, &sorted);
+            check_trace(ht_renderer_trace(r), HT_WIDTH_RULE_VERTEX_REF, false);
+            ht_image_free(&sorted);
         } else {
             assert_int_equal(pixels[1], pixels[0]);
         }
@@ -283,7 +295,7 @@ static void test_render_depth_equal_pass_colours_opaque_texels(void **state) {
     for (int i = 0; i < 2; i++) {
         ht_renderer *r = create((ht_renderer_desc){ .tier = tiers[i], .strict = true, .bundle_dir = dir }, HT_OK);
         render(r, &img);
-        check_trace(ht_renderer_trace(r), 0.004f);
+        check_trace(ht_renderer_trace(r), 0.004f, false);
         ht_test_pixel_stats s = stats(&img);
         if (s.changed < coverage.changed / 4 || s.changed < SIZE * SIZE / 20)
             fail_msg("%s: %d pixels shaded, flat coverage %d", ht_tier_name(tiers[i]), s.changed, coverage.changed);
@@ -335,7 +347,7 @@ static void test_render_gl20_profile_picks_vertex_with_the_reason(void **state) 
     assert_true(ht_test_logged("skipped full: needs GL 2.1, have 2.0"));
     ht_image img;
     render(r, &img);
-    check_trace(ht_renderer_trace(r), 0.98f);
+    check_trace(ht_renderer_trace(r), 0.98f, false);
     ht_image_free(&img);
     ht_renderer_destroy(r);
 }

@@ -202,6 +202,12 @@ HT_API ht_result ht_renderer_set_opacity_scale(ht_renderer *r, float scale);
    then uploads each vertex's offset from its row's centre (12 bytes a
    vertex; none for a mesh split into 16-bit chunks). Off by default. */
 HT_API void ht_renderer_set_width_rule(ht_renderer *r, bool per_vertex);
+/* On: the mesh drawn is ordered back to front from the frame's eye
+   (ht_mesh_sort_back_to_front), so the blended passes draw both faces in
+   one pass in its order, as under an opacity scale below 1 (which implies
+   it). For the width rule per vertex while most strands are under a pixel
+   and blend; off (the default) they are split by facing, inside out. */
+HT_API void ht_renderer_set_back_to_front(ht_renderer *r, bool on);
 /* The width a vertex is drawn at least (pixels): a ribbon a pixel wide
    still misses pixel centres; 1.5 was the closest to the supersampled
    fur ball at 1/8 to 1/2 of its size (docs/lod.md). */

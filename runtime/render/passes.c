@@ -43,12 +43,13 @@ static void set_es_alpha(const ht_renderer *r, ht_pass pass) {
     if (u_pass >= 0) gl->Uniform1f(u_pass, func == GL_GEQUAL ? 1.0f : 0.0f);
 }
 
-/* Under an opacity scale (the width rule, soft levels: lod.h) every
-   fragment blends and the caller sorted the mesh back to front, so the
-   back pass draws both faces in that order and the front pass nothing:
-   split by facing, the far strands' front faces were blended over the near
-   strands' back faces (the dense groom lost 16 % of its ink). */
-static bool blend_in_mesh_order(const ht_renderer *r) { return r->opacity_cut > 0.0f; }
+/* Under an opacity scale (the width rule, soft levels: lod.h), or with the
+   mesh said to be back to front (ht_renderer_set_back_to_front), the
+   caller sorted the mesh, so the back pass blends both faces in that
+   order and the front pass nothing: split by facing, the far strands'
+   front faces were blended over the near strands' back faces (the dense
+   groom lost 16 % of its ink). */
+static bool blend_in_mesh_order(const ht_renderer *r) { return r->opacity_cut > 0.0f || r->back_to_front; }
 
 /* The fixed state of each pass; the numbers are Scheuermann's scheme. */
 static void set_pass_state(ht_renderer *r, ht_pass pass) {

@@ -28,6 +28,7 @@ struct ht_renderer {
     bool flat;
     float flat_color[3];
     float opacity_cut;                /* the width rule: hair alpha x (1 - this); ht_renderer_set_opacity_scale */
+    bool back_to_front;               /* the mesh is ordered far to near (ht_renderer_set_back_to_front) */
     bool width_vertex;                /* the width rule per vertex asked for (ht_renderer_set_width_rule) */
     GLuint side_vbo;                  /* the mesh's a_side per vertex (shader_interface.h), made while */
     float (*sides)[3];                /* width_vertex is on: a buffer, or this copy without buffers */

@@ -22,6 +22,10 @@ void ht_renderer_set_width_rule(ht_renderer *r, bool per_vertex) {
     if (r) r->width_vertex = per_vertex;
 }
 
+void ht_renderer_set_back_to_front(ht_renderer *r, bool on) {
+    if (r) r->back_to_front = on;
+}
+
 bool ht_renderer_width_rule_per_vertex(const ht_renderer *r) { return r && ht_renderer_width_rule_active(r); }
 
 ht_result ht_renderer_set_opacity_scale(ht_renderer *r, float scale) {
