@@ -588,18 +588,8 @@ static int draw_still(const options *o, view *v, ht_scene *scene, double scene_d
     if (choose_lod(o, scene, scene_distance, v, frame, policy, ladder, &paired, &opacity)) return 1;
     print_held();
     ht_result r;
-    if (o->width_rule == WIDTH_RULE_VERTEX) {
-        /* translucent strands compose far to near (lod.h), once most are
-           (the mean strand under a pixel): the centroid order misplaces
-           near, long, opaque ones, which the inside-out order does not */
-        ht_renderer_set_width_rule(v->renderer, true);
-        if (ht_width_rule_widen(mean_strand_px(scene, &v->hair)) > 1.0) {
-            ht_mesh_sort_back_to_front(&v->hair, scene->camera.eye);
-            ht_renderer_set_back_to_front(v->renderer, true);
-        }
-    } else if (o->width_rule && apply_width_rule(o, scene, v->renderer, &v->hair, opacity)) {
-        return 1;
-    }
+    if (o->width_rule == WIDTH_RULE_VERTEX) ht_renderer_set_width_rule(v->renderer, true);
+    else if (o->width_rule && apply_width_rule(o, scene, v->renderer, &v->hair, opacity)) return 1;
     if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
     print_held();
 
@@ -610,6 +600,14 @@ static int draw_still(const options *o, view *v, ht_scene *scene, double scene_d
     /* per vertex where the tier drawing now can, else per draw */
     if (o->width_rule == WIDTH_RULE_VERTEX && ht_renderer_width_rule_per_vertex(v->renderer)) {
         printf("width_rule=vertex\n");
+        /* translucent strands compose far to near (lod.h), once most are
+           (the mean strand under a pixel): the centroid order misplaces
+           near, long, opaque ones, which the inside-out order does not */
+        if (ht_width_rule_widen(mean_strand_px(scene, &v->hair)) > 1.0) {
+            ht_mesh_sort_back_to_front(&v->hair, scene->camera.eye);
+            ht_renderer_set_back_to_front(v->renderer, true);
+            if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
+        }
     } else if (o->width_rule == WIDTH_RULE_VERTEX) {
         ht_renderer_set_width_rule(v->renderer, false);
         if (apply_width_rule(o, scene, v->renderer, &v->hair, opacity)) return 1;
