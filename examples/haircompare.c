@@ -199,11 +199,63 @@ static void print_table(const report *r) {
                r->tiers[o.b].name);
 }
 
+/* One grid row: level l (soft: widened by HT_LOD_SOFTEN, back to front, at
+   its inverse opacity) drawn by every tier that ran, each image written
+   into tmp and kept in frames for the measuring. */
+static ht_result render_lod_row(const options *o, const char *tmp, const grid_levels *lv, tier_scene *small,
+                                report *rep, int l, bool soft, tier_frame *frames, char *err, size_t err_size) {
+    report_lod_grid *g = &rep->lods;
+    ht_result r = HT_OK;
+    for (int t = 0; t < rep->tier_count && r == HT_OK; t++) {
+        report_lod_cell *c = soft ? &g->soft_cells[l][t] : &g->cells[l][t];
+        if (!rep->tiers[t].ran) continue;
+        fprintf(stderr, "haircompare: rendering %s %d%s with %s at %gx\n", lv->cards[l] ? "cards, level" : "level", l,
+                soft ? " soft" : "", rep->tiers[t].name, g->size);
+        tier_render(o->view.bundle, small, rep->tiers[t].tier, o->view.frames, &frames[t]);
+        if (!(c->ran = frames[t].ran)) continue;
+        c->frame_ms = frames[t].frame_ms;
+        char name[sizeof rep->tiers[t].name], path[4300];
+        memcpy(name, rep->tiers[t].name, sizeof name); /* a copy, as in compare_tier (-Wrestrict) */
+        snprintf(c->image, sizeof c->image, "lod%d%s-%s.png", l, soft ? "soft" : "", name);
+        snprintf(path, sizeof path, "%s/%s", tmp, c->image);
+        ht_image img = { 0 };
+        r = write_frame(path, frames[t].rgba, g->width, g->height, &img, err, err_size);
+        ht_image_free(&img);
+    }
+    return r;
+}
+
+/* A row's cells against (level 0, the reference tier). */
+static ht_result measure_lod_row(report *rep, report_lod_cell *cells, const tier_frame *frames, const tier_frame *ref,
+                                 bool reference_row, char *err, size_t err_size) {
+    const report_lod_grid *g = &rep->lods;
+    ht_result r = HT_OK;
+    for (int t = 0; t < rep->tier_count && r == HT_OK; t++) {
+        report_lod_cell *c = &cells[t];
+        if (!c->ran || !ref->ran) continue;
+        r = ht_metrics_compare(&(ht_metrics_desc){ .reference = ref->rgba, .test = frames[t].rgba,
+                                                   .width = g->width, .height = g->height },
+                               &c->whole, NULL, err, err_size);
+        if (reference_row && t == rep->reference) c->whole.psnr_db = INFINITY;
+        c->cost_ratio = c->frame_ms / ref->frame_ms;
+    }
+    return r;
+}
+
+/* Whether the bundle measured soft cells (lod.h): then the grid shows
+   each strand level past 0 soft too. */
+static bool measured_soft(const report *rep) {
+    for (int i = 0; i < rep->measured_lods.cell_count; i++)
+        if (rep->measured_lods.cells[i].soften > 1) return true;
+    return false;
+}
+
 /* The LOD x tier grid (report.h): every level lv holds (the bundle's
-   stored ones, cards too, else those built from the scene) drawn by every
-   tier that ran, at the measured size nearest REPORT_LOD_SIZE, against
-   (level 0, the reference tier). For a bundle that stores this scene's
-   levels or was measured with --measure-lods. */
+   stored ones, cards too, else those built from the scene), and each
+   strand level past 0 soft when the bundle measured soft cells, drawn by
+   every tier that ran, at the measured size nearest REPORT_LOD_SIZE,
+   against (level 0, the reference tier). For a bundle that stores this
+   scene's levels or was measured with --measure-lods. */
 static ht_result build_lod_grid(const options *o, const char *tmp, const tier_scene *ts, const grid_levels *lv,
                                 report *rep, char *err, size_t err_size) {
     report_lod_grid *g = &rep->lods;
@@ -216,52 +268,48 @@ static ht_result build_lod_grid(const options *o, const char *tmp, const tier_sc
     g->width = small.scene.width;
     g->height = small.scene.height;
     g->levels = lv->count < REPORT_LOD_MAX_LEVELS ? lv->count : REPORT_LOD_MAX_LEVELS;
-    const int w = g->width, h = g->height;
-    tier_frame frames[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS];
+    const bool soft = measured_soft(rep);
+    static tier_frame frames[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS], soft_frames[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS];
     memset(frames, 0, sizeof frames);
+    memset(soft_frames, 0, sizeof soft_frames);
     ht_result r = HT_OK;
     for (int l = 0; l < g->levels && r == HT_OK; l++) {
         bool borrowed = false;
-        if ((r = grid_levels_mesh(lv, &ts->hair, l, &small.hair, &borrowed)) != HT_OK) {
+        ht_mesh level;
+        if ((r = grid_levels_mesh(lv, &ts->hair, l, &level, &borrowed)) != HT_OK) {
             snprintf(err, err_size, "%s: geometry: cannot %s LOD %d: %s", lv->stored ? rep->bundle : rep->scene,
                      lv->stored ? "read" : "build", l, ht_result_string(r));
             break;
         }
-        g->strands[l] = small.hair.component_count;
+        g->strands[l] = level.component_count;
         g->cards[l] = lv->cards[l];
         g->strands_per_card[l] = lv->cards[l] ? lv->param[l] : 0;
-        for (int t = 0; t < rep->tier_count && r == HT_OK; t++) {
-            report_lod_cell *c = &g->cells[l][t];
-            if (!rep->tiers[t].ran) continue;
-            fprintf(stderr, "haircompare: rendering %s %d with %s at %gx\n", lv->cards[l] ? "cards, level" : "level", l,
-                    rep->tiers[t].name, g->size);
-            tier_render(o->view.bundle, &small, rep->tiers[t].tier, o->view.frames, &frames[l][t]);
-            if (!(c->ran = frames[l][t].ran)) continue;
-            c->frame_ms = frames[l][t].frame_ms;
-            char name[sizeof rep->tiers[t].name], path[4300];
-            memcpy(name, rep->tiers[t].name, sizeof name); /* a copy, as in compare_tier (-Wrestrict) */
-            snprintf(c->image, sizeof c->image, "lod%d-%s.png", l, name);
-            snprintf(path, sizeof path, "%s/%s", tmp, c->image);
-            ht_image img = { 0 };
-            r = write_frame(path, frames[l][t].rgba, w, h, &img, err, err_size);
-            ht_image_free(&img);
+        small.hair = level;
+        small.opacity = 0.0f;
+        r = render_lod_row(o, tmp, lv, &small, rep, l, false, frames[l], err, err_size);
+        if (r == HT_OK && soft && l > 0 && !lv->cards[l]) {
+            g->soft[l] = true;
+            if ((r = ht_mesh_widen_back_to_front(&level, HT_LOD_SOFTEN, ts->scene.camera.eye, &small.hair)) == HT_OK) {
+                small.opacity = 1.0f / HT_LOD_SOFTEN;
+                r = render_lod_row(o, tmp, lv, &small, rep, l, true, soft_frames[l], err, err_size);
+                ht_mesh_free(&small.hair);
+            } else {
+                snprintf(err, err_size, "%s: geometry: LOD %d soft: %s", rep->scene, l, ht_result_string(r));
+            }
         }
-        if (!borrowed) ht_mesh_free(&small.hair);
+        if (!borrowed) ht_mesh_free(&level);
     }
     const tier_frame *ref = &frames[0][rep->reference];
-    for (int l = 0; l < g->levels && r == HT_OK; l++)
-        for (int t = 0; t < rep->tier_count && r == HT_OK; t++) {
-            report_lod_cell *c = &g->cells[l][t];
-            if (!c->ran || !ref->ran) continue;
-            r = ht_metrics_compare(&(ht_metrics_desc){ .reference = ref->rgba, .test = frames[l][t].rgba,
-                                                       .width = w, .height = h },
-                                   &c->whole, NULL, err, err_size);
-            if (l == 0 && t == rep->reference) c->whole.psnr_db = INFINITY;
-            c->cost_ratio = c->frame_ms / ref->frame_ms;
-        }
+    for (int l = 0; l < g->levels && r == HT_OK; l++) {
+        r = measure_lod_row(rep, g->cells[l], frames[l], ref, l == 0, err, err_size);
+        if (r == HT_OK && g->soft[l]) r = measure_lod_row(rep, g->soft_cells[l], soft_frames[l], ref, false, err, err_size);
+    }
     report_lod_attach_measured(rep);
     for (int l = 0; l < REPORT_LOD_MAX_LEVELS; l++)
-        for (int t = 0; t < REPORT_MAX_TIERS; t++) tier_frame_free(&frames[l][t]);
+        for (int t = 0; t < REPORT_MAX_TIERS; t++) {
+            tier_frame_free(&frames[l][t]);
+            tier_frame_free(&soft_frames[l][t]);
+        }
     return r;
 }
 
@@ -294,14 +342,15 @@ static void print_lod_grid(const report *r) {
     printf("%-5s %-7s %8s %-7s %7s %6s %10s %11s\n", "level", "kind", "strands", "tier", "psnr_db", "cost",
            "bundle_db", "bundle_cost");
     for (int l = 0; l < g->levels; l++)
-        for (int t = 0; t < r->tier_count; t++) {
-            const report_lod_cell *c = &g->cells[l][t];
-            if (!c->ran) continue;
-            printf("%-5d %-7s %8u %-7s %7.2f %6.3f", l, g->cards[l] ? "cards" : "strands", g->strands[l],
-                   r->tiers[t].name, c->whole.psnr_db, c->cost_ratio);
-            if (c->measured) printf(" %10.2f %11.3f", c->measured_psnr_db, c->measured_cost_ratio);
-            printf("\n");
-        }
+        for (int soft = 0; soft < 1 + g->soft[l]; soft++)
+            for (int t = 0; t < r->tier_count; t++) {
+                const report_lod_cell *c = soft ? &g->soft_cells[l][t] : &g->cells[l][t];
+                if (!c->ran) continue;
+                printf("%-5d %-7s %8u %-7s %7.2f %6.3f", l, g->cards[l] ? "cards" : soft ? "soft" : "strands",
+                       g->strands[l], r->tiers[t].name, c->whole.psnr_db, c->cost_ratio);
+                if (c->measured) printf(" %10.2f %11.3f", c->measured_psnr_db, c->measured_cost_ratio);
+                printf("\n");
+            }
 }
 
 /* Renders, measures and writes every file into tmp; 0 or 1. */

@@ -4,7 +4,7 @@
    build/hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]
                   [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]
                   [--lod auto|N | --cards] [--size F] [--distance D] [--samples N] [--supersample K]
-                  [--width-rule[=vertex|draw]] [--soft] [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]
+                  [--width-rule[=vertex|draw|off]] [--soft] [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]
                   [--device-profile NAME] -o OUT.png
 
    --api gles1|gles2|gles3 draws on a GL ES context (EGL); --device-profile NAME
@@ -20,7 +20,10 @@
    times the pixels and box-filters them down (a reference; docs/lod.md);
    --width-rule draws a strand under a pixel (at the pixels drawn) about a
    pixel wide with its opacity scaled by the ratio, blended far to near (lod.h):
-   per vertex where the tier can, else (and with =draw) per draw.
+   per vertex where the tier can, else (and with =draw) per draw. Without
+   it, a pair picked from cells measured with the rule (hairgen
+   --lod-reference supersample) is drawn with it per draw, as measured
+   (prints width_rule=from-cells; =off: never).
    --context picks how the GL context is made (platform/offscreen.h; default
    HAIRTIER_CONTEXT, else osmesa where libOSMesa loads, else egl);
    --egl-device N draws on EGL device N (EGL_EXT_platform_device) and implies
@@ -60,7 +63,7 @@ typedef struct options {
     double distance_to;   /* --distance A:B: the eye dollied from A to B over the frames; 0: none */
     int samples;          /* 0: no multisampling; else the framebuffer's samples */
     int supersample;      /* 1; K: drawn K x K times larger, box-filtered down to the PNG */
-    int width_rule;       /* lod.h's width rule on the mesh drawn: WIDTH_RULE_* */
+    int width_rule;       /* lod.h's width rule on the mesh drawn: WIDTH_RULE_*, AUTO unless given */
     bool soft;            /* --lod N draws the level soft (lod.h: widened by HT_LOD_SOFTEN, back to front) */
     bool cards;           /* the bundle's stored cards (hairgen --cards) instead of the strands */
 } options;
@@ -95,7 +98,7 @@ enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT, KEY_PROFILE, K
        KEY_SUPERSAMPLE, KEY_WIDTH_RULE, KEY_CARDS, KEY_SOFT };
 /* --width-rule: per vertex where the tier's programs can, else per draw;
    --width-rule=draw: per draw in every tier. */
-enum { WIDTH_RULE_OFF, WIDTH_RULE_VERTEX, WIDTH_RULE_DRAW };
+enum { WIDTH_RULE_OFF, WIDTH_RULE_VERTEX, WIDTH_RULE_DRAW, WIDTH_RULE_AUTO };
 
 static const struct option long_options[] = {
     VIEW_ARGS_LONG_OPTIONS,
@@ -142,10 +145,12 @@ static const cli_program program = {
             "                  (prints lod_pair: frame=F lod=N tier=T at each switch)\n"
             "  --samples N     draw multisampled, N samples (2..32; a framebuffer object, GL 3.0), resolved before the PNG\n"
             "  --supersample K draw K x K times the pixels and box-filter them down (1..8; a reference)\n"
-            "  --width-rule[=vertex|draw]  strands under a pixel drawn a pixel wide, opacity scaled by the ratio\n"
+            "  --width-rule[=vertex|draw|off]  strands under a pixel drawn a pixel wide, opacity scaled by the ratio\n"
             "                  (docs/lod.md): per vertex where the tier can (full, marschner, gl11, vertex on\n"
             "                  GL ES; prints width_rule=vertex), else or with =draw one factor for the mesh's mean\n"
-            "                  width (prints width_rule=F opacity=S); the --distance dolly applies it per draw\n"
+            "                  width (prints width_rule=F opacity=S); the --distance dolly applies it per draw.\n"
+            "                  Unset, a pair picked from cells measured with it (--lod-reference supersample)\n"
+            "                  is drawn with it per draw (prints width_rule=from-cells); =off never\n"
             "  --soft          a level past 0 drawn soft: its ribbons 3x wider at 1/3 the opacity, sorted\n"
             "                  back to front (docs/lod.md); prints soften=S opacity=A\n"
             "  --context K     osmesa or egl (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl)\n"
@@ -181,8 +186,9 @@ static const char *take(void *user, int key, const char *value) {
     case KEY_WIDTH_RULE:
         o->width_rule = !value || !strcmp(value, "vertex") ? WIDTH_RULE_VERTEX
                         : !strcmp(value, "draw")          ? WIDTH_RULE_DRAW
-                                                          : WIDTH_RULE_OFF;
-        return o->width_rule == WIDTH_RULE_OFF ? "--width-rule: expected vertex or draw" : NULL;
+                        : !strcmp(value, "off")           ? WIDTH_RULE_OFF
+                                                          : WIDTH_RULE_AUTO;
+        return o->width_rule == WIDTH_RULE_AUTO ? "--width-rule: expected vertex, draw or off" : NULL;
     case KEY_SOFT: o->soft = true; return NULL;
     case KEY_PROFILE: {
         char err[200];
@@ -229,7 +235,8 @@ static const char *take(void *user, int key, const char *value) {
 }
 
 static int parse_args(int argc, char **argv, options *o) {
-    *o = (options){ .view = view_args_defaults(10), .tier = HT_TIER_AUTO, .size = 1.0, .supersample = 1 };
+    *o = (options){ .view = view_args_defaults(10), .tier = HT_TIER_AUTO, .size = 1.0, .supersample = 1,
+                     .width_rule = WIDTH_RULE_AUTO };
     int rc = cli_parse(&program, argc, argv, take, o);
     if (rc != CLI_RUN) return rc;
     /* An ES device's profile draws on its API unless --api says otherwise. */
@@ -438,6 +445,15 @@ static double mean_strand_px(const ht_scene *s, const ht_mesh *hair) {
     return ht_projected_width_px(ht_mesh_mean_width(hair), eye_distance(s), s->camera.fov_y, s->height);
 }
 
+/* The width rule drawn: --width-rule's, else per draw when the pair was
+   picked from cells measured with it (lod.h), else none. */
+static int width_rule_for(const options *o, const view *v, bool paired) {
+    if (o->width_rule != WIDTH_RULE_AUTO) return o->width_rule;
+    if (!paired || !ht_renderer_lod_cells_width_rule(v->renderer)) return WIDTH_RULE_OFF;
+    printf("width_rule=from-cells\n");
+    return WIDTH_RULE_DRAW;
+}
+
 /* --width-rule=draw on the mesh choose_lod left (drawn at `opacity`): its
    mean strand widened to about a pixel, the opacity scaled by the inverse. */
 static int apply_width_rule(const options *o, const ht_scene *s, ht_renderer *r, ht_mesh *hair, float opacity) {
@@ -503,7 +519,6 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
         fprintf(stderr, "hairview: %s: levels: %s\n", ladder ? o->view.bundle : o->view.scene, ht_result_string(r));
         return 1;
     }
-    chain.width_rule = o->width_rule != WIDTH_RULE_OFF; /* per draw, on the level drawn (lod.h) */
     static ht_lod_cell cells[HT_LOD_MAX_CELLS];
     const int viewport_h = s->height / o->supersample;
     ht_lod_rule rule = { .kind = HT_POLICY_BEST, .value = policy->value, .cells = cells,
@@ -512,6 +527,8 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
     int ref;
     rule.cell_count = pair_cells(o, v, policy, cells, &ref);
     if (rule.cell_count > 0) rule.kind = policy->kind;
+    /* per draw, on the level drawn (lod.h) */
+    chain.width_rule = width_rule_for(o, v, rule.cell_count > 0) != WIDTH_RULE_OFF;
     if (rule.kind == HT_POLICY_FRAME && !(rule.reference_ms = reference_ms(o, v, s, frame, cells[ref].tier))) {
         ht_lod_chain_free(&chain);
         fprintf(stderr, "hairview: frame:MS: the reference pair (lod 0, %s) does not draw\n", ht_tier_name(cells[ref].tier));
@@ -588,8 +605,9 @@ static int draw_still(const options *o, view *v, ht_scene *scene, double scene_d
     if (choose_lod(o, scene, scene_distance, v, frame, policy, ladder, &paired, &opacity)) return 1;
     print_held();
     ht_result r;
-    if (o->width_rule == WIDTH_RULE_VERTEX) ht_renderer_set_width_rule(v->renderer, true);
-    else if (o->width_rule && apply_width_rule(o, scene, v->renderer, &v->hair, opacity)) return 1;
+    const int width_rule = width_rule_for(o, v, paired);
+    if (width_rule == WIDTH_RULE_VERTEX) ht_renderer_set_width_rule(v->renderer, true);
+    else if (width_rule && apply_width_rule(o, scene, v->renderer, &v->hair, opacity)) return 1;
     if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
     print_held();
 
@@ -598,7 +616,7 @@ static int draw_still(const options *o, view *v, ht_scene *scene, double scene_d
         print_held();
     }
     /* per vertex where the tier drawing now can, else per draw */
-    if (o->width_rule == WIDTH_RULE_VERTEX && ht_renderer_width_rule_per_vertex(v->renderer)) {
+    if (width_rule == WIDTH_RULE_VERTEX && ht_renderer_width_rule_per_vertex(v->renderer)) {
         printf("width_rule=vertex\n");
         /* translucent strands compose far to near (lod.h), once most are
            (the mean strand under a pixel): the centroid order misplaces
@@ -608,7 +626,7 @@ static int draw_still(const options *o, view *v, ht_scene *scene, double scene_d
             ht_renderer_set_back_to_front(v->renderer, true);
             if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
         }
-    } else if (o->width_rule == WIDTH_RULE_VERTEX) {
+    } else if (width_rule == WIDTH_RULE_VERTEX) {
         ht_renderer_set_width_rule(v->renderer, false);
         if (apply_width_rule(o, scene, v->renderer, &v->hair, opacity)) return 1;
         if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);

@@ -236,6 +236,8 @@ static void expect_pair(const char *policy, const ht_lod_cell *pick) {
     if (!strstr(out, want)) fail_msg("expected %s in:\n%s", want, out);
     snprintf(want, sizeof want, "\ntier=%s ", ht_tier_name(pick->tier));
     if (!strstr(out, want)) fail_msg("expected %s in:\n%s", want, out);
+    /* cells against 4 samples were measured without the width rule: none drawn */
+    if (strstr(out, "width_rule")) fail_msg("expected no width rule in:\n%s", out);
 }
 
 static void hairview_picks_the_pair_the_rules_pick(void **state) {
@@ -462,6 +464,21 @@ static void supersample_reference_measures_the_width_rule_against_the_truth(void
     printf("against the truth at size 1: level 0 %.2f dB, level 1 %.2f dB (hairview: %.2f)\n", reference, cell, viewed);
     assert_true(isfinite(reference)); /* not the reference pair itself (null) */
     assert_true(fabs(cell - viewed) < 0.05);
+    /* a pair picked from these cells is drawn as they were measured, with the
+       width rule per draw (its strands are under a pixel), unless =off */
+    static const char *const rules[] = { "", "--width-rule=off" };
+    for (int i = 0; i < 2; i++) {
+        snprintf(args, sizeof args, "--bundle %s --scene %s --size 0.5 --lod auto --policy error:10 --frames 1 %s -o %s/p.png",
+                 truth, scene_path, rules[i], work);
+        if (ht_test_run_program("hairview", args, out, sizeof out) != 0) fail_msg("hairview: %s", out);
+        const bool drawn = strstr(out, "width_rule=from-cells\n") && strstr(out, "\nwidth_rule=") &&
+                           strstr(out, " opacity=");
+        if (drawn != (i == 0) || (i == 1 && strstr(out, "width_rule")))
+            fail_msg("expected the width rule %s in:\n%s", i == 0 ? "from the cells" : "off", out);
+    }
+    snprintf(args, sizeof args, "--bundle %s --scene %s --width-rule=sometimes -o %s/p.png", truth, scene_path, work);
+    assert_int_not_equal(ht_test_run_program("hairview", args, out, sizeof out), 0);
+    assert_non_null(strstr(out, "--width-rule: expected vertex, draw or off"));
     /* refused: by the reader, naming the field; by hairgen, writing nothing */
     cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)lods, "reference", cJSON_CreateString("exact"));
     char *json = cJSON_Print(root), err[1024];

@@ -109,6 +109,11 @@ typedef struct report_lod_grid {
     int measured_cells;            /* the manifest's cells shown beside the grid's */
     int other_cells;               /* its cells at this size that match no row (other geometry) */
     report_lod_cell cells[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS]; /* [level][the report's tier] */
+    /* soft[l]: strand level l past 0 also drawn soft (lod.h: HT_LOD_SOFTEN
+       wider at its inverse opacity, back to front), a row of its own, when
+       the bundle measured soft cells (error:DB may pick one) */
+    bool soft[REPORT_LOD_MAX_LEVELS];
+    report_lod_cell soft_cells[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS];
 } report_lod_grid;
 
 typedef struct report {

@@ -20,17 +20,19 @@ void report_lod_attach_measured(report *r) {
     g->measured_cells = g->other_cells = 0;
     for (int i = 0; i < m->cell_count; i++) {
         const ht_manifest_lod_cell *c = &m->cells[i];
-        /* the grid draws the plain levels; a soft cell is another pair */
-        if (c->size != g->size || c->soften > 1) continue;
+        if (c->size != g->size) continue;
         int t = 0;
         while (t < r->tier_count && strcmp(r->tiers[t].name, c->tier) != 0) t++;
         const int l = c->level;
-        /* the same geometry: the row's kind and its strand (card) count */
-        if (t == r->tier_count || l >= g->levels || (c->cards != 0) != g->cards[l] || c->strands != g->strands[l]) {
+        const bool soft = c->soften > 1;
+        /* the same geometry: the row's kind and its strand (card) count, a
+           soft cell's row drawn soft by the factor it was measured with */
+        if (t == r->tier_count || l >= g->levels || (c->cards != 0) != g->cards[l] || c->strands != g->strands[l] ||
+            (soft && (!g->soft[l] || c->soften != HT_LOD_SOFTEN))) {
             g->other_cells++;
             continue;
         }
-        report_lod_cell *cell = &g->cells[l][t];
+        report_lod_cell *cell = soft ? &g->soft_cells[l][t] : &g->cells[l][t];
         cell->measured = true;
         cell->measured_psnr_db = c->psnr_db;
         cell->measured_cost_ratio = c->cost_ratio;
@@ -61,6 +63,12 @@ static void write_intro(FILE *f, const report *r) {
                     ? "the bundle&#8217;s <code>" HT_LOD_FILE_NAME "</code> was made from another scene&#8217;s mesh"
                     : "the bundle stores none");
     }
+    int soft = 0;
+    for (int l = 0; l < g->levels; l++) soft += g->soft[l];
+    if (soft)
+        fprintf(f, "; %d of them also soft (ribbons %g&#215; wider at 1/%g the opacity, far to near: the bundle "
+                   "measured soft cells, which <code>error:DB</code> may pick)", soft, (double)HT_LOD_SOFTEN,
+                (double)HT_LOD_SOFTEN);
     fprintf(f, ". Each drawn by every tier that ran at %d&#215;%d against (level 0, <b>", g->width, g->height);
     report_escape(f, report_reference_name(r));
     fputs("</b>) at this size: PSNR in dB and cost (frame time over that pair&#8217;s, this run; "
@@ -78,8 +86,11 @@ static void write_intro(FILE *f, const report *r) {
     fputs("</p>\n", f);
 }
 
-static void write_row_head(FILE *f, const report_lod_grid *g, int l) {
-    if (g->cards[l])
+static void write_row_head(FILE *f, const report_lod_grid *g, int l, bool soft) {
+    if (soft)
+        fprintf(f, "<div class=\"lodhead\">level %d soft<br><span>%u strands, %g&#215; wide at 1/%g the "
+                   "opacity</span></div>\n", l, g->strands[l], (double)HT_LOD_SOFTEN, (double)HT_LOD_SOFTEN);
+    else if (g->cards[l])
         fprintf(f, "<div class=\"lodhead\">cards<br><span>level %d: %u cards of %u strands</span></div>\n", l,
                 g->strands[l], g->strands_per_card[l]);
     else
@@ -93,11 +104,14 @@ void report_write_lod_grid(FILE *f, const report *r) {
     /* a cell is as wide as its image, or its two lines of numbers */
     const int cell_w = g->width > 150 ? g->width : 150;
     fputs("<div class=\"lods\">\n", f);
-    for (int l = 0; l < g->levels; l++) {
+    for (int row = 0; row < 2 * g->levels; row++) {
+        const int l = row / 2;
+        const bool soft = row % 2;
+        if (soft && !g->soft[l]) continue;
         fputs("<div class=\"lodrow\">\n", f);
-        write_row_head(f, g, l);
+        write_row_head(f, g, l, soft);
         for (int t = 0; t < r->tier_count; t++) {
-            const report_lod_cell *c = &g->cells[l][t];
+            const report_lod_cell *c = soft ? &g->soft_cells[l][t] : &g->cells[l][t];
             if (!g->cells[0][t].ran) continue;
             fprintf(f, "<figure class=\"lod\" style=\"width:%dpx\"><p class=\"cap\"><b>", cell_w);
             report_escape(f, r->tiers[t].name);
@@ -109,8 +123,8 @@ void report_write_lod_grid(FILE *f, const report *r) {
             }
             fputs("<img src=\"", f);
             report_escape(f, c->image);
-            fprintf(f, "\" width=\"%d\" height=\"%d\" alt=\"%s %d, ", g->width, g->height,
-                    g->cards[l] ? "cards, level" : "level", l);
+            fprintf(f, "\" width=\"%d\" height=\"%d\" alt=\"%s %d%s, ", g->width, g->height,
+                    g->cards[l] ? "cards, level" : "level", l, soft ? " soft" : "");
             report_escape(f, r->tiers[t].name);
             fputs("\"><p>", f);
             write_db(f, c->whole.psnr_db);

@@ -3,6 +3,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <hairtier/lod.h>
+
 #include "offscreen.h"
 #include "../timing.h"
 #include "tier_render.h"
@@ -73,6 +75,7 @@ void tier_render(const char *bundle, const tier_scene *ts, ht_tier tier, int fra
     if (res == HT_OK) {
         last_log[0] = '\0'; /* not the creation's "tier ..." line */
         res = ht_renderer_set_mesh(r, &ts->hair);
+        if (res == HT_OK && ts->opacity > 0.0f) res = ht_renderer_set_opacity_scale(r, ts->opacity);
     }
     if (res != HT_OK) {
         snprintf(out->reason, sizeof out->reason, "%s", last_log[0] ? last_log : ht_result_string(res));

@@ -26,6 +26,7 @@ typedef struct tier_scene {
     ht_scene scene;
     ht_mesh hair;   /* sorted inside out */
     ht_mesh head;   /* empty unless the geometry is patches */
+    float opacity;  /* the hair's opacity scale (lod.h): 0 or 1 as the material has it, a soft level's 1/3 */
 } tier_scene;
 
 /* Reads the scene and builds its meshes; errors are one line naming the

@@ -519,6 +519,11 @@ HT_API void ht_lod_file_set_scene(ht_lod_file *f, const ht_mesh *full);
    LOD and size, against (LOD 0, the bundle's first tier)), at most max
    into out; how many. 0 when the bundle has none. */
 HT_API int ht_renderer_lod_cells(const ht_renderer *r, ht_lod_cell *out, int max);
+/* True when the bundle's cells were measured with the width rule per
+   draw (hairgen --lod-reference supersample: against the 16x truth, every
+   cell drawn so): a pair they pick means its error only drawn that way
+   (chain.width_rule; ht_mesh_width_rule on a still mesh). */
+HT_API bool ht_renderer_lod_cells_width_rule(const ht_renderer *r);
 
 #ifdef __cplusplus
 }

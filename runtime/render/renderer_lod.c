@@ -18,6 +18,11 @@ int ht_renderer_lod_cells(const ht_renderer *r, ht_lod_cell *out, int max) {
     return n;
 }
 
+bool ht_renderer_lod_cells_width_rule(const ht_renderer *r) {
+    return r && r->have_bundle && r->bundle.lods.cell_count > 0 &&
+           r->bundle.lods.reference == HT_LOD_REFERENCE_SUPERSAMPLE;
+}
+
 void ht_renderer_set_width_rule(ht_renderer *r, bool per_vertex) {
     if (r) r->width_vertex = per_vertex;
 }
