@@ -148,9 +148,10 @@ static const cli_program program = {
             "  --width-rule[=vertex|draw|off]  strands under a pixel drawn a pixel wide, opacity scaled by the ratio\n"
             "                  (docs/lod.md): per vertex where the tier can (full, marschner, gl11, vertex on\n"
             "                  GL ES; prints width_rule=vertex), else or with =draw one factor for the mesh's mean\n"
-            "                  width (prints width_rule=F opacity=S); the --distance dolly applies it per draw.\n"
-            "                  Unset, a pair picked from cells measured with it (--lod-reference supersample)\n"
-            "                  is drawn with it per draw (prints width_rule=from-cells); =off never\n"
+            "                  width (prints width_rule=F opacity=S); in the --distance dolly too (prints\n"
+            "                  width_rule: frame=F vertex|draw). Unset, a pair picked from cells measured\n"
+            "                  with it (--lod-reference supersample) is drawn with it per draw (prints\n"
+            "                  width_rule=from-cells); =off never\n"
             "  --soft          a level past 0 drawn soft: its ribbons 3x wider at 1/3 the opacity, sorted\n"
             "                  back to front (docs/lod.md); prints soften=S opacity=A\n"
             "  --context K     osmesa or egl (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl)\n"
@@ -527,8 +528,10 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
     int ref;
     rule.cell_count = pair_cells(o, v, policy, cells, &ref);
     if (rule.cell_count > 0) rule.kind = policy->kind;
-    /* per draw, on the level drawn (lod.h) */
-    chain.width_rule = width_rule_for(o, v, rule.cell_count > 0) != WIDTH_RULE_OFF;
+    /* on the level drawn (lod.h): per vertex where the tier can, else per draw */
+    const int width_rule = width_rule_for(o, v, rule.cell_count > 0);
+    chain.width_rule = width_rule != WIDTH_RULE_OFF;
+    ht_renderer_set_width_rule(v->renderer, width_rule == WIDTH_RULE_VERTEX);
     if (rule.kind == HT_POLICY_FRAME && !(rule.reference_ms = reference_ms(o, v, s, frame, cells[ref].tier))) {
         ht_lod_chain_free(&chain);
         fprintf(stderr, "hairview: frame:MS: the reference pair (lod 0, %s) does not draw\n", ht_tier_name(cells[ref].tier));
@@ -563,6 +566,7 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
     ht_tier last_tier = HT_TIER_COUNT;
     float last_soften = -1.0f;
     double ms = 0, last_widen = 1.0;
+    bool per_vertex = false;
     for (int f = 0; f < o->view.frames && fr == HT_OK; f++) {
         const double t = o->view.frames > 1 ? (double)f / (o->view.frames - 1) : 0;
         const double d = o->distance + (o->distance_to - o->distance) * t;
@@ -578,6 +582,10 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
             printf("lod_pair: frame=%d lod=%d tier=%s distance=%.3f size=%.3f select_ms=%.3f%s\n", f, level,
                    ht_tier_name(ht_renderer_tier(v->renderer)), d, chain.size, select_ms,
                    chain.soften > 1 ? " soft" : "");
+        if (width_rule == WIDTH_RULE_VERTEX && ht_renderer_width_rule_per_vertex(v->renderer) != per_vertex) {
+            per_vertex = !per_vertex;
+            printf("width_rule: frame=%d %s\n", f, per_vertex ? "vertex" : "draw");
+        }
         /* the width rule's own factor: what is drawn over the soft level's */
         const double widen = chain.wide_renderer ? chain.wide_factor / chain.wide_soften : 1.0;
         if (widen != last_widen)
@@ -618,10 +626,8 @@ static int draw_still(const options *o, view *v, ht_scene *scene, double scene_d
     /* per vertex where the tier drawing now can, else per draw */
     if (width_rule == WIDTH_RULE_VERTEX && ht_renderer_width_rule_per_vertex(v->renderer)) {
         printf("width_rule=vertex\n");
-        /* translucent strands compose far to near (lod.h), once most are
-           (the mean strand under a pixel): the centroid order misplaces
-           near, long, opaque ones, which the inside-out order does not */
-        if (ht_width_rule_widen(mean_strand_px(scene, &v->hair)) > 1.0) {
+        /* translucent strands compose far to near, once most are (lod.h) */
+        if (ht_width_rule_vertex_sorts(mean_strand_px(scene, &v->hair))) {
             ht_mesh_sort_back_to_front(&v->hair, scene->camera.eye);
             ht_renderer_set_back_to_front(v->renderer, true);
             if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);

@@ -484,6 +484,71 @@ static void chain_width_rule_per_draw(void **state) {
     ht_lod_chain_free(&chain);
 }
 
+/* The width rule per vertex in the chain (the full tier does it): the
+   same pull out and back, but no level is ever widened (the vertex stage
+   widens each strand); past about 30 units, where the level's strands go
+   under a pixel, the level is drawn alone, sorted back to front, with the
+   material's reference kept (no opacity scale) and its blended passes in
+   the mesh's order (the back pass draws both faces, the front pass none).
+   An upload happens only at the first frame, a change of drawn alone or
+   not, a change of level drawn alone, or a re-sort (the distance 2x since
+   the order was made): per draw (above) also at every change of the
+   factor; `all`'s levels switch by the draw range alone. */
+static void chain_width_rule_per_vertex(void **state) {
+    (void)state;
+    ht_lod_chain chain;
+    assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
+    chain.width_rule = true;
+    ht_renderer *r = fault_counted_renderer();
+    ht_renderer_set_width_rule(r, true);
+    const int steps = 24;
+    int alone_frames = 0, uploads = 0, last_level = -1;
+    bool last_alone = false;
+    double sorted_at = 0;
+    for (int f = 0; f < 2 * steps; f++) {
+        const double t = f < steps ? (double)f / (steps - 1) : (double)(2 * steps - 1 - f) / (steps - 1);
+        const double d = 3.0 * pow(100.0, t);
+        const ht_frame_desc frame = ht_test_furball_frame((float)d);
+        ht_fault_arm(HT_FAULT_NONE, 0);
+        ht_result res;
+        const int level = ht_lod_chain_select(&chain, r, &frame.camera, 512, &res);
+        assert_int_equal(res, HT_OK);
+        assert_true(ht_renderer_width_rule_per_vertex(r));
+        const bool alone = chain.wide_renderer == r;
+        if (alone) assert_true(chain.wide_factor == 1.0);
+        const bool resort = alone && last_alone && level == last_level &&
+                            (d > sorted_at * HT_LOD_RESORT_DISTANCE || d * HT_LOD_RESORT_DISTANCE < sorted_at);
+        const bool upload = f == 0 || alone != last_alone || (alone && (level != last_level || resort));
+        if (alone && (upload || !last_alone)) sorted_at = d;
+        assert_int_equal(buffer_data_calls() > 0, upload);
+        uploads += upload;
+        const ht_trace *tr = draw_traced(r, &frame);
+        for (int i = 0; i < tr->count; i++) {
+            const ht_trace_entry *e = &tr->entries[i];
+            assert_int_equal(e->gl_error, GL_NO_ERROR);
+            assert_true(e->alpha_ref >= HT_WIDTH_RULE_VERTEX_REF && e->alpha_ref < 1.0f);
+            if (alone) {
+                assert_int_equal(e->index_count, chain.wide.index_count);
+                if (e->pass == HT_PASS_BACK) assert_false(e->cull);
+                if (e->pass == HT_PASS_FRONT) assert_int_equal(e->cull_face, GL_FRONT_AND_BACK);
+            } else {
+                assert_int_equal(e->first_index, chain.first[level]);
+                if (e->pass == HT_PASS_BACK) assert_true(e->cull && e->cull_face == GL_FRONT);
+            }
+        }
+        alone_frames += alone;
+        last_alone = alone;
+        last_level = level;
+    }
+    printf("width rule per vertex: %d of %d frames drawn alone back to front, none widened, %d uploads\n",
+           alone_frames, 2 * steps, uploads);
+    assert_true(alone_frames >= 8);
+    assert_int_equal(last_level, 0);
+    assert_false(last_alone);
+    ht_renderer_destroy(r);
+    ht_lod_chain_free(&chain);
+}
+
 /* Soft cells beside plain ones (full tier, so the uploads counted are
    the chain's): error:30 takes (0) at size 1; at 1/2 (2 soft) at 0.24x,
    the cheapest at 30 dB, where a chain holding (1) keeps it (soft 2 is
@@ -665,6 +730,7 @@ int main(void) {
         cmocka_unit_test(chain_width_rule_per_draw),
         cmocka_unit_test(chain_picks_a_soft_cell),
         cmocka_unit_test(chain_soft_hysteresis_and_width_rule),
+        cmocka_unit_test(chain_width_rule_per_vertex),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -205,13 +205,21 @@ HT_API void ht_renderer_set_width_rule(ht_renderer *r, bool per_vertex);
 /* On: the mesh drawn is ordered back to front from the frame's eye
    (ht_mesh_sort_back_to_front), so the blended passes draw both faces in
    one pass in its order, as under an opacity scale below 1 (which implies
-   it). For the width rule per vertex while most strands are under a pixel
-   and blend; off (the default) they are split by facing, inside out. */
+   it). For the width rule per vertex while most strands are widened and
+   blend (ht_width_rule_vertex_sorts); off (the default) they are split by
+   facing, inside out. */
 HT_API void ht_renderer_set_back_to_front(ht_renderer *r, bool on);
 /* The width a vertex is drawn at least (pixels): a ribbon a pixel wide
    still misses pixel centres; 1.5 was the closest to the supersampled
    fur ball at 1/8 to 1/2 of its size (docs/lod.md). */
 #define HT_WIDTH_RULE_VERTEX_PX 1.5
+/* Per vertex, whether a mesh whose mean strand is strand_px wide is drawn
+   back to front (ht_mesh_sort_back_to_front, ht_renderer_set_back_to_front):
+   under HT_WIDTH_RULE_VERTEX_PX most of its strands are widened and
+   translucent, and blend right only far to near; wider, most stay opaque
+   and the inside-out order serves (the centroid order misplaces near, long
+   strands). */
+HT_API bool ht_width_rule_vertex_sorts(double strand_px);
 /* The passes' alpha reference while it is on: the material's cutoff, at
    least this. Most strands are not scaled and keep their opaque pass
    (reference 1 sent every fragment under it to the blended passes, whose
@@ -289,11 +297,12 @@ HT_API int ht_lod_pick_frame(const ht_lod_cell *cells, int count, double size, d
    opacity 1 / f (ht_renderer_set_opacity_scale); while level and f (a
    quarter octave) stay, nothing more: the order is the one of the eye
    that made it; a pixel or wider again: `all` is uploaded again and the
-   opacity is 1. Per draw, not per vertex: a strand's own width and depth
-   would need its ribbon's centre line in the vertex stage, which the
-   fixed-function tiers do not have (docs/lod.md). While the level and f
-   stay, the order is sorted again only past HT_LOD_RESORT_DEG /
-   HT_LOD_RESORT_DISTANCE (below).
+   opacity is 1. Where the renderer does the rule per vertex
+   (ht_renderer_set_width_rule, a tier that can) nothing is widened: while
+   the level's strands are ht_width_rule_vertex_sorts, the level is drawn
+   alone, sorted back to front (ht_renderer_set_back_to_front) at opacity
+   1; else `all`'s range. While the level and f stay, the order is sorted
+   again only past HT_LOD_RESORT_DEG / HT_LOD_RESORT_DISTANCE (below).
    ht_lod_chain_from_file takes the levels a bundle stores instead (its
    lods.bin, hairgen --cards: the strand levels, then the cards, whose
    best-rule level is one past the last strand level's);

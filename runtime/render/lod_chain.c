@@ -172,18 +172,24 @@ static bool order_serves(const ht_lod_chain *c, const float eye[3]) {
 }
 
 /* The level drawn alone (lod.h): widened by soften (a soft pair; 1:
-   plain) times the width rule's f, sorted back to front from this eye,
-   uploaded alone, the opacity 1 / (soften x f); the same level and factor
-   again: nothing unless the eye moved past the order's reach (sorted
-   again and uploaded); factor 1: `all` again, opacity 1. */
+   plain) times the width rule's f (1 where the renderer does the rule per
+   vertex), sorted back to front from this eye, uploaded alone, the
+   opacity 1 / that factor; the same level and factor again: nothing
+   unless the eye moved past the order's reach (sorted again and
+   uploaded); neither soft nor under a pixel: `all` again, opacity 1. */
 static int draw_level_width_rule(ht_lod_chain *c, ht_renderer *r, int level, float soften, double px,
                                  const ht_camera *camera, ht_result *result) {
     const double s = soften > 1.0f ? soften : 1.0;
     const double f = c->width_rule ? ht_width_rule_widen(px * s * c->level_width[level] / c->width) : 1.0;
-    const double factor = fmin(s * f, HT_LOD_MAX_WIDEN);
-    if (factor <= 1.0) {
+    /* per vertex is known once r holds a mesh of this chain (lod.h) */
+    if (c->width_rule && !held_mesh(c, r) && draw_level(c, r, level, result) < 0) return -1;
+    const bool per_vertex = c->width_rule && ht_renderer_width_rule_per_vertex(r);
+    const double factor = fmin(s * (per_vertex ? 1.0 : f), HT_LOD_MAX_WIDEN);
+    /* translucent strands (soft, widened, or per vertex under a pixel) blend far to near */
+    if (factor <= 1.0 && !(per_vertex && ht_width_rule_vertex_sorts(px * s * c->level_width[level] / c->width))) {
         if (c->wide_renderer == r) {
             ht_renderer_set_opacity_scale(r, 1.0f);
+            ht_renderer_set_back_to_front(r, false);
             c->wide_renderer = NULL;
             c->wide_factor = 1.0;
         }
@@ -207,6 +213,7 @@ static int draw_level_width_rule(ht_lod_chain *c, ht_renderer *r, int level, flo
     res = ht_mesh_widen_back_to_front(ht_lod_chain_mesh(c, level), factor, camera->eye, &wide);
     if (res == HT_OK) res = ht_renderer_set_mesh(r, &wide);
     if (res == HT_OK) res = ht_renderer_set_opacity_scale(r, (float)(1.0 / factor));
+    if (res == HT_OK) ht_renderer_set_back_to_front(r, true);
     if (res != HT_OK) {
         ht_mesh_free(&wide);
         if (result) *result = res;

@@ -17,6 +17,8 @@ double ht_width_rule_widen(double strand_px) {
     return fmin(exp2(quarters / 4.0), HT_LOD_MAX_WIDEN);
 }
 
+bool ht_width_rule_vertex_sorts(double strand_px) { return strand_px > 0 && strand_px < HT_WIDTH_RULE_VERTEX_PX; }
+
 int ht_lod_pick_best(double strand_px, int current, int max_level) {
     if (max_level < 0) max_level = 0;
     /* The ideal level as a real number: log2 of how many times too thin. */
