@@ -776,6 +776,48 @@ static void test_sort_is_stable_for_ties(void **state) {
     ht_mesh_free(&m);
 }
 
+/* Every kind of float key a caller may give, in a mesh of one-triangle
+   components: ascending, negative ones too, -0 and +0 equal (build order
+   between them), infinities at the ends, NaN after everything in build
+   order; then 100 000 keys of few distinct values against a reference
+   stable sort (the radix sort's bytes, ties and skipped passes). */
+static void test_sort_orders_every_float_key(void **state) {
+    (void)state;
+    static const float keys[] = { 3, -2, NAN, -0.0f, 0.0f, -INFINITY, INFINITY, 1e-40f, -1e-40f, NAN, -3e38f, 2, -0.0f };
+    static const uint32_t want[] = { 5, 10, 1, 8, 3, 4, 12, 7, 11, 0, 6, 2, 9 };
+    static const float values[] = { -1e6f, -1.5f, -1e-3f, 0.0f, 1e-3f, 2.5f, 1e7f };
+    enum { K = sizeof keys / sizeof keys[0], N = 100000 };
+    for (int round = 0; round < 2; round++) {
+        const uint32_t n = round ? N : K;
+        ht_mesh m = { .vertices = calloc(3, sizeof(ht_vertex)), .vertex_count = 3, .indices = malloc(sizeof(uint32_t) * 3 * n),
+                      .index_count = 3 * n, .components = malloc(sizeof(ht_component) * n), .component_count = n };
+        assert_true(m.vertices && m.indices && m.components);
+        ht_rng rng = ht_rng_seed(11);
+        float *key = malloc(sizeof *key * n);
+        assert_non_null(key);
+        for (uint32_t c = 0; c < n; c++) {
+            /* the sort moves indices without reading them: each names its component */
+            for (int k = 0; k < 3; k++) m.indices[3 * c + k] = c;
+            key[c] = round ? values[ht_rng_next(&rng) % 7] : keys[c];
+            m.components[c] = (ht_component){ 3 * c, 3, key[c] };
+        }
+        ht_mesh_sort_inside_out(&m);
+        /* the reference: per value (round 0: per wanted position) in build order */
+        uint32_t at = 0;
+        for (uint32_t v = 0; v < (round ? 7u : K); v++)
+            for (uint32_t c = 0; c < n; c++) {
+                if (round ? key[c] != values[v] : c != want[v]) continue;
+                const uint32_t got = m.indices[m.components[at].first_index];
+                if (got != c) fail_msg("round %d, position %u: component %u (key %g), expected %u (key %g)", round, at,
+                                       got, key[got], c, key[c]);
+                at++;
+            }
+        assert_int_equal(at, n);
+        free(key);
+        ht_mesh_free(&m);
+    }
+}
+
 static void test_sort_leaves_meshes_it_cannot_sort_alone(void **state) {
     (void)state;
     ht_mesh empty = { 0 };
@@ -1023,6 +1065,7 @@ int main(void) {
         cmocka_unit_test(test_sort_keys_are_centroid_distances),
         cmocka_unit_test(test_sort_orders_components_inside_out_keeping_triangles),
         cmocka_unit_test(test_sort_is_stable_for_ties),
+        cmocka_unit_test(test_sort_orders_every_float_key),
         cmocka_unit_test(test_sort_leaves_overlapping_or_gapped_components_alone),
         cmocka_unit_test(test_sort_leaves_meshes_it_cannot_sort_alone),
         cmocka_unit_test(test_furball_rejects_invalid_desc),

@@ -37,7 +37,10 @@ void ht_mesh_sort_back_to_front(ht_mesh *mesh, const float eye[3]) {
         const uint32_t n = mesh->components[c].index_count;
         units += n && n % 6 == 0 ? n / 6 : 1;
     }
-    ht_component *split = units <= UINT32_MAX ? malloc(sizeof *split * (size_t)(units ? units : 1)) : NULL;
+    /* already split (sorted before: a re-sort as the eye moves): keys in place */
+    ht_component *split = units == mesh->component_count ? NULL
+                          : units <= UINT32_MAX          ? malloc(sizeof *split * (size_t)(units ? units : 1))
+                                                         : NULL;
     if (split) {
         uint32_t u = 0;
         for (uint32_t c = 0; c < mesh->component_count; c++) {
@@ -54,7 +57,7 @@ void ht_mesh_sort_back_to_front(ht_mesh *mesh, const float eye[3]) {
         mesh->components = split;
         mesh->component_count = u;
     } else {
-        /* out of memory for the segments: whole components, by their centroid */
+        /* already segments, or out of memory for them: whole components, by their centroid */
         for (uint32_t c = 0; c < mesh->component_count; c++) {
             ht_component *comp = &mesh->components[c];
             comp->sort_key = back_to_front_key(mesh, comp->first_index, comp->index_count, eye);
