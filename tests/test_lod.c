@@ -376,8 +376,24 @@ static void width_rule_reaches_a_pixel(void **state) {
     ht_mesh_free(&wide);
     assert_int_equal(ht_mesh_widen(&full, 0.5, &wide), HT_ERR_INVALID_ARGUMENT);
     assert_int_equal(ht_mesh_widen(&full, NAN, &wide), HT_ERR_INVALID_ARGUMENT);
-    /* back to front: the farthest centroid from the eye first */
+    /* widened back to front: at factor 1 (the width rule per vertex) the
+       very vertices, every segment (6 indices) a component, farthest first;
+       at 2 twice as wide; no eye refused */
     const float eye[3] = { 0, 0, 5 };
+    for (int k = 1; k <= 2; k++) {
+        assert_int_equal(ht_mesh_widen_back_to_front(&full, k, eye, &wide), HT_OK);
+        assert_int_equal(wide.vertex_count, full.vertex_count);
+        if (k == 1) assert_memory_equal(wide.vertices, full.vertices, sizeof *full.vertices * full.vertex_count);
+        else assert_true(fabs(ht_mesh_mean_width(&wide) / ht_mesh_mean_width(&full) - 2.0) < 0.02);
+        assert_int_equal(wide.component_count, full.index_count / 6);
+        for (uint32_t c = 1; c < wide.component_count; c++)
+            assert_true(wide.components[c - 1].sort_key <= wide.components[c].sort_key &&
+                        wide.components[c].index_count == 6);
+        ht_mesh_free(&wide);
+    }
+    assert_int_equal(ht_mesh_widen_back_to_front(&full, 1.0, NULL, &wide), HT_ERR_INVALID_ARGUMENT);
+    assert_null(wide.vertices);
+    /* back to front: the farthest centroid from the eye first */
     ht_mesh_sort_back_to_front(&full, eye);
     for (uint32_t c = 1; c < full.component_count; c++)
         assert_true(full.components[c - 1].sort_key <= full.components[c].sort_key);

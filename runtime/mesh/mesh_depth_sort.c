@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include <hairtier/lod.h>
+#include "mesh_internal.h"
 
 /* minus the distance from eye to the centroid of n indices' vertices */
 static float back_to_front_key(const ht_mesh *mesh, uint32_t first, uint32_t n, const float eye[3]) {
@@ -67,12 +68,27 @@ void ht_mesh_sort_back_to_front(ht_mesh *mesh, const float eye[3]) {
     ht_mesh_sort_inside_out(mesh);
 }
 
+static ht_result copy_mesh(const ht_mesh *mesh, ht_mesh *out) {
+    if (!mesh || !mesh->vertices || !mesh->indices || !mesh->components) {
+        memset(out, 0, sizeof *out);
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    ht_result r = ht_mesh_alloc(out, mesh->vertex_count, mesh->index_count, mesh->component_count);
+    if (r != HT_OK) return r;
+    memcpy(out->vertices, mesh->vertices, sizeof *mesh->vertices * mesh->vertex_count);
+    memcpy(out->indices, mesh->indices, sizeof *mesh->indices * mesh->index_count);
+    memcpy(out->components, mesh->components, sizeof *mesh->components * mesh->component_count);
+    memcpy(out->center, mesh->center, sizeof out->center);
+    return HT_OK;
+}
+
 ht_result ht_mesh_widen_back_to_front(const ht_mesh *mesh, double factor, const float eye[3], ht_mesh *out) {
     if (!eye) {
         if (out) memset(out, 0, sizeof *out);
         return HT_ERR_INVALID_ARGUMENT;
     }
-    ht_result r = ht_mesh_widen(mesh, factor, out);
+    /* factor 1 (the width rule per vertex): the mesh as it is, copied, not rebuilt */
+    ht_result r = factor == 1.0 ? copy_mesh(mesh, out) : ht_mesh_widen(mesh, factor, out);
     if (r == HT_OK) ht_mesh_sort_back_to_front(out, eye);
     return r;
 }
