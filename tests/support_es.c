@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include <hairtier/hairgen.h>
+#include <hairtier/lod.h>
 #include <hairtier/scene.h>
 #include "metrics.h"
 #include "support_driver.h"
@@ -81,6 +82,13 @@ bool ht_test_es_draw_scene(const char *bundle, const char *scene_name, offscreen
 
 bool ht_test_es_draw_scene_hairs(const char *bundle, const char *scene_name, offscreen_api api, ht_tier tier,
                                  const ht_device_profile *profile, int furball_hairs, ht_test_es_draw *out) {
+    return ht_test_es_draw_scene_ordered(bundle, scene_name, api, tier, profile, furball_hairs, HT_TEST_ES_INSIDE_OUT,
+                                         out);
+}
+
+bool ht_test_es_draw_scene_ordered(const char *bundle, const char *scene_name, offscreen_api api, ht_tier tier,
+                                   const ht_device_profile *profile, int furball_hairs, ht_test_es_order order,
+                                   ht_test_es_draw *out) {
     memset(out, 0, sizeof *out);
     char path[96], err[1024];
     snprintf(path, sizeof path, "scenes/%s.json", scene_name);
@@ -110,7 +118,12 @@ bool ht_test_es_draw_scene_hairs(const char *bundle, const char *scene_name, off
                               .tier = flat ? HT_TIER_AUTO : tier, .strict = tier != HT_TIER_AUTO && !flat,
                               .log = keep_log, .log_user = out, .record_trace = true, .flat = flat };
     if (profile) desc.profile = *profile;
+    if (order == HT_TEST_ES_BACK_TO_FRONT) ht_mesh_sort_back_to_front(&hair, s.camera.eye);
     if (ht_renderer_create(&desc, &r) != HT_OK || ht_renderer_set_mesh(r, &hair) != HT_OK) goto done;
+    if (order == HT_TEST_ES_REORDERED) {
+        ht_mesh_sort_back_to_front(&hair, s.camera.eye);
+        out->uploads_order = ht_renderer_set_mesh_order(r, &hair) == HT_OK;
+    }
     ht_frame_desc frame = { .camera = s.camera, .lights = s.lights, .light_count = s.light_count, .aspect = 1.0f,
                             .opaque = head.index_count ? &head : NULL };
     gl->gl.ClearColor(s.background[0], s.background[1], s.background[2], 1.0f);

@@ -28,6 +28,7 @@ typedef struct ht_test_es_draw {
     ht_tier tier;              /* the tier that drew */
     ht_trace trace;
     uint32_t index_count;      /* the hair mesh's */
+    bool uploads_order;        /* HT_TEST_ES_REORDERED: ht_renderer_set_mesh_order returned HT_OK */
     char log[1024];            /* the renderer's lines, newline-separated (cut) */
 } ht_test_es_draw;
 
@@ -40,6 +41,14 @@ bool ht_test_es_draw_scene(const char *bundle, const char *scene, offscreen_api 
 /* The same with furball_hairs hairs on a fur ball scene. */
 bool ht_test_es_draw_scene_hairs(const char *bundle, const char *scene, offscreen_api api, ht_tier tier,
                                  const ht_device_profile *profile, int furball_hairs, ht_test_es_draw *out);
+/* The hair's order in a draw: as built (inside out); sorted back to front
+   from the camera's eye (ht_mesh_sort_back_to_front) before its upload;
+   or uploaded as built and then given that order by
+   ht_renderer_set_mesh_order (out->uploads_order: it returned HT_OK). */
+typedef enum ht_test_es_order { HT_TEST_ES_INSIDE_OUT, HT_TEST_ES_BACK_TO_FRONT, HT_TEST_ES_REORDERED } ht_test_es_order;
+bool ht_test_es_draw_scene_ordered(const char *bundle, const char *scene, offscreen_api api, ht_tier tier,
+                                   const ht_device_profile *profile, int furball_hairs, ht_test_es_order order,
+                                   ht_test_es_draw *out);
 void ht_test_es_draw_free(ht_test_es_draw *d);
 /* Whole-frame PSNR of two draws. */
 double ht_test_es_psnr(const ht_test_es_draw *a, const ht_test_es_draw *b);

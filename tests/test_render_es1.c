@@ -40,6 +40,18 @@ static void test_es1_context_is_es11_and_skips_the_glsl_tiers(void **state) {
         fail_msg("%s", shorts.log);
     assert_true(isinf(ht_test_es_psnr(&d, &shorts)));
     ht_test_es_draw_free(&shorts);
+    /* A new order with 16-bit indices (ht_renderer_set_mesh_order: the
+       indices alone, as 16 bits): what an upload of that order draws */
+    ht_test_es_draw sorted, reordered;
+    if (!ht_test_es_draw_scene_ordered(bundle, "furball", OFFSCREEN_API_GLES1, HT_TIER_GL11, &no_uint,
+                                       HT_TEST_ES_FURBALL_HAIRS, HT_TEST_ES_BACK_TO_FRONT, &sorted) ||
+        !ht_test_es_draw_scene_ordered(bundle, "furball", OFFSCREEN_API_GLES1, HT_TIER_GL11, &no_uint,
+                                       HT_TEST_ES_FURBALL_HAIRS, HT_TEST_ES_REORDERED, &reordered))
+        fail_msg("%s%s", sorted.log, reordered.log);
+    assert_true(reordered.uploads_order);
+    assert_true(isinf(ht_test_es_psnr(&sorted, &reordered)));
+    ht_test_es_draw_free(&sorted);
+    ht_test_es_draw_free(&reordered);
     ht_test_es_draw_free(&d);
     /* The fixed tier's 3D LUT: two 2D textures, the error said once. */
     if (!ht_test_es_draw_scene(bundle, "furball", OFFSCREEN_API_GLES1, HT_TIER_FIXED, NULL, &d)) fail_msg("%s", d.log);

@@ -82,6 +82,19 @@ static void test_es2_without_uint_indices_draws_a_large_mesh_in_chunks(void **st
     assert_true(differ == 0 || db >= HT_TEST_ES_MIN_PSNR_DB);
     ht_test_es_draw_free(&ref);
     ht_test_es_draw_free(&d);
+    /* A new order (ht_renderer_set_mesh_order) of a mesh in chunks goes up
+       whole, split again: what an upload of that order draws, byte for byte. */
+    ht_test_es_draw sorted, reordered;
+    if (!ht_test_es_draw_scene_ordered(bundle, "furball", OFFSCREEN_API_GLES2, HT_TIER_FULL, NULL, HAIRS,
+                                       HT_TEST_ES_BACK_TO_FRONT, &sorted) ||
+        !ht_test_es_draw_scene_ordered(bundle, "furball", OFFSCREEN_API_GLES2, HT_TIER_FULL, NULL, HAIRS,
+                                       HT_TEST_ES_REORDERED, &reordered))
+        fail_msg("%s%s", sorted.log, reordered.log);
+    assert_true(reordered.uploads_order && reordered.trace.count >= 8);
+    assert_memory_equal(sorted.image.pixels, reordered.image.pixels,
+                        (size_t)sorted.image.width * sorted.image.height * 4);
+    ht_test_es_draw_free(&sorted);
+    ht_test_es_draw_free(&reordered);
     assert_int_equal(ht_test_scratch_remove(work), 0);
 }
 

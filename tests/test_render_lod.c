@@ -55,6 +55,9 @@ static long buffer_data_calls(void) {
     return ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA] - ht_fault_state_get()->buffer_sub_data;
 }
 
+/* glBufferSubData calls since ht_fault_arm: ht_renderer_set_mesh_order's index upload. */
+static long buffer_sub_data_calls(void) { return ht_fault_state_get()->buffer_sub_data; }
+
 static int draw_lod(ht_renderer *r, const ht_mesh *mesh, ht_trace *trace) {
     assert_int_equal(ht_renderer_set_mesh(r, mesh), HT_OK);
     const ht_frame_desc frame = ht_test_furball_frame(3.0f);
@@ -491,9 +494,10 @@ static void chain_width_rule_per_draw(void **state) {
    material's reference kept (no opacity scale) and its blended passes in
    the mesh's order (the back pass draws both faces, the front pass none).
    An upload happens only at the first frame, a change of drawn alone or
-   not, a change of level drawn alone, or a re-sort (the distance 2x since
-   the order was made): per draw (above) also at every change of the
-   factor; `all`'s levels switch by the draw range alone. */
+   not, or a change of level drawn alone (per draw, above, also at every
+   change of the factor; `all`'s levels switch by the draw range alone);
+   a re-sort (the distance 2x since the order was made) uploads the
+   indices alone. */
 static void chain_width_rule_per_vertex(void **state) {
     (void)state;
     ht_lod_chain chain;
@@ -502,7 +506,7 @@ static void chain_width_rule_per_vertex(void **state) {
     ht_renderer *r = fault_counted_renderer();
     ht_renderer_set_width_rule(r, true);
     const int steps = 24;
-    int alone_frames = 0, uploads = 0, last_level = -1;
+    int alone_frames = 0, uploads = 0, resorts = 0, last_level = -1;
     bool last_alone = false;
     double sorted_at = 0;
     for (int f = 0; f < 2 * steps; f++) {
@@ -518,10 +522,13 @@ static void chain_width_rule_per_vertex(void **state) {
         if (alone) assert_true(chain.wide_factor == 1.0);
         const bool resort = alone && last_alone && level == last_level &&
                             (d > sorted_at * HT_LOD_RESORT_DISTANCE || d * HT_LOD_RESORT_DISTANCE < sorted_at);
-        const bool upload = f == 0 || alone != last_alone || (alone && (level != last_level || resort));
-        if (alone && (upload || !last_alone)) sorted_at = d;
+        const bool upload = f == 0 || alone != last_alone || (alone && level != last_level);
+        if (alone && (upload || resort)) sorted_at = d;
+        /* a re-sort uploads the indices alone */
         assert_int_equal(buffer_data_calls() > 0, upload);
+        assert_int_equal(buffer_sub_data_calls(), resort && !upload);
         uploads += upload;
+        resorts += resort && !upload;
         const ht_trace *tr = draw_traced(r, &frame);
         for (int i = 0; i < tr->count; i++) {
             const ht_trace_entry *e = &tr->entries[i];
@@ -540,13 +547,68 @@ static void chain_width_rule_per_vertex(void **state) {
         last_alone = alone;
         last_level = level;
     }
-    printf("width rule per vertex: %d of %d frames drawn alone back to front, none widened, %d uploads\n",
-           alone_frames, 2 * steps, uploads);
-    assert_true(alone_frames >= 8);
+    printf("width rule per vertex: %d of %d frames drawn alone back to front, none widened, %d uploads, %d re-sorts "
+           "(indices alone)\n", alone_frames, 2 * steps, uploads, resorts);
+    assert_true(alone_frames >= 8 && resorts >= 1);
     assert_int_equal(last_level, 0);
     assert_false(last_alone);
     ht_renderer_destroy(r);
     ht_lod_chain_free(&chain);
+}
+
+/* ht_renderer_set_mesh_order: the fur ball sorted back to front for one
+   eye, then re-ordered for another, draws what a fresh upload of the
+   second order draws (byte for byte), with one glBufferSubData and no
+   glBufferData, in full and in gl11 (whose own per-vertex arrays stay);
+   other counts, an index out of range, or no mesh set are refused with
+   the order before kept. */
+static void mesh_order_uploads_the_indices_alone(void **state) {
+    (void)state;
+    const float eye1[3] = { 0, 0, 6 }, eye2[3] = { 6, 0, 0 };
+    ht_mesh a, b;
+    assert_int_equal(ht_mesh_widen_back_to_front(&fx.mesh, 1.0, eye1, &a), HT_OK);
+    assert_int_equal(ht_mesh_widen_back_to_front(&fx.mesh, 1.0, eye2, &b), HT_OK);
+    assert_true(a.index_count == b.index_count &&
+                memcmp(a.indices, b.indices, sizeof *a.indices * a.index_count) != 0);
+    const ht_frame_desc frame = ht_test_furball_frame(3.0f);
+    static const ht_tier tiers[] = { HT_TIER_FULL, HT_TIER_GL11 };
+    for (size_t t = 0; t < sizeof tiers / sizeof tiers[0]; t++) {
+        const ht_renderer_desc desc = { .tier = tiers[t], .strict = true, .getproc = ht_test_fault_getproc };
+        ht_renderer *reordered = ht_test_renderer_create(desc, fx.bundle_dir, HT_OK),
+                    *fresh = ht_test_renderer_create(desc, fx.bundle_dir, HT_OK);
+        assert_int_equal(ht_renderer_set_mesh_order(reordered, &b), HT_ERR_INVALID_ARGUMENT); /* no mesh yet */
+        assert_int_equal(ht_renderer_set_mesh(reordered, &a), HT_OK);
+        ht_fault_arm(HT_FAULT_NONE, 0);
+        assert_int_equal(ht_renderer_set_mesh_order(reordered, &b), HT_OK);
+        assert_int_equal(buffer_data_calls(), 0);
+        assert_int_equal(buffer_sub_data_calls(), 1);
+        assert_int_equal(ht_renderer_set_mesh(fresh, &b), HT_OK);
+        ht_image got, want;
+        ht_test_draw(&fx.gl, reordered, &frame, ht_test_background, &got);
+        ht_test_draw(&fx.gl, fresh, &frame, ht_test_background, &want);
+        assert_memory_equal(got.pixels, want.pixels, (size_t)got.width * got.height * 3);
+        /* refused, the order kept: a triangle short, an index past the vertices */
+        ht_mesh bad = b;
+        bad.index_count -= 3;
+        assert_int_equal(ht_renderer_set_mesh_order(reordered, &bad), HT_ERR_INVALID_ARGUMENT);
+        bad.index_count = b.index_count;
+        bad.indices = malloc(sizeof *bad.indices * b.index_count);
+        assert_non_null(bad.indices);
+        memcpy(bad.indices, a.indices, sizeof *bad.indices * b.index_count);
+        bad.indices[b.index_count - 1] = b.vertex_count;
+        assert_int_equal(ht_renderer_set_mesh_order(reordered, &bad), HT_ERR_INVALID_ARGUMENT);
+        free(bad.indices);
+        ht_image after;
+        ht_test_draw(&fx.gl, reordered, &frame, ht_test_background, &after);
+        assert_memory_equal(after.pixels, want.pixels, (size_t)got.width * got.height * 3);
+        ht_image_free(&got);
+        ht_image_free(&want);
+        ht_image_free(&after);
+        ht_renderer_destroy(reordered);
+        ht_renderer_destroy(fresh);
+    }
+    ht_mesh_free(&a);
+    ht_mesh_free(&b);
 }
 
 /* Soft cells beside plain ones (full tier, so the uploads counted are
@@ -633,7 +695,8 @@ static void soft_step(ht_lod_chain *chain, ht_renderer *r, const ht_lod_rule *ru
 /* A soft cell the cheapest at the budget: the chain draws the level soft
    (3x wider: its mean width; opacity 1/3; back to front from this eye,
    uploaded alone: 2 glBufferData after `all`'s 2), nothing more while the eye turns less
-   than HT_LOD_RESORT_DEG, sorted and uploaded again past it, and back to
+   than HT_LOD_RESORT_DEG, sorted again past it (its indices uploaded
+   alone: ht_renderer_set_mesh_order, one glBufferSubData), and back to
    plain level 0 (all uploaded again, opacity 1) close up. */
 static void chain_picks_a_soft_cell(void **state) {
     (void)state;
@@ -653,7 +716,9 @@ static void chain_picks_a_soft_cell(void **state) {
     ht_result res;
     ht_fault_arm(HT_FAULT_NONE, 0);
     assert_int_equal(ht_lod_chain_select_pair(&chain, r, &turned.camera, 512, &rule, &res), 2);
-    assert_int_equal(buffer_data_calls(), 2); /* 8 degrees: sorted again for this eye */
+    /* 8 degrees: sorted again for this eye, the indices alone */
+    assert_int_equal(buffer_data_calls(), 0);
+    assert_int_equal(buffer_sub_data_calls(), 1);
     assert_memory_equal(chain.wide_eye, turned.camera.eye, sizeof chain.wide_eye);
     assert_back_to_front(&chain.wide, turned.camera.eye);
     f = orbit_frame(3.0f, 8);
@@ -731,6 +796,7 @@ int main(void) {
         cmocka_unit_test(chain_picks_a_soft_cell),
         cmocka_unit_test(chain_soft_hysteresis_and_width_rule),
         cmocka_unit_test(chain_width_rule_per_vertex),
+        cmocka_unit_test(mesh_order_uploads_the_indices_alone),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

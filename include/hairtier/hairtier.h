@@ -394,6 +394,15 @@ HT_API ht_variant ht_renderer_variant(const ht_renderer *r);
    HT_ERR_INVALID_ARGUMENT and one log line naming the element; the
    previously set mesh stays in place. */
 HT_API ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh);
+/* The mesh set last in a new order: mesh has its vertices and counts, its
+   triangles reordered (ht_mesh_sort_back_to_front again as the eye
+   moves). Uploads the indices alone: the vertices, their per-vertex data
+   and a tier's own arrays stay. The draw range becomes the whole mesh. A
+   mesh split into 16-bit runs (GL ES 2.0 without 32-bit indices) goes up
+   whole (ht_renderer_set_mesh). HT_ERR_INVALID_ARGUMENT with one log line
+   when no mesh is set, a count differs or an index is out of range; the
+   order set before stays. */
+HT_API ht_result ht_renderer_set_mesh_order(ht_renderer *r, const ht_mesh *mesh);
 /* Draws indices [first_index, first_index + index_count) of the mesh set
    last instead of all of them (ht_renderer_set_mesh resets it to all): one
    buffer holding several meshes, e.g. every geometry LOD (lod.h's

@@ -333,8 +333,8 @@ typedef struct ht_lod_chain {
     double wide_soften;            /* the soft pair's soften, 1: plain */
     float wide_eye[3];             /* the eye wide's order is of */
 } ht_lod_chain;
-/* A level drawn alone is sorted again (and uploaded: its vertices and
-   indices) only when the eye's direction from the mesh's centre has
+/* A level drawn alone is sorted again (its indices uploaded alone:
+   ht_renderer_set_mesh_order) only when the eye's direction from the mesh's centre has
    turned by more than HT_LOD_RESORT_DEG since its order was made, or its
    distance changed by more than HT_LOD_RESORT_DISTANCE times (docs/lod.md). */
 #define HT_LOD_RESORT_DEG 5.0

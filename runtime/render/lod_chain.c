@@ -199,8 +199,9 @@ static int draw_level_width_rule(ht_lod_chain *c, ht_renderer *r, int level, flo
     ht_result res = HT_OK;
     if (c->wide_renderer == r && c->wide_level == level && c->wide_factor == factor && c->wide_soften == s) {
         if (!order_serves(c, camera->eye)) {
+            /* the same vertices in a new order: the indices go up alone */
             ht_mesh_sort_back_to_front(&c->wide, camera->eye);
-            if ((res = ht_renderer_set_mesh(r, &c->wide)) != HT_OK) {
+            if ((res = ht_renderer_set_mesh_order(r, &c->wide)) != HT_OK) {
                 if (result) *result = res;
                 return -1;
             }

@@ -224,6 +224,60 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
     return HT_OK;
 }
 
+ht_result ht_renderer_set_mesh_order(ht_renderer *r, const ht_mesh *mesh) {
+    static const char what[] = "ht_renderer_set_mesh_order";
+    if (!r) return HT_ERR_INVALID_ARGUMENT;
+    if (!mesh) return ht_renderer_reject(r, what, "mesh", "NULL");
+    if (!r->has_mesh) return ht_renderer_reject(r, what, "mesh", "none set (ht_renderer_set_mesh first)");
+    if (r->chunk_count) return ht_renderer_set_mesh(r, mesh);
+    if (mesh->vertex_count != r->vertex_count || mesh->index_count != r->index_count)
+        return ht_renderer_reject(r, what, "mesh", "%u vertices and %u indices, the mesh set has %u and %u",
+                                  mesh->vertex_count, mesh->index_count, r->vertex_count, r->index_count);
+    if (mesh->index_count && !mesh->indices)
+        return ht_renderer_reject(r, what, "indices", "NULL with index_count %u", mesh->index_count);
+    for (uint32_t i = 0; i < mesh->index_count; i++)
+        if (mesh->indices[i] >= mesh->vertex_count) {
+            char field[64];
+            snprintf(field, sizeof field, "indices[%u]", i);
+            return ht_renderer_reject(r, what, field, "%u, only %u vertices", mesh->indices[i], mesh->vertex_count);
+        }
+    const bool short_indices = r->index_type == GL_UNSIGNED_SHORT;
+    uint16_t *indices16 = short_indices ? ht_renderer_indices16(mesh->indices, mesh->index_count) : NULL;
+    uint32_t span_count = 0;
+    uint32_t *span = make_span(mesh, &span_count);
+    if ((short_indices && !indices16) || !span) {
+        free(indices16);
+        free(span);
+        ht_log_linef(r->log, r->log_user, "hairtier: %s: out of memory for %u indices", what, mesh->index_count);
+        return HT_ERR_OUT_OF_MEMORY;
+    }
+    const void *data = short_indices ? (const void *)indices16 : (const void *)mesh->indices;
+    const size_t bytes = (size_t)mesh->index_count * (short_indices ? sizeof(uint16_t) : sizeof(uint32_t));
+    if (r->caps.has_vbo) {
+        while (r->gl.GetError() != GL_NO_ERROR) {}
+        r->gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo);
+        r->gl.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, (GLsizeiptr)bytes, data);
+        r->gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+        const GLenum e = r->gl.GetError();
+        if (e != GL_NO_ERROR) {
+            free(indices16);
+            free(span);
+            ht_log_linef(r->log, r->log_user, "hairtier: %s: glBufferSubData: %s", what, ht_gl_error_name(e));
+            ht_renderer_release_mesh(r);
+            return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
+        }
+    } else if (bytes) {
+        memcpy(r->indices, data, bytes);
+    }
+    free(indices16);
+    free(r->span);
+    r->span = span;
+    r->span_count = span_count;
+    r->draw_first = 0;
+    r->draw_count = mesh->index_count;
+    return HT_OK;
+}
+
 ht_result ht_renderer_set_draw_range(ht_renderer *r, uint32_t first_index, uint32_t index_count) {
     if (!r) return HT_ERR_INVALID_ARGUMENT;
     if (!r->has_mesh) return ht_renderer_reject(r, "ht_renderer_set_draw_range", "mesh", "none set");
