@@ -199,7 +199,7 @@ static void print_table(const report *r) {
                r->tiers[o.b].name);
 }
 
-/* One grid row: level l (soft: widened by HT_LOD_SOFTEN, back to front, at
+/* One grid row: level l (soft: widened by the grid's soften, back to front, at
    its inverse opacity) drawn by every tier that ran, each image written
    into tmp and kept in frames for the measuring. */
 static ht_result render_lod_row(const options *o, const char *tmp, const grid_levels *lv, tier_scene *small,
@@ -242,12 +242,12 @@ static ht_result measure_lod_row(report *rep, report_lod_cell *cells, const tier
     return r;
 }
 
-/* Whether the bundle measured soft cells (lod.h): then the grid shows
-   each strand level past 0 soft too. */
-static bool measured_soft(const report *rep) {
+/* The factor of the bundle's first soft cell (lod.h), 0 when it measured
+   none: then the grid shows each strand level past 0 soft by it too. */
+static float measured_soften(const report *rep) {
     for (int i = 0; i < rep->measured_lods.cell_count; i++)
-        if (rep->measured_lods.cells[i].soften > 1) return true;
-    return false;
+        if (rep->measured_lods.cells[i].soften > 1) return rep->measured_lods.cells[i].soften;
+    return 0.0f;
 }
 
 /* The LOD x tier grid (report.h): every level lv holds (the bundle's
@@ -268,7 +268,7 @@ static ht_result build_lod_grid(const options *o, const char *tmp, const tier_sc
     g->width = small.scene.width;
     g->height = small.scene.height;
     g->levels = lv->count < REPORT_LOD_MAX_LEVELS ? lv->count : REPORT_LOD_MAX_LEVELS;
-    const bool soft = measured_soft(rep);
+    g->soften = measured_soften(rep);
     static tier_frame frames[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS], soft_frames[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS];
     memset(frames, 0, sizeof frames);
     memset(soft_frames, 0, sizeof soft_frames);
@@ -287,10 +287,10 @@ static ht_result build_lod_grid(const options *o, const char *tmp, const tier_sc
         small.hair = level;
         small.opacity = 0.0f;
         r = render_lod_row(o, tmp, lv, &small, rep, l, false, frames[l], err, err_size);
-        if (r == HT_OK && soft && l > 0 && !lv->cards[l]) {
+        if (r == HT_OK && g->soften > 1 && l > 0 && !lv->cards[l]) {
             g->soft[l] = true;
-            if ((r = ht_mesh_widen_back_to_front(&level, HT_LOD_SOFTEN, ts->scene.camera.eye, &small.hair)) == HT_OK) {
-                small.opacity = 1.0f / HT_LOD_SOFTEN;
+            if ((r = ht_mesh_widen_back_to_front(&level, g->soften, ts->scene.camera.eye, &small.hair)) == HT_OK) {
+                small.opacity = 1.0f / g->soften;
                 r = render_lod_row(o, tmp, lv, &small, rep, l, true, soft_frames[l], err, err_size);
                 ht_mesh_free(&small.hair);
             } else {

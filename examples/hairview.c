@@ -4,7 +4,7 @@
    build/hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]
                   [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]
                   [--lod auto|N | --cards] [--size F] [--distance D] [--samples N] [--supersample K]
-                  [--width-rule[=vertex|draw|off]] [--soft] [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]
+                  [--width-rule[=vertex|draw|off]] [--soft[=F]] [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]
                   [--device-profile NAME] -o OUT.png
 
    --api gles1|gles2|gles3 draws on a GL ES context (EGL); --device-profile NAME
@@ -64,7 +64,7 @@ typedef struct options {
     int samples;          /* 0: no multisampling; else the framebuffer's samples */
     int supersample;      /* 1; K: drawn K x K times larger, box-filtered down to the PNG */
     int width_rule;       /* lod.h's width rule on the mesh drawn: WIDTH_RULE_*, AUTO unless given */
-    bool soft;            /* --lod N draws the level soft (lod.h: widened by HT_LOD_SOFTEN, back to front) */
+    float soft;           /* 0; else --lod N draws the level soft by this factor (lod.h: widened, back to front) */
     bool cards;           /* the bundle's stored cards (hairgen --cards) instead of the strands */
 } options;
 
@@ -114,7 +114,7 @@ static const struct option long_options[] = {
     { "samples", required_argument, NULL, KEY_SAMPLES },
     { "supersample", required_argument, NULL, KEY_SUPERSAMPLE },
     { "width-rule", optional_argument, NULL, KEY_WIDTH_RULE },
-    { "soft", no_argument, NULL, KEY_SOFT },
+    { "soft", optional_argument, NULL, KEY_SOFT },
     { 0 },
 };
 
@@ -123,7 +123,7 @@ static const cli_program program = {
     .synopsis = "usage: hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]\n"
                 "                [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]\n"
                 "                [--lod auto|N | --cards] [--size F] [--distance D] [--samples N] [--supersample K]\n"
-                "                [--width-rule[=vertex|draw]] [--soft]\n"
+                "                [--width-rule[=vertex|draw|off]] [--soft[=F]]\n"
                 "                [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]\n"
                 "                [--device-profile NAME] -o OUT.png\n",
     .help = "Renders SCENE with the bundle's tier that the device runs best (or --tier, --policy) and writes\n"
@@ -152,8 +152,8 @@ static const cli_program program = {
             "                  width_rule: frame=F vertex|draw). Unset, a pair picked from cells measured\n"
             "                  with it (--lod-reference supersample) is drawn with it per draw (prints\n"
             "                  width_rule=from-cells); =off never\n"
-            "  --soft          a level past 0 drawn soft: its ribbons 3x wider at 1/3 the opacity, sorted\n"
-            "                  back to front (docs/lod.md); prints soften=S opacity=A\n"
+            "  --soft[=F]      a level past 0 drawn soft: its ribbons F (default 3) times wider at 1/F the\n"
+            "                  opacity, sorted back to front (docs/lod.md); prints soften=S opacity=A\n"
             "  --context K     osmesa or egl (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl)\n"
             "  --egl-device N  draw on EGL device N (implies --context egl)\n"
             "  --api A         gl (default), gles1, gles2 or gles3 (GL ES through EGL; ES 1.1 runs the\n                  fixed-function tiers only)\n"
@@ -190,7 +190,13 @@ static const char *take(void *user, int key, const char *value) {
                         : !strcmp(value, "off")           ? WIDTH_RULE_OFF
                                                           : WIDTH_RULE_AUTO;
         return o->width_rule == WIDTH_RULE_AUTO ? "--width-rule: expected vertex, draw or off" : NULL;
-    case KEY_SOFT: o->soft = true; return NULL;
+    case KEY_SOFT: {
+        char *end = NULL;
+        o->soft = value ? (float)strtod(value, &end) : HT_LOD_SOFTEN;
+        if (value && (end == value || *end || !(o->soft > 1.0f && o->soft <= HT_LOD_MAX_SOFTEN)))
+            return "--soft: expected a factor above 1, at most 16";
+        return NULL;
+    }
     case KEY_PROFILE: {
         char err[200];
         if (ht_device_profile_parse(value, &o->profile, err, sizeof err) == HT_OK) return NULL;
@@ -373,7 +379,7 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
     const double px = ht_projected_width_px(ht_mesh_mean_width(hair), d, s->camera.fov_y, s->height / o->supersample);
     const int max_level = ladder ? ladder->level_count - 1 : ht_lod_max_level(hair);
     int level = o->lod;
-    float soften = o->soft ? HT_LOD_SOFTEN : 0.0f;
+    float soften = o->soft;
     *paired = false;
     *opacity = 1.0f;
     if (o->cards) {
@@ -693,7 +699,7 @@ static int run(const options *o, view *v) {
                             .aspect = (float)scene.width / (float)scene.height,
                             .opaque = v->head.index_count ? &v->head : NULL };
     double ms = 0;
-    if (o->distance_to > 0 && (o->lod >= 0 || o->cards || o->soft)) {
+    if (o->distance_to > 0 && (o->lod >= 0 || o->cards || o->soft > 0)) {
         fprintf(stderr, "hairview: --distance A:B: a dolly picks the level per frame (--lod auto), without --cards "
                         "or --soft\n");
         if (has_stored) ht_lod_file_free(&ladder);

@@ -78,6 +78,8 @@ static const char help[] =
     "  --lod-reference R     --measure-lods against: samples (level 0 drawn as the cells are,\n"
     "                        the default) or supersample (level 0 at 4x4 the pixels, box-\n"
     "                        filtered: the truth; every cell drawn with the width rule)\n"
+    "  --lod-soften F        --measure-lods with the soft cells F times wider at 1/F the opacity\n"
+    "                        (above 1, at most 16; default 3: hairview --soft=F)\n"
     "  --cards BUNDLE        write DIR: BUNDLE with every geometry level of the scene stored in\n"
     "                        DIR/lods.bin, the strand levels and cards (clumps of N strands,\n"
     "                        default 32, as textured ribbons), its textures one atlas of the\n"
@@ -89,15 +91,14 @@ static const char help[] =
 
 typedef struct options {
     const char *scene, *out_dir, *depfile, *jobs, *header, *symbol, *cards, *strands_per_card;
-    int lod_samples;
-    ht_lod_reference lod_reference;
+    ht_measure_lods_desc lod;
     int batch, force, quiet, depfile_per_bundle, measure, measure_lods, no_lods;
     const char **materials;
     int material_count;
 } options;
 
 enum { KEY_SCENE = CLI_LONG_ONLY, KEY_EMIT_HEADER, KEY_HEADER_SYMBOL, KEY_MEASURE, KEY_MEASURE_LODS, KEY_BATCH, KEY_FORCE, KEY_MD,
-       KEY_MF, KEY_LOD_SAMPLES, KEY_LOD_REFERENCE, KEY_CARDS, KEY_STRANDS_PER_CARD, KEY_NO_LODS };
+       KEY_MF, KEY_LOD_SAMPLES, KEY_LOD_REFERENCE, KEY_LOD_SOFTEN, KEY_CARDS, KEY_STRANDS_PER_CARD, KEY_NO_LODS };
 static const struct option long_options[] = {
     { "scene", required_argument, NULL, KEY_SCENE },
     { "emit-header", required_argument, NULL, KEY_EMIT_HEADER },
@@ -106,6 +107,7 @@ static const struct option long_options[] = {
     { "measure-lods", no_argument, NULL, KEY_MEASURE_LODS },
     { "lod-samples", required_argument, NULL, KEY_LOD_SAMPLES },
     { "lod-reference", required_argument, NULL, KEY_LOD_REFERENCE },
+    { "lod-soften", required_argument, NULL, KEY_LOD_SOFTEN },
     { "batch", no_argument, NULL, KEY_BATCH },
     { "force", no_argument, NULL, KEY_FORCE },
     { "MD", no_argument, NULL, KEY_MD },
@@ -155,15 +157,24 @@ static const char *take(void *user, int key, const char *value) {
         if (end == value || *end || n < 2 || n > HT_MANIFEST_MAX_LOD_SAMPLES)
             return "--lod-samples: expected a sample count in 2..32";
         o->measure = o->measure_lods = 1;
-        o->lod_samples = (int)n;
+        o->lod.samples = (int)n;
         return NULL;
     }
     case KEY_LOD_REFERENCE:
         if (strcmp(value, "samples") && strcmp(value, "supersample"))
             return "--lod-reference: expected samples or supersample";
         o->measure = o->measure_lods = 1;
-        o->lod_reference = strcmp(value, "supersample") ? HT_LOD_REFERENCE_SAMPLES : HT_LOD_REFERENCE_SUPERSAMPLE;
+        o->lod.reference = strcmp(value, "supersample") ? HT_LOD_REFERENCE_SAMPLES : HT_LOD_REFERENCE_SUPERSAMPLE;
         return NULL;
+    case KEY_LOD_SOFTEN: {
+        char *end;
+        const double f = strtod(value, &end);
+        if (end == value || *end || !(f > 1.0 && f <= HT_LOD_MAX_SOFTEN))
+            return "--lod-soften: expected a factor above 1, at most 16";
+        o->measure = o->measure_lods = 1;
+        o->lod.soften = (float)f;
+        return NULL;
+    }
     case KEY_BATCH: o->batch = 1; return NULL;
     case KEY_FORCE: o->force = 1; return NULL;
     case 'q': o->quiet = 1; return NULL;
@@ -198,7 +209,7 @@ static int run_measure_or_header(const options *o, const char *material) {
     /* A bad symbol is refused before DIR is written. */
     ht_result r = o->symbol ? ht_header_symbol_check(o->symbol, err, sizeof err) : HT_OK;
     ht_measure_job job = { .scene_path = o->scene, .out_dir = o->out_dir, .lods = o->measure_lods,
-                           .lod_samples = o->lod_samples, .lod_reference = o->lod_reference };
+                           .lod = o->lod };
     FILE *summary = o->quiet ? NULL : stdout;
     if (r == HT_OK && o->out_dir) {
         ht_bundle_report report;
@@ -241,7 +252,7 @@ static int run_cards(const options *o) {
     if (r == HT_OK && o->measure_lods) {
         ht_scene scene;
         r = lods ? ht_scene_load(o->scene, &scene, err, sizeof err) : HT_ERR_OUT_OF_MEMORY;
-        if (r == HT_OK) r = ht_measure_lods_run(o->out_dir, &scene, o->scene, o->lod_samples, o->lod_reference, lods, err, sizeof err);
+        if (r == HT_OK) r = ht_measure_lods_run(o->out_dir, &scene, o->scene, &o->lod, lods, err, sizeof err);
         if (r == HT_OK) r = ht_measure_lods_write(o->out_dir, lods, err, sizeof err);
         if (r == HT_OK && !o->quiet) ht_measure_lods_print(stdout, lods);
     }

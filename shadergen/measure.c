@@ -490,8 +490,7 @@ ht_result ht_measure_step(void *user, const char *dir, const ht_scene *scene, ch
     ht_measure_scene_label(job->scene_path, label);
     ht_result r = ht_measure_bundle(dir, scene, job->scene_path, label, &job->result, err, err_size);
     if (r == HT_OK) r = ht_measure_write_manifest(dir, &job->result, err, err_size);
-    if (r == HT_OK && job->lods) r = ht_measure_lods_run(dir, scene, job->scene_path, job->lod_samples, job->lod_reference, &job->lods_result, err,
-                                                     err_size);
+    if (r == HT_OK && job->lods) r = ht_measure_lods_run(dir, scene, job->scene_path, &job->lod, &job->lods_result, err, err_size);
     if (r == HT_OK && job->lods) r = ht_measure_lods_write(dir, &job->lods_result, err, err_size);
     /* The temporary directory is removed on failure: name the bundle. */
     if (r != HT_OK && job->out_dir) replace_all(err, err_size, dir, job->out_dir);

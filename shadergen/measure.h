@@ -97,8 +97,7 @@ typedef struct ht_measure_job {
     const char *scene_path;  /* NULL: the built-in (default) scene */
     const char *out_dir;
     bool lods;               /* also the geometry LODs (measure_lod.h: --measure-lods) */
-    int lod_samples;         /* 0: their frames one sample a pixel; else multisampled (--lod-samples) */
-    ht_lod_reference lod_reference; /* what the cells are against (--lod-reference) */
+    ht_measure_lods_desc lod;  /* how the LOD cells are drawn (--lod-samples, --lod-reference, --lod-soften) */
     ht_measure_result result;
     ht_measure_lods lods_result;
 } ht_measure_job;

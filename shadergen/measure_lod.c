@@ -27,9 +27,10 @@ typedef struct lod_levels {
     bool cards[HT_LOD_FILE_MAX_LEVELS];
     int count;
     /* soft[l]: strand level l >= 1 soft as the runtime derives it
-       (ht_mesh_widen_back_to_front by HT_LOD_SOFTEN from the scene's eye);
+       (ht_mesh_widen_back_to_front by soften from the scene's eye);
        empty for level 0 and cards */
     ht_mesh soft[HT_LOD_FILE_MAX_LEVELS];
+    float soften;
 } lod_levels;
 
 /* The eye's distance to the target: the width rule's strand width. */
@@ -139,7 +140,7 @@ static ht_result measure_tier(offscreen *o, ht_renderer *r, const ht_scene *s, c
     for (int l = 1; l < levels->count && res == HT_OK; l++)
         if (levels->soft[l].component_count)
             res = measure_cell(o, r, s, f, tier, size, &levels->soft[l], levels->mesh[l].component_count, l,
-                               HT_LOD_SOFTEN, false, false, im, out, err, err_size);
+                               levels->soften, false, false, im, out, err, err_size);
     return res;
 }
 
@@ -269,19 +270,24 @@ static ht_result stored_levels(const char *dir, lod_levels *levels, char *err, s
     return r;
 }
 
-ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file, int samples,
-                              ht_lod_reference reference, ht_measure_lods *out, char *err, size_t err_size) {
+ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file,
+                              const ht_measure_lods_desc *desc, ht_measure_lods *out, char *err, size_t err_size) {
     if (err && err_size) err[0] = '\0';
     memset(out, 0, sizeof *out);
-    if (samples != 0 && (samples < 2 || samples > HT_MANIFEST_MAX_LOD_SAMPLES))
+    const ht_measure_lods_desc d = desc ? *desc : (ht_measure_lods_desc){ 0 };
+    if (d.samples != 0 && (d.samples < 2 || d.samples > HT_MANIFEST_MAX_LOD_SAMPLES))
         return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: lods: --lod-samples: %d, expected 2..%d",
-                       samples, HT_MANIFEST_MAX_LOD_SAMPLES);
-    out->samples = samples;
-    out->reference = reference;
+                       d.samples, HT_MANIFEST_MAX_LOD_SAMPLES);
+    if (d.soften != 0.0f && !(d.soften > 1.0f && d.soften <= HT_LOD_MAX_SOFTEN))
+        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: lods: --lod-soften: %g, expected (1, %g]",
+                       (double)d.soften, (double)HT_LOD_MAX_SOFTEN);
+    out->samples = d.samples;
+    out->reference = d.reference;
     ht_manifest *bundle = malloc(sizeof *bundle);
     lod_levels *levels = calloc(1, sizeof *levels);
     ht_mesh head = { 0 };
     char why[1024];
+    if (levels) levels->soften = d.soften != 0.0f ? d.soften : HT_LOD_SOFTEN;
     ht_result r = bundle && levels ? ht_manifest_load(dir, bundle, why, sizeof why) : HT_ERR_OUT_OF_MEMORY;
     if (r != HT_OK) {
         ht_set_error(err, err_size, "measure: lods: %s", bundle && levels ? why : "out of memory");
@@ -303,7 +309,7 @@ ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char
     }
     for (int l = 1; l < levels->count && r == HT_OK; l++)
         if (!levels->cards[l] &&
-            (r = ht_mesh_widen_back_to_front(&levels->mesh[l], HT_LOD_SOFTEN, scene->camera.eye, &levels->soft[l])) != HT_OK)
+            (r = ht_mesh_widen_back_to_front(&levels->mesh[l], levels->soften, scene->camera.eye, &levels->soft[l])) != HT_OK)
             ht_set_error(err, err_size, "measure: lods: level %d soft: %s", l, ht_result_string(r));
     snprintf(out->tier, sizeof out->tier, "%s", bundle->tiers[0].name);
     for (int i = 0; i < HT_MEASURE_LOD_SIZES && r == HT_OK; i++)

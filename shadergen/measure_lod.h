@@ -2,8 +2,9 @@
    at every geometry LOD of the scene (include/hairtier/lod.h's ladder, up
    to ht_lod_max_level) at HT_MEASURE_LOD_SIZES projected sizes (the image
    scaled: 1, 1/2, 1/4), and every strand level past 0 soft (lod.h's
-   ht_lod_cell.soften: ht_mesh_widen_back_to_front by HT_LOD_SOFTEN, as the
-   runtime derives it, at opacity 1 / HT_LOD_SOFTEN), each (LOD, tier) cell against (LOD 0, the bundle's
+   ht_lod_cell.soften: ht_mesh_widen_back_to_front by the soften factor,
+   HT_LOD_SOFTEN unless hairgen --lod-soften says, as the runtime derives
+   it, at its inverse opacity), each (LOD, tier) cell against (LOD 0, the bundle's
    first tier) at the same size (PSNR, SSIM, ΔE00 mean, cost as a ratio of
    that pair's median frame) and against the tier's level before (the
    pop), written into the manifest's "lods" object (manifest.h), which
@@ -29,7 +30,7 @@ typedef struct ht_measure_lod_cell {
     char tier[16];           /* the tier drawn */
     uint32_t strands;        /* the level's components: strands, or cards */
     bool cards;              /* a stored cards level (lods.bin) */
-    float soften;            /* 0: plain; HT_LOD_SOFTEN: the level soft (lod.h) */
+    float soften;            /* 0: plain; else the level soft by this factor (lod.h) */
     double size;
     ht_metrics whole;        /* against (LOD 0, the first tier) at this size */
     double frame_ms, cost_ratio;
@@ -45,15 +46,24 @@ typedef struct ht_measure_lods {
     int count;
 } ht_measure_lods;
 
-/* Draws and measures (needs an offscreen context: OSMesa, else EGL). */
-/* samples: 0, one a pixel; 2..32, every frame multisampled (the manifest
-   records it). reference: HT_LOD_REFERENCE_SAMPLES, every cell against
-   (LOD 0, first tier) drawn as the cells are; _SUPERSAMPLE, against that
-   pair drawn at 4 x 4 the pixels and box-filtered (the 16x truth), every
-   cell drawn with the width rule (lod.h) as ht_lod_chain draws with
-   width_rule set (the manifest records it). */
-ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file, int samples,
-                              ht_lod_reference reference, ht_measure_lods *out, char *err, size_t err_size);
+/* How the cells are drawn (zeroed: the defaults). samples: 0, one a
+   pixel; 2..32, every frame multisampled (the manifest records it).
+   reference: HT_LOD_REFERENCE_SAMPLES, every cell against (LOD 0, first
+   tier) drawn as the cells are; _SUPERSAMPLE, against that pair drawn at
+   4 x 4 the pixels and box-filtered (the 16x truth), every cell drawn with
+   the width rule (lod.h) as ht_lod_chain draws with width_rule set (the
+   manifest records it). soften: 0, HT_LOD_SOFTEN; else the soft cells'
+   factor, (1, HT_LOD_MAX_SOFTEN] (each soft cell records it). */
+typedef struct ht_measure_lods_desc {
+    int samples;
+    ht_lod_reference reference;
+    float soften;
+} ht_measure_lods_desc;
+
+/* Draws and measures (needs an offscreen context: OSMesa, else EGL). A
+   bad desc is HT_ERR_INVALID_ARGUMENT naming the hairgen option. */
+ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file,
+                              const ht_measure_lods_desc *desc, ht_measure_lods *out, char *err, size_t err_size);
 /* Replaces the "lods" object of dir/manifest.json (whole or not at all),
    after checking the runtime reads the result. */
 ht_result ht_measure_lods_write(const char *dir, const ht_measure_lods *m, char *err, size_t err_size);

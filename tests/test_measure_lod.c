@@ -68,7 +68,7 @@ static int setup(void **state) {
     ht_result r = lods ? ht_scene_load(scene_path, &scene, err, sizeof err) : HT_ERR_OUT_OF_MEMORY;
     if (r == HT_OK) r = ht_scene_build_meshes(&scene, scene_path, &mesh, NULL, err, sizeof err);
     if (r == HT_OK) r = ht_cards_bundle_write_mesh(bundle, &mesh, CARDS_STRANDS, CARDS_ATLAS, cards, NULL, err, sizeof err);
-    if (r == HT_OK) r = ht_measure_lods_run(cards, &scene, scene_path, 0, HT_LOD_REFERENCE_SAMPLES, lods, err, sizeof err);
+    if (r == HT_OK) r = ht_measure_lods_run(cards, &scene, scene_path, NULL, lods, err, sizeof err);
     if (r == HT_OK) r = ht_measure_lods_write(cards, lods, err, sizeof err);
     for (int i = 0; r == HT_OK && i < lods->count; i++)
         if (lods->cells[i].cards) card_count = lods->cells[i].strands;
@@ -435,14 +435,19 @@ static void supersample_reference_measures_the_width_rule_against_the_truth(void
     char args[1024], out[4096], truth[160];
     snprintf(truth, sizeof truth, "%s/truth", work);
     snprintf(args, sizeof args, "-q materials/dark-brown.json --scene %s --no-lods --lod-samples 4 --lod-reference "
-             "supersample -o %s", scene_path, truth);
+             "supersample --lod-soften 2 -o %s", scene_path, truth);
     if (ht_test_run_program("hairgen", args, out, sizeof out) != 0) fail_msg("hairgen: %s", out);
     cJSON *root = ht_test_read_json(truth, "manifest.json");
     const cJSON *lods = cJSON_GetObjectItem(root, "lods");
     assert_string_equal(cJSON_GetStringValue(cJSON_GetObjectItem(lods, "reference")), "supersample");
     double cell = NAN, reference = NAN;
     const cJSON *c;
+    int soft_cells = 0;
     cJSON_ArrayForEach(c, cJSON_GetObjectItem(lods, "cells")) {
+        /* --lod-soften 2: every soft cell at that factor */
+        const cJSON *soften = cJSON_GetObjectItem(c, "soften");
+        if (soften) assert_true(cJSON_GetNumberValue(soften) == 2.0);
+        soft_cells += soften != NULL;
         if (strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(c, "tier")), "full") ||
             cJSON_GetNumberValue(cJSON_GetObjectItem(c, "size")) != 1.0 || cJSON_GetObjectItem(c, "soften"))
             continue;
@@ -464,6 +469,26 @@ static void supersample_reference_measures_the_width_rule_against_the_truth(void
     printf("against the truth at size 1: level 0 %.2f dB, level 1 %.2f dB (hairview: %.2f)\n", reference, cell, viewed);
     assert_true(isfinite(reference)); /* not the reference pair itself (null) */
     assert_true(fabs(cell - viewed) < 0.05);
+    assert_true(soft_cells > 0);
+    /* hairview draws a level soft by a factor of its own; bad factors refused */
+    snprintf(args, sizeof args, "--bundle %s --scene %s --lod 1 --soft=2 --frames 1 -o %s/s2.png", truth, scene_path,
+             work);
+    if (ht_test_run_program("hairview", args, out, sizeof out) != 0) fail_msg("hairview: %s", out);
+    assert_non_null(strstr(out, "soften=2.000 opacity=0.500\n"));
+    static const char *const bad[] = { "1", "0.5", "17", "nan", "x" };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        snprintf(args, sizeof args, "--bundle %s --scene %s --lod 1 --soft=%s -o %s/s3.png", truth, scene_path, bad[i],
+                 work);
+        assert_int_not_equal(ht_test_run_program("hairview", args, out, sizeof out), 0);
+        assert_non_null(strstr(out, "--soft: expected a factor above 1, at most 16"));
+        snprintf(args, sizeof args, "materials/dark-brown.json --scene %s --lod-soften %s -o %s/never3", scene_path,
+                 bad[i], work);
+        assert_int_not_equal(ht_test_run_program("hairgen", args, out, sizeof out), 0);
+        assert_non_null(strstr(out, "--lod-soften: expected a factor above 1, at most 16"));
+        char never[160];
+        snprintf(never, sizeof never, "%s/never3", work);
+        assert_int_not_equal(access(never, F_OK), 0);
+    }
     /* a pair picked from these cells is drawn as they were measured, with the
        width rule per draw (its strands are under a pixel), unless =off */
     static const char *const rules[] = { "", "--width-rule=off" };

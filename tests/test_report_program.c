@@ -336,10 +336,10 @@ static void test_cards_bundle_grid_draws_its_stored_levels_with_the_measured_cel
     ht_lod_file f;
     if (ht_lod_file_read(path, &f, e, sizeof e) != HT_OK) fail_msg("%s", e);
     const int cards = f.level_count - 1;
-    assert_true(cards >= 2);
+    assert_true(cards >= 3); /* strand levels 0..2 at least, then the cards */
     assert_int_equal(f.levels[cards].kind, HT_LOD_KIND_CARDS);
     const uint32_t card_count = f.levels[cards].component_count, hairs = f.levels[0].component_count,
-                   level1 = f.levels[1].component_count;
+                   level1 = f.levels[1].component_count, level2 = f.levels[2].component_count;
     ht_lod_file_free(&f);
 
     snprintf(measured, sizeof measured, "%s/measured-cards", work);
@@ -351,8 +351,12 @@ static void test_cards_bundle_grid_draws_its_stored_levels_with_the_measured_cel
     cJSON_AddItemToArray(cells, lod_cell(cards, true, "gl11", card_count, 0.25, 23.3, 0.25));
     cJSON_AddItemToArray(cells, lod_cell(1, false, "full", 7, 0.25, 30, 0.5));       /* another ladder's level 1 */
     cJSON_AddItemToArray(cells, lod_cell(cards, true, "full", card_count, 1, 21.1, 0.5)); /* not the grid's size */
-    cJSON *soft = lod_cell(1, false, "gl11", level1, 0.25, 31.5, 0.3); /* a soft cell: the grid's soft rows */
-    cJSON_AddNumberToObject(soft, "soften", HT_LOD_SOFTEN);
+    /* soft cells (hairgen --lod-soften 2): the grid's soft rows, by their factor; one of another is other geometry */
+    cJSON *soft = lod_cell(1, false, "gl11", level1, 0.25, 31.5, 0.3);
+    cJSON_AddNumberToObject(soft, "soften", 2);
+    cJSON_AddItemToArray(cells, soft);
+    soft = lod_cell(2, false, "gl11", level2, 0.25, 30.5, 0.2);
+    cJSON_AddNumberToObject(soft, "soften", 3);
     cJSON_AddItemToArray(cells, soft);
     write_json(measured, "manifest.json", root);
 
@@ -382,7 +386,7 @@ static void test_cards_bundle_grid_draws_its_stored_levels_with_the_measured_cel
     free(cell);
     /* soft rows: each strand level past 0 drawn soft (wider, fainter: not its
        plain image), the soft cell's numbers in its own row; none for cards */
-    snprintf(want, sizeof want, "<div class=\"lodhead\">level 1 soft<br><span>%u strands, 3&#215; wide", level1);
+    snprintf(want, sizeof want, "<div class=\"lodhead\">level 1 soft<br><span>%u strands, 2&#215; wide at 1/2", level1);
     expect_in(html, want);
     cell = grid_cell(html, "level 1 soft, gl11");
     expect_in(cell, "<span class=\"measured\">bundle 31.5 dB, 0.30&#215;</span>");
@@ -402,7 +406,7 @@ static void test_cards_bundle_grid_draws_its_stored_levels_with_the_measured_cel
     ht_image_free(&softened);
     snprintf(want, sizeof want, "%-5d %-7s %8u %-7s", 1, "soft", level1, "gl11");
     expect_in(out, want);
-    expect_in(html, "1 of its measured cells at this size are of other geometry");
+    expect_in(html, "2 of its measured cells at this size are of other geometry");
     expect_in(out, "lods: the bundle's stored levels at 0.25 of the scene's size, against (level 0, full)");
     snprintf(want, sizeof want, "%-5d %-7s %8u %-7s", cards, "cards", card_count, "gl11");
     expect_in(out, want);

@@ -109,10 +109,12 @@ typedef struct report_lod_grid {
     int measured_cells;            /* the manifest's cells shown beside the grid's */
     int other_cells;               /* its cells at this size that match no row (other geometry) */
     report_lod_cell cells[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS]; /* [level][the report's tier] */
-    /* soft[l]: strand level l past 0 also drawn soft (lod.h: HT_LOD_SOFTEN
+    /* soft[l]: strand level l past 0 also drawn soft (lod.h: soften times
        wider at its inverse opacity, back to front), a row of its own, when
-       the bundle measured soft cells (error:DB may pick one) */
+       the bundle measured soft cells (error:DB may pick one); soften: their
+       factor (the first soft cell's; cells of another are other geometry) */
     bool soft[REPORT_LOD_MAX_LEVELS];
+    float soften;
     report_lod_cell soft_cells[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS];
 } report_lod_grid;
 

@@ -28,7 +28,7 @@ void report_lod_attach_measured(report *r) {
         /* the same geometry: the row's kind and its strand (card) count, a
            soft cell's row drawn soft by the factor it was measured with */
         if (t == r->tier_count || l >= g->levels || (c->cards != 0) != g->cards[l] || c->strands != g->strands[l] ||
-            (soft && (!g->soft[l] || c->soften != HT_LOD_SOFTEN))) {
+            (soft && (!g->soft[l] || c->soften != g->soften))) {
             g->other_cells++;
             continue;
         }
@@ -67,8 +67,8 @@ static void write_intro(FILE *f, const report *r) {
     for (int l = 0; l < g->levels; l++) soft += g->soft[l];
     if (soft)
         fprintf(f, "; %d of them also soft (ribbons %g&#215; wider at 1/%g the opacity, far to near: the bundle "
-                   "measured soft cells, which <code>error:DB</code> may pick)", soft, (double)HT_LOD_SOFTEN,
-                (double)HT_LOD_SOFTEN);
+                   "measured soft cells, which <code>error:DB</code> may pick)", soft, (double)g->soften,
+                (double)g->soften);
     fprintf(f, ". Each drawn by every tier that ran at %d&#215;%d against (level 0, <b>", g->width, g->height);
     report_escape(f, report_reference_name(r));
     fputs("</b>) at this size: PSNR in dB and cost (frame time over that pair&#8217;s, this run; "
@@ -89,7 +89,7 @@ static void write_intro(FILE *f, const report *r) {
 static void write_row_head(FILE *f, const report_lod_grid *g, int l, bool soft) {
     if (soft)
         fprintf(f, "<div class=\"lodhead\">level %d soft<br><span>%u strands, %g&#215; wide at 1/%g the "
-                   "opacity</span></div>\n", l, g->strands[l], (double)HT_LOD_SOFTEN, (double)HT_LOD_SOFTEN);
+                   "opacity</span></div>\n", l, g->strands[l], (double)g->soften, (double)g->soften);
     else if (g->cards[l])
         fprintf(f, "<div class=\"lodhead\">cards<br><span>level %d: %u cards of %u strands</span></div>\n", l,
                 g->strands[l], g->strands_per_card[l]);
