@@ -488,16 +488,16 @@ static void chain_width_rule_per_draw(void **state) {
 }
 
 /* The width rule per vertex in the chain (the full tier does it): the
-   same pull out and back, but no level is ever widened (the vertex stage
-   widens each strand); past about 30 units, where the level's strands go
-   under a pixel, the level is drawn alone, sorted back to front, with the
-   material's reference kept (no opacity scale) and its blended passes in
-   the mesh's order (the back pass draws both faces, the front pass none).
-   An upload happens only at the first frame, a change of drawn alone or
-   not, or a change of level drawn alone (per draw, above, also at every
-   change of the factor; `all`'s levels switch by the draw range alone);
-   a re-sort (the distance 2x since the order was made) uploads the
-   indices alone. */
+   same pull out and back, but no level is ever widened or copied (the
+   vertex stage widens each strand); past about 30 units, where the
+   level's strands go under 1.5 px, the level's range of `all` is sorted
+   back to front (chain.ordered_level) and drawn with the material's
+   reference kept (no opacity scale) and its blended passes in the mesh's
+   order (the back pass draws both faces, the front pass none). `all` is
+   uploaded once, at the first frame, and never again: a level sorted
+   (another level, or the distance 2x since its order was made) or put
+   back as built uploads the indices alone (one glBufferSubData); per
+   draw (above) uploads a widened level at every change of the factor. */
 static void chain_width_rule_per_vertex(void **state) {
     (void)state;
     ht_lod_chain chain;
@@ -506,8 +506,8 @@ static void chain_width_rule_per_vertex(void **state) {
     ht_renderer *r = fault_counted_renderer();
     ht_renderer_set_width_rule(r, true);
     const int steps = 24;
-    int alone_frames = 0, uploads = 0, resorts = 0, last_level = -1;
-    bool last_alone = false;
+    int sorted_frames = 0, orders = 0, last_level = -1;
+    bool last_sorted = false;
     double sorted_at = 0;
     for (int f = 0; f < 2 * steps; f++) {
         const double t = f < steps ? (double)f / (steps - 1) : (double)(2 * steps - 1 - f) / (steps - 1);
@@ -518,40 +518,36 @@ static void chain_width_rule_per_vertex(void **state) {
         const int level = ht_lod_chain_select(&chain, r, &frame.camera, 512, &res);
         assert_int_equal(res, HT_OK);
         assert_true(ht_renderer_width_rule_per_vertex(r));
-        const bool alone = chain.wide_renderer == r;
-        if (alone) assert_true(chain.wide_factor == 1.0);
-        const bool resort = alone && last_alone && level == last_level &&
+        assert_null(chain.wide_renderer);
+        assert_ptr_equal(chain.uploaded, r);
+        const bool sorted = chain.ordered_level >= 0;
+        if (sorted) assert_int_equal(chain.ordered_level, level);
+        const bool resort = sorted && last_sorted && level == last_level &&
                             (d > sorted_at * HT_LOD_RESORT_DISTANCE || d * HT_LOD_RESORT_DISTANCE < sorted_at);
-        const bool upload = f == 0 || alone != last_alone || (alone && level != last_level);
-        if (alone && (upload || resort)) sorted_at = d;
-        /* a re-sort uploads the indices alone */
-        assert_int_equal(buffer_data_calls() > 0, upload);
-        assert_int_equal(buffer_sub_data_calls(), resort && !upload);
-        uploads += upload;
-        resorts += resort && !upload;
+        const bool order = sorted != last_sorted || (sorted && level != last_level) || resort;
+        if (sorted && order) sorted_at = d;
+        assert_int_equal(buffer_data_calls() > 0, f == 0);
+        if (f > 0) assert_int_equal(buffer_sub_data_calls(), order);
+        orders += f > 0 && order;
         const ht_trace *tr = draw_traced(r, &frame);
         for (int i = 0; i < tr->count; i++) {
             const ht_trace_entry *e = &tr->entries[i];
             assert_int_equal(e->gl_error, GL_NO_ERROR);
             assert_true(e->alpha_ref >= HT_WIDTH_RULE_VERTEX_REF && e->alpha_ref < 1.0f);
-            if (alone) {
-                assert_int_equal(e->index_count, chain.wide.index_count);
-                if (e->pass == HT_PASS_BACK) assert_false(e->cull);
-                if (e->pass == HT_PASS_FRONT) assert_int_equal(e->cull_face, GL_FRONT_AND_BACK);
-            } else {
-                assert_int_equal(e->first_index, chain.first[level]);
-                if (e->pass == HT_PASS_BACK) assert_true(e->cull && e->cull_face == GL_FRONT);
-            }
+            assert_int_equal(e->first_index, chain.first[level]);
+            assert_int_equal(e->index_count, chain.index_count[level]);
+            if (e->pass == HT_PASS_BACK) assert_true(sorted ? !e->cull : e->cull && e->cull_face == GL_FRONT);
+            if (e->pass == HT_PASS_FRONT && sorted) assert_int_equal(e->cull_face, GL_FRONT_AND_BACK);
         }
-        alone_frames += alone;
-        last_alone = alone;
+        sorted_frames += sorted;
+        last_sorted = sorted;
         last_level = level;
     }
-    printf("width rule per vertex: %d of %d frames drawn alone back to front, none widened, %d uploads, %d re-sorts "
-           "(indices alone)\n", alone_frames, 2 * steps, uploads, resorts);
-    assert_true(alone_frames >= 8 && resorts >= 1);
+    printf("width rule per vertex: %d of %d frames a level sorted back to front in all, none widened or copied, "
+           "all uploaded once, %d index-only uploads\n", sorted_frames, 2 * steps, orders);
+    assert_true(sorted_frames >= 8 && orders >= 3);
     assert_int_equal(last_level, 0);
-    assert_false(last_alone);
+    assert_false(last_sorted);
     ht_renderer_destroy(r);
     ht_lod_chain_free(&chain);
 }

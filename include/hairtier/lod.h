@@ -298,10 +298,12 @@ HT_API int ht_lod_pick_frame(const ht_lod_cell *cells, int count, double size, d
    quarter octave) stay, nothing more: the order is the one of the eye
    that made it; a pixel or wider again: `all` is uploaded again and the
    opacity is 1. Where the renderer does the rule per vertex
-   (ht_renderer_set_width_rule, a tier that can) nothing is widened: while
-   the level's strands are ht_width_rule_vertex_sorts, the level is drawn
-   alone, sorted back to front (ht_renderer_set_back_to_front) at opacity
-   1; else `all`'s range. While the level and f stay, the order is sorted
+   (ht_renderer_set_width_rule, a tier that can) nothing is widened or
+   copied: while the level's strands are ht_width_rule_vertex_sorts, its
+   range of `all` is sorted back to front and `all`'s indices uploaded
+   alone (ht_renderer_set_mesh_order, ht_renderer_set_back_to_front; the
+   order restored the same way when the level leaves it); else `all`'s
+   range as built. While the level and f stay, the order is sorted
    again only past HT_LOD_RESORT_DEG / HT_LOD_RESORT_DISTANCE (below).
    ht_lod_chain_from_file takes the levels a bundle stores instead (its
    lods.bin, hairgen --cards: the strand levels, then the cards, whose
@@ -332,6 +334,10 @@ typedef struct ht_lod_chain {
     double wide_factor;            /* wide_soften x the width rule's f; the opacity is its inverse */
     double wide_soften;            /* the soft pair's soften, 1: plain */
     float wide_eye[3];             /* the eye wide's order is of */
+    /* The width rule per vertex: `all` uploaded with this level's range
+       sorted back to front (ht_renderer_set_mesh_order), -1: as built. */
+    int ordered_level;
+    float ordered_eye[3];          /* the eye that order is of */
 } ht_lod_chain;
 /* A level drawn alone is sorted again (its indices uploaded alone:
    ht_renderer_set_mesh_order) only when the eye's direction from the mesh's centre has

@@ -4,6 +4,7 @@
    uploaded mesh and a draw range each, a tier by ht_renderer_set_tier,
    through the public renderer API only. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <hairtier/lod.h>
@@ -45,6 +46,7 @@ static void chain_init(ht_lod_chain *c) {
     memset(c, 0, sizeof *c);
     c->current = -1;
     c->tier = HT_TIER_COUNT;
+    c->ordered_level = -1;
 }
 
 /* Each level's mean ribbon width (the width rule's per-draw factor). */
@@ -139,7 +141,13 @@ static double strand_px(const ht_lod_chain *c, const ht_camera *camera, int view
 /* `all` on r (once), then level's range; *result and -1 on failure. */
 static int draw_level(ht_lod_chain *c, ht_renderer *r, int level, ht_result *result) {
     ht_result res = c->uploaded == r ? HT_OK : ht_renderer_set_mesh(r, &c->all);
+    if (res == HT_OK && c->uploaded == r && c->ordered_level >= 0) {
+        /* a level sorted back to front (the width rule per vertex): as built again */
+        res = ht_renderer_set_mesh_order(r, &c->all);
+        ht_renderer_set_back_to_front(r, false);
+    }
     if (res == HT_OK) {
+        c->ordered_level = -1;
         c->uploaded = r;
         res = ht_renderer_set_draw_range(r, c->first[level], c->index_count[level]);
     }
@@ -156,19 +164,80 @@ static const ht_mesh *held_mesh(const ht_lod_chain *c, const ht_renderer *r) {
     return c->uploaded == r ? &c->all : c->wide_renderer == r ? &c->wide : NULL;
 }
 
-/* Whether the order the drawn-alone mesh was sorted in (from wide_eye)
-   still serves eye: its direction from the centre turned by at most
+/* Whether an order sorted from eye `from` (wide_eye, ordered_eye) still
+   serves eye: its direction from the centre turned by at most
    HT_LOD_RESORT_DEG and its distance within HT_LOD_RESORT_DISTANCE times. */
-static bool order_serves(const ht_lod_chain *c, const float eye[3]) {
+static bool order_serves(const ht_lod_chain *c, const float from[3], const float eye[3]) {
     double was = 0, now = 0, dot = 0;
     for (int k = 0; k < 3; k++) {
-        const double a = (double)c->wide_eye[k] - c->full->center[k], b = (double)eye[k] - c->full->center[k];
+        const double a = (double)from[k] - c->full->center[k], b = (double)eye[k] - c->full->center[k];
         was += a * a, now += b * b, dot += a * b;
     }
     was = sqrt(was), now = sqrt(now);
     if (!(was > 0 && now > 0)) return was == now;
     return now <= was * HT_LOD_RESORT_DISTANCE && was <= now * HT_LOD_RESORT_DISTANCE &&
            dot / (was * now) >= cos(HT_LOD_RESORT_DEG * M_PI / 180.0);
+}
+
+/* `all` with level's range sorted back to front from eye (its components
+   split into segments as ht_mesh_sort_back_to_front splits them), its
+   indices uploaded alone; `all` itself (the CPU copy) stays as built. */
+static ht_result upload_level_order(ht_lod_chain *c, ht_renderer *r, int level, const float eye[3]) {
+    const uint32_t first = c->first[level], count = c->index_count[level];
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < c->all.component_count; i++)
+        n += c->all.components[i].first_index - first < count;
+    ht_mesh view = { .vertices = c->all.vertices, .vertex_count = c->all.vertex_count,
+                     .indices = malloc(sizeof(uint32_t) * (count ? count : 1)), .index_count = count,
+                     .components = malloc(sizeof(ht_component) * (n ? n : 1)), .component_count = n };
+    uint32_t *order = malloc(sizeof(uint32_t) * (c->all.index_count ? c->all.index_count : 1));
+    ht_result res = view.indices && view.components && order ? HT_OK : HT_ERR_OUT_OF_MEMORY;
+    if (res == HT_OK) {
+        memcpy(view.indices, c->all.indices + first, sizeof(uint32_t) * count);
+        for (uint32_t i = 0, k = 0; i < c->all.component_count; i++)
+            if (c->all.components[i].first_index - first < count) {
+                view.components[k] = c->all.components[i];
+                view.components[k++].first_index -= first;
+            }
+        ht_mesh_sort_back_to_front(&view, eye);
+        memcpy(order, c->all.indices, sizeof(uint32_t) * c->all.index_count);
+        memcpy(order + first, view.indices, sizeof(uint32_t) * count);
+        ht_mesh sorted = c->all;
+        sorted.indices = order;
+        res = ht_renderer_set_mesh_order(r, &sorted);
+    }
+    free(order);
+    free(view.indices);
+    free(view.components);
+    return res;
+}
+
+/* The width rule per vertex on a level whose strands blend (lod.h): its
+   range of `all`, sorted back to front, drawn at opacity 1; sorted again
+   only for another level or past the order's reach. */
+static int draw_level_ordered(ht_lod_chain *c, ht_renderer *r, int level, const ht_camera *camera, ht_result *result) {
+    if (c->wide_renderer == r) {
+        ht_renderer_set_opacity_scale(r, 1.0f);
+        c->wide_renderer = NULL;
+        c->wide_factor = 1.0;
+    }
+    ht_result res = c->uploaded == r ? HT_OK : ht_renderer_set_mesh(r, &c->all);
+    if (res == HT_OK && c->uploaded != r) c->ordered_level = -1;
+    if (res == HT_OK) c->uploaded = r;
+    if (res == HT_OK && (c->ordered_level != level || !order_serves(c, c->ordered_eye, camera->eye))) {
+        res = upload_level_order(c, r, level, camera->eye);
+        c->ordered_level = res == HT_OK ? level : -1;
+        memcpy(c->ordered_eye, camera->eye, sizeof c->ordered_eye);
+    }
+    if (res == HT_OK) res = ht_renderer_set_draw_range(r, c->first[level], c->index_count[level]);
+    if (res != HT_OK) {
+        if (result) *result = res;
+        return -1;
+    }
+    ht_renderer_set_back_to_front(r, true);
+    c->soften = 0.0f;
+    c->current = level;
+    return level;
 }
 
 /* The level drawn alone (lod.h): widened by soften (a soft pair; 1:
@@ -185,8 +254,10 @@ static int draw_level_width_rule(ht_lod_chain *c, ht_renderer *r, int level, flo
     if (c->width_rule && !held_mesh(c, r) && draw_level(c, r, level, result) < 0) return -1;
     const bool per_vertex = c->width_rule && ht_renderer_width_rule_per_vertex(r);
     const double factor = fmin(s * (per_vertex ? 1.0 : f), HT_LOD_MAX_WIDEN);
-    /* translucent strands (soft, widened, or per vertex under a pixel) blend far to near */
-    if (factor <= 1.0 && !(per_vertex && ht_width_rule_vertex_sorts(px * s * c->level_width[level] / c->width))) {
+    const bool sorts = per_vertex && ht_width_rule_vertex_sorts(px * s * c->level_width[level] / c->width);
+    /* translucent strands (soft, widened, or per vertex under 1.5 px) blend far to near */
+    if (factor <= 1.0 && sorts) return draw_level_ordered(c, r, level, camera, result);
+    if (factor <= 1.0) {
         if (c->wide_renderer == r) {
             ht_renderer_set_opacity_scale(r, 1.0f);
             ht_renderer_set_back_to_front(r, false);
@@ -198,7 +269,7 @@ static int draw_level_width_rule(ht_lod_chain *c, ht_renderer *r, int level, flo
     }
     ht_result res = HT_OK;
     if (c->wide_renderer == r && c->wide_level == level && c->wide_factor == factor && c->wide_soften == s) {
-        if (!order_serves(c, camera->eye)) {
+        if (!order_serves(c, c->wide_eye, camera->eye)) {
             /* the same vertices in a new order: the indices go up alone */
             ht_mesh_sort_back_to_front(&c->wide, camera->eye);
             if ((res = ht_renderer_set_mesh_order(r, &c->wide)) != HT_OK) {
@@ -228,6 +299,7 @@ static int draw_level_width_rule(ht_lod_chain *c, ht_renderer *r, int level, flo
     c->wide_soften = s;
     memcpy(c->wide_eye, camera->eye, sizeof c->wide_eye);
     if (c->uploaded == r) c->uploaded = NULL; /* r holds the widened level now */
+    c->ordered_level = -1;
     c->soften = s > 1.0 ? soften : 0.0f;
     c->current = level;
     return level;
@@ -322,7 +394,5 @@ void ht_lod_chain_free(ht_lod_chain *c) {
     for (int l = 0; l < HT_LOD_FILE_MAX_LEVELS; l++) ht_mesh_free(&c->levels[l]);
     ht_mesh_free(&c->all);
     ht_mesh_free(&c->wide);
-    memset(c, 0, sizeof *c);
-    c->current = -1;
-    c->tier = HT_TIER_COUNT;
+    chain_init(c);
 }
