@@ -28,9 +28,10 @@
 /* Hair pixels at each LOD against full detail, at SIZE (the fixture's fur
    ball is about 1/10 of the scene's projected size here). */
 #define PIXEL_BOUND 0.15
-/* The vertices a block of the renderer's 768-index span covers, at most
-   (a strand's rows: 6 indices for 2 new vertices). */
-#define HT_TEST_SPAN_VERTICES 768
+/* gl11 shades whole blocks of 8 vertices (gl11_program.h): the slack at
+   each end of a level's own vertices, which the chain names
+   (ht_renderer_set_draw_range_vertices). */
+#define HT_TEST_BLOCK_VERTICES 8
 
 static ht_test_furball fx;
 
@@ -389,7 +390,7 @@ static void pull_out_and_back(ht_lod_rule rule, const pair *expect, int expect_c
             const uint32_t level_vertices = ht_lod_chain_mesh(&chain, level)->vertex_count;
             /* fixed: two slots' coordinates and colours at most; the slack: a block at each end */
             if (now.tier != HT_TIER_FULL)
-                assert_true(made <= 2 * (uint64_t)(level_vertices + 2 * HT_TEST_SPAN_VERTICES) &&
+                assert_true(made <= 2 * (uint64_t)(level_vertices + 2 * HT_TEST_BLOCK_VERTICES) &&
                             made < chain.all.vertex_count);
         }
     }
@@ -594,6 +595,11 @@ static void mesh_order_uploads_the_indices_alone(void **state) {
         bad.indices[b.index_count - 1] = b.vertex_count;
         assert_int_equal(ht_renderer_set_mesh_order(reordered, &bad), HT_ERR_INVALID_ARGUMENT);
         free(bad.indices);
+        /* a draw range's vertices named outside the mesh's, or none: refused */
+        assert_int_equal(ht_renderer_set_draw_range_vertices(reordered, 0, 3, b.vertex_count, 1), HT_ERR_INVALID_ARGUMENT);
+        assert_int_equal(ht_renderer_set_draw_range_vertices(reordered, 0, 3, 1, b.vertex_count), HT_ERR_INVALID_ARGUMENT);
+        assert_int_equal(ht_renderer_set_draw_range_vertices(reordered, 0, 3, 0, 0), HT_ERR_INVALID_ARGUMENT);
+        assert_int_equal(ht_renderer_set_draw_range_vertices(reordered, 0, b.index_count, 0, b.vertex_count), HT_OK);
         ht_image after;
         ht_test_draw(&fx.gl, reordered, &frame, ht_test_background, &after);
         assert_memory_equal(after.pixels, want.pixels, (size_t)got.width * got.height * 3);

@@ -412,6 +412,17 @@ HT_API ht_result ht_renderer_set_mesh_order(ht_renderer *r, const ht_mesh *mesh)
    covers the range's vertices (within a block of 768 indices at each end),
    not the whole mesh's. */
 HT_API ht_result ht_renderer_set_draw_range(ht_renderer *r, uint32_t first_index, uint32_t index_count);
+/* ht_renderer_set_draw_range with the range's vertices named: every index
+   in it lies in [first_vertex, first_vertex + vertex_count) (a chain's
+   level: its own vertices). The tiers that work per vertex on the CPU
+   (gl11's lighting, the fixed tiers' coordinates) then touch only those,
+   not what the renderer's blocks of indices bound (a block straddling the
+   range's ends reaches into its neighbours' vertices). The next
+   ht_renderer_set_draw_range, set_mesh or set_mesh_order forgets them, and
+   a mesh in 16-bit chunks (its vertices reordered) ignores them.
+   HT_ERR_INVALID_ARGUMENT: not within the mesh's vertices (logged). */
+HT_API ht_result ht_renderer_set_draw_range_vertices(ht_renderer *r, uint32_t first_index, uint32_t index_count,
+                                                     uint32_t first_vertex, uint32_t vertex_count);
 /* Draws `tier` of the bundle from the next frame on, with the mesh and
    draw range in place (no upload of the renderer's buffers): the tier's
    backend (programs, textures, lookup tables) is made at its first use and

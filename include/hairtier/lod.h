@@ -319,6 +319,7 @@ typedef struct ht_lod_chain {
     double width;                  /* full's mean ribbon width */
     ht_mesh all;                   /* every level, one after the other */
     uint32_t first[HT_LOD_FILE_MAX_LEVELS], index_count[HT_LOD_FILE_MAX_LEVELS]; /* level l's range in all */
+    uint32_t first_vertex[HT_LOD_FILE_MAX_LEVELS], vertex_count[HT_LOD_FILE_MAX_LEVELS]; /* the vertices it uses */
     const ht_renderer *uploaded;   /* the renderer holding `all`, NULL: none yet */
     ht_tier tier;                  /* the pair's tier (ht_lod_chain_select_pair); HT_TIER_COUNT: none yet */
     unsigned refused_tiers;        /* bit t: the renderer could not draw tier t; its cells are skipped */

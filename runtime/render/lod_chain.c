@@ -41,6 +41,13 @@ static ht_result concatenate(ht_lod_chain *c) {
     return HT_OK;
 }
 
+/* r draws level's range of `all`, its own vertices named (the CPU tiers
+   touch only those). */
+static ht_result set_level_range(const ht_lod_chain *c, ht_renderer *r, int level) {
+    return ht_renderer_set_draw_range_vertices(r, c->first[level], c->index_count[level], c->first_vertex[level],
+                                               c->vertex_count[level]);
+}
+
 /* An empty chain: no level drawn yet, no tier chosen. */
 static void chain_init(ht_lod_chain *c) {
     memset(c, 0, sizeof *c);
@@ -49,9 +56,19 @@ static void chain_init(ht_lod_chain *c) {
     c->ordered_level = -1;
 }
 
-/* Each level's mean ribbon width (the width rule's per-draw factor). */
+/* Each level's mean ribbon width (the width rule's per-draw factor) and
+   the vertices its range of `all` uses. */
 static void measure_widths(ht_lod_chain *c) {
-    for (int l = 0; l < c->count; l++) c->level_width[l] = ht_mesh_mean_width(ht_lod_chain_mesh(c, l));
+    for (int l = 0; l < c->count; l++) {
+        c->level_width[l] = ht_mesh_mean_width(ht_lod_chain_mesh(c, l));
+        uint32_t lo = UINT32_MAX, hi = 0;
+        for (uint32_t i = c->first[l]; i < c->first[l] + c->index_count[l] && i < c->all.index_count; i++) {
+            lo = c->all.indices[i] < lo ? c->all.indices[i] : lo;
+            hi = c->all.indices[i] > hi ? c->all.indices[i] : hi;
+        }
+        c->first_vertex[l] = lo <= hi ? lo : 0;
+        c->vertex_count[l] = lo <= hi ? hi - lo + 1 : c->all.vertex_count;
+    }
 }
 
 /* The levels built so far (r: how building them went) into one buffer, or
@@ -149,7 +166,7 @@ static int draw_level(ht_lod_chain *c, ht_renderer *r, int level, ht_result *res
     if (res == HT_OK) {
         c->ordered_level = -1;
         c->uploaded = r;
-        res = ht_renderer_set_draw_range(r, c->first[level], c->index_count[level]);
+        res = set_level_range(c, r, level);
     }
     if (res != HT_OK) {
         if (result) *result = res;
@@ -229,7 +246,7 @@ static int draw_level_ordered(ht_lod_chain *c, ht_renderer *r, int level, const 
         c->ordered_level = res == HT_OK ? level : -1;
         memcpy(c->ordered_eye, camera->eye, sizeof c->ordered_eye);
     }
-    if (res == HT_OK) res = ht_renderer_set_draw_range(r, c->first[level], c->index_count[level]);
+    if (res == HT_OK) res = set_level_range(c, r, level);
     if (res != HT_OK) {
         if (result) *result = res;
         return -1;

@@ -55,6 +55,11 @@ static uint32_t *make_span(const ht_mesh *m, uint32_t *count) {
 void ht_renderer_draw_vertices(const ht_renderer *r, uint32_t *first_vertex, uint32_t *vertex_count) {
     *first_vertex = 0;
     *vertex_count = r->vertex_count;
+    if (r->draw_vertex_count) {
+        *first_vertex = r->draw_vertex_first;
+        *vertex_count = r->draw_vertex_count;
+        return;
+    }
     if (!r->span || !r->draw_count) return;
     uint32_t lo = UINT32_MAX, hi = 0;
     const uint32_t last = (r->draw_first + r->draw_count - 1) / HT_SPAN_INDICES;
@@ -205,6 +210,7 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
     r->index_count = mesh->index_count;
     r->draw_first = 0;
     r->draw_count = mesh->index_count;
+    r->draw_vertex_count = 0;
     r->has_mesh = true;
     r->span = make_span(mesh, &r->span_count);
     /* a_side feeds programs; without them (gl11) a tier widens from its own copy */
@@ -275,6 +281,7 @@ ht_result ht_renderer_set_mesh_order(ht_renderer *r, const ht_mesh *mesh) {
     r->span_count = span_count;
     r->draw_first = 0;
     r->draw_count = mesh->index_count;
+    r->draw_vertex_count = 0;
     return HT_OK;
 }
 
@@ -289,6 +296,25 @@ ht_result ht_renderer_set_draw_range(ht_renderer *r, uint32_t first_index, uint3
     }
     r->draw_first = first_index;
     r->draw_count = index_count;
+    r->draw_vertex_count = 0;
+    return HT_OK;
+}
+
+ht_result ht_renderer_set_draw_range_vertices(ht_renderer *r, uint32_t first_index, uint32_t index_count,
+                                              uint32_t first_vertex, uint32_t vertex_count) {
+    if (!r) return HT_ERR_INVALID_ARGUMENT;
+    if (r->has_mesh && !r->chunk_count &&
+        (vertex_count == 0 || first_vertex > r->vertex_count || vertex_count > r->vertex_count - first_vertex)) {
+        ht_log_linef(r->log, r->log_user,
+                     "hairtier: ht_renderer_set_draw_range_vertices: vertices [%u, +%u): not within the mesh's %u",
+                     first_vertex, vertex_count, r->vertex_count);
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    ht_result res = ht_renderer_set_draw_range(r, first_index, index_count);
+    /* a mesh in 16-bit chunks has its vertices reordered: the blocks bound them */
+    if (res != HT_OK || r->chunk_count) return res;
+    r->draw_vertex_first = first_vertex;
+    r->draw_vertex_count = vertex_count;
     return HT_OK;
 }
 

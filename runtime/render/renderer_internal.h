@@ -54,6 +54,7 @@ struct ht_renderer {
     uint32_t *indices;
     uint32_t vertex_count, index_count;
     uint32_t draw_first, draw_count;  /* the indices the passes draw (ht_renderer_set_draw_range) */
+    uint32_t draw_vertex_first, draw_vertex_count; /* their vertices when named (set_draw_range_vertices); count 0: not */
     uint32_t *span;                   /* per HT_SPAN_INDICES indices of the mesh: the least and the */
     uint32_t span_count;              /* largest vertex they index (2 a block); NULL: unknown */
     bool has_mesh;
