@@ -49,6 +49,7 @@
 #include "offscreen.h"
 #include "cli.h"
 #include "view_args.h"
+#include "compare/grid_levels.h"
 #include "timing.h"
 
 typedef struct options {
@@ -487,30 +488,24 @@ static int apply_width_rule(const options *o, const ht_scene *s, ht_renderer *r,
    which the scene's own mesh would sample wrongly). */
 static int read_stored_levels(const options *o, const ht_mesh *hair, ht_lod_file *ladder, bool *has) {
     char path[4200], err[512];
-    snprintf(path, sizeof path, "%s/%s", o->view.bundle, HT_LOD_FILE_NAME);
+    stored_ladder kind;
     *has = false;
-    if (access(path, F_OK) != 0) {
-        if (!o->cards) return 0;
-        fprintf(stderr, "hairview: --cards: %s: absent (make the bundle with hairgen --cards)\n", path);
-        return 1;
-    }
-    if (ht_lod_file_read(path, ladder, err, sizeof err) != HT_OK) {
+    if (stored_ladder_read(o->view.bundle, o->view.scene, hair, ladder, &kind, path, sizeof path, err, sizeof err) !=
+        HT_OK) {
         fprintf(stderr, "hairview: %s\n", err);
         return 1;
     }
-    if (ht_lod_file_matches(ladder, hair)) {
-        *has = true;
-        return 0;
+    *has = kind == STORED_THIS_SCENE;
+    if (kind == STORED_NONE && o->cards) {
+        fprintf(stderr, "hairview: --cards: %s: absent (make the bundle with hairgen --cards)\n", path);
+        return 1;
     }
-    bool cards = false;
-    for (int l = 0; l < ladder->level_count; l++) cards = cards || ladder->levels[l].kind == HT_LOD_KIND_CARDS;
-    ht_lod_file_free(ladder);
-    if (cards || o->cards) {
+    if (kind == STORED_OTHER_SCENE && o->cards) {
         fprintf(stderr, "hairview: %s: its level 0 is not %s's mesh: these cards are another scene's\n", path,
                 o->view.scene);
         return 1;
     }
-    printf("stored_levels: %s is another scene's; levels built from %s\n", path, o->view.scene);
+    if (kind == STORED_OTHER_SCENE) printf("stored_levels: %s is another scene's; levels built from %s\n", path, o->view.scene);
     return 0;
 }
 

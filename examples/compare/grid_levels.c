@@ -5,6 +5,29 @@
 
 #include "grid_levels.h"
 
+ht_result stored_ladder_read(const char *bundle, const char *scene_name, const ht_mesh *hair, ht_lod_file *file,
+                             stored_ladder *kind, char *path, size_t path_size, char *err, size_t err_size) {
+    memset(file, 0, sizeof *file);
+    *kind = STORED_NONE;
+    snprintf(path, path_size, "%s/%s", bundle, HT_LOD_FILE_NAME);
+    if (access(path, F_OK) != 0) return HT_OK;
+    ht_result r = ht_lod_file_read(path, file, err, err_size);
+    if (r != HT_OK) return r;
+    if (ht_lod_file_matches(file, hair)) {
+        *kind = STORED_THIS_SCENE;
+        return HT_OK;
+    }
+    bool cards = false;
+    for (int l = 0; l < file->level_count; l++) cards = cards || file->levels[l].kind == HT_LOD_KIND_CARDS;
+    ht_lod_file_free(file);
+    if (cards) {
+        snprintf(err, err_size, "%s: its level 0 is not %s's mesh: these cards are another scene's", path, scene_name);
+        return HT_ERR_INVALID_ARGUMENT;
+    }
+    *kind = STORED_OTHER_SCENE;
+    return HT_OK;
+}
+
 ht_result grid_levels_open(const char *bundle, const char *scene_name, const ht_mesh *hair, grid_levels *out,
                            char *err, size_t err_size) {
     memset(out, 0, sizeof *out);
@@ -16,23 +39,12 @@ ht_result grid_levels_open(const char *bundle, const char *scene_name, const ht_
         out->param[l] = d.strand_stride;
     }
     char path[4200];
-    snprintf(path, sizeof path, "%s/%s", bundle, HT_LOD_FILE_NAME);
-    if (access(path, F_OK) != 0) return HT_OK;
-    ht_result r = ht_lod_file_read(path, &out->file, err, err_size);
-    if (r != HT_OK) return r;
+    stored_ladder kind;
+    ht_result r = stored_ladder_read(bundle, scene_name, hair, &out->file, &kind, path, sizeof path, err, err_size);
+    if (r != HT_OK || kind == STORED_NONE) return r;
+    out->other_scene = kind == STORED_OTHER_SCENE;
+    if (out->other_scene) return HT_OK;
     const ht_lod_file *f = &out->file;
-    bool cards = false;
-    for (int l = 0; l < f->level_count; l++) cards = cards || f->levels[l].kind == HT_LOD_KIND_CARDS;
-    if (!ht_lod_file_matches(f, hair)) {
-        ht_lod_file_free(&out->file);
-        if (cards) {
-            snprintf(err, err_size, "%s: its level 0 is not %s's mesh: these cards are another scene's", path,
-                     scene_name);
-            return HT_ERR_INVALID_ARGUMENT;
-        }
-        out->other_scene = true;
-        return HT_OK;
-    }
     out->stored = true;
     out->count = f->level_count;
     for (int l = 0; l < f->level_count; l++) {

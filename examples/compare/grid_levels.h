@@ -33,6 +33,18 @@ typedef struct grid_levels {
     uint32_t param[HT_LOD_FILE_MAX_LEVELS]; /* the strand stride, or strands per card */
 } grid_levels;
 
+/* Which stored ladder BUNDLE has for a scene's mesh (hairview and
+   haircompare read it alike). */
+typedef enum stored_ladder { STORED_NONE, STORED_THIS_SCENE, STORED_OTHER_SCENE } stored_ladder;
+/* BUNDLE/lods.bin into *file when it is made from hair (THIS_SCENE; free
+   it with ht_lod_file_free); absent: NONE; another scene's strand levels:
+   OTHER_SCENE (not kept). A file the reader refuses, or cards made from
+   another mesh (their atlas is the bundle's textures, which this scene's
+   mesh would sample wrongly), is an error: one line naming the file in
+   err. path receives the file's path. */
+ht_result stored_ladder_read(const char *bundle, const char *scene_name, const ht_mesh *hair, ht_lod_file *file,
+                             stored_ladder *kind, char *path, size_t path_size, char *err, size_t err_size);
+
 /* Reads BUNDLE/lods.bin when there is one. A file the reader refuses (a
    hostile one), or one holding cards made from another mesh than hair
    (their atlas is the bundle's textures, which the scene's own mesh
