@@ -164,6 +164,10 @@ static void hairview_draws_the_stored_levels(void **state) {
     if (ht_test_run_program("hairview", args, out, sizeof out) != 0) fail_msg("hairview %s: %s", args, out);
     if (!strstr(out, "is another scene's") || !strstr(out, "lod=2 strands=75 strand_px") || strstr(out, "stored kind"))
         fail_msg("expected level 2 built from %s in:\n%s", other, out);
+    /* cards made from another scene's mesh are refused (stored_ladder_read), as haircompare refuses them */
+    snprintf(args, sizeof args, "--bundle %s --scene %s --lod 2 --frames 1 -o %s/c.png", cards, other, work);
+    assert_int_not_equal(ht_test_run_program("hairview", args, out, sizeof out), 0);
+    if (!strstr(out, "these cards are another scene's")) fail_msg("expected the cards refused in:\n%s", out);
 }
 
 static void manifest_holds_every_pair_at_three_sizes(void **state) {
@@ -470,6 +474,10 @@ static void supersample_reference_measures_the_width_rule_against_the_truth(void
     assert_true(isfinite(reference)); /* not the reference pair itself (null) */
     assert_true(fabs(cell - viewed) < 0.05);
     assert_true(soft_cells > 0);
+    /* --cards with no lods.bin: one line naming it */
+    snprintf(args, sizeof args, "--bundle %s --scene %s --cards --frames 1 -o %s/nc.png", truth, scene_path, work);
+    assert_int_not_equal(ht_test_run_program("hairview", args, out, sizeof out), 0);
+    assert_non_null(strstr(out, "lods.bin: absent (make the bundle with hairgen --cards)"));
     /* hairview draws a level soft by a factor of its own; bad factors refused */
     snprintf(args, sizeof args, "--bundle %s --scene %s --lod 1 --soft=2 --frames 1 -o %s/s2.png", truth, scene_path,
              work);
