@@ -392,7 +392,10 @@ int ht_lod_chain_select_pair(ht_lod_chain *c, ht_renderer *r, const ht_camera *c
             return level;
         /* the mesh first: the tier's per-vertex data is made of it */
         ht_result res = held_mesh(c, r) ? HT_OK : ht_renderer_set_mesh(r, &c->all);
-        if (res == HT_OK && !held_mesh(c, r)) c->uploaded = r;
+        if (res == HT_OK && !held_mesh(c, r)) {
+            c->uploaded = r;
+            c->ordered_level = -1; /* `all` as built */
+        }
         if (res == HT_OK && ht_renderer_tier(r) != tier) res = ht_renderer_set_tier(r, tier, held_mesh(c, r));
         if (res == HT_OK) {
             c->tier = tier;
