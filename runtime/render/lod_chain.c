@@ -155,17 +155,36 @@ static double strand_px(const ht_lod_chain *c, const ht_camera *camera, int view
     return ht_projected_width_px(c->width, sqrt(d), camera->fov_y, viewport_h);
 }
 
+/* `all` on r, uploaded once (an upload is in the order as built). */
+static ht_result hold_all(ht_lod_chain *c, ht_renderer *r) {
+    if (c->uploaded == r) return HT_OK;
+    ht_result res = ht_renderer_set_mesh(r, &c->all);
+    if (res == HT_OK) {
+        c->uploaded = r;
+        c->ordered_level = -1;
+    }
+    return res;
+}
+
+/* A level drawn alone on r no more: opacity 1, blended split by facing. */
+static void drop_wide(ht_lod_chain *c, ht_renderer *r) {
+    if (c->wide_renderer != r) return;
+    ht_renderer_set_opacity_scale(r, 1.0f);
+    ht_renderer_set_back_to_front(r, false);
+    c->wide_renderer = NULL;
+    c->wide_factor = 1.0;
+}
+
 /* `all` on r (once), then level's range; *result and -1 on failure. */
 static int draw_level(ht_lod_chain *c, ht_renderer *r, int level, ht_result *result) {
-    ht_result res = c->uploaded == r ? HT_OK : ht_renderer_set_mesh(r, &c->all);
-    if (res == HT_OK && c->uploaded == r && c->ordered_level >= 0) {
+    ht_result res = hold_all(c, r);
+    if (res == HT_OK && c->ordered_level >= 0) {
         /* a level sorted back to front (the width rule per vertex): as built again */
         res = ht_renderer_set_mesh_order(r, &c->all);
         ht_renderer_set_back_to_front(r, false);
     }
     if (res == HT_OK) {
         c->ordered_level = -1;
-        c->uploaded = r;
         res = set_level_range(c, r, level);
     }
     if (res != HT_OK) {
@@ -233,14 +252,8 @@ static ht_result upload_level_order(ht_lod_chain *c, ht_renderer *r, int level, 
    range of `all`, sorted back to front, drawn at opacity 1; sorted again
    only for another level or past the order's reach. */
 static int draw_level_ordered(ht_lod_chain *c, ht_renderer *r, int level, const ht_camera *camera, ht_result *result) {
-    if (c->wide_renderer == r) {
-        ht_renderer_set_opacity_scale(r, 1.0f);
-        c->wide_renderer = NULL;
-        c->wide_factor = 1.0;
-    }
-    ht_result res = c->uploaded == r ? HT_OK : ht_renderer_set_mesh(r, &c->all);
-    if (res == HT_OK && c->uploaded != r) c->ordered_level = -1;
-    if (res == HT_OK) c->uploaded = r;
+    drop_wide(c, r);
+    ht_result res = hold_all(c, r);
     if (res == HT_OK && (c->ordered_level != level || !order_serves(c, c->ordered_eye, camera->eye))) {
         res = upload_level_order(c, r, level, camera->eye);
         c->ordered_level = res == HT_OK ? level : -1;
@@ -266,21 +279,17 @@ static int draw_level_ordered(ht_lod_chain *c, ht_renderer *r, int level, const 
 static int draw_level_width_rule(ht_lod_chain *c, ht_renderer *r, int level, float soften, double px,
                                  const ht_camera *camera, ht_result *result) {
     const double s = soften > 1.0f ? soften : 1.0;
-    const double f = c->width_rule ? ht_width_rule_widen(px * s * c->level_width[level] / c->width) : 1.0;
+    const double level_px = px * s * c->level_width[level] / c->width; /* the level's strands, drawn */
+    const double f = c->width_rule ? ht_width_rule_widen(level_px) : 1.0;
     /* per vertex is known once r holds a mesh of this chain (lod.h) */
     if (c->width_rule && !held_mesh(c, r) && draw_level(c, r, level, result) < 0) return -1;
     const bool per_vertex = c->width_rule && ht_renderer_width_rule_per_vertex(r);
     const double factor = fmin(s * (per_vertex ? 1.0 : f), HT_LOD_MAX_WIDEN);
-    const bool sorts = per_vertex && ht_width_rule_vertex_sorts(px * s * c->level_width[level] / c->width);
+    const bool sorts = per_vertex && ht_width_rule_vertex_sorts(level_px);
     /* translucent strands (soft, widened, or per vertex under 1.5 px) blend far to near */
     if (factor <= 1.0 && sorts) return draw_level_ordered(c, r, level, camera, result);
     if (factor <= 1.0) {
-        if (c->wide_renderer == r) {
-            ht_renderer_set_opacity_scale(r, 1.0f);
-            ht_renderer_set_back_to_front(r, false);
-            c->wide_renderer = NULL;
-            c->wide_factor = 1.0;
-        }
+        drop_wide(c, r);
         c->soften = 0.0f;
         return draw_level(c, r, level, result);
     }
@@ -391,11 +400,7 @@ int ht_lod_chain_select_pair(ht_lod_chain *c, ht_renderer *r, const ht_camera *c
             !c->width_rule && soften == 0.0f)
             return level;
         /* the mesh first: the tier's per-vertex data is made of it */
-        ht_result res = held_mesh(c, r) ? HT_OK : ht_renderer_set_mesh(r, &c->all);
-        if (res == HT_OK && !held_mesh(c, r)) {
-            c->uploaded = r;
-            c->ordered_level = -1; /* `all` as built */
-        }
+        ht_result res = held_mesh(c, r) ? HT_OK : hold_all(c, r);
         if (res == HT_OK && ht_renderer_tier(r) != tier) res = ht_renderer_set_tier(r, tier, held_mesh(c, r));
         if (res == HT_OK) {
             c->tier = tier;
