@@ -55,6 +55,18 @@ static void hash_bytes(input_hash *h, const void *data, size_t size) {
     }
 }
 
+/* The generator's version and the LOD ladder it builds lods.bin with: a
+   bundle made with another ladder is out of date. */
+static void hash_generator(input_hash *h) {
+    hash_bytes(h, GENERATOR_VERSION, sizeof GENERATOR_VERSION);
+    for (int l = 0; l < HT_LOD_LEVELS; l++) {
+        ht_lod_desc d;
+        ht_lod_level(l, &d);
+        const double v[2] = { d.strand_stride, d.max_turn_deg };
+        hash_bytes(h, v, sizeof v);
+    }
+}
+
 /* Only regular files of at most max_bytes are hashed: /dev/zero would be
    hashed forever and a FIFO would wait for a writer (defects C2, C3). label,
    when given, is "MATERIAL: FIELD" naming where the path came from. */
@@ -451,7 +463,7 @@ static ht_result generate(const ht_generate_desc *desc, int threads, ht_generate
     g->input_hash = desc->input_hash;
     if (!g->input_hash) {
         input_hash hash = { 0xcbf29ce484222325ull };
-        hash_bytes(&hash, GENERATOR_VERSION, sizeof GENERATOR_VERSION);
+        hash_generator(&hash);
         r = hash_values(&hash, m, scene, err, err_size);
         if (r != HT_OK) return r;
         g->input_hash = hash.value;
@@ -646,7 +658,7 @@ typedef struct bundle_inputs {
    bytes. */
 static input_hash material_key(const char *material_text) {
     input_hash h = { 0xcbf29ce484222325ull };
-    hash_bytes(&h, GENERATOR_VERSION, sizeof GENERATOR_VERSION);
+    hash_generator(&h);
     hash_bytes(&h, material_text, strlen(material_text));
     hash_bytes(&h, "", 1); /* as hash_file separates files */
     return h;

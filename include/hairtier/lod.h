@@ -82,7 +82,7 @@ typedef struct ht_lod_desc {
 } ht_lod_desc;
 
 /* The shipped ladder, level 0 (full) to HT_LOD_LEVELS - 1: stride 2^level,
-   max_turn_deg 0, 4, 8, 8, 8. Levels outside are clamped. */
+   max_turn_deg 0, 4, 4, 4, 4. Levels outside are clamped. */
 #define HT_LOD_LEVELS 5
 /* The most levels a stored ladder (lods.bin) or a chain holds: the
    strand levels and the cards. */

@@ -26,9 +26,9 @@ void ht_lod_level(int level, ht_lod_desc *out) {
     if (level < 0) level = 0;
     if (level > HT_LOD_LEVELS - 1) level = HT_LOD_LEVELS - 1;
     out->strand_stride = 1u << level;
-    /* 4 degrees a level, at most 8: on the fur ball at a quarter size 8
-       alone costs 33 dB PSNR against full detail, 16 alone 25 dB. */
-    out->max_turn_deg = level < 2 ? 4.0f * (float)level : 8.0f;
+    /* 4 degrees past level 0: on the dense groom at a quarter size 8
+       instead costs 1.5-2 dB against the truth, under 4 wins < 0.4 dB. */
+    out->max_turn_deg = level ? 4.0f : 0.0f;
     out->soften = 0.0f;
 }
 
