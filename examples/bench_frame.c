@@ -31,6 +31,10 @@
    error:30 would pick among them (the cheapest at >= 30 dB); --soft draws
    those levels soft (lod.h), --width-rule with the width rule where their
    strands are under a pixel (full detail stays the plain reference);
+   --truth measures every contender against the 16x truth instead
+   (measure_lod.h's, drawn once in this run) and adds full detail drawn
+   with the width rule ("full-rule", the full detail thin strands ship as),
+   the error pick naming its cost against both full details;
    --samples N draws every contender multisampled. */
 #include <math.h>
 #include <stdint.h>
@@ -44,6 +48,7 @@
 #include <hairtier/hairtier.h>
 #include <hairtier/lod.h>
 #include "flip.h"
+#include "measure_lod.h"
 #include "metrics.h"
 #include "offscreen.h"
 #include <hairtier/scene.h>
@@ -58,7 +63,7 @@
 static int WIDTH = 512, HEIGHT = 512, FRAMES = 9, HAIRS = 10000;
 #define MAX_HAIRS 1000000
 
-static bool HAIRS_GIVEN = false, ORBIT = true, LODS = false, SOFT = false, WIDTH_RULE = false;
+static bool HAIRS_GIVEN = false, ORBIT = true, LODS = false, SOFT = false, WIDTH_RULE = false, TRUTH = false;
 static int SAMPLES = 0;
 static offscreen_kind CONTEXT = OFFSCREEN_AUTO;
 static int EGL_DEVICE = -1;
@@ -163,16 +168,19 @@ static bool time_round_robin(contender *c, int count, const stage *st, bool orbi
 /* The contender the others are measured against: full, or where it does
    not run (GL ES 1.1: no shaders) the best tier that does. */
 static int REF = 1;
+/* The image every error is against: REF's, or with --truth the 16x truth. */
+static unsigned char *truth_image;
+static const unsigned char *reference_image(const contender *c) { return truth_image ? truth_image : c[REF].image; }
 
 /* Each tier's error against the reference's image of this run. */
 static bool measure_errors(contender *c, int count) {
     char err[256];
     for (int k = 0; k < count; k++) {
         if (!c[k].renderer) continue;
-        if (ht_metrics_compare(&(ht_metrics_desc){ .reference = c[REF].image, .test = c[k].image, .width = WIDTH,
+        if (ht_metrics_compare(&(ht_metrics_desc){ .reference = reference_image(c), .test = c[k].image, .width = WIDTH,
                                                    .height = HEIGHT },
                                &c[k].whole, &c[k].hair, err, sizeof err) != HT_OK ||
-            ht_flip_compare(&(ht_flip_desc){ .reference = c[REF].image, .test = c[k].image, .width = WIDTH,
+            ht_flip_compare(&(ht_flip_desc){ .reference = reference_image(c), .test = c[k].image, .width = WIDTH,
                                              .height = HEIGHT },
                             NULL, &c[k].flip, err, sizeof err) != HT_OK) {
             fprintf(stderr, "bench_frame: %s: %s\n", c[k].name, err);
@@ -258,7 +266,7 @@ static void print_table(const contender *c, int count) {
     const double full_orbit = ORBIT ? median_orbit_ms(&c[REF]) : NAN;
     char per_ref[16], vs_ref[16];
     snprintf(per_ref, sizeof per_ref, "/ %.6s", c[REF].name);
-    snprintf(vs_ref, sizeof vs_ref, "vs %.6s", c[REF].name);
+    snprintf(vs_ref, sizeof vs_ref, "vs %.6s", truth_image ? "truth" : c[REF].name);
     printf("  %-14s %31s %21s %22s %9s %9s\n", "", "camera still", "eye orbiting", "CPU vertices per frame",
            "PSNR dB", "FLIP");
     printf("  %-14s %9s %10s %10s %10s %10s %11s %10s %9s %9s\n", "", "median", "/ floor", per_ref, "median", per_ref,
@@ -283,18 +291,66 @@ static void print_table(const contender *c, int count) {
 }
 
 /* --lods: the pair error:DB would pick among this run's contenders (the
-   cheapest whose PSNR against the reference, full detail in full, is at
-   least db), as the runtime's rule does over measured cells. */
+   cheapest whose PSNR against the reference, full detail in full or the
+   truth, is at least db), as the runtime's rule does over measured cells;
+   with the truth, its cost against full-rule (the last contender) too. */
 static void print_error_pick(const contender *c, int count, double db) {
     const double ref_ms = median_ms(&c[REF]);
     int pick = -1;
     for (int k = 1; k < count; k++)
         if (c[k].renderer && c[k].whole.psnr_db >= db && (pick < 0 || median_ms(&c[k]) < median_ms(&c[pick])))
             pick = k;
-    if (pick < 0) printf("error:%g picks none of these pairs\n", db);
-    else
-        printf("error:%g picks %s: %.2fx %s's cost, %.1f dB\n", db, c[pick].name, median_ms(&c[pick]) / ref_ms,
-               c[REF].name, c[pick].whole.psnr_db);
+    if (pick < 0) {
+        printf("error:%g picks none of these pairs\n", db);
+        return;
+    }
+    printf("error:%g picks %s: %.2fx %s's cost", db, c[pick].name, median_ms(&c[pick]) / ref_ms, c[REF].name);
+    if (truth_image && c[count - 1].renderer)
+        printf(", %.2fx %s's", median_ms(&c[pick]) / median_ms(&c[count - 1]), c[count - 1].name);
+    printf(", %.1f dB%s\n", c[pick].whole.psnr_db, truth_image ? " against the truth" : "");
+}
+
+/* A level drawn as ht_lod_chain draws it with width_rule set where its
+   strands are under a pixel: *m replaced by its widened copy, *opacity
+   the rule's; the factor, 1 where nothing changed. */
+static double width_rule(ht_mesh *m, const ht_scene *scene, float *opacity) {
+    double f = 1.0, eye = 0;
+    for (int k = 0; k < 3; k++) eye += pow((double)scene->camera.eye[k] - scene->camera.target[k], 2);
+    ht_mesh wide;
+    if (!m->vertices ||
+        ht_mesh_width_rule(m, ht_projected_width_px(ht_mesh_mean_width(m), sqrt(eye), scene->camera.fov_y, HEIGHT),
+                           scene->camera.eye, &wide, &f) != HT_OK)
+        return 1.0;
+    if (!(f > 1.0)) {
+        ht_mesh_free(&wide);
+        return 1.0;
+    }
+    ht_mesh_free(m);
+    *m = wide;
+    *opacity = (float)(1.0 / f);
+    return f;
+}
+
+/* --truth: the 16x truth of the run's full detail into truth_image, in a
+   context of its own, the run's made current again. */
+static char truth_error[1024];
+static bool draw_truth(const char *dir, const ht_scene *scene, const stage *st, const ht_mesh *mesh) {
+    const ht_frame_desc frame = frame_of(st);
+    truth_image = malloc((size_t)WIDTH * HEIGHT * 4);
+    bool ok = truth_image &&
+              ht_measure_truth(&(ht_measure_truth_desc){ .bundle_dir = dir, .tier = HT_TIER_FULL, .width = WIDTH,
+                                                         .height = HEIGHT, .context = CONTEXT, .egl_device = EGL_DEVICE,
+                                                         .background = { scene->background[0], scene->background[1],
+                                                                         scene->background[2] },
+                                                         .frame = &frame, .mesh = mesh },
+                               truth_image, truth_error, sizeof truth_error) == HT_OK;
+    if (!truth_image) snprintf(truth_error, sizeof truth_error, "out of memory");
+    if (!offscreen_make_current(gl)) ok = false;
+    if (!ok) {
+        free(truth_image);
+        truth_image = NULL;
+    }
+    return ok;
 }
 
 /* Everything but the scratch directory, which main removes whatever this
@@ -344,7 +400,7 @@ static int run(const char *work) {
     printf(", %dx%d, %s (%s), median of %d frames\n", WIDTH, HEIGHT, (const char *)gl->gl.GetString(GL_RENDERER),
            gl->display, FRAMES);
     /* Best first, as the bundle lists them; a tier this build lacks is skipped. */
-    typedef struct run_desc { const char *name, *tier; ht_variant variant; int lod; } run_desc;
+    typedef struct run_desc { const char *name, *tier; ht_variant variant; int lod; } run_desc; /* lod 3: full, ruled */
     static const run_desc tier_runs[] = {
         { "full", "full", HT_VARIANT_EXACT, 0 },     { "vertex", "vertex", HT_VARIANT_EXACT, 0 },
         { "fixed4", "fixed4", HT_VARIANT_EXACT, 0 }, { "fixed4-device", "fixed4", HT_VARIANT_DEVICE, 0 },
@@ -356,36 +412,28 @@ static int run(const char *work) {
         { "full", "full", HT_VARIANT_EXACT, 0 },        { "lod1-full", "full", HT_VARIANT_EXACT, 1 },
         { "lod2-full", "full", HT_VARIANT_EXACT, 2 },   { "lod1-fixed4", "fixed4", HT_VARIANT_EXACT, 1 },
         { "lod2-fixed4", "fixed4", HT_VARIANT_EXACT, 2 }, { "lod1-gl11", "gl11", HT_VARIANT_EXACT, 1 },
-        { "lod2-gl11", "gl11", HT_VARIANT_EXACT, 2 },
+        { "lod2-gl11", "gl11", HT_VARIANT_EXACT, 2 },     { "full-rule", "full", HT_VARIANT_EXACT, 3 },
     };
-    _Static_assert(sizeof tier_runs / sizeof tier_runs[0] == sizeof lod_runs / sizeof lod_runs[0], "one count");
-    enum { TIERS = sizeof tier_runs / sizeof tier_runs[0] };
-    _Static_assert(TIERS + 1 <= MAX_CONTENDERS, "MAX_CONTENDERS");
+    enum { TIER_RUNS = sizeof tier_runs / sizeof tier_runs[0], LOD_RUNS = sizeof lod_runs / sizeof lod_runs[0] };
+    _Static_assert(TIER_RUNS + 1 <= MAX_CONTENDERS && LOD_RUNS + 1 <= MAX_CONTENDERS, "MAX_CONTENDERS");
     const run_desc *runs = LODS ? lod_runs : tier_runs;
-    ht_mesh lods[3] = { { 0 } }; /* [1], [2]: the levels --lods draws */
-    float opacity[3] = { 1.0f, 1.0f, 1.0f }; /* theirs: ht_lod_opacity, or the width rule's */
+    const int TIERS = !LODS ? TIER_RUNS : TRUTH ? LOD_RUNS : LOD_RUNS - 1; /* full-rule with --truth only */
+    ht_mesh lods[4] = { { 0 } }; /* [1], [2]: the levels --lods draws; [3]: full detail with the rule */
+    float opacity[4] = { 1.0f, 1.0f, 1.0f, 1.0f }; /* theirs: ht_lod_opacity, or the width rule's */
     for (int l = 1; LODS && l < 3 && l <= ht_lod_max_level(&mesh); l++) {
         ht_lod_desc d;
         (SOFT ? ht_lod_soft_level : ht_lod_level)(l, &d);
         if (ht_mesh_build_lod(&mesh, &d, &lods[l]) != HT_OK) fprintf(stderr, "bench_frame: LOD %d: not built\n", l);
         else if (d.soften > 1) ht_mesh_sort_back_to_front(&lods[l], scene.camera.eye); /* lod.h's soft levels */
         opacity[l] = ht_lod_opacity(&d);
-        double f = 1.0, eye = 0;
-        for (int k = 0; k < 3; k++) eye += pow((double)scene.camera.eye[k] - scene.camera.target[k], 2);
-        ht_mesh wide;
-        if (WIDTH_RULE && lods[l].vertices &&
-            ht_mesh_width_rule(&lods[l], ht_projected_width_px(ht_mesh_mean_width(&lods[l]), sqrt(eye),
-                                                               scene.camera.fov_y, HEIGHT),
-                               scene.camera.eye, &wide, &f) == HT_OK &&
-            f > 1.0) {
-            /* as ht_lod_chain draws a level under a pixel with width_rule set */
-            ht_mesh_free(&lods[l]);
-            lods[l] = wide;
-            opacity[l] = (float)(1.0 / f);
-            printf("level %d: width rule %.3f, opacity %.3f\n", l, f, 1.0 / f);
-        }
+        const double f = WIDTH_RULE ? width_rule(&lods[l], &scene, &opacity[l]) : 1.0;
+        if (f > 1.0) printf("level %d: width rule %.3f, opacity %.3f\n", l, f, 1.0 / f);
     }
-    contender c[TIERS + 1] = { { .name = "geometry floor", .tier = "floor", .context = gl,
+    if (TRUTH && ht_mesh_widen(&mesh, 1.0, &lods[3]) == HT_OK) { /* a copy */
+        const double f = width_rule(&lods[3], &scene, &opacity[3]);
+        printf("full-rule: width rule %.3f, opacity %.3f\n", f, 1.0 / f);
+    }
+    contender c[MAX_CONTENDERS] = { { .name = "geometry floor", .tier = "floor", .context = gl,
                                  .renderer = create(dir, HT_TIER_AUTO, true, HT_VARIANT_EXACT, &mesh) } };
     int count = TIERS + 1;
     if (API == OFFSCREEN_API_GL || API == OFFSCREEN_API_GLES1) {
@@ -426,6 +474,8 @@ static int run(const char *work) {
     } else if (!c[0].renderer || !c[REF].renderer || !time_round_robin(c, count, &st, false) ||
                (ORBIT && !time_round_robin(c, count, &st, true))) {
         fprintf(stderr, "bench_frame: the geometry floor or every tier failed to render\n");
+    } else if (TRUTH && !draw_truth(dir, &scene, &st, &mesh)) {
+        fprintf(stderr, "bench_frame: the truth: %s\n", truth_error);
     } else if (measure_errors(c, count)) {
         print_table(c, count);
         if (LODS) print_error_pick(c, count, 30.0);
@@ -443,7 +493,9 @@ static int run(const char *work) {
         desk = NULL;
         offscreen_make_current(gl);
     }
-    for (int l = 0; l < 3; l++) ht_mesh_free(&lods[l]);
+    for (int l = 0; l < 4; l++) ht_mesh_free(&lods[l]);
+    free(truth_image);
+    truth_image = NULL;
 close_context:
     ht_mesh_free(&mesh);
     ht_mesh_free(&head);
@@ -453,7 +505,7 @@ close_context:
 }
 
 enum { KEY_HAIRS = CLI_LONG_ONLY, KEY_FRAMES, KEY_SCENE, KEY_CSV, KEY_SERIES, KEY_EGL_DEVICE, KEY_CONTEXT, KEY_API,
-       KEY_NO_ORBIT, KEY_SIZE, KEY_LODS, KEY_SAMPLES, KEY_SOFT, KEY_WIDTH_RULE };
+       KEY_NO_ORBIT, KEY_SIZE, KEY_LODS, KEY_SAMPLES, KEY_SOFT, KEY_WIDTH_RULE, KEY_TRUTH };
 static const struct option long_options[] = {
     { "hairs", required_argument, NULL, KEY_HAIRS },
     { "frames", required_argument, NULL, KEY_FRAMES },
@@ -468,6 +520,7 @@ static const struct option long_options[] = {
     { "lods", no_argument, NULL, KEY_LODS },
     { "soft", no_argument, NULL, KEY_SOFT },
     { "width-rule", no_argument, NULL, KEY_WIDTH_RULE },
+    { "truth", no_argument, NULL, KEY_TRUTH },
     { "samples", required_argument, NULL, KEY_SAMPLES },
     { 0 },
 };
@@ -476,7 +529,7 @@ static const cli_program program = {
     .name = "bench_frame",
     .synopsis = "usage: bench_frame [--scene SCENE.json] [--hairs N] [--size S] [--frames F] [--no-orbit]\n"
                 "                   [--csv FILE [--series NAME]] [--context osmesa|egl] [--egl-device N]\n"
-                "                   [--api gl|gles1|gles2|gles3] [--lods [--soft] [--width-rule]] [--samples N]\n",
+                "                   [--api gl|gles1|gles2|gles3] [--lods [--soft] [--width-rule] [--truth]] [--samples N]\n",
     .help = "Times every tier of dark-brown against the geometry floor on one context, frames round-robin:\n"
             "median frame ms, the ratios to the floor and to full, PSNR against full and the per-vertex CPU\n"
             "work, with the camera still and orbiting (--no-orbit skips that).\n"
@@ -495,6 +548,8 @@ static const cli_program program = {
             "  --width-rule   with --lods, a level whose strands are under a pixel drawn as the runtime's\n"
             "                 width rule draws it (lod.h: about a pixel wide, opacity scaled); full\n"
             "                 detail, the reference, as it is\n"
+            "  --truth        with --lods, every PSNR against the 16x truth (full detail drawn at 4 x 4 the\n"
+            "                 pixels, box-filtered), and full detail with the width rule beside (full-rule)\n"
             "  --samples N    a multisampled framebuffer, 2..32 samples (GL 3.0)\n",
     .long_options = long_options,
 };
@@ -538,6 +593,7 @@ static const char *take(void *user, int key, const char *value) {
     case KEY_LODS: LODS = true; return NULL;
     case KEY_SOFT: SOFT = true; return NULL;
     case KEY_WIDTH_RULE: WIDTH_RULE = true; return NULL;
+    case KEY_TRUTH: TRUTH = true; return NULL;
     case KEY_SAMPLES: return number("--samples", value, 2, 32, &SAMPLES);
     case KEY_SIZE:
         if ((why = number("--size", value, 16, 4096, &size))) return why;
@@ -553,6 +609,8 @@ int main(int argc, char **argv) {
     const char *why = NULL;
     if (!offscreen_options_check(&CONTEXT, EGL_DEVICE, &why) || !offscreen_api_check(&CONTEXT, API, &why))
         return cli_usage_error(&program, why);
+    if (TRUTH && (!LODS || API != OFFSCREEN_API_GL))
+        return cli_usage_error(&program, "--truth: with --lods on desktop GL only");
     char work[] = "/tmp/hairtier-bench-frame-XXXXXX";
     if (!mkdtemp(work)) {
         perror("mkdtemp");

@@ -712,17 +712,7 @@ static int run(const options *o, view *v) {
         fprintf(stderr, "hairview: %s: out of memory\n", o->view.out);
         return 1;
     }
-    /* Each PNG pixel: the mean of its k x k drawn pixels (k = 1: a copy). */
-    const unsigned char *rgba = offscreen_read(v->gl);
-    for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++)
-            for (int c = 0; c < 3; c++) {
-                unsigned sum = 0;
-                for (int j = 0; j < k; j++)
-                    for (int i = 0; i < k; i++)
-                        sum += offscreen_row(rgba, scene.width, scene.height, y * k + j)[4 * (x * k + i) + c];
-                img.pixels[((size_t)y * w + x) * 3 + c] = (unsigned char)((sum + k * k / 2) / (k * k));
-            }
+    offscreen_read_box(v->gl, k, 3, true, img.pixels); /* k = 1: a copy */
     r = ht_image_write_png(o->view.out, &img, err, sizeof err);
     ht_image_free(&img);
     if (r != HT_OK) {

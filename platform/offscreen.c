@@ -212,3 +212,19 @@ const unsigned char *offscreen_read(offscreen *o) {
     if (o->msaa) offscreen_msaa_rebind(o);
     return o->pixels;
 }
+
+void offscreen_read_box(offscreen *o, int k, int channels, bool top_down, unsigned char *out) {
+    const unsigned char *rgba = offscreen_read(o);
+    const int w = o->width / k, h = o->height / k;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            for (int c = 0; c < channels; c++) {
+                unsigned sum = 0;
+                for (int j = 0; j < k; j++) {
+                    const unsigned char *row = offscreen_row(rgba, o->width, o->height, y * k + j);
+                    for (int i = 0; i < k; i++) sum += row[4 * (x * k + i) + c];
+                }
+                const int out_y = top_down ? y : h - 1 - y;
+                out[((size_t)out_y * w + x) * channels + c] = (unsigned char)((sum + k * k / 2) / (k * k));
+            }
+}

@@ -125,6 +125,13 @@ void *offscreen_getproc(const char *name);
    samples, resolved first. */
 const unsigned char *offscreen_read(offscreen *o);
 
+/* o's colour buffer (offscreen_read) box-filtered down k times a side:
+   each out pixel the rounded mean of its k x k, `channels` (3: RGB, 4:
+   RGBA) bytes each, rows top first (top_down: a PNG's) or bottom first as
+   GL's; out holds (width / k) x (height / k) pixels. A supersampled
+   reference (hairview --supersample, hairgen's 16x truth). */
+void offscreen_read_box(offscreen *o, int k, int channels, bool top_down, unsigned char *out);
+
 /* Row y, counted from the top, of a width x height RGBA buffer GL filled
    bottom row first. */
 static inline const unsigned char *offscreen_row(const unsigned char *rgba, int width, int height, int y) {

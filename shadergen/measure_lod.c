@@ -144,45 +144,30 @@ static ht_result measure_tier(offscreen *o, ht_renderer *r, const ht_scene *s, c
     return res;
 }
 
-/* The supersampled truth at one size into rgba: LOD 0 in the first tier at
-   SUPERSAMPLE x SUPERSAMPLE the pixels, one sample each, box-filtered
-   down (hairview --supersample 4). */
-#define SUPERSAMPLE 4
-static ht_result draw_truth(const char *dir, const ht_manifest *bundle, const ht_scene *s, const ht_frame_desc *f,
-                            const ht_mesh *mesh, unsigned char *rgba, char *err, size_t err_size) {
-    const int w = s->width * SUPERSAMPLE, h = s->height * SUPERSAMPLE;
+ht_result ht_measure_truth(const ht_measure_truth_desc *d, unsigned char *rgba, char *err, size_t err_size) {
+    const int w = d->width * HT_MEASURE_SUPERSAMPLE, h = d->height * HT_MEASURE_SUPERSAMPLE;
     char why[1024];
-    offscreen *o = offscreen_open(&(offscreen_desc){ .width = w, .height = h, .egl_device = -1 }, why, sizeof why);
-    if (!o) return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: lods: the supersampled reference: %s", why);
+    offscreen *o = offscreen_open(&(offscreen_desc){ .kind = d->context, .width = w, .height = h,
+                                                     .egl_device = d->egl_device },
+                                  why, sizeof why);
+    if (!o) return ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: the supersampled reference: %s", why);
     ht_renderer *r = NULL;
-    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = dir,
-                                                            .tier = bundle->tiers[0].tier, .strict = true,
-                                                            .policy = "best", .log = NULL },
+    ht_result res = ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = d->bundle_dir,
+                                                            .tier = d->tier, .strict = true, .policy = "best",
+                                                            .log = NULL },
                                        &r);
-    if (res == HT_OK) res = ht_renderer_set_mesh(r, mesh);
+    if (res == HT_OK) res = ht_renderer_set_mesh(r, d->mesh);
     if (res == HT_OK) {
         o->gl.Viewport(0, 0, w, h);
-        o->gl.ClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
+        o->gl.ClearColor(d->background[0], d->background[1], d->background[2], 1.0f);
         o->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        res = ht_renderer_draw(r, f);
+        res = ht_renderer_draw(r, d->frame);
         o->gl.Finish();
     }
-    if (res == HT_OK) {
-        const unsigned char *big = offscreen_read(o);
-        for (int y = 0; y < s->height; y++)
-            for (int x = 0; x < s->width; x++)
-                for (int c = 0; c < 4; c++) {
-                    unsigned sum = 0;
-                    for (int j = 0; j < SUPERSAMPLE; j++)
-                        for (int i = 0; i < SUPERSAMPLE; i++)
-                            sum += big[((size_t)(y * SUPERSAMPLE + j) * w + (size_t)(x * SUPERSAMPLE + i)) * 4 + c];
-                    rgba[((size_t)y * s->width + x) * 4 + c] =
-                        (unsigned char)((sum + SUPERSAMPLE * SUPERSAMPLE / 2) / (SUPERSAMPLE * SUPERSAMPLE));
-                }
-    } else {
-        ht_set_error(err, err_size, "measure: lods: the supersampled reference (%s) at %dx%d: %s", bundle->tiers[0].name,
-                     w, h, ht_result_string(res));
-    }
+    if (res == HT_OK) offscreen_read_box(o, HT_MEASURE_SUPERSAMPLE, 4, false, rgba);
+    else
+        ht_set_error(err, err_size, "measure: the supersampled reference (%s) at %dx%d: %s", ht_tier_name(d->tier), w,
+                     h, ht_result_string(res));
     ht_renderer_destroy(r);
     offscreen_close(o);
     return res;
@@ -202,7 +187,12 @@ static ht_result measure_size(const char *dir, const ht_manifest *bundle, const 
     const ht_frame_desc f = { .camera = s.camera, .lights = s.lights, .light_count = s.light_count,
                               .aspect = (float)s.width / (float)s.height, .opaque = head->index_count ? head : NULL };
     if (res == HT_OK && out->reference == HT_LOD_REFERENCE_SUPERSAMPLE)
-        res = draw_truth(dir, bundle, &s, &f, &levels->mesh[0], im.base, err, err_size);
+        res = ht_measure_truth(&(ht_measure_truth_desc){ .bundle_dir = dir, .tier = bundle->tiers[0].tier,
+                                                         .width = s.width, .height = s.height, .egl_device = -1,
+                                                         .background = { s.background[0], s.background[1],
+                                                                         s.background[2] },
+                                                         .frame = &f, .mesh = &levels->mesh[0] },
+                               im.base, err, err_size);
     offscreen *o = res == HT_OK ? offscreen_open(&(offscreen_desc){ .width = s.width, .height = s.height,
                                                                     .egl_device = -1, .samples = out->samples },
                                                  why, sizeof why)

@@ -60,6 +60,22 @@ typedef struct ht_measure_lods_desc {
     float soften;
 } ht_measure_lods_desc;
 
+/* The 16x truth (lod.h's supersampled reference): mesh drawn in tier at
+   HT_MEASURE_SUPERSAMPLE x HT_MEASURE_SUPERSAMPLE the pixels of a
+   width x height image, one sample each, in a context of its own (context,
+   egl_device as platform/offscreen.h's), box-filtered down into rgba
+   (width x height x 4, rows bottom first as GL reads them). */
+#define HT_MEASURE_SUPERSAMPLE 4
+typedef struct ht_measure_truth_desc {
+    const char *bundle_dir;
+    ht_tier tier;
+    int width, height;
+    int context, egl_device; /* offscreen_kind (0: auto), -1: the default display */
+    float background[3];
+    const ht_frame_desc *frame;
+    const ht_mesh *mesh;
+} ht_measure_truth_desc;
+ht_result ht_measure_truth(const ht_measure_truth_desc *desc, unsigned char *rgba, char *err, size_t err_size);
 /* Draws and measures (needs an offscreen context: OSMesa, else EGL). A
    bad desc is HT_ERR_INVALID_ARGUMENT naming the hairgen option. */
 ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file,

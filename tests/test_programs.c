@@ -219,6 +219,35 @@ static void test_hairview_prints_a_library_error_once(void **state) {
     assert_false(ht_test_path_exists(png));
 }
 
+/* bench_frame --lods --truth: every pair against the 16x truth, full
+   detail too (finite: the truth is not its own image), full-rule beside,
+   the pick's cost against both; --truth alone is refused. */
+static void test_bench_frame_measures_pairs_against_the_truth(void **state) {
+    (void)state;
+    assert_int_equal(run(NULL, "bench_frame", "--truth --hairs 50 --size 32 --frames 1"), 2);
+    if (!strstr(err_text, "bench_frame: --truth: with --lods")) fail_msg("stderr:\n%s", err_text);
+    const char *args = "--lods --width-rule --truth --samples 2 --hairs 400 --size 48 --frames 1 --no-orbit";
+    if (run(NULL, "bench_frame", args) != 0) fail_msg("bench_frame %s: %s", args, err_text);
+    if (!strstr(out_text, "vs truth") || !strstr(out_text, "\n  full-rule ")) fail_msg("stdout:\n%s", out_text);
+    for (const char *row = strstr(out_text, "\n  geometry floor"); row; row = strstr(row + 1, "\n  ")) {
+        char name[32];
+        double db = 0;
+        const char *ms = strstr(row, " ms ");
+        assert_non_null(ms);
+        snprintf(name, sizeof name, "%.*s", (int)(strchr(row + 3, ' ') - row - 3), row + 3);
+        /* PSNR is the second-last column: median, 2 ratios, 2 dashes, 2 counts, PSNR, FLIP */
+        const char *end = strchr(row + 1, '\n');
+        const char *p = end ? end : row + strlen(row);
+        int spaces = 0;
+        while (p > row && spaces < 2)
+            if (*--p == ' ' && p[-1] != ' ') spaces++;
+        assert_int_equal(sscanf(p, "%lf", &db), 1);
+        if (!(db > 10 && db < 99)) fail_msg("%s: %g dB against the truth\n%s", name, db, out_text);
+    }
+    if (!strstr(out_text, "full-rule's, ") || !strstr(out_text, " dB against the truth\n"))
+        fail_msg("stdout:\n%s", out_text);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_help_prints_usage_on_stdout_and_exits_0),
@@ -228,6 +257,7 @@ int main(void) {
         cmocka_unit_test(test_hairgen_keeps_its_spellings),
         cmocka_unit_test(test_hairview_refuses_another_generator_version_once),
         cmocka_unit_test(test_hairview_prints_a_library_error_once),
+        cmocka_unit_test(test_bench_frame_measures_pairs_against_the_truth),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -20,7 +20,7 @@
 #       bench: bench_frame on the fur ball at 8 000, 200 000 and 1 000 000
 #       hairs (512x512), its --lods pairs (4 samples) at 8 000 and
 #       1 000 000 hairs at 256 and 128, the dense groom's with --width-rule
-#       at 256 and 128, and on ES 1.1, 2.0 and 3.x at 8 000
+#       --truth (against the 16x truth, full-rule beside) at 256 and 128, and on ES 1.1, 2.0 and 3.x at 8 000
 #       and 200 000. Writes to $OUT (default out/device):
 #       summary.md (the tables), run.log (everything printed) and
 #       images.tar.gz (every PNG, the references too): three files, within
@@ -237,11 +237,11 @@ bench() {
         done
     done
     # The dense groom's pairs, levels under a pixel drawn with the width rule
-    # as the runtime ships them, against plain full detail (docs/lod.md).
+    # as the runtime ships them, against the 16x truth (docs/lod.md).
     for sz in $BENCH_LOD_SIZES; do
         name="bench-lods-dense-$sz"
-        echo "== bench_frame --scene dense.json --lods --width-rule --samples 4 --size $sz (NVIDIA)" >>"$LOG"
-        if "$DEV/bin/bench_frame" --context egl --scene "$DEV/dense/dense.json" --lods --width-rule --samples 4 \
+        echo "== bench_frame --scene dense.json --lods --width-rule --truth --samples 4 --size $sz (NVIDIA)" >>"$LOG"
+        if "$DEV/bin/bench_frame" --context egl --scene "$DEV/dense/dense.json" --lods --width-rule --truth --samples 4 \
             --no-orbit --size "$sz" --frames 9 >"$WORK/$name.txt" 2>&1; then
             { echo '```'; cat "$WORK/$name.txt"; echo '```'; echo; } >>"$WORK/bench.md"
         else
