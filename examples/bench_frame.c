@@ -310,6 +310,30 @@ static void print_error_pick(const contender *c, int count, double db) {
     printf(", %.1f dB%s\n", c[pick].whole.psnr_db, truth_image ? " against the truth" : "");
 }
 
+/* --lods: the pop of each switch, PSNR between a level and the level
+   before in its tier (level 1's: full detail, full-rule with the truth). */
+static void print_pops(const contender *c, int count) {
+    const int zero = truth_image && c[count - 1].renderer ? count - 1 : REF;
+    printf("pop dB (a level against the one before, level 1 against %s):", c[zero].name);
+    for (int k = 1; k < count; k++) {
+        int level;
+        char tier[16], before[32];
+        if (!c[k].renderer || sscanf(c[k].name, "lod%d-%15s", &level, tier) != 2) continue;
+        snprintf(before, sizeof before, "lod%d-%s", level - 1, tier);
+        int b = level == 1 ? zero : -1;
+        for (int j = 1; j < count && b < 0; j++)
+            if (c[j].renderer && strcmp(c[j].name, before) == 0) b = j;
+        ht_metrics pop;
+        char err[256];
+        if (b < 0 || ht_metrics_compare(&(ht_metrics_desc){ .reference = c[b].image, .test = c[k].image,
+                                                            .width = WIDTH, .height = HEIGHT },
+                                        &pop, NULL, err, sizeof err) != HT_OK)
+            continue;
+        printf(" %s %d>%d %.1f", tier, level, level - 1, pop.psnr_db);
+    }
+    printf("\n");
+}
+
 /* A level drawn as ht_lod_chain draws it with width_rule set where its
    strands are under a pixel: *m replaced by its widened copy, *opacity
    the rule's; the factor, 1 where nothing changed. */
@@ -478,6 +502,7 @@ static int run(const char *work) {
         fprintf(stderr, "bench_frame: the truth: %s\n", truth_error);
     } else if (measure_errors(c, count)) {
         print_table(c, count);
+        if (LODS) print_pops(c, count);
         if (LODS) print_error_pick(c, count, 30.0);
         status = CSV && !write_csv(c, count, &scene, mesh.index_count / 3) ? 1 : 0;
     }

@@ -221,7 +221,8 @@ static void test_hairview_prints_a_library_error_once(void **state) {
 
 /* bench_frame --lods --truth: every pair against the 16x truth, full
    detail too (finite: the truth is not its own image), full-rule beside,
-   the pick's cost against both; --truth alone is refused. */
+   the pops between adjacent levels, the pick's cost against both;
+   --truth alone is refused. */
 static void test_bench_frame_measures_pairs_against_the_truth(void **state) {
     (void)state;
     assert_int_equal(run(NULL, "bench_frame", "--truth --hairs 50 --size 32 --frames 1"), 2);
@@ -244,7 +245,9 @@ static void test_bench_frame_measures_pairs_against_the_truth(void **state) {
         assert_int_equal(sscanf(p, "%lf", &db), 1);
         if (!(db > 10 && db < 99)) fail_msg("%s: %g dB against the truth\n%s", name, db, out_text);
     }
-    if (!strstr(out_text, "full-rule's, ") || !strstr(out_text, " dB against the truth\n"))
+    if (!strstr(out_text, "pop dB (a level against the one before, level 1 against full-rule): full 1>0 ") ||
+        !strstr(out_text, " gl11 2>1 ") || !strstr(out_text, "full-rule's, ") ||
+        !strstr(out_text, " dB against the truth\n"))
         fail_msg("stdout:\n%s", out_text);
 }
 

@@ -9,7 +9,7 @@
 #       the shared libraries ldd names beyond glibc (cJSON, libpng, zlib,
 #       libstdc++), the glvnd packages (libegl1 libglvnd0 libopengl0 libgl1
 #       libglx0 libgles2), the bundles and the references.
-#   tools/device_nvidia.sh run [images|bench|all]   there (carry .device):
+#   tools/device_nvidia.sh run [images|bench|cells|all]   there (carry .device):
 #       images: every scene with every tier forced (strict), auto
 #       selection, and the gl13 and gl20 device profiles
 #       (HAIRTIER_DEVICE_PROFILE: NVIDIA has no MESA_GL_VERSION_OVERRIDE),
@@ -21,7 +21,10 @@
 #       hairs (512x512), its --lods pairs (4 samples) at 8 000 and
 #       1 000 000 hairs at 256 and 128, the dense groom's with --width-rule
 #       --truth (against the 16x truth, full-rule beside) at 256 and 128, and on ES 1.1, 2.0 and 3.x at 8 000
-#       and 200 000. Writes to $OUT (default out/device):
+#       and 200 000. cells: the dense groom's (level, tier) cells measured
+#       by hairgen --measure-lods against the 16x truth, and the pair
+#       hairview's error:30 picks from them at 1/2 and 1/4 size.
+#       Writes to $OUT (default out/device):
 #       summary.md (the tables), run.log (everything printed) and
 #       images.tar.gz (every PNG, the references too): three files, within
 #       the device tool's eight.
@@ -67,7 +70,7 @@ prepare() {
     grep -qx "/$DEV/" "$exclude" 2>/dev/null || echo "/$DEV/" >>"$exclude"
     rm -rf "${DEV:?}/bin" "${DEV:?}/lib" "${DEV:?}/ref" "${DEV:?}/bundles"
     mkdir -p "$DEV/bin" "$DEV/lib" "$DEV/gl" "$DEV/ref" "$DEV/bundles"
-    cp build/hairview build/bench_frame build/tier_sheet build/png_metrics "$DEV/bin/"
+    cp build/hairgen build/hairview build/bench_frame build/tier_sheet build/png_metrics "$DEV/bin/"
     # the dense groom (docs/lod.md): its scene names the .hair beside it
     mkdir -p "$DEV/dense" && cp build/gen/dense.json build/gen/dense.hair "$DEV/dense/"
     # Every library ldd names except glibc's own and glvnd's (from the
@@ -264,15 +267,38 @@ bench() {
     done
 }
 
+# The dense groom's cells measured on the device (hairgen --measure-lods
+# against the 16x truth, docs/lod.md), and the pair error:30 picks from
+# them at half and a quarter of the scene's size.
+cells() {
+    b="$WORK/dense-cells"
+    echo "== hairgen --scene dense.json --measure-lods --lod-samples 4 --lod-reference supersample (NVIDIA)" >>"$LOG"
+    if ! HAIRTIER_CONTEXT=egl "$DEV/bin/hairgen" materials/dark-brown.json --scene "$DEV/dense/dense.json" \
+        --measure-lods --lod-samples 4 --lod-reference supersample -o "$b" >"$WORK/cells.txt" 2>&1; then
+        echo "hairgen --measure-lods dense failed: $(tail -1 "$WORK/cells.txt")" >>"$WORK/cells.md"
+        cat "$WORK/cells.txt" >>"$LOG"
+        return
+    fi
+    { echo '```'; cat "$WORK/cells.txt"; echo '```'; echo; } >>"$WORK/cells.md"
+    for size in 0.5 0.25; do
+        "$HAIRVIEW" --context egl --bundle "$b" --scene "$DEV/dense/dense.json" --size "$size" --lod auto \
+            --policy error:30 --width-rule --samples 4 --frames 9 -o "$WORK/dense-pick-$size.png" >"$WORK/pick.txt" 2>&1
+        { echo "hairview --size $size --lod auto --policy error:30 --width-rule --samples 4 (exit $?):"; echo '```';
+          grep -v '^hairtier: ' "$WORK/pick.txt"; echo '```'; echo; } >>"$WORK/cells.md"
+    done
+    cat "$WORK/cells.txt" "$WORK/cells.md" >>"$LOG"
+}
+
 case "${1:-}" in
     prepare) prepare ;;
     run)
         what=${2:-all}
-        case $what in images|bench|all) ;; *) die "run takes images, bench or all, not '$what'" ;; esac
+        case $what in images|bench|cells|all) ;; *) die "run takes images, bench, cells or all, not '$what'" ;; esac
         setup_device
-        [ "$what" = bench ] || images
-        [ "$what" = images ] || bench
-        cat "$WORK"/images.md "$WORK"/bench.md >"$OUT/summary.md" 2>/dev/null || true
+        case $what in images|all) images ;; esac
+        case $what in bench|all) bench ;; esac
+        case $what in cells|all) cells ;; esac
+        cat "$WORK"/images.md "$WORK"/bench.md "$WORK"/cells.md >"$OUT/summary.md" 2>/dev/null || true
         for f in "$DEV"/ref/*.png; do cp "$f" "$WORK/$(basename "$f" .png)-llvmpipe.png"; done
         rm -f "$WORK/probe.png"
         (cd "$WORK" && find . -name '*.png' | sort | tar -czf "../images.tar.gz" -T -)
@@ -280,5 +306,5 @@ case "${1:-}" in
         echo "device_nvidia: wrote $OUT/summary.md, $OUT/run.log, $OUT/images.tar.gz"
         cat "$OUT/summary.md"
         ;;
-    *) echo "usage: tools/device_nvidia.sh prepare | run [images|bench|all]" >&2; exit 2 ;;
+    *) echo "usage: tools/device_nvidia.sh prepare | run [images|bench|cells|all]" >&2; exit 2 ;;
 esac
