@@ -338,12 +338,10 @@ static void print_pops(const contender *c, int count) {
    strands are under a pixel: *m replaced by its widened copy, *opacity
    the rule's; the factor, 1 where nothing changed. */
 static double width_rule(ht_mesh *m, const ht_scene *scene, float *opacity) {
-    double f = 1.0, eye = 0;
-    for (int k = 0; k < 3; k++) eye += pow((double)scene->camera.eye[k] - scene->camera.target[k], 2);
+    double f = 1.0;
     ht_mesh wide;
     if (!m->vertices ||
-        ht_mesh_width_rule(m, ht_projected_width_px(ht_mesh_mean_width(m), sqrt(eye), scene->camera.fov_y, HEIGHT),
-                           scene->camera.eye, &wide, &f) != HT_OK)
+        ht_mesh_width_rule(m, ht_mesh_projected_width_px(m, &scene->camera, HEIGHT), scene->camera.eye, &wide, &f) != HT_OK)
         return 1.0;
     if (!(f > 1.0)) {
         ht_mesh_free(&wide);

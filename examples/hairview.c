@@ -377,7 +377,7 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
                       const ht_policy *policy, const ht_lod_file *ladder, bool *paired, float *opacity) {
     ht_mesh *hair = &v->hair;
     const double d = eye_distance(s);
-    const double px = ht_projected_width_px(ht_mesh_mean_width(hair), d, s->camera.fov_y, s->height / o->supersample);
+    const double px = ht_mesh_projected_width_px(hair, &s->camera, s->height / o->supersample);
     const int max_level = ladder ? ladder->level_count - 1 : ht_lod_max_level(hair);
     int level = o->lod;
     float soften = o->soft;
@@ -450,7 +450,7 @@ static int choose_lod(const options *o, const ht_scene *s, double scene_distance
 
 /* The mean strand's width in pixels drawn (a supersampled frame's too). */
 static double mean_strand_px(const ht_scene *s, const ht_mesh *hair) {
-    return ht_projected_width_px(ht_mesh_mean_width(hair), eye_distance(s), s->camera.fov_y, s->height);
+    return ht_mesh_projected_width_px(hair, &s->camera, s->height);
 }
 
 /* The width rule drawn: --width-rule's, else per draw when the pair was

@@ -34,12 +34,6 @@ typedef struct lod_levels {
 } lod_levels;
 
 /* The eye's distance to the target: the width rule's strand width. */
-static double eye_distance(const ht_scene *s) {
-    double d2 = 0;
-    for (int k = 0; k < 3; k++) d2 += pow((double)s->camera.eye[k] - s->camera.target[k], 2);
-    return sqrt(d2);
-}
-
 /* One level at one size, drawn at opacity (with width_rule, as the chain
    draws it: widened, back to front, opacity scaled, when its strands are
    under a pixel), one warm-up and the timed frames; its last frame copied
@@ -48,7 +42,7 @@ static ht_result draw_level(offscreen *o, ht_renderer *r, const ht_scene *s, con
                             const ht_mesh *mesh, float opacity, bool width_rule, unsigned char *rgba, double *ms) {
     ht_mesh wide = { 0 };
     double factor = 1.0;
-    const double px = ht_projected_width_px(ht_mesh_mean_width(mesh), eye_distance(s), s->camera.fov_y, s->height);
+    const double px = ht_mesh_projected_width_px(mesh, &s->camera, s->height);
     ht_result res = width_rule ? ht_mesh_width_rule(mesh, px, s->camera.eye, &wide, &factor) : HT_OK;
     if (res == HT_OK) res = ht_renderer_set_mesh(r, factor > 1.0 ? &wide : mesh);
     if (res == HT_OK) res = ht_renderer_set_opacity_scale(r, (float)(opacity / factor));

@@ -378,6 +378,12 @@ static void width_rule_reaches_a_pixel(void **state) {
     /* ht_mesh_widen scales every ribbon's width about its centre line */
     ht_mesh full, wide;
     assert_int_equal(ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 200 }, &full), HT_OK);
+    /* a scene's strand in pixels: the mean width at the eye's distance to the target */
+    const ht_camera cam = { .eye = { 1, 2, 3 }, .target = { 1, 0, 3 }, .up = { 0, 0, 1 }, .fov_y = 40 };
+    assert_true(fabs(ht_mesh_projected_width_px(&full, &cam, 512) -
+                     ht_projected_width_px(ht_mesh_mean_width(&full), 2.0, 40, 512)) < 1e-12);
+    assert_true(ht_mesh_projected_width_px(&full, &cam, 512) > 0);
+    assert_true(ht_mesh_projected_width_px(NULL, &cam, 512) == 0 && ht_mesh_projected_width_px(&full, NULL, 512) == 0);
     assert_int_equal(ht_mesh_widen(&full, 2.5, &wide), HT_OK);
     assert_int_equal(wide.component_count, full.component_count);
     assert_true(fabs(ht_mesh_mean_width(&wide) / ht_mesh_mean_width(&full) - 2.5) < 0.02);

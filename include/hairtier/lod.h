@@ -131,6 +131,9 @@ HT_API double ht_mesh_mean_width(const ht_mesh *mesh);
 /* A width at `distance` from a perspective camera of vertical field
    `fov_y_deg`, in pixels of a viewport `viewport_h` pixels high. */
 HT_API double ht_projected_width_px(double width, double distance, double fov_y_deg, int viewport_h);
+/* A mesh's mean ribbon width (ht_mesh_mean_width) projected at the
+   camera's eye-to-target distance: a scene's strand in pixels. */
+HT_API double ht_mesh_projected_width_px(const ht_mesh *mesh, const ht_camera *camera, int viewport_h);
 
 /* The `best` rule with hysteresis: full detail while a strand is at least
    a pixel wide; narrower, the level whose widened strand is a pixel wide

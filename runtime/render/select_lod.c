@@ -11,6 +11,13 @@ double ht_projected_width_px(double width, double distance, double fov_y_deg, in
     return width * viewport_h / (2.0 * distance * tan(fov_y_deg * M_PI / 360.0));
 }
 
+double ht_mesh_projected_width_px(const ht_mesh *mesh, const ht_camera *camera, int viewport_h) {
+    if (!mesh || !camera) return 0;
+    double d = 0;
+    for (int k = 0; k < 3; k++) d += ((double)camera->eye[k] - camera->target[k]) * (camera->eye[k] - camera->target[k]);
+    return ht_projected_width_px(ht_mesh_mean_width(mesh), sqrt(d), camera->fov_y, viewport_h);
+}
+
 double ht_width_rule_widen(double strand_px) {
     if (!(strand_px > 0) || strand_px >= 1.0 || !isfinite(strand_px)) return 1.0;
     const double quarters = ceil(4.0 * -log2(strand_px) - 1e-9);
