@@ -156,15 +156,33 @@ static double strand_px(const ht_lod_chain *c, const ht_camera *camera, int view
     return ht_projected_width_px(c->width, sqrt(d), camera->fov_y, viewport_h);
 }
 
-/* `all` on r, uploaded once (an upload is in the order as built). */
+/* After r failed an upload (res): a refused argument or an unsupported
+   mesh leaves r's mesh in place; anything else (a GL error, memory) may
+   have released it (hairtier.h), so r is taken to hold nothing of the
+   chain and draw no level: the next select uploads again. */
+static ht_result upload_failed(ht_lod_chain *c, ht_renderer *r, ht_result res) {
+    if (res == HT_ERR_INVALID_ARGUMENT || res == HT_ERR_UNSUPPORTED) return res;
+    if (c->uploaded == r || c->wide_renderer == r) {
+        ht_renderer_set_opacity_scale(r, 1.0f);
+        ht_renderer_set_back_to_front(r, false);
+    }
+    if (c->uploaded == r) c->uploaded = NULL;
+    if (c->wide_renderer == r) c->wide_renderer = NULL;
+    c->ordered_level = -1;
+    c->current = -1;
+    return res;
+}
+
+/* `all` on r, uploaded once (an upload is in the order as built, drawn
+   whole: no level yet). */
 static ht_result hold_all(ht_lod_chain *c, ht_renderer *r) {
     if (c->uploaded == r) return HT_OK;
     ht_result res = ht_renderer_set_mesh(r, &c->all);
-    if (res == HT_OK) {
-        c->uploaded = r;
-        c->ordered_level = -1;
-    }
-    return res;
+    if (res != HT_OK) return upload_failed(c, r, res);
+    c->uploaded = r;
+    c->ordered_level = -1;
+    c->current = -1;
+    return HT_OK;
 }
 
 /* A level drawn alone on r no more: opacity 1, blended split by facing. */
@@ -191,6 +209,7 @@ static int draw_level(ht_lod_chain *c, ht_renderer *r, int level, ht_result *res
     if (res == HT_OK && c->ordered_level >= 0) {
         /* a level sorted back to front (the width rule per vertex): as built again */
         if ((res = ht_renderer_set_mesh_order(r, &c->all)) == HT_OK) c->ordered_level = -1;
+        else upload_failed(c, r, res);
         ht_renderer_set_back_to_front(r, false);
     }
     if (res == HT_OK) res = set_level_range(c, r, level);
@@ -238,6 +257,8 @@ static int draw_level_ordered(ht_lod_chain *c, ht_renderer *r, int level, const 
         if ((res = ht_renderer_set_mesh_order(r, &sorted)) == HT_OK) {
             c->ordered_level = level;
             memcpy(c->ordered_eye, eye, sizeof c->ordered_eye);
+        } else {
+            upload_failed(c, r, res);
         }
     }
     free(made);
@@ -257,7 +278,7 @@ static int draw_wide(ht_lod_chain *c, ht_renderer *r, int level, double factor, 
     ht_result res = ht_renderer_set_mesh(r, wide);
     if (res != HT_OK) {
         ht_mesh_free(wide);
-        return failed(c, r, res, result);
+        return failed(c, r, upload_failed(c, r, res), result);
     }
     ht_renderer_set_opacity_scale(r, (float)(1.0 / factor)); /* factor in (1, HT_LOD_MAX_WIDEN]: taken */
     ht_renderer_set_back_to_front(r, true);
@@ -283,7 +304,7 @@ static int draw_wide_order(ht_lod_chain *c, ht_renderer *r, ht_mesh *sorted, con
     m.components = sorted->components;
     m.component_count = sorted->component_count;
     ht_result res = ht_renderer_set_mesh_order(r, &m);
-    if (res != HT_OK) return failed(c, r, res, result);
+    if (res != HT_OK) return failed(c, r, upload_failed(c, r, res), result);
     free(c->wide.indices);
     free(c->wide.components);
     c->wide = m;
@@ -382,7 +403,7 @@ static int draw_async(ht_lod_chain *c, ht_renderer *r, const wanted *w, const ht
     }
     c->waiting = true;
     /* meanwhile: what r holds; nothing yet, the level as built */
-    return held_mesh(c, r) ? c->current : draw_level(c, r, w->level, result);
+    return held_mesh(c, r) && c->current >= 0 ? c->current : draw_level(c, r, w->level, result);
 }
 
 /* The level drawn alone (lod.h): widened by soften (a soft pair; 1:
@@ -415,7 +436,7 @@ static int draw_level_width_rule(ht_lod_chain *c, ht_renderer *r, int level, flo
             /* the same vertices in a new order: the indices go up alone */
             ht_mesh_sort_back_to_front(&c->wide, camera->eye);
             ht_result res = ht_renderer_set_mesh_order(r, &c->wide);
-            if (res != HT_OK) return failed(c, r, res, result);
+            if (res != HT_OK) return failed(c, r, upload_failed(c, r, res), result);
             memcpy(c->wide_eye, camera->eye, sizeof c->wide_eye);
         }
         c->current = level;
