@@ -194,8 +194,9 @@ static void drop_wide(ht_lod_chain *c, ht_renderer *r) {
     c->wide_factor = 1.0;
 }
 
-/* A failed upload: *result, -1, and r's draw range on the level the chain
-   says it draws (an upload of `all` resets the range to all of it). */
+/* A select that failed (an upload, a job's result): *result, -1, and r's
+   draw range on the level the chain says it draws (an upload of `all`
+   resets the range to all of it). */
 static int failed(ht_lod_chain *c, ht_renderer *r, ht_result res, ht_result *result) {
     if (c->uploaded == r && c->current >= 0) set_level_range(c, r, c->current);
     if (result) *result = res;
