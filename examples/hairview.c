@@ -4,8 +4,8 @@
    build/hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]
                   [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]
                   [--lod auto|N | --cards] [--size F] [--distance D] [--samples N] [--supersample K]
-                  [--width-rule[=vertex|draw|off]] [--soft[=F]] [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]
-                  [--device-profile NAME] -o OUT.png
+                  [--width-rule[=vertex|draw|off]] [--soft[=F]] [--lod-async] [--context osmesa|egl] [--egl-device N]
+                  [--api gl|gles1|gles2|gles3] [--device-profile NAME] -o OUT.png
 
    --api gles1|gles2|gles3 draws on a GL ES context (EGL); --device-profile NAME
    caps what the runtime may use to a named device's (hairtier.h, e.g.
@@ -23,7 +23,9 @@
    per vertex where the tier can, else (and with =draw) per draw. Without
    it, a pair picked from cells measured with the rule (hairgen
    --lod-reference supersample) is drawn with it per draw, as measured
-   (prints width_rule=from-cells; =off: never).
+   (prints width_rule=from-cells; =off: never). --lod-async turns the
+   dolly's chain asynchronous (lod.h, chain.async): a level's sort or
+   widened copy on a thread, the level before drawn until it is done.
    --context picks how the GL context is made (platform/offscreen.h; default
    HAIRTIER_CONTEXT, else osmesa where libOSMesa loads, else egl);
    --egl-device N draws on EGL device N (EGL_EXT_platform_device) and implies
@@ -67,6 +69,7 @@ typedef struct options {
     int width_rule;       /* lod.h's width rule on the mesh drawn: WIDTH_RULE_*, AUTO unless given */
     float soft;           /* 0; else --lod N draws the level soft by this factor (lod.h: widened, back to front) */
     bool cards;           /* the bundle's stored cards (hairgen --cards) instead of the strands */
+    bool lod_async;       /* --lod-async: the dolly's chain.async */
 } options;
 
 /* The library's log: every line goes to stderr, one line late, so that
@@ -96,7 +99,7 @@ static int fail(ht_result r) {
 }
 
 enum { KEY_TIER = VIEW_KEY_END, KEY_POLICY, KEY_STRICT, KEY_FLAT, KEY_PROFILE, KEY_LOD, KEY_SIZE, KEY_DISTANCE, KEY_SAMPLES,
-       KEY_SUPERSAMPLE, KEY_WIDTH_RULE, KEY_CARDS, KEY_SOFT };
+       KEY_SUPERSAMPLE, KEY_WIDTH_RULE, KEY_CARDS, KEY_SOFT, KEY_LOD_ASYNC };
 /* --width-rule: per vertex where the tier's programs can, else per draw;
    --width-rule=draw: per draw in every tier. */
 enum { WIDTH_RULE_OFF, WIDTH_RULE_VERTEX, WIDTH_RULE_DRAW, WIDTH_RULE_AUTO };
@@ -116,6 +119,7 @@ static const struct option long_options[] = {
     { "supersample", required_argument, NULL, KEY_SUPERSAMPLE },
     { "width-rule", optional_argument, NULL, KEY_WIDTH_RULE },
     { "soft", optional_argument, NULL, KEY_SOFT },
+    { "lod-async", no_argument, NULL, KEY_LOD_ASYNC },
     { 0 },
 };
 
@@ -124,7 +128,7 @@ static const cli_program program = {
     .synopsis = "usage: hairview --bundle DIR --scene SCENE.json [--tier auto|marschner|full|vertex|fixed4|fixed|gl11]\n"
                 "                [--policy best|fastest|error:DB|error:flip:E|frame:MS] [--strict] [--flat] [--frames N]\n"
                 "                [--lod auto|N | --cards] [--size F] [--distance D] [--samples N] [--supersample K]\n"
-                "                [--width-rule[=vertex|draw|off]] [--soft[=F]]\n"
+                "                [--width-rule[=vertex|draw|off]] [--soft[=F]] [--lod-async]\n"
                 "                [--context osmesa|egl] [--egl-device N] [--api gl|gles1|gles2|gles3]\n"
                 "                [--device-profile NAME] -o OUT.png\n",
     .help = "Renders SCENE with the bundle's tier that the device runs best (or --tier, --policy) and writes\n"
@@ -155,6 +159,9 @@ static const cli_program program = {
             "                  width_rule=from-cells); =off never\n"
             "  --soft[=F]      a level past 0 drawn soft: its ribbons F (default 3) times wider at 1/F the\n"
             "                  opacity, sorted back to front (docs/lod.md); prints soften=S opacity=A\n"
+            "  --lod-async     the --distance dolly's level sorts and widened copies on a thread, the level\n"
+            "                  before drawn until done (prints lod_pending: frame=F at each wait; the PNG after\n"
+            "                  the last one is done)\n"
             "  --context K     osmesa or egl (default HAIRTIER_CONTEXT, else osmesa where it loads, else egl)\n"
             "  --egl-device N  draw on EGL device N (implies --context egl)\n"
             "  --api A         gl (default), gles1, gles2 or gles3 (GL ES through EGL; ES 1.1 runs the\n                  fixed-function tiers only)\n"
@@ -205,6 +212,7 @@ static const char *take(void *user, int key, const char *value) {
         return message;
     }
     case KEY_CARDS: o->cards = true; return NULL;
+    case KEY_LOD_ASYNC: o->lod_async = true; return NULL;
     case KEY_LOD: {
         char *end;
         if (strcmp(value, "auto") == 0) { o->lod = -1; return NULL; }
@@ -253,6 +261,8 @@ static int parse_args(int argc, char **argv, options *o) {
     const char *why = view_args_check(&o->view, false);
     if (why) return cli_usage_error(&program, why);
     if (!o->view.bundle && !o->flat) return cli_usage_error(&program, "--bundle: required (unless --flat)");
+    if (o->lod_async && !(o->distance_to > 0))
+        return cli_usage_error(&program, "--lod-async: the --distance A:B dolly's chain only");
     return CLI_RUN;
 }
 
@@ -512,7 +522,10 @@ static int read_stored_levels(const options *o, const ht_mesh *hair, ht_lod_file
 /* --lod auto --distance A:B: the eye dollied from A to B over the frames,
    the (level, tier) pair re-picked every frame by the policy (error:DB,
    frame:MS with a bundle's measured cells; else best) through one
-   ht_lod_chain in one renderer; prints each switch and the mean frame. */
+   ht_lod_chain in one renderer; prints each switch, the mean frame and
+   the longest (a switch's stall). --lod-async: each wait for a job, and
+   the last one waited for after the timed frames, so the PNG is the
+   level asked for. */
 static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, const ht_lod_file *ladder,
                  const ht_policy *policy, ht_frame_desc *frame, double *frame_ms) {
     ht_lod_chain chain;
@@ -532,6 +545,7 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
     /* on the level drawn (lod.h): per vertex where the tier can, else per draw */
     const int width_rule = width_rule_for(o, v, rule.cell_count > 0);
     chain.width_rule = width_rule != WIDTH_RULE_OFF;
+    chain.async = o->lod_async;
     ht_renderer_set_width_rule(v->renderer, width_rule == WIDTH_RULE_VERTEX);
     if (rule.kind == HT_POLICY_FRAME && !(rule.reference_ms = reference_ms(o, v, s, frame, cells[ref].tier))) {
         ht_lod_chain_free(&chain);
@@ -566,8 +580,9 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
     int last_level = -1;
     ht_tier last_tier = HT_TIER_COUNT;
     float last_soften = -1.0f;
-    double ms = 0, last_widen = 1.0;
-    bool per_vertex = false;
+    double ms = 0, last_widen = 1.0, max_ms = 0, max_select = 0;
+    int max_frame = 0, pending_frames = 0;
+    bool per_vertex = false, was_pending = false;
     for (int f = 0; f < o->view.frames && fr == HT_OK; f++) {
         const double t = o->view.frames > 1 ? (double)f / (o->view.frames - 1) : 0;
         const double d = o->distance + (o->distance_to - o->distance) * t;
@@ -578,7 +593,15 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
         const double select_ms = now_ms() - t0;
         if (level < 0) break;
         draw_frame(s, v, frame, &fr);
-        ms += now_ms() - t0;
+        const double frame_ms = now_ms() - t0;
+        ms += frame_ms;
+        /* past the first frame, which uploads everything and makes the tier's programs */
+        if (f > 0 && frame_ms > max_ms) max_ms = frame_ms, max_frame = f;
+        if (f > 0 && select_ms > max_select) max_select = select_ms;
+        const bool pending = ht_lod_chain_pending(&chain);
+        if (pending && !was_pending) printf("lod_pending: frame=%d distance=%.3f select_ms=%.3f\n", f, d, select_ms);
+        pending_frames += pending;
+        was_pending = pending;
         if (level != last_level || ht_renderer_tier(v->renderer) != last_tier || chain.soften != last_soften)
             printf("lod_pair: frame=%d lod=%d tier=%s distance=%.3f size=%.3f select_ms=%.3f%s\n", f, level,
                    ht_tier_name(ht_renderer_tier(v->renderer)), d, chain.size, select_ms,
@@ -596,11 +619,21 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
         last_level = level;
         last_tier = ht_renderer_tier(v->renderer);
     }
+    /* the PNG: what the last frame asked for (untimed) */
+    for (int k = 0; k < 4 && fr == HT_OK && ht_lod_chain_pending(&chain); k++) {
+        ht_lod_chain_wait(&chain);
+        const int level = ht_lod_chain_select_pair(&chain, v->renderer, &s->camera, viewport_h, &rule, &fr);
+        if (level >= 0) draw_frame(s, v, frame, &fr);
+        printf("lod_waited: lod=%d%s\n", level, chain.soften > 1 ? " soft" : "");
+    }
     ht_lod_chain_free(&chain);
     if (fr != HT_OK) return fail(fr);
-    printf("dolly: %d frames, %.3f to %.3f, rule %s, cpu_vertices=%llu\n", o->view.frames, o->distance,
+    printf("dolly: %d frames, %.3f to %.3f, rule %s, cpu_vertices=%llu%s\n", o->view.frames, o->distance,
            o->distance_to, rule.kind == HT_POLICY_ERROR ? "error" : rule.kind == HT_POLICY_FRAME ? "frame" : "best",
-           (unsigned long long)ht_renderer_get_stats(v->renderer).cpu_vertices);
+           (unsigned long long)ht_renderer_get_stats(v->renderer).cpu_vertices, o->lod_async ? " async" : "");
+    printf("dolly: after the first frame, max_frame_ms=%.3f (frame %d) max_select_ms=%.3f\n", max_ms, max_frame,
+           max_select);
+    if (o->lod_async) printf("dolly: %d frames drawn while a job ran\n", pending_frames);
     *frame_ms = ms / o->view.frames;
     return 0;
 }

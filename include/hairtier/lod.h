@@ -342,6 +342,10 @@ typedef struct ht_lod_chain {
        sorted back to front (ht_renderer_set_mesh_order), -1: as built. */
     int ordered_level;
     float ordered_eye[3];          /* the eye that order is of */
+    /* Asynchronous (false unless the caller sets it, after build): below. */
+    bool async;
+    struct ht_lod_job *job;        /* the sort or copy in flight, or done and not yet uploaded; NULL: none */
+    bool waiting;                  /* the last select drew something else than it was asked for */
 } ht_lod_chain;
 /* A level drawn alone is sorted again (its indices uploaded alone:
    ht_renderer_set_mesh_order) only when the eye's direction from the mesh's centre has
@@ -412,7 +416,36 @@ typedef struct ht_lod_rule {
 HT_API double ht_lod_rule_reference_ms(const ht_lod_rule *rule, double size);
 HT_API int ht_lod_chain_select_pair(ht_lod_chain *chain, ht_renderer *r, const ht_camera *camera, int viewport_h,
                                     const ht_lod_rule *rule, ht_result *result);
+/* Joins a job still running (chain.async) and frees it with the levels. */
 HT_API void ht_lod_chain_free(ht_lod_chain *chain);
+/* chain.async: a select whose level (or its order, or its widened copy)
+   needs CPU work (a level's first sort and re-sorts past
+   HT_LOD_RESORT_DEG / _DISTANCE, per vertex; a soft or per-draw level's
+   ht_mesh_widen_back_to_front and its re-sorts) gives that work to a
+   thread of its own (a job) and draws, meanwhile, what the renderer
+   holds: the level, order, widened copy, opacity and tier of the frame
+   before (chain.current, ordered_level, wide_*, soften say which), or,
+   where the renderer holds nothing of the chain yet, `all`'s range of the
+   level as built. select returns that level, the one drawn. A later
+   select that finds the job done uploads its result on the caller's
+   thread (ht_renderer_set_mesh_order, _set_mesh: the GL calls never
+   leave it) when it still serves what that frame asks for: the order of
+   the level asked for, the widened level of the soften asked for (at the
+   factor it was made for, if the factor has moved on since: a new job
+   follows), or the widened level held sorted again; else it is dropped.
+   A result whose eye is past the order's reach of this frame's is
+   uploaded (nearer than what is drawn) and a new sort starts. One job at
+   a time: one asked for no more runs to its end before the next starts.
+   An error of the job (HT_ERR_OUT_OF_MEMORY) is the select's result (-1)
+   that finds it done, when it still serves; nothing changes on r. Work
+   of no CPU cost (a level as built, a level already sorted or widened)
+   is done in the select as without async. */
+/* Whether the last select drew something else than it was asked for
+   while a job makes it. */
+HT_API bool ht_lod_chain_pending(const ht_lod_chain *chain);
+/* Blocks until the job in flight, if any, is done (the next select
+   uploads it; a superseded one starts its successor there). */
+HT_API void ht_lod_chain_wait(ht_lod_chain *chain);
 
 /* Cards (lod_cards.c, docs/lod.md): clumps of strands replaced by one
    textured ribbon each, the coarsest geometry. Clumps are k-means

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include <hairtier/lod.h>
+#include "lod_job.h"
 #include "mesh_internal.h"
 
 /* The levels one after the other: vertices appended, indices shifted by
@@ -155,15 +156,33 @@ static double strand_px(const ht_lod_chain *c, const ht_camera *camera, int view
     return ht_projected_width_px(c->width, sqrt(d), camera->fov_y, viewport_h);
 }
 
-/* `all` on r, uploaded once (an upload is in the order as built). */
+/* After r failed an upload (res): a refused argument or an unsupported
+   mesh leaves r's mesh in place; anything else (a GL error, memory) may
+   have released it (hairtier.h), so r is taken to hold nothing of the
+   chain and draw no level: the next select uploads again. */
+static ht_result upload_failed(ht_lod_chain *c, ht_renderer *r, ht_result res) {
+    if (res == HT_ERR_INVALID_ARGUMENT || res == HT_ERR_UNSUPPORTED) return res;
+    if (c->uploaded == r || c->wide_renderer == r) {
+        ht_renderer_set_opacity_scale(r, 1.0f);
+        ht_renderer_set_back_to_front(r, false);
+    }
+    if (c->uploaded == r) c->uploaded = NULL;
+    if (c->wide_renderer == r) c->wide_renderer = NULL;
+    c->ordered_level = -1;
+    c->current = -1;
+    return res;
+}
+
+/* `all` on r, uploaded once (an upload is in the order as built, drawn
+   whole: no level yet). */
 static ht_result hold_all(ht_lod_chain *c, ht_renderer *r) {
     if (c->uploaded == r) return HT_OK;
     ht_result res = ht_renderer_set_mesh(r, &c->all);
-    if (res == HT_OK) {
-        c->uploaded = r;
-        c->ordered_level = -1;
-    }
-    return res;
+    if (res != HT_OK) return upload_failed(c, r, res);
+    c->uploaded = r;
+    c->ordered_level = -1;
+    c->current = -1;
+    return HT_OK;
 }
 
 /* A level drawn alone on r no more: opacity 1, blended split by facing. */
@@ -175,22 +194,28 @@ static void drop_wide(ht_lod_chain *c, ht_renderer *r) {
     c->wide_factor = 1.0;
 }
 
-/* `all` on r (once), then level's range; *result and -1 on failure. */
+/* A select that failed (an upload, a job's result): *result, -1, and r's
+   draw range on the level the chain says it draws (an upload of `all`
+   resets the range to all of it). */
+static int failed(ht_lod_chain *c, ht_renderer *r, ht_result res, ht_result *result) {
+    if (c->uploaded == r && c->current >= 0) set_level_range(c, r, c->current);
+    if (result) *result = res;
+    return -1;
+}
+
+/* `all` on r (once), then level's range as built; *result and -1 on failure. */
 static int draw_level(ht_lod_chain *c, ht_renderer *r, int level, ht_result *result) {
     ht_result res = hold_all(c, r);
+    if (res == HT_OK) drop_wide(c, r);
     if (res == HT_OK && c->ordered_level >= 0) {
         /* a level sorted back to front (the width rule per vertex): as built again */
-        res = ht_renderer_set_mesh_order(r, &c->all);
+        if ((res = ht_renderer_set_mesh_order(r, &c->all)) == HT_OK) c->ordered_level = -1;
+        else upload_failed(c, r, res);
         ht_renderer_set_back_to_front(r, false);
     }
-    if (res == HT_OK) {
-        c->ordered_level = -1;
-        res = set_level_range(c, r, level);
-    }
-    if (res != HT_OK) {
-        if (result) *result = res;
-        return -1;
-    }
+    if (res == HT_OK) res = set_level_range(c, r, level);
+    if (res != HT_OK) return failed(c, r, res, result);
+    c->soften = 0.0f;
     c->current = level;
     return level;
 }
@@ -215,59 +240,171 @@ static bool order_serves(const ht_lod_chain *c, const float from[3], const float
            dot / (was * now) >= cos(HT_LOD_RESORT_DEG * M_PI / 180.0);
 }
 
-/* `all` with level's range sorted back to front from eye (its components
-   split into segments as ht_mesh_sort_back_to_front splits them), its
-   indices uploaded alone; `all` itself (the CPU copy) stays as built. */
-static ht_result upload_level_order(ht_lod_chain *c, ht_renderer *r, int level, const float eye[3]) {
-    const uint32_t first = c->first[level], count = c->index_count[level];
-    uint32_t n = 0;
-    for (uint32_t i = 0; i < c->all.component_count; i++)
-        n += c->all.components[i].first_index - first < count;
-    ht_mesh view = { .vertices = c->all.vertices, .vertex_count = c->all.vertex_count,
-                     .indices = malloc(sizeof(uint32_t) * (count ? count : 1)), .index_count = count,
-                     .components = malloc(sizeof(ht_component) * (n ? n : 1)), .component_count = n };
-    uint32_t *order = malloc(sizeof(uint32_t) * (c->all.index_count ? c->all.index_count : 1));
-    ht_result res = view.indices && view.components && order ? HT_OK : HT_ERR_OUT_OF_MEMORY;
-    if (res == HT_OK) {
-        memcpy(view.indices, c->all.indices + first, sizeof(uint32_t) * count);
-        for (uint32_t i = 0, k = 0; i < c->all.component_count; i++)
-            if (c->all.components[i].first_index - first < count) {
-                view.components[k] = c->all.components[i];
-                view.components[k++].first_index -= first;
-            }
-        ht_mesh_sort_back_to_front(&view, eye);
-        memcpy(order, c->all.indices, sizeof(uint32_t) * c->all.index_count);
-        memcpy(order + first, view.indices, sizeof(uint32_t) * count);
-        ht_mesh sorted = c->all;
-        sorted.indices = order;
-        res = ht_renderer_set_mesh_order(r, &sorted);
-    }
-    free(order);
-    free(view.indices);
-    free(view.components);
-    return res;
-}
-
 /* The width rule per vertex on a level whose strands blend (lod.h): its
-   range of `all`, sorted back to front, drawn at opacity 1; sorted again
-   only for another level or past the order's reach. */
-static int draw_level_ordered(ht_lod_chain *c, ht_renderer *r, int level, const ht_camera *camera, ht_result *result) {
-    drop_wide(c, r);
+   range of `all` sorted back to front from eye, its indices uploaded
+   alone, drawn at opacity 1; sorted again only for another level or past
+   the order's reach. order: that order made already (a job's), NULL: made
+   here when needed. */
+static int draw_level_ordered(ht_lod_chain *c, ht_renderer *r, int level, const float eye[3], const uint32_t *order,
+                              ht_result *result) {
     ht_result res = hold_all(c, r);
-    if (res == HT_OK && (c->ordered_level != level || !order_serves(c, c->ordered_eye, camera->eye))) {
-        res = upload_level_order(c, r, level, camera->eye);
-        c->ordered_level = res == HT_OK ? level : -1;
-        memcpy(c->ordered_eye, camera->eye, sizeof c->ordered_eye);
+    if (res == HT_OK) drop_wide(c, r);
+    uint32_t *made = NULL;
+    if (res == HT_OK && !order && (c->ordered_level != level || !order_serves(c, c->ordered_eye, eye)))
+        res = lod_level_order(&c->all, c->first[level], c->index_count[level], eye, &made), order = made;
+    if (res == HT_OK && order) {
+        ht_mesh sorted = c->all; /* `all` itself (the CPU copy) stays as built */
+        sorted.indices = (uint32_t *)order;
+        if ((res = ht_renderer_set_mesh_order(r, &sorted)) == HT_OK) {
+            c->ordered_level = level;
+            memcpy(c->ordered_eye, eye, sizeof c->ordered_eye);
+        } else {
+            upload_failed(c, r, res);
+        }
     }
+    free(made);
     if (res == HT_OK) res = set_level_range(c, r, level);
-    if (res != HT_OK) {
-        if (result) *result = res;
-        return -1;
-    }
+    if (res != HT_OK) return failed(c, r, res, result);
     ht_renderer_set_back_to_front(r, true);
     c->soften = 0.0f;
     c->current = level;
     return level;
+}
+
+/* r draws `wide` (level widened by factor, s of it the soft pair's, back
+   to front from eye), uploaded alone, at opacity 1 / factor; the chain
+   owns it from here (freed on failure, r keeping what it had). */
+static int draw_wide(ht_lod_chain *c, ht_renderer *r, int level, double factor, double s, const float eye[3],
+                     ht_mesh *wide, ht_result *result) {
+    ht_result res = ht_renderer_set_mesh(r, wide);
+    if (res != HT_OK) {
+        ht_mesh_free(wide);
+        return failed(c, r, upload_failed(c, r, res), result);
+    }
+    ht_renderer_set_opacity_scale(r, (float)(1.0 / factor)); /* factor in (1, HT_LOD_MAX_WIDEN]: taken */
+    ht_renderer_set_back_to_front(r, true);
+    ht_mesh_free(&c->wide);
+    c->wide = *wide;
+    c->wide_renderer = r;
+    c->wide_level = level;
+    c->wide_factor = factor;
+    c->wide_soften = s;
+    memcpy(c->wide_eye, eye, sizeof c->wide_eye);
+    if (c->uploaded == r) c->uploaded = NULL; /* r holds the widened level now */
+    c->ordered_level = -1;
+    c->soften = s > 1.0 ? (float)s : 0.0f;
+    c->current = level;
+    return level;
+}
+
+/* The widened level r holds in a new order (sorted: its indices and
+   segments, a job's), the indices uploaded alone. */
+static int draw_wide_order(ht_lod_chain *c, ht_renderer *r, ht_mesh *sorted, const float eye[3], ht_result *result) {
+    ht_mesh m = c->wide;
+    m.indices = sorted->indices;
+    m.components = sorted->components;
+    m.component_count = sorted->component_count;
+    ht_result res = ht_renderer_set_mesh_order(r, &m);
+    if (res != HT_OK) return failed(c, r, upload_failed(c, r, res), result);
+    free(c->wide.indices);
+    free(c->wide.components);
+    c->wide = m;
+    sorted->indices = NULL;
+    sorted->components = NULL;
+    memcpy(c->wide_eye, eye, sizeof c->wide_eye);
+    c->current = c->wide_level;
+    return c->current;
+}
+
+/* What the width rule asks of one frame (draw_level_width_rule). */
+typedef struct wanted {
+    int level;
+    double s, factor; /* the soft pair's soften (1: plain); the level widened by factor, 1: not */
+    bool sorts;       /* unwidened, its range sorted back to front (the rule per vertex) */
+} wanted;
+
+static bool holds_wide(const ht_lod_chain *c, const ht_renderer *r, int level, double factor, double s) {
+    return c->wide_renderer == r && c->wide_level == level && c->wide_factor == factor && c->wide_soften == s;
+}
+
+/* The CPU work w needs of r's chain for eye: a lod_job_kind, or -1 for
+   none (what r holds serves, or a level as built). */
+static int work_for(const ht_lod_chain *c, const ht_renderer *r, const wanted *w, const float eye[3]) {
+    if (w->factor <= 1.0 && !w->sorts) return -1;
+    if (w->factor <= 1.0)
+        return c->uploaded == r && c->ordered_level == w->level && order_serves(c, c->ordered_eye, eye) ? -1
+                                                                                                       : LOD_JOB_ORDER;
+    if (!holds_wide(c, r, w->level, w->factor, w->s)) return LOD_JOB_WIDEN;
+    return order_serves(c, c->wide_eye, eye) ? -1 : LOD_JOB_RESORT;
+}
+
+/* Whether job's result brings r nearer to w: the order of w's level; a
+   widened w's level of w's soften (at any factor: the factor it was
+   asked for is nearer than what r holds); the widened level r holds
+   sorted again. */
+static bool job_serves(const ht_lod_chain *c, const ht_renderer *r, const struct ht_lod_job *j, const wanted *w) {
+    if (j->level != w->level) return false;
+    if (j->kind == LOD_JOB_ORDER) return w->factor <= 1.0 && w->sorts;
+    if (w->factor <= 1.0 || j->soften != w->s) return false;
+    return j->kind == LOD_JOB_WIDEN || holds_wide(c, r, j->level, j->factor, j->soften);
+}
+
+/* A done job's result on r (the uploads, on this thread). */
+static int apply_job(ht_lod_chain *c, ht_renderer *r, struct ht_lod_job *j, ht_result *result) {
+    if (j->result != HT_OK) return failed(c, r, j->result, result);
+    if (j->kind == LOD_JOB_ORDER) return draw_level_ordered(c, r, j->level, j->eye, j->order, result);
+    if (j->kind == LOD_JOB_RESORT) return draw_wide_order(c, r, &j->out, j->eye, result);
+    const int level = draw_wide(c, r, j->level, j->factor, j->soften, j->eye, &j->out, result);
+    memset(&j->out, 0, sizeof j->out); /* the chain's now, or freed */
+    return level;
+}
+
+/* A job for kind of w, from eye, started (its sources are meshes the
+   chain leaves alone while it runs); false: out of memory. */
+static bool start_job(ht_lod_chain *c, int kind, const wanted *w, const float eye[3]) {
+    struct ht_lod_job *j = calloc(1, sizeof *j);
+    if (!j) return false;
+    j->kind = (lod_job_kind)kind;
+    j->level = w->level;
+    j->factor = w->factor;
+    j->soften = w->s;
+    memcpy(j->eye, eye, sizeof j->eye);
+    j->src = kind == LOD_JOB_ORDER ? c->all : kind == LOD_JOB_WIDEN ? *ht_lod_chain_mesh(c, w->level) : c->wide;
+    j->first = c->first[w->level];
+    j->count = c->index_count[w->level];
+    lod_job_start(j);
+    c->job = j;
+    return true;
+}
+
+/* chain.async (lod.h): w's CPU work on a job; the frame draws what r
+   holds until a later select finds it done and uploads it. */
+static int draw_async(ht_lod_chain *c, ht_renderer *r, const wanted *w, const ht_camera *camera, ht_result *result) {
+    int work = work_for(c, r, w, camera->eye);
+    if (c->job && lod_job_done(c->job)) {
+        struct ht_lod_job *j = c->job;
+        c->job = NULL;
+        const int level = work >= 0 && job_serves(c, r, j, w) ? apply_job(c, r, j, result) : 0;
+        lod_job_free(j); /* uploaded, or superseded: dropped */
+        if (level < 0) return -1;
+        work = work_for(c, r, w, camera->eye);
+    }
+    if (work < 0 && c->job) c->job->stale = true; /* what r holds serves: the job's result is dropped */
+    if (work < 0) {
+        /* no sort or copy: as without async */
+        if (w->factor > 1.0) return c->current = w->level;
+        return w->sorts ? draw_level_ordered(c, r, w->level, camera->eye, NULL, result)
+                        : draw_level(c, r, w->level, result);
+    }
+    if (c->job) {
+        c->job->stale = !job_serves(c, r, c->job, w); /* one job at a time: a superseded one ends first */
+    } else if (!start_job(c, work, w, camera->eye)) {
+        if (result) *result = HT_ERR_OUT_OF_MEMORY;
+        return -1;
+    }
+    c->waiting = true;
+    /* meanwhile: what r holds; nothing yet, the level as built */
+    return held_mesh(c, r) && c->current >= 0 ? c->current : draw_level(c, r, w->level, result);
 }
 
 /* The level drawn alone (lod.h): widened by soften (a soft pair; 1:
@@ -286,49 +423,36 @@ static int draw_level_width_rule(ht_lod_chain *c, ht_renderer *r, int level, flo
     const bool per_vertex = c->width_rule && ht_renderer_width_rule_per_vertex(r);
     const double factor = fmin(s * (per_vertex ? 1.0 : f), HT_LOD_MAX_WIDEN);
     const bool sorts = per_vertex && ht_width_rule_vertex_sorts(level_px);
-    /* translucent strands (soft, widened, or per vertex under 1.5 px) blend far to near */
-    if (factor <= 1.0 && sorts) return draw_level_ordered(c, r, level, camera, result);
-    if (factor <= 1.0) {
-        drop_wide(c, r);
-        c->soften = 0.0f;
-        return draw_level(c, r, level, result);
+    c->waiting = false;
+    if (c->async) return draw_async(c, r, &(wanted){ level, s, factor, sorts }, camera, result);
+    if (c->job) { /* async turned off: its result dropped */
+        lod_job_free(c->job);
+        c->job = NULL;
     }
-    ht_result res = HT_OK;
-    if (c->wide_renderer == r && c->wide_level == level && c->wide_factor == factor && c->wide_soften == s) {
+    /* translucent strands (soft, widened, or per vertex under 1.5 px) blend far to near */
+    if (factor <= 1.0 && sorts) return draw_level_ordered(c, r, level, camera->eye, NULL, result);
+    if (factor <= 1.0) return draw_level(c, r, level, result);
+    if (holds_wide(c, r, level, factor, s)) {
         if (!order_serves(c, c->wide_eye, camera->eye)) {
             /* the same vertices in a new order: the indices go up alone */
             ht_mesh_sort_back_to_front(&c->wide, camera->eye);
-            if ((res = ht_renderer_set_mesh_order(r, &c->wide)) != HT_OK) {
-                if (result) *result = res;
-                return -1;
-            }
+            ht_result res = ht_renderer_set_mesh_order(r, &c->wide);
+            if (res != HT_OK) return failed(c, r, upload_failed(c, r, res), result);
             memcpy(c->wide_eye, camera->eye, sizeof c->wide_eye);
         }
         c->current = level;
         return level;
     }
     ht_mesh wide;
-    res = ht_mesh_widen_back_to_front(ht_lod_chain_mesh(c, level), factor, camera->eye, &wide);
-    if (res == HT_OK) res = ht_renderer_set_mesh(r, &wide);
-    if (res == HT_OK) res = ht_renderer_set_opacity_scale(r, (float)(1.0 / factor));
-    if (res == HT_OK) ht_renderer_set_back_to_front(r, true);
-    if (res != HT_OK) {
-        ht_mesh_free(&wide);
-        if (result) *result = res;
-        return -1;
-    }
-    ht_mesh_free(&c->wide);
-    c->wide = wide;
-    c->wide_renderer = r;
-    c->wide_level = level;
-    c->wide_factor = factor;
-    c->wide_soften = s;
-    memcpy(c->wide_eye, camera->eye, sizeof c->wide_eye);
-    if (c->uploaded == r) c->uploaded = NULL; /* r holds the widened level now */
-    c->ordered_level = -1;
-    c->soften = s > 1.0 ? soften : 0.0f;
-    c->current = level;
-    return level;
+    ht_result res = ht_mesh_widen_back_to_front(ht_lod_chain_mesh(c, level), factor, camera->eye, &wide);
+    if (res != HT_OK) return failed(c, r, res, result);
+    return draw_wide(c, r, level, factor, s, camera->eye, &wide, result);
+}
+
+bool ht_lod_chain_pending(const ht_lod_chain *c) { return c && c->job && c->waiting; }
+
+void ht_lod_chain_wait(ht_lod_chain *c) {
+    if (c && c->job) lod_job_wait(c->job);
 }
 
 int ht_lod_chain_select(ht_lod_chain *c, ht_renderer *r, const ht_camera *camera, int viewport_h, ht_result *result) {
@@ -339,7 +463,7 @@ int ht_lod_chain_select(ht_lod_chain *c, ht_renderer *r, const ht_camera *camera
     }
     const double px = strand_px(c, camera, viewport_h);
     const int level = ht_lod_pick_best(px, c->current, c->count - 1);
-    if (level == c->current && c->uploaded == r && !c->width_rule) return level;
+    if (level == c->current && c->uploaded == r && !c->width_rule && !c->job) return level;
     return draw_level_width_rule(c, r, level, 0.0f, px, camera, result);
 }
 
@@ -397,7 +521,7 @@ int ht_lod_chain_select_pair(ht_lod_chain *c, ht_renderer *r, const ht_camera *c
         const float soften = cells[pick].soften > 1.0f ? cells[pick].soften : 0.0f;
         c->size = size;
         if (level == c->current && tier == c->tier && c->uploaded == r && ht_renderer_tier(r) == tier &&
-            !c->width_rule && soften == 0.0f)
+            !c->width_rule && soften == 0.0f && !c->job)
             return level;
         /* the mesh first: the tier's per-vertex data is made of it */
         ht_result res = held_mesh(c, r) ? HT_OK : hold_all(c, r);
@@ -416,6 +540,7 @@ int ht_lod_chain_select_pair(ht_lod_chain *c, ht_renderer *r, const ht_camera *c
 
 void ht_lod_chain_free(ht_lod_chain *c) {
     if (!c) return;
+    lod_job_free(c->job); /* joined first: it reads the meshes freed below */
     for (int l = 0; l < HT_LOD_FILE_MAX_LEVELS; l++) ht_mesh_free(&c->levels[l]);
     ht_mesh_free(&c->all);
     ht_mesh_free(&c->wide);
