@@ -9,7 +9,7 @@
 #       the shared libraries ldd names beyond glibc (cJSON, libpng, zlib,
 #       libstdc++), the glvnd packages (libegl1 libglvnd0 libopengl0 libgl1
 #       libglx0 libgles2), the bundles and the references.
-#   tools/device_nvidia.sh run [images|bench|cells|all]   there (carry .device):
+#   tools/device_nvidia.sh run [images|bench|cells|dolly|all]   there (carry .device):
 #       images: every scene with every tier forced (strict), auto
 #       selection, and the gl13 and gl20 device profiles
 #       (HAIRTIER_DEVICE_PROFILE: NVIDIA has no MESA_GL_VERSION_OVERRIDE),
@@ -23,7 +23,9 @@
 #       --truth (against the 16x truth, full-rule beside) at 256 and 128, and on ES 1.1, 2.0 and 3.x at 8 000
 #       and 200 000. cells: the dense groom's (level, tier) cells measured
 #       by hairgen --measure-lods against the 16x truth, and the pair
-#       hairview's error:30 picks from them at 1/2 and 1/4 size.
+#       hairview's error:30 picks from them at 1/2 and 1/4 size. dolly:
+#       the 200 000-hair fur ball dollied through the chain, full and gl11,
+#       the width rule off / per draw / per vertex, sync and --lod-async.
 #       Writes to $OUT (default out/device):
 #       summary.md (the tables), run.log (everything printed) and
 #       images.tar.gz (every PNG, the references too): three files, within
@@ -289,16 +291,32 @@ cells() {
     cat "$WORK/cells.txt" "$WORK/cells.md" >>"$LOG"
 }
 
+# A moving camera through the chain (tools/dolly_width_rule.sh) on the
+# 200 000-hair fur ball, full and gl11: the width rule off, per draw and
+# per vertex, each per-draw and per-vertex row again with --lod-async.
+dolly() {
+    sc="$WORK/furball-200000.json"
+    sed 's/"hairs": 8000/"hairs": 200000/' scenes/furball.json >"$sc"
+    for t in full gl11; do
+        echo "== dolly_width_rule.sh 200 000 hairs, $t, ASYNC=1 (NVIDIA)" >>"$LOG"
+        EXTRA="--context egl" TIER=$t ASYNC=1 FRAMES=48 HAIRTIER_BUILD="$DEV/bin" \
+            sh tools/dolly_width_rule.sh "$DEV/bundles/furball" "$sc" "$WORK/dolly-$t" 3.3508 >"$WORK/dolly-$t.txt" 2>&1
+        { echo "dolly_width_rule.sh, 200 000 hairs, $t:"; echo '```'; cat "$WORK/dolly-$t.txt"; echo '```'; echo; } >>"$WORK/dolly.md"
+        cat "$WORK/dolly-$t.txt" >>"$LOG"
+    done
+}
+
 case "${1:-}" in
     prepare) prepare ;;
     run)
         what=${2:-all}
-        case $what in images|bench|cells|all) ;; *) die "run takes images, bench, cells or all, not '$what'" ;; esac
+        case $what in images|bench|cells|dolly|all) ;; *) die "run takes images, bench, cells, dolly or all, not '$what'" ;; esac
         setup_device
         case $what in images|all) images ;; esac
         case $what in bench|all) bench ;; esac
         case $what in cells|all) cells ;; esac
-        cat "$WORK"/images.md "$WORK"/bench.md "$WORK"/cells.md >"$OUT/summary.md" 2>/dev/null || true
+        case $what in dolly|all) dolly ;; esac
+        cat "$WORK"/images.md "$WORK"/bench.md "$WORK"/cells.md "$WORK"/dolly.md >"$OUT/summary.md" 2>/dev/null || true
         for f in "$DEV"/ref/*.png; do cp "$f" "$WORK/$(basename "$f" .png)-llvmpipe.png"; done
         rm -f "$WORK/probe.png"
         (cd "$WORK" && find . -name '*.png' | sort | tar -czf "../images.tar.gz" -T -)
@@ -306,5 +324,5 @@ case "${1:-}" in
         echo "device_nvidia: wrote $OUT/summary.md, $OUT/run.log, $OUT/images.tar.gz"
         cat "$OUT/summary.md"
         ;;
-    *) echo "usage: tools/device_nvidia.sh prepare | run [images|bench|cells|all]" >&2; exit 2 ;;
+    *) echo "usage: tools/device_nvidia.sh prepare | run [images|bench|cells|dolly|all]" >&2; exit 2 ;;
 esac
