@@ -6,7 +6,8 @@
    HT_LOD_SOFTEN unless hairgen --lod-soften says, as the runtime derives
    it, at its inverse opacity), each (LOD, tier) cell against (LOD 0, the bundle's
    first tier) at the same size (PSNR, SSIM, ΔE00 mean, cost as a ratio of
-   that pair's median frame) and against the tier's level before (the
+   that pair's median frame, timed first and again last at each size, the
+   faster of the two) and against the tier's level before (the
    pop), written into the manifest's "lods" object (manifest.h), which
    ht_renderer_lod_cells hands to ht_lod_pick_error / ht_lod_pick_frame.
    A tier this context cannot run is left out (listed in skipped); the
