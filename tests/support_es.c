@@ -118,8 +118,15 @@ bool ht_test_es_draw_scene_ordered(const char *bundle, const char *scene_name, o
                               .tier = flat ? HT_TIER_AUTO : tier, .strict = tier != HT_TIER_AUTO && !flat,
                               .log = keep_log, .log_user = out, .record_trace = true, .flat = flat };
     if (profile) desc.profile = *profile;
-    if (order == HT_TEST_ES_BACK_TO_FRONT) ht_mesh_sort_back_to_front(&hair, s.camera.eye);
-    if (ht_renderer_create(&desc, &r) != HT_OK || ht_renderer_set_mesh(r, &hair) != HT_OK) goto done;
+    if (order == HT_TEST_ES_BACK_TO_FRONT || order == HT_TEST_ES_WIDTH_RULE)
+        ht_mesh_sort_back_to_front(&hair, s.camera.eye);
+    if (ht_renderer_create(&desc, &r) != HT_OK) goto done;
+    if (order == HT_TEST_ES_WIDTH_RULE) {
+        ht_renderer_set_width_rule(r, true);
+        ht_renderer_set_back_to_front(r, true);
+    }
+    if (ht_renderer_set_mesh(r, &hair) != HT_OK) goto done;
+    out->width_rule_vertex = ht_renderer_width_rule_per_vertex(r);
     if (order == HT_TEST_ES_REORDERED) {
         ht_mesh_sort_back_to_front(&hair, s.camera.eye);
         out->uploads_order = ht_renderer_set_mesh_order(r, &hair) == HT_OK;

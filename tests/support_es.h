@@ -29,6 +29,7 @@ typedef struct ht_test_es_draw {
     ht_trace trace;
     uint32_t index_count;      /* the hair mesh's */
     bool uploads_order;        /* HT_TEST_ES_REORDERED: ht_renderer_set_mesh_order returned HT_OK */
+    bool width_rule_vertex;    /* HT_TEST_ES_WIDTH_RULE: ht_renderer_width_rule_per_vertex */
     char log[1024];            /* the renderer's lines, newline-separated (cut) */
 } ht_test_es_draw;
 
@@ -45,7 +46,16 @@ bool ht_test_es_draw_scene_hairs(const char *bundle, const char *scene, offscree
    from the camera's eye (ht_mesh_sort_back_to_front) before its upload;
    or uploaded as built and then given that order by
    ht_renderer_set_mesh_order (out->uploads_order: it returned HT_OK). */
-typedef enum ht_test_es_order { HT_TEST_ES_INSIDE_OUT, HT_TEST_ES_BACK_TO_FRONT, HT_TEST_ES_REORDERED } ht_test_es_order;
+/* HT_TEST_ES_WIDTH_RULE: back to front with the width rule per vertex
+   (ht_renderer_set_width_rule, ht_renderer_set_back_to_front), as
+   hairview --width-rule draws strands under 1.5 px (out->width_rule_vertex:
+   the renderer did it per vertex). */
+typedef enum ht_test_es_order {
+    HT_TEST_ES_INSIDE_OUT,
+    HT_TEST_ES_BACK_TO_FRONT,
+    HT_TEST_ES_REORDERED,
+    HT_TEST_ES_WIDTH_RULE
+} ht_test_es_order;
 bool ht_test_es_draw_scene_ordered(const char *bundle, const char *scene, offscreen_api api, ht_tier tier,
                                    const ht_device_profile *profile, int furball_hairs, ht_test_es_order order,
                                    ht_test_es_draw *out);

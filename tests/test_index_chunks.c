@@ -1,7 +1,8 @@
 /* test_index_chunks — a mesh split for 16-bit indices (index_chunks.h), no
    GL: the chunks tile the index list in order, each names at most 65536
    vertices of its own block, and its triangles, read back through the
-   block, are the mesh's triangles in the mesh's order; with good
+   block, are the mesh's triangles in the mesh's order (and each block
+   vertex names the mesh vertex it copies); with good
    locality (a strip), shuffled triangles, repeated and shared vertices,
    and a mesh that needs no split. */
 #include <setjmp.h>
@@ -41,6 +42,8 @@ static void expect_split(const ht_mesh *m, uint32_t want_chunks) {
             assert_true(ch->first_vertex + c.indices[i] < end);
             const ht_vertex *v = &c.vertices[ch->first_vertex + c.indices[i]];
             assert_true(v->position[0] == (float)m->indices[i]);
+            /* where it came from: per-vertex data (a_side) is split by it */
+            assert_int_equal(c.source[ch->first_vertex + c.indices[i]], m->indices[i]);
         }
         next += ch->index_count;
     }

@@ -6,7 +6,9 @@
    warns that the functionality itself stays). The mesh goes up split into
    16-bit chunks (index_chunks.h) and draws the image the same context
    type draws with 32-bit indices, drawn in a child process before this
-   one's first context (Mesa reads the override once per process). */
+   one's first context (Mesa reads the override once per process); with
+   the width rule per vertex too (each chunk's a_side split as its
+   vertices are). */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -27,9 +29,11 @@
 
 static char work[64], reference_png[256]; /* the reference in a scratch folder: the bundle may be a shared fixture */
 
+static char rule_png[256];
+
 static int draw_reference(void) {
     unsetenv("MESA_EXTENSION_OVERRIDE");
-    ht_test_es_draw d;
+    ht_test_es_draw d, w;
     char err[256];
     if (!ht_test_es_draw_scene_hairs(ht_test_es_bundle(0), "furball", OFFSCREEN_API_GLES2, HT_TIER_FULL, NULL, HAIRS,
                                      &d))
@@ -37,6 +41,12 @@ static int draw_reference(void) {
     if (d.trace.count != 4) return 2; /* one draw a pass: 32-bit indices */
     if (ht_image_write_png(reference_png, &d.image, err, sizeof err) != HT_OK) return 3;
     ht_test_es_draw_free(&d);
+    if (!ht_test_es_draw_scene_ordered(ht_test_es_bundle(0), "furball", OFFSCREEN_API_GLES2, HT_TIER_FULL, NULL, HAIRS,
+                                       HT_TEST_ES_WIDTH_RULE, &w) ||
+        !w.width_rule_vertex)
+        return 4;
+    if (ht_image_write_png(rule_png, &w.image, err, sizeof err) != HT_OK) return 5;
+    ht_test_es_draw_free(&w);
     return 0;
 }
 
@@ -46,6 +56,7 @@ static void test_es2_without_uint_indices_draws_a_large_mesh_in_chunks(void **st
     assert_non_null(bundle);
     assert_true(ht_test_scratch_create(work, sizeof work, "short_index"));
     snprintf(reference_png, sizeof reference_png, "%s/uint-indices.png", work);
+    snprintf(rule_png, sizeof rule_png, "%s/uint-indices-width-rule.png", work);
     ht_test_fork_child(draw_reference);
 
     setenv("MESA_EXTENSION_OVERRIDE", "-GL_OES_element_index_uint", 1);
@@ -95,6 +106,28 @@ static void test_es2_without_uint_indices_draws_a_large_mesh_in_chunks(void **st
                         (size_t)sorted.image.width * sorted.image.height * 4);
     ht_test_es_draw_free(&sorted);
     ht_test_es_draw_free(&reordered);
+    /* The width rule per vertex on the chunks: each chunk's a_side block
+       split as its vertices are, the image 32-bit indices draw with it
+       (a side of another vertex would move strands: tens of dB off). */
+    ht_test_es_draw rule, unruled;
+    if (!ht_test_es_draw_scene_ordered(bundle, "furball", OFFSCREEN_API_GLES2, HT_TIER_FULL, NULL, HAIRS,
+                                       HT_TEST_ES_WIDTH_RULE, &rule))
+        fail_msg("%s", rule.log);
+    assert_true(rule.width_rule_vertex);
+    assert_true(rule.trace.count >= 8);
+    ht_test_es_draw uint_rule = { 0 };
+    assert_int_equal(ht_image_read_png(rule_png, &uint_rule.image, err, sizeof err), HT_OK);
+    const double rule_db = ht_test_es_psnr(&uint_rule, &rule);
+    if (!ht_test_es_draw_scene_ordered(bundle, "furball", OFFSCREEN_API_GLES2, HT_TIER_FULL, NULL, HAIRS,
+                                       HT_TEST_ES_BACK_TO_FRONT, &unruled))
+        fail_msg("%s", unruled.log);
+    printf("width rule per vertex, 16-bit chunks against 32-bit indices: %.2f dB (without the rule: %.2f dB)\n",
+           rule_db, ht_test_es_psnr(&uint_rule, &unruled));
+    assert_true(rule_db >= HT_TEST_ES_MIN_PSNR_DB);
+    assert_true(ht_test_es_psnr(&uint_rule, &unruled) < HT_TEST_ES_MIN_PSNR_DB); /* the rule shows */
+    ht_test_es_draw_free(&uint_rule);
+    ht_test_es_draw_free(&rule);
+    ht_test_es_draw_free(&unruled);
     assert_int_equal(ht_test_scratch_remove(work), 0);
 }
 

@@ -203,7 +203,7 @@ HT_API ht_result ht_renderer_set_opacity_scale(ht_renderer *r, float scale);
    near and far strands each get their own factor, no widened mesh and no
    upload per size. Takes effect at the next ht_renderer_set_mesh, which
    then uploads each vertex's offset from its row's centre (12 bytes a
-   vertex; none for a mesh split into 16-bit chunks). Off by default. */
+   vertex; a mesh split into 16-bit chunks, split alike). Off by default. */
 HT_API void ht_renderer_set_width_rule(ht_renderer *r, bool per_vertex);
 /* On: the mesh drawn is ordered back to front from the frame's eye
    (ht_mesh_sort_back_to_front), so the blended passes draw both faces in

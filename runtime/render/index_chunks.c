@@ -6,6 +6,7 @@
 
 void ht_index_chunks_free(ht_index_chunks *c) {
     free(c->vertices);
+    free(c->source);
     free(c->indices);
     free(c->chunks);
     memset(c, 0, sizeof *c);
@@ -47,10 +48,13 @@ bool ht_index_chunks_split(const ht_mesh *mesh, ht_index_chunks *out) {
         for (int k = 0; k < 3 && ok; k++) {
             const uint32_t v = tri[k];
             if (owner[v] != id) {
-                if (!(ok = grow((void **)&out->vertices, &vertex_cap, out->vertex_count + 1, sizeof *out->vertices)))
+                uint32_t source_cap = vertex_cap;
+                if (!(ok = grow((void **)&out->vertices, &vertex_cap, out->vertex_count + 1, sizeof *out->vertices) &&
+                           grow((void **)&out->source, &source_cap, vertex_cap, sizeof *out->source)))
                     break;
                 owner[v] = id;
                 slot[v] = used++;
+                out->source[out->vertex_count] = v;
                 out->vertices[out->vertex_count++] = mesh->vertices[v];
             }
             out->indices[i + (uint32_t)k] = (uint16_t)slot[v];

@@ -20,6 +20,7 @@ typedef struct ht_index_chunk {
 
 typedef struct ht_index_chunks {
     ht_vertex *vertices; /* blocks in chunk order; a vertex two runs name is in both */
+    uint32_t *source;    /* vertices[i] is the mesh's vertex source[i] (per-vertex data split alike) */
     uint32_t vertex_count;
     uint16_t *indices;   /* index_count of them, each relative to its chunk's block */
     ht_index_chunk *chunks;

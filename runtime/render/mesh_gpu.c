@@ -97,18 +97,26 @@ bool ht_renderer_width_rule_active(const ht_renderer *r) {
            r->backend->vertex_width_rule(r->backend_state);
 }
 
-/* The width rule per vertex's a_side array (ht_lod_sides), for a mesh
-   uploaded whole (a split mesh's chunks reorder its vertices: none, the
-   rule stays per draw). A buffer where the GL has them; false when memory
-   or the GL refuses (logged; the mesh is drawn without). */
-static bool upload_sides(ht_renderer *r, const ht_mesh *mesh) {
+/* The width rule per vertex's a_side array (ht_lod_sides), in the order
+   the vertices went up (source: a split mesh's, index_chunks.h; NULL: the
+   mesh's own). A buffer where the GL has them; false when memory or the
+   GL refuses (logged; the mesh is drawn without). */
+static bool upload_sides(ht_renderer *r, const ht_mesh *mesh, const uint32_t *source, uint32_t count) {
     float(*sides)[3] = malloc(mesh->vertex_count ? (size_t)mesh->vertex_count * sizeof *sides : 1);
-    if (!sides) {
+    float(*split)[3] = source ? malloc(count ? (size_t)count * sizeof *split : 1) : NULL;
+    if (!sides || (source && !split)) {
+        free(sides);
+        free(split);
         ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: the width rule per vertex: out of memory "
-                     "for %u vertices; per draw", mesh->vertex_count);
+                     "for %u vertices; per draw", count);
         return false;
     }
     ht_lod_sides(mesh, sides);
+    if (source) {
+        for (uint32_t i = 0; i < count; i++) memcpy(split[i], sides[source[i]], sizeof split[i]);
+        free(sides);
+        sides = split;
+    }
     if (!r->caps.has_vbo) {
         r->sides = sides;
         return true;
@@ -116,7 +124,7 @@ static bool upload_sides(ht_renderer *r, const ht_mesh *mesh) {
     while (r->gl.GetError() != GL_NO_ERROR) {}
     r->gl.GenBuffers(1, &r->side_vbo);
     r->gl.BindBuffer(GL_ARRAY_BUFFER, r->side_vbo);
-    r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)mesh->vertex_count * sizeof *sides), sides, GL_STATIC_DRAW);
+    r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)count * sizeof *sides), sides, GL_STATIC_DRAW);
     r->gl.BindBuffer(GL_ARRAY_BUFFER, 0);
     free(sides);
     const GLenum e = r->gl.GetError();
@@ -188,6 +196,7 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
         if (e != GL_NO_ERROR) {
             ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: glBufferData: %s", ht_gl_error_name(e));
             ht_renderer_release_mesh(r);
+            free(chunks.source);
             return e == GL_OUT_OF_MEMORY ? HT_ERR_OUT_OF_MEMORY : HT_ERR_GL;
         }
     } else {
@@ -196,6 +205,7 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
         if (!r->vertices || !r->indices) {
             free(indices16);
             free(chunks.vertices);
+            free(chunks.source);
             ht_renderer_release_mesh(r);
             ht_log_linef(r->log, r->log_user, "hairtier: ht_renderer_set_mesh: mesh: out of memory for %u vertices",
                          mesh->vertex_count);
@@ -214,7 +224,9 @@ ht_result ht_renderer_set_mesh(ht_renderer *r, const ht_mesh *mesh) {
     r->has_mesh = true;
     r->span = make_span(mesh, &r->span_count);
     /* a_side feeds programs; without them (gl11) a tier widens from its own copy */
-    if (r->width_vertex && !r->chunk_count) r->has_sides = !r->gl.has_shaders || upload_sides(r, mesh);
+    if (r->width_vertex)
+        r->has_sides = !r->gl.has_shaders || upload_sides(r, mesh, r->chunk_count ? chunks.source : NULL, vertex_count);
+    free(chunks.source);
     r->mesh_serial++;
     if (r->backend && r->backend->set_mesh) {
         ht_result res = r->backend->set_mesh(r->backend_state, mesh);
