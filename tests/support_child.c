@@ -5,6 +5,8 @@
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -26,6 +28,18 @@ bool ht_test_limit_address_space(size_t spare) {
     if (used < 0) return false;
     struct rlimit limit = { (rlim_t)used + spare, (rlim_t)used + spare };
     return setrlimit(RLIMIT_AS, &limit) == 0;
+}
+
+int ht_test_fill_memory(void *blocks[HT_TEST_FILL_BLOCKS]) {
+    int n = 0;
+    for (size_t size = 8 << 20; size >= 4096 && n < HT_TEST_FILL_BLOCKS;)
+        if ((blocks[n] = malloc(size))) memset(blocks[n++], 1, size);
+        else size /= 2;
+    return n;
+}
+
+void ht_test_unfill(void *blocks[HT_TEST_FILL_BLOCKS], int count) {
+    for (int i = 0; i < count; i++) free(blocks[i]);
 }
 
 void ht_test_fork_child(int (*child)(void)) {

@@ -16,6 +16,13 @@
 /* Limits the process's address space to what it maps now plus spare
    bytes; false when the size or the limit cannot be had. */
 bool ht_test_limit_address_space(size_t spare);
+/* Under that limit: allocates (and touches) blocks of 8 MB halving to 4
+   KB until none fits, so the next allocation of more than a page fails;
+   at most HT_TEST_FILL_BLOCKS, into blocks, their count returned (free
+   them with ht_test_unfill). */
+#define HT_TEST_FILL_BLOCKS 64
+int ht_test_fill_memory(void *blocks[HT_TEST_FILL_BLOCKS]);
+void ht_test_unfill(void *blocks[HT_TEST_FILL_BLOCKS], int count);
 /* Runs child() in a forked process and fails the running cmocka test
    unless it exits with status 0. */
 void ht_test_fork_child(int (*child)(void));

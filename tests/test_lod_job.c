@@ -105,11 +105,8 @@ static int out_of_memory_child(void) {
     ht_mesh full;
     if (ht_mesh_build_furball(&(ht_furball_desc){ .hairs = 100000 }, &full) != HT_OK) return 10;
     if (!ht_test_limit_address_space((size_t)16 << 20)) return 11;
-    void *filler[64];
-    int fills = 0;
-    for (size_t size = 8 << 20; size >= 4096 && fills < 64;)
-        if ((filler[fills] = malloc(size))) memset(filler[fills++], 1, size);
-        else size /= 2;
+    void *filler[HT_TEST_FILL_BLOCKS];
+    const int fills = ht_test_fill_memory(filler);
     static const lod_job_kind kinds[] = { LOD_JOB_ORDER, LOD_JOB_WIDEN, LOD_JOB_RESORT };
     for (int k = 0; k < 3; k++) {
         struct ht_lod_job *j = calloc(1, sizeof *j);
@@ -124,7 +121,7 @@ static int out_of_memory_child(void) {
         if (j->order || j->out.vertices || j->out.indices || j->out.components) return 4 + k;
         lod_job_free(j);
     }
-    for (int i = 0; i < fills; i++) free(filler[i]);
+    ht_test_unfill(filler, fills);
     ht_mesh_free(&full);
     return 0;
 }

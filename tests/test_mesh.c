@@ -1017,16 +1017,13 @@ static int out_of_memory_child(void) {
 
     /* The sort needs a copy of the index buffer (~2.9 MB) and the limit is
        filled first, so the sort cannot allocate and must not change a thing. */
-    void *filler[64];
-    int fills = 0;
-    for (size_t size = 8 << 20; size >= 4096 && fills < 64; )
-        if ((filler[fills] = malloc(size))) { memset(filler[fills], 1, size); fills++; }
-        else size /= 2;
+    void *filler[HT_TEST_FILL_BLOCKS];
+    const int fills = ht_test_fill_memory(filler);
     small.components[0].sort_key = 1e9f;
     uint32_t first = small.indices[0];
     ht_mesh_sort_inside_out(&small);
     if (small.components[0].sort_key != 1e9f || small.indices[0] != first) return 5;
-    for (int i = 0; i < fills; i++) free(filler[i]);
+    ht_test_unfill(filler, fills);
     ht_mesh_free(&small);
     return 0;
 }
