@@ -19,7 +19,10 @@
       MESA_GLES_VERSION_OVERRIDE=2.0, so the ESSL 1.00 texts run.
    5. build/bench_frame --lods --samples 4 on the 8 000-hair fur ball at
       half and a quarter of the size on llvmpipe: (LOD, tier) pairs beside
-      full detail (series "lods", in results.csv; docs/lod.md).
+      full detail (series "lods", in results.csv; docs/lod.md); and (not
+      with --quick) on the 100 000-strand groom at a quarter size with
+      --width-rule --truth, every PSNR against the 16x truth, full detail
+      with the width rule beside (series "lods-dense").
    Their own tables print as they run; after each step a progress line with
    the time taken and an ETA (from the steps so far against a predicted
    weight per step). Then writes, atomically, DIR/results.csv (every row),
@@ -85,6 +88,7 @@ typedef struct step {
     int size, frames;
     bool orbit;
     bool lods;               /* bench_frame --lods --samples 4: (LOD, tier) pairs */
+    bool truth;              /* with lods: --width-rule --truth */
     const char *series;
     const char *api;         /* bench_frame --api; NULL: desktop GL */
     double weight;           /* predicted seconds; only their proportions matter */
@@ -151,6 +155,12 @@ static int plan(step *s, bool quick) {
                          .series = "lods",
                          .weight = frame_weight(dr, true, quick ? 800 : 8000, size, frames, false, CONTENDERS) };
     }
+    /* The dense groom against the truth at a quarter size (build/gen/dense.json,
+       which make writes): about 4 s a contender's frame on llvmpipe. */
+    if (!quick)
+        s[n++] = (step){ .kind = FRAME, .program = "bench_frame", .driver = drivers[0].name,
+                         .scene = "build/gen/dense.json", .size = drivers[0].size >> 2, .frames = 3, .orbit = false,
+                         .lods = true, .truth = true, .series = "lods-dense", .weight = 9 * 4 * 4.5 };
     return n;
 }
 
@@ -189,6 +199,7 @@ static void command_line(const step *s, const char *bindir, const char *csv, arg
     arg(a, "%s", "--frames"), arg_int(a, s->frames);
     if (!s->orbit) arg(a, "%s", "--no-orbit");
     if (s->lods) arg(a, "%s", "--lods"), arg(a, "%s", "--samples"), arg(a, "%s", "4");
+    if (s->truth) arg(a, "%s", "--width-rule"), arg(a, "%s", "--truth");
     arg(a, "%s", "--series"), arg(a, "%s", s->series);
     if (s->api) arg(a, "%s", "--api"), arg(a, "%s", s->api);
     arg(a, "%s", "--csv"), arg(a, "%s", csv);
