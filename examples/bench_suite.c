@@ -89,6 +89,7 @@ typedef struct step {
     bool orbit;
     bool lods;               /* bench_frame --lods --samples 4: (LOD, tier) pairs */
     bool truth;              /* with lods: --width-rule --truth */
+    bool generated;          /* scene: a file make wrote in the build directory (the suite's own) */
     const char *series;
     const char *api;         /* bench_frame --api; NULL: desktop GL */
     double weight;           /* predicted seconds; only their proportions matter */
@@ -159,7 +160,7 @@ static int plan(step *s, bool quick) {
        which make writes): about 4 s a contender's frame on llvmpipe. */
     if (!quick)
         s[n++] = (step){ .kind = FRAME, .program = "bench_frame", .driver = drivers[0].name,
-                         .scene = "build/gen/dense.json", .size = drivers[0].size >> 2, .frames = 3, .orbit = false,
+                         .scene = "gen/dense.json", .generated = true, .size = drivers[0].size >> 2, .frames = 3, .orbit = false,
                          .lods = true, .truth = true, .series = "lods-dense", .weight = 9 * 4 * 4.5 };
     return n;
 }
@@ -193,7 +194,9 @@ static void command_line(const step *s, const char *bindir, const char *csv, arg
     snprintf(program, sizeof program, "%s/%s", bindir, s->program);
     arg(a, "%s", program);
     if (s->kind != FRAME) return;
-    arg(a, "%s", "--scene"), arg(a, "%s", s->scene);
+    char scene[900];
+    snprintf(scene, sizeof scene, "%s%s%s", s->generated ? bindir : "", s->generated ? "/" : "", s->scene);
+    arg(a, "%s", "--scene"), arg(a, "%s", scene);
     if (s->hairs) arg(a, "%s", "--hairs"), arg_int(a, s->hairs);
     arg(a, "%s", "--size"), arg_int(a, s->size);
     arg(a, "%s", "--frames"), arg_int(a, s->frames);
