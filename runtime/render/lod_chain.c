@@ -389,16 +389,14 @@ static int draw_async(ht_lod_chain *c, ht_renderer *r, const wanted *w, const ht
         if (level < 0) return -1;
         work = work_for(c, r, w, camera->eye);
     }
-    if (work < 0 && c->job) c->job->stale = true; /* what r holds serves: the job's result is dropped */
     if (work < 0) {
         /* no sort or copy: as without async */
         if (w->factor > 1.0) return c->current = w->level;
         return w->sorts ? draw_level_ordered(c, r, w->level, camera->eye, NULL, result)
                         : draw_level(c, r, w->level, result);
     }
-    if (c->job) {
-        c->job->stale = !job_serves(c, r, c->job, w); /* one job at a time: a superseded one ends first */
-    } else if (!start_job(c, work, w, camera->eye)) {
+    /* one job at a time: a running one ends first, its result then taken if it serves (job_serves) */
+    if (!c->job && !start_job(c, work, w, camera->eye)) {
         if (result) *result = HT_ERR_OUT_OF_MEMORY;
         return -1;
     }

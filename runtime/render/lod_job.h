@@ -31,7 +31,6 @@ struct ht_lod_job {
     ht_result result;        /* once done */
     uint32_t *order;         /* LOD_JOB_ORDER: src's indices, the level's range sorted */
     ht_mesh out;             /* LOD_JOB_WIDEN: the mesh; _RESORT: indices and components only */
-    bool stale;              /* the caller's: no longer what the chain wants, dropped when done */
     bool threaded, joined;
     pthread_t thread;
     atomic_bool done;
