@@ -334,21 +334,18 @@ static void print_pops(const contender *c, int count) {
     printf("\n");
 }
 
-/* A level drawn as ht_lod_chain draws it with width_rule set where its
-   strands are under a pixel: *m replaced by its widened copy, *opacity
-   the rule's; the factor, 1 where nothing changed. */
-static double width_rule(ht_mesh *m, const ht_scene *scene, float *opacity) {
+/* A mesh drawn as ht_lod_chain draws a level with width_rule set where its
+   strands are under a pixel: the factor, and above 1 *wide its widened
+   copy and *opacity the rule's; 1 (*wide zeroed) where nothing changes. */
+static double width_rule(const ht_mesh *m, const ht_scene *scene, ht_mesh *wide, float *opacity) {
     double f = 1.0;
-    ht_mesh wide;
+    *wide = (ht_mesh){ 0 };
     if (!m->vertices ||
-        ht_mesh_width_rule(m, ht_mesh_projected_width_px(m, &scene->camera, HEIGHT), scene->camera.eye, &wide, &f) != HT_OK)
-        return 1.0;
-    if (!(f > 1.0)) {
-        ht_mesh_free(&wide);
+        ht_mesh_width_rule(m, ht_mesh_projected_width_px(m, &scene->camera, HEIGHT), scene->camera.eye, wide, &f) != HT_OK ||
+        !(f > 1.0)) {
+        ht_mesh_free(wide);
         return 1.0;
     }
-    ht_mesh_free(m);
-    *m = wide;
     *opacity = (float)(1.0 / f);
     return f;
 }
@@ -448,12 +445,19 @@ static int run(const char *work) {
         if (ht_mesh_build_lod(&mesh, &d, &lods[l]) != HT_OK) fprintf(stderr, "bench_frame: LOD %d: not built\n", l);
         else if (d.soften > 1) ht_mesh_sort_back_to_front(&lods[l], scene.camera.eye); /* lod.h's soft levels */
         opacity[l] = ht_lod_opacity(&d);
-        const double f = WIDTH_RULE ? width_rule(&lods[l], &scene, &opacity[l]) : 1.0;
-        if (f > 1.0) printf("level %d: width rule %.3f, opacity %.3f\n", l, f, 1.0 / f);
+        ht_mesh wide;
+        const double f = WIDTH_RULE ? width_rule(&lods[l], &scene, &wide, &opacity[l]) : 1.0;
+        if (f > 1.0) {
+            ht_mesh_free(&lods[l]);
+            lods[l] = wide;
+            printf("level %d: width rule %.3f, opacity %.3f\n", l, f, 1.0 / f);
+        }
     }
-    if (TRUTH && ht_mesh_widen(&mesh, 1.0, &lods[3]) == HT_OK) { /* a copy */
-        const double f = width_rule(&lods[3], &scene, &opacity[3]);
-        printf("full-rule: width rule %.3f, opacity %.3f\n", f, 1.0 / f);
+    if (TRUTH) {
+        const double f = width_rule(&mesh, &scene, &lods[3], &opacity[3]);
+        /* strands a pixel wide or more: full detail as it is (a copy) */
+        if (f > 1.0 || ht_mesh_widen(&mesh, 1.0, &lods[3]) == HT_OK)
+            printf("full-rule: width rule %.3f, opacity %.3f\n", f, 1.0 / f);
     }
     contender c[MAX_CONTENDERS] = { { .name = "geometry floor", .tier = "floor", .context = gl,
                                  .renderer = create(dir, HT_TIER_AUTO, true, HT_VARIANT_EXACT, &mesh) } };
