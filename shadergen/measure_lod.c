@@ -33,7 +33,6 @@ typedef struct lod_levels {
     float soften;
 } lod_levels;
 
-/* The eye's distance to the target: the width rule's strand width. */
 /* One level at one size, drawn at opacity (with width_rule, as the chain
    draws it: widened, back to front, opacity scaled, when its strands are
    under a pixel), one warm-up and the timed frames; its last frame copied
@@ -167,13 +166,13 @@ ht_result ht_measure_truth(const ht_measure_truth_desc *d, unsigned char *rgba, 
     return res;
 }
 
+static void quiet(void *user, const char *line) { (void)user, (void)line; }
+
 /* The reference pair timed again after every other cell of its size, the
    faster of its two times the size's base: its first frames in a new
    context can run slow (NVIDIA: level 0 of the vertex tier at 0.6x it at a
    quarter size, 1.1x at a half), and a slow base makes every cell look
    cheap. cells[0] is the reference, cells[0..n) the size's. */
-static void quiet(void *user, const char *line) { (void)user, (void)line; }
-
 static ht_result retime_reference(offscreen *o, const char *dir, const ht_manifest *bundle, const ht_scene *s,
                                   const ht_frame_desc *f, const ht_mesh *full, lod_images *im, ht_measure_lod_cell *cells,
                                   int n, bool truth, char *err, size_t err_size) {
