@@ -63,8 +63,9 @@
 static int WIDTH = 512, HEIGHT = 512, FRAMES = 9, HAIRS = 10000;
 #define MAX_HAIRS 1000000
 
-static bool HAIRS_GIVEN = false, ORBIT = true, LODS = false, SOFT = false, WIDTH_RULE = false, TRUTH = false;
+static bool HAIRS_GIVEN = false, ORBIT = true, LODS = false, WIDTH_RULE = false, TRUTH = false;
 static int SAMPLES = 0;
+static float SOFT = 0.0f; /* --soft's factor, 0: plain levels */
 static offscreen_kind CONTEXT = OFFSCREEN_AUTO;
 static int EGL_DEVICE = -1;
 static offscreen_api API = OFFSCREEN_API_GL;
@@ -441,7 +442,8 @@ static int run(const char *work) {
     float opacity[4] = { 1.0f, 1.0f, 1.0f, 1.0f }; /* theirs: ht_lod_opacity, or the width rule's */
     for (int l = 1; LODS && l < 3 && l <= ht_lod_max_level(&mesh); l++) {
         ht_lod_desc d;
-        (SOFT ? ht_lod_soft_level : ht_lod_level)(l, &d);
+        ht_lod_level(l, &d);
+        d.soften = SOFT;
         if (ht_mesh_build_lod(&mesh, &d, &lods[l]) != HT_OK) fprintf(stderr, "bench_frame: LOD %d: not built\n", l);
         else if (d.soften > 1) ht_mesh_sort_back_to_front(&lods[l], scene.camera.eye); /* lod.h's soft levels */
         opacity[l] = ht_lod_opacity(&d);
@@ -545,7 +547,7 @@ static const struct option long_options[] = {
     { "no-orbit", no_argument, NULL, KEY_NO_ORBIT },
     { "size", required_argument, NULL, KEY_SIZE },
     { "lods", no_argument, NULL, KEY_LODS },
-    { "soft", no_argument, NULL, KEY_SOFT },
+    { "soft", optional_argument, NULL, KEY_SOFT },
     { "width-rule", no_argument, NULL, KEY_WIDTH_RULE },
     { "truth", no_argument, NULL, KEY_TRUTH },
     { "samples", required_argument, NULL, KEY_SAMPLES },
@@ -556,7 +558,7 @@ static const cli_program program = {
     .name = "bench_frame",
     .synopsis = "usage: bench_frame [--scene SCENE.json] [--hairs N] [--size S] [--frames F] [--no-orbit]\n"
                 "                   [--csv FILE [--series NAME]] [--context osmesa|egl] [--egl-device N]\n"
-                "                   [--api gl|gles1|gles2|gles3] [--lods [--soft] [--width-rule] [--truth]] [--samples N]\n",
+                "                   [--api gl|gles1|gles2|gles3] [--lods [--soft[=F]] [--width-rule] [--truth]] [--samples N]\n",
     .help = "Times every tier of dark-brown against the geometry floor on one context, frames round-robin:\n"
             "median frame ms, the ratios to the floor and to full, PSNR against full and the per-vertex CPU\n"
             "work, with the camera still and orbiting (--no-orbit skips that).\n"
@@ -570,8 +572,8 @@ static const cli_program program = {
             "                 gles3 the GLSL tiers beside full on desktop GL (a second EGL context)\n"
             "  --lods         (LOD, tier) pairs instead of the tiers: full detail, levels 1 and 2 in full,\n"
             "                 fixed4 and gl11 (docs/lod.md), and the pair error:30 picks among them\n"
-            "  --soft         with --lods, levels 1 and 2 soft (lod.h: 3x wider at 1/3 the opacity,\n"
-            "                 sorted back to front for the scene's eye)\n"
+            "  --soft[=F]     with --lods, levels 1 and 2 soft (lod.h: F, default 3, times wider at 1/F\n"
+            "                 the opacity, sorted back to front for the scene's eye)\n"
             "  --width-rule   with --lods, a level whose strands are under a pixel drawn as the runtime's\n"
             "                 width rule draws it (lod.h: about a pixel wide, opacity scaled); full\n"
             "                 detail, the reference, as it is\n"
@@ -618,7 +620,13 @@ static const char *take(void *user, int key, const char *value) {
     case KEY_API: return offscreen_api_value(value, &API);
     case KEY_NO_ORBIT: ORBIT = false; return NULL;
     case KEY_LODS: LODS = true; return NULL;
-    case KEY_SOFT: SOFT = true; return NULL;
+    case KEY_SOFT: {
+        char *end = NULL;
+        SOFT = value ? (float)strtod(value, &end) : HT_LOD_SOFTEN;
+        if (value && (end == value || *end || !(SOFT > 1.0f && SOFT <= HT_LOD_MAX_SOFTEN)))
+            return "--soft: expected a factor above 1, at most 16";
+        return NULL;
+    }
     case KEY_WIDTH_RULE: WIDTH_RULE = true; return NULL;
     case KEY_TRUTH: TRUTH = true; return NULL;
     case KEY_SAMPLES: return number("--samples", value, 2, 32, &SAMPLES);

@@ -22,7 +22,9 @@
       full detail (series "lods", in results.csv; docs/lod.md); and (not
       with --quick) on the 100 000-strand groom at a quarter size with
       --width-rule --truth, every PSNR against the 16x truth, full detail
-      with the width rule beside (series "lods-dense").
+      with the width rule beside (series "lods-dense"), and at half size
+      with levels 1 and 2 soft by 8 (series "dense-soft8", the pairs
+      that reach 30 dB there).
    Their own tables print as they run; after each step a progress line with
    the time taken and an ETA (from the steps so far against a predicted
    weight per step). Then writes, atomically, DIR/results.csv (every row),
@@ -89,6 +91,7 @@ typedef struct step {
     bool orbit;
     bool lods;               /* bench_frame --lods --samples 4: (LOD, tier) pairs */
     bool truth;              /* with lods: --width-rule --truth */
+    int soft;                /* with lods: 0, else --soft=N */
     bool generated;          /* scene: a file make wrote in the build directory (the suite's own) */
     const char *series;
     const char *api;         /* bench_frame --api; NULL: desktop GL */
@@ -162,6 +165,10 @@ static int plan(step *s, bool quick) {
         s[n++] = (step){ .kind = FRAME, .program = "bench_frame", .driver = drivers[0].name,
                          .scene = "gen/dense.json", .generated = true, .size = drivers[0].size >> 2, .frames = 3, .orbit = false,
                          .lods = true, .truth = true, .series = "lods-dense", .weight = 9 * 4 * 4.5 };
+    if (!quick)
+        s[n++] = (step){ .kind = FRAME, .program = "bench_frame", .driver = drivers[0].name,
+                         .scene = "gen/dense.json", .generated = true, .size = drivers[0].size >> 1, .frames = 3, .orbit = false,
+                         .lods = true, .truth = true, .soft = 8, .series = "dense-soft8", .weight = 9 * 4 * 5.5 };
     return n;
 }
 
@@ -203,6 +210,9 @@ static void command_line(const step *s, const char *bindir, const char *csv, arg
     if (!s->orbit) arg(a, "%s", "--no-orbit");
     if (s->lods) arg(a, "%s", "--lods"), arg(a, "%s", "--samples"), arg(a, "%s", "4");
     if (s->truth) arg(a, "%s", "--width-rule"), arg(a, "%s", "--truth");
+    char soft[32];
+    snprintf(soft, sizeof soft, "--soft=%d", s->soft);
+    if (s->soft) arg(a, "%s", soft);
     arg(a, "%s", "--series"), arg(a, "%s", s->series);
     if (s->api) arg(a, "%s", "--api"), arg(a, "%s", s->api);
     arg(a, "%s", "--csv"), arg(a, "%s", csv);

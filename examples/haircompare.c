@@ -199,24 +199,26 @@ static void print_table(const report *r) {
                r->tiers[o.b].name);
 }
 
-/* One grid row: level l (soft: widened by the grid's soften, back to front, at
-   its inverse opacity) drawn by every tier that ran, each image written
-   into tmp and kept in frames for the measuring. */
+/* One grid row: level l (kind k + 1: widened by the grid's soften[k], back
+   to front, at its inverse opacity) drawn by every tier that ran, each
+   image written into tmp and kept in frames for the measuring. */
 static ht_result render_lod_row(const options *o, const char *tmp, const grid_levels *lv, tier_scene *small,
-                                report *rep, int l, bool soft, tier_frame *frames, char *err, size_t err_size) {
+                                report *rep, int l, int kind, tier_frame *frames, char *err, size_t err_size) {
     report_lod_grid *g = &rep->lods;
     ht_result r = HT_OK;
+    char soft[32] = "";
+    if (kind) snprintf(soft, sizeof soft, "soft%g", (double)g->soften[kind - 1]);
     for (int t = 0; t < rep->tier_count && r == HT_OK; t++) {
-        report_lod_cell *c = soft ? &g->soft_cells[l][t] : &g->cells[l][t];
+        report_lod_cell *c = report_lod_row_cell(g, l, kind, t);
         if (!rep->tiers[t].ran) continue;
-        fprintf(stderr, "haircompare: rendering %s %d%s with %s at %gx\n", lv->cards[l] ? "cards, level" : "level", l,
-                soft ? " soft" : "", rep->tiers[t].name, g->size);
+        fprintf(stderr, "haircompare: rendering %s %d%s%s with %s at %gx\n", lv->cards[l] ? "cards, level" : "level", l,
+                kind ? " " : "", soft, rep->tiers[t].name, g->size);
         tier_render(o->view.bundle, small, rep->tiers[t].tier, o->view.frames, &frames[t]);
         if (!(c->ran = frames[t].ran)) continue;
         c->frame_ms = frames[t].frame_ms;
         char name[sizeof rep->tiers[t].name], path[4300];
         memcpy(name, rep->tiers[t].name, sizeof name); /* a copy, as in compare_tier (-Wrestrict) */
-        snprintf(c->image, sizeof c->image, "lod%d%s-%s.png", l, soft ? "soft" : "", name);
+        snprintf(c->image, sizeof c->image, "lod%d%s-%s.png", l, soft, name);
         snprintf(path, sizeof path, "%s/%s", tmp, c->image);
         ht_image img = { 0 };
         r = write_frame(path, frames[t].rgba, g->width, g->height, &img, err, err_size);
@@ -242,12 +244,17 @@ static ht_result measure_lod_row(report *rep, report_lod_cell *cells, const tier
     return r;
 }
 
-/* The factor of the bundle's first soft cell (lod.h), 0 when it measured
-   none: then the grid shows each strand level past 0 soft by it too. */
-static float measured_soften(const report *rep) {
-    for (int i = 0; i < rep->measured_lods.cell_count; i++)
-        if (rep->measured_lods.cells[i].soften > 1) return rep->measured_lods.cells[i].soften;
-    return 0.0f;
+/* The factors of the bundle's soft cells (lod.h), in the order its cells
+   first name them, into g: the grid shows each strand level past 0 soft by
+   each too. */
+static void measured_softens(const report *rep, report_lod_grid *g) {
+    g->soften_count = 0;
+    for (int i = 0; i < rep->measured_lods.cell_count; i++) {
+        const float s = rep->measured_lods.cells[i].soften;
+        int k = 0;
+        while (k < g->soften_count && g->soften[k] != s) k++;
+        if (s > 1 && k == g->soften_count && k < HT_LOD_MAX_SOFTENS) g->soften[g->soften_count++] = s;
+    }
 }
 
 /* The LOD x tier grid (report.h): every level lv holds (the bundle's
@@ -268,8 +275,9 @@ static ht_result build_lod_grid(const options *o, const char *tmp, const tier_sc
     g->width = small.scene.width;
     g->height = small.scene.height;
     g->levels = lv->count < REPORT_LOD_MAX_LEVELS ? lv->count : REPORT_LOD_MAX_LEVELS;
-    g->soften = measured_soften(rep);
-    static tier_frame frames[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS], soft_frames[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS];
+    measured_softens(rep, g);
+    static tier_frame frames[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS],
+        soft_frames[HT_LOD_MAX_SOFTENS][REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS];
     memset(frames, 0, sizeof frames);
     memset(soft_frames, 0, sizeof soft_frames);
     ht_result r = HT_OK;
@@ -286,15 +294,16 @@ static ht_result build_lod_grid(const options *o, const char *tmp, const tier_sc
         g->strands_per_card[l] = lv->cards[l] ? lv->param[l] : 0;
         small.hair = level;
         small.opacity = 0.0f;
-        r = render_lod_row(o, tmp, lv, &small, rep, l, false, frames[l], err, err_size);
-        if (r == HT_OK && g->soften > 1 && l > 0 && !lv->cards[l]) {
-            g->soft[l] = true;
-            if ((r = ht_mesh_widen_back_to_front(&level, g->soften, ts->scene.camera.eye, &small.hair)) == HT_OK) {
-                small.opacity = 1.0f / g->soften;
-                r = render_lod_row(o, tmp, lv, &small, rep, l, true, soft_frames[l], err, err_size);
+        r = render_lod_row(o, tmp, lv, &small, rep, l, 0, frames[l], err, err_size);
+        for (int k = 0; k < g->soften_count && r == HT_OK && l > 0 && !lv->cards[l]; k++) {
+            g->soft[k][l] = true;
+            if ((r = ht_mesh_widen_back_to_front(&level, g->soften[k], ts->scene.camera.eye, &small.hair)) == HT_OK) {
+                small.opacity = 1.0f / g->soften[k];
+                r = render_lod_row(o, tmp, lv, &small, rep, l, k + 1, soft_frames[k][l], err, err_size);
                 ht_mesh_free(&small.hair);
             } else {
-                snprintf(err, err_size, "%s: geometry: LOD %d soft: %s", rep->scene, l, ht_result_string(r));
+                snprintf(err, err_size, "%s: geometry: LOD %d soft %g: %s", rep->scene, l, (double)g->soften[k],
+                         ht_result_string(r));
             }
         }
         if (!borrowed) ht_mesh_free(&level);
@@ -302,13 +311,14 @@ static ht_result build_lod_grid(const options *o, const char *tmp, const tier_sc
     const tier_frame *ref = &frames[0][rep->reference];
     for (int l = 0; l < g->levels && r == HT_OK; l++) {
         r = measure_lod_row(rep, g->cells[l], frames[l], ref, l == 0, err, err_size);
-        if (r == HT_OK && g->soft[l]) r = measure_lod_row(rep, g->soft_cells[l], soft_frames[l], ref, false, err, err_size);
+        for (int k = 0; k < g->soften_count && r == HT_OK; k++)
+            if (g->soft[k][l]) r = measure_lod_row(rep, g->soft_cells[k][l], soft_frames[k][l], ref, false, err, err_size);
     }
     report_lod_attach_measured(rep);
     for (int l = 0; l < REPORT_LOD_MAX_LEVELS; l++)
         for (int t = 0; t < REPORT_MAX_TIERS; t++) {
             tier_frame_free(&frames[l][t]);
-            tier_frame_free(&soft_frames[l][t]);
+            for (int k = 0; k < HT_LOD_MAX_SOFTENS; k++) tier_frame_free(&soft_frames[k][l][t]);
         }
     return r;
 }
@@ -342,11 +352,13 @@ static void print_lod_grid(const report *r) {
     printf("%-5s %-7s %8s %-7s %7s %6s %10s %11s\n", "level", "kind", "strands", "tier", "psnr_db", "cost",
            "bundle_db", "bundle_cost");
     for (int l = 0; l < g->levels; l++)
-        for (int soft = 0; soft < 1 + g->soft[l]; soft++)
-            for (int t = 0; t < r->tier_count; t++) {
-                const report_lod_cell *c = soft ? &g->soft_cells[l][t] : &g->cells[l][t];
+        for (int kind = 0; kind <= g->soften_count; kind++)
+            for (int t = 0; t < r->tier_count && report_lod_has_row(g, l, kind); t++) {
+                const report_lod_cell *c = report_lod_row_cell(g, l, kind, t);
                 if (!c->ran) continue;
-                printf("%-5d %-7s %8u %-7s %7.2f %6.3f", l, g->cards[l] ? "cards" : soft ? "soft" : "strands",
+                char soft[32];
+                snprintf(soft, sizeof soft, "soft%g", kind ? (double)g->soften[kind - 1] : 0.0);
+                printf("%-5d %-7s %8u %-7s %7.2f %6.3f", l, g->cards[l] ? "cards" : kind ? soft : "strands",
                        g->strands[l], r->tiers[t].name, c->whole.psnr_db, c->cost_ratio);
                 if (c->measured) printf(" %10.2f %11.3f", c->measured_psnr_db, c->measured_cost_ratio);
                 printf("\n");

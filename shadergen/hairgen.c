@@ -78,8 +78,9 @@ static const char help[] =
     "  --lod-reference R     --measure-lods against: samples (level 0 drawn as the cells are,\n"
     "                        the default) or supersample (level 0 at 4x4 the pixels, box-\n"
     "                        filtered: the truth; every cell drawn with the width rule)\n"
-    "  --lod-soften F        --measure-lods with the soft cells F times wider at 1/F the opacity\n"
-    "                        (above 1, at most 16; default 3: hairview --soft=F)\n"
+    "  --lod-soften F[,F..]  --measure-lods with the soft cells F times wider at 1/F the opacity,\n"
+    "                        up to 3 factors, each its own cells (above 1, at most 16; default\n"
+    "                        3,8; hairview --soft=F draws one)\n"
     "  --cards BUNDLE        write DIR: BUNDLE with every geometry level of the scene stored in\n"
     "                        DIR/lods.bin, the strand levels and cards (clumps of N strands,\n"
     "                        default 32, as textured ribbons), its textures one atlas of the\n"
@@ -167,12 +168,22 @@ static const char *take(void *user, int key, const char *value) {
         o->lod.reference = strcmp(value, "supersample") ? HT_LOD_REFERENCE_SAMPLES : HT_LOD_REFERENCE_SUPERSAMPLE;
         return NULL;
     case KEY_LOD_SOFTEN: {
-        char *end;
-        const double f = strtod(value, &end);
-        if (end == value || *end || !(f > 1.0 && f <= HT_LOD_MAX_SOFTEN))
-            return "--lod-soften: expected a factor above 1, at most 16";
+        _Static_assert(HT_LOD_MAX_SOFTENS == 3, "--lod-soften's message and help");
+        const char *p = value;
+        memset(o->lod.soften, 0, sizeof o->lod.soften);
+        for (int k = 0;; k++) {
+            char *end;
+            const double f = strtod(p, &end);
+            bool twice = false;
+            for (int j = 0; j < k; j++) twice |= o->lod.soften[j] == (float)f;
+            if (k == HT_LOD_MAX_SOFTENS || end == p || (*end && *end != ',') || !(f > 1.0 && f <= HT_LOD_MAX_SOFTEN) ||
+                twice)
+                return "--lod-soften: expected up to 3 factors, comma-separated, each above 1, at most 16, none twice";
+            o->lod.soften[k] = (float)f;
+            if (!*end) break;
+            p = end + 1;
+        }
         o->measure = o->measure_lods = 1;
-        o->lod.soften = (float)f;
         return NULL;
     }
     case KEY_BATCH: o->batch = 1; return NULL;

@@ -26,11 +26,12 @@ typedef struct lod_levels {
     ht_mesh mesh[HT_LOD_FILE_MAX_LEVELS];
     bool cards[HT_LOD_FILE_MAX_LEVELS];
     int count;
-    /* soft[l]: strand level l >= 1 soft as the runtime derives it
-       (ht_mesh_widen_back_to_front by soften from the scene's eye);
+    /* soft[k][l]: strand level l >= 1 soft as the runtime derives it
+       (ht_mesh_widen_back_to_front by soften[k] from the scene's eye);
        empty for level 0 and cards */
-    ht_mesh soft[HT_LOD_FILE_MAX_LEVELS];
-    float soften;
+    ht_mesh soft[HT_LOD_MAX_SOFTENS][HT_LOD_FILE_MAX_LEVELS];
+    float soften[HT_LOD_MAX_SOFTENS];
+    int soften_count;
 } lod_levels;
 
 /* One level at one size, drawn at opacity (with width_rule, as the chain
@@ -120,8 +121,9 @@ static ht_result measure_cell(offscreen *o, ht_renderer *r, const ht_scene *s, c
 }
 
 /* One tier's levels at one size into out->cells: the plain ones, then the
-   soft ones (each soft level's pop against the tier's soft level before;
-   soft level 1's against level 0, which is never soft). */
+   soft ones of each factor (each soft level's pop against the tier's soft
+   level before at that factor; soft level 1's against level 0, which is
+   never soft). */
 static ht_result measure_tier(offscreen *o, ht_renderer *r, const ht_scene *s, const ht_frame_desc *f,
                               const char *tier, double size, const lod_levels *levels, bool first, lod_images *im,
                               ht_measure_lods *out, char *err, size_t err_size) {
@@ -129,11 +131,13 @@ static ht_result measure_tier(offscreen *o, ht_renderer *r, const ht_scene *s, c
     for (int l = 0; l < levels->count && res == HT_OK; l++)
         res = measure_cell(o, r, s, f, tier, size, &levels->mesh[l], levels->mesh[l].component_count, l, 0.0f,
                            levels->cards[l], first && l == 0, im, out, err, err_size);
-    if (res == HT_OK) memcpy(im->prev, im->zero, (size_t)s->width * (size_t)s->height * 4);
-    for (int l = 1; l < levels->count && res == HT_OK; l++)
-        if (levels->soft[l].component_count)
-            res = measure_cell(o, r, s, f, tier, size, &levels->soft[l], levels->mesh[l].component_count, l,
-                               levels->soften, false, false, im, out, err, err_size);
+    for (int k = 0; k < levels->soften_count && res == HT_OK; k++) {
+        memcpy(im->prev, im->zero, (size_t)s->width * (size_t)s->height * 4);
+        for (int l = 1; l < levels->count && res == HT_OK; l++)
+            if (levels->soft[k][l].component_count)
+                res = measure_cell(o, r, s, f, tier, size, &levels->soft[k][l], levels->mesh[l].component_count, l,
+                                   levels->soften[k], false, false, im, out, err, err_size);
+    }
     return res;
 }
 
@@ -293,16 +297,27 @@ ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char
     if (d.samples != 0 && (d.samples < 2 || d.samples > HT_MANIFEST_MAX_LOD_SAMPLES))
         return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: lods: --lod-samples: %d, expected 2..%d",
                        d.samples, HT_MANIFEST_MAX_LOD_SAMPLES);
-    if (d.soften != 0.0f && !(d.soften > 1.0f && d.soften <= HT_LOD_MAX_SOFTEN))
-        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: lods: --lod-soften: %g, expected (1, %g]",
-                       (double)d.soften, (double)HT_LOD_MAX_SOFTEN);
+    for (int k = 0; k < HT_LOD_MAX_SOFTENS && d.soften[k] != 0.0f; k++) {
+        bool twice = false;
+        for (int j = 0; j < k; j++) twice |= d.soften[j] == d.soften[k];
+        if (!(d.soften[k] > 1.0f && d.soften[k] <= HT_LOD_MAX_SOFTEN) || twice)
+            return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT,
+                           "measure: lods: --lod-soften: %g, expected (1, %g], each factor once", (double)d.soften[k],
+                           (double)HT_LOD_MAX_SOFTEN);
+    }
     out->samples = d.samples;
     out->reference = d.reference;
     ht_manifest *bundle = malloc(sizeof *bundle);
     lod_levels *levels = calloc(1, sizeof *levels);
     ht_mesh head = { 0 };
     char why[1024];
-    if (levels) levels->soften = d.soften != 0.0f ? d.soften : HT_LOD_SOFTEN;
+    if (levels) {
+        for (int k = 0; k < HT_LOD_MAX_SOFTENS && d.soften[k] != 0.0f; k++) levels->soften[levels->soften_count++] = d.soften[k];
+        if (!levels->soften_count) {
+            levels->soften[levels->soften_count++] = HT_LOD_SOFTEN;
+            levels->soften[levels->soften_count++] = HT_LOD_SOFTEN_WIDE;
+        }
+    }
     ht_result r = bundle && levels ? ht_manifest_load(dir, bundle, why, sizeof why) : HT_ERR_OUT_OF_MEMORY;
     if (r != HT_OK) {
         ht_set_error(err, err_size, "measure: lods: %s", bundle && levels ? why : "out of memory");
@@ -322,16 +337,18 @@ ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char
             if (r != HT_OK) ht_set_error(err, err_size, "measure: lods: level %d: %s", l, ht_result_string(r));
         }
     }
-    for (int l = 1; l < levels->count && r == HT_OK; l++)
-        if (!levels->cards[l] &&
-            (r = ht_mesh_widen_back_to_front(&levels->mesh[l], levels->soften, scene->camera.eye, &levels->soft[l])) != HT_OK)
-            ht_set_error(err, err_size, "measure: lods: level %d soft: %s", l, ht_result_string(r));
+    for (int k = 0; k < (r == HT_OK ? levels->soften_count : 0); k++)
+        for (int l = 1; l < levels->count && r == HT_OK; l++)
+            if (!levels->cards[l] && (r = ht_mesh_widen_back_to_front(&levels->mesh[l], levels->soften[k],
+                                                                       scene->camera.eye, &levels->soft[k][l])) != HT_OK)
+                ht_set_error(err, err_size, "measure: lods: level %d soft %g: %s", l, (double)levels->soften[k],
+                             ht_result_string(r));
     snprintf(out->tier, sizeof out->tier, "%s", bundle->tiers[0].name);
     for (int i = 0; i < HT_MEASURE_LOD_SIZES && r == HT_OK; i++)
         r = measure_size(dir, bundle, scene, sizes[i], levels, &head, out, err, err_size);
     for (int l = 0; l < HT_LOD_FILE_MAX_LEVELS; l++) {
         ht_mesh_free(&levels->mesh[l]);
-        ht_mesh_free(&levels->soft[l]);
+        for (int k = 0; k < HT_LOD_MAX_SOFTENS; k++) ht_mesh_free(&levels->soft[k][l]);
     }
     free(levels);
     ht_mesh_free(&head);
@@ -414,8 +431,9 @@ void ht_measure_lods_print(FILE *out, const ht_measure_lods *m) {
             "de00", "pop_db");
     for (int i = 0; i < m->count; i++) {
         const ht_measure_lod_cell *c = &m->cells[i];
-        fprintf(out, "%5.2f %5d %-10s %8u %9.3f %7.2f %9.4f %9.3f %9.2f%s\n", c->size, c->level, c->tier, c->strands,
-                c->cost_ratio, c->whole.psnr_db, c->whole.ssim, c->whole.delta_e00_mean, c->pop_psnr_db,
-                c->soften > 1 ? " soft" : "");
+        fprintf(out, "%5.2f %5d %-10s %8u %9.3f %7.2f %9.4f %9.3f %9.2f", c->size, c->level, c->tier, c->strands,
+                c->cost_ratio, c->whole.psnr_db, c->whole.ssim, c->whole.delta_e00_mean, c->pop_psnr_db);
+        if (c->soften > 1) fprintf(out, " soft %g", (double)c->soften);
+        fprintf(out, "\n");
     }
 }

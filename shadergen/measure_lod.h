@@ -2,8 +2,8 @@
    at every geometry LOD of the scene (include/hairtier/lod.h's ladder, up
    to ht_lod_max_level) at HT_MEASURE_LOD_SIZES projected sizes (the image
    scaled: 1, 1/2, 1/4), and every strand level past 0 soft (lod.h's
-   ht_lod_cell.soften: ht_mesh_widen_back_to_front by the soften factor,
-   HT_LOD_SOFTEN unless hairgen --lod-soften says, as the runtime derives
+   ht_lod_cell.soften: ht_mesh_widen_back_to_front by each soften factor,
+   HT_LOD_SOFTEN and HT_LOD_SOFTEN_WIDE unless hairgen --lod-soften says, as the runtime derives
    it, at its inverse opacity), each (LOD, tier) cell against (LOD 0, the bundle's
    first tier) at the same size (PSNR, SSIM, ΔE00 mean, cost as a ratio of
    that pair's median frame, timed first and again last at each size, the
@@ -53,12 +53,13 @@ typedef struct ht_measure_lods {
    tier) drawn as the cells are; _SUPERSAMPLE, against that pair drawn at
    4 x 4 the pixels and box-filtered (the 16x truth), every cell drawn with
    the width rule (lod.h) as ht_lod_chain draws with width_rule set (the
-   manifest records it). soften: 0, HT_LOD_SOFTEN; else the soft cells'
-   factor, (1, HT_LOD_MAX_SOFTEN] (each soft cell records it). */
+   manifest records it). soften: the soft cells' factors, each in
+   (1, HT_LOD_MAX_SOFTEN], none twice, the first 0 ending them (each soft
+   cell records its own); all 0: HT_LOD_SOFTEN and HT_LOD_SOFTEN_WIDE. */
 typedef struct ht_measure_lods_desc {
     int samples;
     ht_lod_reference reference;
-    float soften;
+    float soften[HT_LOD_MAX_SOFTENS];
 } ht_measure_lods_desc;
 
 /* The 16x truth (lod.h's supersampled reference): mesh drawn in tier at

@@ -42,8 +42,8 @@
 #define HAIRS 600 /* 38 at level 4, above HT_LOD_MIN_STRANDS: five strand levels */
 #define STRAND_LEVELS 5
 #define LEVELS (STRAND_LEVELS + 1) /* and the cards */
-#define SOFT_LEVELS (STRAND_LEVELS - 1) /* strand levels 1..4 soft */
-#define BLOCK (LEVELS + SOFT_LEVELS)    /* a (size, tier)'s cells: the plain levels, then the soft ones */
+#define SOFT_LEVELS (STRAND_LEVELS - 1) /* strand levels 1..4 soft, at each of hairgen's two factors */
+#define BLOCK (LEVELS + 2 * SOFT_LEVELS) /* a (size, tier)'s cells: the plain levels, then the soft ones by factor */
 #define CARDS_STRANDS 16
 #define CARDS_ATLAS 512
 #define JOINTS 4  /* not the scene's 16: every cell's frames a quarter of the vertices */
@@ -186,9 +186,9 @@ static void manifest_holds_every_pair_at_three_sizes(void **state) {
     for (int i = 0; i < m->lods.cell_count; i++) {
         const ht_manifest_lod_cell *c = &m->lods.cells[i];
         const int t = i / BLOCK % tiers, j = i % BLOCK;
-        const bool soft = j >= LEVELS;
-        assert_int_equal(c->level, soft ? j - LEVELS + 1 : j);
-        assert_true(c->soften == (soft ? HT_LOD_SOFTEN : 0.0f));
+        const bool soft = j >= LEVELS, wide = j >= LEVELS + SOFT_LEVELS;
+        assert_int_equal(c->level, !soft ? j : (j - LEVELS) % SOFT_LEVELS + 1);
+        assert_true(c->soften == (wide ? HT_LOD_SOFTEN_WIDE : soft ? HT_LOD_SOFTEN : 0.0f));
         assert_string_equal(c->tier, m->tiers[t].name);
         assert_true(c->size == sizes[i / (BLOCK * tiers)]);
         assert_int_equal(c->cards, !soft && c->level == STRAND_LEVELS);
@@ -231,8 +231,10 @@ static void expect_pair(const char *policy, const ht_lod_cell *pick) {
     /* a soft pick says so, and draws the stored level widened at a third the opacity */
     const char *line = strstr(out, want), *soft = strstr(line, " soft\n"), *end = strchr(line, '\n');
     if ((soft && soft < end) != (pick->soften > 1)) fail_msg("expected the pick %ssoft in:\n%s", pick->soften > 1 ? "" : "not ", out);
-    if ((strstr(out, "soften=3.000 opacity=0.333\n") != NULL) != (pick->soften > 1))
-        fail_msg("expected %ssoften=3.000 in:\n%s", pick->soften > 1 ? "" : "no ", out);
+    char soften[64];
+    snprintf(soften, sizeof soften, "soften=%.3f opacity=%.3f\n", pick->soften, 1.0 / pick->soften);
+    if ((strstr(out, soften) != NULL) != (pick->soften > 1) || (pick->soften <= 1 && strstr(out, "soften=")))
+        fail_msg("expected %s%s in:\n%s", pick->soften > 1 ? "" : "no ", soften, out);
     snprintf(want, sizeof want, "lod=%d ", pick->lod);
     if (!strstr(out, want)) fail_msg("expected %s in:\n%s", want, out);
     /* the cards bundle stores every level: the cards past the strand levels */
@@ -299,15 +301,15 @@ static void hairview_repicks_the_pair_while_dollying(void **state) {
     assert_non_null(strstr(out, "dolly: 8 frames"));
 }
 
-/* The manifest's soft cells (soft) or cards' cells made the only ones to
-   meet a budget: their PSNR 99 and cost 0.01, every other cell's 0.5
-   (the reference's kept). */
-static void only_these_meet(bool soft) {
+/* The manifest's soft cells of factor soften (> 1) or cards' cells (0)
+   made the only ones to meet a budget: their PSNR 99 and cost 0.01, every
+   other cell's 0.5 (the reference's kept). */
+static void only_these_meet(float soften) {
     cJSON *root = ht_test_read_json(cards, "manifest.json");
     const cJSON *cell;
     cJSON_ArrayForEach(cell, cJSON_GetObjectItem(cJSON_GetObjectItem(root, "lods"), "cells")) {
-        const bool these = soft ? cJSON_IsNumber(cJSON_GetObjectItem(cell, "soften"))
-                                : cJSON_IsString(cJSON_GetObjectItem(cell, "kind"));
+        const bool these = soften > 1 ? cJSON_GetNumberValue(cJSON_GetObjectItem(cell, "soften")) == soften
+                                      : cJSON_IsString(cJSON_GetObjectItem(cell, "kind"));
         if (cJSON_IsNull(cJSON_GetObjectItem(cell, "psnr_db"))) continue;
         cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)cell, "cost_ratio", cJSON_CreateNumber(these ? 0.01 : 0.5));
         if (these) cJSON_ReplaceItemInObjectCaseSensitive((cJSON *)cell, "psnr_db", cJSON_CreateNumber(99));
@@ -318,21 +320,26 @@ static void only_these_meet(bool soft) {
     cJSON_Delete(root);
 }
 
-/* The soft cells made the only ones to meet a budget (their PSNR edited
-   in the manifest, all other cells costlier): error:DB picks a soft
-   cell, which hairview draws soft (lod_pair ... soft, soften=3), and the
-   dolly's pairs are soft ones; the manifest is put back after. */
+/* The soft cells of one factor made the only ones to meet a budget (their
+   PSNR edited in the manifest, all other cells costlier): error:DB picks
+   a soft cell of that factor, which hairview draws soft by it (lod_pair
+   ... soft, soften=F), for each of hairgen's two factors, and the dolly's
+   pairs are soft ones; the manifest is put back after. */
 static void a_budget_only_soft_cells_meet_picks_them(void **state) {
     (void)state;
     char path[192], err[512], *saved = NULL;
     snprintf(path, sizeof path, "%s/manifest.json", cards);
     if (ht_json_read_file(path, &saved, err, sizeof err) != HT_OK) fail_msg("%s", err);
-    only_these_meet(true);
     ht_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
-    const int n = cells_of(cells);
-    const int pick = ht_lod_pick_error(cells, n, 0.25, 90, -1);
-    assert_true(pick >= 0 && cells[pick].soften == HT_LOD_SOFTEN && cells[pick].lod >= 1);
-    expect_pair("error:90", &cells[pick]);
+    static const float factors[] = { HT_LOD_SOFTEN_WIDE, HT_LOD_SOFTEN };
+    for (int k = 0; k < 2; k++) {
+        ht_test_write_file(cards, "manifest.json", saved);
+        only_these_meet(factors[k]);
+        const int n = cells_of(cells);
+        const int pick = ht_lod_pick_error(cells, n, 0.25, 90, -1);
+        assert_true(pick >= 0 && cells[pick].soften == factors[k] && cells[pick].lod >= 1);
+        expect_pair("error:90", &cells[pick]);
+    }
     char args[1024], out[16384];
     snprintf(args, sizeof args, "--bundle %s --scene %s/scene.json --lod auto --policy error:90 --distance 3.3508:13.4 "
              "--frames 4 -o %s/ds.png", cards, work, work);
@@ -349,7 +356,7 @@ static void a_budget_only_soft_cells_meet_picks_them(void **state) {
    frame:MS pick the cards, and hairview draws the stored cards level. */
 static void a_budget_only_cards_meet_picks_them(void **state) {
     (void)state;
-    only_these_meet(false);
+    only_these_meet(0);
     ht_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
     const int n = cells_of(cells);
     const int pick = ht_lod_pick_error(cells, n, 0.25, 90, -1), cheapest = ht_lod_pick_frame(cells, n, 0.25, 0.001, 1, -1);
@@ -439,19 +446,19 @@ static void supersample_reference_measures_the_width_rule_against_the_truth(void
     char args[1024], out[4096], truth[160];
     snprintf(truth, sizeof truth, "%s/truth", work);
     snprintf(args, sizeof args, "-q materials/dark-brown.json --scene %s --no-lods --lod-samples 4 --lod-reference "
-             "supersample --lod-soften 2 -o %s", scene_path, truth);
+             "supersample --lod-soften 2,5 -o %s", scene_path, truth);
     if (ht_test_run_program("hairgen", args, out, sizeof out) != 0) fail_msg("hairgen: %s", out);
     cJSON *root = ht_test_read_json(truth, "manifest.json");
     const cJSON *lods = cJSON_GetObjectItem(root, "lods");
     assert_string_equal(cJSON_GetStringValue(cJSON_GetObjectItem(lods, "reference")), "supersample");
     double cell = NAN, reference = NAN;
     const cJSON *c;
-    int soft_cells = 0;
+    int soft_cells[2] = { 0, 0 };
     cJSON_ArrayForEach(c, cJSON_GetObjectItem(lods, "cells")) {
-        /* --lod-soften 2: every soft cell at that factor */
+        /* --lod-soften 2,5: every soft cell at one of those factors, as many at each */
         const cJSON *soften = cJSON_GetObjectItem(c, "soften");
-        if (soften) assert_true(cJSON_GetNumberValue(soften) == 2.0);
-        soft_cells += soften != NULL;
+        if (soften) assert_true(cJSON_GetNumberValue(soften) == 2.0 || cJSON_GetNumberValue(soften) == 5.0);
+        if (soften) soft_cells[cJSON_GetNumberValue(soften) == 5.0]++;
         if (strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(c, "tier")), "full") ||
             cJSON_GetNumberValue(cJSON_GetObjectItem(c, "size")) != 1.0 || cJSON_GetObjectItem(c, "soften"))
             continue;
@@ -473,7 +480,7 @@ static void supersample_reference_measures_the_width_rule_against_the_truth(void
     printf("against the truth at size 1: level 0 %.2f dB, level 1 %.2f dB (hairview: %.2f)\n", reference, cell, viewed);
     assert_true(isfinite(reference)); /* not the reference pair itself (null) */
     assert_true(fabs(cell - viewed) < 0.05);
-    assert_true(soft_cells > 0);
+    assert_true(soft_cells[0] > 0 && soft_cells[0] == soft_cells[1]);
     /* --cards with no lods.bin: one line naming it */
     snprintf(args, sizeof args, "--bundle %s --scene %s --cards --frames 1 -o %s/nc.png", truth, scene_path, work);
     assert_int_not_equal(ht_test_run_program("hairview", args, out, sizeof out), 0);
@@ -489,10 +496,15 @@ static void supersample_reference_measures_the_width_rule_against_the_truth(void
                  work);
         assert_int_not_equal(ht_test_run_program("hairview", args, out, sizeof out), 0);
         assert_non_null(strstr(out, "--soft: expected a factor above 1, at most 16"));
+    }
+    /* hairgen's factors: each as hairview's, up to three, none twice */
+    static const char *const bad_list[] = { "1", "0.5", "17", "nan", "x", "3,3", "2,3,4,5", "3,", ",3", "3:8", "2,17" };
+    for (size_t i = 0; i < sizeof bad_list / sizeof bad_list[0]; i++) {
         snprintf(args, sizeof args, "materials/dark-brown.json --scene %s --lod-soften %s -o %s/never3", scene_path,
-                 bad[i], work);
+                 bad_list[i], work);
         assert_int_not_equal(ht_test_run_program("hairgen", args, out, sizeof out), 0);
-        assert_non_null(strstr(out, "--lod-soften: expected a factor above 1, at most 16"));
+        if (!strstr(out, "--lod-soften: expected up to 3 factors, comma-separated, each above 1, at most 16, none twice"))
+            fail_msg("--lod-soften %s: %s", bad_list[i], out);
         char never[160];
         snprintf(never, sizeof never, "%s/never3", work);
         assert_int_not_equal(access(never, F_OK), 0);

@@ -351,13 +351,15 @@ static void test_cards_bundle_grid_draws_its_stored_levels_with_the_measured_cel
     cJSON_AddItemToArray(cells, lod_cell(cards, true, "gl11", card_count, 0.25, 23.3, 0.25));
     cJSON_AddItemToArray(cells, lod_cell(1, false, "full", 7, 0.25, 30, 0.5));       /* another ladder's level 1 */
     cJSON_AddItemToArray(cells, lod_cell(cards, true, "full", card_count, 1, 21.1, 0.5)); /* not the grid's size */
-    /* soft cells (hairgen --lod-soften 2): the grid's soft rows, by their factor; one of another is other geometry */
-    cJSON *soft = lod_cell(1, false, "gl11", level1, 0.25, 31.5, 0.3);
-    cJSON_AddNumberToObject(soft, "soften", 2);
-    cJSON_AddItemToArray(cells, soft);
-    soft = lod_cell(2, false, "gl11", level2, 0.25, 30.5, 0.2);
-    cJSON_AddNumberToObject(soft, "soften", 3);
-    cJSON_AddItemToArray(cells, soft);
+    /* soft cells (hairgen --lod-soften 2,3): the grid's soft rows, a row per factor; a soft cell of another
+       ladder's level is other geometry */
+    static const struct { int level; float soften; double db; } softs[] = { { 1, 2, 31.5 }, { 2, 3, 30.5 }, { 1, 2, 29 } };
+    for (int i = 0; i < 3; i++) {
+        cJSON *soft = lod_cell(softs[i].level, false, "gl11", i == 2 ? 7 : softs[i].level == 1 ? level1 : level2, 0.25,
+                               softs[i].db, 0.3);
+        cJSON_AddNumberToObject(soft, "soften", softs[i].soften);
+        cJSON_AddItemToArray(cells, soft);
+    }
     write_json(measured, "manifest.json", root);
 
     snprintf(report, sizeof report, "%s/cards-report", work);
@@ -384,27 +386,44 @@ static void test_cards_bundle_grid_draws_its_stored_levels_with_the_measured_cel
     char *cell = grid_cell(html, "level 0, full");
     expect_in(cell, "&#8734; dB, 1.00&#215;<br><span class=\"measured\">bundle &#8734; dB, 1.00&#215;</span>");
     free(cell);
-    /* soft rows: each strand level past 0 drawn soft (wider, fainter: not its
-       plain image), the soft cell's numbers in its own row; none for cards */
-    snprintf(want, sizeof want, "<div class=\"lodhead\">level 1 soft<br><span>%u strands, 2&#215; wide at 1/2", level1);
-    expect_in(html, want);
-    cell = grid_cell(html, "level 1 soft, gl11");
+    /* soft rows: each strand level past 0 drawn soft by each factor (wider,
+       fainter: not its plain image, nor the other factor's), each soft
+       cell's numbers in its factor's row; none for level 0 or cards */
+    expect_in(html, "also soft by 2 and 3 (ribbons");
+    for (int f = 2; f <= 3; f++) {
+        snprintf(want, sizeof want, "<div class=\"lodhead\">level 1 soft<br><span>%u strands, %d&#215; wide at 1/%d",
+                 level1, f, f);
+        expect_in(html, want);
+    }
+    cell = grid_cell(html, "level 1 soft 2, gl11");
     expect_in(cell, "<span class=\"measured\">bundle 31.5 dB, 0.30&#215;</span>");
     free(cell);
-    cell = grid_cell(html, "level 1, gl11");
-    assert_null(strstr(cell, "bundle 31.5 dB"));
+    cell = grid_cell(html, "level 2 soft 3, gl11");
+    expect_in(cell, "<span class=\"measured\">bundle 30.5 dB, 0.30&#215;</span>");
     free(cell);
+    static const char *const unmeasured[] = { "level 1, gl11", "level 1 soft 3, gl11", "level 2 soft 2, gl11" };
+    for (int i = 0; i < 3; i++) {
+        cell = grid_cell(html, unmeasured[i]);
+        expect_in(cell, "<span class=\"measured\">bundle: not measured</span>");
+        free(cell);
+    }
     assert_null(strstr(html, "level 0 soft"));
     snprintf(want, sizeof want, "cards, level %d soft", cards);
     assert_null(strstr(html, want));
-    ht_image plain = { 0 }, softened = { 0 };
+    ht_image plain = { 0 }, soft2 = { 0 }, soft3 = { 0 };
     read_png(report, "lod1-gl11.png", &plain);
-    read_png(report, "lod1soft-gl11.png", &softened);
-    assert_true(plain.width == softened.width && plain.height == softened.height);
-    assert_int_not_equal(memcmp(plain.pixels, softened.pixels, (size_t)plain.width * plain.height * 3), 0);
+    read_png(report, "lod1soft2-gl11.png", &soft2);
+    read_png(report, "lod1soft3-gl11.png", &soft3);
+    const size_t bytes = (size_t)plain.width * plain.height * 3;
+    assert_true(plain.width == soft2.width && plain.height == soft2.height && soft3.width == soft2.width);
+    assert_int_not_equal(memcmp(plain.pixels, soft2.pixels, bytes), 0);
+    assert_int_not_equal(memcmp(soft3.pixels, soft2.pixels, bytes), 0);
     ht_image_free(&plain);
-    ht_image_free(&softened);
-    snprintf(want, sizeof want, "%-5d %-7s %8u %-7s", 1, "soft", level1, "gl11");
+    ht_image_free(&soft2);
+    ht_image_free(&soft3);
+    snprintf(want, sizeof want, "%-5d %-7s %8u %-7s", 1, "soft2", level1, "gl11");
+    expect_in(out, want);
+    snprintf(want, sizeof want, "%-5d %-7s %8u %-7s", 2, "soft3", level2, "gl11");
     expect_in(out, want);
     expect_in(html, "2 of its measured cells at this size are of other geometry");
     expect_in(out, "lods: the bundle's stored levels at 0.25 of the scene's size, against (level 0, full)");

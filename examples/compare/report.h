@@ -109,14 +109,21 @@ typedef struct report_lod_grid {
     int measured_cells;            /* the manifest's cells shown beside the grid's */
     int other_cells;               /* its cells at this size that match no row (other geometry) */
     report_lod_cell cells[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS]; /* [level][the report's tier] */
-    /* soft[l]: strand level l past 0 also drawn soft (lod.h: soften times
-       wider at its inverse opacity, back to front), a row of its own, when
-       the bundle measured soft cells (error:DB may pick one); soften: their
-       factor (the first soft cell's; cells of another are other geometry) */
-    bool soft[REPORT_LOD_MAX_LEVELS];
-    float soften;
-    report_lod_cell soft_cells[REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS];
+    /* soft[k][l]: strand level l past 0 also drawn soft by soften[k] (lod.h:
+       that many times wider at its inverse opacity, back to front), a row
+       of its own, for each factor the bundle measured soft cells at
+       (error:DB may pick one), in the order its cells first name them */
+    float soften[HT_LOD_MAX_SOFTENS];
+    int soften_count;
+    bool soft[HT_LOD_MAX_SOFTENS][REPORT_LOD_MAX_LEVELS];
+    report_lod_cell soft_cells[HT_LOD_MAX_SOFTENS][REPORT_LOD_MAX_LEVELS][REPORT_MAX_TIERS];
 } report_lod_grid;
+
+/* A grid row's cell: row_kind 0 the plain level, k + 1 it soft by soften[k]
+   (as strchr, the grid's constness is the caller's). */
+report_lod_cell *report_lod_row_cell(const report_lod_grid *g, int level, int row_kind, int tier);
+/* Whether the grid has that row (level 0 never soft, cards never). */
+bool report_lod_has_row(const report_lod_grid *g, int level, int row_kind);
 
 typedef struct report {
     char material[64];

@@ -5,6 +5,14 @@
 
 #include "report.h"
 
+report_lod_cell *report_lod_row_cell(const report_lod_grid *g, int level, int row_kind, int tier) {
+    return (report_lod_cell *)(row_kind ? &g->soft_cells[row_kind - 1][level][tier] : &g->cells[level][tier]);
+}
+
+bool report_lod_has_row(const report_lod_grid *g, int level, int row_kind) {
+    return row_kind == 0 || (row_kind <= g->soften_count && g->soft[row_kind - 1][level]);
+}
+
 double report_lod_size(const ht_manifest_lods *m) {
     double best = 0;
     for (int i = 0; i < m->cell_count; i++) {
@@ -24,15 +32,16 @@ void report_lod_attach_measured(report *r) {
         int t = 0;
         while (t < r->tier_count && strcmp(r->tiers[t].name, c->tier) != 0) t++;
         const int l = c->level;
-        const bool soft = c->soften > 1;
-        /* the same geometry: the row's kind and its strand (card) count, a
-           soft cell's row drawn soft by the factor it was measured with */
+        int kind = 0; /* a soft cell's row: the one drawn soft by the factor it was measured with */
+        while (c->soften > 1 && kind < g->soften_count && g->soften[kind] != c->soften) kind++;
+        if (c->soften > 1) kind++;
+        /* the same geometry: the row's kind and its strand (card) count */
         if (t == r->tier_count || l >= g->levels || (c->cards != 0) != g->cards[l] || c->strands != g->strands[l] ||
-            (soft && (!g->soft[l] || c->soften != g->soften))) {
+            !report_lod_has_row(g, l, kind)) {
             g->other_cells++;
             continue;
         }
-        report_lod_cell *cell = soft ? &g->soft_cells[l][t] : &g->cells[l][t];
+        report_lod_cell *cell = report_lod_row_cell(g, l, kind, t);
         cell->measured = true;
         cell->measured_psnr_db = c->psnr_db;
         cell->measured_cost_ratio = c->cost_ratio;
@@ -64,11 +73,14 @@ static void write_intro(FILE *f, const report *r) {
                     : "the bundle stores none");
     }
     int soft = 0;
-    for (int l = 0; l < g->levels; l++) soft += g->soft[l];
-    if (soft)
-        fprintf(f, "; %d of them also soft (ribbons %g&#215; wider at 1/%g the opacity, far to near: the bundle "
-                   "measured soft cells, which <code>error:DB</code> may pick)", soft, (double)g->soften,
-                (double)g->soften);
+    for (int l = 0; l < g->levels; l++) soft += g->soften_count && g->soft[0][l];
+    if (soft) {
+        fprintf(f, "; %d of them also soft by ", soft);
+        for (int k = 0; k < g->soften_count; k++)
+            fprintf(f, "%s%g", k == 0 ? "" : k + 1 == g->soften_count ? " and " : ", ", (double)g->soften[k]);
+        fputs(" (ribbons that many times wider at its inverse opacity, far to near, a row each: the bundle "
+              "measured soft cells, which <code>error:DB</code> may pick)", f);
+    }
     fprintf(f, ". Each drawn by every tier that ran at %d&#215;%d against (level 0, <b>", g->width, g->height);
     report_escape(f, report_reference_name(r));
     fputs("</b>) at this size: PSNR in dB and cost (frame time over that pair&#8217;s, this run; "
@@ -86,10 +98,10 @@ static void write_intro(FILE *f, const report *r) {
     fputs("</p>\n", f);
 }
 
-static void write_row_head(FILE *f, const report_lod_grid *g, int l, bool soft) {
-    if (soft)
+static void write_row_head(FILE *f, const report_lod_grid *g, int l, int kind) {
+    if (kind)
         fprintf(f, "<div class=\"lodhead\">level %d soft<br><span>%u strands, %g&#215; wide at 1/%g the "
-                   "opacity</span></div>\n", l, g->strands[l], (double)g->soften, (double)g->soften);
+                   "opacity</span></div>\n", l, g->strands[l], (double)g->soften[kind - 1], (double)g->soften[kind - 1]);
     else if (g->cards[l])
         fprintf(f, "<div class=\"lodhead\">cards<br><span>level %d: %u cards of %u strands</span></div>\n", l,
                 g->strands[l], g->strands_per_card[l]);
@@ -104,14 +116,14 @@ void report_write_lod_grid(FILE *f, const report *r) {
     /* a cell is as wide as its image, or its two lines of numbers */
     const int cell_w = g->width > 150 ? g->width : 150;
     fputs("<div class=\"lods\">\n", f);
-    for (int row = 0; row < 2 * g->levels; row++) {
-        const int l = row / 2;
-        const bool soft = row % 2;
-        if (soft && !g->soft[l]) continue;
+    const int kinds = 1 + g->soften_count;
+    for (int row = 0; row < kinds * g->levels; row++) {
+        const int l = row / kinds, kind = row % kinds;
+        if (!report_lod_has_row(g, l, kind)) continue;
         fputs("<div class=\"lodrow\">\n", f);
-        write_row_head(f, g, l, soft);
+        write_row_head(f, g, l, kind);
         for (int t = 0; t < r->tier_count; t++) {
-            const report_lod_cell *c = soft ? &g->soft_cells[l][t] : &g->cells[l][t];
+            const report_lod_cell *c = report_lod_row_cell(g, l, kind, t);
             if (!g->cells[0][t].ran) continue;
             fprintf(f, "<figure class=\"lod\" style=\"width:%dpx\"><p class=\"cap\"><b>", cell_w);
             report_escape(f, r->tiers[t].name);
@@ -123,8 +135,10 @@ void report_write_lod_grid(FILE *f, const report *r) {
             }
             fputs("<img src=\"", f);
             report_escape(f, c->image);
-            fprintf(f, "\" width=\"%d\" height=\"%d\" alt=\"%s %d%s, ", g->width, g->height,
-                    g->cards[l] ? "cards, level" : "level", l, soft ? " soft" : "");
+            fprintf(f, "\" width=\"%d\" height=\"%d\" alt=\"%s %d", g->width, g->height,
+                    g->cards[l] ? "cards, level" : "level", l);
+            if (kind) fprintf(f, " soft %g", (double)g->soften[kind - 1]);
+            fputs(", ", f);
             report_escape(f, r->tiers[t].name);
             fputs("\"><p>", f);
             write_db(f, c->whole.psnr_db);

@@ -99,6 +99,10 @@ HT_API void ht_lod_level(int level, ht_lod_desc *out);
    sorted back to front (ht_mesh_sort_back_to_front) and with
    ht_renderer_set_opacity_scale(r, ht_lod_opacity(&desc)). */
 #define HT_LOD_SOFTEN 3.0f
+/* hairgen's second factor by default: a dense groom's long strands keep
+   30 dB at 8 where 3 does not, short fur pays 8's fragments (docs/lod.md);
+   the measured cells choose. */
+#define HT_LOD_SOFTEN_WIDE 8.0f
 #define HT_LOD_MAX_SOFTEN 16.0f
 HT_API void ht_lod_soft_level(int level, ht_lod_desc *out);
 /* The opacity scale a level is drawn with: 1 / soften, 1 for a level that
@@ -254,8 +258,10 @@ typedef struct ht_lod_cell {
 } ht_lod_cell;
 /* Whether two cells hold one pair: level, tier and softness (plain, or the same soften). */
 HT_API bool ht_lod_cell_same_pair(const ht_lod_cell *a, const ht_lod_cell *b);
-/* The most cells a bundle measures: 3 sizes x (8 stored levels + 7 soft) x 6 tiers. */
-#define HT_LOD_MAX_CELLS 288
+/* The most soften factors a bundle's soft cells are measured at (hairgen --lod-soften). */
+#define HT_LOD_MAX_SOFTENS 3
+/* The most cells a bundle measures: 3 sizes x (8 stored levels + 7 soft at each factor) x 6 tiers. */
+#define HT_LOD_MAX_CELLS (3 * (8 + 7 * HT_LOD_MAX_SOFTENS) * 6)
 
 /* The `error:DB` rule: among the cells measured at the size nearest `size`
    (in log2), the cheapest whose PSNR is at least db; none: the most
