@@ -352,6 +352,13 @@ static int pair_cells(const options *o, const view *v, const ht_policy *policy, 
     return *ref >= 0 ? n : 0;
 }
 
+/* " soft F" for a soft pair's factor, "" for a plain one (buf: 32 bytes). */
+static const char *soft_text(float soften, char *buf) {
+    buf[0] = '\0';
+    if (soften > 1) snprintf(buf, 32, " soft %g", (double)soften);
+    return buf;
+}
+
 /* --lod auto with error:DB or frame:MS and a bundle measured with
    --measure-lods: the (LOD, tier) pair the rule picks at this projected
    size (the scene's times --size, over --distance's change), the renderer
@@ -372,7 +379,8 @@ static int auto_pair(const options *o, view *v, const ht_scene *s, const ht_fram
     printf("lod_pair: lod=%d tier=%s at size %.3f: %.2f dB, cost %.3fx (lod 0, %s)", cells[pick].lod,
            ht_tier_name(cells[pick].tier), size, cells[pick].psnr, cells[pick].cost, ht_tier_name(cells[ref].tier));
     if (policy->kind == HT_POLICY_FRAME) printf(" = %.3f ms of %.3f", cells[pick].cost * ms, policy->value);
-    printf("%s\n", cells[pick].soften > 1 ? " soft" : "");
+    char soft[32];
+    printf("%s\n", soft_text(cells[pick].soften, soft));
     *level = cells[pick].lod;
     *soften = cells[pick].soften > 1 ? cells[pick].soften : 0.0f;
     return retier(v, cells[pick].tier);
@@ -580,6 +588,7 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
     int last_level = -1;
     ht_tier last_tier = HT_TIER_COUNT;
     float last_soften = -1.0f;
+    char soft[32];
     double ms = 0, last_widen = 1.0, max_ms = 0, max_select = 0;
     int max_frame = 0, pending_frames = 0;
     bool per_vertex = false, was_pending = false;
@@ -604,8 +613,7 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
         was_pending = pending;
         if (level != last_level || ht_renderer_tier(v->renderer) != last_tier || chain.soften != last_soften)
             printf("lod_pair: frame=%d lod=%d tier=%s distance=%.3f size=%.3f select_ms=%.3f%s\n", f, level,
-                   ht_tier_name(ht_renderer_tier(v->renderer)), d, chain.size, select_ms,
-                   chain.soften > 1 ? " soft" : "");
+                   ht_tier_name(ht_renderer_tier(v->renderer)), d, chain.size, select_ms, soft_text(chain.soften, soft));
         if (width_rule == WIDTH_RULE_VERTEX && ht_renderer_width_rule_per_vertex(v->renderer) != per_vertex) {
             per_vertex = !per_vertex;
             printf("width_rule: frame=%d %s\n", f, per_vertex ? "vertex" : "draw");
@@ -624,7 +632,7 @@ static int dolly(const options *o, view *v, ht_scene *s, double scene_distance, 
         ht_lod_chain_wait(&chain);
         const int level = ht_lod_chain_select_pair(&chain, v->renderer, &s->camera, viewport_h, &rule, &fr);
         if (level >= 0) draw_frame(s, v, frame, &fr);
-        printf("lod_waited: lod=%d%s\n", level, chain.soften > 1 ? " soft" : "");
+        printf("lod_waited: lod=%d%s\n", level, soft_text(chain.soften, soft));
     }
     ht_lod_chain_free(&chain);
     if (fr != HT_OK) return fail(fr);

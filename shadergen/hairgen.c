@@ -80,7 +80,7 @@ static const char help[] =
     "                        filtered: the truth; every cell drawn with the width rule)\n"
     "  --lod-soften F[,F..]  --measure-lods with the soft cells F times wider at 1/F the opacity,\n"
     "                        up to 3 factors, each its own cells (above 1, at most 16; default\n"
-    "                        3,8; hairview --soft=F draws one)\n"
+    "                        3,6,8; hairview --soft=F draws one)\n"
     "  --cards BUNDLE        write DIR: BUNDLE with every geometry level of the scene stored in\n"
     "                        DIR/lods.bin, the strand levels and cards (clumps of N strands,\n"
     "                        default 32, as textured ribbons), its textures one atlas of the\n"

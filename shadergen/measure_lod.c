@@ -313,9 +313,11 @@ ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char
     char why[1024];
     if (levels) {
         for (int k = 0; k < HT_LOD_MAX_SOFTENS && d.soften[k] != 0.0f; k++) levels->soften[levels->soften_count++] = d.soften[k];
+        static const float defaults[] = HT_LOD_DEFAULT_SOFTENS;
+        _Static_assert(sizeof defaults / sizeof defaults[0] <= HT_LOD_MAX_SOFTENS, "HT_LOD_DEFAULT_SOFTENS");
         if (!levels->soften_count) {
-            levels->soften[levels->soften_count++] = HT_LOD_SOFTEN;
-            levels->soften[levels->soften_count++] = HT_LOD_SOFTEN_WIDE;
+            memcpy(levels->soften, defaults, sizeof defaults);
+            levels->soften_count = (int)(sizeof defaults / sizeof defaults[0]);
         }
     }
     ht_result r = bundle && levels ? ht_manifest_load(dir, bundle, why, sizeof why) : HT_ERR_OUT_OF_MEMORY;

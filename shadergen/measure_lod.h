@@ -3,7 +3,7 @@
    to ht_lod_max_level) at HT_MEASURE_LOD_SIZES projected sizes (the image
    scaled: 1, 1/2, 1/4), and every strand level past 0 soft (lod.h's
    ht_lod_cell.soften: ht_mesh_widen_back_to_front by each soften factor,
-   HT_LOD_SOFTEN and HT_LOD_SOFTEN_WIDE unless hairgen --lod-soften says, as the runtime derives
+   HT_LOD_DEFAULT_SOFTENS unless hairgen --lod-soften says, as the runtime derives
    it, at its inverse opacity), each (LOD, tier) cell against (LOD 0, the bundle's
    first tier) at the same size (PSNR, SSIM, ΔE00 mean, cost as a ratio of
    that pair's median frame, timed first and again last at each size, the
@@ -55,7 +55,7 @@ typedef struct ht_measure_lods {
    the width rule (lod.h) as ht_lod_chain draws with width_rule set (the
    manifest records it). soften: the soft cells' factors, each in
    (1, HT_LOD_MAX_SOFTEN], none twice, the first 0 ending them (each soft
-   cell records its own); all 0: HT_LOD_SOFTEN and HT_LOD_SOFTEN_WIDE. */
+   cell records its own); all 0: HT_LOD_DEFAULT_SOFTENS (lod.h). */
 typedef struct ht_measure_lods_desc {
     int samples;
     ht_lod_reference reference;

@@ -42,8 +42,9 @@
 #define HAIRS 600 /* 38 at level 4, above HT_LOD_MIN_STRANDS: five strand levels */
 #define STRAND_LEVELS 5
 #define LEVELS (STRAND_LEVELS + 1) /* and the cards */
-#define SOFT_LEVELS (STRAND_LEVELS - 1) /* strand levels 1..4 soft, at each of hairgen's two factors */
-#define BLOCK (LEVELS + 2 * SOFT_LEVELS) /* a (size, tier)'s cells: the plain levels, then the soft ones by factor */
+#define SOFT_LEVELS (STRAND_LEVELS - 1) /* strand levels 1..4 soft, at each of hairgen's three factors */
+#define BLOCK (LEVELS + 3 * SOFT_LEVELS) /* a (size, tier)'s cells: the plain levels, then the soft ones by factor */
+static const float default_softens[] = HT_LOD_DEFAULT_SOFTENS;
 #define CARDS_STRANDS 16
 #define CARDS_ATLAS 512
 #define JOINTS 4  /* not the scene's 16: every cell's frames a quarter of the vertices */
@@ -186,9 +187,9 @@ static void manifest_holds_every_pair_at_three_sizes(void **state) {
     for (int i = 0; i < m->lods.cell_count; i++) {
         const ht_manifest_lod_cell *c = &m->lods.cells[i];
         const int t = i / BLOCK % tiers, j = i % BLOCK;
-        const bool soft = j >= LEVELS, wide = j >= LEVELS + SOFT_LEVELS;
+        const bool soft = j >= LEVELS;
         assert_int_equal(c->level, !soft ? j : (j - LEVELS) % SOFT_LEVELS + 1);
-        assert_true(c->soften == (wide ? HT_LOD_SOFTEN_WIDE : soft ? HT_LOD_SOFTEN : 0.0f));
+        assert_true(c->soften == (soft ? default_softens[(j - LEVELS) / SOFT_LEVELS] : 0.0f));
         assert_string_equal(c->tier, m->tiers[t].name);
         assert_true(c->size == sizes[i / (BLOCK * tiers)]);
         assert_int_equal(c->cards, !soft && c->level == STRAND_LEVELS);
@@ -229,8 +230,12 @@ static void expect_pair(const char *policy, const ht_lod_cell *pick) {
     snprintf(want, sizeof want, "lod_pair: lod=%d tier=%s ", pick->lod, ht_tier_name(pick->tier));
     if (!strstr(out, want)) fail_msg("expected %s in:\n%s", want, out);
     /* a soft pick says so, and draws the stored level widened at a third the opacity */
-    const char *line = strstr(out, want), *soft = strstr(line, " soft\n"), *end = strchr(line, '\n');
-    if ((soft && soft < end) != (pick->soften > 1)) fail_msg("expected the pick %ssoft in:\n%s", pick->soften > 1 ? "" : "not ", out);
+    char soft_end[32];
+    snprintf(soft_end, sizeof soft_end, " soft %g\n", (double)pick->soften);
+    const char *line = strstr(out, want), *soft = strstr(line, pick->soften > 1 ? soft_end : " soft "),
+               *end = strchr(line, '\n');
+    if ((soft && soft < end) != (pick->soften > 1))
+        fail_msg("expected the pick %s in:\n%s", pick->soften > 1 ? soft_end : "not soft", out);
     char soften[64];
     snprintf(soften, sizeof soften, "soften=%.3f opacity=%.3f\n", pick->soften, 1.0 / pick->soften);
     if ((strstr(out, soften) != NULL) != (pick->soften > 1) || (pick->soften <= 1 && strstr(out, "soften=")))
@@ -323,7 +328,7 @@ static void only_these_meet(float soften) {
 /* The soft cells of one factor made the only ones to meet a budget (their
    PSNR edited in the manifest, all other cells costlier): error:DB picks
    a soft cell of that factor, which hairview draws soft by it (lod_pair
-   ... soft, soften=F), for each of hairgen's two factors, and the dolly's
+   ... soft F, soften=F), for each of hairgen's default factors, and the dolly's
    pairs are soft ones; the manifest is put back after. */
 static void a_budget_only_soft_cells_meet_picks_them(void **state) {
     (void)state;
@@ -331,13 +336,12 @@ static void a_budget_only_soft_cells_meet_picks_them(void **state) {
     snprintf(path, sizeof path, "%s/manifest.json", cards);
     if (ht_json_read_file(path, &saved, err, sizeof err) != HT_OK) fail_msg("%s", err);
     ht_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
-    static const float factors[] = { HT_LOD_SOFTEN_WIDE, HT_LOD_SOFTEN };
-    for (int k = 0; k < 2; k++) {
+    for (int k = 2; k >= 0; k--) { /* 3 last: the dolly's below */
         ht_test_write_file(cards, "manifest.json", saved);
-        only_these_meet(factors[k]);
+        only_these_meet(default_softens[k]);
         const int n = cells_of(cells);
         const int pick = ht_lod_pick_error(cells, n, 0.25, 90, -1);
-        assert_true(pick >= 0 && cells[pick].soften == factors[k] && cells[pick].lod >= 1);
+        assert_true(pick >= 0 && cells[pick].soften == default_softens[k] && cells[pick].lod >= 1);
         expect_pair("error:90", &cells[pick]);
     }
     char args[1024], out[16384];
@@ -346,7 +350,8 @@ static void a_budget_only_soft_cells_meet_picks_them(void **state) {
     if (ht_test_run_program("hairview", args, out, sizeof out) != 0) fail_msg("hairview %s: %s", args, out);
     const char *first = strstr(out, "lod_pair: frame=0 ");
     assert_non_null(first);
-    if (!strstr(first, " soft\n") || strstr(first, " soft\n") > strchr(first, '\n')) fail_msg("expected a soft pair in:\n%s", out);
+    if (!strstr(first, " soft 3\n") || strstr(first, " soft 3\n") > strchr(first, '\n'))
+        fail_msg("expected a pair soft by 3 (the last factor made to meet) in:\n%s", out);
     ht_test_write_file(cards, "manifest.json", saved);
     free(saved);
 }

@@ -21,7 +21,7 @@
 #       hairs (512x512), its --lods pairs (4 samples) at 8 000 and
 #       1 000 000 hairs at 256 and 128, the dense groom's with --width-rule
 #       --truth (against the 16x truth, full-rule beside), plain and
-#       --soft=8, at 256 and 128, and on ES 1.1, 2.0 and 3.x at 8 000
+#       --soft=6 and 8, at 256 and 128, and on ES 1.1, 2.0 and 3.x at 8 000
 #       and 200 000. cells: the dense groom's (level, tier) cells measured
 #       by hairgen --measure-lods against the 16x truth, and the pair
 #       hairview's error:30 picks from them at 1/2 and 1/4 size. dolly:
@@ -245,9 +245,9 @@ bench() {
     done
     # The dense groom's pairs, levels under a pixel drawn with the width rule
     # as the runtime ships them, against the 16x truth (docs/lod.md): plain,
-    # then soft by hairgen's second factor (lod.h's HT_LOD_SOFTEN_WIDE).
+    # then soft by hairgen's other default factors (lod.h's HT_LOD_DEFAULT_SOFTENS).
     for sz in $BENCH_LOD_SIZES; do
-        for soft in "" --soft=8; do
+        for soft in "" --soft=6 --soft=8; do
             name="bench-lods-dense$soft-$sz"
             echo "== bench_frame --scene dense.json --lods $soft --width-rule --truth --samples 4 --size $sz (NVIDIA)" >>"$LOG"
             # shellcheck disable=SC2086 # $soft: no option or one word

@@ -99,10 +99,10 @@ HT_API void ht_lod_level(int level, ht_lod_desc *out);
    sorted back to front (ht_mesh_sort_back_to_front) and with
    ht_renderer_set_opacity_scale(r, ht_lod_opacity(&desc)). */
 #define HT_LOD_SOFTEN 3.0f
-/* hairgen's second factor by default: a dense groom's long strands keep
-   30 dB at 8 where 3 does not, short fur pays 8's fragments (docs/lod.md);
-   the measured cells choose. */
-#define HT_LOD_SOFTEN_WIDE 8.0f
+/* The factors hairgen measures soft cells at by default (--lod-soften): a
+   dense groom's long strands reach 30 dB at 6-8 where 3 does not, short
+   fur pays their fragments (docs/lod.md); the measured cells choose. */
+#define HT_LOD_DEFAULT_SOFTENS { HT_LOD_SOFTEN, 6.0f, 8.0f }
 #define HT_LOD_MAX_SOFTEN 16.0f
 HT_API void ht_lod_soft_level(int level, ht_lod_desc *out);
 /* The opacity scale a level is drawn with: 1 / soften, 1 for a level that
