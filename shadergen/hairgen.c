@@ -171,18 +171,18 @@ static const char *take(void *user, int key, const char *value) {
         _Static_assert(HT_LOD_MAX_SOFTENS == 3, "--lod-soften's message and help");
         const char *p = value;
         memset(o->lod.soften, 0, sizeof o->lod.soften);
+        static const char *const why =
+            "--lod-soften: expected up to 3 factors, comma-separated, each above 1, at most 16, none twice";
         for (int k = 0;; k++) {
             char *end;
             const double f = strtod(p, &end);
-            bool twice = false;
-            for (int j = 0; j < k; j++) twice |= o->lod.soften[j] == (float)f;
-            if (k == HT_LOD_MAX_SOFTENS || end == p || (*end && *end != ',') || !(f > 1.0 && f <= HT_LOD_MAX_SOFTEN) ||
-                twice)
-                return "--lod-soften: expected up to 3 factors, comma-separated, each above 1, at most 16, none twice";
+            /* 0 would end the list early: refused here, the rest by the check below */
+            if (k == HT_LOD_MAX_SOFTENS || end == p || (*end && *end != ',') || !(f > 1.0)) return why;
             o->lod.soften[k] = (float)f;
             if (!*end) break;
             p = end + 1;
         }
+        if (!ht_measure_lods_softens_valid(&o->lod)) return why;
         o->measure = o->measure_lods = 1;
         return NULL;
     }

@@ -289,6 +289,15 @@ static ht_result stored_levels(const char *dir, lod_levels *levels, char *err, s
     return r;
 }
 
+bool ht_measure_lods_softens_valid(const ht_measure_lods_desc *d) {
+    for (int k = 0; k < HT_LOD_MAX_SOFTENS && d->soften[k] != 0.0f; k++) {
+        if (!(d->soften[k] > 1.0f && d->soften[k] <= HT_LOD_MAX_SOFTEN)) return false;
+        for (int j = 0; j < k; j++)
+            if (d->soften[j] == d->soften[k]) return false;
+    }
+    return true;
+}
+
 ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char *scene_file,
                               const ht_measure_lods_desc *desc, ht_measure_lods *out, char *err, size_t err_size) {
     if (err && err_size) err[0] = '\0';
@@ -297,14 +306,9 @@ ht_result ht_measure_lods_run(const char *dir, const ht_scene *scene, const char
     if (d.samples != 0 && (d.samples < 2 || d.samples > HT_MANIFEST_MAX_LOD_SAMPLES))
         return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT, "measure: lods: --lod-samples: %d, expected 2..%d",
                        d.samples, HT_MANIFEST_MAX_LOD_SAMPLES);
-    for (int k = 0; k < HT_LOD_MAX_SOFTENS && d.soften[k] != 0.0f; k++) {
-        bool twice = false;
-        for (int j = 0; j < k; j++) twice |= d.soften[j] == d.soften[k];
-        if (!(d.soften[k] > 1.0f && d.soften[k] <= HT_LOD_MAX_SOFTEN) || twice)
-            return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT,
-                           "measure: lods: --lod-soften: %g, expected (1, %g], each factor once", (double)d.soften[k],
-                           (double)HT_LOD_MAX_SOFTEN);
-    }
+    if (!ht_measure_lods_softens_valid(&d))
+        return ht_fail(err, err_size, HT_ERR_INVALID_ARGUMENT,
+                       "measure: lods: --lod-soften: expected factors in (1, %g], each once", (double)HT_LOD_MAX_SOFTEN);
     out->samples = d.samples;
     out->reference = d.reference;
     ht_manifest *bundle = malloc(sizeof *bundle);

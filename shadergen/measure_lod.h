@@ -61,6 +61,9 @@ typedef struct ht_measure_lods_desc {
     ht_lod_reference reference;
     float soften[HT_LOD_MAX_SOFTENS];
 } ht_measure_lods_desc;
+/* Whether desc's soften factors are as above (hairgen --lod-soften checks
+   its list with it before anything is written). */
+bool ht_measure_lods_softens_valid(const ht_measure_lods_desc *desc);
 
 /* The 16x truth (lod.h's supersampled reference): mesh drawn in tier at
    HT_MEASURE_SUPERSAMPLE x HT_MEASURE_SUPERSAMPLE the pixels of a
