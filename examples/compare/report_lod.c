@@ -78,7 +78,7 @@ static void write_intro(FILE *f, const report *r) {
         fprintf(f, "; %d of them also soft by ", soft);
         for (int k = 0; k < g->soften_count; k++)
             fprintf(f, "%s%g", k == 0 ? "" : k + 1 == g->soften_count ? " and " : ", ", (double)g->soften[k]);
-        fputs(" (ribbons that many times wider at its inverse opacity, far to near, a row each: the bundle "
+        fputs(" (ribbons that many times wider at the inverse opacity, far to near, a row each: the bundle "
               "measured soft cells, which <code>error:DB</code> may pick)", f);
     }
     fprintf(f, ". Each drawn by every tier that ran at %d&#215;%d against (level 0, <b>", g->width, g->height);
