@@ -5,6 +5,7 @@
    the usage on stderr, exit 2. And hairview refuses a bundle of another
    generator version with one line, printed once, as it prints every
    library error once. */
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -219,6 +220,21 @@ static void test_hairview_prints_a_library_error_once(void **state) {
     assert_false(ht_test_path_exists(png));
 }
 
+/* The PSNR column of bench_frame's row NAME in out_text (NAN: none). */
+static double row_db(const char *name) {
+    char key[48];
+    snprintf(key, sizeof key, "\n  %s ", name);
+    const char *row = strstr(out_text, key), *end = row ? strchr(row + 1, '\n') : NULL;
+    if (!row || !end) return NAN;
+    /* the second-last column: median, 2 ratios, 2 dashes, 2 counts, PSNR, FLIP */
+    const char *p = end;
+    int spaces = 0;
+    while (p > row && spaces < 2)
+        if (*--p == ' ' && p[-1] != ' ') spaces++;
+    double db = NAN;
+    return sscanf(p, "%lf", &db) == 1 ? db : NAN;
+}
+
 /* bench_frame --lods --truth: every pair against the 16x truth, full
    detail too (finite: the truth is not its own image), full-rule beside,
    the pops between adjacent levels, the pick's cost against both;
@@ -232,23 +248,40 @@ static void test_bench_frame_measures_pairs_against_the_truth(void **state) {
     if (!strstr(out_text, "vs truth") || !strstr(out_text, "\n  full-rule ")) fail_msg("stdout:\n%s", out_text);
     for (const char *row = strstr(out_text, "\n  geometry floor"); row; row = strstr(row + 1, "\n  ")) {
         char name[32];
-        double db = 0;
-        const char *ms = strstr(row, " ms ");
-        assert_non_null(ms);
+        assert_non_null(strstr(row, " ms "));
         snprintf(name, sizeof name, "%.*s", (int)(strchr(row + 3, ' ') - row - 3), row + 3);
-        /* PSNR is the second-last column: median, 2 ratios, 2 dashes, 2 counts, PSNR, FLIP */
-        const char *end = strchr(row + 1, '\n');
-        const char *p = end ? end : row + strlen(row);
-        int spaces = 0;
-        while (p > row && spaces < 2)
-            if (*--p == ' ' && p[-1] != ' ') spaces++;
-        assert_int_equal(sscanf(p, "%lf", &db), 1);
+        if (!strcmp(name, "geometry")) snprintf(name, sizeof name, "geometry floor");
+        const double db = row_db(name);
         if (!(db > 10 && db < 99)) fail_msg("%s: %g dB against the truth\n%s", name, db, out_text);
     }
     if (!strstr(out_text, "pop dB (a level against the one before, level 1 against full-rule): full 1>0 ") ||
         !strstr(out_text, " gl11 2>1 ") || !strstr(out_text, "full-rule's, ") ||
         !strstr(out_text, " dB against the truth\n"))
         fail_msg("stdout:\n%s", out_text);
+}
+
+/* bench_frame --soft=F draws levels 1 and 2 soft by F: another factor,
+   another picture; a factor outside (1, 16] is refused in one line. */
+static void test_bench_frame_soft_takes_a_factor(void **state) {
+    (void)state;
+    static const char *const bad[] = { "1", "17", "x", "3,8" };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char args[128];
+        snprintf(args, sizeof args, "--lods --soft=%s --hairs 50 --size 32 --frames 1", bad[i]);
+        assert_int_equal(run(NULL, "bench_frame", args), 2);
+        if (!strstr(err_text, "bench_frame: --soft: expected a factor above 1, at most 16\n"))
+            fail_msg("--soft=%s: stderr:\n%s", bad[i], err_text);
+    }
+    double db[2];
+    static const char *const factors[] = { "--soft=2", "--soft=8" };
+    for (int i = 0; i < 2; i++) {
+        char args[160];
+        snprintf(args, sizeof args, "--lods %s --hairs 400 --size 48 --frames 1 --no-orbit", factors[i]);
+        if (run(NULL, "bench_frame", args) != 0) fail_msg("bench_frame %s: %s", args, err_text);
+        db[i] = row_db("lod1-full");
+        if (!(db[i] > 10 && db[i] < 99)) fail_msg("%s: lod1-full %g dB\n%s", factors[i], db[i], out_text);
+    }
+    if (fabs(db[0] - db[1]) < 0.05) fail_msg("soft by 2 and by 8 drew alike: %g / %g dB", db[0], db[1]);
 }
 
 int main(void) {
@@ -261,6 +294,7 @@ int main(void) {
         cmocka_unit_test(test_hairview_refuses_another_generator_version_once),
         cmocka_unit_test(test_hairview_prints_a_library_error_once),
         cmocka_unit_test(test_bench_frame_measures_pairs_against_the_truth),
+        cmocka_unit_test(test_bench_frame_soft_takes_a_factor),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
