@@ -55,6 +55,7 @@
 #include "bench/support_results.h"
 #include "tempdir.h"
 #include "timing.h"
+#include "view_args.h"
 
 #define MAX_FRAMES 64
 #define MAX_CONTENDERS 12
@@ -620,13 +621,7 @@ static const char *take(void *user, int key, const char *value) {
     case KEY_API: return offscreen_api_value(value, &API);
     case KEY_NO_ORBIT: ORBIT = false; return NULL;
     case KEY_LODS: LODS = true; return NULL;
-    case KEY_SOFT: {
-        char *end = NULL;
-        SOFT = value ? (float)strtod(value, &end) : HT_LOD_SOFTEN;
-        if (value && (end == value || *end || !(SOFT > 1.0f && SOFT <= HT_LOD_MAX_SOFTEN)))
-            return "--soft: expected a factor above 1, at most 16";
-        return NULL;
-    }
+    case KEY_SOFT: return view_args_soften(value, &SOFT);
     case KEY_WIDTH_RULE: WIDTH_RULE = true; return NULL;
     case KEY_TRUTH: TRUTH = true; return NULL;
     case KEY_SAMPLES: return number("--samples", value, 2, 32, &SAMPLES);

@@ -198,13 +198,7 @@ static const char *take(void *user, int key, const char *value) {
                         : !strcmp(value, "off")           ? WIDTH_RULE_OFF
                                                           : WIDTH_RULE_AUTO;
         return o->width_rule == WIDTH_RULE_AUTO ? "--width-rule: expected vertex, draw or off" : NULL;
-    case KEY_SOFT: {
-        char *end = NULL;
-        o->soft = value ? (float)strtod(value, &end) : HT_LOD_SOFTEN;
-        if (value && (end == value || *end || !(o->soft > 1.0f && o->soft <= HT_LOD_MAX_SOFTEN)))
-            return "--soft: expected a factor above 1, at most 16";
-        return NULL;
-    }
+    case KEY_SOFT: return view_args_soften(value, &o->soft);
     case KEY_PROFILE: {
         char err[200];
         if (ht_device_profile_parse(value, &o->profile, err, sizeof err) == HT_OK) return NULL;

@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include <hairtier/lod.h>
+
 view_args view_args_defaults(int frames) { return (view_args){ .frames = frames, .egl_device = -1 }; }
 
 const char *view_args_take(view_args *v, int key, const char *value, int max_frames, bool *taken) {
@@ -56,5 +58,13 @@ const char *view_args_check(view_args *v, bool need_bundle) {
     const char *why = NULL;
     if (!offscreen_options_check(&v->context, v->egl_device, &why)) return why;
     if (!offscreen_api_check(&v->context, v->api, &why)) return why;
+    return NULL;
+}
+
+const char *view_args_soften(const char *value, float *soften) {
+    char *end = NULL;
+    *soften = value ? (float)strtod(value, &end) : HT_LOD_SOFTEN;
+    if (value && (end == value || *end || !(*soften > 1.0f && *soften <= HT_LOD_MAX_SOFTEN)))
+        return "--soft: expected a factor above 1, at most 16";
     return NULL;
 }

@@ -50,5 +50,8 @@ int view_args_parse(const cli_program *p, int argc, char **argv, view_args *v, i
 /* After the parse: NULL, or why the options do not go together (--bundle
    required when need_bundle, --scene and -o always). */
 const char *view_args_check(view_args *v, bool need_bundle);
+/* --soft[=F]'s factor into *soften (no value: lod.h's HT_LOD_SOFTEN): NULL,
+   or why value is refused (a factor in (1, HT_LOD_MAX_SOFTEN]). */
+const char *view_args_soften(const char *value, float *soften);
 
 #endif
