@@ -89,14 +89,6 @@ static void job_kinds_match_the_work_done_here(void **state) {
     ht_mesh_free(&full);
 }
 
-#if defined(__SANITIZE_ADDRESS__)
-#define HT_UNDER_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define HT_UNDER_ASAN 1
-#endif
-#endif
-
 #ifndef HT_UNDER_ASAN
 /* 100 000 hairs, `all` 36 MB of indices; the limit filled first, so no
    copy of the job's fits (nor, then, a thread's stack: the job runs in
@@ -129,11 +121,7 @@ static int out_of_memory_child(void) {
 
 static void out_of_memory_is_the_jobs_result(void **state) {
     (void)state;
-#ifdef HT_UNDER_ASAN
-    skip();
-#else
-    ht_test_fork_child(out_of_memory_child);
-#endif
+    HT_TEST_FORK_MEMORY_CHILD(out_of_memory_child);
 }
 
 int main(void) {

@@ -991,14 +991,6 @@ static void test_free_of_zeroed_mesh_is_a_no_op(void **state) {
    builders must say so and leave nothing behind, the sort must leave the
    mesh as it was. AddressSanitizer reserves terabytes and aborts instead of
    returning NULL, so it skips this test. */
-#if defined(__SANITIZE_ADDRESS__)
-#define HT_UNDER_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define HT_UNDER_ASAN 1
-#endif
-#endif
-
 #ifndef HT_UNDER_ASAN
 static int out_of_memory_child(void) {
     ht_mesh small;
@@ -1031,11 +1023,7 @@ static int out_of_memory_child(void) {
 
 static void test_allocation_failure_frees_everything(void **state) {
     (void)state;
-#ifdef HT_UNDER_ASAN
-    skip();
-#else
-    ht_test_fork_child(out_of_memory_child);
-#endif
+    HT_TEST_FORK_MEMORY_CHILD(out_of_memory_child);
 }
 
 int main(void) {

@@ -397,14 +397,6 @@ static void test_hair_non_finite_values_are_refused(void **state) {
 
 /* ---- both: huge counts, files that are not strand files ---- */
 
-#if defined(__SANITIZE_ADDRESS__)
-#define HT_UNDER_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define HT_UNDER_ASAN 1
-#endif
-#endif
-
 #ifndef HT_UNDER_ASAN
 /* Headers claiming the most points the limits allow (64 MiB of positions
    and more) over a file of a few hundred bytes: refused as a parse error
@@ -432,11 +424,7 @@ static int huge_counts_child(void) {
 
 static void test_huge_counts_are_refused_before_allocating(void **state) {
     (void)state;
-#ifdef HT_UNDER_ASAN
-    skip();
-#else
-    ht_test_fork_child(huge_counts_child);
-#endif
+    HT_TEST_FORK_MEMORY_CHILD(huge_counts_child);
 }
 
 static void test_files_that_are_not_strand_files_are_refused(void **state) {
