@@ -6,6 +6,7 @@
 #include <cmocka.h>
 
 #include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -79,6 +80,14 @@ ht_frame_desc ht_test_furball_frame(float eye_z) {
     return (ht_frame_desc){ .camera = { .eye = { 0, 0.3f, eye_z }, .target = { 0, 0, 0 }, .up = { 0, 1, 0 },
                                         .fov_y = 45 },
                             .lights = furball_lights, .light_count = 2 };
+}
+
+ht_frame_desc ht_test_furball_orbit_frame(float d, double deg) {
+    ht_frame_desc f = ht_test_furball_frame(d);
+    const double a = deg * M_PI / 180.0;
+    f.camera.eye[0] = (float)(d * sin(a));
+    f.camera.eye[2] = (float)(d * cos(a));
+    return f;
 }
 
 void ht_test_furball_copy_bundle(const ht_test_furball *f, const char *name, char *out, size_t size) {

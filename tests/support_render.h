@@ -38,6 +38,8 @@ int ht_test_scratch_gl_teardown(ht_test_scratch_gl *f);
 ht_result ht_test_furball_mesh(ht_mesh *out);
 /* The two lights (directional key, point fill), looked at from (0, 0.3, eye_z). */
 ht_frame_desc ht_test_furball_frame(float eye_z);
+/* The same camera d from the target, turned deg about the vertical. */
+ht_frame_desc ht_test_furball_orbit_frame(float d, double deg);
 /* The bundle of material_path (materials/NAME.json) for scenes/SCENE.json:
    the one make builds once for the render tests to share (Makefile,
    FIXTURE_BUNDLES, build/fixtures/NAME/SCENE: a Marschner material's bake

@@ -636,15 +636,6 @@ static ht_lod_rule soft_rule(const ht_lod_chain *chain, int viewport_h) {
                                                             ht_test_furball_frame(3.0f).camera.fov_y, viewport_h) };
 }
 
-/* The camera d from the target, turned deg about the vertical. */
-static ht_frame_desc orbit_frame(float d, double deg) {
-    ht_frame_desc f = ht_test_furball_frame(d);
-    const double a = deg * M_PI / 180.0;
-    f.camera.eye[0] = (float)(d * sin(a));
-    f.camera.eye[2] = (float)(d * cos(a));
-    return f;
-}
-
 /* m's components in the order drawn, farthest centroid from eye first. */
 static void assert_back_to_front(const ht_mesh *m, const float eye[3]) {
     double last = INFINITY;
@@ -706,15 +697,15 @@ static void chain_picks_a_soft_cell(void **state) {
     assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
     ht_renderer *r = fault_counted_renderer();
     const ht_lod_rule rule = soft_rule(&chain, 512);
-    ht_frame_desc f = orbit_frame(6.0f, 0);
+    ht_frame_desc f = ht_test_furball_orbit_frame(6.0f, 0);
     soft_step(&chain, r, &rule, 512, &f, 2, true, 1.0f / 3, 4); /* the first select: all, then the soft level */
     assert_memory_equal(chain.wide_eye, f.camera.eye, sizeof chain.wide_eye);
     const double width = ht_mesh_mean_width(&chain.wide) / chain.level_width[2];
     assert_true(width > 2.9 && width < 3.1);
     soft_step(&chain, r, &rule, 512, &f, 2, true, 1.0f / 3, 0); /* the same eye: nothing */
-    f = orbit_frame(6.0f, 3);
+    f = ht_test_furball_orbit_frame(6.0f, 3);
     soft_step(&chain, r, &rule, 512, &f, 2, true, 1.0f / 3, 0); /* 3 degrees: the order kept */
-    const ht_frame_desc turned = orbit_frame(6.0f, 8);
+    const ht_frame_desc turned = ht_test_furball_orbit_frame(6.0f, 8);
     ht_result res;
     ht_fault_arm(HT_FAULT_NONE, 0);
     assert_int_equal(ht_lod_chain_select_pair(&chain, r, &turned.camera, 512, &rule, &res), 2);
@@ -723,7 +714,7 @@ static void chain_picks_a_soft_cell(void **state) {
     assert_int_equal(buffer_sub_data_calls(), 1);
     assert_memory_equal(chain.wide_eye, turned.camera.eye, sizeof chain.wide_eye);
     assert_back_to_front(&chain.wide, turned.camera.eye);
-    f = orbit_frame(3.0f, 8);
+    f = ht_test_furball_orbit_frame(3.0f, 8);
     soft_step(&chain, r, &rule, 512, &f, 0, false, 1, 2); /* plain again: all, opacity 1 */
     printf("soft: level 2 soft at 1/2 (width %.2fx the plain level's, opacity 1/3), re-sorted past %.0f degrees, "
            "plain level 0 at 1\n", width, HT_LOD_RESORT_DEG);

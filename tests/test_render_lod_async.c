@@ -57,15 +57,6 @@ static ht_renderer *renderer(bool per_vertex) {
 static long uploads(void) { return ht_fault_state_get()->calls[HT_FAULT_BUFFER_DATA]; }
 static long index_uploads(void) { return ht_fault_state_get()->buffer_sub_data; }
 
-/* The camera d from the target, turned deg about the vertical. */
-static ht_frame_desc orbit(float d, double deg) {
-    ht_frame_desc f = ht_test_furball_frame(d);
-    const double a = deg * M_PI / 180.0;
-    f.camera.eye[0] = (float)(d * sin(a));
-    f.camera.eye[2] = (float)(d * cos(a));
-    return f;
-}
-
 static void chain_make(ht_lod_chain *c, bool width_rule, bool async) {
     assert_int_equal(ht_lod_chain_build(&fx.mesh, c), HT_OK);
     c->width_rule = width_rule;
@@ -86,12 +77,12 @@ static bool widened(const ht_lod_chain *c, const ht_renderer *r) { return c->wid
    with the width rule, at 3 then there, draws a level past `past` the way
    `drawn` says (r says per vertex or per draw). */
 static float find_distance(ht_renderer *r, bool (*drawn)(const ht_lod_chain *, const ht_renderer *), int past) {
-    const ht_frame_desc near = orbit(3, 0);
+    const ht_frame_desc near = ht_test_furball_orbit_frame(3, 0);
     for (float d = 3.45f; d < 300; d *= 1.15f) {
         ht_lod_chain c;
         chain_make(&c, true, false);
         select_at(&c, r, &near);
-        const ht_frame_desc far = orbit(d, 0);
+        const ht_frame_desc far = ht_test_furball_orbit_frame(d, 0);
         const bool found = select_at(&c, r, &far) > past && drawn(&c, r);
         ht_lod_chain_free(&c);
         if (found) return d;
@@ -135,7 +126,7 @@ static void switch_sorts_off_the_frame(void **state) {
     ht_lod_chain sync, as;
     chain_make(&sync, true, false);
     chain_make(&as, true, true);
-    const ht_frame_desc near = orbit(3, 0), far = orbit(d, 0);
+    const ht_frame_desc near = ht_test_furball_orbit_frame(3, 0), far = ht_test_furball_orbit_frame(d, 0);
     assert_int_equal(select_at(&sync, rs, &near), 0);
     assert_int_equal(select_at(&as, ra, &near), 0);
     assert_false(ht_lod_chain_pending(&as)); /* level 0 as built: nothing to sort */
@@ -187,7 +178,7 @@ static void superseded_jobs(void **state) {
     const float d1 = find_distance(rs, sorted, 0);
     ht_lod_chain probe;
     chain_make(&probe, true, false);
-    const ht_frame_desc near = orbit(3, 0), far1 = orbit(d1, 0);
+    const ht_frame_desc near = ht_test_furball_orbit_frame(3, 0), far1 = ht_test_furball_orbit_frame(d1, 0);
     select_at(&probe, rs, &near);
     const int first = select_at(&probe, rs, &far1);
     ht_lod_chain_free(&probe);
@@ -195,7 +186,7 @@ static void superseded_jobs(void **state) {
     ht_lod_chain sync, as;
     chain_make(&sync, true, false);
     chain_make(&as, true, true);
-    const ht_frame_desc far2 = orbit(d2, 0);
+    const ht_frame_desc far2 = ht_test_furball_orbit_frame(d2, 0);
     select_at(&sync, rs, &near);
     const int want = select_at(&sync, rs, &far2);
     assert_true(want > first && sync.ordered_level == want);
@@ -214,7 +205,7 @@ static void superseded_jobs(void **state) {
     assert_same_image(rs, ra, &far2);
 
     /* past the order's reach: sorted on the job, the old order drawn meanwhile */
-    const ht_frame_desc turned = orbit(d2, 8);
+    const ht_frame_desc turned = ht_test_furball_orbit_frame(d2, 8);
     assert_int_equal(select_at(&sync, rs, &turned), want);
     ht_fault_arm(HT_FAULT_NONE, 0);
     assert_int_equal(select_at(&as, ra, &turned), want);
@@ -232,7 +223,7 @@ static void superseded_jobs(void **state) {
 
     /* a result already past the frame's reach: uploaded (nearer than what
        is drawn), and the next sort started at once */
-    const ht_frame_desc t16 = orbit(d2, 16), t24 = orbit(d2, 24);
+    const ht_frame_desc t16 = ht_test_furball_orbit_frame(d2, 16), t24 = ht_test_furball_orbit_frame(d2, 24);
     select_at(&as, ra, &t16);
     ht_lod_chain_wait(&as);
     ht_fault_arm(HT_FAULT_NONE, 0);
@@ -246,7 +237,7 @@ static void superseded_jobs(void **state) {
     assert_false(ht_lod_chain_pending(&as));
 
     /* async turned off with a job in flight: this select sorts, the job is dropped */
-    const ht_frame_desc t32 = orbit(d2, 32);
+    const ht_frame_desc t32 = ht_test_furball_orbit_frame(d2, 32);
     select_at(&as, ra, &t32);
     assert_true(ht_lod_chain_pending(&as));
     as.async = false;
@@ -257,7 +248,7 @@ static void superseded_jobs(void **state) {
     as.async = true;
 
     /* a plain level while a job runs: drawn at once, the job's result dropped */
-    const ht_frame_desc t40 = orbit(d2, 40);
+    const ht_frame_desc t40 = ht_test_furball_orbit_frame(d2, 40);
     select_at(&as, ra, &t40);
     assert_true(ht_lod_chain_pending(&as));
     assert_int_equal(select_at(&as, ra, &near), 0);
@@ -311,7 +302,7 @@ static void widened_levels(void **state) {
     ht_lod_chain sync, as;
     chain_make(&sync, false, false);
     chain_make(&as, false, true);
-    const ht_frame_desc f0 = orbit(6, 0), turned = orbit(6, 8), close = orbit(3, 8);
+    const ht_frame_desc f0 = ht_test_furball_orbit_frame(6, 0), turned = ht_test_furball_orbit_frame(6, 8), close = ht_test_furball_orbit_frame(3, 8);
     assert_int_equal(select_pair_at(&sync, rs, &f0), 2);
     assert_true(sync.soften == 3.0f && sync.wide_renderer == rs);
     assert_int_equal(select_pair_at(&as, ra, &f0), 2);
@@ -353,7 +344,7 @@ static void widened_levels(void **state) {
     const float d = find_distance(rs, widened, 0);
     chain_make(&sync, true, false);
     chain_make(&as, true, true);
-    const ht_frame_desc near = orbit(3, 0), far = orbit(d, 0);
+    const ht_frame_desc near = ht_test_furball_orbit_frame(3, 0), far = ht_test_furball_orbit_frame(d, 0);
     const int before = select_at(&sync, rs, &near);
     assert_null(sync.wide_renderer);
     const int want = select_at(&sync, rs, &far);
@@ -385,7 +376,7 @@ static void failed_upload_forgets_the_mesh(void **state) {
     ht_lod_chain sync, as;
     chain_make(&sync, true, false);
     chain_make(&as, true, true);
-    const ht_frame_desc near = orbit(3, 0), far = orbit(d, 0);
+    const ht_frame_desc near = ht_test_furball_orbit_frame(3, 0), far = ht_test_furball_orbit_frame(d, 0);
     select_at(&sync, rs, &near);
     const int want = select_at(&sync, rs, &far);
     select_at(&as, ra, &near);
