@@ -761,6 +761,31 @@ static void chain_soft_hysteresis_and_width_rule(void **state) {
     ht_lod_chain_free(&chain);
 }
 
+/* A rule of more cells than a bundle holds (an application's own list):
+   every one is read. HT_LOD_MAX_CELLS + 8 usable copies of (1) at 0.30x
+   come before soft_cells, whose (2 soft) at 0.24x is the pick at 1/2. */
+static void chain_reads_every_cell_of_a_long_rule(void **state) {
+    (void)state;
+    enum { COPIES = HT_LOD_MAX_CELLS + 8, SOFT = sizeof soft_cells / sizeof soft_cells[0] };
+    ht_lod_cell *cells = malloc((COPIES + SOFT) * sizeof *cells);
+    assert_non_null(cells);
+    for (int i = 0; i < COPIES; i++) cells[i] = (ht_lod_cell){ 1, HT_TIER_FULL, 0.5, 30.9, 0.30, 0 };
+    memcpy(cells + COPIES, soft_cells, sizeof soft_cells);
+    ht_lod_chain chain;
+    assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
+    ht_renderer *r = fault_counted_renderer();
+    ht_lod_rule rule = soft_rule(&chain, 512);
+    rule.cells = cells;
+    rule.cell_count = COPIES + SOFT;
+    const ht_frame_desc f = ht_test_furball_orbit_frame(6.0f, 0);
+    soft_step(&chain, r, &rule, 512, &f, 2, true, 1.0f / 3, 4);
+    assert_true(chain.usable_capacity >= rule.cell_count);
+    ht_renderer_destroy(r);
+    ht_lod_chain_free(&chain);
+    assert_null(chain.usable);
+    free(cells);
+}
+
 static void full_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_FULL); }
 static void vertex_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_VERTEX); }
 static void fixed_tier(void **state) { (void)state; same_passes_every_lod(HT_TIER_FIXED); }
@@ -788,6 +813,7 @@ int main(void) {
         cmocka_unit_test(chain_width_rule_per_draw),
         cmocka_unit_test(chain_picks_a_soft_cell),
         cmocka_unit_test(chain_soft_hysteresis_and_width_rule),
+        cmocka_unit_test(chain_reads_every_cell_of_a_long_rule),
         cmocka_unit_test(chain_width_rule_per_vertex),
         cmocka_unit_test(mesh_order_uploads_the_indices_alone),
     };

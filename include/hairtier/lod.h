@@ -335,6 +335,8 @@ typedef struct ht_lod_chain {
     double size;                   /* the measured size the pair was read at, 0: none yet */
     double level_width[HT_LOD_FILE_MAX_LEVELS]; /* each level's mean ribbon width */
     float soften;                  /* the pair's: 0 plain, else its soft cell's soften (select_pair) */
+    ht_lod_cell *usable;           /* select_pair's scratch: the rule's cells it can draw */
+    int usable_capacity;
     /* The width rule per draw, when the caller sets width_rule (below). */
     bool width_rule;
     /* A level drawn alone (a soft pair, the width rule): widened, back to front. */
@@ -398,7 +400,9 @@ HT_API const ht_mesh *ht_lod_chain_mesh(const ht_lod_chain *chain, int level);
    soft and plain of one (level, tier) are two pairs. Returns the level (chain->tier the tier),
    or -1 with *result set: HT_ERR_INVALID_ARGUMENT for a rule without
    cells (error, frame), size1_px or, for frame, reference_ms not > 0;
-   an upload's error; HT_ERR_NO_TIER when no cell's tier can be drawn. */
+   an upload's error; HT_ERR_OUT_OF_MEMORY when the chain's copy of the
+   usable cells (chain->usable, grown to the rule's count) cannot grow;
+   HT_ERR_NO_TIER when no cell's tier can be drawn. */
 /* frame:MS's reference frame at one measured size (ht_lod_rule). */
 typedef struct ht_lod_reference_frame {
     double size; /* a cells' size, e.g. 1, 0.5, 0.25 */

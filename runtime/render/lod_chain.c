@@ -493,11 +493,20 @@ int ht_lod_chain_select_pair(ht_lod_chain *c, ht_renderer *r, const ht_camera *c
         return -1;
     }
     const double px = strand_px(c, camera, viewport_h);
+    if (c->usable_capacity < rule->cell_count) {
+        ht_lod_cell *grown = realloc(c->usable, (size_t)rule->cell_count * sizeof *grown);
+        if (!grown) {
+            if (result) *result = HT_ERR_OUT_OF_MEMORY;
+            return -1;
+        }
+        c->usable = grown;
+        c->usable_capacity = rule->cell_count;
+    }
+    ht_lod_cell *cells = c->usable;
     for (;;) {
         /* the cells of the levels this chain has and the tiers not refused */
-        ht_lod_cell cells[HT_LOD_MAX_CELLS];
         int n = 0, held = -1;
-        for (int i = 0; i < rule->cell_count && n < HT_LOD_MAX_CELLS; i++) {
+        for (int i = 0; i < rule->cell_count; i++) {
             const ht_lod_cell *cell = &rule->cells[i];
             const bool soft = cell->soften > 1.0f;
             if (cell->lod < 0 || cell->lod >= c->count || (unsigned)cell->tier >= HT_TIER_COUNT ||
@@ -542,5 +551,6 @@ void ht_lod_chain_free(ht_lod_chain *c) {
     for (int l = 0; l < HT_LOD_FILE_MAX_LEVELS; l++) ht_mesh_free(&c->levels[l]);
     ht_mesh_free(&c->all);
     ht_mesh_free(&c->wide);
+    free(c->usable);
     chain_init(c);
 }
