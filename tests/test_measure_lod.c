@@ -52,6 +52,7 @@ static const float default_softens[] = HT_LOD_DEFAULT_SOFTENS;
 static char work[64], bundle[128], cards[128], scene_path[128];
 static ht_mesh mesh;
 static uint32_t card_count;
+static double setup_warmup_ms = -1; /* the measuring's warm-up (llvmpipe here) */
 
 /* The plain bundle (hairgen, its stored strand levels), then a cards
    bundle of it measured as hairgen --cards --measure-lods measures
@@ -73,6 +74,7 @@ static int setup(void **state) {
     if (r == HT_OK) r = ht_measure_lods_write(cards, lods, err, sizeof err);
     for (int i = 0; r == HT_OK && i < lods->count; i++)
         if (lods->cells[i].cards) card_count = lods->cells[i].strands;
+    if (r == HT_OK) setup_warmup_ms = lods->warmup_ms;
     free(lods);
     if (r != HT_OK) fprintf(stderr, "%s\n", err);
     return r == HT_OK ? 0 : -1;
@@ -82,6 +84,28 @@ static int teardown(void **state) {
     (void)state;
     ht_mesh_free(&mesh);
     return ht_test_scratch_remove(work);
+}
+
+/* A software rasterizer has no clock to raise: each cell is timed after
+   one warm-up frame, and no warm-up is printed; on a GPU the print says
+   how long each cell warmed up. */
+static void warmup_on_a_gpu_only(void **state) {
+    (void)state;
+    assert_true(setup_warmup_ms == 0.0);
+    ht_measure_lods *m = calloc(1, sizeof *m);
+    assert_non_null(m);
+    char *text = NULL;
+    size_t size = 0;
+    for (int gpu = 0; gpu < 2; gpu++) {
+        m->warmup_ms = gpu ? HT_MEASURE_LOD_WARMUP_MS : 0.0;
+        FILE *f = open_memstream(&text, &size);
+        assert_non_null(f);
+        ht_measure_lods_print(f, m);
+        fclose(f);
+        assert_true((strstr(text, "every cell timed after 250 ms of warm-up frames") != NULL) == gpu);
+        free(text);
+    }
+    free(m);
 }
 
 /* lods.bin of a plain bundle: every strand level of the scene's ladder,
@@ -549,6 +573,7 @@ static void supersample_reference_measures_the_width_rule_against_the_truth(void
 
 int main(void) {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(warmup_on_a_gpu_only),
         cmocka_unit_test(plain_hairgen_stores_the_strand_levels),
         cmocka_unit_test(hairview_draws_the_stored_levels),
         cmocka_unit_test(manifest_holds_every_pair_at_three_sizes),
