@@ -32,7 +32,8 @@
    --context egl. A context that cannot be made is one line and exit 1.
 
    Prints `tier=NAME reason=...` then `frame_ms=...` (the mean of N timed
-   frames after one warm-up, each ended by glFinish) on stdout; every skipped
+   frames after a warm-up, one frame or on a GPU 250 ms of them, each ended
+   by glFinish) on stdout; every skipped
    tier's reason goes to stderr. On any failure: one line naming the file or
    field on stderr, exit status 1, and no PNG. HAIRTIER_TIER is honoured
    unless --tier is given, HAIRTIER_POLICY unless --policy is. With
@@ -133,7 +134,8 @@ static const cli_program program = {
                 "                [--device-profile NAME] -o OUT.png\n",
     .help = "Renders SCENE with the bundle's tier that the device runs best (or --tier, --policy) and writes\n"
             "OUT.png. Prints tier=NAME reason=... and frame_ms=... (the mean of N timed frames, default 10,\n"
-            "after one warm-up, each ended by glFinish) on stdout; the library's log on stderr.\n"
+            "after a warm-up (one frame; on a GPU 250 ms of them), each ended by glFinish) on stdout;\n"
+            "the library's log on stderr.\n"
             "  --tier NAME     force a tier (default HAIRTIER_TIER, else auto)\n"
             "  --policy P      best, fastest, error:DB, error:flip:E, frame:MS (default HAIRTIER_POLICY, else best)\n"
             "  --strict        fail instead of falling to a lower tier\n"
@@ -281,6 +283,15 @@ static void draw_frame(const ht_scene *s, const view *v, const ht_frame_desc *fr
     v->gl->gl.Finish();
 }
 
+/* Frames drawn before timing: one (shader variants, texture uploads), and
+   more until offscreen_warmup_ms have passed (a GPU's clock). */
+static void warm_up(const ht_scene *s, const view *v, const ht_frame_desc *frame, ht_result *r) {
+    for (const double until = now_ms() + offscreen_warmup_ms(v->gl); *r == HT_OK;) {
+        draw_frame(s, v, frame, r);
+        if (now_ms() >= until) break;
+    }
+}
+
 /* --size and --distance: a smaller image or a farther eye, so the hair's
    projected size changes and --lod auto has something to switch on. */
 static const char *apply_view(const options *o, ht_scene *s) {
@@ -311,7 +322,7 @@ static int retier(view *v, ht_tier tier) {
 }
 
 /* frame:MS's reference: the (LOD 0, reference tier) frame at this size on
-   this device, the mean of 3 after a warm-up. 0 when it cannot draw. */
+   this device, the mean of 3 after warm_up. 0 when it cannot draw. */
 static double reference_ms(const options *o, const view *v, const ht_scene *s, const ht_frame_desc *f, ht_tier tier) {
     ht_renderer *r = NULL;
     if (ht_renderer_create(&(ht_renderer_desc){ .getproc = offscreen_getproc, .bundle_dir = o->view.bundle,
@@ -323,7 +334,7 @@ static double reference_ms(const options *o, const view *v, const ht_scene *s, c
         view timed = *v;
         timed.renderer = r;
         ht_result fr = HT_OK;
-        draw_frame(s, &timed, f, &fr);
+        warm_up(s, &timed, f, &fr);
         const double t0 = now_ms();
         for (int i = 0; i < 3; i++) draw_frame(s, &timed, f, &fr);
         ms = fr == HT_OK ? (now_ms() - t0) / 3 : 0;
@@ -674,7 +685,7 @@ static int draw_still(const options *o, view *v, ht_scene *scene, double scene_d
         if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);
     }
     ht_result fr = HT_OK;
-    draw_frame(scene, v, frame, &fr); /* warm-up: shader variants, texture uploads */
+    warm_up(scene, v, frame, &fr);
     double t0 = now_ms();
     for (int i = 0; i < o->view.frames; i++) draw_frame(scene, v, frame, &fr);
     *ms = (now_ms() - t0) / o->view.frames;

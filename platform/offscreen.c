@@ -192,6 +192,14 @@ bool offscreen_make_current(offscreen *o) {
     return true;
 }
 
+double offscreen_warmup_ms(const offscreen *o) {
+    static const char *const software[] = { "llvmpipe", "softpipe", "Software Rasterizer", "SwiftShader" };
+    const char *renderer = (const char *)o->gl.GetString(GL_RENDERER);
+    for (size_t i = 0; renderer && i < sizeof software / sizeof software[0]; i++)
+        if (strstr(renderer, software[i])) return 0.0;
+    return OFFSCREEN_GPU_WARMUP_MS;
+}
+
 void offscreen_close(offscreen *o) {
     if (!o) return;
     const offscreen_backend *b = backend_of(o->kind);

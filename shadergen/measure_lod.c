@@ -34,18 +34,6 @@ typedef struct lod_levels {
     int soften_count;
 } lod_levels;
 
-/* A GPU lowers its clock while the CPU makes a cell's mesh and compares
-   its image, and raises it only after a while busy (NVIDIA: every timed
-   frame of a cell 1.1-1.5x its steady time after one warm-up frame,
-   docs/lod.md "Warm-up by time"); a software rasterizer has no clock. */
-static double warmup_ms(const offscreen *o) {
-    static const char *const software[] = { "llvmpipe", "softpipe", "Software Rasterizer", "SwiftShader" };
-    const char *renderer = (const char *)o->gl.GetString(GL_RENDERER);
-    for (size_t i = 0; renderer && i < sizeof software / sizeof software[0]; i++)
-        if (strstr(renderer, software[i])) return 0.0;
-    return HT_MEASURE_LOD_WARMUP_MS;
-}
-
 static ht_result draw_frame(offscreen *o, ht_renderer *r, const ht_scene *s, const ht_frame_desc *f) {
     o->gl.ClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
     o->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -56,8 +44,9 @@ static ht_result draw_frame(offscreen *o, ht_renderer *r, const ht_scene *s, con
 
 /* One level at one size, drawn at opacity (with width_rule, as the chain
    draws it: widened, back to front, opacity scaled, when its strands are
-   under a pixel), warm-up frames (one, and more until warmup_ms have
-   passed) and the timed frames; its last frame copied into rgba. */
+   under a pixel), warm-up frames (one, and more until
+   offscreen_warmup_ms have passed) and the timed frames; its last frame
+   copied into rgba. */
 static ht_result draw_level(offscreen *o, ht_renderer *r, const ht_scene *s, const ht_frame_desc *f,
                             const ht_mesh *mesh, float opacity, bool width_rule, unsigned char *rgba, double *ms) {
     ht_mesh wide = { 0 };
@@ -67,7 +56,7 @@ static ht_result draw_level(offscreen *o, ht_renderer *r, const ht_scene *s, con
     if (res == HT_OK) res = ht_renderer_set_mesh(r, factor > 1.0 ? &wide : mesh);
     if (res == HT_OK) res = ht_renderer_set_opacity_scale(r, (float)(opacity / factor));
     ht_mesh_free(&wide);
-    for (const double until = ht_measure_clock_ms() + warmup_ms(o); res == HT_OK;) {
+    for (const double until = ht_measure_clock_ms() + offscreen_warmup_ms(o); res == HT_OK;) {
         res = draw_frame(o, r, s, f);
         if (ht_measure_clock_ms() >= until) break;
     }
@@ -251,7 +240,7 @@ static ht_result measure_size(const char *dir, const ht_manifest *bundle, const 
         return res != HT_OK ? res : ht_fail(err, err_size, HT_ERR_UNSUPPORTED, "measure: lods: %s", why);
     }
     const int first_cell = out->count;
-    out->warmup_ms = warmup_ms(o);
+    out->warmup_ms = offscreen_warmup_ms(o);
     for (int t = 0; t < bundle->tier_count && res == HT_OK; t++) {
         const ht_manifest_tier *tier = &bundle->tiers[t];
         ht_renderer *r = NULL;

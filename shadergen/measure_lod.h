@@ -8,7 +8,7 @@
    first tier) at the same size (PSNR, SSIM, ΔE00 mean, cost as a ratio of
    that pair's median frame, timed first and again last at each size, the
    faster of the two; each cell's timed frames after a warm-up,
-   HT_MEASURE_LOD_WARMUP_MS on a GPU) and against the tier's level before (the
+   offscreen_warmup_ms) and against the tier's level before (the
    pop), written into the manifest's "lods" object (manifest.h), which
    ht_renderer_lod_cells hands to ht_lod_pick_error / ht_lod_pick_frame.
    A tier this context cannot run is left out (listed in skipped); the
@@ -26,8 +26,6 @@
 
 #define HT_MEASURE_LOD_SIZES 3
 #define HT_MEASURE_LOD_TIMED_FRAMES 3  /* after the warm-up; the median */
-/* A GPU's warm-up: frames until this long has passed (a software rasterizer: one frame). */
-#define HT_MEASURE_LOD_WARMUP_MS 250.0
 
 typedef struct ht_measure_lod_cell {
     int level;
@@ -46,7 +44,7 @@ typedef struct ht_measure_lods {
     char skipped[128];       /* tiers this context could not run, space-separated */
     int samples;             /* 0: one a pixel; else the frames' multisampling */
     ht_lod_reference reference; /* SUPERSAMPLE: against the 16x truth, cells drawn with the width rule */
-    double warmup_ms;        /* drawn before each cell's timed frames: HT_MEASURE_LOD_WARMUP_MS, 0 (one frame) on a software rasterizer */
+    double warmup_ms;        /* drawn before each cell's timed frames (offscreen_warmup_ms; 0: one frame) */
     ht_measure_lod_cell cells[HT_MANIFEST_MAX_LOD_CELLS];
     int count;
 } ht_measure_lods;

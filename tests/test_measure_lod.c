@@ -35,6 +35,7 @@
 #include "json_check.h"
 #include "manifest.h"
 #include "measure_lod.h"
+#include "offscreen.h"
 #include "support_lod_bound.h"
 #include "support_scene.h"
 #include "support_scratch.h"
@@ -96,9 +97,9 @@ static void warmup_on_a_gpu_only(void **state) {
     assert_non_null(m);
     char *text = NULL, want[96];
     size_t size = 0;
-    snprintf(want, sizeof want, "every cell timed after %g ms of warm-up frames", HT_MEASURE_LOD_WARMUP_MS);
+    snprintf(want, sizeof want, "every cell timed after %g ms of warm-up frames", OFFSCREEN_GPU_WARMUP_MS);
     for (int gpu = 0; gpu < 2; gpu++) {
-        m->warmup_ms = gpu ? HT_MEASURE_LOD_WARMUP_MS : 0.0;
+        m->warmup_ms = gpu ? OFFSCREEN_GPU_WARMUP_MS : 0.0;
         FILE *f = open_memstream(&text, &size);
         assert_non_null(f);
         ht_measure_lods_print(f, m);
