@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <hairtier/hairtier.h>
+
 #include "offscreen_backend.h"
 #include "offscreen_msaa.h"
 
@@ -193,11 +195,7 @@ bool offscreen_make_current(offscreen *o) {
 }
 
 double offscreen_warmup_ms(const offscreen *o) {
-    static const char *const software[] = { "llvmpipe", "softpipe", "Software Rasterizer", "SwiftShader" };
-    const char *renderer = (const char *)o->gl.GetString(GL_RENDERER);
-    for (size_t i = 0; renderer && i < sizeof software / sizeof software[0]; i++)
-        if (strstr(renderer, software[i])) return 0.0;
-    return OFFSCREEN_GPU_WARMUP_MS;
+    return ht_timing_warmup_ms((const char *)o->gl.GetString(GL_RENDERER));
 }
 
 void offscreen_close(offscreen *o) {

@@ -120,13 +120,8 @@ bool offscreen_make_current(offscreen *o);
 void offscreen_close(offscreen *o);
 /* The current context's entry point for name (ht_renderer_desc.getproc). */
 void *offscreen_getproc(const char *name);
-/* How long to draw before timing frames on o: a GPU lowers its clock
-   while the CPU works between timings and raises it only after a while
-   busy (NVIDIA: a cell of hairgen --measure-lods 1.1-1.5x its steady time
-   in every frame after one warm-up frame, docs/lod.md "Warm-up by time"),
-   OFFSCREEN_GPU_WARMUP_MS; a software rasterizer (llvmpipe, softpipe, by
-   GL_RENDERER) has no clock: 0, one warm-up frame. */
-#define OFFSCREEN_GPU_WARMUP_MS 250.0
+/* How long to draw before timing frames on o: ht_timing_warmup_ms of its
+   GL_RENDERER (a GPU's clock; 0 on a software rasterizer). */
 double offscreen_warmup_ms(const offscreen *o);
 /* glFinish, then the colour buffer: width * height * 4 bytes, bottom row
    first (OSMesa draws into it; EGL reads it back with glReadPixels); with

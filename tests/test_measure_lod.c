@@ -97,9 +97,9 @@ static void warmup_on_a_gpu_only(void **state) {
     assert_non_null(m);
     char *text = NULL, want[96];
     size_t size = 0;
-    snprintf(want, sizeof want, "every cell timed after %g ms of warm-up frames", OFFSCREEN_GPU_WARMUP_MS);
+    snprintf(want, sizeof want, "every cell timed after %g ms of warm-up frames", HT_TIMING_WARMUP_MS);
     for (int gpu = 0; gpu < 2; gpu++) {
-        m->warmup_ms = gpu ? OFFSCREEN_GPU_WARMUP_MS : 0.0;
+        m->warmup_ms = gpu ? HT_TIMING_WARMUP_MS : 0.0;
         FILE *f = open_memstream(&text, &size);
         assert_non_null(f);
         ht_measure_lods_print(f, m);

@@ -491,6 +491,7 @@ static void test_renderer_frame_policy_times_by_drawing_after_set_mesh(void **st
         snprintf(line, sizeof line, "timed %s: ", names[i]);
         if (!ht_test_logged(line)) fail_msg("no line \"%s\"", line);
     }
+    assert_true(ht_test_logged("after 0 ms of warm-up frames, at least one)")); /* llvmpipe: no clock */
     ht_image img;
     ht_test_draw(&fx.gl, r, &f, ht_test_background, &img);
     assert_true(ht_test_pixel_stats_of(&img, ht_test_background).changed > 0);
@@ -501,6 +502,20 @@ static void test_renderer_frame_policy_times_by_drawing_after_set_mesh(void **st
     assert_true(ht_test_logged("budget_ms"));
     ht_renderer_destroy(b);
     ht_renderer_destroy(r);
+}
+
+/* A GPU warms up HT_TIMING_WARMUP_MS before timing; a software
+   rasterizer, or no renderer string, one frame. */
+static void test_timing_warms_up_a_gpu_only(void **state) {
+    (void)state;
+    static const char *const software[] = { "llvmpipe (LLVM 15.0.6, 256 bits)", "softpipe",
+                                            "Mesa OffScreen", "Software Rasterizer",
+                                            "Google SwiftShader", NULL };
+    for (size_t i = 0; i < sizeof software / sizeof software[0]; i++)
+        assert_true(ht_timing_warmup_ms(software[i]) == 0.0);
+    static const char *const gpus[] = { "NVIDIA H200/PCIe/SSE2", "Mali-400 MP", "V3D 4.2", "Adreno (TM) 306", "" };
+    for (size_t i = 0; i < sizeof gpus / sizeof gpus[0]; i++)
+        assert_true(ht_timing_warmup_ms(gpus[i]) == HT_TIMING_WARMUP_MS);
 }
 
 int main(void) {
@@ -528,6 +543,7 @@ int main(void) {
         cmocka_unit_test(test_renderer_error_policy_logs_the_choice_with_its_numbers),
         cmocka_unit_test(test_renderer_reads_hairtier_policy_and_the_desc_wins),
         cmocka_unit_test(test_renderer_frame_policy_times_every_tier_and_logs_each),
+        cmocka_unit_test(test_timing_warms_up_a_gpu_only),
         cmocka_unit_test(test_renderer_frame_policy_times_by_drawing_after_set_mesh),
     };
     int failed = cmocka_run_group_tests_name("policy selection", pure, NULL, NULL);

@@ -364,3 +364,10 @@ bool ht_device_profile_is_zero(const ht_device_profile *p) {
            !p->max_3d_texture_size && !p->hide_extensions && !p->no_fragment_shaders && !p->no_shaders &&
            !p->no_vbo && !p->es_major && !p->es_minor && !p->no_fragment_highp;
 }
+
+double ht_timing_warmup_ms(const char *renderer) {
+    static const char *const software[] = { "llvmpipe", "softpipe", "Software Rasterizer", "Mesa OffScreen", "SwiftShader" };
+    for (size_t i = 0; renderer && i < sizeof software / sizeof software[0]; i++)
+        if (strstr(renderer, software[i])) return 0.0;
+    return renderer ? HT_TIMING_WARMUP_MS : 0.0;
+}
