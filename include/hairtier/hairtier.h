@@ -481,17 +481,19 @@ HT_API const ht_trace *ht_renderer_trace(const ht_renderer *r);
    `renderer`: a GPU lowers its clock while the CPU works between timings
    and raises it only after a while busy (NVIDIA: every frame of a short
    timing 1.1-1.5x its steady time after one warm-up frame, docs/lod.md
-   "Warm-up by time"), HT_TIMING_WARMUP_MS; a software rasterizer
-   (llvmpipe, softpipe, swrast, OSMesa's own, SwiftShader; NULL too) has no clock: 0,
-   one warm-up frame. An application timing frame:MS's reference frames
-   (ht_lod_rule) warms up so too. */
+   "Warm-up by time"), HT_TIMING_WARMUP_MS; a software rasterizer (a
+   GL_RENDERER naming llvmpipe, softpipe, Software Rasterizer, Mesa
+   OffScreen or SwiftShader; NULL too) has no clock: 0, one warm-up frame.
+   An application timing frame:MS's reference frames (ht_lod_rule) warms
+   up so too. */
 #define HT_TIMING_WARMUP_MS 250.0
 HT_API double ht_timing_warmup_ms(const char *renderer);
 #define HT_FRAME_TIMING_FRAMES 5
 /* The frame:MS policy's step after set_mesh: draws every tier the device
    runs for HT_FRAME_TIMING_FRAMES frames of `mesh` and `frame` after a
    warm-up (one frame, more until ht_timing_warmup_ms of the caps'
-   renderer), timed with glFinish and the monotonic clock (or asks
+   renderer: on a GPU about 250 ms more a tier), timed with glFinish and
+   the monotonic clock (or asks
    desc.time_tier), logs each timing, and keeps the best tier whose mean is
    within budget_ms (0 → the policy's budget; HT_ERR_INVALID_ARGUMENT when
    neither is set), else the fastest. The mesh is uploaded again for each
