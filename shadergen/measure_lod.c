@@ -34,8 +34,9 @@ typedef struct lod_levels {
     int soften_count;
 } lod_levels;
 
-static ht_result draw_frame(offscreen *o, ht_renderer *r, const ht_scene *s, const ht_frame_desc *f) {
-    o->gl.ClearColor(s->background[0], s->background[1], s->background[2], 1.0f);
+/* One frame on background, ended by glFinish. */
+static ht_result draw_frame(offscreen *o, ht_renderer *r, const float background[3], const ht_frame_desc *f) {
+    o->gl.ClearColor(background[0], background[1], background[2], 1.0f);
     o->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     const ht_result res = ht_renderer_draw(r, f);
     o->gl.Finish();
@@ -57,13 +58,13 @@ static ht_result draw_level(offscreen *o, ht_renderer *r, const ht_scene *s, con
     if (res == HT_OK) res = ht_renderer_set_opacity_scale(r, (float)(opacity / factor));
     ht_mesh_free(&wide);
     for (const double until = ht_measure_clock_ms() + offscreen_warmup_ms(o); res == HT_OK;) {
-        res = draw_frame(o, r, s, f);
+        res = draw_frame(o, r, s->background, f);
         if (ht_measure_clock_ms() >= until) break;
     }
     double t[HT_MEASURE_LOD_TIMED_FRAMES];
     for (int k = 0; k < HT_MEASURE_LOD_TIMED_FRAMES && res == HT_OK; k++) {
         const double t0 = ht_measure_clock_ms();
-        res = draw_frame(o, r, s, f);
+        res = draw_frame(o, r, s->background, f);
         t[k] = ht_measure_clock_ms() - t0;
     }
     ht_renderer_set_opacity_scale(r, 1.0f);
@@ -166,10 +167,7 @@ ht_result ht_measure_truth(const ht_measure_truth_desc *d, unsigned char *rgba, 
     if (res == HT_OK) res = ht_renderer_set_mesh(r, d->mesh);
     if (res == HT_OK) {
         o->gl.Viewport(0, 0, w, h);
-        o->gl.ClearColor(d->background[0], d->background[1], d->background[2], 1.0f);
-        o->gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        res = ht_renderer_draw(r, d->frame);
-        o->gl.Finish();
+        res = draw_frame(o, r, d->background, d->frame);
     }
     if (res == HT_OK) offscreen_read_box(o, HT_MEASURE_SUPERSAMPLE, 4, false, rgba);
     else
