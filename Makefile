@@ -338,14 +338,14 @@ demo: all
 	  echo "== $$scene: hairview --bundle out/$$scene-bundle --scene scenes/$$scene.json -o out/$$scene.png"; \
 	  $(BUILD)/hairview --bundle out/$$scene-bundle --scene scenes/$$scene.json -o out/$$scene.png || exit 1; \
 	done
-		@echo "== backlit: hairgen materials/brown-marschner.json --scene scenes/backlit.json -o out/backlit-bundle"
+	@echo "== backlit: hairgen materials/brown-marschner.json --scene scenes/backlit.json -o out/backlit-bundle"
 	@$(HAIRGEN) materials/brown-marschner.json --scene scenes/backlit.json -o out/backlit-bundle
 	@echo "== backlit: hairview --bundle out/backlit-bundle --scene scenes/backlit.json -o out/backlit.png"
 	@$(BUILD)/hairview --bundle out/backlit-bundle --scene scenes/backlit.json -o out/backlit.png
 	@echo "== es2: hairview --bundle out/patches-bundle --scene scenes/patches.json --api gles2 -o out/patches-es2.png (GL ES 2.0 through EGL)"
 	@EGL_PLATFORM=surfaceless MESA_GLES_VERSION_OVERRIDE=2.0 $(BUILD)/hairview --bundle out/patches-bundle \
 	  --scene scenes/patches.json --api gles2 -o out/patches-es2.png
-		@echo "demo: wrote out/furball.png, out/patches.png, out/ratboy.png, out/backlit.png (the marschner tier lit from behind) and out/patches-es2.png (the patches on GL ES 2.0); bundles in out/SCENE-bundle"
+	@echo "demo: wrote out/furball.png, out/patches.png, out/ratboy.png, out/backlit.png (the marschner tier lit from behind) and out/patches-es2.png (the patches on GL ES 2.0); bundles in out/SCENE-bundle"
 
 # ---- install: make install PREFIX=/usr/local DESTDIR= ; make uninstall ----
 # The libraries (shared with their links, and static), the public headers

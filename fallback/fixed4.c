@@ -172,7 +172,7 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     if (s->program.viewer == HT_FIXED4_VIEWER_LOCAL) {
         ht_fixed4_soa soa;
         float *coords[HT_FIXED4_MAX_LUTS] = { NULL };
-        bool ok = ht_fixed4_soa_make(&s->program, mesh->vertices, n, &soa) == HT_OK;
+        bool ok = ht_fixed4_soa_from_arrays(mesh->vertices, n, a[ARRAY_VEC0], a[ARRAY_VEC1], &soa) == HT_OK;
         for (int k = 0; ok && k < s->luts; k++) ok = (coords[k] = malloc((n ? n : 1) * 2 * sizeof(float))) != NULL;
         if (!ok) {
             if (soa.count || soa.px) ht_fixed4_soa_free(&soa);
@@ -187,6 +187,12 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
             s->coords[k] = coords[k];
         }
         s->coords_valid = false;
+        /* The LUT coordinates are made per frame from the soa: the static
+           vectors are neither drawn nor uploaded. */
+        for (int i = ARRAY_VEC0; i <= ARRAY_VEC1; i++) {
+            free(a[i]);
+            a[i] = NULL;
+        }
     }
     for (int i = 0; i < ARRAY_COUNT; i++) {
         free(s->arrays[i]);
@@ -197,6 +203,7 @@ static ht_result set_mesh(void *state, const ht_mesh *mesh) {
     /* Uploaded once: the draw reads them from the device every frame. */
     while (gl->GetError() != GL_NO_ERROR) {}
     for (int i = 0; i < ARRAY_COUNT; i++) {
+        if (!s->arrays[i]) continue;
         if (!s->buffers[i]) gl->GenBuffers(1, &s->buffers[i]);
         gl->BindBuffer(GL_ARRAY_BUFFER, s->buffers[i]);
         gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(n * (size_t)widths[i] * sizeof(float)), s->arrays[i],

@@ -296,32 +296,44 @@ void ht_fixed4_soa_free(ht_fixed4_soa *soa) {
     memset(soa, 0, sizeof *soa);
 }
 
-ht_result ht_fixed4_soa_make(const ht_fixed4_program *p, const ht_vertex *v, size_t count, ht_fixed4_soa *out) {
+ht_result ht_fixed4_soa_from_arrays(const ht_vertex *v, size_t count, const float *vec0, const float *vec1,
+                                    ht_fixed4_soa *out) {
     memset(out, 0, sizeof *out);
     size_t bytes = (count ? count : 1) * sizeof(float);
     bool ok = (out->px = malloc(bytes)) && (out->py = malloc(bytes)) && (out->pz = malloc(bytes));
     for (int k = 0; ok && k < HT_FIXED4_MAX_LUTS; k++)
         for (int j = 0; ok && j < 3; j++) ok = (out->v[k][j] = malloc(bytes)) != NULL;
+    if (!ok) {
+        ht_fixed4_soa_free(out);
+        return HT_ERR_OUT_OF_MEMORY;
+    }
+    const float *vec[HT_FIXED4_MAX_LUTS] = { vec0, vec1 ? vec1 : vec0 };
+    for (size_t i = 0; i < count; i++) {
+        out->px[i] = v[i].position[0];
+        out->py[i] = v[i].position[1];
+        out->pz[i] = v[i].position[2];
+        for (int k = 0; k < HT_FIXED4_MAX_LUTS; k++)
+            for (int j = 0; j < 3; j++) out->v[k][j][i] = vec[k][3 * i + (size_t)j];
+    }
+    out->count = count;
+    return HT_OK;
+}
+
+ht_result ht_fixed4_soa_make(const ht_fixed4_program *p, const ht_vertex *v, size_t count, ht_fixed4_soa *out) {
+    memset(out, 0, sizeof *out);
+    size_t bytes = (count ? count : 1) * sizeof(float);
     float *vec[HT_FIXED4_MAX_LUTS] = { malloc(3 * bytes), malloc(3 * bytes) };
     float *colors = malloc(4 * bytes);
-    ok = ok && vec[0] && vec[1] && colors;
-    if (ok) {
+    ht_result r = HT_ERR_OUT_OF_MEMORY;
+    if (vec[0] && vec[1] && colors) {
         const bool kk = kajiya_kay(p);
         ht_fixed4_vertex_arrays(p, v, count, vec[0], kk ? NULL : vec[1], colors);
-        for (size_t i = 0; i < count; i++) {
-            out->px[i] = v[i].position[0];
-            out->py[i] = v[i].position[1];
-            out->pz[i] = v[i].position[2];
-            for (int k = 0; k < HT_FIXED4_MAX_LUTS; k++)
-                for (int j = 0; j < 3; j++) out->v[k][j][i] = vec[kk ? 0 : k][3 * i + (size_t)j];
-        }
-        out->count = count;
+        r = ht_fixed4_soa_from_arrays(v, count, vec[0], kk ? NULL : vec[1], out);
     }
     free(vec[0]);
     free(vec[1]);
     free(colors);
-    if (!ok) ht_fixed4_soa_free(out);
-    return ok ? HT_OK : HT_ERR_OUT_OF_MEMORY;
+    return r;
 }
 
 /* One LUT axis: the coordinate of d = dot(vec, H) with H = normalize(L + V),

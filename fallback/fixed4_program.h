@@ -143,6 +143,10 @@ typedef struct ht_fixed4_soa {
 } ht_fixed4_soa;
 
 ht_result ht_fixed4_soa_make(const ht_fixed4_program *p, const ht_vertex *v, size_t count, ht_fixed4_soa *out);
+/* The same from vec0/vec1 already made by ht_fixed4_vertex_arrays (vec1
+   NULL: vec0 for both LUTs), so a mesh's vectors are made once. */
+ht_result ht_fixed4_soa_from_arrays(const ht_vertex *v, size_t count, const float *vec0, const float *vec1,
+                                    ht_fixed4_soa *out);
 void ht_fixed4_soa_free(ht_fixed4_soa *soa);
 /* Vertices [first, first + count) of soa (within it), borrowing its
    arrays: a draw range's per-frame work. */

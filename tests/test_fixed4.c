@@ -292,6 +292,29 @@ static void test_static_tangents_are_the_models_shifted_tangents(void **state) {
     assert_float_equal(c[0], 0.0, 0); /* Kajiya-Kay's diffuse is in the LUT: no GL lighting */
 }
 
+/* set_mesh makes the vectors once and hands them over: vec1 NULL reads
+   vec0 for both LUTs (Kajiya-Kay), as ht_fixed4_soa_make does. */
+static void test_soa_from_arrays_keeps_each_luts_vector(void **state) {
+    (void)state;
+    ht_vertex v[2] = { { .position = { 1, 2, 3 } }, { .position = { -4, 5, -6 } } };
+    const float vec0[6] = { 0, 1, 0, 1, 0, 0 }, vec1[6] = { 0, 0, 1, 0, -1, 0 };
+    ht_fixed4_soa soa;
+    assert_int_equal(ht_fixed4_soa_from_arrays(v, 2, vec0, vec1, &soa), HT_OK);
+    assert_int_equal(soa.count, 2);
+    assert_float_equal(soa.px[1], -4.0, 0);
+    assert_float_equal(soa.pz[0], 3.0, 0);
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 3; j++) {
+            assert_float_equal(soa.v[0][j][i], vec0[3 * i + j], 0);
+            assert_float_equal(soa.v[1][j][i], vec1[3 * i + j], 0);
+        }
+    ht_fixed4_soa_free(&soa);
+    assert_int_equal(ht_fixed4_soa_from_arrays(v, 2, vec0, NULL, &soa), HT_OK);
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 3; j++) assert_float_equal(soa.v[1][j][i], vec0[3 * i + j], 0);
+    ht_fixed4_soa_free(&soa);
+}
+
 static void test_scale_covers_the_brightest_channel(void **state) {
     (void)state;
     ht_fixed4_program p = scheuermann(1);
@@ -363,6 +386,7 @@ int main(void) {
         cmocka_unit_test(test_texture_matrix_gives_the_lut_coordinates_of_the_dot_products),
         cmocka_unit_test(test_local_viewer_coordinates_track_the_double_dot_products),
         cmocka_unit_test(test_static_tangents_are_the_models_shifted_tangents),
+        cmocka_unit_test(test_soa_from_arrays_keeps_each_luts_vector),
         cmocka_unit_test(test_scale_covers_the_brightest_channel),
         cmocka_unit_test(test_gl_lighting_slopes_keep_each_light_near_the_models_wrapped_diffuse),
     };
