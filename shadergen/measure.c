@@ -18,7 +18,6 @@
 #include "measure.h"
 #include "offscreen.h"
 
-#define FRAMES (HT_MEASURE_WARMUP_FRAMES + HT_MEASURE_TIMED_FRAMES)
 
 /* ---- the clock (what examples/timing.h gives the programs) ---- */
 
@@ -184,14 +183,23 @@ static ht_result measure_all(tier_run *runs, int count, int full, const char *di
                             .aspect = (float)s->width / (float)s->height,
                             .opaque = head.index_count ? &head : NULL };
     /* Round-robin: frame k of every tier before frame k + 1 of any, so a
-       change in the machine's load lands on every tier alike. */
-    for (int k = 0; k < FRAMES && r == HT_OK; k++)
+       change in the machine's load lands on every tier alike. The warm-up
+       rounds go on until ht_timing_warmup_ms has passed (a GPU's clock). */
+    if (r != HT_OK) goto done;
+    out->warmup_ms = ht_timing_warmup_ms(ht_renderer_caps(runs[full].renderer)->renderer);
+    const double warm_until = ht_measure_clock_ms() + out->warmup_ms;
+    out->warmup_rounds = 0;
+    for (int k = 0; k < HT_MEASURE_TIMED_FRAMES && r == HT_OK;) {
+        const bool warming = out->warmup_rounds < HT_MEASURE_WARMUP_FRAMES || ht_measure_clock_ms() < warm_until;
         for (int i = 0; i < all && r == HT_OK; i++) {
             if (!runs[i].renderer) continue;
             double ms = 0;
             r = draw_frame(&runs[i], s, &frame, &ms, err, err_size);
-            if (k >= HT_MEASURE_WARMUP_FRAMES) runs[i].ms[k - HT_MEASURE_WARMUP_FRAMES] = ms;
+            if (!warming) runs[i].ms[k] = ms;
         }
+        if (warming) out->warmup_rounds++;
+        else k++;
+    }
     if (r != HT_OK) goto done;
 
     snprintf(out->driver, sizeof out->driver, "%s", ht_renderer_caps(runs[full].renderer)->renderer);
@@ -437,9 +445,11 @@ ht_result ht_measure_write_manifest(const char *dir, const ht_measure_result *m,
 void ht_measure_print(FILE *out, const ht_measure_result *m) {
     /* Named: a Marschner bundle is measured against its marschner tier. */
     const char *ref = m->reference[0] ? m->reference : "full";
+    char warmup[64] = "";
+    if (m->warmup_ms > 0) snprintf(warmup, sizeof warmup, " (%g ms of them: a GPU's clock)", m->warmup_ms);
     fprintf(out, "measured: scene %s (%dx%d), driver %s; whole frame against %s; frame ms: median of %d "
-                 "after %d warm-up, tiers round-robin; cost = ms / %s's ms\n",
-            m->scene, m->width, m->height, m->driver, ref, HT_MEASURE_TIMED_FRAMES, HT_MEASURE_WARMUP_FRAMES, ref);
+                 "after %d warm-up%s, tiers round-robin; cost = ms / %s's ms\n",
+            m->scene, m->width, m->height, m->driver, ref, HT_MEASURE_TIMED_FRAMES, m->warmup_rounds, warmup, ref);
     fprintf(out, "%-7s %9s %6s %9s %7s %10s %9s %10s %9s\n", "tier", "frame_ms", "cost", "psnr_db", "ssim",
             "de00_mean", "de00_p95", "flip_mean", "flip_p95");
     for (int i = 0; i < m->tier_count; i++) {

@@ -32,7 +32,7 @@
 #include <hairtier/scene.h>
 #include "measure_lod.h"
 
-#define HT_MEASURE_WARMUP_FRAMES 2   /* per tier, untimed: shader variants, uploads, caches */
+#define HT_MEASURE_WARMUP_FRAMES 2   /* per tier, untimed: shader variants, uploads, caches (at least) */
 #define HT_MEASURE_TIMED_FRAMES 5    /* per tier; the median is the tier's frame time */
 #define HT_MEASURE_BUILT_IN_SCENE "built-in"
 
@@ -59,6 +59,8 @@ typedef struct ht_measure_result {
     char driver[128];        /* GL_RENDERER as the driver reports it */
     char reference[16];      /* the tier measured against: marschner for a Marschner bundle, else full */
     int width, height;
+    int warmup_rounds;       /* untimed rounds of every tier: at least HT_MEASURE_WARMUP_FRAMES */
+    double warmup_ms;        /* ht_timing_warmup_ms of the driver: 0 on a software rasterizer */
 } ht_measure_result;
 
 /* The scene label: scene_path's base name (cut to fit, at a UTF-8

@@ -154,6 +154,8 @@ static void test_hairgen_prints_the_measured_table(void **state) {
     char *out = work_file("measured-out.txt");
     assert_non_null(strstr(out, "measured: scene small.json (96x96), driver "));
     assert_non_null(strstr(out, "; whole frame against full; "));
+    /* a software rasterizer has no clock to raise: the two rounds only */
+    assert_non_null(strstr(out, "frame ms: median of 5 after 2 warm-up, tiers round-robin"));
     const char *table = strstr(out, "\ntier     frame_ms");
     assert_non_null(table);
     const char *names[] = { "\nfull ", "\nvertex ", "\nfixed4 ", "\nfixed ", "\ngl11 " };
@@ -171,6 +173,19 @@ static char *printed_table(const ht_measure_result *result) {
     ht_measure_print(f, result);
     assert_int_equal(fclose(f), 0);
     return text;
+}
+
+/* On a GPU the warm-up rounds go on for ht_timing_warmup_ms, and the
+   table says how many there were and why. */
+static void test_measured_table_names_a_gpus_warmup(void **state) {
+    (void)state;
+    ht_measure_result r = { .scene = "s.json", .driver = "NVIDIA H200", .width = 8, .height = 8,
+                            .warmup_rounds = 7, .warmup_ms = HT_TIMING_WARMUP_MS };
+    assert_true(ht_timing_warmup_ms(r.driver) > 0);
+    char *text = printed_table(&r);
+    if (!strstr(text, "median of 5 after 7 warm-up (250 ms of them: a GPU's clock), tiers round-robin"))
+        fail_msg("the table:\n%s", text);
+    free(text);
 }
 
 /* A Marschner bundle is measured against its marschner tier, and the
@@ -651,6 +666,7 @@ int main(void) {
         cmocka_unit_test(test_every_tier_carries_a_measured_object_the_runtime_reads),
         cmocka_unit_test(test_measure_adds_only_the_measured_objects),
         cmocka_unit_test(test_hairgen_prints_the_measured_table),
+        cmocka_unit_test(test_measured_table_names_a_gpus_warmup),
         cmocka_unit_test(test_hairgen_names_marschner_as_the_reference_of_a_marschner_bundle),
         cmocka_unit_test(test_measure_without_libosmesa_draws_through_egl),
         cmocka_unit_test(test_measure_without_osmesa_or_egl_writes_nothing),
