@@ -343,7 +343,8 @@ static double width_rule(const ht_mesh *m, const ht_scene *scene, ht_mesh *wide,
     double f = 1.0;
     *wide = (ht_mesh){ 0 };
     if (!m->vertices ||
-        ht_mesh_width_rule(m, ht_mesh_projected_width_px(m, &scene->camera, HEIGHT), scene->camera.eye, wide, &f) != HT_OK ||
+        ht_mesh_width_rule(m, ht_mesh_projected_width_px(m, &scene->camera, HEIGHT), SAMPLES, scene->camera.eye, wide,
+                           &f) != HT_OK ||
         !(f > 1.0)) {
         ht_mesh_free(wide);
         return 1.0;

@@ -490,7 +490,7 @@ static int width_rule_for(const options *o, const view *v, bool paired) {
 static int apply_width_rule(const options *o, const ht_scene *s, ht_renderer *r, ht_mesh *hair, float opacity) {
     double f = 1.0;
     ht_mesh wide;
-    ht_result res = ht_mesh_width_rule(hair, mean_strand_px(s, hair), s->camera.eye, &wide, &f);
+    ht_result res = ht_mesh_width_rule(hair, mean_strand_px(s, hair), ht_renderer_samples(r), s->camera.eye, &wide, &f);
     if (res != HT_OK) {
         fprintf(stderr, "hairview: %s: geometry: --width-rule: %s\n", o->view.scene, ht_result_string(res));
         return 1;
@@ -672,9 +672,12 @@ static int draw_still(const options *o, view *v, ht_scene *scene, double scene_d
     }
     /* per vertex where the tier drawing now can, else per draw */
     if (width_rule == WIDTH_RULE_VERTEX && ht_renderer_width_rule_per_vertex(v->renderer)) {
-        printf("width_rule=vertex\n");
-        /* translucent strands compose far to near, once most are (lod.h) */
-        if (ht_width_rule_vertex_sorts(mean_strand_px(scene, &v->hair))) {
+        /* drawn back to front where it applies, as it is where not (lod.h) */
+        const int samples = ht_renderer_samples(v->renderer);
+        const bool applies = ht_width_rule_applies(mean_strand_px(scene, &v->hair), samples);
+        if (applies) printf("width_rule=vertex\n");
+        else printf("width_rule=vertex not applied: %d samples resolve the strands\n", samples);
+        if (applies) {
             ht_mesh_sort_back_to_front(&v->hair, scene->camera.eye);
             ht_renderer_set_back_to_front(v->renderer, true);
             if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);

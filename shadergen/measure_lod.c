@@ -53,7 +53,8 @@ static ht_result draw_level(offscreen *o, ht_renderer *r, const ht_scene *s, con
     ht_mesh wide = { 0 };
     double factor = 1.0;
     const double px = ht_mesh_projected_width_px(mesh, &s->camera, s->height);
-    ht_result res = width_rule ? ht_mesh_width_rule(mesh, px, s->camera.eye, &wide, &factor) : HT_OK;
+    ht_result res = width_rule ? ht_mesh_width_rule(mesh, px, ht_renderer_samples(r), s->camera.eye, &wide, &factor)
+                               : HT_OK;
     if (res == HT_OK) res = ht_renderer_set_mesh(r, factor > 1.0 ? &wide : mesh);
     if (res == HT_OK) res = ht_renderer_set_opacity_scale(r, (float)(opacity / factor));
     ht_mesh_free(&wide);

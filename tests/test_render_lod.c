@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include <GL/gl.h>
+#include <GL/glext.h>
 
 #include <hairtier/hairtier.h>
 #include <hairtier/lod.h>
@@ -488,6 +489,78 @@ static void chain_width_rule_per_draw(void **state) {
     ht_lod_chain_free(&chain);
 }
 
+/* Frames of a pull out from 3 to 300 units in which the chain widened
+   its level, and the widest drawn strand (pixels, before widening) among
+   them: the per-draw rule on the framebuffer bound now, which widens no
+   strand of max_px or more. */
+static int widened_frames(ht_renderer *r, double max_px, double *widest_px) {
+    ht_lod_chain chain;
+    assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
+    chain.width_rule = true;
+    int widened = 0;
+    *widest_px = 0;
+    for (int f = 0; f < 24; f++) {
+        const ht_frame_desc frame = ht_test_furball_frame((float)(3.0 * pow(100.0, f / 23.0)));
+        ht_result res;
+        const int level = ht_lod_chain_select(&chain, r, &frame.camera, 512, &res);
+        assert_int_equal(res, HT_OK);
+        if (!(chain.wide_renderer == r && chain.wide_factor > 1.0)) continue;
+        widened++;
+        const double px = ht_mesh_projected_width_px(ht_lod_chain_mesh(&chain, level), &frame.camera, 512);
+        if (px > *widest_px) *widest_px = px;
+        if (px > max_px * 1.05) fail_msg("frame %d: level %d widened at %.3f px", f, level, px);
+    }
+    ht_lod_chain_free(&chain);
+    return widened;
+}
+
+/* The chain's width rule reads the framebuffer's samples
+   (ht_renderer_samples): with a 4-sample framebuffer bound it widens a
+   level only while its strands are under 0.75 px (ht_width_rule_applies;
+   the samples resolve wider ones), where with one sample every level
+   under a pixel is widened. */
+static void chain_width_rule_reads_the_samples(void **state) {
+    (void)state;
+    PFNGLGENFRAMEBUFFERSPROC gen_fb = (PFNGLGENFRAMEBUFFERSPROC)ht_test_getproc("glGenFramebuffers");
+    PFNGLBINDFRAMEBUFFERPROC bind_fb = (PFNGLBINDFRAMEBUFFERPROC)ht_test_getproc("glBindFramebuffer");
+    PFNGLDELETEFRAMEBUFFERSPROC delete_fb = (PFNGLDELETEFRAMEBUFFERSPROC)ht_test_getproc("glDeleteFramebuffers");
+    PFNGLGENRENDERBUFFERSPROC gen_rb = (PFNGLGENRENDERBUFFERSPROC)ht_test_getproc("glGenRenderbuffers");
+    PFNGLBINDRENDERBUFFERPROC bind_rb = (PFNGLBINDRENDERBUFFERPROC)ht_test_getproc("glBindRenderbuffer");
+    PFNGLDELETERENDERBUFFERSPROC delete_rb = (PFNGLDELETERENDERBUFFERSPROC)ht_test_getproc("glDeleteRenderbuffers");
+    PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC storage =
+        (PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC)ht_test_getproc("glRenderbufferStorageMultisample");
+    PFNGLFRAMEBUFFERRENDERBUFFERPROC attach = (PFNGLFRAMEBUFFERRENDERBUFFERPROC)ht_test_getproc("glFramebufferRenderbuffer");
+    PFNGLCHECKFRAMEBUFFERSTATUSPROC status = (PFNGLCHECKFRAMEBUFFERSTATUSPROC)ht_test_getproc("glCheckFramebufferStatus");
+    if (!gen_fb || !bind_fb || !delete_fb || !gen_rb || !bind_rb || !delete_rb || !storage || !attach || !status)
+        skip(); /* no framebuffer objects on this driver */
+    ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true }, fx.bundle_dir,
+                                             HT_OK);
+    double widest[2];
+    assert_int_equal(ht_renderer_samples(r), 1);
+    const int one = widened_frames(r, 1.0, &widest[0]);
+    GLuint fb = 0, rb[2] = { 0, 0 };
+    gen_fb(1, &fb);
+    gen_rb(2, rb);
+    const GLenum formats[2] = { GL_RGBA8, GL_DEPTH_COMPONENT24 };
+    const GLenum points[2] = { GL_COLOR_ATTACHMENT0, GL_DEPTH_ATTACHMENT };
+    bind_fb(GL_FRAMEBUFFER, fb);
+    for (int i = 0; i < 2; i++) {
+        bind_rb(GL_RENDERBUFFER, rb[i]);
+        storage(GL_RENDERBUFFER, 4, formats[i], SIZE, SIZE);
+        attach(GL_FRAMEBUFFER, points[i], GL_RENDERBUFFER, rb[i]);
+    }
+    assert_int_equal(status(GL_FRAMEBUFFER), GL_FRAMEBUFFER_COMPLETE);
+    assert_int_equal(ht_renderer_samples(r), 4);
+    const int four = widened_frames(r, 0.75, &widest[1]);
+    bind_fb(GL_FRAMEBUFFER, 0);
+    delete_fb(1, &fb);
+    delete_rb(2, rb);
+    printf("chain width rule: %d frames widened with 1 sample (strands up to %.3f px), %d with 4 (up to %.3f px)\n",
+           one, widest[0], four, widest[1]);
+    assert_true(four > 0 && four < one);
+    ht_renderer_destroy(r);
+}
+
 /* The width rule per vertex in the chain (the full tier does it): the
    same pull out and back, but no level is ever widened or copied (the
    vertex stage widens each strand); past about 30 units, where the
@@ -815,6 +888,7 @@ int main(void) {
         cmocka_unit_test(chain_soft_hysteresis_and_width_rule),
         cmocka_unit_test(chain_reads_every_cell_of_a_long_rule),
         cmocka_unit_test(chain_width_rule_per_vertex),
+        cmocka_unit_test(chain_width_rule_reads_the_samples),
         cmocka_unit_test(mesh_order_uploads_the_indices_alone),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

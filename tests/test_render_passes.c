@@ -211,11 +211,13 @@ static void test_render_opacity_scale_blends_every_strand_in_every_tier(void **s
 
 /* The width rule per vertex (lod.h): full and gl11 (its CPU colours) do
    it, the desktop vertex, fixed4 and fixed tiers cannot (the caller keeps
-   it per draw) and say so. Where it is on: the same four passes with the
-   material's reference (0.98: lod.h's HT_WIDTH_RULE_VERTEX_REF), more pixels touched (the thin tips and far strands
-   widened to 1.5 px) and the ink kept within a quarter (their alpha scaled
-   by the ratio): a tier that widened without scaling would gain ink with
-   the pixels, one that did neither would touch no more pixels. */
+   it per draw) and say so. Where it is on and the mesh back to front: the
+   passes with one blended pass in mesh order and the material's reference
+   (0.98: lod.h's HT_WIDTH_RULE_VERTEX_REF), more pixels touched (the thin
+   tips and far strands widened to 1.5 px) and the ink kept within a
+   quarter (their alpha scaled by the ratio): a tier that widened without
+   scaling would gain ink with the pixels, one that did neither would touch
+   no more pixels. Inside out the hair is drawn as it is, pixel for pixel. */
 static void test_render_width_rule_per_vertex_where_the_tier_can(void **state) {
     (void)state;
     const struct { ht_tier tier; bool per_vertex; } tiers[] = {
@@ -232,24 +234,29 @@ static void test_render_width_rule_per_vertex_where_the_tier_can(void **state) {
         assert_int_equal(ht_renderer_set_mesh(r, &fx.mesh), HT_OK);
         assert_int_equal(ht_renderer_width_rule_per_vertex(r), tiers[i].per_vertex);
         render(r, &on);
+        /* inside out it is not drawn (lod.h: it applies where the mesh is back to front) */
+        assert_int_equal(stats(&on).changed, stats(&off).changed);
+        assert_true(fabs(ink(&on) / ink(&off) - 1.0) < 1e-9);
+        /* the mesh said to be back to front: widened, one blended pass in its order */
+        if (tiers[i].per_vertex) {
+            ht_image_free(&on);
+            ht_renderer_set_back_to_front(r, true);
+            render(r, &on);
+        }
         const double ratio = ink(&on) / ink(&off);
         const int pixels[2] = { stats(&off).changed, stats(&on).changed };
         printf("%s: per vertex %d, hair pixels %d -> %d, ink x %.3f\n", ht_tier_name(tiers[i].tier),
                tiers[i].per_vertex, pixels[0], pixels[1], ratio);
         if (tiers[i].per_vertex) {
-            check_trace(ht_renderer_trace(r), HT_WIDTH_RULE_VERTEX_REF, false);
+            check_trace(ht_renderer_trace(r), HT_WIDTH_RULE_VERTEX_REF, true);
             assert_true(pixels[1] > pixels[0] * 1.05);
             assert_true(ratio > 0.75 && ratio < 1.25);
-            /* the mesh said to be back to front: one blended pass in its order */
-            ht_image sorted;
-            ht_renderer_set_back_to_front(r, true);
-            render(r, &sorted);
-            check_trace(ht_renderer_trace(r), HT_WIDTH_RULE_VERTEX_REF, true);
-            ht_image_free(&sorted);
+            ht_image inside_out;
             ht_renderer_set_back_to_front(r, false);
-            render(r, &sorted);
+            render(r, &inside_out);
             check_trace(ht_renderer_trace(r), HT_WIDTH_RULE_VERTEX_REF, false);
-            ht_image_free(&sorted);
+            assert_int_equal(stats(&inside_out).changed, pixels[0]);
+            ht_image_free(&inside_out);
         } else {
             assert_int_equal(pixels[1], pixels[0]);
         }

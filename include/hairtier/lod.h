@@ -180,13 +180,15 @@ HT_API void ht_mesh_sort_back_to_front(ht_mesh *mesh, const float eye[3]);
    mesh the width rule and a soft level draw (at opacity 1 / factor). */
 HT_API ht_result ht_mesh_widen_back_to_front(const ht_mesh *mesh, double factor, const float eye[3], ht_mesh *out);
 
-/* The width rule on one mesh for one eye: *factor = ht_width_rule_widen
-   (strand_px); above 1, *out is ht_mesh_widen(mesh, factor) sorted back
-   to front from eye, to be drawn at opacity 1 / factor; at 1, *out is
-   zeroed (draw mesh itself at opacity 1). HT_ERR_INVALID_ARGUMENT,
-   HT_ERR_OUT_OF_MEMORY (then *out zeroed). */
-HT_API ht_result ht_mesh_width_rule(const ht_mesh *mesh, double strand_px, const float eye[3], ht_mesh *out,
-                                    double *factor);
+/* The width rule on one mesh for one eye, in a framebuffer of `samples`
+   samples a pixel: *factor = ht_width_rule_widen(strand_px) where
+   ht_width_rule_applies(strand_px, samples), else 1; above 1, *out is
+   ht_mesh_widen(mesh, factor) sorted back to front from eye, to be drawn
+   at opacity 1 / factor; at 1, *out is zeroed (draw mesh itself at
+   opacity 1). HT_ERR_INVALID_ARGUMENT, HT_ERR_OUT_OF_MEMORY (then *out
+   zeroed). */
+HT_API ht_result ht_mesh_width_rule(const ht_mesh *mesh, double strand_px, int samples, const float eye[3],
+                                    ht_mesh *out, double *factor);
 
 /* Scales the hair's drawn alpha by scale in every pass of every tier (a
    uniform in the GLSL texts, the last combiner stage's constant in fixed4,
@@ -207,26 +209,40 @@ HT_API ht_result ht_renderer_set_opacity_scale(ht_renderer *r, float scale);
    near and far strands each get their own factor, no widened mesh and no
    upload per size. Takes effect at the next ht_renderer_set_mesh, which
    then uploads each vertex's offset from its row's centre (12 bytes a
-   vertex; a mesh split into 16-bit chunks, split alike). Off by default. */
+   vertex; a mesh split into 16-bit chunks, split alike). Drawn in the
+   frames whose mesh is back to front (ht_renderer_set_back_to_front, or
+   an opacity scale), so a caller turns it on and off per frame by the
+   order it draws (ht_width_rule_applies); inside out the strands are
+   drawn as they are. Off by default. */
 HT_API void ht_renderer_set_width_rule(ht_renderer *r, bool per_vertex);
 /* On: the mesh drawn is ordered back to front from the frame's eye
    (ht_mesh_sort_back_to_front), so the blended passes draw both faces in
    one pass in its order, as under an opacity scale below 1 (which implies
-   it). For the width rule per vertex while most strands are widened and
-   blend (ht_width_rule_vertex_sorts); off (the default) they are split by
-   facing, inside out. */
+   it). For the width rule per vertex while it applies
+   (ht_width_rule_applies); off (the default) they are split by facing,
+   inside out. */
 HT_API void ht_renderer_set_back_to_front(ht_renderer *r, bool on);
 /* The width a vertex is drawn at least (pixels): a ribbon a pixel wide
    still misses pixel centres; 1.5 was the closest to the supersampled
    fur ball at 1/8 to 1/2 of its size (docs/lod.md). */
 #define HT_WIDTH_RULE_VERTEX_PX 1.5
-/* Per vertex, whether a mesh whose mean strand is strand_px wide is drawn
-   back to front (ht_mesh_sort_back_to_front, ht_renderer_set_back_to_front):
-   under HT_WIDTH_RULE_VERTEX_PX most of its strands are widened and
-   translucent, and blend right only far to near; wider, most stay opaque
-   and the inside-out order serves (the centroid order misplaces near, long
-   strands). */
-HT_API bool ht_width_rule_vertex_sorts(double strand_px);
+/* Whether the width rule applies to a mesh whose mean strand is strand_px
+   wide, drawn with `samples` samples a pixel (0 or 1: one): while
+   strand_px x sqrt(samples) is under HT_WIDTH_RULE_VERTEX_PX.
+   Multisampling resolves a strand down to its sample spacing; wider than
+   that the rule's widened, translucent strands blur what the samples
+   resolve (the fur ball at 4 samples, strands 0.8-1.5 px: 2.5-5 dB
+   further from the truth than without it, docs/lod.md). Where it applies:
+   per draw the factor is ht_width_rule_widen's; per vertex the mesh is
+   drawn back to front (ht_mesh_sort_back_to_front,
+   ht_renderer_set_back_to_front), translucent strands blending right only
+   far to near; where it does not, per vertex the mesh is drawn as it is,
+   inside out. */
+HT_API bool ht_width_rule_applies(double strand_px, int samples);
+/* The samples a pixel of the framebuffer bound for drawing (GL_SAMPLES;
+   1 without multisampling, or where the GL has no GL_SAMPLES: GL 1.1,
+   1.2), what ht_width_rule_applies reads. */
+HT_API int ht_renderer_samples(const ht_renderer *r);
 /* The passes' alpha reference while it is on: the material's cutoff, at
    least this. Most strands are not scaled and keep their opaque pass
    (reference 1 sent every fragment under it to the blended passes, whose
@@ -300,7 +316,8 @@ HT_API int ht_lod_pick_frame(const ht_lod_cell *cells, int count, double size, d
    width_rule (false unless the caller sets it, after build): the width
    rule per draw on the level drawn, every frame: where its strands
    (its mean ribbon width at the eye's distance to the centre) are under
-   a pixel, f = ht_width_rule_widen of it, the level widened by f
+   a pixel and the rule applies (ht_width_rule_applies, with
+   ht_renderer_samples), f = ht_width_rule_widen of it, the level widened by f
    (ht_mesh_widen), sorted back to front from this frame's eye and
    uploaded alone (ht_renderer_set_mesh: that level's vertices), the
    opacity 1 / f (ht_renderer_set_opacity_scale); while level and f (a
@@ -308,7 +325,8 @@ HT_API int ht_lod_pick_frame(const ht_lod_cell *cells, int count, double size, d
    that made it; a pixel or wider again: `all` is uploaded again and the
    opacity is 1. Where the renderer does the rule per vertex
    (ht_renderer_set_width_rule, a tier that can) nothing is widened or
-   copied: while the level's strands are ht_width_rule_vertex_sorts, its
+   copied: while the rule applies to the level's strands
+   (ht_width_rule_applies, the renderer's samples) its
    range of `all` is sorted back to front and `all`'s indices uploaded
    alone (ht_renderer_set_mesh_order, ht_renderer_set_back_to_front; the
    order restored the same way when the level leaves it); else `all`'s

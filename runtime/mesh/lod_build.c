@@ -270,11 +270,11 @@ ht_result ht_mesh_widen(const ht_mesh *mesh, double factor, ht_mesh *out) {
     return build_lod(mesh, &(ht_lod_desc){ .strand_stride = 1, .max_turn_deg = 0 }, factor, out);
 }
 
-ht_result ht_mesh_width_rule(const ht_mesh *mesh, double strand_px, const float eye[3], ht_mesh *out,
+ht_result ht_mesh_width_rule(const ht_mesh *mesh, double strand_px, int samples, const float eye[3], ht_mesh *out,
                              double *factor) {
     if (out) memset(out, 0, sizeof *out);
     if (!mesh || !eye || !out || !factor) return HT_ERR_INVALID_ARGUMENT;
-    *factor = ht_width_rule_widen(strand_px);
+    *factor = ht_width_rule_applies(strand_px, samples) ? ht_width_rule_widen(strand_px) : 1.0;
     if (*factor <= 1.0) return HT_OK;
     return ht_mesh_widen_back_to_front(mesh, *factor, eye, out);
 }

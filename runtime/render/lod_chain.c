@@ -415,12 +415,13 @@ static int draw_level_width_rule(ht_lod_chain *c, ht_renderer *r, int level, flo
                                  const ht_camera *camera, ht_result *result) {
     const double s = soften > 1.0f ? soften : 1.0;
     const double level_px = px * s * c->level_width[level] / c->width; /* the level's strands, drawn */
-    const double f = c->width_rule ? ht_width_rule_widen(level_px) : 1.0;
+    const bool applies = c->width_rule && ht_width_rule_applies(level_px, ht_renderer_samples(r));
+    const double f = applies ? ht_width_rule_widen(level_px) : 1.0;
     /* per vertex is known once r holds a mesh of this chain (lod.h) */
     if (c->width_rule && !held_mesh(c, r) && draw_level(c, r, level, result) < 0) return -1;
     const bool per_vertex = c->width_rule && ht_renderer_width_rule_per_vertex(r);
     const double factor = fmin(s * (per_vertex ? 1.0 : f), HT_LOD_MAX_WIDEN);
-    const bool sorts = per_vertex && ht_width_rule_vertex_sorts(level_px);
+    const bool sorts = per_vertex && applies;
     c->waiting = false;
     if (c->async) return draw_async(c, r, &(wanted){ level, s, factor, sorts }, camera, result);
     if (c->job) { /* async turned off: its result dropped */

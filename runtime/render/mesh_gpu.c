@@ -97,6 +97,10 @@ bool ht_renderer_width_rule_active(const ht_renderer *r) {
            r->backend->vertex_width_rule(r->backend_state);
 }
 
+bool ht_renderer_width_rule_drawn(const ht_renderer *r) {
+    return ht_renderer_width_rule_active(r) && (r->back_to_front || r->opacity_cut > 0.0f);
+}
+
 /* The width rule per vertex's a_side array (ht_lod_sides), in the order
    the vertices went up (source: a split mesh's, index_chunks.h; NULL: the
    mesh's own). A buffer where the GL has them; false when memory or the

@@ -21,7 +21,7 @@ void ht_pass_alpha_rule(const ht_renderer *r, ht_pass pass, GLenum *func, float 
        opaque lost at most 1 - that of its scale. */
     const float cutoff = r->have_bundle ? r->bundle.opaque_cutoff : DEFAULT_CUTOFF;
     *ref = r->opacity_cut > 0.0f                 ? 1.0f
-         : !ht_renderer_width_rule_active(r)     ? cutoff
+         : !ht_renderer_width_rule_drawn(r)      ? cutoff
          : cutoff > HT_WIDTH_RULE_VERTEX_REF     ? cutoff
                                                  : HT_WIDTH_RULE_VERTEX_REF;
     *func = pass == HT_PASS_PRIME_Z || pass == HT_PASS_OPAQUE ? GL_GEQUAL : GL_LESS;

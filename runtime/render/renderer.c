@@ -476,7 +476,7 @@ ht_result ht_renderer_draw(ht_renderer *r, const ht_frame_desc *f) {
     tf.light_count = ht_renderer_plan_lights(r, f, lights);
     tf.lights = lights;
     tf.opacity_cut = r->opacity_cut;
-    if (ht_renderer_width_rule_active(r)) {
+    if (ht_renderer_width_rule_drawn(r)) {
         GLint vp[4] = { 0 };
         r->gl.GetIntegerv(GL_VIEWPORT, vp);
         /* the drawn width's world length at clip w = 1 (shader_interface.h) */

@@ -113,9 +113,12 @@ void ht_renderer_set_arrays(ht_renderer *r, const ht_vertex *base, bool hair_att
 /* The same from vertex first on (a chunk of a split mesh). */
 void ht_renderer_set_arrays_from(ht_renderer *r, const ht_vertex *base, uint32_t first, bool hair_attributes);
 void ht_renderer_clear_arrays(ht_renderer *r);
-/* Whether this frame's hair is widened per vertex: asked for, the drawing
+/* Whether the hair can be widened per vertex: asked for, the drawing
    tier's programs do it, and the mesh has its sides. */
 bool ht_renderer_width_rule_active(const ht_renderer *r);
+/* Whether this frame's is: active, and the mesh drawn back to front (lod.h:
+   the rule applies only so). */
+bool ht_renderer_width_rule_drawn(const ht_renderer *r);
 
 /* gl_state.c: save (HT_ERR_GL with one line and nothing changed when an
    attribute stack is full), baseline, restore. */

@@ -2,6 +2,7 @@
    hairgen --measure-lods) handed to the application as ht_lod_cell, for
    ht_lod_pick_error; the width rule's opacity scale (lod.h). */
 #include <hairtier/lod.h>
+#include "caps.h"
 #include "renderer_internal.h"
 
 int ht_renderer_lod_cells(const ht_renderer *r, ht_lod_cell *out, int max) {
@@ -32,6 +33,13 @@ void ht_renderer_set_back_to_front(ht_renderer *r, bool on) {
 }
 
 bool ht_renderer_width_rule_per_vertex(const ht_renderer *r) { return r && ht_renderer_width_rule_active(r); }
+
+int ht_renderer_samples(const ht_renderer *r) {
+    if (!r || !r->gl.GetIntegerv || !(r->caps.es || ht_caps_gl_at_least(&r->caps, 1, 3))) return 1;
+    GLint samples = 0;
+    r->gl.GetIntegerv(GL_SAMPLES, &samples);
+    return samples > 1 ? (int)samples : 1;
+}
 
 ht_result ht_renderer_set_opacity_scale(ht_renderer *r, float scale) {
     if (!r || !(scale > 0.0f && scale <= 1.0f)) return HT_ERR_INVALID_ARGUMENT;

@@ -24,7 +24,9 @@ double ht_width_rule_widen(double strand_px) {
     return fmin(exp2(quarters / 4.0), HT_LOD_MAX_WIDEN);
 }
 
-bool ht_width_rule_vertex_sorts(double strand_px) { return strand_px > 0 && strand_px < HT_WIDTH_RULE_VERTEX_PX; }
+bool ht_width_rule_applies(double strand_px, int samples) {
+    return strand_px > 0 && strand_px * sqrt(samples > 1 ? (double)samples : 1.0) < HT_WIDTH_RULE_VERTEX_PX;
+}
 
 int ht_lod_pick_best(double strand_px, int current, int max_level) {
     if (max_level < 0) max_level = 0;
