@@ -370,10 +370,10 @@ static void width_rule_reaches_a_pixel(void **state) {
     (void)state;
     assert_true(ht_width_rule_widen(1.0) == 1.0 && ht_width_rule_widen(3.0) == 1.0 && ht_width_rule_widen(0) == 1.0);
     assert_true(ht_width_rule_widen(NAN) == 1.0);
-    /* it applies while the strand is under 1.5 px of sample spacing (lod.h) */
+    /* it applies while the strand x samples^(1/4) is under 1.5 px (lod.h) */
     assert_true(ht_width_rule_applies(1.4, 0) && ht_width_rule_applies(1.4, 1) && !ht_width_rule_applies(1.5, 1));
-    assert_true(ht_width_rule_applies(0.7, 4) && !ht_width_rule_applies(0.75, 4) && !ht_width_rule_applies(0.9, 4));
-    assert_true(ht_width_rule_applies(0.37, 16) && !ht_width_rule_applies(0.38, 16));
+    assert_true(ht_width_rule_applies(1.05, 4) && !ht_width_rule_applies(1.07, 4) && !ht_width_rule_applies(1.3, 4));
+    assert_true(ht_width_rule_applies(0.74, 16) && !ht_width_rule_applies(0.76, 16));
     assert_true(!ht_width_rule_applies(0, 1) && !ht_width_rule_applies(NAN, 4) && !ht_width_rule_applies(-1, 4));
     for (double px = 0.01; px < 1.0; px *= 1.07) {
         const double f = ht_width_rule_widen(px);
@@ -413,14 +413,14 @@ static void width_rule_reaches_a_pixel(void **state) {
     assert_int_equal(ht_mesh_widen_back_to_front(&full, 1.0, NULL, &wide), HT_ERR_INVALID_ARGUMENT);
     assert_null(wide.vertices);
     /* the rule on one mesh: 0.9 px widened by a quarter octave with one
-       sample; with 4 the samples resolve it and nothing changes */
+       sample; with 16 the samples resolve it and nothing changes */
     double f = 0;
     assert_int_equal(ht_mesh_width_rule(&full, 0.9, 1, eye, &wide, &f), HT_OK);
     assert_true(f == ht_width_rule_widen(0.9) && f > 1.0 && wide.vertices);
     ht_mesh_free(&wide);
-    assert_int_equal(ht_mesh_width_rule(&full, 0.9, 4, eye, &wide, &f), HT_OK);
+    assert_int_equal(ht_mesh_width_rule(&full, 0.9, 16, eye, &wide, &f), HT_OK);
     assert_true(f == 1.0 && !wide.vertices);
-    assert_int_equal(ht_mesh_width_rule(&full, 0.3, 4, eye, &wide, &f), HT_OK);
+    assert_int_equal(ht_mesh_width_rule(&full, 0.3, 16, eye, &wide, &f), HT_OK);
     assert_true(f == ht_width_rule_widen(0.3) && wide.vertices);
     ht_mesh_free(&wide);
     /* back to front: the farthest centroid from the eye first */

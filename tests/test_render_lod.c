@@ -489,36 +489,37 @@ static void chain_width_rule_per_draw(void **state) {
     ht_lod_chain_free(&chain);
 }
 
-/* Frames of a pull out from 3 to 300 units in which the chain widened
-   its level, and the widest drawn strand (pixels, before widening) among
-   them: the per-draw rule on the framebuffer bound now, which widens no
-   strand of max_px or more. */
-static int widened_frames(ht_renderer *r, double max_px, double *widest_px) {
+/* Frames of a pull out from 3 to 300 units in which the chain drew its
+   level with the width rule per vertex (sorted back to front), and the
+   widest strand among them (pixels, the level's mean): under the
+   framebuffer bound now, none of max_px or more. */
+static int rule_frames(ht_renderer *r, double max_px, double *widest_px) {
     ht_lod_chain chain;
     assert_int_equal(ht_lod_chain_build(&fx.mesh, &chain), HT_OK);
     chain.width_rule = true;
-    int widened = 0;
+    int drawn = 0;
     *widest_px = 0;
     for (int f = 0; f < 24; f++) {
         const ht_frame_desc frame = ht_test_furball_frame((float)(3.0 * pow(100.0, f / 23.0)));
         ht_result res;
         const int level = ht_lod_chain_select(&chain, r, &frame.camera, 512, &res);
         assert_int_equal(res, HT_OK);
-        if (!(chain.wide_renderer == r && chain.wide_factor > 1.0)) continue;
-        widened++;
+        assert_true(ht_renderer_width_rule_per_vertex(r));
+        if (chain.ordered_level < 0) continue;
+        drawn++;
         const double px = ht_mesh_projected_width_px(ht_lod_chain_mesh(&chain, level), &frame.camera, 512);
         if (px > *widest_px) *widest_px = px;
-        if (px > max_px * 1.05) fail_msg("frame %d: level %d widened at %.3f px", f, level, px);
+        if (px > max_px * 1.05) fail_msg("frame %d: level %d drawn with the rule at %.3f px", f, level, px);
     }
     ht_lod_chain_free(&chain);
-    return widened;
+    return drawn;
 }
 
 /* The chain's width rule reads the framebuffer's samples
-   (ht_renderer_samples): with a 4-sample framebuffer bound it widens a
-   level only while its strands are under 0.75 px (ht_width_rule_applies;
-   the samples resolve wider ones), where with one sample every level
-   under a pixel is widened. */
+   (ht_renderer_samples): per vertex, with a 4-sample framebuffer bound it
+   draws a level with the rule (back to front) only while its strands are
+   under 1.5 / 4^(1/4) = 1.06 px (ht_width_rule_applies; the samples
+   resolve wider ones), where with one sample up to 1.5 px. */
 static void chain_width_rule_reads_the_samples(void **state) {
     (void)state;
     PFNGLGENFRAMEBUFFERSPROC gen_fb = (PFNGLGENFRAMEBUFFERSPROC)ht_test_getproc("glGenFramebuffers");
@@ -535,9 +536,10 @@ static void chain_width_rule_reads_the_samples(void **state) {
         skip(); /* no framebuffer objects on this driver */
     ht_renderer *r = ht_test_renderer_create((ht_renderer_desc){ .tier = HT_TIER_FULL, .strict = true }, fx.bundle_dir,
                                              HT_OK);
+    ht_renderer_set_width_rule(r, true);
     double widest[2];
     assert_int_equal(ht_renderer_samples(r), 1);
-    const int one = widened_frames(r, 1.0, &widest[0]);
+    const int one = rule_frames(r, HT_WIDTH_RULE_VERTEX_PX, &widest[0]);
     GLuint fb = 0, rb[2] = { 0, 0 };
     gen_fb(1, &fb);
     gen_rb(2, rb);
@@ -551,11 +553,11 @@ static void chain_width_rule_reads_the_samples(void **state) {
     }
     assert_int_equal(status(GL_FRAMEBUFFER), GL_FRAMEBUFFER_COMPLETE);
     assert_int_equal(ht_renderer_samples(r), 4);
-    const int four = widened_frames(r, 0.75, &widest[1]);
+    const int four = rule_frames(r, HT_WIDTH_RULE_VERTEX_PX / sqrt(2.0), &widest[1]);
     bind_fb(GL_FRAMEBUFFER, 0);
     delete_fb(1, &fb);
     delete_rb(2, rb);
-    printf("chain width rule: %d frames widened with 1 sample (strands up to %.3f px), %d with 4 (up to %.3f px)\n",
+    printf("chain width rule per vertex: %d frames with 1 sample (strands up to %.3f px), %d with 4 (up to %.3f px)\n",
            one, widest[0], four, widest[1]);
     assert_true(four > 0 && four < one);
     ht_renderer_destroy(r);

@@ -209,7 +209,7 @@ static void width_rule_per_vertex_sorts_strands_under_1_5_px(void **state) {
 }
 
 /* The same strands with 4 samples a pixel: the samples resolve them
-   (1.2 px x sqrt(4) is over HT_WIDTH_RULE_VERTEX_PX: ht_width_rule_applies),
+   (1.2 px x 4^(1/4) is over HT_WIDTH_RULE_VERTEX_PX: ht_width_rule_applies),
    so the rule steps aside, per vertex and per draw, and the picture is the
    one without it pixel for pixel; applied there it blurred what the
    samples resolve (the 8 000-hair fur ball at 1.28 px: 37.2 dB against

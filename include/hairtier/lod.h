@@ -228,11 +228,12 @@ HT_API void ht_renderer_set_back_to_front(ht_renderer *r, bool on);
 #define HT_WIDTH_RULE_VERTEX_PX 1.5
 /* Whether the width rule applies to a mesh whose mean strand is strand_px
    wide, drawn with `samples` samples a pixel (0 or 1: one): while
-   strand_px x sqrt(samples) is under HT_WIDTH_RULE_VERTEX_PX.
-   Multisampling resolves a strand down to its sample spacing; wider than
-   that the rule's widened, translucent strands blur what the samples
-   resolve (the fur ball at 4 samples, strands 0.8-1.5 px: 2.5-5 dB
-   further from the truth than without it, docs/lod.md). Where it applies:
+   strand_px x samples^(1/4) is under HT_WIDTH_RULE_VERTEX_PX (4 samples:
+   1.06 px). Multisampling resolves such strands; there the rule's widened,
+   translucent strands blurred what the samples resolve (the fur ball at 4
+   samples, strands 1.1-1.5 px: 4-5 dB further from the truth than without
+   it), while a dense groom's levels at 0.7-0.8 px still gain from it
+   (docs/lod.md, "The width rule under multisampling"). Where it applies:
    per draw the factor is ht_width_rule_widen's; per vertex the mesh is
    drawn back to front (ht_mesh_sort_back_to_front,
    ht_renderer_set_back_to_front), translucent strands blending right only

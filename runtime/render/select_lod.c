@@ -25,7 +25,7 @@ double ht_width_rule_widen(double strand_px) {
 }
 
 bool ht_width_rule_applies(double strand_px, int samples) {
-    return strand_px > 0 && strand_px * sqrt(samples > 1 ? (double)samples : 1.0) < HT_WIDTH_RULE_VERTEX_PX;
+    return strand_px > 0 && strand_px * sqrt(sqrt(samples > 1 ? (double)samples : 1.0)) < HT_WIDTH_RULE_VERTEX_PX;
 }
 
 int ht_lod_pick_best(double strand_px, int current, int max_level) {
