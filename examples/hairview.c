@@ -675,9 +675,10 @@ static int draw_still(const options *o, view *v, ht_scene *scene, double scene_d
         /* drawn back to front where it applies, as it is where not (lod.h) */
         const int samples = ht_renderer_samples(v->renderer);
         const bool applies = ht_width_rule_applies(mean_strand_px(scene, &v->hair), samples);
-        if (applies) printf("width_rule=vertex\n");
-        else printf("width_rule=vertex not applied: %d samples resolve the strands\n", samples);
-        if (applies) {
+        if (!applies) {
+            printf("width_rule=vertex not applied: %d samples resolve the strands\n", samples);
+        } else {
+            printf("width_rule=vertex\n");
             ht_mesh_sort_back_to_front(&v->hair, scene->camera.eye);
             ht_renderer_set_back_to_front(v->renderer, true);
             if ((r = ht_renderer_set_mesh(v->renderer, &v->hair)) != HT_OK) return fail(r);

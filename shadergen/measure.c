@@ -18,7 +18,6 @@
 #include "measure.h"
 #include "offscreen.h"
 
-
 /* ---- the clock (what examples/timing.h gives the programs) ---- */
 
 double ht_measure_clock_ms(void) {
@@ -182,10 +181,10 @@ static ht_result measure_all(tier_run *runs, int count, int full, const char *di
     ht_frame_desc frame = { .camera = s->camera, .lights = s->lights, .light_count = s->light_count,
                             .aspect = (float)s->width / (float)s->height,
                             .opaque = head.index_count ? &head : NULL };
+    if (r != HT_OK) goto done;
     /* Round-robin: frame k of every tier before frame k + 1 of any, so a
        change in the machine's load lands on every tier alike. The warm-up
        rounds go on until ht_timing_warmup_ms has passed (a GPU's clock). */
-    if (r != HT_OK) goto done;
     out->warmup_ms = ht_timing_warmup_ms(ht_renderer_caps(runs[full].renderer)->renderer);
     const double warm_until = ht_measure_clock_ms() + out->warmup_ms;
     out->warmup_rounds = 0;

@@ -35,7 +35,7 @@ void ht_renderer_set_back_to_front(ht_renderer *r, bool on) {
 bool ht_renderer_width_rule_per_vertex(const ht_renderer *r) { return r && ht_renderer_width_rule_active(r); }
 
 int ht_renderer_samples(const ht_renderer *r) {
-    if (!r || !r->gl.GetIntegerv || !(r->caps.es || ht_caps_gl_at_least(&r->caps, 1, 3))) return 1;
+    if (!r || !(r->caps.es || ht_caps_gl_at_least(&r->caps, 1, 3))) return 1;
     GLint samples = 0;
     r->gl.GetIntegerv(GL_SAMPLES, &samples);
     return samples > 1 ? (int)samples : 1;
